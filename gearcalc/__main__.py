@@ -1,0 +1,3 @@
+from gearcalc.cli import main
+
+main()

@@ -1,0 +1,174 @@
+"""The contract between the frame (loader, CLI, renderer) and one calculator.
+
+A calculator is registered in :mod:`gearcalc.registry` by kind name and module path.  Its
+module (``gearcalc.kinds.<kind>``) defines a module-level ``CALCULATOR`` of type
+:class:`Calculator`:
+
+* ``tables``: the design-file schema, a list of :class:`Table` of :class:`Field`.  The shared
+  loader (:mod:`gearcalc.design`) checks types, ranges, unknown keys and fills defaults from it,
+  and ``gearcalc new KIND`` prints the template from it.
+* ``check(design, problems)``: cross-field checks on the resolved design (optional).
+* ``compute(design, options) -> Result``: the calculation.  It may raise :class:`DesignError`
+  for impossible inputs only discovered while computing (exit code 2).
+
+This module imports nothing heavy: ``gearcalc --help`` loads it.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any, Callable
+
+REQUIRED = object()
+"""Sentinel default: the key must be given."""
+
+
+@dataclass(frozen=True)
+class Field:
+    """One design key.
+
+    Parameters
+    ----------
+    name : key name inside its table; dimensional keys end in their unit (``_mm``).
+    type : ``"number"``, ``"integer"``, ``"bool"``, ``"string"`` or ``"numbers"`` (an array).
+    default : a value, :data:`REQUIRED`, or ``None`` (optional, absent unless given).
+    doc : one line for the template and the man page.
+    choices : strings accepted (for ``"string"``: the only values; for the other types: words
+        accepted besides a value of the type, e.g. ``"auto"``).
+    gt, ge, lt, le : bounds on numbers (and on every element of ``"numbers"``).
+    length : the exact length of a ``"numbers"`` array.
+    default_doc : how the default is shown when it is derived from other keys (``"0.5 b_w"``).
+    example : the value the template (``gearcalc new``) writes for a required or optional key;
+        a key with neither default nor example is written commented out.
+    """
+
+    name: str
+    type: str
+    default: Any = None
+    doc: str = ""
+    choices: tuple = ()
+    gt: float | None = None
+    ge: float | None = None
+    lt: float | None = None
+    le: float | None = None
+    length: int | None = None
+    default_doc: str = ""
+    example: Any = None
+
+    def constraint(self) -> str:
+        """Human-readable statement of the admissible values."""
+        parts = []
+        if self.type == "integer":
+            parts.append("an integer")
+        elif self.type == "number":
+            parts.append("a number")
+        elif self.type == "bool":
+            parts.append("true or false")
+        elif self.type == "numbers":
+            parts.append(f"an array of {self.length} numbers" if self.length else "an array of numbers")
+        for op, bound in (("> ", self.gt), (">= ", self.ge), ("< ", self.lt), ("<= ", self.le)):
+            if bound is not None:
+                parts.append(op + _fmt(bound))
+        text = " ".join(parts[:1]) + ("" if len(parts) < 2 else " " + ", ".join(parts[1:]))
+        if self.choices:
+            words = " | ".join(f'"{c}"' for c in self.choices)
+            text = words if self.type == "string" else f"{text}, or {words}"
+        return text
+
+
+def _fmt(x: float) -> str:
+    return repr(int(x)) if float(x).is_integer() and abs(x) < 1e15 else repr(x)
+
+
+@dataclass(frozen=True)
+class Table:
+    """One TOML table of a design.
+
+    ``optional=True`` means the table may be absent, and an absent table is not computed
+    ("model only what the design needs"); its fields' defaults then do not apply.
+    ``in_template=False`` writes the table commented out in ``gearcalc new``.
+    """
+
+    name: str
+    fields: tuple[Field, ...]
+    doc: str = ""
+    optional: bool = False
+    in_template: bool = True
+
+    def field(self, name: str) -> Field | None:
+        for f in self.fields:
+            if f.name == name:
+                return f
+        return None
+
+
+@dataclass
+class Options:
+    """Run options that reach the calculator."""
+
+    tol: float = 1e-6
+    model: str | None = None
+    detail: bool = False
+
+
+@dataclass
+class Result:
+    """What a calculator returns for one design.
+
+    ``summary`` holds the summary fields in display order (JSON-able scalars, ``None`` for
+    undefined, lists of ints allowed); names carry their unit suffix.  ``detail`` maps a table
+    name to a list of rows (dicts).  ``failed`` lists the design checks that failed (exit 1).
+    """
+
+    summary: dict[str, Any]
+    detail: dict[str, list[dict[str, Any]]] = field(default_factory=dict)
+    warnings: list[str] = field(default_factory=list)
+    failed: list[str] = field(default_factory=list)
+    model: str = ""
+
+
+class DesignError(Exception):
+    """An input that the schema accepted but the physics cannot: exit code 2.
+
+    Parameters
+    ----------
+    key : dotted key the problem is about (``"geometry.eccentricity_mm"``).
+    message : the constraint, with the values, e.g. ``"= 52: must be < 50 (...)"``.
+    """
+
+    def __init__(self, key: str, message: str):
+        super().__init__(f"{key}: {message}" if key else message)
+        self.key = key
+        self.message = message
+
+
+@dataclass
+class Problems:
+    """Collects every problem found in one design (errors) and the warnings."""
+
+    errors: list[tuple[str, str]] = field(default_factory=list)
+    warnings: list[str] = field(default_factory=list)
+
+    def error(self, key: str, message: str) -> None:
+        self.errors.append((key, message))
+
+    def warn(self, message: str) -> None:
+        self.warnings.append(message)
+
+
+@dataclass(frozen=True)
+class Calculator:
+    """A registered calculator (see the module docstring)."""
+
+    kind: str
+    title: str
+    tables: tuple[Table, ...]
+    compute: Callable[[Any, Options], Result]
+    check: Callable[[Any, Problems], None] | None = None
+    models: tuple[str, ...] = ()
+    header: str = ""
+
+    def table(self, name: str) -> Table | None:
+        for t in self.tables:
+            if t.name == name:
+                return t
+        return None

@@ -1,0 +1,363 @@
+"""The command line: a thin layer that parses designs, calls the calculators and renders.
+
+Start-up matters: this module imports typer (plain click help, no rich) and the light frame
+modules only.  numpy is imported by the calculators when they compute; rich only when a table
+is rendered.
+"""
+from __future__ import annotations
+
+import os
+import sys
+from typing import List, Optional
+
+import typer
+
+from . import __version__, registry
+from .calculator import DesignError, Options
+
+EXIT_OK, EXIT_CHECK, EXIT_INPUT, EXIT_BUG = 0, 1, 2, 70
+
+app = typer.Typer(
+    name="gearcalc",
+    help="Engineering calculator for gear and mechanism designers: KHV pin gearing losses (pins), "
+    "closed rolling-body mechanisms (zstk), multi-row planetary load sharing (rows). "
+    "Exit codes: 0 ok, 1 a design check failed, 2 bad usage or input, 70 internal error.",
+    rich_markup_mode=None,
+    pretty_exceptions_enable=False,
+    no_args_is_help=True,
+    context_settings={"help_option_names": ["-h", "--help"]},
+)
+
+
+class Abort(Exception):
+    """Stop with a message on stderr and an exit code."""
+
+    def __init__(self, message: str, code: int = EXIT_INPUT):
+        super().__init__(message)
+        self.code = code
+
+
+def err(message: str) -> None:
+    print(message, file=sys.stderr)
+
+
+def _version(value: bool):
+    if value:
+        print(f"gearcalc {__version__}")
+        raise typer.Exit()
+
+
+@app.callback()
+def _root(
+    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+                                 help="Print the version and exit."),
+):
+    """gearcalc: numbers you can trust, with their accuracy stated."""
+
+
+# ---------------------------------------------------------------- shared options
+FORMAT_HELP = "Output format: table | csv | json (default: table on a terminal, else csv; with -o, from the file's extension)."
+O_FORMAT = typer.Option(None, "--format", "-f", help=FORMAT_HELP)
+O_DETAIL = typer.Option(False, "--detail", help="Add the per-element tables (per pin and crank angle, per roller, per row).")
+O_OUTPUT = typer.Option(None, "--output", "-o", help="Write to this file (atomically) instead of stdout.")
+O_SET = typer.Option(None, "--set", help="Override a design key for this run: KEY=VALUE with a dotted KEY (repeatable).")
+O_TOL = typer.Option(1e-6, "--tol", help="Relative accuracy target for numerically computed results (0 < REL < 0.1).")
+O_MODEL = typer.Option(None, "--model", help="Force a model level (see the calculator's levels); default: the cheapest level the design needs.")
+O_PLOT = typer.Option(None, "--plot", help="Draw the calculator's figure to this PNG file (needs the 'plot' extra).")
+O_DEBUG = typer.Option(False, "--debug", help="Show the traceback of an internal error.")
+
+
+def pick_format(fmt: Optional[str], output: Optional[str]) -> str:
+    if fmt is not None:
+        fmt = fmt.lower()
+        if fmt not in ("table", "csv", "json"):
+            raise Abort(f"--format {fmt}: must be one of table, csv, json")
+        return fmt
+    if output:
+        ext = os.path.splitext(output)[1].lower()
+        return {".json": "json", ".txt": "table"}.get(ext, "csv")
+    return "table" if sys.stdout.isatty() else "csv"
+
+
+def check_output_path(output: Optional[str]) -> None:
+    """Fail before any computation when the output cannot be written."""
+    if not output:
+        return
+    folder = os.path.dirname(os.path.abspath(output))
+    if not os.path.isdir(folder):
+        raise Abort(f"-o {output}: the folder {folder} does not exist")
+    if os.path.isdir(output):
+        raise Abort(f"-o {output}: is a directory")
+    if not os.access(folder, os.W_OK):
+        raise Abort(f"-o {output}: the folder {folder} is not writable")
+
+
+def write_atomic(path: str, text: str) -> None:
+    """Write text to path via a temporary file in the same folder and a rename."""
+    import tempfile
+
+    folder = os.path.dirname(os.path.abspath(path))
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
+            fh.write(text)
+            fh.flush()
+            os.fsync(fh.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        try:
+            os.unlink(tmp)
+        except OSError:
+            pass
+        raise
+
+
+def check_tol(tol: float) -> None:
+    if not (0.0 < tol < 0.1):
+        raise Abort(f"--tol {tol}: must be > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
+
+
+def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
+                  output: Optional[str], sets: Optional[List[str]], tol: float, model: Optional[str],
+                  plot: Optional[str], debug: bool) -> int:
+    """The body of every computing command; returns the exit code."""
+    from . import design as dmod
+    from .render import NonFiniteOutput, Record, render
+
+    fmt = pick_format(fmt, output)
+    check_tol(tol)
+    check_output_path(output)
+    if plot:
+        check_output_path(plot)
+    overrides = dmod.parse_set(sets or []) if sets else []
+    files = dmod.expand_paths(paths)
+    if not files:
+        raise Abort("no design files found in " + " ".join(paths))
+    if files.count("-") > 1:
+        raise Abort("'-' (standard input) can be given once")
+    worst = EXIT_OK
+    designs = []
+    for f in files:
+        try:
+            d = dmod.load(f, overrides, kind_hint)
+        except dmod.InputError as exc:
+            for w in exc.warnings:
+                err(w)
+            for m in exc.messages:
+                err(m)
+            worst = max(worst, EXIT_INPUT)
+            continue
+        designs.append(d)
+    if model is not None:
+        for d in designs:
+            calc = registry.get(d.kind)
+            if model not in calc.models:
+                raise Abort(f"--model {model}: a {d.kind} design has the levels " + ", ".join(calc.models))
+    kinds = sorted({d.kind for d in designs})
+    if fmt == "csv" and len(kinds) > 1:
+        raise Abort("CSV holds one kind per output, and this batch has " + ", ".join(kinds)
+                    + ": use --format json, or run each kind on its own (e.g. gearcalc rows ... -o rows.csv)")
+    opts = Options(tol=tol, model=model, detail=detail)
+    records = []
+    for d in designs:
+        where = dmod.display_name(d.source)
+        for w in d.warnings:
+            err(f"{where}: warning: {w}")
+        try:
+            result = registry.get(d.kind).compute(d, opts)
+        except DesignError as exc:
+            err(f"{where}: {exc.key}: {exc.message}" if exc.key else f"{where}: {exc.message}")
+            worst = max(worst, EXIT_INPUT)
+            continue
+        except Exception:
+            if debug:
+                import traceback
+
+                traceback.print_exc()
+            err(f"{where}: internal error in the {d.kind} calculator; please report it with this design "
+                "file (run with --debug for the traceback)")
+            worst = max(worst, EXIT_BUG)
+            continue
+        for w in result.warnings:
+            err(f"{where}: warning: {w}")
+        for fail in result.failed:
+            err(f"{where}: check failed: {fail}")
+        if result.failed:
+            worst = max(worst, EXIT_CHECK)
+        records.append(Record(d.source, d.kind, d.name, d.resolved(), result))
+    if records:
+        try:
+            color = fmt == "table" and not output and sys.stdout.isatty() and "NO_COLOR" not in os.environ
+            width = None
+            if fmt == "table" and not output and sys.stdout.isatty():
+                width = os.get_terminal_size().columns
+            text = render(records, fmt, detail, width=width, color=color)
+        except NonFiniteOutput as exc:
+            err(f"internal error: {exc}; please report it with the design file")
+            return EXIT_BUG
+        if output:
+            write_atomic(output, text)
+        else:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+        if plot:
+            from .plot import plot_records
+
+            try:
+                plot_records(records, plot)
+            except ImportError:
+                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                worst = max(worst, EXIT_INPUT)
+    return worst
+
+
+def _kind_command(kind: str, summary: str):
+    def command(
+        files: List[str] = typer.Argument(..., help="Design files (TOML); '-' reads standard input."),
+        fmt: Optional[str] = O_FORMAT,
+        detail: bool = O_DETAIL,
+        output: Optional[str] = O_OUTPUT,
+        sets: Optional[List[str]] = O_SET,
+        tol: float = O_TOL,
+        model: Optional[str] = O_MODEL,
+        plot: Optional[str] = O_PLOT,
+        debug: bool = O_DEBUG,
+    ):
+        finish(lambda: compute_files(files, kind, fmt, detail, output, sets, tol, model, plot, debug), debug)
+
+    command.__doc__ = summary
+    command.__name__ = kind
+    return command
+
+
+KIND_HELP = {
+    "pins": "KHV pin gearing: per-pin friction losses, cycle-averaged losses, efficiency.",
+    "zstk": "Closed rolling-body mechanism: roller chain, closure correction, roller loads, contact stresses, strength check.",
+    "rows": "Multi-row planetary gear: row load sharing K, carrier bridge widths, relative mass.",
+}
+for _kind, _help in KIND_HELP.items():
+    app.command(_kind, help=_help)(_kind_command(_kind, _help))
+
+
+@app.command("run")
+def run_cmd(
+    paths: List[str] = typer.Argument(..., help="Design files or folders (every *.toml below a folder); '-' reads stdin."),
+    fmt: Optional[str] = O_FORMAT,
+    detail: bool = O_DETAIL,
+    output: Optional[str] = O_OUTPUT,
+    sets: Optional[List[str]] = O_SET,
+    tol: float = O_TOL,
+    model: Optional[str] = O_MODEL,
+    plot: Optional[str] = O_PLOT,
+    debug: bool = O_DEBUG,
+):
+    """Compute any design files, dispatching on their `kind`."""
+    finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug), debug)
+
+
+@app.command("check")
+def check_cmd(
+    paths: List[str] = typer.Argument(..., help="Design files or folders."),
+    sets: Optional[List[str]] = O_SET,
+    resolved: bool = typer.Option(False, "--resolved", help="Print each valid design with every default filled in, as TOML."),
+    debug: bool = O_DEBUG,
+):
+    """Validate design files only; print every problem found."""
+
+    def body() -> int:
+        from . import design as dmod
+
+        overrides = dmod.parse_set(sets or []) if sets else []
+        files = dmod.expand_paths(paths)
+        if not files:
+            raise Abort("no design files found in " + " ".join(paths))
+        worst = EXIT_OK
+        for f in files:
+            try:
+                d = dmod.load(f, overrides)
+            except dmod.InputError as exc:
+                for m in exc.warnings + exc.messages:
+                    err(m)
+                worst = EXIT_INPUT
+                continue
+            for w in d.warnings:
+                err(f"{dmod.display_name(f)}: warning: {w}")
+            if resolved:
+                import tomli_w
+
+                sys.stdout.write(f"# {dmod.display_name(f)}\n" + tomli_w.dumps(d.resolved()) + "\n")
+            else:
+                print(f"ok  {dmod.display_name(f)}  ({d.kind}: {d.name})")
+        return worst
+
+    finish(body, debug)
+
+
+@app.command("new")
+def new_cmd(
+    kind: str = typer.Argument(..., help="pins | zstk | rows"),
+    output: Optional[str] = O_OUTPUT,
+):
+    """Print a complete, commented template design of that kind (every key, its unit, its default)."""
+
+    def body() -> int:
+        from .template import template
+
+        if kind not in registry.kinds():
+            raise Abort(f"new {kind}: unknown kind; must be one of {', '.join(registry.kinds())}")
+        check_output_path(output)
+        text = template(registry.get(kind))
+        if output:
+            write_atomic(output, text)
+        else:
+            sys.stdout.write(text)
+        return EXIT_OK
+
+    finish(body, False)
+
+
+def finish(body, debug: bool) -> None:
+    """Run a command body; map errors to exit codes; end quietly on a broken pipe."""
+    try:
+        code = body()
+    except Abort as exc:
+        err(f"gearcalc: {exc}")
+        code = exc.code
+    except BrokenPipeError:
+        _silence_stdout()
+        code = EXIT_OK
+    except KeyboardInterrupt:
+        err("gearcalc: interrupted")
+        code = 130
+    except Exception as exc:  # noqa: BLE001 - the last line of defence
+        from .design import InputError
+
+        if isinstance(exc, InputError):
+            for m in exc.messages:
+                err(m)
+            code = EXIT_INPUT
+        else:
+            if debug:
+                import traceback
+
+                traceback.print_exc()
+            err("gearcalc: internal error; please report it with the command and design file "
+                "(run with --debug for the traceback)")
+            code = EXIT_BUG
+    raise typer.Exit(code)
+
+
+def _silence_stdout() -> None:
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except OSError:
+        pass
+
+
+def main() -> None:
+    try:
+        app()
+    except BrokenPipeError:
+        _silence_stdout()
+        sys.exit(0)

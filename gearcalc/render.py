@@ -1,0 +1,183 @@
+"""Rendering of results: one module for every calculator and every format.
+
+* ``json``: one object per design (an array for several), with ``summary``, the resolved
+  ``design``, ``warnings``, ``checks_failed``, ``model`` and, with ``--detail``, ``detail``.
+* ``csv``: a header and one row per design; the header is the union of the designs' fields in
+  first-seen order (missing cells empty).  One kind per CSV.  With ``--detail`` the CSV holds the
+  detail rows instead, in long form: ``name``, ``table``, then the union of the detail columns.
+* ``table``: rich tables for a terminal; the summary has one column per design and the unit of
+  each quantity in its own column; detail tables carry units in their column headers.
+
+Numbers are written in full precision (``repr``) in CSV and JSON, so the two agree exactly;
+``None`` is ``null`` in JSON, an empty cell in CSV and ``n/a`` in a table.  rich is imported
+only by the table renderer.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from .calculator import Result
+from .units import unit_of
+
+FORMATS = ("table", "csv", "json")
+
+
+@dataclass
+class Record:
+    """One computed design: where it came from, the resolved design and its result."""
+
+    source: str
+    kind: str
+    name: str
+    design: dict
+    result: Result
+
+
+class NonFiniteOutput(RuntimeError):
+    """A calculator produced NaN or infinity: a bug, never printed as a result."""
+
+
+def plain(value: Any, where: str = "") -> Any:
+    """Convert numpy scalars/arrays to plain Python; refuse NaN and infinity."""
+    if hasattr(value, "tolist"):
+        value = value.tolist()
+    if isinstance(value, float):
+        if not math.isfinite(value):
+            raise NonFiniteOutput(f"non-finite value {value!r} in output field {where!r}")
+        return value
+    if isinstance(value, (list, tuple)):
+        return [plain(v, where) for v in value]
+    if isinstance(value, dict):
+        return {k: plain(v, f"{where}.{k}" if where else k) for k, v in value.items()}
+    return value
+
+
+def to_json_obj(rec: Record, detail: bool) -> dict:
+    obj = {
+        "file": rec.source if rec.source != "-" else "<stdin>",
+        "kind": rec.kind,
+        "name": rec.name,
+        "model": rec.result.model,
+        "summary": plain(rec.result.summary),
+        "warnings": list(rec.result.warnings),
+        "checks_failed": list(rec.result.failed),
+        "design": plain(rec.design),
+    }
+    if detail:
+        obj["detail"] = plain(rec.result.detail)
+    return obj
+
+
+def render_json(records: list[Record], detail: bool = False) -> str:
+    objs = [to_json_obj(r, detail) for r in records]
+    data = objs[0] if len(objs) == 1 else objs
+    return json.dumps(data, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+
+
+def csv_cell(value: Any) -> str:
+    value = plain(value)
+    if value is None:
+        return ""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if isinstance(value, float):
+        return repr(value)
+    if isinstance(value, list):
+        return " ".join(csv_cell(v) for v in value)
+    return str(value)
+
+
+def _union(rows: list[dict]) -> list[str]:
+    cols: dict[str, None] = {}
+    for row in rows:
+        for k in row:
+            cols.setdefault(k, None)
+    return list(cols)
+
+
+def write_csv(rows: list[dict]) -> str:
+    buf = io.StringIO()
+    cols = _union(rows)
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(cols)
+    for row in rows:
+        w.writerow([csv_cell(row.get(c)) for c in cols])
+    return buf.getvalue()
+
+
+def render_csv(records: list[Record], detail: bool = False) -> str:
+    if not detail:
+        return write_csv([r.result.summary for r in records])
+    rows = []
+    for r in records:
+        for table, trows in r.result.detail.items():
+            rows.extend({"name": r.name, "table": table, **row} for row in trows)
+    return write_csv(rows) if rows else "name,table\n"
+
+
+def fmt_value(value: Any) -> str:
+    """Format a value for a table cell (6 significant digits)."""
+    value = plain(value)
+    if value is None:
+        return "n/a"
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if isinstance(value, float):
+        return f"{value:.6g}"
+    if isinstance(value, list):
+        return " ".join(fmt_value(v) for v in value) or "-"
+    return str(value)
+
+
+def render_table(records: list[Record], detail: bool = False, width: int | None = None,
+                 color: bool = False) -> str:
+    """Rich tables, one summary per kind (a column per design), then the detail tables."""
+    from rich.console import Console
+    from rich.table import Table
+
+    buf = io.StringIO()
+    console = Console(file=buf, width=width or 120, force_terminal=color, no_color=not color,
+                      highlight=False, soft_wrap=False)
+    kinds: dict[str, list[Record]] = {}
+    for r in records:
+        kinds.setdefault(r.kind, []).append(r)
+    for kind, recs in kinds.items():
+        t = Table(title=f"gearcalc {kind}", title_justify="left")
+        t.add_column("quantity", style="bold", no_wrap=True)
+        t.add_column("unit", no_wrap=True)
+        for r in recs:
+            t.add_column(r.name, justify="right", overflow="fold")
+        fields = _union([r.result.summary for r in recs])
+        for f in fields:
+            if f == "name":
+                continue
+            t.add_row(f, unit_of(f), *(fmt_value(r.result.summary.get(f)) for r in recs))
+        console.print(t)
+    if detail:
+        for r in records:
+            for table, rows in r.result.detail.items():
+                if not rows:
+                    continue
+                t = Table(title=f"{r.name}: {table}", title_justify="left")
+                cols = _union(rows)
+                for c in cols:
+                    u = unit_of(c)
+                    t.add_column(f"{c}\n[{u}]" if u else c, justify="right")
+                for row in rows:
+                    t.add_row(*(fmt_value(row.get(c)) for c in cols))
+                console.print(t)
+    return buf.getvalue()
+
+
+def render(records: list[Record], fmt: str, detail: bool = False, width: int | None = None,
+           color: bool = False) -> str:
+    if fmt == "json":
+        return render_json(records, detail)
+    if fmt == "csv":
+        return render_csv(records, detail)
+    return render_table(records, detail, width=width, color=color)
