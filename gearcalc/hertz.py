@@ -1,0 +1,200 @@
+"""Hertz line contact of two parallel cylinders (convex-convex or convex-concave).
+
+Shared physics for every calculator with roller/pin contacts (``zstk`` now, the ``pins``
+contact level later).  All functions are plain numpy expressions: they take floats or arrays
+(broadcast against each other) and return the same.  Units: N, mm, MPa (= N/mm²).
+
+Conventions
+-----------
+* A *signed* radius is positive for a convex surface and negative for a concave one (a roller
+  inside a ring raceway has the raceway radius negative).
+* ``reduced_radius`` R of the pair: 1/R = 1/R1 + 1/R2.
+* ``contact_modulus`` E*: 1/E* = (1 - nu1²)/E1 + (1 - nu2²)/E2 (Johnson's E*, not E' = 2E*).
+
+References
+----------
+K. L. Johnson, *Contact Mechanics*, Cambridge University Press, 1985, §4.2 (eqs. 4.43-4.45)
+and §2.8 (subsurface stresses of a line contact).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+TAU_MAX_RATIO = 0.30028310600077
+"""Maximum subsurface (principal) shear stress of a line contact over its peak pressure.
+
+Maximum over depth z of tau_1/p0 = t - t²/sqrt(1 + t²), t = z/b, on the axis of the contact
+(Johnson 1985, §2.8, eq. 2.25 with the frictionless Hertz pressure); Johnson quotes 0.30.
+"""
+TAU_MAX_DEPTH_RATIO = 0.78615136906447
+"""Depth of the maximum subsurface shear below the centre of a line contact, over b (≈ 0.786)."""
+
+
+def contact_modulus(e1, nu1, e2, nu2):
+    """Contact modulus E* of two elastic bodies.
+
+    1/E* = (1 - nu1²)/E1 + (1 - nu2²)/E2.
+
+    Parameters
+    ----------
+    e1, e2 : Young's moduli of body 1 and body 2 [MPa].
+    nu1, nu2 : Poisson's ratios [-].
+
+    Returns
+    -------
+    E* [MPa]
+
+    Examples
+    --------
+    >>> round(float(contact_modulus(2.1e5, 0.3, 2.1e5, 0.3)), 3)
+    115384.615
+
+    References
+    ----------
+    Johnson 1985, eq. (4.23) / §4.2.
+    """
+    return 1.0 / ((1.0 - nu1 * nu1) / e1 + (1.0 - nu2 * nu2) / e2)
+
+
+def paired_modulus(e1, nu1, e2, nu2):
+    """The paper's material group E1·E2/(E1(1 - nu2²) + E2(1 - nu1²)), which equals E*.
+
+    Written as in Merko et al., eq. (3)/(7), each modulus multiplying the *other* body's
+    (1 - nu²).  Identical to :func:`contact_modulus` (kept to show and test the identity).
+
+    Parameters
+    ----------
+    e1, e2 : Young's moduli [MPa]; nu1, nu2 : Poisson's ratios [-].
+
+    Returns
+    -------
+    the group [MPa]
+
+    Examples
+    --------
+    >>> round(float(paired_modulus(2.1e5, 0.3, 1.1e5, 0.25)), 6) == round(float(contact_modulus(2.1e5, 0.3, 1.1e5, 0.25)), 6)
+    True
+    """
+    return e1 * e2 / (e1 * (1.0 - nu2 * nu2) + e2 * (1.0 - nu1 * nu1))
+
+
+def stress_coefficient(e1, nu1, e2, nu2):
+    """The paper's coefficient k = sqrt(E*/pi), so that sigma = k·sqrt(F/(l·rho)).
+
+    k = sqrt( E1·E2 / (pi·[E1(1 - nu2²) + E2(1 - nu1²)]) )   (Merko et al., eq. 7).
+
+    Parameters
+    ----------
+    e1, e2 : Young's moduli [MPa]; nu1, nu2 : Poisson's ratios [-].
+
+    Returns
+    -------
+    k [sqrt(MPa)]
+
+    Examples
+    --------
+    >>> round(float(stress_coefficient(2.1e5, 0.3, 2.1e5, 0.3)), 3)
+    191.646
+    """
+    return np.sqrt(paired_modulus(e1, nu1, e2, nu2) / np.pi)
+
+
+def reduced_radius(radius1, radius2):
+    """Reduced radius of curvature R of two parallel cylinders, 1/R = 1/R1 + 1/R2.
+
+    Use a negative radius for a concave surface.  For a roller r in a ring of radius R_H the
+    result r·R_H/(R_H - r) loses accuracy when the contact is nearly conformal; a caller that
+    knows R_H - r exactly should form the ratio itself (see :func:`gearcalc.zstk.reduced_radii`).
+
+    Parameters
+    ----------
+    radius1, radius2 : signed radii [mm] (> 0 convex, < 0 concave).
+
+    Returns
+    -------
+    R [mm]
+
+    Examples
+    --------
+    >>> float(reduced_radius(10.0, 50.0)), float(reduced_radius(10.0, -50.0))
+    (8.333333333333334, 12.5)
+    """
+    return radius1 * radius2 / (radius1 + radius2)
+
+
+def peak_pressure(force, length, radius, e_star):
+    """Hertz peak pressure p0 of a line contact.
+
+    p0 = sqrt(P'·E*/(pi·R)),  P' = F/l.
+
+    Parameters
+    ----------
+    force : normal force F [N] (>= 0).
+    length : contact length l [mm].
+    radius : reduced radius R [mm].
+    e_star : contact modulus E* [MPa].
+
+    Returns
+    -------
+    p0 [MPa]; equal to the paper's sigma of eq. (3) with E* from eq. (7).
+
+    Examples
+    --------
+    >>> round(float(peak_pressure(1000.0, 10.0, 5.0, 115384.6153846154)), 3)
+    857.047
+
+    References
+    ----------
+    Johnson 1985, eq. (4.45); Merko et al., eqs. (3), (6), (7).
+    """
+    return np.sqrt(force * e_star / (np.pi * length * radius))
+
+
+def semi_width(force, length, radius, e_star):
+    """Semi-width b of a Hertz line contact.
+
+    b = sqrt(4·P'·R/(pi·E*)) = 2·P'/(pi·p0).
+
+    Parameters
+    ----------
+    force [N], length [mm], radius : reduced radius [mm], e_star [MPa].
+
+    Returns
+    -------
+    b [mm]
+
+    Examples
+    --------
+    >>> round(float(semi_width(1000.0, 10.0, 5.0, 115384.6153846154)), 6)
+    0.074284
+
+    References
+    ----------
+    Johnson 1985, eq. (4.43).
+    """
+    return np.sqrt(4.0 * force * radius / (np.pi * length * e_star))
+
+
+def max_subsurface_shear(p0):
+    """Maximum subsurface principal shear stress tau_max = 0.3003·p0 of a line contact.
+
+    It lies at depth :data:`TAU_MAX_DEPTH_RATIO`·b under the centre of the contact.
+
+    Parameters
+    ----------
+    p0 : peak pressure [MPa].
+
+    Returns
+    -------
+    tau_max [MPa]
+
+    Examples
+    --------
+    >>> round(float(max_subsurface_shear(1000.0)), 1)
+    300.3
+
+    References
+    ----------
+    Johnson 1985, §2.8 and Fig. 4.6 (tau_1 = 0.30 p0 at z = 0.78 b).
+    """
+    return TAU_MAX_RATIO * p0
