@@ -139,8 +139,8 @@ def sign_change_breakpoints(g, a: float, b: float, n_scan: int, xtol: float) -> 
 
     Examples
     --------
-    >>> sign_change_breakpoints(lambda x: np.sin(x)[None], 0.5, 7.0, 64, 1e-13).round(12).tolist()
-    [3.14159265359, 6.283185307179]
+    >>> sign_change_breakpoints(lambda x: np.sin(x)[None], 0.5, 7.0, 64, 1e-13).round(10).tolist()
+    [3.1415926536, 6.2831853072]
     """
     x = np.linspace(a, b, n_scan + 1)
     v = np.atleast_2d(np.asarray(g(x), dtype=float))
@@ -199,7 +199,7 @@ def integrate_piecewise(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, 
 
     >>> g = lambda x, mid: np.where(mid < 1.0, 0.0, 1.0) + np.abs(x - 2.0)
     >>> r = integrate_piecewise(g, [0.0, 1.0, 2.0, 3.0], tol=1e-10)
-    >>> float(abs(r.value[0] - 3.0)) < 1e-12, bool(r.converged)
+    >>> float(abs(r.value[0] - 4.5)) < 1e-12, bool(r.converged)
     (True, True)
 
     References

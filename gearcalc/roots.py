@@ -49,10 +49,9 @@ class RootResult:
 
 
 def _prepare(f, a, b):
-    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
-    a, b = a.copy(), b.copy()
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     fa, fb = np.asarray(f(a), dtype=float), np.asarray(f(b), dtype=float)
-    fa, fb = np.broadcast_to(fa, a.shape).copy(), np.broadcast_to(fb, a.shape).copy()
+    a, b, fa, fb = (x.copy() for x in np.broadcast_arrays(a, b, fa, fb))
     bad = (np.sign(fa) * np.sign(fb) > 0) | ~np.isfinite(fa) | ~np.isfinite(fb)
     if np.any(bad):
         raise BracketError(f"{int(np.count_nonzero(bad))} bracket(s) without a sign change or with a non-finite end", bad)
@@ -105,7 +104,7 @@ def find_root(f, a, b, xtol: float = 0.0, rtol: float = 4 * EPS, maxiter: int = 
         x1 = np.where(act, xt, x1)
         f1 = np.where(act, ft, f1)
         xm = np.where(np.abs(f1) < np.abs(f2), x1, x2)
-        tol = 2.0 * (rtol * np.abs(xm) + xtol)
+        tol = rtol * np.abs(xm) + xtol  # stop when the bracket is narrower than 2 tol
         width = np.abs(x2 - x1)
         with np.errstate(divide="ignore", invalid="ignore"):
             tl = np.where(width > 0, tol / width, 1.0)
@@ -200,6 +199,8 @@ def minimize_golden(f, a, b, rtol: float = 1e-6, xtol: float = 0.0, maxiter: int
     c = hi - INV_PHI * (hi - lo)
     d = lo + INV_PHI * (hi - lo)
     fc, fd = np.asarray(f(c), dtype=float), np.asarray(f(d), dtype=float)
+    lo, hi, c, d, fc, fd = (x.copy() for x in np.broadcast_arrays(lo, hi, c, d, fc, fd))
+    a0, b0 = lo.copy(), hi.copy()
     floor = 3.0 * np.sqrt(EPS)
     it = 0
     while it < maxiter:
@@ -217,8 +218,7 @@ def minimize_golden(f, a, b, rtol: float = 1e-6, xtol: float = 0.0, maxiter: int
                         np.where(left, c, x_new), np.where(left, fc, f_new))
     # candidates: the two interior points and the ends
     xs = np.stack([c, d, a0, b0])
-    fs = np.stack([fc, fd, np.asarray(f(a0), dtype=float) * np.ones_like(c),
-                   np.asarray(f(b0), dtype=float) * np.ones_like(c)])
+    fs = np.stack(np.broadcast_arrays(fc, fd, np.asarray(f(a0), dtype=float), np.asarray(f(b0), dtype=float)))
     k = np.argmin(fs, axis=0)
     x = np.take_along_axis(xs, k[None], axis=0)[0]
     fun = np.take_along_axis(fs, k[None], axis=0)[0]

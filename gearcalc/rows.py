@@ -233,9 +233,9 @@ def exact_shares(kappa, cheek_ratio, rows: int):
     mu = np.sqrt(np.where(tiny, 1.0, kappa))
     em = np.exp(-mu)
     em2 = em * em
-    tau = (1.0 - em2) / (1.0 + em2)
+    tau = np.tanh(mu)  # accurate for tiny and large mu alike
     sech = 2.0 * em / (1.0 + em2)
-    s = (1.0 - em) ** 2 / (1.0 + em2)
+    s = np.expm1(-mu) ** 2 / (1.0 + em2)  # 1 - sech mu without cancellation
     r_in = np.empty(kappa.shape + (rows,))
     r_out = np.empty(kappa.shape + (rows,))
     ro = np.zeros(kappa.shape)
