@@ -181,7 +181,7 @@ def fixed_pin_formula_loss(normal_force, pin_speed_rpm, bushing_radius, sliding_
     Examples
     --------
     >>> round(fixed_pin_formula_loss(1920, 14, 1.95, 0.1, paper_pi=True), 4)
-    0.5487
+    0.5486
     """
     return friction_power(sliding_friction * normal_force, pin_angular_speed(pin_speed_rpm, paper_pi),
                           bushing_radius)
@@ -324,7 +324,7 @@ def contact_angle_offset(psi, g: Cycloid):
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)   # k = 1: the crest is at psi = pi
-    >>> round(float(contact_angle_offset(np.pi, g)) + np.pi / 21, 12)
+    >>> abs(round(float(contact_angle_offset(np.pi, g)) + np.pi / 21, 12))
     0.0
     """
     cx, cy = contact_point(psi, g)
@@ -383,7 +383,7 @@ def curvature_radius(psi, g: Cycloid):
     --------
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> round(float(curvature_radius(np.pi, g)), 6)     # 57.2 * 1.75**3 / 16.1875
-    18.933552
+    18.937838
     """
     psi = np.asarray(psi, dtype=float)
     K1, Ze = g.K1, g.z2 / g.k
@@ -608,7 +608,7 @@ def sliding_speed(rho, bushing_radius, omega_V):
 
     Examples
     --------
-    >>> sliding_speed(10.0, 2.0, -3.0)
+    >>> float(sliding_speed(10.0, 2.0, -3.0))
     24.0
     """
     return np.abs(omega_V) * np.abs(np.asarray(rho) - bushing_radius)
@@ -619,7 +619,7 @@ def pin_spin(rho, bushing_radius, omega_V):
 
     Examples
     --------
-    >>> pin_spin(10.0, 2.0, -3.0)
+    >>> float(pin_spin(10.0, 2.0, -3.0))
     12.0
     """
     return -omega_V * (np.asarray(rho) - bushing_radius) / bushing_radius
@@ -630,7 +630,7 @@ def contact_loss_power(force, speed, mu_eff):
 
     Examples
     --------
-    >>> contact_loss_power(100.0, 1000.0, 0.1)
+    >>> float(contact_loss_power(100.0, 1000.0, 0.1))
     10.0
     """
     return mu_eff * np.asarray(force) * np.asarray(speed) * 1e-3
@@ -667,7 +667,7 @@ def willis_efficiencies(loss_ratio_mean, z1: int, z2: int):
     Examples
     --------
     >>> [round(x, 12) for x in willis_efficiencies(0.2, 20, 22)]
-    [0.981818181818, 0.8, 0.820895522388]
+    [0.981818181818, 0.8, 0.830769230769]
     """
     k = z2 - z1
     eta0 = 1.0 - loss_ratio_mean * k / z2
@@ -760,7 +760,7 @@ def cycle_loss_ratio(t, t_mid, g: Cycloid, psi_star: float, mu_eff: float):
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> a = cycle_loss_ratio(np.array([0.3]), np.array([0.5]), g, np.pi, 0.1)
-    >>> b = loss_ratio([-0.3 * 2 * np.pi / 22], g, np.pi, 0.1, MULTIPLIER)
+    >>> b = loss_ratio([0.3 * 2 * np.pi / 22], g, np.pi, 0.1, MULTIPLIER)
     >>> bool(abs(a[0] - b[0]) < 1e-13)
     True
     """
@@ -826,20 +826,21 @@ def disc_offsets(n_discs: int, z2: int) -> np.ndarray:
     return np.mod(d * z2, n_discs) / n_discs
 
 
-def sum_over_discs(x, values, shifts, period):
+def sum_over_discs(x, values, shifts, period, origin: float = 0.0, zero_outside: bool = False):
     """Sum over discs of a sampled periodic history, sum_d v(x + shift_d), by linear interpolation.
 
     Parameters
     ----------
-    x : sample points, increasing (duplicates allowed for one-sided limits), within one period.
+    x : sample points, non-decreasing (repeated points hold one-sided limits).
     values : samples at x.
     shifts : the discs' shifts (0 for the first) [unit of x].
-    period : the period of v [unit of x]; v is taken as 0 outside the sampled range when
-        ``period`` is None.
+    period : the period of v [unit of x]; points are wrapped into [origin, origin + period).
+    origin : start of the wrapped range.
+    zero_outside : v = 0 outside [x[0], x[-1]] (a pin's history off its loaded arc).
 
     Returns
     -------
-    The summed history at x.
+    The summed history at x.  Linear interpolation: error O(h^2) in the sample spacing h.
 
     Examples
     --------
@@ -849,9 +850,8 @@ def sum_over_discs(x, values, shifts, period):
     x = np.asarray(x, dtype=float)
     values = np.asarray(values, dtype=float)
     total = np.zeros_like(values)
+    fill = 0.0 if zero_outside else None
     for s in shifts:  # a handful of discs: loop over discs, vectorised over samples
-        if period is None:
-            total += np.interp(x + s, x, values, left=0.0, right=0.0)
-        else:
-            total += np.interp(np.mod(x + s - x[0], period) + x[0], x, values)
+        y = np.mod(x + s - origin, period) + origin
+        total += np.interp(y, x, values, left=fill, right=fill)
     return total

@@ -10,6 +10,8 @@ def toml_value(value: Any) -> str:
     """A TOML literal for one value (tomli-w does the quoting and float formatting)."""
     import tomli_w
 
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(toml_value(v) for v in value) + "]"
     return tomli_w.dumps({"v": value}).split("=", 1)[1].strip()
 
 

@@ -1,0 +1,266 @@
+"""The frame: commands, options, design validation, exit codes, output formats, files and pipes."""
+import json
+import os
+import subprocess
+import sys
+import tomllib
+
+import pytest
+
+from conftest import CONFIGS, cli, cli_proc
+
+FIG3 = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml"
+GOOD = FIG3.read_text()
+
+
+def test_version_and_help():
+    r = cli("--version")
+    assert r.code == 0 and r.out.startswith("gearcalc ")
+    r = cli("--help")
+    for cmd in ("pins", "zstk", "rows", "run", "check", "new"):
+        assert cmd in r.out
+
+
+def test_help_imports_no_numpy_or_rich_tables():
+    code = ("import sys\nfrom gearcalc.cli import main\nsys.argv=['gearcalc','--help']\n"
+            "try:\n    main()\nexcept SystemExit:\n    pass\n"
+            "bad=[m for m in sys.modules if m=='numpy' or m.startswith(('rich.table','rich.markdown','matplotlib'))]\n"
+            "print('BAD', bad, file=sys.stderr)")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert "BAD []" in p.stderr, p.stderr
+
+
+def test_csv_run_does_not_import_rich_or_matplotlib():
+    code = ("import sys\nfrom gearcalc.cli import main\n"
+            f"sys.argv=['gearcalc','rows',{str(FIG3)!r},'--format','csv']\n"
+            "try:\n    main()\nexcept SystemExit:\n    pass\n"
+            "bad=[m for m in sys.modules if m.startswith(('rich','matplotlib','scipy'))]\n"
+            "print('BAD', bad, file=sys.stderr)")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert "BAD []" in p.stderr, p.stderr
+
+
+@pytest.mark.parametrize("kind", ["rows"])
+def test_new_template_parses_and_runs(kind, tmp_path):
+    r = cli("new", kind)
+    assert r.code == 0
+    t = tomllib.loads(r.out)
+    assert t["kind"] == kind
+    p = tmp_path / "t.toml"
+    p.write_text(r.out)
+    assert cli(kind, p, "--format", "json").code in (0, 1)
+    r = cli("new", kind, "-o", tmp_path / "n.toml")
+    assert r.code == 0 and (tmp_path / "n.toml").read_text() == p.read_text()
+
+
+def test_new_unknown_kind():
+    r = cli("new", "gears")
+    assert r.code == 2 and "unknown kind" in r.err
+
+
+def test_unknown_key_did_you_mean(write):
+    r = cli("rows", write(GOOD.replace("planets_per_row", "planets_per_rwo"), "typo.toml"))
+    assert r.code == 2
+    assert "typo.toml" in r.err and "rows.planets_per_rwo" in r.err and "did you mean 'rows.planets_per_row'" in r.err
+
+
+def test_unknown_table_did_you_mean(write):
+    r = cli("rows", write(GOOD + "\n[bridge]\nfirst_span = 1.0\n", "t.toml"))
+    assert r.code == 2 and "did you mean 'bridges'" in r.err
+
+
+def test_every_problem_reported(write):
+    text = GOOD.replace("count = 3", "count = 0").replace("module_mm = 5.0", "module_mm = -1").replace(
+        "poisson = 0.3", "poisson = 0.7") + "\nfoo = 1\n"
+    r = cli("check", write(text, "many.toml"))
+    assert r.code == 2
+    for key in ("rows.count", "gear.module_mm", "material.poisson", "foo"):
+        assert key in r.err
+    assert r.err.count("many.toml") >= 4
+
+
+def test_missing_required_and_wrong_types(write):
+    r = cli("rows", write('kind = "rows"\n[gear]\nsun_teeth = "eighteen"\n[rows]\ncount = true\n', "m.toml"))
+    assert r.code == 2
+    assert "gear.sun_teeth = \"eighteen\": must be an integer" in r.err
+    assert "gear.module_mm: missing" in r.err and "rows.count = true" in r.err
+
+
+def test_toml_syntax_error_line_and_column(write):
+    r = cli("rows", write('kind = "rows"\n[gear\nsun_teeth = 18\n', "syntax.toml"))
+    assert r.code == 2 and "syntax.toml" in r.err and "line 2" in r.err and "column" in r.err
+
+
+@pytest.mark.parametrize("content,what", [
+    (b"", "empty"), (b"\xff\xfe\x00binary", "UTF-8"), ('kind = "gears"\n', "must be one of"),
+    ('name = "x"\n', "kind: missing"), ('kind = "rows"\nnan_key = nan\n', "unknown key"),
+])
+def test_bad_files(write, content, what):
+    r = cli("run", write(content, "bad.toml"))
+    assert r.code == 2 and what in r.err and "bad.toml" in r.err and "Traceback" not in r.err
+
+
+def test_nan_and_inf_values_rejected(write):
+    for lit in ("nan", "inf", "-inf"):
+        r = cli("rows", write(GOOD.replace("relative_width = 2.4", f"relative_width = {lit}")))
+        assert r.code == 2 and "rows.relative_width" in r.err
+
+
+def test_missing_file_and_directory(tmp_path):
+    r = cli("rows", tmp_path / "nope.toml")
+    assert r.code == 2 and "nope.toml: no such file" in r.err
+    r = cli("rows", tmp_path)
+    assert r.code == 2 and "no design files found" in r.err  # a folder stands for its *.toml files
+
+
+def test_kind_command_refuses_other_kind(write):
+    r = cli("zstk", write(GOOD))
+    assert r.code == 2 and "gearcalc rows" in r.err
+
+
+def test_batch_continues_past_bad_file_worst_exit(write, tmp_path):
+    bad = write("kind = 'rows'\n[gear]\n", "bad.toml")
+    capped = CONFIGS / "rows_bridges_n3_B3_i4.toml"
+    r = cli("run", bad, FIG3, capped, "--format", "json")
+    assert r.code == 2
+    objs = json.loads(r.out)
+    assert [o["name"] for o in objs] == ["Fig. 3 curve 4, B = 2.4", "Bridge table, n = 3, B = 3, i = 4"]
+    r = cli("run", FIG3, capped, "--format", "csv")
+    assert r.code == 1
+
+
+def test_run_folder(tmp_path):
+    for name in ("a.toml", "sub/b.toml"):
+        (tmp_path / name).parent.mkdir(exist_ok=True)
+        (tmp_path / name).write_text(GOOD)
+    (tmp_path / "notes.txt").write_text("not a design")
+    r = cli("run", tmp_path, "--format", "csv")
+    assert r.code == 0 and len(r.out.strip().splitlines()) == 3
+
+
+def test_set_overrides_and_errors(write):
+    r = cli("rows", FIG3, "--format", "json", "--set", "rows.count=4", "--set", 'sun.torsion_diameter="root"')
+    obj = json.loads(r.out)
+    assert obj["summary"]["rows"] == 4 and obj["design"]["sun"]["torsion_diameter"] == "root"
+    r = cli("rows", FIG3, "--set", "rows.cont=4")
+    assert r.code == 2 and "did you mean 'rows.count'" in r.err
+    r = cli("rows", FIG3, "--set", "novalue")
+    assert r.code == 2 and "KEY=VALUE" in r.err
+
+
+@pytest.mark.parametrize("tol", ["0", "-1e-6", "0.5"])
+def test_bad_tol(tol):
+    r = cli("rows", FIG3, "--tol", tol)
+    assert r.code == 2 and "--tol" in r.err
+
+
+def test_bad_format():
+    r = cli("rows", FIG3, "--format", "xml")
+    assert r.code == 2 and "--format" in r.err
+
+
+def test_output_atomic_and_by_extension(tmp_path):
+    out = tmp_path / "r.json"
+    r = cli("rows", FIG3, "-o", out)
+    assert r.code == 0 and r.out == ""
+    assert json.loads(out.read_text())["kind"] == "rows"
+    assert [p.name for p in tmp_path.iterdir()] == ["r.json"]  # no temporary file left behind
+    out = tmp_path / "r.csv"
+    cli("rows", FIG3, "-o", out)
+    assert out.read_text().startswith("name,")
+
+
+def test_output_folder_missing_is_error_before_compute(tmp_path):
+    r = cli("rows", FIG3, "-o", tmp_path / "no" / "such" / "r.csv")
+    assert r.code == 2 and "does not exist" in r.err
+
+
+def test_mixed_kinds_csv_rule(tmp_path):
+    pytest.importorskip("gearcalc.kinds.zstk")
+    zstk = CONFIGS / "zstk_merko_example.toml"
+    r = cli("run", FIG3, zstk, "--format", "csv")
+    assert r.code == 2 and "--format json" in r.err
+    r = cli("run", FIG3, zstk, "--format", "json")
+    assert r.code in (0, 1) and len(json.loads(r.out)) == 2
+
+
+def test_stdin():
+    r = cli("rows", "-", "--format", "json", input=GOOD)
+    assert r.code == 0 and json.loads(r.out)["file"] == "<stdin>"
+
+
+def test_check_command(write):
+    r = cli("check", FIG3)
+    assert r.code == 0 and r.out.startswith("ok")
+    r = cli("check", FIG3, "--resolved")
+    t = tomllib.loads(r.out)
+    assert t["material"]["mesh_stiffness_MPa"] == 15000.0 and t["rows"]["cheek_ratio"] == 0.25
+
+
+def test_json_several_files_is_array_and_csv_union_header(write):
+    p1 = write(GOOD, "a.toml")
+    p2 = CONFIGS / "rows_bridges_n4_B4_i6.toml"
+    r = cli("rows", p1, p2, "--format", "csv")
+    lines = r.out.strip().splitlines()
+    assert len(lines) == 3 and "bridge_rel_4" in lines[0]
+    import csv
+
+    rows = list(csv.reader(lines))
+    assert len(rows[1]) == len(rows[0]) == len(rows[2])  # missing cells are empty, not dropped
+    assert rows[1][rows[0].index("bridge_rel_4")] == ""
+
+
+def test_detail_csv_long_form():
+    r = cli("rows", FIG3, "--format", "csv", "--detail")
+    lines = r.out.strip().splitlines()
+    assert lines[0].startswith("name,table,row") and len(lines) == 4
+
+
+def test_table_no_color_when_piped():
+    r = cli_proc("rows", FIG3, "--format", "table")
+    assert r.code == 0 and "\x1b[" not in r.out and "K_exact" in r.out
+
+
+def test_broken_pipe_is_quiet(tmp_path):
+    files = " ".join([str(FIG3)] * 300)
+    p = subprocess.run(f"{sys.executable} -m gearcalc rows {files} --format csv | head -1", shell=True,
+                       capture_output=True, text=True)
+    assert p.stdout.startswith("name,") and p.stderr == ""
+
+
+def test_internal_error_exit_70(monkeypatch, write):
+    from gearcalc.kinds import rows as kind
+
+    def boom(design, options):
+        raise ZeroDivisionError("bug")
+
+    import dataclasses
+
+    from gearcalc import registry
+
+    fake = dataclasses.replace(kind.CALCULATOR, compute=boom)
+    monkeypatch.setattr(registry, "get", lambda k: fake)
+    r = cli("rows", FIG3)
+    assert r.code == 70 and "internal error" in r.err and "Traceback" not in r.err
+    r = cli("rows", FIG3, "--debug")
+    assert r.code == 70 and "ZeroDivisionError" in r.err
+
+
+def test_python_dash_m():
+    r = cli_proc("--version")
+    assert r.code == 0 and "gearcalc" in r.out
+
+
+def test_no_color_env_respected():
+    r = cli_proc("rows", FIG3, "--format", "table", env={"NO_COLOR": "1"})
+    assert "\x1b[" not in r.out
+
+
+def test_unreadable_file(tmp_path):
+    if os.geteuid() == 0:
+        pytest.skip("root can read anything")
+    p = tmp_path / "locked.toml"
+    p.write_text(GOOD)
+    p.chmod(0)
+    r = cli("rows", p)
+    assert r.code == 2 and "permission denied" in r.err
