@@ -255,6 +255,90 @@ def run_cmd(
     finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug), debug)
 
 
+@app.command("sweep")
+def sweep_cmd(
+    file: str = typer.Argument(..., help="One design file ('-' reads standard input)."),
+    vary: List[str] = typer.Option(..., "--vary", help="KEY=SPEC: an axis of the grid; SPEC is start:stop:step "
+                                   "or v1,v2,...; several --vary make a product grid (the first varies slowest)."),
+    fmt: Optional[str] = O_FORMAT,
+    output: Optional[str] = O_OUTPUT,
+    sets: Optional[List[str]] = O_SET,
+    tol: float = O_TOL,
+    model: Optional[str] = O_MODEL,
+    plot: Optional[str] = O_PLOT,
+    debug: bool = O_DEBUG,
+):
+    """Evaluate one design over a grid of key values; one output row per point."""
+
+    def body() -> int:
+        from . import design as dmod
+        from . import sweep as sw
+        from .render import NonFiniteOutput, render_rows
+
+        f = pick_format(fmt, output)
+        check_tol(tol)
+        check_output_path(output)
+        if plot:
+            check_output_path(plot)
+        try:
+            axes = sw.parse_vary(vary)
+            raw = dmod.read_toml(file)
+            if sets:
+                dmod.apply_set(raw, dmod.parse_set(sets))
+            kind = raw.get("kind")
+            if model is not None and kind in registry.kinds() and model not in registry.get(kind).models:
+                raise Abort(f"--model {model}: a {kind} design has the levels "
+                            + ", ".join(registry.get(kind).models))
+            progress, stop = _progress(math_prod(len(v) for v in axes.values()))
+            try:
+                rows = sw.evaluate(raw, file, axes, Options(tol=tol, model=model), progress)
+            finally:
+                stop()
+        except sw.SweepError as exc:
+            raise Abort(f"{dmod.display_name(file)}: {exc}") from None
+        try:
+            width = os.get_terminal_size().columns if f == "table" and not output and sys.stdout.isatty() else None
+            text = render_rows(rows, f, title=f"gearcalc sweep {dmod.display_name(file)}", width=width)
+        except NonFiniteOutput as exc:
+            err(f"internal error: {exc}; please report it with the design file")
+            return EXIT_BUG
+        if output:
+            write_atomic(output, text)
+        else:
+            sys.stdout.write(text)
+            sys.stdout.flush()
+        if plot:
+            try:
+                from .plot import plot_sweep
+
+                plot_sweep(raw.get("kind"), rows, list(axes), plot)
+            except ImportError:
+                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                return EXIT_INPUT
+        return EXIT_OK
+
+    finish(body, debug)
+
+
+def math_prod(values) -> int:
+    out = 1
+    for v in values:
+        out *= v
+    return out
+
+
+def _progress(total: int):
+    """A rich progress bar on stderr for long runs on a terminal; (advance, stop) callables."""
+    if total < 2000 or not sys.stderr.isatty():
+        return None, lambda: None
+    from rich.progress import Progress
+
+    bar = Progress(transient=True, console=None)
+    bar.start()
+    task = bar.add_task("computing", total=total)
+    return (lambda k: bar.advance(task, k)), bar.stop
+
+
 @app.command("check")
 def check_cmd(
     paths: List[str] = typer.Argument(..., help="Design files or folders."),

@@ -181,3 +181,25 @@ def render(records: list[Record], fmt: str, detail: bool = False, width: int | N
     if fmt == "csv":
         return render_csv(records, detail)
     return render_table(records, detail, width=width, color=color)
+
+
+def render_rows(rows: list[dict], fmt: str, title: str = "", width: int | None = None, color: bool = False) -> str:
+    """Plain rows (a sweep): CSV with a union header, a JSON array, or one table."""
+    if fmt == "csv":
+        return write_csv(rows)
+    if fmt == "json":
+        return json.dumps([plain(r) for r in rows], indent=2, ensure_ascii=False, allow_nan=False) + "\n"
+    from rich.console import Console
+    from rich.table import Table
+
+    buf = io.StringIO()
+    console = Console(file=buf, width=width or 160, force_terminal=color, no_color=not color, highlight=False)
+    t = Table(title=title or None, title_justify="left")
+    cols = _union(rows)
+    for c in cols:
+        u = unit_of(c)
+        t.add_column(f"{c}\n[{u}]" if u else c, justify="right")
+    for row in rows:
+        t.add_row(*(fmt_value(row.get(c)) for c in cols))
+    console.print(t)
+    return buf.getvalue()

@@ -547,10 +547,10 @@ def hertz_line_constant(poisson):
 
     Examples
     --------
-    >>> round(hertz_line_constant(0.3), 3)
+    >>> round(float(hertz_line_constant(0.3)), 3)
     0.418
     """
-    return (2.0 * math.pi * (1.0 - poisson**2)) ** -0.5
+    return (2.0 * math.pi * (1.0 - np.asarray(poisson, float) ** 2)) ** -0.5
 
 
 def mass_bracket(ratio, rows, planets_per_row, wall_ratio, sun_fill, planet_fill, cheek_ratio):
@@ -580,7 +580,7 @@ def relative_mass(ratio, rows, planets_per_row, wall_ratio=0.06, sun_fill=0.7, p
     i = np.asarray(ratio, float)
     c_h = hertz_line_constant(poisson)
     pref = 2.0 * math.pi * density * unevenness * youngs_modulus / (
-        efficiency * (allowable_contact / c_h) ** 2 * rows * planets_per_row * (i - 2.0) * math.sin(2.0 * pressure_angle))
+        efficiency * (allowable_contact / c_h) ** 2 * rows * planets_per_row * (i - 2.0) * np.sin(2.0 * pressure_angle))
     return 1e-3 * pref * mass_bracket(i, rows, planets_per_row, wall_ratio, sun_fill, planet_fill, cheek_ratio)
 
 

@@ -357,6 +357,152 @@ def _bridges(design, geo, s, detail, warnings, failed, kappa_for, C, E, nu, R, n
     return K_bal
 
 
+FAST_SWEEP_KEYS = {
+    "gear.sun_teeth", "gear.module_mm", "gear.pressure_angle_deg", "gear.ratio", "rows.count",
+    "rows.planets_per_row", "rows.relative_width", "rows.rim_width_mm", "rows.cheek_ratio", "rows.cheek_mm",
+    "sun.torque_Nm", "sun.torsion_diameter", "sun.bore_mm", "material.E_MPa", "material.poisson",
+    "material.mesh_stiffness_MPa", "mass.wall_ratio", "mass.sun_fill", "mass.planet_fill",
+    "mass.allowable_contact_MPa", "mass.density_kg_m3", "mass.efficiency", "mass.unevenness",
+}
+
+
+def sweep(base, raw, axes, points, options):
+    """The summaries of a whole grid as arrays (no Python loop per point; rows.md §9).
+
+    Points are grouped by the number of rows n; each group is one batch of the recurrence, the
+    impedance sweep and the closed forms, and the mass optimum is one vectorised golden-section
+    search.  Designs with [bridges] (dense verification solves per point) or varied keys outside
+    ``FAST_SWEEP_KEYS`` return None: the caller evaluates them point by point.
+    """
+    import numpy as np
+
+    from .. import rows as R
+    from ..roots import minimize_golden
+
+    if base.has("bridges") or any(k not in FAST_SWEEP_KEYS for k in axes):
+        return None
+    if base.has("mass") and (base["mass.unevenness"] == "computed" or "mass.unevenness" in axes
+                             and any(isinstance(v, str) for v in axes["mass.unevenness"])):
+        return None
+    P = len(points)
+
+    def col(key, default=None):
+        if key in axes:
+            vals = [p[key] for p in points]
+            if key == "sun.torsion_diameter":
+                return vals
+            return np.array(vals, dtype=float)
+        v = base.get(key, default)
+        return v if isinstance(v, str) or v is None else np.full(P, float(v))
+
+    n = col("rows.count").astype(int)
+    nw = col("rows.planets_per_row")
+    za, m = col("gear.sun_teeth"), col("gear.module_mm")
+    d_a = za * m
+    d_f = d_a - 2.5 * m
+    alpha = np.radians(col("gear.pressure_angle_deg"))
+    r_ba = 0.5 * d_a * np.cos(alpha)
+    cheek_mm = col("rows.cheek_mm")
+    if base.get("rows.rim_width_mm") is not None:
+        b_w = col("rows.rim_width_mm")
+        bbar = cheek_mm / b_w if cheek_mm is not None else col("rows.cheek_ratio")
+        B = (n * b_w + (n - 1) * bbar * b_w) / d_a
+    else:
+        B = col("rows.relative_width")
+        if cheek_mm is not None:
+            b_w = (B * d_a - (n - 1) * cheek_mm) / n
+            if np.any(b_w <= 0):
+                raise DesignError("rows.cheek_mm", f"the cheeks leave no room for the rims at {points[int(np.argmax(b_w <= 0))]}")
+            bbar = cheek_mm / b_w
+        else:
+            bbar = col("rows.cheek_ratio")
+            b_w = B * d_a / (n + bbar * (n - 1))
+    tdia = col("sun.torsion_diameter")
+    if isinstance(tdia, str) or isinstance(tdia, list):
+        words = [tdia] * P if isinstance(tdia, str) else tdia
+        d_i = np.array([d_a[k] if w == "pitch" else d_f[k] if w == "root" else float(w) for k, w in enumerate(words)])
+    else:
+        d_i = tdia
+    bore = col("sun.bore_mm")
+    bad = bore >= np.minimum(d_f, d_i)
+    if np.any(bad):
+        raise DesignError("sun.bore_mm", f"must be < min(d_f, d_I) at {points[int(np.argmax(bad))]}")
+    E, nu = col("material.E_MPa"), col("material.poisson")
+    C = col("material.mesh_stiffness_MPa") if base.is_given("material.mesh_stiffness_MPa") or \
+        "material.mesh_stiffness_MPa" in axes else 0.075 * E
+    G = E / (2.0 * (1.0 + nu))
+    kappa = R.torsion_parameter(C, r_ba, nw, b_w, G, R.polar_moment(d_i, bore))
+    K_step = np.full(P, np.nan)
+    K_exact = np.ones(P)
+    peak = np.ones(P)
+    valid = np.ones(P, bool)
+    K_row_step = np.ones(P, int)
+    model = options.model or "stepwise"
+    unloaded = [[] for _ in range(P)]
+    for nn in np.unique(n):
+        idx = np.flatnonzero(n == nn)
+        u, ok = R.stepwise_shares(kappa[idx], bbar[idx], int(nn))
+        ue, pk = R.exact_shares(kappa[idx], bbar[idx], int(nn))
+        valid[idx] = ok
+        K_step[idx] = np.where(ok, u.max(axis=-1), np.nan)
+        K_row_step[idx] = np.argmax(u, axis=-1) + 1
+        K_exact[idx] = ue.max(axis=-1)
+        peak[idx] = pk
+        if nn > 1:  # rows.md §13.4: unloaded when the load of the level supplying K is <= 1e-12 w̄
+            u_used = ue if model != "stepwise" else np.where(ok[:, None], u, ue)
+            for k in np.flatnonzero(np.any(u_used <= 1e-12, axis=-1)):
+                unloaded[idx[k]] = (np.flatnonzero(u_used[k] <= 1e-12) + 1).tolist()
+    K_cont = R.continuous_k(kappa, bbar, n)
+    one = n == 1
+    K_step = np.where(one, 1.0, K_step)
+    K_exact = np.where(one, 1.0, K_exact)
+    K_cont = np.where(one, 1.0, K_cont)
+    use_exact = (model == "exact") | ((model == "stepwise") & ~valid)
+    if model == "continuous":
+        K = K_cont
+    else:
+        K = np.where(use_exact, K_exact, K_step)
+    models = np.where(model == "continuous", "continuous", np.where(use_exact, "exact", "stepwise"))
+    K_row = np.where(use_exact | (model == "continuous"), 1, K_row_step)
+    cols = {
+        "name": [base.name] * P, "rows": n.tolist(), "planets_per_row": nw.astype(int).tolist(),
+        "relative_width": B.tolist(), "rim_width_mm": b_w.tolist(), "cheek_ratio": bbar.tolist(),
+        "torsion_diameter_mm": d_i.tolist(), "kappa": kappa.tolist(), "model": models.tolist(), "K": K.tolist(),
+        "K_row": K_row.tolist(),
+        "K_stepwise": [None if not v else float(k) for v, k in zip(valid | one, K_step)],
+        "stepwise_valid": (valid | one).tolist(), "K_exact": K_exact.tolist(), "K_continuous": K_cont.tolist(),
+        "K_stepwise_vs_exact_pct": [None if not v else float(x) for v, x in
+                                    zip(valid | one, 100.0 * (np.nan_to_num(K_step) / K_exact - 1.0))],
+        "K_vs_continuous_pct": (100.0 * (K / K_cont - 1.0)).tolist(), "peak_factor": peak.tolist(),
+        "row1_face_factor": (peak / K_exact).tolist(), "unloaded_rows": unloaded,
+    }
+    T_a = col("sun.torque_Nm")
+    if T_a is not None:
+        w_mean = T_a * 1000.0 / (n * r_ba * b_w * nw)
+        cols["w_mean_N_per_mm"] = w_mean.tolist()
+        cols["w_max_N_per_mm"] = (K * w_mean).tolist()
+        cols["w_peak_N_per_mm"] = (peak * w_mean).tolist()
+    if base.has("mass"):
+        lo, hi = base["mass.ratio_range"]
+        args = dict(rows=n, planets_per_row=nw, wall_ratio=col("mass.wall_ratio"), sun_fill=col("mass.sun_fill"),
+                    planet_fill=col("mass.planet_fill"), cheek_ratio=bbar,
+                    allowable_contact=col("mass.allowable_contact_MPa"), density=col("mass.density_kg_m3"),
+                    youngs_modulus=E, poisson=nu, efficiency=col("mass.efficiency"),
+                    unevenness=col("mass.unevenness"), pressure_angle=alpha)
+        opt = minimize_golden(lambda i: R.relative_mass(i, **args), np.full(P, lo), np.full(P, hi), rtol=options.tol)
+        ratio = col("gear.ratio")
+        ratio = opt.x if ratio is None else ratio
+        cols["relative_mass_kg_per_kNm"] = R.relative_mass(ratio, **args).tolist()
+        cols["ratio"] = np.asarray(ratio, float).tolist()
+        cols["ratio_opt"] = opt.x.tolist()
+        cols["ratio_opt_err"] = opt.err.tolist()
+        cols["ratio_opt_on_bound"] = opt.on_bound.tolist()
+        cols["relative_mass_min_kg_per_kNm"] = opt.fun.tolist()
+        cols["mass_unevenness"] = col("mass.unevenness").tolist()
+    names = list(cols)
+    return [dict(zip(names, vals)) for vals in zip(*cols.values())]
+
+
 CALCULATOR = Calculator(
     kind="rows",
     title="multi-row planetary gear: row load sharing, equalising carrier bridges, relative mass",
@@ -365,4 +511,5 @@ CALCULATOR = Calculator(
     check=check,
     models=("stepwise", "exact", "continuous"),
     header="Seed paper 004_971077b94d8d4426.txt; physics in rows.md. Lengths in mm, torque in N*m, stresses in MPa.",
+    sweep=sweep,
 )

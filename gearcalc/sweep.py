@@ -1,0 +1,138 @@
+"""``gearcalc sweep``: one design evaluated over a grid of key values.
+
+A ``--vary KEY=SPEC`` gives one axis: ``start:stop:step`` (stop included when it lies on the grid,
+to within 1e-9 of a step) or a list ``v1,v2,...`` (each a TOML value: numbers, ``"root"``, ...).
+Several axes make a product grid; the first axis varies slowest.  Every axis value is validated
+once against the base design (the error names the key and the value); a calculator that defines
+``sweep`` evaluates the whole grid as arrays, others are evaluated point by point.
+"""
+from __future__ import annotations
+
+import itertools
+import math
+import tomllib
+from typing import Any
+
+from .calculator import DesignError
+
+
+class SweepError(ValueError):
+    """A malformed ``--vary`` or a grid value the design does not accept."""
+
+
+MAX_POINTS = 50_000_000
+
+
+def parse_spec(key: str, spec: str) -> list[Any]:
+    """Values of one axis from its SPEC.
+
+    >>> parse_spec("rows.count", "4,3")
+    [4, 3]
+    >>> parse_spec("rows.relative_width", "2.0:2.8:0.4")
+    [2.0, 2.4, 2.8]
+    """
+    spec = spec.strip()
+    if not spec:
+        raise SweepError(f"--vary {key}=: no values")
+    if ":" in spec and not spec.startswith(("\"", "'")):
+        parts = spec.split(":")
+        if len(parts) != 3:
+            raise SweepError(f"--vary {key}={spec}: a range is start:stop:step")
+        try:
+            start, stop, step = (float(p) for p in parts)
+        except ValueError:
+            raise SweepError(f"--vary {key}={spec}: start, stop and step must be numbers") from None
+        if not all(math.isfinite(v) for v in (start, stop, step)) or step == 0 or (stop - start) / step < 0:
+            raise SweepError(f"--vary {key}={spec}: the step must be non-zero and lead from start to stop")
+        count = int(math.floor((stop - start) / step + 1e-9)) + 1
+        if count > MAX_POINTS:
+            raise SweepError(f"--vary {key}={spec}: {count} points is more than {MAX_POINTS}")
+        ints = all(float(p).is_integer() and "." not in p and "e" not in p.lower() for p in parts)
+        values = [start + k * step for k in range(count)]
+        # print-friendly: 2.0 + 2*0.4 = 2.8000000000000003 -> 2.8 (the value the user typed a grid for)
+        values = [float(f"{v:.12g}") for v in values]
+        return [int(v) for v in values] if ints else values
+    out = []
+    for item in spec.split(","):
+        item = item.strip()
+        try:
+            out.append(tomllib.loads(f"v = {item}")["v"])
+        except tomllib.TOMLDecodeError:
+            out.append(item)
+    return out
+
+
+def parse_vary(items: list[str]) -> dict[str, list[Any]]:
+    axes: dict[str, list[Any]] = {}
+    for item in items:
+        key, sep, spec = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise SweepError(f"--vary {item!r}: expected KEY=SPEC, e.g. --vary rows.relative_width=2.0:2.8:0.1")
+        if key in axes:
+            raise SweepError(f"--vary {key}: given twice")
+        axes[key] = parse_spec(key, spec)
+    total = math.prod(len(v) for v in axes.values())
+    if total > MAX_POINTS:
+        raise SweepError(f"the grid has {total} points, more than {MAX_POINTS}")
+    return axes
+
+
+def grid_points(axes: dict[str, list[Any]]):
+    """The product grid as a list of dicts (first axis slowest)."""
+    keys = list(axes)
+    return [dict(zip(keys, combo)) for combo in itertools.product(*(axes[k] for k in keys))]
+
+
+def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
+    """Validate each axis value once, substituted alone into the base design."""
+    import copy
+
+    from .design import InputError, apply_set, validate
+
+    for key, values in axes.items():
+        for v in values:
+            trial = copy.deepcopy(raw)
+            apply_set(trial, [(key, v)])
+            try:
+                validate(trial, source)
+            except InputError as exc:
+                raise SweepError("; ".join(f"--vary {key}={v!r}: {m}" for m in exc.messages)) from None
+
+
+def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progress=None) -> list[dict]:
+    """Summary rows of every grid point, each led by the varied keys."""
+    import copy
+
+    from . import registry
+    from .design import InputError, apply_set, validate
+
+    base = validate(copy.deepcopy(raw), source)
+    calc = registry.get(base.kind)
+    validate_axes(raw, source, axes)
+    points = grid_points(axes)
+    fast = getattr(calc, "sweep", None)
+    if fast is not None:
+        try:
+            summaries = fast(base, raw, axes, points, options)
+        except DesignError as exc:
+            raise SweepError(f"{exc.key}: {exc.message}") from None
+        if summaries is not None:
+            if progress:
+                progress(len(points))
+            return [{**p, **s} for p, s in zip(points, summaries)]
+    rows = []
+    for p in points:
+        trial = copy.deepcopy(raw)
+        apply_set(trial, list(p.items()))
+        try:
+            d = validate(trial, source)
+            res = calc.compute(d, options)
+        except InputError as exc:
+            raise SweepError(f"at {p}: " + "; ".join(exc.messages)) from None
+        except DesignError as exc:
+            raise SweepError(f"at {p}: {exc.key}: {exc.message}") from None
+        rows.append({**p, **res.summary})
+        if progress:
+            progress(1)
+    return rows
