@@ -80,6 +80,10 @@ def render_json(records: list[Record], detail: bool = False) -> str:
 
 
 def csv_cell(value: Any) -> str:
+    if type(value) is float:  # the common case first: a sweep writes millions of these
+        if value - value != 0.0:
+            raise NonFiniteOutput(f"non-finite value {value!r} in CSV output")
+        return repr(value)
     value = plain(value)
     if value is None:
         return ""
@@ -105,8 +109,9 @@ def write_csv(rows: list[dict]) -> str:
     cols = _union(rows)
     w = csv.writer(buf, lineterminator="\n")
     w.writerow(cols)
+    get = [(c,) for c in cols]
     for row in rows:
-        w.writerow([csv_cell(row.get(c)) for c in cols])
+        w.writerow([csv_cell(row.get(c)) for (c,) in get])
     return buf.getvalue()
 
 

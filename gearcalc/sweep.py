@@ -85,19 +85,40 @@ def grid_points(axes: dict[str, list[Any]]):
 
 
 def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
-    """Validate each axis value once, substituted alone into the base design."""
+    """Validate the axis values against the base design.
+
+    Every value is checked against its field (type and bounds, cheap); the whole design, with its
+    cross-key checks, is validated with each value substituted alone for at most
+    ``FULL_CHECKS`` representative values per axis (both ends and evenly spaced ones between).
+    Combinations are checked by the calculator's sweep or by the point-by-point evaluation.
+    """
     import copy
 
-    from .design import InputError, apply_set, validate
+    from . import registry
+    from .design import InputError, apply_set, check_value, validate
 
+    kind = raw.get("kind")
+    calc = registry.get(kind) if isinstance(kind, str) and kind in registry.kinds() else None
     for key, values in axes.items():
-        for v in values:
+        table, _, name = key.partition(".")
+        field = calc.table(table).field(name) if calc and calc.table(table) else None
+        if field is not None:
+            for v in values:
+                _, problem = check_value(field, v)
+                if problem:
+                    raise SweepError(f"--vary {key}={v!r}: {problem}")
+        step = max(1, len(values) // (FULL_CHECKS - 1))
+        picks = sorted(set(list(range(0, len(values), step)) + [len(values) - 1]))
+        for k in picks:
             trial = copy.deepcopy(raw)
-            apply_set(trial, [(key, v)])
+            apply_set(trial, [(key, values[k])])
             try:
                 validate(trial, source)
             except InputError as exc:
-                raise SweepError("; ".join(f"--vary {key}={v!r}: {m}" for m in exc.messages)) from None
+                raise SweepError("; ".join(f"--vary {key}={values[k]!r}: {m}" for m in exc.messages)) from None
+
+
+FULL_CHECKS = 16
 
 
 def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progress=None) -> list[dict]:
