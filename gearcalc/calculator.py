@@ -79,7 +79,9 @@ class Field:
 
 
 def _fmt(x: float) -> str:
-    return repr(int(x)) if float(x).is_integer() and abs(x) < 1e15 else repr(x)
+    if float(x).is_integer() and abs(x) < 1e6:
+        return repr(int(x))
+    return f"{x:g}"
 
 
 @dataclass(frozen=True)

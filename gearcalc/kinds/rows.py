@@ -25,7 +25,7 @@ TABLES = (
         Field("count", "integer", REQUIRED, "n, rows of planets", ge=1, le=1000, example=3),
         Field("planets_per_row", "integer", REQUIRED, "n_w, planets in each row", ge=1, le=1000, example=3),
         Field("relative_width", "number", None, "B = b_a / d_a, sun face width over sun pitch diameter "
-              "(give this or rim_width_mm)", ge=1e-9, le=1e4, example=2.4),
+              "(give this or rim_width_mm)", ge=1e-9, le=1e4, example=3.0),
         Field("rim_width_mm", "number", None, "b_w, planet rim (row) width (give this or relative_width)", ge=1e-6, le=1e7),
         Field("cheek_ratio", "number", None, "b/b_w, cheek thickness over rim width (give this or cheek_mm)",
               ge=0, le=1e4, default_doc="0.25", example=0.25),
