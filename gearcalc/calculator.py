@@ -129,6 +129,8 @@ class Result:
     warnings: list[str] = field(default_factory=list)
     failed: list[str] = field(default_factory=list)
     model: str = ""
+    labels: dict[str, str] = field(default_factory=dict)
+    """Text a table shows instead of "n/a" for a summary field that is None (e.g. "self-locking")."""
 
 
 class DesignError(Exception):

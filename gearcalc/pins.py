@@ -24,7 +24,7 @@ import numpy as np
 
 from . import units
 from .quadrature import QuadResult, geometric_breakpoints, integrate_piecewise
-from .roots import bisect, minimize_golden
+from .roots import find_root, minimize_golden
 
 PAPER_PI = 3.14
 """The value of pi the paper computed with (pins.md §3)."""
@@ -334,8 +334,8 @@ def contact_angle_offset(psi, g: Cycloid):
 def crest_cutoff(g: Cycloid, n_scan: int = 1024) -> float:
     """End of the loaded arc psi* [rad]: pi for k = 1, else the first root of epsilon(psi) = -pi/z1.
 
-    The function epsilon + pi/z1 is scanned on (0, pi] and its first sign change refined by
-    bisection to 1e-15 rad (pins.md §4.3, §12.11).
+    The function epsilon + pi/z1 is scanned on (0, pi] and its first sign change refined by the
+    bracketed root finder (Chandrupatla) to 1e-15 rad (pins.md §4.3, §12.11).
 
     Examples
     --------
@@ -351,7 +351,7 @@ def crest_cutoff(g: Cycloid, n_scan: int = 1024) -> float:
     if h[first] == 0.0:
         return float(psi[first])
     lo = psi[first - 1] if first > 0 else 0.0
-    res = bisect(lambda x: contact_angle_offset(x, g) + math.pi / g.z1, lo, psi[first], xtol=1e-15)
+    res = find_root(lambda x: contact_angle_offset(x, g) + math.pi / g.z1, lo, psi[first], xtol=1e-15)
     return float(res.root)
 
 
@@ -689,8 +689,13 @@ def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.nd
     """Breakpoints of the cycle integrand in t = theta/T_p in [0, 1]  (pins.md §6, §12.12).
 
     0 and 1 (entry at psi~ = 0), the exit frac(psi* z2/2 pi), the spin reversal
-    frac(psi_0 z2/2 pi) when psi_0 < psi*, and a geometric grading toward the entry when the
-    boundary layer of width ~(1 - K1) is narrower than the first piece.
+    frac(psi_0 z2/2 pi) when psi_0 < psi*, and two geometric gradings:
+
+    * K1 > 0.99: toward the entry t = 0 over the whole period, down to a quarter of the boundary
+      layer width (1 - K1) z2/(2 pi); the layer's tail (1 - K1)^2/psi^2 is algebraic, so the grading
+      must not stop at the first breakpoint;
+    * a piece where a single pin carries the load (psi* barely above 2 pi/z2): lambda ~ 1/psi there,
+      so toward that piece's start, down to its own distance from the entry.
 
     Examples
     --------
@@ -704,10 +709,14 @@ def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.nd
         c0 = psi_0 * g.z2 / (2.0 * math.pi)
         pts.append(c0 - math.floor(c0))
     pts = np.unique(np.array(pts))
-    width = g.one_minus_K1 * g.z2 / (2.0 * math.pi)
+    extra = []
     if g.one_minus_K1 < 0.01:
-        pts = np.unique(np.concatenate((pts, geometric_breakpoints(0.0, pts[1], width))))
-    return pts
+        extra.append(geometric_breakpoints(0.0, 1.0, g.one_minus_K1 * g.z2 / (2.0 * math.pi)))
+    a, b = pts[:-1], pts[1:]
+    for lo, hi in zip(a[_loaded_count(0.5 * (a + b), c) == 1], b[_loaded_count(0.5 * (a + b), c) == 1]):
+        if lo > 0.0:
+            extra.append(geometric_breakpoints(lo, hi, lo))
+    return np.unique(np.concatenate([pts, *extra]))
 
 
 def _exit_count(g, psi_star):
@@ -743,7 +752,7 @@ def cycle_state(t, t_mid, g: Cycloid, psi_star: float) -> CycleState:
     t = np.asarray(t, dtype=float)
     c = _exit_count(g, psi_star)
     J = _loaded_count(t_mid, c)
-    jmax = int(math.ceil(c)) + 1
+    jmax = math.ceil(c) + 1
     j = np.arange(jmax)[:, None]
     phase = math.pi * ((2.0 * j + 2.0 * t[None, :]) / g.z2)
     loaded = j < J[None, :]
@@ -781,7 +790,7 @@ class CycleIntegral:
 
 
 def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: float, tol: float = 1e-6,
-                    n_max: int = 2 ** 20, n_start: int = 16) -> CycleIntegral:
+                    n_max: int = 2 ** 20, n_start: int = 16, n_initial=None) -> CycleIntegral:
     """Cycle mean lambda_bar = (1/T_p) integral of lambda over one period, with an honest error.
 
     Piecewise trapezoid between the breakpoints of :func:`cycle_breakpoints`, doubled to
@@ -794,6 +803,7 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
     tol : relative accuracy target.
     n_max : cap on crank-angle intervals per period.
     n_start : intervals of the first level.
+    n_initial : intervals per piece of the first level (see :func:`~gearcalc.quadrature.integrate_piecewise`).
 
     Returns
     -------
@@ -810,7 +820,7 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
         return CycleIntegral(0.0, 0.0, True, 0, None)
     bp = cycle_breakpoints(g, psi_star, psi_0)
     q = integrate_piecewise(lambda t, m: cycle_loss_ratio(t, m, g, psi_star, mu_eff), bp, tol=tol,
-                            n_max=n_max, n_start=n_start)
+                            n_max=n_max, n_start=n_start, n_initial=n_initial)
     return CycleIntegral(float(q.value[0]), float(q.err[0]), q.converged, q.n, q)
 
 

@@ -168,7 +168,7 @@ def _evaluate(f, x, mid, m_expected, chunk):
 
 def integrate_piecewise(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n_start: int = 16,
                         n_max: int = 2 ** 20, accept_levels: int = 2, chunk: int = 2 ** 15,
-                        min_levels: int = 2) -> QuadResult:
+                        min_levels: int = 2, n_initial=None) -> QuadResult:
     """Integrate ``f`` over [min(breakpoints), max(breakpoints)], smooth between the breakpoints.
 
     Composite trapezoid on every piece, node doubling, Richardson value and conservative error
@@ -188,6 +188,8 @@ def integrate_piecewise(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, 
     accept_levels : successive doublings that must meet the tolerance.
     chunk : largest number of nodes passed to f at once (memory bound).
     min_levels : least number of doublings done.
+    n_initial : intervals per piece of the first level (overrides ``n_start``), e.g. 10 x the
+        ``n_piece`` of an earlier run on the same breakpoints for a uniformly 10x finer check.
 
     Returns
     -------
@@ -214,7 +216,12 @@ def integrate_piecewise(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, 
     a, b = edges[:-1][keep], edges[1:][keep]
     edges = np.concatenate((a, b[-1:]))
     total = b[-1] - a[0]
-    n0 = np.maximum(2, np.rint(n_start * (b - a) / total)).astype(np.int64)
+    if n_initial is None:
+        n0 = np.maximum(2, np.rint(n_start * (b - a) / total)).astype(np.int64)
+    else:
+        n0 = np.asarray(n_initial, dtype=np.int64)
+        if n0.shape != a.shape or np.any(n0 < 1):
+            raise ValueError(f"n_initial needs {a.size} positive interval counts, one per piece")
     mid_p = 0.5 * (a + b)
 
     # level 0: every node of every piece

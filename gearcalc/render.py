@@ -161,7 +161,8 @@ def render_table(records: list[Record], detail: bool = False, width: int | None 
         for f in fields:
             if f == "name":
                 continue
-            t.add_row(f, unit_of(f), *(fmt_value(r.result.summary.get(f)) for r in recs))
+            t.add_row(f, unit_of(f), *(r.result.labels.get(f, "n/a") if r.result.summary.get(f) is None
+                                       else fmt_value(r.result.summary.get(f)) for r in recs))
         console.print(t)
     if detail:
         for r in records:

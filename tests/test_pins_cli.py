@@ -1,0 +1,535 @@
+"""CLI tests of `gearcalc pins`: example designs, output formats, levels, hard cases and bad input (pins.md §9)."""
+import copy
+import csv
+import io
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import tomli_w
+from typer.testing import CliRunner
+
+from gearcalc.cli import app
+
+ROOT = Path(__file__).resolve().parent.parent
+CONFIGS = ROOT / "configs"
+runner = CliRunner()
+
+BASE = {
+    "kind": "pins",
+    "name": "test design",
+    "gearing": {"profile": "cycloidal", "satellite_teeth": 20, "pins": 22, "eccentricity_mm": 3.9,
+                "curtate_ratio": 0.75, "pin_radius_mm": 1.95, "axle_radius_mm": 0.95, "rotating_pins": False},
+    "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1},
+    "load": {"mode": "multiplier", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
+}
+
+
+def design(tmp_path, name="d.toml", drop=(), **changes):
+    """Write BASE with changes {"table.key": value} (None deletes) and dropped tables."""
+    d = copy.deepcopy(BASE)
+    for t in drop:
+        d.pop(t, None)
+    for dotted, v in changes.items():
+        table, key = dotted.split("__")
+        if v is None:
+            d[table].pop(key, None)
+        else:
+            d.setdefault(table, {})[key] = v
+    p = tmp_path / name
+    p.write_text(tomli_w.dumps(d))
+    return p
+
+
+def run(*args):
+    r = runner.invoke(app, ["pins", *map(str, args)])
+    return r.exit_code, r.stdout, r.stderr
+
+
+def summary(*args):
+    code, out, errtext = run(*args, "--format", "json")
+    assert code in (0, 1), errtext
+    return json.loads(out)["summary"], code, errtext
+
+
+# ------------------------------------------------------------------ the shipped designs
+
+PAPER_FORMULA = {  # file: printed (F_tr1, F_tr2, P_tr1, P_tr2, P_tr) and their decimals (seed 000, eqs. 3-7)
+    "pins_paper_formula_cyc_u10.toml": ((9.85, 192, 0.028, 0.267, 0.295), (2, 0, 3, 3, 3)),
+    "pins_paper_formula_cyc_u30.toml": ((4.46, 87, 0.031, 0.294, 0.325), (2, 0, 3, 3, 3)),
+    "pins_paper_formula_circ_u10.toml": ((7.64, 210, 0.04, 0.692, 0.732), (2, 0, 2, 3, 3)),
+    "pins_paper_formula_circ_u30.toml": ((4.44, 111, 0.071, 1.063, 1.134), (2, 0, 3, 3, 3)),
+}
+
+
+@pytest.mark.parametrize("fname", sorted(PAPER_FORMULA))
+def test_paper_formula_configs(fname):
+    s, code, _ = summary(CONFIGS / fname)
+    assert code == 0 and s["model"] == "formula" and s["rotating_pins"] is True
+    assert s["efficiency"] is None and s["mode"] is None and s["profile"] is None
+    printed, dec = PAPER_FORMULA[fname]
+    got = [s[k] for k in ("F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W")]
+    for g, p, d in zip(got, printed, dec):
+        assert abs(g - p) <= 0.5 * 10.0 ** (-d) + 1e-12
+
+
+CYC = ["pins_paper_cyc_u10_fixed.toml", "pins_paper_cyc_u10_rotating.toml",
+       "pins_paper_cyc_u30_fixed.toml", "pins_paper_cyc_u30_rotating.toml"]
+
+
+@pytest.mark.parametrize("fname", CYC)
+def test_cycloidal_configs(fname):
+    s, code, _ = summary(CONFIGS / fname)
+    assert code == 0 and s["model"] == "ideal" and s["tolerance_met"] is True
+    # pins.md §10: a plausibility band of roughly 0.75-0.95
+    assert 0.75 < s["efficiency"] < 0.95
+    assert s["efficiency_err"] <= 1e-6 * s["loss_ratio"]
+    assert s["pin_loss_bound_W"] >= s["pin_loss_max_W"]
+    assert s["efficiency_reducer"] == pytest.approx(1 / (2 - s["efficiency_multiplier"]), rel=1e-12)
+    # torque_in = u T_H / eta (multiplier, torque on H)
+    assert s["torque_in_Nm"] == pytest.approx(s["ratio"] * 100.0 / s["efficiency"], rel=1e-12)
+    assert s["loaded_pins_max"] < 22 / 2 if "u10" in fname else s["loaded_pins_max"] < 62 / 2
+
+
+def test_rotating_beats_fixed_when_mu_rot_below_f():
+    # pins.md §10 structural trend: mu_rot = (0.1*0.95 + 0.01)/1.95 = 0.054 < f = 0.1
+    for u in ("u10", "u30"):
+        fixed = summary(CONFIGS / f"pins_paper_cyc_{u}_fixed.toml")[0]
+        rot = summary(CONFIGS / f"pins_paper_cyc_{u}_rotating.toml")[0]
+        assert rot["efficiency"] > fixed["efficiency"]
+        assert rot["loss_ratio"] / fixed["loss_ratio"] == pytest.approx((0.1 * 0.95 + 0.01) / 1.95 / 0.1, rel=1e-5)
+
+
+def test_circular_example_needs_the_contact_level():
+    code, out, err = run(CONFIGS / "pins_paper_circ_u10_fixed.toml")
+    assert code == 2 and out == ""
+    assert "pins_paper_circ_u10_fixed.toml" in err and "gearing.profile" in err
+    assert "contact level" in err and "not available" in err and "Traceback" not in err
+
+
+def test_json_and_csv_agree(tmp_path):
+    f = CONFIGS / "pins_paper_cyc_u10_rotating.toml"
+    s, _, _ = summary(f)
+    _, out, _ = run(f, "--format", "csv")
+    row = next(iter(csv.DictReader(io.StringIO(out))))
+    for k, v in s.items():
+        if k == "model_time_ms":
+            continue                       # a measurement, different on every run
+        if isinstance(v, float):
+            assert float(row[k]) == v
+        elif v is None:
+            assert row[k] == ""
+
+
+def test_table_output_runs():
+    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--format", "table")
+    assert code == 0 and "efficiency" in out
+
+
+def test_detail_tables(tmp_path):
+    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--format", "json", "--detail")
+    obj = json.loads(out)
+    crank, contacts = obj["detail"]["crank"], obj["detail"]["contacts"]
+    s = obj["summary"]
+    assert len(crank) >= s["n_crank"]
+    assert sum(r["loaded_pins"] for r in crank) == len(contacts)
+    assert max(r["force_N"] for r in contacts) == pytest.approx(s["pin_force_max_N"], rel=1e-12)
+    assert max(r["loss_W"] for r in crank) == pytest.approx(s["loss_peak_W"], rel=1e-12)
+    thetas = [r["theta_deg"] for r in crank]
+    assert thetas == sorted(thetas) and thetas[0] == 0.0 and thetas[-1] == pytest.approx(360 / 22)
+    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--format", "csv", "--detail")
+    assert code == 0 and out.startswith("name,table,")
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_detail_pin_phases_match_the_pointwise_phase(tmp_path, mode):
+    import math
+
+    from gearcalc import pins
+
+    p = design(tmp_path, load__mode=mode)
+    _, out, _ = run(p, "--format", "json", "--detail")
+    rows = json.loads(out)["detail"]["contacts"]
+    sigma = pins.MULTIPLIER if mode == "multiplier" else pins.REDUCER
+    for r in rows[5:400:37]:
+        ph = pins.pin_phase(r["pin"], math.radians(r["theta_deg"]), 22, sigma)
+        assert math.degrees(ph) == pytest.approx(r["phase_deg"], abs=1e-9)
+
+
+# ------------------------------------------------------------------ levels and operating points
+
+def test_template_runs(tmp_path):
+    r = runner.invoke(app, ["new", "pins"])
+    p = tmp_path / "t.toml"
+    p.write_text(r.stdout)
+    code, out, err = run(p, "--format", "csv")
+    assert code == 0, err
+    assert "ideal" in out
+
+
+def test_model_ideal_on_circular_is_an_error(tmp_path):
+    p = design(tmp_path, gearing__profile="circular")
+    code, _, err = run(p, "--model", "ideal")
+    assert code == 2 and "gearing.profile" in err and "conjugate (cycloidal)" in err
+
+
+def test_model_formula_needs_pin_load(tmp_path):
+    code, _, err = run(design(tmp_path), "--model", "formula")
+    assert code == 2 and "pin_load" in err
+
+
+def test_contact_table_and_modifications_ask_for_the_contact_level(tmp_path):
+    code, _, err = run(design(tmp_path, contact__face_width_mm=10.0))
+    assert code == 2 and "contact level" in err and "Traceback" not in err
+    code, _, err = run(design(tmp_path, gearing__equidistant_mod_mm=0.01))
+    assert code == 2 and "gearing.equidistant_mod_mm" in err
+    code, _, err = run(design(tmp_path, contact__face_width_mm=10.0), "--model", "contact")
+    assert code == 2 and "not available" in err
+    # --model ideal runs a cycloidal design with a [contact] table, ignoring the table with a warning
+    code, _, err = run(design(tmp_path, contact__face_width_mm=10.0), "--model", "ideal")
+    assert code == 0 and "not used" in err
+
+
+def test_pin_load_with_gearing_gives_both(tmp_path):
+    p = design(tmp_path, pin_load__normal_force_N=1920.0, pin_load__pin_speed_rpm=14.0,
+               pin_load__pin_radius_mm=1.95, pin_load__axle_radius_mm=0.95)
+    s, _, _ = summary(p)
+    assert s["model"] == "ideal" and s["P_tr_W"] is not None and s["efficiency"] is not None
+    s, _, _ = summary(p, "--model", "formula")
+    assert s["model"] == "formula" and s["efficiency"] is None
+    assert s["P_tr_fixed_W"] == pytest.approx(0.1 * 1920 * 14 * 3.141592653589793 / 30 * 1.95e-3, rel=1e-12)
+
+
+def test_torque_and_speed_do_not_change_efficiency(tmp_path):
+    ref, _, _ = summary(design(tmp_path))
+    for T in (1e-6, 1.0, 1e9):
+        s, _, _ = summary(design(tmp_path, load__torque_Nm=T))
+        assert s["efficiency"] == ref["efficiency"]
+        assert s["pin_force_max_N"] == pytest.approx(ref["pin_force_max_N"] * T / 100.0, rel=1e-12)
+    s, _, _ = summary(design(tmp_path, load__crank_speed_rpm=37.0))
+    assert s["efficiency"] == ref["efficiency"]
+    assert s["pin_speed_max_rpm"] == ref["pin_speed_max_rpm"] == 0.0
+    assert s["sliding_speed_max_m_s"] == pytest.approx(ref["sliding_speed_max_m_s"] * 37 / 1000, rel=1e-12)
+
+
+def test_torque_on_V_and_on_H_agree(tmp_path):
+    for mode in ("multiplier", "reducer"):
+        h, _, _ = summary(design(tmp_path, load__mode=mode))
+        tv = h["torque_in_Nm"] if mode == "multiplier" else h["torque_out_Nm"]
+        v, _, _ = summary(design(tmp_path, load__mode=mode, load__torque_shaft="V", load__torque_Nm=tv))
+        assert v["pin_force_max_N"] == pytest.approx(h["pin_force_max_N"], rel=1e-12)
+        assert v["loss_mean_W"] == pytest.approx(h["loss_mean_W"], rel=1e-12)
+    red, _, _ = summary(design(tmp_path, load__mode="reducer"))
+    mul, _, _ = summary(design(tmp_path))
+    assert red["loss_ratio"] == pytest.approx(mul["loss_ratio"], rel=1e-12)     # mirror: same lambda_bar
+    assert red["efficiency"] == red["efficiency_reducer"]
+    # reducer: T_V = eta u T_H
+    assert red["torque_out_Nm"] == pytest.approx(red["efficiency"] * 10 * 100.0, rel=1e-12)
+
+
+def test_zero_friction_gives_exactly_one(tmp_path):
+    s, code, _ = summary(design(tmp_path, friction__sliding=0.0, friction__rolling_mm=0.0, friction__axle=0.0))
+    assert code == 0
+    assert s["efficiency"] == 1.0 and s["efficiency_err"] == 0.0 and s["efficiency_reducer"] == 1.0
+    assert s["loss_mean_W"] == 0.0 and s["pin_force_max_N"] > 0
+
+
+def test_large_friction_self_locks_the_multiplier(tmp_path):
+    s, code, err = summary(design(tmp_path, friction__sliding=1.0))
+    assert code == 1 and s["self_locking"] is True and s["efficiency"] is None
+    assert s["efficiency_multiplier"] is None and 0 < s["efficiency_reducer"] < 1
+    assert "self-locking" in err
+    code, out, _ = run(design(tmp_path, friction__sliding=1.0), "--format", "csv")
+    row = next(iter(csv.DictReader(io.StringIO(out))))
+    assert row["efficiency"] == "" and row["self_locking"] == "true"
+    # the reducer is still reported and does not fail
+    s, code, _ = summary(design(tmp_path, friction__sliding=1.0, load__mode="reducer"))
+    assert code == 0 and s["self_locking"] is False and 0 < s["efficiency"] < 1
+
+
+def test_tiny_eccentricity(tmp_path):
+    p = design(tmp_path, gearing__eccentricity_mm=1e-6, gearing__curtate_ratio=None,
+               gearing__pin_circle_radius_mm=57.2)
+    s, code, _ = summary(p)
+    assert code == 1 and s["self_locking"] is True
+    s, code, _ = summary(design(tmp_path, gearing__eccentricity_mm=1e-6, gearing__curtate_ratio=None,
+                                gearing__pin_circle_radius_mm=57.2, load__mode="reducer", load__torque_shaft="V"))
+    # forces ~ T_V/r_p1 with r_p1 = e z1/k = 1e-5 mm: finite and huge
+    assert code == 0 and 0 < s["efficiency"] < 1e-3 and 1e9 < s["pin_force_max_N"] < 1e12
+
+
+def test_no_crank_speed_leaves_powers_empty(tmp_path):
+    s, code, err = summary(design(tmp_path, load__crank_speed_rpm=None))
+    assert code == 0 and s["efficiency"] is not None and s["pin_force_max_N"] is not None
+    assert s["loss_mean_W"] is None and s["pin_speed_max_rpm"] is None and s["pin_loss_max_W"] is None
+    assert "crank_speed_rpm" in err
+
+
+def test_rolling_condition_violated_falls_back_to_fixed(tmp_path):
+    fixed, _, _ = summary(design(tmp_path))
+    s, code, err = summary(design(tmp_path, gearing__rotating_pins=True, friction__sliding=0.05,
+                                  friction__axle=0.1, friction__rolling_mm=0.01))
+    assert code == 0 and s["rolling_ok"] is False
+    for word in ("f = 0.05", "f_c = 0.1", "r = 0.95", "f_k = 0.01", "R_b = 1.95"):
+        assert word in err
+    assert s["loss_ratio"] == pytest.approx(fixed["loss_ratio"] * 0.5, rel=1e-6)
+    assert s["pin_speed_max_rpm"] == 0.0
+
+
+@pytest.mark.parametrize("k", [1, 2, 3])
+def test_tooth_differences(tmp_path, k):
+    s, code, _ = summary(design(tmp_path, gearing__pins=20 + k))
+    assert code == 0 and s["tolerance_met"]
+    assert (s["psi_star_deg"] == 180.0) == (k == 1)
+
+
+def test_many_pins(tmp_path):
+    s, code, _ = summary(design(tmp_path, gearing__satellite_teeth=198, gearing__pins=200,
+                                gearing__eccentricity_mm=1.0))
+    assert code == 0 and s["tolerance_met"] and 0.5 < s["efficiency"] < 1
+
+
+def test_curtate_ratio_near_one(tmp_path):
+    s, code, _ = summary(design(tmp_path, gearing__curtate_ratio=1 - 1e-9, gearing__pin_radius_mm=1e-4,
+                                  gearing__pins=21, gearing__rotating_pins=True, gearing__axle_radius_mm=5e-5,
+                                  friction__rolling_mm=1e-6))
+    assert code == 0 and s["tolerance_met"] and s["spin_reversals"] == 1
+    assert s["pin_speed_signed_min_rpm"] < 0 < s["pin_speed_signed_max_rpm"]
+
+
+def test_two_discs_halve_the_pin_force(tmp_path):
+    one, _, _ = summary(design(tmp_path))
+    two, _, _ = summary(design(tmp_path, gearing__discs=2))
+    assert two["efficiency"] == one["efficiency"]
+    # the discs are 180 deg apart and psi* < 180 deg: a pin never carries both discs at once
+    assert two["pin_force_max_N"] == pytest.approx(one["pin_force_max_N"] / 2, rel=1e-12)
+    assert two["loss_mean_W"] == pytest.approx(one["loss_mean_W"], rel=1e-12)
+
+
+def test_batch_worst_exit_code(tmp_path):
+    good = design(tmp_path, "good.toml")
+    bad = design(tmp_path, "bad.toml", gearing__pins=20)
+    code, out, err = run(good, bad, "--format", "csv")
+    assert code == 2 and len(list(csv.DictReader(io.StringIO(out)))) == 1 and "bad.toml" in err
+
+
+# ------------------------------------------------------------------ bad input (pins.md §9)
+
+BAD = [
+    ({"gearing__pins": 20}, "gearing.pins", "z2 must exceed z1"),
+    ({"gearing__pins": 18}, "gearing.pins", "z2 must exceed z1"),
+    ({"gearing__satellite_teeth": 20.5}, "gearing.satellite_teeth", "integer"),
+    ({"gearing__satellite_teeth": 1}, "gearing.satellite_teeth", ">= 2"),
+    ({"gearing__eccentricity_mm": 0.0}, "gearing.eccentricity_mm", "> 0"),
+    ({"gearing__eccentricity_mm": -1.0}, "gearing.eccentricity_mm", "> 0"),
+    ({"gearing__curtate_ratio": None, "gearing__pin_circle_radius_mm": 0.0}, "gearing.pin_circle_radius_mm", "> 0"),
+    ({"gearing__pin_radius_mm": 0.0}, "gearing.pin_radius_mm", "> 0"),
+    ({"load__torque_Nm": 0.0}, "load.torque_Nm", "> 0"),
+    ({"load__crank_speed_rpm": -5.0}, "load.crank_speed_rpm", "> 0"),
+    ({"contact__face_width_mm": 0.0}, "contact.face_width_mm", "> 0"),
+    ({"contact__stiffness_N_per_mm": -1.0}, "contact.stiffness_N_per_mm", "> 0"),
+    ({"gearing__curtate_ratio": 1.0}, "gearing.curtate_ratio", "K1 = e*z2/(k*R_p) must be < 1"),
+    ({"gearing__curtate_ratio": 1.2}, "gearing.curtate_ratio", "K1 = e*z2/(k*R_p) must be < 1"),
+    ({"gearing__curtate_ratio": None, "gearing__pin_circle_radius_mm": 42.9}, "gearing.pin_circle_radius_mm",
+     "must be < 1"),
+    ({"gearing__curtate_ratio": None}, "gearing.pin_circle_radius_mm", "exactly one"),
+    ({"gearing__pin_circle_radius_mm": 60.0}, "gearing.pin_circle_radius_mm", "exactly one"),
+    ({"gearing__pin_radius_mm": 8.2}, "gearing.pin_radius_mm", "pins overlap"),
+    ({"gearing__rotating_pins": True, "gearing__axle_radius_mm": 1.95}, "gearing.axle_radius_mm",
+     "smaller than the bushing"),
+    ({"gearing__rotating_pins": True, "gearing__axle_radius_mm": None}, "gearing.axle_radius_mm", "missing"),
+    ({"friction__sliding": -0.1}, "friction.sliding", ">= 0"),
+    ({"friction__axle": -0.1}, "friction.axle", ">= 0"),
+    ({"friction__rolling_mm": -0.1}, "friction.rolling_mm", ">= 0"),
+    ({"friction__sliding": None}, "friction.sliding", "missing"),
+    ({"load__mode": "speedup"}, "load.mode", '"multiplier" | "reducer"'),
+    ({"load__torque_shaft": None}, "load.torque_shaft", "missing"),
+    ({"gearing__eccentricty_mm": 3.9}, "gearing.eccentricty_mm", "did you mean 'gearing.eccentricity_mm'"),
+    # undercut: K1 = 0.99 gives min rho_c = 2.42 mm over the loaded arc; R_b = 3 < R_p sin(pi/z2) = 6.17
+    ({"gearing__curtate_ratio": 0.99, "gearing__pin_radius_mm": 3.0}, "gearing.pin_radius_mm", "undercut"),
+    # circular teeth: R_b + rho_t = 1.95 + 52 >= R_p - e = 57.2 - 3.9 (pins.md §5.3, §9)
+    ({"gearing__profile": "circular", "gearing__tooth_radius_mm": 52.0}, "gearing.tooth_radius_mm",
+     "must be < R_p - e"),
+    # k = 9 with 3 teeth: psi* below one pin pitch
+    ({"gearing__satellite_teeth": 3, "gearing__pins": 12, "gearing__pin_radius_mm": 0.5},
+     "gearing.satellite_teeth", "too few teeth"),
+]
+
+
+@pytest.mark.parametrize("changes,key,text", BAD, ids=[b[1] + ":" + b[2][:20] for b in BAD])
+def test_bad_input(tmp_path, changes, key, text):
+    p = design(tmp_path, "bad_design.toml", **changes)
+    code, out, err = run(p)
+    assert code == 2, err
+    assert "bad_design.toml" in err and key in err and text in err, err
+    assert "Traceback" not in err and out == ""
+
+
+def test_missing_tables(tmp_path):
+    code, _, err = run(design(tmp_path, drop=("load",)))
+    assert code == 2 and "load" in err and "missing" in err
+    p = tmp_path / "empty.toml"
+    p.write_text('kind = "pins"\n[friction]\nrolling_mm = 0.01\naxle = 0.1\n')
+    code, _, err = run(p)
+    assert code == 2 and "[gearing]" in err and "[pin_load]" in err
+
+
+def test_pin_load_axle_not_smaller(tmp_path):
+    p = tmp_path / "f.toml"
+    p.write_text((CONFIGS / "pins_paper_formula_cyc_u10.toml").read_text().replace("0.95", "2.0"))
+    code, _, err = run(p)
+    assert code == 2 and "pin_load.axle_radius_mm" in err
+
+
+@pytest.mark.parametrize("tol", ["0", "-1e-6", "0.1", "0.5"])
+def test_bad_tolerance(tmp_path, tol):
+    code, _, err = run(design(tmp_path), "--tol", tol)
+    assert code == 2 and "--tol" in err
+
+
+def test_tolerance_is_honoured(tmp_path):
+    loose, _, _ = summary(design(tmp_path), "--tol", "1e-3")
+    tight, _, _ = summary(design(tmp_path), "--tol", "1e-10")
+    assert loose["n_crank"] < tight["n_crank"]
+    assert loose["loss_ratio_err"] <= 1e-3 * loose["loss_ratio"]
+    assert tight["loss_ratio_err"] <= 1e-10 * tight["loss_ratio"]
+    assert abs(loose["efficiency"] - tight["efficiency"]) <= loose["efficiency_err"]
+
+
+def test_subprocess_exit_codes_and_no_traceback():
+    # the real entry point: a good design, the circular example (contact level not available)
+    r = subprocess.run([sys.executable, "-m", "gearcalc", "pins", str(CONFIGS / "pins_paper_cyc_u30_fixed.toml"),
+                        str(CONFIGS / "pins_paper_circ_u10_fixed.toml"), "--format", "json"],
+                       capture_output=True, text=True, timeout=60, check=False)
+    assert r.returncode == 2
+    assert "Traceback" not in r.stderr and "contact level" in r.stderr
+    assert json.loads(r.stdout)["summary"]["model"] == "ideal"
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_summary_power_balance(tmp_path, mode):
+    # input power - output power = mean loss (pins.md §4.7): T_in w_in - T_out w_out, w_V = w_H k/z1
+    import math
+
+    s, _, _ = summary(design(tmp_path, load__mode=mode))
+    wH = 1000.0 * math.pi / 30
+    wV = wH * 2 / 20
+    w_in, w_out = (wV, wH) if mode == "multiplier" else (wH, wV)
+    assert s["torque_in_Nm"] * w_in - s["torque_out_Nm"] * w_out == pytest.approx(s["loss_mean_W"], rel=1e-12)
+
+
+def test_sweep_runs_point_by_point(tmp_path):
+    r = runner.invoke(app, ["sweep", str(design(tmp_path)), "--vary", "gearing.curtate_ratio=0.6,0.8",
+                            "--format", "csv"])
+    assert r.exit_code == 0, r.stderr
+    rows = list(csv.DictReader(io.StringIO(r.stdout)))
+    assert [float(x["curtate_ratio"]) for x in rows] == [0.6, 0.8]
+    assert float(rows[0]["efficiency"]) < float(rows[1]["efficiency"])
+
+
+def test_plot(tmp_path):
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "p.png"
+    code, _, err = run(CONFIGS / "pins_paper_cyc_u10_rotating.toml", "--plot", out, "--format", "csv")
+    assert code == 0, err
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    out2 = tmp_path / "f.png"
+    code, _, err = run(CONFIGS / "pins_paper_formula_cyc_u10.toml", "--plot", out2, "--format", "csv")
+    assert code == 0 and out2.stat().st_size > 1000
+
+
+@pytest.mark.parametrize("changes", [{}, {"gearing__pins": 21}, {"gearing__pins": 23, "load__mode": "reducer"},
+                                     {"gearing__curtate_ratio": 0.9}])
+def test_peaks_against_dense_pointwise_evaluation(tmp_path, changes):
+    # the reported peaks (refined between nodes) against a dense pointwise sweep of one period
+    import numpy as np
+
+    from gearcalc import pins
+
+    s, _, _ = summary(design(tmp_path, **changes))
+    z2 = changes.get("gearing__pins", 22)
+    g = pins.Cycloid.from_curtate_ratio(20, z2, 3.9, changes.get("gearing__curtate_ratio", 0.75), 1.95)
+    ps = pins.crest_cutoff(g)
+    sigma = pins.REDUCER if changes.get("load__mode") == "reducer" else pins.MULTIPLIER
+    theta = np.linspace(0, g.period, 200001)
+    T_sat = (s["torque_in_Nm"] if sigma == pins.MULTIPLIER else s["torque_out_Nm"]) * 1e3
+    F = pins.pin_forces(theta, g, ps, T_sat, sigma)
+    psi = pins.pin_phase(np.arange(z2)[:, None], theta[None, :], z2, sigma)
+    v = pins.sliding_speed(pins.pitch_distance(psi, g), g.R_b, 1000 * np.pi / 30 * g.k / 20)
+    P = pins.contact_loss_power(F, v, 0.1)
+    for key, dense in (("pin_force_max_N", F.max()), ("pin_loss_max_W", P.max()), ("loss_peak_W", P.sum(0).max())):
+        assert dense <= s[key] * (1 + 1e-12)
+        assert s[key] <= dense * (1 + 1e-6)
+
+
+def test_detail_with_three_discs(tmp_path):
+    # n_d = 3: the crank table holds the total over the discs; its mean over the period is lambda_bar
+    import numpy as np
+
+    _, out, _ = run(design(tmp_path, gearing__discs=3), "--format", "json", "--detail")
+    obj = json.loads(out)
+    s, crank = obj["summary"], obj["detail"]["crank"]
+    th = np.array([r["theta_deg"] for r in crank])
+    lam = np.array([r["loss_ratio"] for r in crank])
+    trapezoid = getattr(np, "trapezoid", None) or np.trapz   # numpy >= 2 or older
+    mean = trapezoid(lam, th) / (360 / 22)
+    assert mean == pytest.approx(s["loss_ratio"], rel=1e-4)
+    assert max(r["loss_W"] for r in crank) == pytest.approx(s["loss_peak_W"], rel=1e-9)
+    one, _, _ = summary(design(tmp_path))
+    assert s["efficiency"] == one["efficiency"]
+
+
+def test_at_the_self_locking_limit(tmp_path):
+    # lambda is proportional to f: f = 0.1/lambda(0.1) puts lambda_bar at 1 within its error estimate
+    ref, _, _ = summary(design(tmp_path))
+    f = 0.1 / ref["loss_ratio"]
+    s, code, err = summary(design(tmp_path, friction__sliding=f))
+    assert abs(s["loss_ratio"] - 1.0) <= s["loss_ratio_err"]
+    assert "at the self-locking limit" in err
+    assert (code == 1) == s["self_locking"]
+    assert s["efficiency"] is None or s["efficiency"] >= 0.0
+
+
+@pytest.mark.parametrize("rotating", [False, True])
+def test_vectorised_sweep_equals_point_by_point(tmp_path, rotating):
+    # the sweep hook solves the geometry once and scales it per operating point (pins.md §4.8, 8)
+    import math
+
+    from gearcalc import registry
+    from gearcalc import sweep as sw
+    from gearcalc.calculator import Options
+    from gearcalc.design import read_toml
+
+    base = design(tmp_path, gearing__rotating_pins=rotating,
+                  pin_load__normal_force_N=1920.0, pin_load__pin_speed_rpm=14.0, pin_load__pin_radius_mm=1.95,
+                  pin_load__axle_radius_mm=0.95)
+    axes = {"friction.sliding": [0.0, 0.04, 0.1, 1.5], "load.torque_shaft": ["H", "V"],
+            "load.mode": ["multiplier", "reducer"], "load.crank_speed_rpm": [10.0, 3000.0]}
+    raw = read_toml(str(base))
+    rows = sw.evaluate(raw, str(base), axes, Options())
+    assert registry.get("pins").sweep is not None and len(rows) == 32
+    for row in rows:
+        point = {k: row[k] for k in axes}
+        changes = {k.replace(".", "__"): v for k, v in point.items()}
+        ref, _, _ = summary(design(tmp_path, "p.toml", gearing__rotating_pins=rotating,
+                                   pin_load__normal_force_N=1920.0, pin_load__pin_speed_rpm=14.0,
+                                   pin_load__pin_radius_mm=1.95, pin_load__axle_radius_mm=0.95, **changes))
+        for k, v in ref.items():
+            if k in ("model_time_ms", "name"):
+                continue
+            if isinstance(v, float):
+                assert math.isclose(row[k], v, rel_tol=1e-12, abs_tol=1e-300), (point, k, row[k], v)
+            else:
+                assert row[k] == v, (point, k)
+
+
+def test_sweep_over_geometry_falls_back_point_by_point(tmp_path):
+    from gearcalc import registry
+    from gearcalc.calculator import Options
+    from gearcalc.design import load
+
+    d = load(str(design(tmp_path)))
+    assert registry.get("pins").sweep(d, {}, {"gearing.curtate_ratio": [0.6]}, [{"gearing.curtate_ratio": 0.6}],
+                                      Options()) is None

@@ -1,0 +1,140 @@
+"""Tests of gearcalc.quadrature: piecewise trapezoid, Richardson, honest error, grading, breakpoints.
+
+Expected values are closed-form integrals (stated next to each case).
+"""
+import math
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from gearcalc.quadrature import (
+    geometric_breakpoints,
+    integrate_piecewise,
+    piece_nodes,
+    sign_change_breakpoints,
+)
+
+
+def test_piecewise_linear_is_exact():
+    # trapezoid is exact for a linear function on each piece: integral of 2x+1 on [0, 3] = 9 + 3 = 12
+    r = integrate_piecewise(lambda x, m: 2 * x + 1, [0.0, 1.3, 3.0], tol=1e-12)
+    assert r.converged
+    assert abs(r.value[0] - 12.0) < 1e-13
+    assert r.err[0] < 1e-13
+
+
+@pytest.mark.parametrize("tol", [1e-4, 1e-6, 1e-9])
+def test_smooth_value_within_error_and_tolerance(tol):
+    # integral of exp on [0, 1] = e - 1
+    r = integrate_piecewise(lambda x, m: np.exp(x), [0.0, 1.0], tol=tol)
+    exact = math.e - 1
+    assert r.converged
+    assert abs(r.value[0] - exact) <= r.err[0]
+    assert r.err[0] <= tol * exact
+    # Richardson is much better than the plain trapezoid
+    assert abs(r.value[0] - exact) < abs(r.trapezoid[0] - exact) / 10
+
+
+def test_jump_and_kink_with_breakpoints_second_order():
+    # jump of 1 at x = 1/pi, kink |x - 0.7| on [0, 1]: exact = (1 - 1/pi) + (0.7^2 + 0.3^2)/2
+    a, b = 1 / math.pi, 0.7
+    exact = (1 - a) + (b * b + (1 - b) ** 2) / 2
+
+    def f(x, mid):
+        return np.where(mid > a, 1.0, 0.0) + np.abs(x - b)
+
+    r = integrate_piecewise(f, [0.0, a, b, 1.0], tol=1e-10)
+    assert r.converged
+    assert abs(r.value[0] - exact) < 1e-13
+
+
+def test_jump_without_breakpoint_is_only_first_order():
+    # The same jump with the breakpoint omitted: the trapezoid error falls like 1/N, not 1/N^2
+    a = 1 / math.pi
+    exact = 1 - a
+
+    def f(x, mid):
+        return np.where(x > a, 1.0, 0.0)
+
+    errs = []
+    for n in (64, 128, 256, 512, 1024):
+        r = integrate_piecewise(f, [0.0, 1.0], tol=1e-300, n_start=n, n_max=2 * n, min_levels=1)
+        errs.append(abs(r.trapezoid[0] - exact))
+    # first order: errors do not fall by 4 per doubling on average
+    assert errs[0] / errs[-1] < 16 * 4
+    with_bp = integrate_piecewise(lambda x, m: np.where(m > a, 1.0, 0.0), [0.0, a, 1.0], tol=1e-10)
+    assert abs(with_bp.value[0] - exact) < 1e-14
+
+
+def test_one_sided_limits_at_piece_ends():
+    x, mid, piece = piece_nodes(np.array([0.0, 0.5, 1.0]), np.array([2, 4]))
+    assert x.tolist() == [0.0, 0.25, 0.5, 0.5, 0.625, 0.75, 0.875, 1.0]
+    assert mid.tolist() == [0.25] * 3 + [0.75] * 5
+    assert piece.tolist() == [0] * 3 + [1] * 5
+
+
+def test_vector_components_each_accepted_on_its_own_scale():
+    # components exp(x) (= e - 1) and 1e-9 cos(x) (= 1e-9 sin 1): relative tolerance on each
+    r = integrate_piecewise(lambda x, m: np.vstack([np.exp(x), 1e-9 * np.cos(x)]), [0.0, 1.0], tol=1e-8)
+    exact = np.array([math.e - 1, 1e-9 * math.sin(1.0)])
+    assert np.all(np.abs(r.value - exact) <= r.err)
+    assert np.all(r.err <= 1e-8 * np.abs(exact))
+
+
+def test_cap_reports_not_converged():
+    # x^(1/2) has an unbounded derivative at 0: with a tight tol and a small cap it must say so
+    r = integrate_piecewise(lambda x, m: np.sqrt(x), [0.0, 1.0], tol=1e-12, n_max=256)
+    assert not r.converged
+    assert r.n <= 256
+    assert abs(r.value[0] - 2 / 3) <= r.err[0]
+
+
+def test_geometric_grading_resolves_boundary_layer():
+    # x/sqrt(d^2 + x^2) on [0, 1], d = 1e-9: exact = sqrt(1 + d^2) - d
+    d = 1e-9
+    bp = np.concatenate(([0.0, 1.0], geometric_breakpoints(0.0, 1.0, d)))
+    r = integrate_piecewise(lambda x, m: x / np.sqrt(d * d + x * x), bp, tol=1e-8)
+    exact = math.sqrt(1 + d * d) - d
+    assert r.converged
+    assert abs(r.value[0] - exact) <= r.err[0]
+    assert r.n < 20000
+
+
+def test_geometric_breakpoints_reach_the_layer():
+    pts = geometric_breakpoints(1.0, 0.0, 1e-3)          # toward x0 = 1 from the left
+    assert np.all(pts < 1.0) and np.all(pts > 0.0)
+    assert 1.0 - pts.max() <= 1e-3 / 4
+    assert geometric_breakpoints(0.0, 1.0, 2.0).size == 0
+
+
+def test_sign_change_breakpoints():
+    # zeros of cos(x) and of x - 2 on (0, 6): pi/2, 3 pi/2, 2
+    br = sign_change_breakpoints(lambda x: np.vstack([np.cos(x), x - 2.0]), 0.0, 6.0, 100, 1e-14)
+    assert np.allclose(br, [math.pi / 2, 2.0, 3 * math.pi / 2], atol=1e-13)
+
+
+@settings(max_examples=30, deadline=None)
+@given(amp=st.floats(0.1, 10), freq=st.floats(0.5, 30), shift=st.floats(-1, 1),
+       cut=st.floats(0.05, 0.95), jump=st.floats(-5, 5))
+def test_error_estimate_is_honest(amp, freq, shift, cut, jump):
+    # amp sin(freq x) + 2 amp + jump*[x > cut] on [0, 1]: exact = amp (1 - cos freq)/freq + 2 amp + jump (1 - cut)
+    def f(x, mid):
+        return amp * np.sin(freq * x + shift) + 2 * amp + np.where(mid > cut, jump, 0.0)
+
+    exact = amp * (math.cos(shift) - math.cos(freq + shift)) / freq + 2 * amp + jump * (1 - cut)
+    r = integrate_piecewise(f, [0.0, cut, 1.0], tol=1e-6)
+    assert r.converged
+    assert abs(r.value[0] - exact) <= r.err[0] + 1e-14
+    assert r.err[0] <= max(1e-6 * abs(r.trapezoid[0]), 1e-14)
+
+
+def test_explicit_initial_counts_per_piece():
+    # n_initial fixes the first level per piece; each doubling doubles it exactly (pins.md §12.6)
+    r = integrate_piecewise(lambda x, m: np.exp(x), [0.0, 0.1, 1.0], tol=1e-300, n_initial=[5, 7],
+                            n_max=48, min_levels=2)
+    assert r.n_piece.tolist() == [20, 28] and r.n == 48
+    assert abs(r.value[0] - (math.e - 1)) <= r.err[0]
+    with pytest.raises(ValueError):
+        integrate_piecewise(lambda x, m: x, [0.0, 1.0], n_initial=[2, 2])
