@@ -56,13 +56,17 @@ def _root(
 
 
 # ---------------------------------------------------------------- shared options
-FORMAT_HELP = "Output format: table | csv | json (default: table on a terminal, else csv; with -o, from the file's extension)."
+FORMAT_HELP = ("Output format: table | csv | json (default: table on a terminal, else csv; "
+               "with -o, from the file's extension).")
 O_FORMAT = typer.Option(None, "--format", "-f", help=FORMAT_HELP)
-O_DETAIL = typer.Option(False, "--detail", help="Add the per-element tables (per pin and crank angle, per roller, per row).")
+O_DETAIL = typer.Option(False, "--detail",
+                        help="Add the per-element tables (per pin and crank angle, per roller, per row).")
 O_OUTPUT = typer.Option(None, "--output", "-o", help="Write to this file (atomically) instead of stdout.")
-O_SET = typer.Option(None, "--set", help="Override a design key for this run: KEY=VALUE with a dotted KEY (repeatable).")
+O_SET = typer.Option(None, "--set",
+                     help="Override a design key for this run: KEY=VALUE with a dotted KEY (repeatable).")
 O_TOL = typer.Option(1e-6, "--tol", help="Relative accuracy target for numerically computed results (0 < REL < 0.1).")
-O_MODEL = typer.Option(None, "--model", help="Force a model level (see the calculator's levels); default: the cheapest level the design needs.")
+O_MODEL = typer.Option(None, "--model", help="Force a model level (see the calculator's levels); "
+                       "default: the cheapest level the design needs.")
 O_PLOT = typer.Option(None, "--plot", help="Draw the calculator's figure to this PNG file (needs the 'plot' extra).")
 O_DEBUG = typer.Option(False, "--debug", help="Show the traceback of an internal error.")
 
@@ -122,7 +126,6 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
                   plot: Optional[str], debug: bool) -> int:
     """The body of every computing command; returns the exit code."""
     from . import design as dmod
-    from .render import NonFiniteOutput, Record, render
 
     fmt = pick_format(fmt, output)
     check_tol(tol)
@@ -159,7 +162,21 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
                     + ": use --format json, or run each kind on its own (e.g. gearcalc rows ... -o rows.csv)")
     opts = Options(tol=tol, model=model, detail=detail)
     records = []
+    advance, stop = _progress(len(designs) * 20)  # a bar only for long batches on a terminal
+    try:
+        worst = _compute_all(designs, opts, records, worst, debug, advance)
+    finally:
+        stop()
+    return _emit(records, fmt, detail, output, plot, worst)
+
+
+def _compute_all(designs, opts, records, worst, debug, advance) -> int:
+    from . import design as dmod
+    from .render import Record
+
     for d in designs:
+        if advance:
+            advance(20)
         where = dmod.display_name(d.source)
         for w in d.warnings:
             err(f"{where}: warning: {w}")
@@ -185,6 +202,12 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
         if result.failed:
             worst = max(worst, EXIT_CHECK)
         records.append(Record(d.source, d.kind, d.name, d.resolved(), result))
+    return worst
+
+
+def _emit(records, fmt, detail, output, plot, worst) -> int:
+    from .render import NonFiniteOutput, render
+
     if records:
         try:
             color = fmt == "table" and not output and sys.stdout.isatty() and "NO_COLOR" not in os.environ
@@ -232,7 +255,8 @@ def _kind_command(kind: str, summary: str):
 
 KIND_HELP = {
     "pins": "KHV pin gearing: per-pin friction losses, cycle-averaged losses, efficiency.",
-    "zstk": "Closed rolling-body mechanism: roller chain, closure correction, roller loads, contact stresses, strength check.",
+    "zstk": "Closed rolling-body mechanism: roller chain, closure correction, roller loads, contact stresses, "
+            "strength check.",
     "rows": "Multi-row planetary gear: row load sharing K, carrier bridge widths, relative mass.",
 }
 for _kind, _help in KIND_HELP.items():
@@ -241,7 +265,8 @@ for _kind, _help in KIND_HELP.items():
 
 @app.command("run")
 def run_cmd(
-    paths: List[str] = typer.Argument(..., help="Design files or folders (every *.toml below a folder); '-' reads stdin."),
+    paths: List[str] = typer.Argument(
+        ..., help="Design files or folders (every *.toml below a folder); '-' reads stdin."),
     fmt: Optional[str] = O_FORMAT,
     detail: bool = O_DETAIL,
     output: Optional[str] = O_OUTPUT,
@@ -343,7 +368,8 @@ def _progress(total: int):
 def check_cmd(
     paths: List[str] = typer.Argument(..., help="Design files or folders."),
     sets: Optional[List[str]] = O_SET,
-    resolved: bool = typer.Option(False, "--resolved", help="Print each valid design with every default filled in, as TOML."),
+    resolved: bool = typer.Option(False, "--resolved",
+                                  help="Print each valid design with every default filled in, as TOML."),
     debug: bool = O_DEBUG,
 ):
     """Validate design files only; print every problem found."""
@@ -439,7 +465,17 @@ def _silence_stdout() -> None:
         pass
 
 
+def _terminate(signum, frame):  # SIGTERM: unwind like Ctrl-C, so no temporary file is left behind
+    raise KeyboardInterrupt
+
+
 def main() -> None:
+    import signal
+
+    try:
+        signal.signal(signal.SIGTERM, _terminate)
+    except (ValueError, OSError):  # not in the main thread
+        pass
     try:
         app()
     except BrokenPipeError:

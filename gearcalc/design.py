@@ -94,7 +94,8 @@ def read_toml(source: str) -> dict:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
-        raise InputError([f"{where}: not UTF-8 text (bad byte at line {line}); a design file is TOML in UTF-8"]) from None
+        raise InputError([f"{where}: not UTF-8 text (bad byte at line {line}); "
+                          "a design file is TOML in UTF-8"]) from None
     if not text.strip():
         raise InputError([f"{where}: empty file; a design needs at least kind = \"...\" (see 'gearcalc new KIND')"])
     try:

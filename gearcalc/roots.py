@@ -54,7 +54,8 @@ def _prepare(f, a, b):
     a, b, fa, fb = (x.copy() for x in np.broadcast_arrays(a, b, fa, fb))
     bad = (np.sign(fa) * np.sign(fb) > 0) | ~np.isfinite(fa) | ~np.isfinite(fb)
     if np.any(bad):
-        raise BracketError(f"{int(np.count_nonzero(bad))} bracket(s) without a sign change or with a non-finite end", bad)
+        raise BracketError(f"{int(np.count_nonzero(bad))} bracket(s) without a sign change "
+                           "or with a non-finite end", bad)
     return a, b, fa, fb
 
 

@@ -481,7 +481,7 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
     """
     n = rows
     d_a, m = sun_diameter, module
-    l = rim_width
+    span = rim_width  # l, the span length
     r_ba = 0.5 * d_a * math.cos(pressure_angle)
     z_a = d_a / m
     z_g = z_a * (ratio - 2.0) / 2.0
@@ -490,7 +490,7 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
     H_max = 2.0 * math.pi * a_c / planets_per_row - m * (z_g + 1.0)
     I_o = math.pi * axle_diameter**4 / 64.0
     S_o = math.pi * axle_diameter**2 / 4.0
-    delta_o = beam_compliance(l, I_o, S_o, youngs_modulus, poisson)
+    delta_o = beam_compliance(span, I_o, S_o, youngs_modulus, poisson)
     Q = (1.0 + poisson) * r_ba**2 * (rim_width + cheek) * planets_per_row / (
         youngs_modulus * delta_o * polar_moment * math.cos(pressure_angle))
     geo = (a_c / a_w) ** 2
@@ -498,7 +498,7 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
     def D_of(H):
         H = np.asarray(H, float)
         with np.errstate(divide="ignore"):
-            dh = beam_compliance(l, bridge_thickness * H**3 / 12.0, H * bridge_thickness, youngs_modulus, poisson)
+            dh = beam_compliance(span, bridge_thickness * H**3 / 12.0, H * bridge_thickness, youngs_modulus, poisson)
             return np.where(H > 0, 1.0 + delta_o / dh * geo, 1.0)
 
     flags = ["ok"] * n
@@ -526,14 +526,14 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
         need = (D > 1.0) & np.array([f == "ok" for f in flags])
         if np.any(need):
             delta_star = delta_o * geo / (D[need] - 1.0)
-            H[need] = bridge_width_for_compliance(delta_star, l, bridge_thickness, youngs_modulus, poisson)
+            H[need] = bridge_width_for_compliance(delta_star, span, bridge_thickness, youngs_modulus, poisson)
         for j, f in enumerate(flags):
             if f == "exceeds_max":
                 H[j] = H_max
         if first_span:
             H[0] = first_span
     with np.errstate(divide="ignore"):
-        d_h = np.where(H > 0, beam_compliance(l, bridge_thickness * np.maximum(H, 1e-300) ** 3 / 12.0,
+        d_h = np.where(H > 0, beam_compliance(span, bridge_thickness * np.maximum(H, 1e-300) ** 3 / 12.0,
                                               np.maximum(H, 1e-300) * bridge_thickness, youngs_modulus, poisson),
                        np.inf)
     stiffness = planets_per_row * (a_w**2 / delta_o + np.where(H > 0, a_c**2 / d_h, 0.0))

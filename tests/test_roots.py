@@ -43,7 +43,7 @@ def test_vectorised_equals_scalar():
     r = find_root(lambda x: x**2 - c, 0.0, 10.0)
     assert np.allclose(r.root, np.sqrt(c), rtol=1e-14)
     for k in (0, 17, 49):
-        rk = find_root(lambda x: x**2 - c[k], 0.0, 10.0)
+        rk = find_root(lambda x, ck=c[k]: x**2 - ck, 0.0, 10.0)
         assert float(rk.root) == pytest.approx(r.root[k], rel=1e-14)
 
 

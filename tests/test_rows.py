@@ -375,7 +375,7 @@ def test_ratio_opt_moves_with_wall_ratio():
     # paper's claim 7 / rows.md §6: the minimum is found numerically; changing t must move it
     from gearcalc.roots import minimize_golden
 
-    a, b = (minimize_golden(lambda i: R.relative_mass(i, 2, 3, t), 2.2, 12.0, rtol=1e-8) for t in (0.06, 0.10))
+    a, b = (minimize_golden(lambda i, t=t: R.relative_mass(i, 2, 3, t), 2.2, 12.0, rtol=1e-8) for t in (0.06, 0.10))
     assert abs(float(a.x) - float(b.x)) > 100 * (float(a.err) + float(b.err))
     assert abs(float(a.x) - 3.5) > 0.1  # the printed bracket does not put it at the paper's 3.5
 

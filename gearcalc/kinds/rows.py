@@ -26,10 +26,12 @@ TABLES = (
         Field("planets_per_row", "integer", REQUIRED, "n_w, planets in each row", ge=1, le=1000, example=3),
         Field("relative_width", "number", None, "B = b_a / d_a, sun face width over sun pitch diameter "
               "(give this or rim_width_mm)", ge=1e-9, le=1e4, example=3.0),
-        Field("rim_width_mm", "number", None, "b_w, planet rim (row) width (give this or relative_width)", ge=1e-6, le=1e7),
+        Field("rim_width_mm", "number", None, "b_w, planet rim (row) width (give this or relative_width)",
+              ge=1e-6, le=1e7),
         Field("cheek_ratio", "number", None, "b/b_w, cheek thickness over rim width (give this or cheek_mm)",
               ge=0, le=1e4, default_doc="0.25", example=0.25),
-        Field("cheek_mm", "number", None, "b, cheek thickness = gap between rows (give this or cheek_ratio)", ge=0, le=1e7),
+        Field("cheek_mm", "number", None, "b, cheek thickness = gap between rows (give this or cheek_ratio)",
+              ge=0, le=1e7),
     )),
     Table("sun", doc="the sun shaft", fields=(
         Field("torque_Nm", "number", None, "T_a, sun torque; K does not depend on it, the line loads do",
@@ -303,7 +305,7 @@ def compute(design, options: Options) -> Result:
 def _bridges(design, geo, s, detail, warnings, failed, kappa_for, C, E, nu, R, np):
     """Size the bridges, verify the sized carrier; fills the summary; returns K_balanced."""
     n, nw = geo["n"], design["rows.planets_per_row"]
-    b_w, bbar, r_ba = geo["b_w"], geo["cheek_ratio"], geo["r_ba"]
+    b_w, bbar = geo["b_w"], geo["cheek_ratio"]
     first = design["bridges.first_span"]
     first_mm = None if first == "axes_only" else float(first)
     d_size = torsion_diameter(design["bridges.torsion_diameter"], geo)
@@ -414,7 +416,8 @@ def sweep(base, raw, axes, points, options):
         if cheek_mm is not None:
             b_w = (B * d_a - (n - 1) * cheek_mm) / n
             if np.any(b_w <= 0):
-                raise DesignError("rows.cheek_mm", f"the cheeks leave no room for the rims at {points[int(np.argmax(b_w <= 0))]}")
+                where = points[int(np.argmax(b_w <= 0))]
+                raise DesignError("rows.cheek_mm", f"the cheeks leave no room for the rims at {where}")
             bbar = cheek_mm / b_w
         else:
             bbar = col("rows.cheek_ratio")
