@@ -72,7 +72,8 @@ def paired_modulus(e1, nu1, e2, nu2):
 
     Examples
     --------
-    >>> round(float(paired_modulus(2.1e5, 0.3, 1.1e5, 0.25)), 6) == round(float(contact_modulus(2.1e5, 0.3, 1.1e5, 0.25)), 6)
+    >>> a, b = paired_modulus(2.1e5, 0.3, 1.1e5, 0.25), contact_modulus(2.1e5, 0.3, 1.1e5, 0.25)
+    >>> bool(abs(a - b) <= 1e-12 * b)
     True
     """
     return e1 * e2 / (e1 * (1.0 - nu2 * nu2) + e2 * (1.0 - nu1 * nu1))
@@ -141,7 +142,7 @@ def peak_pressure(force, length, radius, e_star):
     Examples
     --------
     >>> round(float(peak_pressure(1000.0, 10.0, 5.0, 115384.6153846154)), 3)
-    857.047
+    857.066
 
     References
     ----------
@@ -166,7 +167,7 @@ def semi_width(force, length, radius, e_star):
     Examples
     --------
     >>> round(float(semi_width(1000.0, 10.0, 5.0, 115384.6153846154)), 6)
-    0.074284
+    0.074279
 
     References
     ----------

@@ -295,7 +295,7 @@ def roller_number_limit(correct, outer_radius, inner_radius, eccentricity, gap):
     Examples
     --------
     >>> round(roller_number_limit("outer", 100.0, 50.0, 6.0, 6.0), 6)
-    19.212474
+    31.940856
 
     References
     ----------
@@ -386,7 +386,7 @@ def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer
     --------
     >>> ch = close_chain(100.0, 50.0, 6.0, 6.0, 8)
     >>> round(ch.corrected - ch.nominal, 6)
-    2.220565
+    2.696917
 
     References
     ----------
@@ -431,19 +431,19 @@ def geometry_problems(outer_radius, inner_radius, eccentricity, gap):
     if not r_b > 0:
         out.append(("inner", f"= {r_b:g}: must be > 0"))
     if not r_h > r_b:
-        out.append(("inner", f"= {r_b:g}: must be < outer_raceway_radius_mm = {r_h:g} "
-                             "(the inner raceway lies inside the outer one)"))
+        out.append(("inner", (f"= {r_b:g}: must be < outer_raceway_radius_mm = {r_h:g} "
+                             "(the inner raceway lies inside the outer one)")))
         return out
     if not 0 <= e < r_h - r_b:
-        out.append(("eccentricity", f"= {e:g}: must be >= 0 and < outer_raceway_radius_mm − "
+        out.append(("eccentricity", (f"= {e:g}: must be >= 0 and < outer_raceway_radius_mm − "
                     f"inner_raceway_radius_mm = {r_h - r_b:g} (smallest roller radius (R_H − R_B − e)/2 "
-                    "would be ≤ 0)"))
+                    "would be ≤ 0)")))
     elif not e < (r_h + r_b) / math.sqrt(2.0):
-        out.append(("eccentricity", f"= {e:g}: must be < (R_H + R_B)/√2 = {(r_h + r_b) / math.sqrt(2.0):g} "
-                    "(the contact normals of the widest rollers would diverge by ≥ 90°)"))
+        out.append(("eccentricity", (f"= {e:g}: must be < (R_H + R_B)/√2 = {(r_h + r_b) / math.sqrt(2.0):g} "
+                    "(the contact normals of the widest rollers would diverge by ≥ 90°)")))
     if not 0 <= c < 2 * r_b:
-        out.append(("gap", f"= {c:g}: must be >= 0 and < 2·inner_raceway_radius_mm = {2 * r_b:g} "
-                           "(the rollers inflated by c/2 must stay outside the inner raceway)"))
+        out.append(("gap", (f"= {c:g}: must be >= 0 and < 2·inner_raceway_radius_mm = {2 * r_b:g} "
+                           "(the rollers inflated by c/2 must stay outside the inner raceway)")))
     return out
 
 
@@ -457,7 +457,7 @@ def chain_problems(chain: Chain):
     --------
     >>> chain_problems(close_chain(100.0, 50.0, 6.0, 6.0, 8))
     []
-    >>> chain_problems(close_chain(100.0, 50.0, 6.0, 6.0, 20))[0][0]
+    >>> chain_problems(close_chain(100.0, 50.0, 6.0, 6.0, 40))[0][0]
     'rollers'
     """
     lim = chain.n_limit
@@ -471,13 +471,13 @@ def chain_problems(chain: Chain):
     what = {"outer": "outer_raceway_radius_mm", "inner": "inner_raceway_radius_mm",
             "gap": "roller_gap_mm"}[chain.correct]
     if chain.n < 3 or not ok:
-        return [("rollers", f"= {chain.n}: must be in the admissible range {rng} for correct = "
+        return [("rollers", (f"= {chain.n}: must be in the admissible range {rng} for correct = "
                             f"\"{chain.correct}\" (N* = {chain.n_star:.6g}; beyond the range the corrected "
-                            f"{what} = {chain.corrected:.6g} leaves no valid chain)")]
+                            f"{what} = {chain.corrected:.6g} leaves no valid chain)"))]
     out = []
     for key, msg in geometry_problems(chain.outer_radius, chain.inner_radius, chain.eccentricity, chain.gap):
-        out.append(("rollers", f"= {chain.n}: the corrected geometry ({what} = {chain.corrected:.6g}) is "
-                               f"invalid: {key} {msg}"))
+        out.append(("rollers", (f"= {chain.n}: the corrected geometry ({what} = {chain.corrected:.6g}) is "
+                               f"invalid: {key} {msg}")))
     return out
 
 
@@ -764,32 +764,35 @@ def load_zero_clearance(normal_angle, gamma, load, stiffness, symmetric=False, f
     p = LOAD_EXPONENT
     fixed = np.broadcast_to(np.asarray(symmetric) | bool(fixed_direction), gamma.shape)
 
-    def arg_g(alpha):
-        a = np.maximum(np.cos(normal_angle - alpha[..., None]), 0.0) ** p
-        rel = normal_angle - gamma[..., None]
-        return np.arctan2(np.sum(a * np.sin(rel), axis=-1), np.sum(a * np.cos(rel), axis=-1))
-
+    rel = normal_angle - gamma[..., None]
+    cos_rel, sin_rel = np.cos(rel), np.sin(rel)
     alpha = gamma.copy()
+    a = np.maximum(cos_rel, 0.0)  # a_i at alpha = gamma (the fixed-direction / symmetric value)
     free = ~fixed
     if np.any(free):
         g_free = gamma[free]
         ang_free = normal_angle[free]
+        cos_n, sin_n = np.cos(ang_free), np.sin(ang_free)
+        cr, sr = cos_rel[free], sin_rel[free]
 
         def f(al):
-            a = np.maximum(np.cos(ang_free - al[..., None]), 0.0) ** p
-            rel = ang_free - g_free[..., None]
-            return np.arctan2(np.sum(a * np.sin(rel), axis=-1), np.sum(a * np.cos(rel), axis=-1))
+            # arg G(alpha) - gamma, with G = sum max(n_i.w, 0)^(10/9) n_i
+            a = np.maximum(cos_n * np.cos(al)[..., None] + sin_n * np.sin(al)[..., None], 0.0) ** p
+            return np.arctan2(np.sum(a * sr, axis=-1), np.sum(a * cr, axis=-1))
 
         res = find_root(f, g_free - 0.5 * np.pi, g_free + 0.5 * np.pi, xtol=1e-15)
         alpha[free] = res.root
-    a = np.maximum(np.cos(normal_angle - alpha[..., None]), 0.0)
-    alpha = np.where(free, _min_norm_direction(normal_angle, alpha, a > 0), alpha)
-    a = np.maximum(np.cos(normal_angle - alpha[..., None]), 0.0) ** p
-    denom = np.sum(a * np.cos(normal_angle - gamma[..., None]), axis=-1)
+        a_free = np.maximum(np.cos(ang_free - alpha[free][..., None]), 0.0)
+        alpha[free] = _min_norm_direction(ang_free, alpha[free], a_free > 0)
+        a = a.copy() if not a.flags.writeable else a
+        a[free] = np.maximum(np.cos(ang_free - alpha[free][..., None]), 0.0)
+    a = a ** p
+    denom = np.sum(a * cos_rel, axis=-1)
     force = load * a / denom[..., None]
     approach = (load / (stiffness * denom)) ** (1.0 / p)
-    residual, transverse = _residual(force, normal_angle, gamma, load)
-    return LoadSolution(force, alpha, approach, residual, transverse, np.ones(gamma.shape, bool))
+    fx = np.sum(force * cos_rel, axis=-1) - load
+    fy = np.sum(force * sin_rel, axis=-1)
+    return LoadSolution(force, alpha, approach, np.hypot(fx, fy), np.abs(fy), np.ones(gamma.shape, bool))
 
 
 def _force_law(approach, stiffness):
@@ -835,21 +838,77 @@ def load_along_direction(normal_angle, gamma, load, stiffness, clearance):
     base = (load / (stiffness * m)) ** 0.9
     if clearance >= 0:
         lo = half / m
-        hi = (base + half) / m
+        hi = (1.01 * base + half) / m  # 1 % margin: round-off in d may leave f(hi) a hair below 0
+        width = base / m
     else:
         width = (base + abs(half)) / m
         lo, hi = -width, width.copy()
-        for _ in range(200):
-            flo, fhi = f(lo), f(hi)
-            if np.all(flo <= 0) and np.all(fhi >= 0):
-                break
-            lo = np.where(flo > 0, 2.0 * lo, lo)
-            hi = np.where(fhi < 0, 2.0 * hi, hi)
+    for _ in range(200):  # widen outward until the bracket holds a sign change
+        flo, fhi = f(lo), f(hi)
+        if np.all(flo <= 0) and np.all(fhi >= 0):
+            break
+        lo = np.where(flo > 0, lo - width, lo)
+        hi = np.where(fhi < 0, hi + width, hi)
+        width = 2.0 * width
     res = find_root(f, lo, hi, xtol=1e-17 * (abs(clearance) + np.max(base)))
     delta = res.root
     force = _force_law(delta[..., None] * cos_psi - half, stiffness)
     residual, transverse = _residual(force, normal_angle, gamma, load)
     return LoadSolution(force, gamma, delta, residual, transverse, res.converged)
+
+
+def _newton(c0, vx, vy, nx, ny, ux, uy, load, stiffness, scale0, rtol, maxiter):
+    """Newton with backtracking on Pi(x) = c_L (9/19) sum max(c0_i + x·n_i, 0)^(19/9) - Q u·x (vectorised).
+
+    Returns (x_x, x_y, a, force, converged); an element stops when its residual meets the target or
+    no step decreases Pi or the residual any more (the round-off floor).
+    """
+    p = LOAD_EXPONENT
+    k19 = stiffness * 9.0 / 19.0
+
+    def state(vx, vy):
+        d = c0 + vx[..., None] * nx + vy[..., None] * ny
+        a = np.maximum(d, 0.0)
+        force = stiffness * a ** p
+        gx = np.sum(force * nx, axis=-1) - load * ux
+        gy = np.sum(force * ny, axis=-1) - load * uy
+        pot = k19 * np.sum(a ** (p + 1.0), axis=-1) - load * (ux * vx + uy * vy)
+        return a, force, gx, gy, pot
+
+    a, force, gx, gy, pot = state(vx, vy)
+    converged = np.hypot(gx, gy) <= rtol * (load + np.sum(force, axis=-1))
+    done = converged.copy()
+    for _ in range(maxiter):
+        if np.all(done):
+            break
+        w = stiffness * p * a ** (p - 1.0)
+        hxx, hxy, hyy = np.sum(w * nx * nx, -1), np.sum(w * nx * ny, -1), np.sum(w * ny * ny, -1)
+        lam = 1e-12 * (hxx + hyy) + 1e-9 * scale0 * ((hxx + hyy) == 0)
+        hxx, hyy = hxx + lam, hyy + lam
+        det = hxx * hyy - hxy * hxy
+        det = np.where(det > 1e-14 * (hxx + hyy) ** 2, det, (hxx + hyy) ** 2 * 1e-14)
+        dx = -(hyy * gx - hxy * gy) / det
+        dy = -(hxx * gy - hxy * gx) / det
+        slope = gx * dx + gy * dy
+        t = np.ones_like(vx)
+        acc = done.copy()
+        gnorm = np.hypot(gx, gy)
+        nvx, nvy = vx.copy(), vy.copy()
+        for _ in range(40):
+            tx, ty = vx + t * dx, vy + t * dy
+            _, _, tgx, tgy, tpot = state(tx, ty)
+            ok = ~acc & ((tpot <= pot + 1e-4 * t * slope) | (np.hypot(tgx, tgy) < gnorm))
+            nvx, nvy = np.where(ok, tx, nvx), np.where(ok, ty, nvy)
+            acc |= ok
+            if np.all(acc):
+                break
+            t = np.where(acc, t, 0.5 * t)
+        moved = (nvx != vx) | (nvy != vy)
+        vx, vy = nvx, nvy
+        a, force, gx, gy, pot = state(vx, vy)
+        converged = np.hypot(gx, gy) <= rtol * (load + np.sum(force, axis=-1))
+        done = converged | ~moved  # no acceptable step: the round-off floor is reached
+    return vx, vy, a, force, converged
 
 
 def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e-12, maxiter=100):
@@ -887,55 +946,47 @@ def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e
     ux, uy = np.cos(gamma), np.sin(gamma)
     half = 0.5 * clearance
     p = LOAD_EXPONENT
-    k19 = stiffness * 9.0 / 19.0
-
-    def state(vx, vy):
-        d = vx[..., None] * nx + vy[..., None] * ny - half
-        a = np.maximum(d, 0.0)
-        force = stiffness * a ** p
-        gx = np.sum(force * nx, axis=-1) - load * ux
-        gy = np.sum(force * ny, axis=-1) - load * uy
-        pot = k19 * np.sum(a ** (p + 1.0), axis=-1) - load * (ux * vx + uy * vy)
-        return a, force, gx, gy, pot
 
     start = load_zero_clearance(normal_angle, gamma, load, stiffness)
-    dist = start.approach + half
-    vx, vy = dist * np.cos(start.alpha), dist * np.sin(start.alpha)
-    a, force, gx, gy, pot = state(vx, vy)
+    # Newton on the offset x = v - v0 from a base point v0 at which the rollers that carry a light load
+    # touch exactly, so that the approaches c0_i + x·n_i carry no cancellation of s/2 against v·n_i
+    # and deflections far below eps·s stay resolved.  With clearance (s > 0) v0 is the vertex of the
+    # clearance polygon {v: v·n_i <= s/2} farthest along u: the corner of the two rollers whose
+    # normals bracket the load direction (c0 = 0 exactly for both).  Start: v = v0 + delta_0 w_0.
+    if clearance > 0:
+        rel = wrap_angle(normal_angle - gamma[..., None])
+        below = np.argmax(np.where(rel <= 0, rel, -np.inf), axis=-1)[..., None]
+        above = np.argmin(np.where(rel > 0, rel, np.inf), axis=-1)[..., None]
+        pair = np.concatenate([below, above], axis=-1)
+        jx, jy = np.take_along_axis(nx, pair, -1), np.take_along_axis(ny, pair, -1)
+        det = jx[..., 0] * jy[..., 1] - jx[..., 1] * jy[..., 0]
+        v0x = half * (jy[..., 1] - jy[..., 0]) / det
+        v0y = half * (jx[..., 0] - jx[..., 1]) / det
+        c0 = v0x[..., None] * nx + v0y[..., None] * ny - half
+        np.put_along_axis(c0, pair, 0.0, axis=-1)
+        c0 = np.minimum(c0, 0.0)  # v0 lies inside every other roller's play (round-off guard)
+    else:
+        v0x = v0y = np.zeros_like(gamma)
+        c0 = np.broadcast_to(-half, normal_angle.shape).copy()
     scale0 = stiffness * p * max(float(np.max(start.approach)), 1e-300) ** (p - 1.0)
-    done = np.hypot(gx, gy) <= rtol * (load + np.sum(force, axis=-1))
-    for _ in range(maxiter):
-        if np.all(done):
-            break
-        w = stiffness * p * a ** (p - 1.0)
-        hxx, hxy, hyy = np.sum(w * nx * nx, -1), np.sum(w * nx * ny, -1), np.sum(w * ny * ny, -1)
-        lam = 1e-12 * (hxx + hyy) + 1e-9 * scale0 * ((hxx + hyy) == 0)
-        hxx, hyy = hxx + lam, hyy + lam
-        det = hxx * hyy - hxy * hxy
-        det = np.where(det > 1e-14 * (hxx + hyy) ** 2, det, (hxx + hyy) ** 2 * 1e-14)
-        dx = -(hyy * gx - hxy * gy) / det
-        dy = -(hxx * gy - hxy * gx) / det
-        slope = gx * dx + gy * dy
-        t = np.ones_like(vx)
-        acc = done.copy()
-        gnorm = np.hypot(gx, gy)
-        nvx, nvy = vx.copy(), vy.copy()
-        for _ in range(60):
-            tx, ty = vx + t * dx, vy + t * dy
-            _, _, tgx, tgy, tpot = state(tx, ty)
-            ok = ~acc & ((tpot <= pot + 1e-4 * t * slope) | (np.hypot(tgx, tgy) < gnorm))
-            nvx, nvy = np.where(ok, tx, nvx), np.where(ok, ty, nvy)
-            acc |= ok
-            if np.all(acc):
-                break
-            t = np.where(acc, t, 0.5 * t)
-        vx, vy = nvx, nvy
-        a, force, gx, gy, pot = state(vx, vy)
-        done = np.hypot(gx, gy) <= rtol * (load + np.sum(force, axis=-1))
+    xx, xy = start.approach * np.cos(start.alpha), start.approach * np.sin(start.alpha)
+    xx, xy, a, force, converged = _newton(c0, xx, xy, nx, ny, ux, uy, load, stiffness, scale0, rtol, maxiter)
+    vx, vy = xx + v0x, xy + v0y
+    # a single loaded roller leaves v free across its normal: take the minimum-norm v (spec §11.3)
+    loaded = a > 0
+    single = np.sum(loaded, axis=-1) == 1
+    if np.any(single):
+        j = np.argmax(loaded, axis=-1)[..., None]
+        njx, njy = np.take_along_axis(nx, j, -1)[..., 0], np.take_along_axis(ny, j, -1)[..., 0]
+        t = vx * njx + vy * njy
+        px, py = t * njx, t * njy
+        others = (px[..., None] * nx + py[..., None] * ny - half) * ~loaded
+        use = single & np.all(others <= 0, axis=-1)
+        vx, vy = np.where(use, px, vx), np.where(use, py, vy)
     delta = np.hypot(vx, vy)
     alpha = np.arctan2(vy, vx)
     residual, transverse = _residual(force, normal_angle, gamma, load)
-    return LoadSolution(force, alpha, delta, residual, transverse, done)
+    return LoadSolution(force, alpha, delta, residual, transverse, converged)
 
 
 def solve_loads(normal_angle, gamma, load, stiffness, clearance=0.0, symmetric=False,
@@ -956,7 +1007,7 @@ def solve_loads(normal_angle, gamma, load, stiffness, clearance=0.0, symmetric=F
     --------
     >>> ang = np.radians(np.arange(0.0, 360.0, 45.0))
     >>> round(float(solve_loads(ang, 0.0, 800.0, 1e5, symmetric=True).force[0]), 6)
-    372.487622
+    407.700684
     """
     if clearance == 0.0:
         return load_zero_clearance(normal_angle, gamma, load, stiffness, symmetric, fixed_direction)
@@ -993,7 +1044,6 @@ class State:
     radius: np.ndarray
     beta: np.ndarray
     normal_angle: np.ndarray
-    psi: np.ndarray
     force_inner: np.ndarray
     force_outer: np.ndarray
     rho_inner: np.ndarray
@@ -1002,6 +1052,11 @@ class State:
     sigma_outer: np.ndarray
     gamma: np.ndarray
     loads: LoadSolution
+
+    @property
+    def psi(self) -> np.ndarray:
+        """Angle from the load direction u to each inner normal n_Bi, in (-pi, pi] [rad]."""
+        return wrap_angle(self.normal_angle - self.gamma[..., None])
 
 
 def evaluate(chain: Chain, mats: Materials, theta, gamma, load, clearance=0.0, symmetric=False,
@@ -1035,19 +1090,28 @@ def evaluate(chain: Chain, mats: Materials, theta, gamma, load, clearance=0.0, s
     """
     geo = (chain.outer_radius, chain.inner_radius, chain.eccentricity)
     theta = np.asarray(theta, dtype=float)
-    gamma = np.broadcast_to(np.asarray(gamma, dtype=float), theta.shape[:-1])
+    gamma = np.asarray(gamma, dtype=float)
+    shape = np.broadcast_shapes(theta.shape[:-1], gamma.shape)
+    full = shape + theta.shape[-1:]
+    # the geometry depends on the phase only: computed on theta's own shape, then broadcast (views)
     r = roller_radius(theta, *geo)
     h = centre_distance(theta, *geo)
     beta_s = np.arctan2(chain.eccentricity * np.sin(theta), h - chain.eccentricity * np.cos(theta))
     nb = theta + beta_s
-    sol = solve_loads(nb, gamma, load, mats.stiffness, clearance, symmetric, fixed_direction)
+    rho_b, rho_h = reduced_radii(r, h, chain.inner_radius, chain.outer_radius)
+    gamma = np.broadcast_to(gamma, shape)
+    sol = solve_loads(np.broadcast_to(nb, full), gamma, load, mats.stiffness, clearance, symmetric,
+                      fixed_direction)
     f_b = sol.force
     f_h = f_b * np.cos(beta_s)
-    rho_b, rho_h = reduced_radii(r, h, chain.inner_radius, chain.outer_radius)
     sig_b = hertz.peak_pressure(f_b, mats.length, rho_b, mats.e_star_inner)
     sig_h = hertz.peak_pressure(f_h, mats.length, rho_h, mats.e_star_outer)
-    return State(theta, r, np.abs(beta_s), nb, wrap_angle(nb - gamma[..., None]), f_b, f_h,
-                 rho_b, rho_h, sig_b, sig_h, np.asarray(gamma), sol)
+
+    def b(a):
+        return np.broadcast_to(a, full)
+
+    return State(b(theta), b(r), b(np.abs(beta_s)), b(nb), f_b, f_h, b(rho_b), b(rho_h), sig_b, sig_h,
+                 np.asarray(gamma), sol)
 
 
 def critical(state: State):
@@ -1105,7 +1169,9 @@ def _refine(fun, xs, ys, period, start, rtol, top=8):
     g = int(np.argmax(ys))
     if ys[g] > v_best:
         x_best, v_best, err_ref = float(xs[g]), float(ys[g]), 0.0
-    x_best = start + np.mod(x_best - start, period)
+    # report the argmax in [start - period/2, start + period/2): a maximum at the start of the period
+    # found slightly below it stays there instead of jumping to the end of the period
+    x_best = start + float(np.mod(x_best - start + 0.5 * period, period)) - 0.5 * period
     return x_best, v_best, err_ref
 
 
@@ -1136,7 +1202,9 @@ def maximise_periodic(fun, start, period, samples, tol, cap=2 ** 16, refine_rtol
     >>> abs(r.x - 1.0) < 1e-4 and abs(r.value - 1.0) <= 1e-9
     True
     """
-    refine_rtol = 0.01 * tol if refine_rtol is None else refine_rtol
+    # maxima are smooth (quadratic) in x, so an x tolerance of 0.01 sqrt(tol) gives sigma to ~1e-4 tol;
+    # the refinement error is measured, not assumed, and the tolerance is tightened if it dominates
+    refine_rtol = 0.01 * math.sqrt(tol) if refine_rtol is None else refine_rtol
     m = int(samples)
     prev = None
     while True:
@@ -1147,5 +1215,7 @@ def maximise_periodic(fun, start, period, samples, tol, cap=2 ** 16, refine_rtol
             err = abs(v - prev) + err_ref
             if err <= tol * abs(v) or 2 * m > cap:
                 return SweepResult(x, v, err, m, period / m, capped=err > tol * abs(v))
+        if err_ref > 0.25 * tol * abs(v):
+            refine_rtol *= 1e-3
         prev = v
         m *= 2

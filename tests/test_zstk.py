@@ -1,0 +1,640 @@
+"""Physics tests of gearcalc.zstk (spec zstk.md): geometry, closure, phase, loads, stresses.
+
+Expected numbers come from exact identities, closed-form limits, published constants (Stribeck
+4.08, Johnson/Hertz), independent solvers (scipy, explicit stepping) and the paper's claims.
+"""
+import math
+from decimal import Decimal, getcontext
+
+import numpy as np
+import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
+
+from gearcalc import hertz
+from gearcalc import zstk as z
+
+PAPER = {"outer_radius": 100.0, "inner_radius": 50.0, "eccentricity": 6.0, "gap": 6.0}  # Merko et al. example
+Q = 1e4
+STEEL = z.Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+
+
+def paper_chain(n=None, correct="outer", **over):
+    g = {**PAPER, **over}
+    n_star = z.fractional_roller_number(g["outer_radius"], g["inner_radius"], g["eccentricity"], g["gap"])
+    n = z.auto_roller_number(float(n_star)) if n is None else n
+    return z.close_chain(g["outer_radius"], g["inner_radius"], g["eccentricity"], g["gap"], n, correct)
+
+
+def state(chain, phase, gamma, load=Q, clearance=0.0, mats=STEEL, **kw):
+    theta = z.roller_angles(phase, chain.n, chain.limiting_ratio)
+    return z.evaluate(chain, mats, theta, gamma, load, clearance, **kw)
+
+
+geometries = st.tuples(st.floats(20.0, 200.0), st.floats(0.1, 0.9), st.floats(0.0, 0.95), st.floats(0.0, 0.9))
+
+
+def make_geometry(t):
+    """(R_H, R_B, e, c) from unit fractions, valid by construction (e < D, e < S/sqrt2, c < 2R_B)."""
+    r_h, fb, fe, fc = t
+    r_b = fb * r_h
+    d = r_h - r_b
+    e = fe * min(d, (r_h + r_b) / math.sqrt(2))
+    c = fc * min(2 * r_b, d)  # c < D keeps N* large enough to be interesting
+    return r_h, r_b, e, c
+
+
+# ----------------------------------------------------------------------------- §3.1 geometry
+@pytest.mark.parametrize("theta", np.linspace(-np.pi, np.pi, 13))
+def test_radius_forms_agree(theta):
+    # cancellation-free form == R_H - h(theta) (direct ellipse form), moderate geometry
+    r = z.roller_radius(theta, 100.0, 50.0, 6.0)
+    assert r == pytest.approx(100.0 - z.centre_distance(theta, 100.0, 50.0, 6.0), rel=1e-13)
+
+
+def test_radius_extremes_exact():
+    # r(0) = (D - e)/2, r(pi) = (D + e)/2 exactly (spec §3.1)
+    assert z.roller_radius(0.0, 100.0, 50.0, 6.0) == 22.0
+    assert z.roller_radius(np.pi, 100.0, 50.0, 6.0) == pytest.approx(28.0, rel=1e-15)
+
+
+def test_tiny_roller_radius_accurate():
+    # e -> D: the smallest roller is 1e-10 mm; check r(theta) at small theta against 50-digit Decimal
+    # arithmetic of R_H - h(theta) (cos by its Taylor series), which the naive float form cannot resolve.
+    getcontext().prec = 60
+    r_h, r_b = 100.0, 50.0
+    e = 50.0 - 2e-10
+    for th in (0.0, 1e-6, 1e-3):
+        x = Decimal(th)
+        cos = 1 + sum((-1) ** k * x ** (2 * k) / Decimal(math.factorial(2 * k)) for k in range(1, 12))
+        s, ed = Decimal(r_h) + Decimal(r_b), Decimal(e)
+        exact = Decimal(r_h) - (s * s - ed * ed) / (2 * (s - ed * cos))
+        assert float(z.roller_radius(th, r_h, r_b, e)) == pytest.approx(float(exact), rel=1e-12)
+
+
+@settings(max_examples=40, deadline=None)
+@given(geometries, st.floats(-math.pi, math.pi))
+def test_tangency_and_normals(t, theta):
+    r_h, r_b, e, _ = make_geometry(t)
+    r = z.roller_radius(theta, r_h, r_b, e)
+    p = z.centres(np.array(theta), r_h, r_b, e)
+    # tangent to both raceways to 1e-9 mm (spec §7.2)
+    assert abs(np.hypot(*p) - (r_h - r)) <= 1e-9
+    assert abs(np.hypot(p[0] - e, p[1]) - (r_b + r)) <= 1e-9
+    # beta: the angle O_B P O_H; sin beta = e |sin theta|/(R_B + r); signed offset rotates n_H into n_B
+    bs = z.normal_angle_offset(theta, r_h, r_b, e)
+    assert math.sin(abs(bs)) == pytest.approx(e * abs(math.sin(theta)) / (r_b + r), rel=1e-9, abs=1e-15)
+    nb = np.array([p[0] - e, p[1]]) / (r_b + r)
+    assert nb[0] == pytest.approx(math.cos(theta + bs), abs=1e-12)
+    assert nb[1] == pytest.approx(math.sin(theta + bs), abs=1e-12)
+
+
+def test_beta_zero_on_line_and_for_e0():
+    assert z.normal_angle_offset(0.0, 100.0, 50.0, 6.0) == 0.0
+    assert np.all(z.normal_angle_offset(np.linspace(-3, 3, 7), 100.0, 50.0, 0.0) == 0.0)
+
+
+def test_reduced_radii_match_paper_eqs_4_5():
+    r, h = 22.0, 78.0
+    rb, rh = z.reduced_radii(r, h, 50.0, 100.0)
+    assert rb == pytest.approx(r * 50.0 / (50.0 + r), rel=1e-15)  # eq. (4)
+    assert rh == pytest.approx(r * 100.0 / (100.0 - r), rel=1e-15)  # eq. (5)
+    assert rb == pytest.approx(hertz.reduced_radius(r, 50.0)) and rh == pytest.approx(hertz.reduced_radius(r, -100.0))
+
+
+# ----------------------------------------------------------------------------- §3.2 closure
+def test_worked_example_n_star():
+    # sin²(pi/N*) = (W² - e²)/(S² - e²) with W = 56, S = 150, e = 6 (spec §3.2), evaluated directly
+    n_star = math.pi / math.asin(math.sqrt((56.0 ** 2 - 36.0) / (150.0 ** 2 - 36.0)))
+    assert z.fractional_roller_number(100.0, 50.0, 6.0, 6.0) == pytest.approx(n_star, rel=1e-14)
+    assert z.auto_roller_number(n_star) == 8 and 8 < n_star < 9
+
+
+@pytest.mark.parametrize("correct", ["outer", "inner", "gap"])
+@settings(max_examples=30, deadline=None)
+@given(t=geometries, dn=st.integers(-3, 2))
+def test_correction_closes_chain(correct, t, dn):
+    r_h, r_b, e, c = make_geometry(t)
+    n_star = float(z.fractional_roller_number(r_h, r_b, e, c))
+    n = max(3, math.floor(n_star) + dn)
+    ch = z.close_chain(r_h, r_b, e, c, n, correct)
+    assume(not z.chain_problems(ch))
+    # N* of the corrected geometry == N to 1e-9 (spec §7.2)
+    assert z.fractional_roller_number(ch.outer_radius, ch.inner_radius, ch.eccentricity, ch.gap) == pytest.approx(
+        n, abs=1e-9)
+    # the closure condition (C) in its inversive-distance form
+    x, a = ch.outer_radius + ch.gap / 2, ch.inner_radius - ch.gap / 2
+    lhs = (x * x + a * a - e * e) / (2 * x * a)
+    assert lhs == pytest.approx(1 + 2 * math.tan(math.pi / n) ** 2, rel=1e-9)
+    # direction of the correction follows from N vs N* (spec §3.2, choice of N)
+    if n < n_star - 1e-9:
+        assert {"outer": ch.corrected > ch.nominal, "inner": ch.corrected < ch.nominal,
+                "gap": ch.corrected > ch.nominal}[correct]
+
+
+def test_concentric_steiner_formula():
+    # e = 0: (C) becomes sin(pi/N) = (X - A)/(X + A) (MathWorld "Steiner chain")
+    ch = z.close_chain(100.0, 50.0, 0.0, 4.0, 9, "gap")
+    x, a = ch.outer_radius + ch.gap / 2, ch.inner_radius - ch.gap / 2
+    assert math.sin(math.pi / 9) == pytest.approx((x - a) / (x + a), rel=1e-13)
+    assert ch.limiting_ratio == 0.0
+
+
+def test_n_star_monotone():
+    # N* falls when R_H or c grows, rises when R_B grows (spec §3.2)
+    f = z.fractional_roller_number
+    assert f(101.0, 50.0, 6.0, 6.0) < f(100.0, 50.0, 6.0, 6.0)
+    assert f(100.0, 50.0, 6.0, 6.5) < f(100.0, 50.0, 6.0, 6.0)
+    assert f(100.0, 51.0, 6.0, 6.0) > f(100.0, 50.0, 6.0, 6.0)
+
+
+@pytest.mark.parametrize("correct", ["outer", "inner", "gap"])
+def test_n_max_is_the_validity_limit(correct):
+    # at N = N_max (real) the corrected geometry sits exactly on its validity limit (spec §3.3)
+    r_h, r_b, e, c = 100.0, 50.0, 6.0, 6.0
+    n_max = z.roller_number_limit(correct, r_h, r_b, e, c)
+    if correct == "outer":
+        assert z.corrected_outer_radius(n_max, r_b, e, c) - r_b - e == pytest.approx(0.0, abs=1e-9)
+    elif correct == "inner":
+        assert z.corrected_inner_radius(n_max, r_h, e, c) == pytest.approx(r_h - e, rel=1e-12)
+    else:
+        assert z.corrected_gap(n_max, r_h, r_b, e) == pytest.approx(0.0, abs=1e-9)
+    assert z.roller_number_limit("outer", r_h, r_b, e, 0.0) == math.inf
+
+
+def test_admissible_interval_reported():
+    ok = z.close_chain(100.0, 50.0, 6.0, 6.0, 31)
+    bad = z.close_chain(100.0, 50.0, 6.0, 6.0, 32)
+    assert z.chain_problems(ok) == []
+    (key, msg), = z.chain_problems(bad)
+    assert key == "rollers" and "3 ≤ N ≤ 31" in msg
+    assert z.chain_problems(z.close_chain(100.0, 50.0, 6.0, 6.0, 9, "gap")) == []
+    assert "3 ≤ N ≤ 9" in z.chain_problems(z.close_chain(100.0, 50.0, 6.0, 6.0, 10, "gap"))[0][1]
+
+
+@pytest.mark.parametrize("n_star,parity,expected", [(8.25, None, 8), (8.25, 0, 8), (8.25, 1, 7), (9.0 - 1e-10, 0, 8),
+                                                    (9.0 - 1e-10, 1, 9), (8.0 + 1e-10, None, 8), (3.5, 0, 2)])
+def test_auto_roller_number(n_star, parity, expected):
+    assert z.auto_roller_number(n_star, parity) == expected
+
+
+def test_exact_integer_n_star_means_no_correction():
+    ch = z.close_chain(100.0, 50.0, 6.0, 6.0, 8)
+    again = z.close_chain(ch.outer_radius, 50.0, 6.0, 6.0, 8)
+    assert again.corrected == again.nominal
+
+
+@pytest.mark.parametrize("args,key", [((100.0, 100.0, 0.0, 1.0), "inner"), ((100.0, 0.0, 0.0, 1.0), "inner"),
+                                      ((100.0, 50.0, 50.0, 1.0), "eccentricity"),
+                                      ((100.0, 50.0, -1.0, 1.0), "eccentricity"),
+                                      ((100.0, 50.0, 6.0, 100.0), "gap"), ((100.0, 50.0, 6.0, -1.0), "gap"),
+                                      ((100.0, 1.0, 71.5, 0.0), "eccentricity")])
+def test_geometry_problems(args, key):
+    assert key in [k for k, _ in z.geometry_problems(*args)]
+
+
+# ----------------------------------------------------------------------------- §4 positions
+@settings(max_examples=30, deadline=None)
+@given(geometries, st.floats(0.0, 2 * math.pi))
+def test_gaps_equal_c_for_any_phase(t, phase):
+    # porism: the corrected chain closes from any phase; all N gaps == c to 1e-9 mm (spec §7.2)
+    r_h, r_b, e, c = make_geometry(t)
+    n = z.auto_roller_number(float(z.fractional_roller_number(r_h, r_b, e, c)))
+    assume(n >= 3)
+    ch = z.close_chain(r_h, r_b, e, c, n)
+    assume(not z.chain_problems(ch))
+    theta = z.roller_angles(phase, n, ch.limiting_ratio)
+    gaps = z.neighbour_gaps(theta, ch.outer_radius, ch.inner_radius, ch.eccentricity)
+    assert np.max(np.abs(gaps - ch.gap)) <= 1e-9
+
+
+@pytest.mark.parametrize("phase", [0.0, 0.1, 0.3, 0.7, 2.0])
+@pytest.mark.parametrize("correct", ["outer", "inner", "gap"])
+def test_stepping_cross_check(phase, correct):
+    # explicit stepping closes with residual < 1e-9 mm independent of the start, and matches the
+    # closed-form Möbius positions (spec §4.1)
+    ch = paper_chain(correct=correct)
+    theta = z.roller_angles(phase, ch.n, ch.limiting_ratio)
+    stepped, res = z.step_chain(theta[0], ch.n, ch.outer_radius, ch.inner_radius, ch.eccentricity, ch.gap)
+    assert res < 1e-9
+    assert np.max(np.abs(z.wrap_angle(stepped[:-1] - theta))) < 1e-10
+
+
+def test_equal_rollers_equally_spaced_for_e0():
+    ch = z.close_chain(100.0, 50.0, 0.0, 3.0, 10, "gap")
+    theta = z.roller_angles(0.2, 10, ch.limiting_ratio)
+    assert np.allclose(np.diff(theta), 2 * np.pi / 10, atol=1e-14)
+    assert np.allclose(z.roller_radius(theta, 100.0, 50.0, 0.0), 25.0, rtol=1e-14)
+
+
+def test_small_rollers_crowd_the_narrow_side():
+    ch = paper_chain()
+    th = z.roller_angles(0.0, ch.n, ch.limiting_ratio)
+    steps = np.diff(np.degrees(th))
+    assert steps[0] < steps[3]  # pitch at the narrow side < pitch at the wide side
+
+
+@pytest.mark.parametrize("scheme,n,at0,at180", [("A", 8, "roller", "roller"), ("B", 7, "roller", "gap"),
+                                               ("C", 7, "gap", "roller"), ("D", 8, "gap", "gap")])
+def test_scheme_table(scheme, n, at0, at180):
+    ch = paper_chain(n=n)
+    th = np.degrees(z.wrap_angle(z.roller_angles(z.scheme_phase(scheme, n), n, ch.limiting_ratio)))
+
+    def has(a):
+        return np.any(np.abs(z.wrap_angle(np.radians(th - a))) < 1e-9)
+
+    assert has(0.0) == (at0 == "roller")
+    assert has(180.0) == (at180 == "roller")
+    # mirror-symmetric about the line of centres: every roller has a mirror roller at -theta
+    d = np.abs(z.wrap_angle(np.radians(th[:, None] + th[None, :])))
+    assert np.all(np.min(d, axis=1) < 1e-9)
+
+
+# ----------------------------------------------------------------------------- §5 loads
+def equilibrium_error(st_, load):
+    nb, f = st_.normal_angle, st_.force_inner
+    g = st_.gamma[..., None]
+    ax = np.sum(f * np.cos(nb - g), axis=-1) - load
+    tr = np.sum(f * np.sin(nb - g), axis=-1)
+    return np.abs(ax) / load, np.abs(tr) / load
+
+
+@settings(max_examples=40, deadline=None)
+@given(st.floats(0.0, 2 * math.pi), st.floats(-math.pi, math.pi), st.sampled_from([0.0, 0.01, -0.01, 0.1]))
+def test_equilibrium_two_components(phase, gamma, clearance):
+    # sum F_iB n_Bi = Q u in both components to 1e-9 relative (spec §7.2); F >= 0, F_H <= F_B
+    ch = paper_chain()
+    s = state(ch, phase, gamma, clearance=clearance)
+    ax, tr = equilibrium_error(s, Q)
+    assert ax <= 1e-9 and tr <= 1e-9
+    assert s.loads.residual <= 1e-12 * (Q + np.sum(s.force_inner))
+    assert np.all(s.force_inner >= 0) and np.all(s.force_outer <= s.force_inner)
+    assert np.all(np.isfinite(s.sigma_inner)) and np.all(np.isfinite(s.sigma_outer))
+
+
+def test_vectorised_over_phases_and_directions():
+    ch = paper_chain()
+    phases = np.linspace(0, 0.7, 5)[:, None]
+    gammas = np.linspace(-np.pi, np.pi, 9)[None, :]
+    s = state(ch, phases, gammas)
+    assert s.force_inner.shape == (5, 9, ch.n)
+    one = state(ch, float(phases[2, 0]), float(gammas[0, 4]))
+    assert np.allclose(s.force_inner[2, 4], one.force_inner, rtol=1e-12, atol=1e-9)
+    ax, tr = equilibrium_error(s, Q)
+    assert np.max(ax) <= 1e-9 and np.max(tr) <= 1e-9
+
+
+@pytest.mark.parametrize("scheme,n", [("A", 8), ("B", 7), ("C", 7), ("D", 8)])
+@pytest.mark.parametrize("gamma", [0.0, np.pi])
+def test_symmetric_closed_form(scheme, n, gamma):
+    # F_iB = Q cos^(10/9) psi / sum cos^(19/9) psi (spec §5.1), mirror-symmetric forces, and the
+    # direction root agrees with the closed form to round-off
+    ch = paper_chain(n=n)
+    s_sym = state(ch, z.scheme_phase(scheme, n), gamma, symmetric=True)
+    s_gen = state(ch, z.scheme_phase(scheme, n), gamma)
+    cpsi = np.maximum(np.cos(s_sym.psi), 0.0)
+    expected = Q * cpsi ** (10 / 9) / np.sum(cpsi ** (19 / 9))
+    assert np.allclose(s_sym.force_inner, expected, rtol=1e-13, atol=1e-9)
+    assert np.allclose(s_gen.force_inner, expected, rtol=1e-9, atol=1e-7)
+    assert np.allclose(s_sym.force_outer, expected * np.cos(s_sym.beta), rtol=1e-13, atol=1e-9)
+    # mirror symmetry: the multiset of (theta, F) equals that of (-theta, F)
+    a = sorted(zip(np.round(np.degrees(z.wrap_angle(s_sym.theta)), 6) % 360, np.round(s_sym.force_inner, 6)))
+    b = sorted(zip(np.round(np.degrees(z.wrap_angle(-s_sym.theta)), 6) % 360, np.round(s_sym.force_inner, 6)))
+    assert a == b
+    fixed = state(ch, z.scheme_phase(scheme, n), gamma, fixed_direction=True)
+    assert np.allclose(fixed.force_inner, s_sym.force_inner, rtol=1e-13, atol=1e-9)
+
+
+def test_fixed_direction_leaves_transverse_force():
+    # off-symmetric: v ∥ u leaves an unbalanced transverse force (spec §5.1), the equilibrium model none
+    ch = paper_chain()
+    fixed = state(ch, 0.3, 0.4, fixed_direction=True)
+    full = state(ch, 0.3, 0.4)
+    assert fixed.loads.transverse / Q > 1e-4
+    assert full.loads.transverse / Q < 1e-12
+
+
+def scipy_forces(normal_angle, gamma, clearance, stiffness, load):
+    """Roller forces from scipy's BFGS minimisation of the potential Pi(v) (spec §5.2), independent."""
+    from scipy.optimize import minimize
+
+    n = np.stack([np.cos(normal_angle), np.sin(normal_angle)], -1)
+    u = np.array([math.cos(gamma), math.sin(gamma)])
+    scale = 1e-3  # v in µm for a well-scaled problem
+
+    def pi(v):
+        d = np.maximum(n @ (v * scale) - clearance / 2, 0.0)
+        return (stiffness * 9 / 19 * np.sum(d ** (19 / 9)) - load * u @ (v * scale)) / load
+
+    def grad(v):
+        d = np.maximum(n @ (v * scale) - clearance / 2, 0.0)
+        return (stiffness * (d ** (10 / 9)) @ n - load * u) * scale / load
+
+    res = minimize(pi, 10 * u, jac=grad, method="BFGS", options={"gtol": 1e-14})
+    d = np.maximum(n @ (res.x * scale) - clearance / 2, 0.0)
+    return stiffness * d ** (10 / 9)
+
+
+@pytest.mark.parametrize("clearance", [0.0, 0.02, -0.01])
+def test_equilibrium_matches_scipy_minimiser(clearance):
+    ch = paper_chain()
+    s = state(ch, 0.37, 0.9, clearance=clearance)
+    f_ref = scipy_forces(s.normal_angle, 0.9, clearance, STEEL.stiffness, Q)
+    assert np.allclose(s.force_inner, f_ref, rtol=1e-5, atol=1e-3)
+
+
+@pytest.mark.parametrize("z_count", [10, 20, 40])
+def test_stribeck_line_contact(z_count):
+    # e = 0, zero clearance, a roller on the load line: Q_max Z/F_r within 0.5 % of 4.08 (NSK E728)
+    ch = z.close_chain(100.0, 50.0, 0.0, 3.0, z_count, "gap")
+    s = state(ch, 0.0, 0.0, symmetric=True)
+    factor = np.max(s.force_inner) * z_count / Q
+    assert factor == pytest.approx(4.08, rel=5e-3)
+    # a gap on the load line gives a lower factor, clearly lower for few rollers (Z = 10: about -6 %)
+    s_gap = state(ch, np.pi / z_count, 0.0, symmetric=True)
+    gap_factor = np.max(s_gap.force_inner) * z_count / Q
+    assert gap_factor < factor - 1e-3
+    if z_count == 10:
+        assert gap_factor < 0.97 * factor
+
+
+def test_stribeck_limit():
+    # Z -> infinity: 2 sqrt(pi) Gamma(37/18)/Gamma(14/9) (spec §7.1, derived); Z = 2000 within 1e-5
+    from scipy.special import gamma as gam
+
+    limit = 2 * math.sqrt(math.pi) * gam(37 / 18) / gam(14 / 9)
+    assert round(limit, 2) == 4.08
+    ch = z.close_chain(100.0, 99.0, 0.0, 0.0, 2000, "gap")
+    s = state(ch, 0.0, 0.0, symmetric=True)
+    assert np.max(s.force_inner) * 2000 / Q == pytest.approx(limit, rel=1e-5)
+
+
+@settings(max_examples=20, deadline=None)
+@given(st.floats(-1.0, 1.0), st.floats(1e-3, 1e3))
+def test_scaling_invariants(gamma, k):
+    # s = 0: F ∝ Q, sigma ∝ sqrt(Q), delta ∝ Q^(9/10) (spec §7.2)
+    ch = paper_chain()
+    a = state(ch, 0.2, gamma, load=Q)
+    b = state(ch, 0.2, gamma, load=Q * k)
+    assert np.allclose(b.force_inner, k * a.force_inner, rtol=1e-9, atol=1e-9 * Q * k)
+    assert np.allclose(b.sigma_inner, math.sqrt(k) * a.sigma_inner, rtol=1e-9, atol=1e-9)
+    assert b.loads.approach == pytest.approx(k ** 0.9 * a.loads.approach, rel=1e-9)
+
+
+def test_clearance_models_agree_when_symmetric():
+    # symmetric configuration with clearance: the 1-D root (v ∥ u) and the 2-D Newton agree
+    ch = paper_chain()
+    for s_ in (0.03, -0.01):
+        th = z.roller_angles(0.0, ch.n, ch.limiting_ratio)
+        nb = th + z.normal_angle_offset(th, ch.outer_radius, ch.inner_radius, ch.eccentricity)
+        one = z.load_along_direction(nb, 0.0, Q, STEEL.stiffness, s_)
+        two = z.load_with_clearance(nb, 0.0, Q, STEEL.stiffness, s_)
+        assert np.allclose(one.force, two.force, rtol=1e-9, atol=1e-9)
+        assert two.alpha == pytest.approx(0.0, abs=1e-9)
+
+
+def test_clearance_concentrates_load_and_preload_spreads_it():
+    ch = paper_chain()
+    zero = state(ch, 0.0, 0.0, symmetric=True)
+    loose = state(ch, 0.0, 0.0, clearance=0.05, symmetric=True)
+    tight = state(ch, 0.0, 0.0, clearance=-0.03, symmetric=True)
+    assert np.max(loose.force_inner) > np.max(zero.force_inner)
+    assert np.count_nonzero(loose.force_inner) < np.count_nonzero(zero.force_inner)
+    assert np.count_nonzero(tight.force_inner) == ch.n
+
+
+def test_preload_small_load():
+    # forces stay non-zero as Q -> 0 with preload; delta may be negative (spec §9)
+    ch = paper_chain()
+    for load in (1e-3, 1e-6):
+        s = state(ch, 0.3, 0.5, load=load, clearance=-0.01)
+        assert np.all(s.force_inner > 1.0)
+        assert s.loads.residual <= 1e-12 * (load + np.sum(s.force_inner))
+        assert np.all(np.isfinite(s.force_inner))
+
+
+def test_min_norm_displacement_single_loaded_roller():
+    # e = 0, N = 3, load through a roller: only that roller is loaded; v along its normal (spec §11.3)
+    ch = z.close_chain(100.0, 50.0, 0.0, 0.0, 3, "gap")
+    s = state(ch, 0.0, 0.0)
+    assert np.count_nonzero(s.force_inner) == 1
+    assert s.force_inner[0] == pytest.approx(Q, rel=1e-12)
+    assert s.loads.alpha == pytest.approx(0.0, abs=1e-12)
+
+
+def test_normals_perpendicular_to_load():
+    # e = 0, Z = 8, phi_0 = 0, gamma = 90°: rollers with n ⊥ u get F = 0, no NaN, continuous at 90° ± 1e-9
+    ch = z.close_chain(100.0, 50.0, 0.0, 3.0, 8, "gap")
+    vals = [state(ch, 0.0, math.radians(90.0) + d) for d in (-1e-9 * math.pi / 180, 0.0, 1e-9 * math.pi / 180)]
+    for v in vals:
+        assert np.all(np.isfinite(v.force_inner)) and np.all(np.isfinite(v.sigma_inner))
+    assert np.allclose(vals[0].force_inner, vals[1].force_inner, atol=1e-3)
+    assert np.allclose(vals[2].force_inner, vals[1].force_inner, atol=1e-3)
+    assert vals[1].force_inner[0] == pytest.approx(0.0, abs=1e-9)
+
+
+# ----------------------------------------------------------------------------- hard cases
+def test_e_zero_and_tiny_continuous():
+    a = paper_chain(eccentricity=0.0)
+    b = paper_chain(eccentricity=1e-12)
+    assert a.limiting_ratio == 0.0 and 0 < b.limiting_ratio < 1e-12
+    sa, sb = state(a, 0.0, 0.0), state(b, 0.0, 0.0)
+    # sigma ∝ sqrt(F) is not Lipschitz where F -> 0 (rollers at 90°), hence the absolute 1e-4 MPa (1e-7 of sigma_max)
+    assert np.allclose(sa.sigma_inner, sb.sigma_inner, rtol=1e-9, atol=1e-4)
+    assert np.all(sa.beta == 0.0)
+
+
+def test_vanishing_smallest_roller_finite():
+    # e -> D with the rollers of the nominal geometry (correct = "gap" keeps R_H, R_B): tiny roller, finite sigma
+    ch = z.close_chain(100.0, 50.0, 50.0 - 1e-6, 0.0, 12, "gap")
+    assert not z.chain_problems(ch)
+    s = state(ch, 0.0, 0.0)
+    assert s.radius[0] == pytest.approx(5e-7, rel=1e-6)
+    assert np.all(np.isfinite(s.sigma_inner)) and np.isfinite(np.max(s.sigma_inner))
+    b = hertz.semi_width(s.force_inner[0], 20.0, s.rho_inner[0], STEEL.e_star_inner)
+    assert b > 0.1 * s.rho_inner[0]  # the b/rho warning case
+
+
+def test_gap_zero_and_tiny_continuous():
+    a, b = paper_chain(gap=0.0), paper_chain(gap=1e-9)
+    assert a.n_limit == math.inf
+    sa, sb = state(a, 0.0, 0.0), state(b, 0.0, 0.0)
+    assert np.allclose(sa.sigma_inner, sb.sigma_inner, rtol=1e-6)
+
+
+def test_many_rollers():
+    # N > 200 (spec §9): every invariant holds
+    ch = paper_chain(outer_radius=100.0, inner_radius=97.5, eccentricity=0.5, gap=0.05)
+    assert ch.n > 200
+    theta = z.roller_angles(0.1, ch.n, ch.limiting_ratio)
+    gaps = z.neighbour_gaps(theta, ch.outer_radius, ch.inner_radius, ch.eccentricity)
+    assert np.max(np.abs(gaps - ch.gap)) <= 1e-9
+    s = state(ch, 0.1, 0.7)
+    ax, tr = equilibrium_error(s, Q)
+    assert ax <= 1e-9 and tr <= 1e-9
+
+
+@pytest.mark.parametrize("load", [1e-6, 1e9])
+def test_extreme_loads(load):
+    ch = paper_chain()
+    s = state(ch, 0.2, 0.3, load=load)
+    ax, tr = equilibrium_error(s, load)
+    assert ax <= 1e-9 and tr <= 1e-9
+    assert np.all(np.isfinite(s.sigma_inner))
+
+
+# ----------------------------------------------------------------------------- the paper's claims (§6)
+def test_claim1_inner_contact_more_stressed():
+    for n, scheme in ((8, "A"), (7, "B"), (7, "C"), (8, "D")):
+        ch = paper_chain(n=n)
+        for gamma in np.linspace(0, 2 * np.pi, 13):
+            s = state(ch, z.scheme_phase(scheme, n), gamma)
+            loaded = s.force_inner > 0
+            assert np.all(s.sigma_inner[loaded] > s.sigma_outer[loaded])
+
+
+@pytest.mark.parametrize("scheme,n", [("A", 8), ("B", 7)])
+def test_claim2_max_at_smallest_roller_on_load_line(scheme, n):
+    ch = paper_chain(n=n)
+    s = state(ch, z.scheme_phase(scheme, n), 0.0, symmetric=True)
+    _, i, contact = z.critical(s)
+    assert i == 0 and contact == 0 and s.theta[0] == 0.0
+    assert s.radius[0] == pytest.approx(np.min(s.radius))
+
+
+def test_claim2_envelope_max_at_smallest_roller():
+    ch = paper_chain()
+    for scheme in ("A", "D"):
+        theta = z.roller_angles(z.scheme_phase(scheme, ch.n), ch.n, ch.limiting_ratio)
+        gammas = np.linspace(0, 2 * np.pi, 721)
+        s = z.evaluate(ch, STEEL, theta, gammas, Q)
+        per_roller = np.max(s.sigma_inner, axis=0)
+        i = int(np.argmax(per_roller))
+        assert s.radius[0, i] == pytest.approx(np.min(s.radius[0]), rel=1e-9)
+        assert np.max(per_roller) > np.max(np.max(s.sigma_outer, axis=0))
+
+
+def test_claim3_u_shape_on_line_of_centres():
+    # per-roller maximum over gamma = 0 and 180°: maxima at the smallest and largest rollers, minima off the line
+    ch = paper_chain()
+    theta = z.roller_angles(0.0, ch.n, ch.limiting_ratio)
+    s = z.evaluate(ch, STEEL, theta, np.array([0.0, np.pi]), Q, symmetric=True)
+    env = np.max(s.sigma_inner, axis=0)
+    r = s.radius[0]
+    order = np.argsort(r)
+    sig = env[order]
+    inner = sig[1:-1]
+    assert sig[0] > np.max(inner) and sig[-1] > np.max(inner)  # ends highest
+    k = int(np.argmin(sig))
+    assert 0 < k < len(sig) - 1  # the minimum lies between (off the load line)
+
+
+@pytest.mark.parametrize("scheme", ["A", "D"])
+def test_claim4_outer_vs_inner_correction(scheme):
+    res = []
+    for correct in ("outer", "inner"):
+        ch = paper_chain(correct=correct)
+        s = state(ch, z.scheme_phase(scheme, ch.n), 0.0, symmetric=True)
+        res.append(float(z.critical(s)[0]))
+    assert abs(res[0] / res[1] - 1) < 0.05
+
+
+def test_claim5_correction_enlarges_rollers():
+    ch = paper_chain()
+    d = ch.corrected - ch.nominal
+    assert d > 0
+    r_min0, r_max0 = z.roller_radius(0.0, 100.0, 50.0, 6.0), z.roller_radius(np.pi, 100.0, 50.0, 6.0)
+    assert z.roller_radius(0.0, ch.outer_radius, 50.0, 6.0) - r_min0 == pytest.approx(d / 2, rel=1e-12)
+    assert z.roller_radius(np.pi, ch.outer_radius, 50.0, 6.0) - r_max0 == pytest.approx(d / 2, rel=1e-12)
+
+
+# ----------------------------------------------------------------------------- materials and sweeps
+def test_stiffness_material_scaling():
+    # steel: the ISO/TS 16281 constant unchanged; softer rings: smaller constant
+    assert z.roller_stiffness(20.0) == pytest.approx(35948.0 * 20.0 ** (8 / 9), rel=1e-14)
+    assert z.E_STAR_REF == pytest.approx(115384.615, rel=1e-8)
+    soft = hertz.contact_modulus(2.1e5, 0.3, 1.1e5, 0.34)
+    assert z.roller_stiffness(20.0, soft, soft) == pytest.approx(
+        35948.0 * 20.0 ** (8 / 9) * (z.E_STAR_REF / soft) ** -1.0, rel=1e-12)
+
+
+def test_dissimilar_materials_use_their_moduli():
+    m = z.Materials.from_elastic(20.0, 2.1e5, 0.3, 1.1e5, 0.34, 2.1e5, 0.3)
+    ch = paper_chain()
+    s = state(ch, 0.0, 0.0, mats=m, symmetric=True)
+    i = 0
+    assert s.sigma_inner[i] == pytest.approx(
+        hertz.peak_pressure(s.force_inner[i], 20.0, s.rho_inner[i], hertz.contact_modulus(2.1e5, 0.3, 1.1e5, 0.34)),
+        rel=1e-14)
+    assert s.sigma_outer[i] == pytest.approx(
+        hertz.peak_pressure(s.force_outer[i], 20.0, s.rho_outer[i], hertz.contact_modulus(2.1e5, 0.3, 2.1e5, 0.3)),
+        rel=1e-14)
+
+
+@pytest.mark.parametrize("x0", [0.0, 1.0, 3.0, 6.0])
+def test_maximise_periodic_known_function(x0):
+    # a smooth periodic function with its maximum 2.0 at x0, and one with a kink
+    r = z.maximise_periodic(lambda x: 2.0 - (1 - np.cos(x - x0)) ** 2 - 0.1 * (1 - np.cos(x - x0)),
+                            0.0, 2 * np.pi, 16, 1e-10)
+    assert abs(r.value - 2.0) <= max(r.err, 1e-12)
+    assert abs(z.wrap_angle(r.x - x0)) < 1e-4
+    k = z.maximise_periodic(lambda x: 1.0 - np.abs(z.wrap_angle(x - x0)), 0.0, 2 * np.pi, 16, 1e-8)
+    assert abs(k.value - 1.0) <= k.err + 1e-12
+
+
+def test_cycle_phase_envelope_covers_schemes():
+    # the placement envelope over one pitch is >= every scheme's value (A and D are phases of the chain)
+    ch = paper_chain()
+
+    def f(ph):
+        return z.critical(state(ch, ph, 0.0))[0]
+
+    sw = z.maximise_periodic(f, 0.0, 2 * np.pi / ch.n, 64, 1e-8)
+    for scheme in ("A", "D"):
+        assert sw.value >= f(z.scheme_phase(scheme, ch.n)) - 1e-9
+    fine = np.max(f(np.linspace(0, 2 * np.pi / ch.n, 4001)))
+    assert abs(sw.value - fine) <= max(sw.err, 1e-6 * sw.value)
+
+
+def test_min_norm_displacement_with_clearance():
+    # a light load through a roller with clearance: one loaded roller, v along its normal with
+    # |v| = s/2 + (Q/c_L)^(9/10) (spec §5, §11.3)
+    th = z.roller_angles(0.0, 3, 0.0)
+    s = z.load_with_clearance(th, 0.0, 100.0, 1e5, 0.05)
+    assert np.count_nonzero(s.force) == 1 and s.force[0] == pytest.approx(100.0, rel=1e-12)
+    assert s.alpha == pytest.approx(0.0, abs=1e-12)
+    assert s.approach == pytest.approx(0.025 + (100.0 / 1e5) ** 0.9, rel=1e-9)
+
+
+@settings(max_examples=40, deadline=None)
+@given(geometries, st.floats(0.0, 2 * math.pi), st.floats(-math.pi, math.pi), st.sampled_from([0.0, 0.02, -0.005]),
+       st.sampled_from(["outer", "inner", "gap"]))
+def test_equilibrium_random_designs(t, phase, gamma, clearance, correct):
+    # §7.2 invariants over random valid designs, phases, directions, clearances and corrections
+    r_h, r_b, e, c = make_geometry(t)
+    n = z.auto_roller_number(float(z.fractional_roller_number(r_h, r_b, e, c)))
+    assume(n >= 3)
+    ch = z.close_chain(r_h, r_b, e, c, n, correct)
+    assume(not z.chain_problems(ch))
+    s = state(ch, phase, gamma, clearance=clearance)
+    ax, tr = equilibrium_error(s, Q)
+    assert ax <= 1e-9 and tr <= 1e-9
+    assert np.all(s.force_inner >= 0) and np.all(s.force_outer <= s.force_inner)
+    assert np.all(np.isfinite(s.sigma_inner)) and np.all(np.isfinite(s.sigma_outer))
+    loaded = s.force_inner > 0
+    assert np.all(s.sigma_inner[loaded] > s.sigma_outer[loaded])  # claim 1 (same material)
+
+
+@pytest.mark.parametrize("load", [1e-6, 1.0, 1e8])
+@pytest.mark.parametrize("clearance", [1e-4, 0.05, -1e-4, -0.05])
+def test_clearance_solver_reaches_target_on_a_grid(load, clearance):
+    # spec §11.1: residual <= 1e-12 (Q + sum F) for every phase and direction, also where the contact
+    # deflection ((Q/c_L)^0.9 ~ 1e-11 mm at Q = 1e-6 N) is far below the clearance (round-off of s/2)
+    ch = paper_chain()
+    th = z.roller_angles(np.linspace(0, 2 * np.pi / ch.n, 9)[:, None], ch.n, ch.limiting_ratio)
+    s = z.evaluate(ch, STEEL, th, np.linspace(-np.pi, np.pi, 25)[None, :], load, clearance)
+    assert np.all(s.loads.converged)
+    assert np.all(s.loads.residual <= 1e-12 * (load + np.sum(s.force_inner, axis=-1)))
+    ax, tr = equilibrium_error(s, load)
+    if clearance > 0:  # forces ~ Q: the invariant relative to Q holds as well
+        assert np.max(ax) <= 1e-9 and np.max(tr) <= 1e-9

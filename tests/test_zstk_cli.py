@@ -1,0 +1,314 @@
+"""CLI tests of `gearcalc zstk`: the spec's example, the configs, outputs, exit codes, bad input."""
+import csv
+import io
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+from typer.testing import CliRunner
+
+from gearcalc.cli import app
+
+ROOT = Path(__file__).resolve().parent.parent
+CONFIGS = ROOT / "configs"
+EXAMPLE = CONFIGS / "zstk_merko_example.toml"
+runner = CliRunner()
+
+BASE = """kind = "zstk"
+name = "t"
+[geometry]
+outer_raceway_radius_mm = 100.0
+inner_raceway_radius_mm = 50.0
+eccentricity_mm = 6.0
+roller_gap_mm = 6.0
+roller_length_mm = 20.0
+[load]
+radial_N = 10000.0
+"""
+
+
+def run(*args):
+    return runner.invoke(app, ["zstk", *(str(a) for a in args)])
+
+
+def summary(*args):
+    r = run(*args, "--format", "json")
+    assert r.exit_code in (0, 1), r.output
+    return json.loads(r.stdout)["summary"], r
+
+
+def design(tmp_path, extra="", name="d.toml", base=BASE):
+    p = tmp_path / name
+    p.write_text(base + extra)
+    return p
+
+
+def test_example_unchanged_subprocess():
+    # the spec's example, byte for byte, through the real console entry point
+    p = subprocess.run([sys.executable, "-m", "gearcalc", "zstk", str(EXAMPLE), "--format", "json"],
+                       capture_output=True, text=True, timeout=60, check=False)
+    assert p.returncode == 0, p.stderr
+    s = json.loads(p.stdout)["summary"]
+    for key in ("name", "N", "N_star", "correction", "outer_raceway_radius_mm", "inner_raceway_radius_mm",
+                "roller_gap_mm", "sigma_max_MPa", "sigma_max_contact", "sigma_max_roller", "sigma_max_angle_deg",
+                "sigma_max_roller_radius_mm", "allowable_stress_MPa", "safety_factor", "pass"):
+        assert key in s
+    assert s["N"] == 8 and s["correction"] == "outer" and s["sigma_max_contact"] == "inner"
+    assert s["sigma_max_roller"] == 0 and s["sigma_max_angle_deg"] == 0.0
+    # no [sigma_H] in the design: the ISO 76 default, its source and a warning (spec §7.1.4)
+    assert s["allowable_stress_MPa"] == 4000.0
+    assert s["allowable_stress_source"] == "default: ISO 76 static reference"
+    assert "static" in p.stderr and "not an endurance allowable" in p.stderr
+
+
+def test_json_and_csv_agree():
+    s, _ = summary(EXAMPLE)
+    r = run(EXAMPLE, "--format", "csv")
+    row = next(csv.DictReader(io.StringIO(r.stdout)))
+    for k, v in s.items():
+        if isinstance(v, float):
+            assert float(row[k]) == v
+        elif v is None:
+            assert row[k] == ""
+
+
+def test_configs_all_run():
+    files = sorted(CONFIGS.glob("zstk_*.toml"))
+    assert len(files) >= 10
+    r = run(*files, "--format", "json")
+    assert r.exit_code == 0, r.output
+    objs = json.loads(r.stdout)
+    by = {Path(o["file"]).name: o["summary"] for o in objs}
+    # porism: every scheme of one N has one corrected radius (spec §4.2)
+    assert by["zstk_merko_A_outer.toml"]["outer_raceway_radius_mm"] == by["zstk_merko_D_outer.toml"][
+        "outer_raceway_radius_mm"]
+    assert by["zstk_merko_A_outer.toml"]["N"] == 8 and by["zstk_merko_B_outer.toml"]["N"] == 7
+    # the example is scheme A with R_H corrected
+    assert by["zstk_merko_example.toml"]["sigma_max_MPa"] == by["zstk_merko_A_outer.toml"]["sigma_max_MPa"]
+    for s in by.values():
+        assert s["sigma_max_contact"] == "inner"
+
+
+def test_detail_table():
+    r = run(EXAMPLE, "--format", "json", "--detail")
+    obj = json.loads(r.stdout)
+    rows = obj["detail"]["rollers"]
+    assert len(rows) == 8
+    for col in ("i", "theta_deg", "r_mm", "psi_deg", "beta_deg", "F_B_N", "F_H_N", "rho_B_mm", "rho_H_mm",
+                "sigma_B_MPa", "sigma_H_MPa", "b_B_mm", "b_H_mm", "tau_max_B_MPa"):
+        assert col in rows[0]
+    # equilibrium along the load from the printed table (16 digits): sum F cos psi = Q
+    total = sum(r_["F_B_N"] * math.cos(math.radians(r_["psi_deg"])) for r_ in rows)
+    assert total == pytest.approx(10000.0, rel=1e-12)
+    assert max(r_["sigma_B_MPa"] for r_ in rows) == obj["summary"]["sigma_max_MPa"]
+    r = run(EXAMPLE, "--format", "csv", "--detail")
+    assert r.stdout.splitlines()[0].startswith("name,table,i,theta_deg")
+    r = run(EXAMPLE, "--format", "table", "--detail")
+    assert r.exit_code == 0 and "worked example: rollers" in r.stdout
+
+
+@pytest.mark.parametrize("scheme,n", [("A", 8), ("B", 7), ("C", 7), ("D", 8)])
+def test_schemes_parity_and_phase(tmp_path, scheme, n):
+    s, _ = summary(design(tmp_path), "--set", f"geometry.scheme={scheme}")
+    assert s["N"] == n and s["scheme"] == scheme
+    assert (s["theta0_deg"] == 0.0) == (scheme in "AB")
+
+
+def test_phase_angle(tmp_path):
+    s, _ = summary(design(tmp_path), "--set", "geometry.scheme=12.5")
+    assert s["scheme"] == "angle" and s["theta0_deg"] == pytest.approx(12.5, abs=1e-12)
+
+
+def test_correction_fields(tmp_path):
+    s, _ = summary(design(tmp_path), "--set", 'geometry.correct="inner"')
+    assert s["correction"] == "inner" and s["nominal_mm"] == 50.0
+    assert s["inner_raceway_radius_mm"] == pytest.approx(50.0 + s["correction_mm"], rel=1e-15)
+    assert s["correction_mm"] < 0 and s["outer_raceway_radius_mm"] == 100.0
+    g, _ = summary(design(tmp_path), "--set", 'geometry.correct="gap"')
+    assert g["roller_gap_mm"] == pytest.approx(6.0 + g["correction_mm"]) and g["correction_mm"] > 0
+
+
+def test_envelope_and_cycle_honest_error(tmp_path):
+    # the sweep's error estimate must cover the difference to the reference level (8x grids)
+    p = design(tmp_path)
+    for sets in (["load.direction_deg=envelope"], ["geometry.scheme=cycle"],
+                 ["geometry.scheme=D", "load.direction_deg=envelope"]):
+        args = [x for kv in sets for x in ("--set", kv)]
+        d, _ = summary(p, *args)
+        ref, _ = summary(p, *args, "--model", "reference")
+        assert d["sigma_max_err_MPa"] > 0
+        assert abs(d["sigma_max_MPa"] - ref["sigma_max_MPa"]) <= d["sigma_max_err_MPa"] + ref["sigma_max_err_MPa"]
+        assert d["sigma_max_err_MPa"] <= 1e-6 * d["sigma_max_MPa"]
+        if "load.direction_deg=envelope" in sets:
+            assert d["direction_samples"] >= 720 and d["direction_step_deg"] > 0
+        else:
+            assert d["phase_samples"] >= 64
+    assert ref["stepping_residual_mm"] < 1e-9
+
+
+def test_envelope_detail_has_directions(tmp_path):
+    r = run(design(tmp_path), "--set", "load.direction_deg=envelope", "--format", "json", "--detail")
+    obj = json.loads(r.stdout)
+    rows = obj["detail"]["rollers"]
+    assert "gamma_B_deg" in rows[0] and "gamma_H_deg" in rows[0]
+    smax = max(r_["sigma_B_MPa"] for r_ in rows)
+    s = obj["summary"]
+    assert abs(smax - s["sigma_max_MPa"]) <= s["sigma_max_err_MPa"] + 1e-9 * smax
+    # the envelope maximum sits at the smallest roller, inner contact (the paper's claim 2)
+    assert s["sigma_max_roller_radius_mm"] == pytest.approx(min(r_["r_mm"] for r_ in rows))
+
+
+def test_fixed_direction_level(tmp_path):
+    p = design(tmp_path)
+    sym, _ = summary(p, "--model", "fixed-direction")
+    eq, _ = summary(p)
+    assert sym["sigma_max_MPa"] == pytest.approx(eq["sigma_max_MPa"], rel=1e-13)
+    assert sym["transverse_residual"] < 1e-12
+    off, r = summary(p, "--model", "fixed-direction", "--set", "geometry.scheme=10", "--set", "load.direction_deg=25")
+    assert off["transverse_residual"] > 1e-4 and "transverse" in r.stderr
+    full, _ = summary(p, "--set", "geometry.scheme=10", "--set", "load.direction_deg=25")
+    assert full["transverse_residual"] < 1e-12 and full["solver_residual"] < 1e-12
+
+
+def test_clearance_and_preload(tmp_path):
+    p = design(tmp_path)
+    for s_ in ("0.02", "-0.01"):
+        s, _ = summary(p, "--set", f"load.clearance_mm={s_}", "--set", "geometry.scheme=10",
+                       "--set", "load.direction_deg=30")
+        assert s["solver_residual"] <= 1e-12 and s["clearance_mm"] == float(s_)
+        assert 0 <= s["approach_direction_deg"] < 360 and s["approach_um"] >= 0
+    s, _ = summary(p, "--set", "load.clearance_mm=-0.01", "--set", "load.radial_N=1e-3")
+    assert s["loaded_rollers"] == 8 and s["sigma_max_MPa"] > 100
+
+
+def test_strength_check_exit_1(tmp_path):
+    p = design(tmp_path, "[material]\nallowable_stress_MPa = 700.0\n")
+    s, r = summary(p)
+    assert r.exit_code == 1 and s["pass"] is False
+    assert s["allowable_stress_source"] == "design" and s["safety_factor"] < 1
+    assert "check failed" in r.stderr and "sigma_max_MPa" in r.stderr
+
+
+def test_huge_load_fails_and_warns(tmp_path):
+    s, r = summary(design(tmp_path), "--set", "load.radial_N=1e9")
+    assert r.exit_code == 1 and s["pass"] is False and "b/rho" in r.stderr
+    t, _ = summary(design(tmp_path), "--set", "load.radial_N=1e-6")
+    assert t["sigma_max_MPa"] > 0 and t["pass"] is True
+
+
+def test_many_rollers_cli(tmp_path):
+    s, _ = summary(design(tmp_path), "--set", "geometry.inner_raceway_radius_mm=97.5", "--set",
+                   "geometry.eccentricity_mm=0.5", "--set", "geometry.roller_gap_mm=0.05")
+    assert s["N"] > 200 and s["solver_residual"] < 1e-12
+
+
+@pytest.mark.parametrize("sets,key,words", [
+    (["geometry.inner_raceway_radius_mm=100"], "geometry.inner_raceway_radius_mm", "must be <"),
+    (["geometry.inner_raceway_radius_mm=0"], "geometry.inner_raceway_radius_mm", "> 0"),
+    (["geometry.roller_length_mm=0"], "geometry.roller_length_mm", ">= 1e-06"),
+    (["geometry.outer_raceway_radius_mm=1e300"], "geometry.outer_raceway_radius_mm", "<= 1e+06"),
+    (["load.clearance_mm=30"], "load.clearance_mm", "smallest roller radius"),
+    (["load.clearance_mm=-1e300"], "load.clearance_mm", "smallest roller radius"),
+    (["geometry.eccentricity_mm=-1"], "geometry.eccentricity_mm", ">= 0"),
+    (["geometry.eccentricity_mm=52"], "geometry.eccentricity_mm", "= 50"),
+    (["geometry.eccentricity_mm=50"], "geometry.eccentricity_mm", "(R_H − R_B − e)/2 would be ≤ 0"),
+    (["geometry.inner_raceway_radius_mm=1", "geometry.eccentricity_mm=72", "geometry.roller_gap_mm=0"],
+     "geometry.eccentricity_mm", "90°"),
+    (["geometry.roller_gap_mm=-1"], "geometry.roller_gap_mm", ">= 0"),
+    (["geometry.roller_gap_mm=100"], "geometry.roller_gap_mm", "< 2·inner_raceway_radius_mm = 100"),
+    (["load.radial_N=0"], "load.radial_N", "> 0"),
+    (["material.roller_E_MPa=0"], "material.roller_E_MPa", ">= 1"),
+    (["material.inner_ring_E_MPa=5e-324"], "material.inner_ring_E_MPa", ">= 1"),
+    (["material.allowable_stress_MPa=-5"], "material.allowable_stress_MPa", "> 0"),
+    (["material.ring_poisson=0.5"], "material.ring_poisson", "< 0.5"),
+    (["material.roller_poisson=0"], "material.roller_poisson", "> 0"),
+    (["geometry.rollers=8.5"], "geometry.rollers", "an integer"),
+    (["geometry.rollers=2"], "geometry.rollers", ">= 3"),
+    (["geometry.rollers=2001"], "geometry.rollers", "<= 2000"),
+    (["geometry.inner_raceway_radius_mm=99.9", "geometry.eccentricity_mm=0", "geometry.roller_gap_mm=0"],
+     "geometry.rollers", "range of 2000 rollers"),
+    (["geometry.rollers=40"], "geometry.rollers", "3 ≤ N ≤ 31"),
+    (["geometry.rollers=7"], "geometry.rollers", "geometry.scheme"),
+    (["geometry.inner_raceway_radius_mm=10", "geometry.roller_gap_mm=19", "geometry.eccentricity_mm=0"],
+     "geometry.rollers", "N* = 2.18"),
+    (["geometry.scheme=E"], "geometry.scheme", '"A" | "B"'),
+    (["load.direction_deg=sideways"], "load.direction_deg", '"envelope"'),
+    (["load.radial_N=nan"], "load.radial_N", "finite"),
+    (["geometry.eccentricity_mm=inf"], "geometry.eccentricity_mm", "finite"),
+])
+def test_bad_input_exit_2(tmp_path, sets, key, words):
+    p = design(tmp_path)
+    args = [x for kv in sets for x in ("--set", kv)]
+    r = run(p, *args, "--format", "csv")
+    assert r.exit_code == 2, r.output
+    assert "d.toml" in r.stderr and key in r.stderr and words in r.stderr, r.stderr
+    assert "Traceback" not in r.output and "nan" not in r.stdout
+
+
+def test_explicit_n_below_n_star_3_is_valid(tmp_path):
+    # spec §11.6: N* < 3 is no error when N is given and its correction is valid
+    s, _ = summary(design(tmp_path), "--set", "geometry.inner_raceway_radius_mm=10", "--set",
+                   "geometry.roller_gap_mm=19", "--set", "geometry.eccentricity_mm=0", "--set", "geometry.rollers=3",
+                   "--set", 'geometry.correct="gap"', "--set", "geometry.scheme=B")
+    assert s["N"] == 3 and s["N_star"] < 3 and s["roller_gap_mm"] < 19
+
+
+def test_check_command(tmp_path):
+    good = design(tmp_path)
+    bad = design(tmp_path, "", "bad.toml", BASE.replace("eccentricity_mm = 6.0", "eccentricity_mm = 60.0"))
+    r = runner.invoke(app, ["check", str(good), str(bad)])
+    assert r.exit_code == 2 and "ok" in r.stdout and "bad.toml: geometry.eccentricity_mm" in r.stderr
+
+
+def test_template_runs(tmp_path):
+    r = runner.invoke(app, ["new", "zstk"])
+    p = tmp_path / "new.toml"
+    p.write_text(r.stdout)
+    r2 = run(p, "--format", "csv")
+    assert r2.exit_code == 0, r2.output
+
+
+def test_run_command(tmp_path):
+    r = run(design(tmp_path), "--format", "json")
+    r2 = runner.invoke(app, ["run", str(design(tmp_path)), "--format", "json"])
+    assert json.loads(r2.stdout)["summary"] == json.loads(r.stdout)["summary"]
+
+
+def test_cycle_with_envelope(tmp_path):
+    # spec §11.8: the maximum over placements and directions together bounds both single sweeps
+    p = design(tmp_path)
+    both, _ = summary(p, "--set", "geometry.scheme=cycle", "--set", "load.direction_deg=envelope")
+    env, _ = summary(p, "--set", "load.direction_deg=envelope")
+    cyc, _ = summary(p, "--set", "geometry.scheme=cycle")
+    tol = both["sigma_max_err_MPa"] + env["sigma_max_err_MPa"] + cyc["sigma_max_err_MPa"]
+    assert both["sigma_max_MPa"] >= max(env["sigma_max_MPa"], cyc["sigma_max_MPa"]) - tol
+    assert both["phase_samples"] >= 64 and both["direction_samples"] >= 720
+
+
+def test_plot(tmp_path):
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "zstk.png"
+    r = run(EXAMPLE, CONFIGS / "zstk_merko_A_envelope.toml", "--plot", out, "--format", "csv")
+    assert r.exit_code == 0, r.output
+    data = out.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
+
+
+@pytest.mark.parametrize("key", ["geometry.scheme", "load.direction_deg"])
+def test_huge_angles_are_reduced(tmp_path, key):
+    # angles are periodic: 1e300 degrees is reduced modulo 360 exactly (math.remainder), never NaN
+    big, _ = summary(design(tmp_path), "--set", f"{key}=1e300")
+    small, _ = summary(design(tmp_path), "--set", f"{key}={math.remainder(1e300, 360.0)!r}")
+    assert big["sigma_max_MPa"] == small["sigma_max_MPa"]
+
+
+def test_vanishing_roller_warns(tmp_path):
+    # e -> R_H - R_B with the raceways kept (correct = "gap"): a tiny smallest roller, finite stress and the
+    # b/rho warning (spec §9)
+    s, r = summary(design(tmp_path), "--set", "geometry.eccentricity_mm=49.9999", "--set", 'geometry.correct="gap"')
+    assert s["r_min_mm"] == pytest.approx(5e-5, rel=1e-6)
+    assert math.isfinite(s["sigma_max_MPa"]) and s["sigma_max_roller_radius_mm"] == pytest.approx(5e-5, rel=1e-6)
+    assert "b/rho" in r.stderr
