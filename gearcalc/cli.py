@@ -116,6 +116,28 @@ def write_atomic(path: str, text: str) -> None:
         raise
 
 
+def emit_text(render_fn, fmt: str, output: Optional[str]) -> bool:
+    """Render (width and colour from the terminal) and write to stdout or atomically to -o.
+
+    Returns False, after an error message, when the calculator produced a non-finite value (a bug).
+    """
+    from .render import NonFiniteOutput
+
+    terminal = fmt == "table" and not output and sys.stdout.isatty()
+    try:
+        text = render_fn(os.get_terminal_size().columns if terminal else None,
+                         terminal and "NO_COLOR" not in os.environ)
+    except NonFiniteOutput as exc:
+        err(f"internal error: {exc}; please report it with the design file")
+        return False
+    if output:
+        write_atomic(output, text)
+    else:
+        sys.stdout.write(text)
+        sys.stdout.flush()
+    return True
+
+
 def check_tol(tol: float) -> None:
     if not (0.0 < tol < 0.1):
         raise Abort(f"--tol {tol}: must be > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
@@ -206,23 +228,11 @@ def _compute_all(designs, opts, records, worst, debug, advance) -> int:
 
 
 def _emit(records, fmt, detail, output, plot, worst) -> int:
-    from .render import NonFiniteOutput, render
+    from .render import render
 
     if records:
-        try:
-            color = fmt == "table" and not output and sys.stdout.isatty() and "NO_COLOR" not in os.environ
-            width = None
-            if fmt == "table" and not output and sys.stdout.isatty():
-                width = os.get_terminal_size().columns
-            text = render(records, fmt, detail, width=width, color=color)
-        except NonFiniteOutput as exc:
-            err(f"internal error: {exc}; please report it with the design file")
+        if not emit_text(lambda width, color: render(records, fmt, detail, width=width, color=color), fmt, output):
             return EXIT_BUG
-        if output:
-            write_atomic(output, text)
-        else:
-            sys.stdout.write(text)
-            sys.stdout.flush()
         if plot:
             from .plot import plot_records
 
@@ -298,7 +308,7 @@ def sweep_cmd(
     def body() -> int:
         from . import design as dmod
         from . import sweep as sw
-        from .render import NonFiniteOutput, render_rows
+        from .render import render_rows
 
         f = pick_format(fmt, output)
         check_tol(tol)
@@ -321,17 +331,9 @@ def sweep_cmd(
                 stop()
         except sw.SweepError as exc:
             raise Abort(f"{dmod.display_name(file)}: {exc}") from None
-        try:
-            width = os.get_terminal_size().columns if f == "table" and not output and sys.stdout.isatty() else None
-            text = render_rows(rows, f, title=f"gearcalc sweep {dmod.display_name(file)}", width=width)
-        except NonFiniteOutput as exc:
-            err(f"internal error: {exc}; please report it with the design file")
+        title = f"gearcalc sweep {dmod.display_name(file)}"
+        if not emit_text(lambda width, color: render_rows(rows, f, title=title, width=width, color=color), f, output):
             return EXIT_BUG
-        if output:
-            write_atomic(output, text)
-        else:
-            sys.stdout.write(text)
-            sys.stdout.flush()
         if plot:
             try:
                 from .plot import plot_sweep

@@ -169,15 +169,22 @@ def render_table(records: list[Record], detail: bool = False, width: int | None 
             for table, rows in r.result.detail.items():
                 if not rows:
                     continue
-                t = Table(title=f"{r.name}: {table}", title_justify="left")
-                cols = _union(rows)
-                for c in cols:
-                    u = unit_of(c)
-                    t.add_column(f"{c}\n[{u}]" if u else c, justify="right")
-                for row in rows:
-                    t.add_row(*(fmt_value(row.get(c)) for c in cols))
-                console.print(t)
+                console.print(rows_table(rows, f"{r.name}: {table}"))
     return buf.getvalue()
+
+
+def rows_table(rows: list[dict], title: str = ""):
+    """A rich table of plain rows: a column per field, units in the headers."""
+    from rich.table import Table
+
+    t = Table(title=title or None, title_justify="left")
+    cols = _union(rows)
+    for c in cols:
+        u = unit_of(c)
+        t.add_column(f"{c}\n[{u}]" if u else c, justify="right")
+    for row in rows:
+        t.add_row(*(fmt_value(row.get(c)) for c in cols))
+    return t
 
 
 def render(records: list[Record], fmt: str, detail: bool = False, width: int | None = None,
@@ -196,16 +203,8 @@ def render_rows(rows: list[dict], fmt: str, title: str = "", width: int | None =
     if fmt == "json":
         return json.dumps([plain(r) for r in rows], indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     from rich.console import Console
-    from rich.table import Table
 
     buf = io.StringIO()
     console = Console(file=buf, width=width or 160, force_terminal=color, no_color=not color, highlight=False)
-    t = Table(title=title or None, title_justify="left")
-    cols = _union(rows)
-    for c in cols:
-        u = unit_of(c)
-        t.add_column(f"{c}\n[{u}]" if u else c, justify="right")
-    for row in rows:
-        t.add_row(*(fmt_value(row.get(c)) for c in cols))
-    console.print(t)
+    console.print(rows_table(rows, title))
     return buf.getvalue()
