@@ -22,7 +22,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from .calculator import Result
-from .units import unit_of
+from .units import split_unit, unit_of
 
 FORMATS = ("table", "csv", "json")
 
@@ -146,7 +146,7 @@ def render_table(records: list[Record], detail: bool = False, width: int | None 
     from rich.table import Table
 
     buf = io.StringIO()
-    console = Console(file=buf, width=width or 120, force_terminal=color, no_color=not color,
+    console = Console(file=buf, width=width or 1000, force_terminal=color, no_color=not color,
                       highlight=False, soft_wrap=False)
     kinds: dict[str, list[Record]] = {}
     for r in records:
@@ -180,8 +180,8 @@ def rows_table(rows: list[dict], title: str = ""):
     t = Table(title=title or None, title_justify="left")
     cols = _union(rows)
     for c in cols:
-        u = unit_of(c)
-        t.add_column(f"{c}\n[{u}]" if u else c, justify="right")
+        base, u = split_unit(c)
+        t.add_column(f"{base}\n[{u}]" if u else c, justify="right", overflow="fold")
     for row in rows:
         t.add_row(*(fmt_value(row.get(c)) for c in cols))
     return t
@@ -205,6 +205,6 @@ def render_rows(rows: list[dict], fmt: str, title: str = "", width: int | None =
     from rich.console import Console
 
     buf = io.StringIO()
-    console = Console(file=buf, width=width or 160, force_terminal=color, no_color=not color, highlight=False)
+    console = Console(file=buf, width=width or 1000, force_terminal=color, no_color=not color, highlight=False)
     console.print(rows_table(rows, title))
     return buf.getvalue()
