@@ -69,6 +69,8 @@ O_MODEL = typer.Option(None, "--model", help="Force a model level (see the calcu
                        "default: the cheapest level the design needs.")
 O_PLOT = typer.Option(None, "--plot", help="Draw the calculator's figure to this PNG file (needs the 'plot' extra).")
 O_DEBUG = typer.Option(False, "--debug", help="Show the traceback of an internal error.")
+O_JOBS = typer.Option(1, "--jobs", "-j", min=1, max=256,
+                      help="Spread a batch or sweep over N processes; the results are identical to --jobs 1.")
 
 
 def pick_format(fmt: Optional[str], output: Optional[str]) -> str:
@@ -145,7 +147,7 @@ def check_tol(tol: float) -> None:
 
 def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
                   output: Optional[str], sets: Optional[List[str]], tol: float, model: Optional[str],
-                  plot: Optional[str], debug: bool) -> int:
+                  plot: Optional[str], debug: bool, jobs: int = 1) -> int:
     """The body of every computing command; returns the exit code."""
     from . import design as dmod
 
@@ -186,44 +188,63 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
     records = []
     advance, stop = _progress(len(designs) * 20)  # a bar only for long batches on a terminal
     try:
-        worst = _compute_all(designs, opts, records, worst, debug, advance)
+        worst = _compute_all(designs, opts, records, worst, debug, advance, jobs)
     finally:
         stop()
     return _emit(records, fmt, detail, output, plot, worst)
 
 
-def _compute_all(designs, opts, records, worst, debug, advance) -> int:
+def compute_one(d, opts, debug: bool = False):
+    """Compute one validated design: (result or None, stderr lines, exit code).
+
+    Prints nothing itself, so that ``--jobs`` workers and the main process report identically.
+    """
     from . import design as dmod
+
+    where = dmod.display_name(d.source)
+    lines = [f"{where}: warning: {w}" for w in d.warnings]
+    try:
+        result = registry.get(d.kind).compute(d, opts)
+    except DesignError as exc:
+        lines.append(f"{where}: {exc.key}: {exc.message}" if exc.key else f"{where}: {exc.message}")
+        return None, lines, EXIT_INPUT
+    except Exception:
+        if debug:
+            import traceback
+
+            lines.append(traceback.format_exc().rstrip())
+        lines.append(f"{where}: internal error in the {d.kind} calculator; please report it with this design "
+                     "file (run with --debug for the traceback)")
+        return None, lines, EXIT_BUG
+    lines += [f"{where}: warning: {w}" for w in result.warnings]
+    lines += [f"{where}: check failed: {f}" for f in result.failed]
+    return result, lines, EXIT_CHECK if result.failed else EXIT_OK
+
+
+def _compute_all(designs, opts, records, worst, debug, advance, jobs: int = 1) -> int:
     from .render import Record
 
-    for d in designs:
-        if advance:
-            advance(20)
-        where = dmod.display_name(d.source)
-        for w in d.warnings:
-            err(f"{where}: warning: {w}")
-        try:
-            result = registry.get(d.kind).compute(d, opts)
-        except DesignError as exc:
-            err(f"{where}: {exc.key}: {exc.message}" if exc.key else f"{where}: {exc.message}")
-            worst = max(worst, EXIT_INPUT)
-            continue
-        except Exception:
-            if debug:
-                import traceback
+    if jobs > 1 and len(designs) > 1:
+        from concurrent.futures import ProcessPoolExecutor
 
-                traceback.print_exc()
-            err(f"{where}: internal error in the {d.kind} calculator; please report it with this design "
-                "file (run with --debug for the traceback)")
-            worst = max(worst, EXIT_BUG)
-            continue
-        for w in result.warnings:
-            err(f"{where}: warning: {w}")
-        for fail in result.failed:
-            err(f"{where}: check failed: {fail}")
-        if result.failed:
-            worst = max(worst, EXIT_CHECK)
-        records.append(Record(d.source, d.kind, d.name, d.resolved(), result))
+        pool = ProcessPoolExecutor(max_workers=jobs)
+        chunk = max(1, len(designs) // (4 * jobs))
+        outcomes = pool.map(compute_one, designs, [opts] * len(designs), [debug] * len(designs), chunksize=chunk)
+    else:
+        pool = None
+        outcomes = (compute_one(d, opts, debug) for d in designs)
+    try:
+        for d, (result, lines, code) in zip(designs, outcomes):
+            if advance:
+                advance(20)
+            for line in lines:
+                err(line)
+            worst = max(worst, code)
+            if result is not None:
+                records.append(Record(d.source, d.kind, d.name, d.resolved(), result))
+    finally:
+        if pool is not None:
+            pool.shutdown(cancel_futures=True)
     return worst
 
 
@@ -255,8 +276,9 @@ def _kind_command(kind: str, summary: str):
         model: Optional[str] = O_MODEL,
         plot: Optional[str] = O_PLOT,
         debug: bool = O_DEBUG,
+        jobs: int = O_JOBS,
     ):
-        finish(lambda: compute_files(files, kind, fmt, detail, output, sets, tol, model, plot, debug), debug)
+        finish(lambda: compute_files(files, kind, fmt, detail, output, sets, tol, model, plot, debug, jobs), debug)
 
     command.__doc__ = summary
     command.__name__ = kind
@@ -285,9 +307,10 @@ def run_cmd(
     model: Optional[str] = O_MODEL,
     plot: Optional[str] = O_PLOT,
     debug: bool = O_DEBUG,
+    jobs: int = O_JOBS,
 ):
     """Compute any design files, dispatching on their `kind`."""
-    finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug), debug)
+    finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug, jobs), debug)
 
 
 @app.command("sweep")
@@ -302,6 +325,7 @@ def sweep_cmd(
     model: Optional[str] = O_MODEL,
     plot: Optional[str] = O_PLOT,
     debug: bool = O_DEBUG,
+    jobs: int = O_JOBS,
 ):
     """Evaluate one design over a grid of key values; one output row per point."""
 
@@ -326,7 +350,7 @@ def sweep_cmd(
                             + ", ".join(registry.get(kind).models))
             progress, stop = _progress(math_prod(len(v) for v in axes.values()))
             try:
-                rows = sw.evaluate(raw, file, axes, Options(tol=tol, model=model), progress)
+                rows = sw.evaluate(raw, file, axes, Options(tol=tol, model=model), progress, jobs)
             finally:
                 stop()
         except sw.SweepError as exc:

@@ -121,8 +121,38 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
 FULL_CHECKS = 16
 
 
-def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progress=None) -> list[dict]:
-    """Summary rows of every grid point, each led by the varied keys."""
+def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progress=None, jobs: int = 1) -> list[dict]:
+    """Summary rows of every grid point, each led by the varied keys.
+
+    With ``jobs > 1`` the points are split into contiguous chunks evaluated in worker processes;
+    the rows come back in grid order and are identical to ``jobs = 1``.
+    """
+    import copy
+
+    from .design import validate
+
+    validate(copy.deepcopy(raw), source)
+    validate_axes(raw, source, axes)
+    points = grid_points(axes)
+    if jobs > 1 and len(points) > 1:
+        from concurrent.futures import ProcessPoolExecutor
+
+        size = -(-len(points) // jobs)
+        chunks = [points[k:k + size] for k in range(0, len(points), size)]
+        rows: list[dict] = []
+        with ProcessPoolExecutor(max_workers=jobs) as pool:
+            for part in pool.map(evaluate_points, [raw] * len(chunks), [source] * len(chunks),
+                                 [axes] * len(chunks), chunks, [options] * len(chunks)):
+                rows.extend(part)
+                if progress:
+                    progress(len(part))
+        return rows
+    return evaluate_points(raw, source, axes, points, options, progress)
+
+
+def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: list[dict], options,
+                    progress=None) -> list[dict]:
+    """Evaluate the given grid points: the calculator's vectorised sweep if it has one, else one by one."""
     import copy
 
     from . import registry
@@ -130,8 +160,6 @@ def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progre
 
     base = validate(copy.deepcopy(raw), source)
     calc = registry.get(base.kind)
-    validate_axes(raw, source, axes)
-    points = grid_points(axes)
     fast = getattr(calc, "sweep", None)
     if fast is not None:
         try:

@@ -264,3 +264,11 @@ def test_unreadable_file(tmp_path):
     p.chmod(0)
     r = cli("rows", p)
     assert r.code == 2 and "permission denied" in r.err
+
+
+def test_jobs_give_identical_batch(tmp_path):
+    files = sorted(CONFIGS.glob("rows_*.toml"))
+    one = cli("rows", *files, "--format", "json")
+    three = cli("rows", *files, "--format", "json", "--jobs", "3")
+    assert one.code == three.code == 1  # the capped bridge case
+    assert one.out == three.out and one.err == three.err

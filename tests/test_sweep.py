@@ -107,3 +107,11 @@ def test_sweep_combination_error(tmp_path):
     # each value is valid alone, the combination is not: a bore beyond the root of the smaller module
     r = cli("sweep", FIG3, "--vary", "gear.module_mm=2,5", "--vary", "sun.bore_mm=0,60")
     assert r.code == 2 and "sun.bore_mm" in r.err
+
+
+def test_jobs_give_identical_sweep():
+    args = ["sweep", FIG5, "--vary", "rows.count=1,2,3,4", "--vary", "gear.ratio=2.2:12:0.5", "--format", "csv"]
+    one, four = cli(*args), cli(*args, "--jobs", "4")
+    assert one.code == four.code == 0 and one.out == four.out
+    args = ["sweep", CONFIGS / "rows_bridges_n4_B4_i6.toml", "--vary", "gear.ratio=4,6,10", "--format", "json"]
+    assert cli(*args).out == cli(*args, "-j", "3").out  # point by point in the workers
