@@ -10,8 +10,9 @@ module (``gearcalc.kinds.<kind>``) defines a module-level ``CALCULATOR`` of type
 * ``check(design, problems)``: cross-field checks on the resolved design (optional).
 * ``compute(design, options) -> Result``: the calculation.  It may raise :class:`DesignError`
   for impossible inputs only discovered while computing (exit code 2).
-* ``sweep(base, raw, axes, points, options) -> list[dict] | None`` (optional): the summaries of a
-  whole grid at once, vectorised; ``None`` falls back to point-by-point evaluation.
+* ``sweep(base, raw, axes, points, options) -> dict[str, list] | list[dict] | None`` (optional):
+  the summaries of a whole grid at once, vectorised, column-major (a list per field) or as rows;
+  ``None`` falls back to point-by-point evaluation.
 * ``plot(records, path)`` (optional): draw the calculator's figure (matplotlib, imported inside).
 
 This module imports nothing heavy: ``gearcalc --help`` loads it.

@@ -362,7 +362,7 @@ def sweep_cmd(
             try:
                 from .plot import plot_sweep
 
-                plot_sweep(raw.get("kind"), rows, list(axes), plot)
+                plot_sweep(raw.get("kind"), rows.rows() if hasattr(rows, "rows") else rows, list(axes), plot)
             except ImportError:
                 err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
                 return EXIT_INPUT

@@ -196,10 +196,13 @@ def render(records: list[Record], fmt: str, detail: bool = False, width: int | N
     return render_table(records, detail, width=width, color=color)
 
 
-def render_rows(rows: list[dict], fmt: str, title: str = "", width: int | None = None, color: bool = False) -> str:
-    """Plain rows (a sweep): CSV with a union header, a JSON array, or one table."""
+def render_rows(rows, fmt: str, title: str = "", width: int | None = None, color: bool = False) -> str:
+    """Plain rows (a sweep; a list of dicts or :class:`Columns`): CSV with a union header, a JSON
+    array, or one table."""
     if fmt == "csv":
-        return write_csv(rows)
+        return write_csv_columns(rows) if isinstance(rows, Columns) else write_csv(rows)
+    if isinstance(rows, Columns):
+        rows = rows.rows()
     if fmt == "json":
         return json.dumps([plain(r) for r in rows], indent=2, ensure_ascii=False, allow_nan=False) + "\n"
     from rich.console import Console
@@ -208,3 +211,56 @@ def render_rows(rows: list[dict], fmt: str, title: str = "", width: int | None =
     console = Console(file=buf, width=width or 1000, force_terminal=color, no_color=not color, highlight=False)
     console.print(rows_table(rows, title))
     return buf.getvalue()
+
+
+class Columns:
+    """Column-major rows (a sweep): ``data[name]`` is a list, every list as long as the others."""
+
+    def __init__(self, data: dict[str, list]):
+        self.data = data
+        self.n = len(next(iter(data.values()))) if data else 0
+
+    @classmethod
+    def from_rows(cls, rows: list[dict]) -> "Columns":
+        cols = _union(rows)
+        return cls({c: [r.get(c) for r in rows] for c in cols})
+
+    def rows(self) -> list[dict]:
+        names = list(self.data)
+        return [dict(zip(names, vals)) for vals in zip(*self.data.values())]
+
+
+def _quote(text: str) -> str:
+    if any(ch in text for ch in ',"\n\r'):
+        return '"' + text.replace('"', '""') + '"'
+    return text
+
+
+def _csv_column(col: list) -> list[str]:
+    """A column's CSV cells; floats in bulk (repr, finiteness checked once for the column)."""
+    if col and all(type(v) is float for v in col):
+        import math
+
+        if not all(map(math.isfinite, col)):
+            raise NonFiniteOutput("non-finite value in CSV output")
+        return list(map(repr, col))
+    out, cache = [], {}
+    for v in col:  # ints, words, flags and lists repeat: format each distinct value once
+        key = (type(v), tuple(v) if isinstance(v, list) else v)
+        try:
+            text = cache[key]
+        except KeyError:
+            text = cache[key] = _quote(csv_cell(v))
+        except TypeError:
+            text = _quote(csv_cell(v))
+        out.append(text)
+    return out
+
+
+def write_csv_columns(cols: "Columns") -> str:
+    """CSV of column-major rows; the same cells as :func:`write_csv` of the equivalent rows."""
+    names = list(cols.data)
+    cells = [_csv_column(cols.data[k]) for k in names]
+    lines = [",".join(_quote(k) for k in names)]
+    lines.extend(",".join(r) for r in zip(*cells))
+    return "\n".join(lines) + "\n"

@@ -139,14 +139,14 @@ def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progre
 
         size = -(-len(points) // jobs)
         chunks = [points[k:k + size] for k in range(0, len(points), size)]
-        rows: list[dict] = []
+        parts = []
         with ProcessPoolExecutor(max_workers=jobs) as pool:
             for part in pool.map(evaluate_points, [raw] * len(chunks), [source] * len(chunks),
                                  [axes] * len(chunks), chunks, [options] * len(chunks)):
-                rows.extend(part)
+                parts.append(part)
                 if progress:
-                    progress(len(part))
-        return rows
+                    progress(len(chunks[len(parts) - 1]))
+        return join_parts(parts)
     return evaluate_points(raw, source, axes, points, options, progress)
 
 
@@ -169,6 +169,10 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
         if summaries is not None:
             if progress:
                 progress(len(points))
+            if isinstance(summaries, dict):  # column-major: keep it so (fast CSV)
+                from .render import Columns
+
+                return Columns({**{k: [p[k] for p in points] for k in axes}, **summaries})
             return [{**p, **s} for p, s in zip(points, summaries)]
     rows = []
     for p in points:
@@ -184,4 +188,18 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
         rows.append({**p, **res.summary})
         if progress:
             progress(1)
+    return rows
+
+
+def join_parts(parts: list):
+    """Concatenate the results of chunks (lists of rows or Columns) in order."""
+    from .render import Columns
+
+    if all(isinstance(p, Columns) for p in parts):
+        names = list(parts[0].data)
+        if all(list(p.data) == names for p in parts):
+            return Columns({k: [v for p in parts for v in p.data[k]] for k in names})
+    rows: list[dict] = []
+    for p in parts:
+        rows.extend(p.rows() if isinstance(p, Columns) else p)
     return rows

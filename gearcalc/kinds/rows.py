@@ -371,7 +371,7 @@ FAST_SWEEP_KEYS = {
 
 
 def sweep(base, raw, axes, points, options):
-    """The summaries of a whole grid as arrays (no Python loop per point; rows.md §9).
+    """The summaries of a whole grid as columns (no Python loop per point; rows.md §9).
 
     Points are grouped by the number of rows n; each group is one batch of the recurrence, the
     impedance sweep and the closed forms, and the mass optimum is one vectorised golden-section
@@ -504,8 +504,7 @@ def sweep(base, raw, axes, points, options):
         cols["ratio_opt_on_bound"] = opt.on_bound.tolist()
         cols["relative_mass_min_kg_per_kNm"] = opt.fun.tolist()
         cols["mass_unevenness"] = col("mass.unevenness").tolist()
-    names = list(cols)
-    return [dict(zip(names, vals)) for vals in zip(*cols.values())]
+    return cols  # column-major: the sweep writes it without building a dict per point
 
 
 def plot(records, path: str) -> None:
