@@ -8,8 +8,9 @@ power F [N]·v [mm/s]·1e-3 is in W.  Symbols follow ``pins.md`` (the spec):
   profile and admissibility, crest cut-off psi*, lever arms, forces from equilibrium, sliding
   speeds, pin spin, losses, loss ratio over one crank-angle period, efficiency in both modes.
 
-The compliant ``contact`` level (pins.md §5) will reuse :class:`Cycloid`, :func:`pin_centre_curve`,
-:func:`crest_cutoff`, the loss and efficiency functions and :mod:`gearcalc.quadrature`.
+The compliant ``contact`` level (pins.md §5) is :mod:`gearcalc.pins_contact`; it reuses :class:`Cycloid`,
+:func:`pin_centre_curve`, :func:`tooth_profile`, :func:`crest_cutoff`, :func:`pin_phase`, the loss and
+efficiency functions and :mod:`gearcalc.quadrature`.
 
 Conventions: crank speed omega_H > 0 (counter-clockwise); satellite (V) speed
 omega_V = -omega_H k/z1; pin i sits at phi_i = 2 pi i/z2; its phase psi_i = phi_i - theta;

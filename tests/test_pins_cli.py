@@ -102,11 +102,11 @@ def test_rotating_beats_fixed_when_mu_rot_below_f():
         assert rot["loss_ratio"] / fixed["loss_ratio"] == pytest.approx((0.1 * 0.95 + 0.01) / 1.95 / 0.1, rel=1e-5)
 
 
-def test_circular_example_needs_the_contact_level():
-    code, out, err = run(CONFIGS / "pins_paper_circ_u10_fixed.toml")
-    assert code == 2 and out == ""
-    assert "pins_paper_circ_u10_fixed.toml" in err and "gearing.profile" in err
-    assert "contact level" in err and "not available" in err and "Traceback" not in err
+def test_circular_example_runs_the_contact_level():
+    # the spec example (a circular profile is not conjugate: pins.md §1, §7) now computes at the contact level
+    s, code, err = summary(CONFIGS / "pins_paper_circ_u10_fixed.toml")
+    assert code == 0 and s["model"] == "contact" and s["profile"] == "circular" and "Traceback" not in err
+    assert s["tolerance_met"] is True and s["efficiency_err"] <= 1e-6 * s["loss_ratio"]
 
 
 def test_json_and_csv_agree(tmp_path):
@@ -180,13 +180,16 @@ def test_model_formula_needs_pin_load(tmp_path):
     assert code == 2 and "pin_load" in err
 
 
-def test_contact_table_and_modifications_ask_for_the_contact_level(tmp_path):
-    code, _, err = run(design(tmp_path, contact__face_width_mm=10.0))
-    assert code == 2 and "contact level" in err and "Traceback" not in err
-    code, _, err = run(design(tmp_path, gearing__equidistant_mod_mm=0.01))
-    assert code == 2 and "gearing.equidistant_mod_mm" in err
-    code, _, err = run(design(tmp_path, contact__face_width_mm=10.0), "--model", "contact")
-    assert code == 2 and "not available" in err
+def test_contact_table_and_modifications_select_the_contact_level(tmp_path):
+    # pins.md §7: a [contact] table or a modification runs the contact level; --model contact forces it
+    s, code, _ = summary(design(tmp_path, contact__law="linear", contact__stiffness_N_per_mm=1e7), "--tol", "1e-4")
+    assert code == 0 and s["model"] == "contact"
+    s, code, _ = summary(design(tmp_path, gearing__equidistant_mod_mm=0.01, contact__face_width_mm=10.0),
+                         "--tol", "1e-4")
+    assert code == 0 and s["model"] == "contact" and s["backlash_deg"] > 0
+    # a plain cycloid with --model contact and no [contact] table: the hertz law needs the face width
+    code, _, err = run(design(tmp_path), "--model", "contact")
+    assert code == 2 and "contact.face_width_mm" in err and "missing" in err and "Traceback" not in err
     # --model ideal runs a cycloidal design with a [contact] table, ignoring the table with a warning
     code, _, err = run(design(tmp_path, contact__face_width_mm=10.0), "--model", "ideal")
     assert code == 0 and "not used" in err
@@ -399,12 +402,12 @@ def test_tolerance_is_honoured(tmp_path):
 
 
 def test_subprocess_exit_codes_and_no_traceback():
-    # the real entry point: a good design, the circular example (contact level not available)
+    # the real entry point: a good design, and the circular example forced to the ideal level (an error)
     r = subprocess.run([sys.executable, "-m", "gearcalc", "pins", str(CONFIGS / "pins_paper_cyc_u30_fixed.toml"),
-                        str(CONFIGS / "pins_paper_circ_u10_fixed.toml"), "--format", "json"],
+                        str(CONFIGS / "pins_paper_circ_u10_fixed.toml"), "--model", "ideal", "--format", "json"],
                        capture_output=True, text=True, timeout=60, check=False)
     assert r.returncode == 2
-    assert "Traceback" not in r.stderr and "contact level" in r.stderr
+    assert "Traceback" not in r.stderr and "conjugate (cycloidal)" in r.stderr
     assert json.loads(r.stdout)["summary"]["model"] == "ideal"
 
 

@@ -5,8 +5,8 @@ Schema, cross-key checks and the glue between a design and the physics of :mod:`
 
 * ``formula``: the paper's eqs. (3)-(7) from a given normal force and pin speed ([pin_load]);
 * ``ideal``: the rigid conjugate cycle model of a cycloidal satellite ([gearing], no modifications);
-* ``contact``: the compliant contact model (circular-arc teeth, modifications, [contact]); not
-  available yet: it is reported as such (exit 2), never approximated by another level.
+* ``contact``: the compliant contact model of :mod:`gearcalc.pins_contact` (circular-arc teeth,
+  cycloids with clearance or modifications, a [contact] table, or ``--model contact``).
 
 The ideal level solves a geometry once in unit scalings and scales it to operating points
 (friction, torque, speed, mode), so ``gearcalc sweep`` over those keys runs as arrays (``sweep``).
@@ -45,12 +45,15 @@ TABLES = (
               example=0.95),
         Field("rotating_pins", "bool", False, "pins are bushings turning on axles (else fixed pins)"),
         Field("discs", "integer", 1, "n_d, satellite discs, offset by 360/n_d degrees of crank", ge=1),
-        Field("tooth_radius_mm", "number", "full", "rho_t, circular profile: tooth radius", gt=0,
-              choices=("full",)),
+        Field("tooth_radius_mm", "number", "full", "rho_t, circular profile: tooth radius; \"full\": adjacent "
+              "teeth tangent at the root", gt=0, choices=("full",)),
         Field("tooth_circle_radius_mm", "number", "zero_backlash",
-              "R_t, circular profile: radius of the circle of tooth centres", gt=0, choices=("zero_backlash",)),
-        Field("equidistant_mod_mm", "number", 0.0, "Delta R_b, equidistant profile modification (contact level)"),
-        Field("radial_mod_mm", "number", 0.0, "Delta R_p, radial profile modification (contact level)"),
+              "R_t, circular profile: radius of the circle of tooth centres; \"zero_backlash\": the teeth just "
+              "touch the pins' nominal paths", gt=0, choices=("zero_backlash",)),
+        Field("equidistant_mod_mm", "number", 0.0, "Delta R_b, cycloidal: equidistant modification (> 0 adds "
+              "clearance; contact level)"),
+        Field("radial_mod_mm", "number", 0.0, "Delta R_p, cycloidal: radial modification of the pin circle of "
+              "the design curve (contact level)"),
     ), doc="Geometry of the pin gear: runs the cycle model", optional=True),
     Table("friction", (
         Field("sliding", "number", None, "f, tooth-pin sliding friction; required with [gearing]", ge=0,
@@ -68,17 +71,19 @@ TABLES = (
         Field("crank_speed_rpm", "number", None, "n_H; powers and pin speeds need it", gt=0, example=1000.0),
     ), doc="Operating point; required with [gearing]", optional=True),
     Table("contact", (
-        Field("law", "string", "hertz", "contact law", choices=("hertz", "linear")),
-        Field("face_width_mm", "number", None, "b, face width; required for hertz", gt=0),
-        Field("stiffness_N_per_mm", "number", None, "k_lin, linear contact stiffness", gt=0),
-        Field("friction_in_equilibrium", "bool", False, "include friction in the force balance"),
-    ), doc="Compliant contact level (not available yet in this version)", optional=True, in_template=False),
+        Field("law", "string", "hertz", "contact law: hertz (steel, ISO/TS 16281), palmgren, linear",
+              choices=("hertz", "palmgren", "linear")),
+        Field("face_width_mm", "number", None, "b, face width; required for hertz and palmgren", gt=0),
+        Field("stiffness_N_per_mm", "number", None, "k_lin, contact stiffness; required for linear", gt=0),
+        Field("friction_in_equilibrium", "bool", False, "include the friction forces in the moment balance"),
+    ), doc="Compliant contact level (circular teeth, modified cycloids): the contact law", optional=True,
+        in_template=False),
 )
 
 HEADER = """KHV planetary pin gearing after Prudnikov (seed 000): levels formula | ideal | contact.
 [pin_load] alone: the paper's per-pin formula level.  [gearing] + [load]: the cycle model
 (ideal for a cycloidal profile without modifications; circular profiles, modifications and
-[contact] need the contact level, not available yet in this version)."""
+a [contact] table run the compliant contact level, which needs [contact] face_width_mm)."""
 
 SUMMARY_KEYS = (
     "name", "model", "mode", "profile", "rotating_pins", "ratio", "curtate_ratio",
@@ -89,6 +94,8 @@ SUMMARY_KEYS = (
     "pin_loss_max_W", "pin_loss_max_phase_deg", "pin_loss_bound_W",
     "pin_speed_max_rpm", "pin_speed_signed_min_rpm", "pin_speed_signed_max_rpm", "spin_reversals",
     "sliding_speed_max_m_s", "loaded_pins_min", "loaded_pins_max", "psi_star_deg", "rolling_ok",
+    "exit_entry_force_ratio", "low_spin_fraction", "te_pp_arcsec", "backlash_deg", "equilibrium_residual",
+    "contact_law", "tooth_radius_mm", "tooth_circle_radius_mm",
     "n_crank", "model_time_ms", "tolerance_met",
     "F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W",
 )
@@ -165,16 +172,36 @@ def check(design, problems: Problems) -> None:
             problems.error("gearing.axle_radius_mm", f"= {_fmt(r)}: must be < gearing.pin_radius_mm = {_fmt(Rb)} "
                                                      "(the axle must be smaller than the bushing)")
     rho_t = design["gearing.tooth_radius_mm"]
-    if design["gearing.profile"] == "circular" and ok_teeth and rho_t != "full" and (Rp_given is None) != (K1_given is None):
+    one_circle = (Rp_given is None) != (K1_given is None)
+    if design["gearing.profile"] == "circular" and ok_teeth and rho_t != "full" and one_circle:
         Rp = _pin_circle(design)[0]
         if Rb + rho_t >= Rp - e:
             problems.error("gearing.tooth_radius_mm",
-                           f"= {_fmt(rho_t)}: R_b + rho_t = {_fmt(Rb + rho_t)} mm must be < R_p - e = {_fmt(Rp - e)} mm "
-                           "(no zero-backlash tooth circle R_t exists; pins.md §5.3)")
+                           f"= {_fmt(rho_t)}: R_b + rho_t = {_fmt(Rb + rho_t)} mm must be < R_p - e = {_fmt(Rp - e)} "
+                           "mm (no zero-backlash tooth circle R_t exists; pins.md §5.3)")
     if design["gearing.profile"] == "cycloidal":
         for key in ("tooth_radius_mm", "tooth_circle_radius_mm"):
             if design.is_given(f"gearing.{key}") and design[f"gearing.{key}"] not in ("full", "zero_backlash"):
                 problems.warn(f"gearing.{key} applies to the circular profile only; ignored for a cycloidal one")
+    if design["gearing.profile"] == "circular" and _modified(design):
+        problems.warn("gearing.equidistant_mod_mm and gearing.radial_mod_mm apply to the cycloidal profile only; "
+                      "ignored for a circular one (give tooth_radius_mm / tooth_circle_radius_mm instead)")
+    if design.has("contact"):   # without the table, a run at the contact level reports the missing key
+        _check_contact_law(design, problems)
+
+
+def _check_contact_law(design, problems: Problems) -> None:
+    """The contact law's own key must be there (pins.md §5.4, §7)."""
+    law = design.get("contact.law", "hertz")
+    why = ("the contact level runs for a circular profile, a modified cycloid, a [contact] table or "
+           "--model contact")
+    if law in ("hertz", "palmgren") and design.get("contact.face_width_mm") is None:
+        problems.error("contact.face_width_mm", f'missing; required by the {law} contact law (b, face width, '
+                                                f'> 0; {why}); or set contact.law = "linear" with '
+                                                'contact.stiffness_N_per_mm')
+    if law == "linear" and design.get("contact.stiffness_N_per_mm") is None:
+        problems.error("contact.stiffness_N_per_mm", "missing; required by the linear contact law (k_lin, "
+                                                     f"> 0; {why})")
 
 
 # ---------------------------------------------------------------- level selection
@@ -206,19 +233,6 @@ def select_level(design, model: str | None) -> str:
             raise DesignError("gearing.equidistant_mod_mm", "the ideal level has no profile modifications "
                                                             "(they need the contact level); set them to 0")
     return model
-
-
-def _contact_unavailable(design) -> DesignError:
-    if design["gearing.profile"] == "circular":
-        return DesignError("gearing.profile", '= "circular": circular-arc teeth are not conjugate and need the '
-                                              'contact level (pins.md §5), which is not available in this version '
-                                              'yet; the ideal level covers cycloidal profiles only')
-    if _modified(design):
-        return DesignError("gearing.equidistant_mod_mm", "profile modifications need the contact level "
-                                                         "(pins.md §5), which is not available in this version "
-                                                         "yet; set them to 0 to run the ideal level")
-    return DesignError("contact", "the contact level (pins.md §5) is not available in this version yet; remove "
-                                  "the [contact] table (or use --model ideal) to run the ideal level")
 
 
 # ---------------------------------------------------------------- compute
@@ -491,6 +505,17 @@ def _ideal(design, options: Options, summary, warnings, failed, detail) -> None:
     op = _operating_points(design)
     (s,), used = _ideal_summaries(design, sol, op)
     summary.update({k: v for k, v in s.items() if k not in ("name", "model_time_ms") and k not in _FORMULA_KEYS})
+    _cycle_notes(design, s, options, warnings, failed)
+    if options.detail:
+        T_sat = float(used["T_sat"][0]) if s["pin_force_max_N"] is not None else None
+        w_V = float(used["w_V"][0]) if design["load.crank_speed_rpm"] is not None else None
+        sigma = pins.MULTIPLIER if design["load.mode"] == "multiplier" else pins.REDUCER
+        detail.update(_detail_tables(sol.g, sigma, sol.state, sol.t, float(used["mu"][0]), T_sat,
+                                     None if w_V is None else -w_V, bool(used["rolls"][0]), design["gearing.discs"]))
+
+
+def _cycle_notes(design, s, options: Options, warnings, failed) -> None:
+    """Warnings and failed checks shared by the cycle levels (pins.md §4.5, §4.7, §6, §12.4)."""
     f, fk, fc, Rb = (design["friction.sliding"], design["friction.rolling_mm"], design["friction.axle"],
                      design["gearing.pin_radius_mm"])
     if s["rolling_ok"] is False:
@@ -510,12 +535,6 @@ def _ideal(design, options: Options, summary, warnings, failed, detail) -> None:
     if design["load.crank_speed_rpm"] is None:
         warnings.append("loss_mean_W, loss_peak_W, pin_loss_max_W, pin_loss_bound_W and the pin and sliding speeds "
                         "need load.crank_speed_rpm; they are left empty")
-    if options.detail:
-        T_sat = float(used["T_sat"][0]) if s["pin_force_max_N"] is not None else None
-        w_V = float(used["w_V"][0]) if design["load.crank_speed_rpm"] is not None else None
-        sigma = pins.MULTIPLIER if design["load.mode"] == "multiplier" else pins.REDUCER
-        detail.update(_detail_tables(sol.g, sigma, sol.state, sol.t, float(used["mu"][0]), T_sat,
-                                     None if w_V is None else -w_V, bool(used["rolls"][0]), design["gearing.discs"]))
 
 
 _FORMULA_KEYS = ("F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W")
@@ -557,15 +576,299 @@ def sweep(base, raw, axes, points, options):
     return summaries
 
 
-def _contact(design, options: Options, summary, warnings, failed, detail) -> None:
-    """The compliant contact level (pins.md §5): not available in this version.
+def _contact_law(design):
+    """The contact law of the design (pins.md §5.4); DesignError when its key is missing."""
+    from .. import pins_contact as pc
 
-    When it lands it solves the satellite rotation at each crank angle (per operating point: it is
-    not linear in the torque), integrates with :func:`gearcalc.quadrature.integrate_piecewise`
-    (breakpoints from :func:`~gearcalc.quadrature.sign_change_breakpoints`), and fills the summary
-    through ``_friction_regime`` and ``_efficiency_torques`` like :func:`_ideal`, plus its own fields
-    (exit_entry_force_ratio, low_spin_fraction, te_pp_arcsec, backlash_deg)."""
-    raise _contact_unavailable(design)
+    problems = Problems()
+    _check_contact_law(design, problems)
+    if problems.errors:
+        raise DesignError(*problems.errors[0])
+    return pc.contact_law(design.get("contact.law", "hertz"), design.get("contact.face_width_mm"),
+                          design.get("contact.stiffness_N_per_mm"))
+
+
+def _contact_profile(design, g, warnings):
+    """The satellite profile of the contact level with its admissibility checks (pins.md §5.2-5.3, §9).
+
+    Returns (profile, fields): fields holds tooth_radius_mm and tooth_circle_radius_mm (circular)."""
+    from .. import pins
+    from .. import pins_contact as pc
+
+    Rp, Rb, e, z1, z2 = g.R_p, g.R_b, g.e, g.z1, g.z2
+    if design["gearing.profile"] == "circular":
+        rho_t, R_t = design["gearing.tooth_radius_mm"], design["gearing.tooth_circle_radius_mm"]
+        explicit_R_t = R_t != "zero_backlash"
+        if rho_t == "full":
+            if R_t != "zero_backlash":
+                s = math.sin(math.pi / z1)
+                rho_t = R_t * s        # adjacent teeth tangent at the root on the given circle
+            else:
+                full = pc.full_tooth(g)
+                if full is None:
+                    raise DesignError("gearing.tooth_radius_mm",
+                                      f'= "full": no full circular tooth fits: R_b = {_fmt(Rb)} mm must be < R_p - e '
+                                      f"= {_fmt(Rp - e)} mm with a tooth circle that meets the pins' paths "
+                                      "(pins.md §5.3)")
+                rho_t, R_t = full
+        if Rb + rho_t >= Rp - e:
+            raise DesignError("gearing.tooth_radius_mm",
+                              f"= {_fmt(rho_t)}: R_b + rho_t = {_fmt(Rb + rho_t)} mm must be < R_p - e = "
+                              f"{_fmt(Rp - e)} mm (no zero-backlash tooth circle R_t exists; pins.md §5.3)")
+        if not explicit_R_t and R_t == "zero_backlash":
+            R_t = pc.zero_backlash_tooth_circle(g, rho_t)
+            if R_t is None:
+                raise DesignError("gearing.tooth_radius_mm",
+                                  f"= {_fmt(rho_t)}: no zero-backlash tooth circle: the tooth never reaches the pins' "
+                                  f"nominal paths (R_b + rho_t = {_fmt(Rb + rho_t)} mm; pins.md §5.3)")
+        elif explicit_R_t:
+            D = float(pc.tooth_centre_distance(R_t, g))
+            if D < Rb + rho_t - 1e-12 * Rp:
+                raise DesignError("gearing.tooth_circle_radius_mm",
+                                  f"= {_fmt(R_t)}: the teeth interfere with the pins at nominal by "
+                                  f"{_fmt((Rb + rho_t - D) * 1e3)} um (least distance from a tooth centre to the "
+                                  f"pins' paths {_fmt(D)} mm < R_b + rho_t = {_fmt(Rb + rho_t)} mm); make it smaller "
+                                  "or use \"zero_backlash\"")
+        if rho_t > R_t * math.sin(math.pi / z1) * (1.0 + 1e-12):
+            warnings.append(f"tooth_radius_mm = {_fmt(rho_t)} exceeds the full tooth R_t*sin(pi/z1) = "
+                            f"{_fmt(R_t * math.sin(math.pi / z1))} mm: adjacent tooth circles overlap")
+        return pc.CircularProfile(g, rho_t, R_t), {"tooth_radius_mm": float(rho_t),
+                                                   "tooth_circle_radius_mm": float(R_t)}
+    dRb, dRp = design["gearing.equidistant_mod_mm"], design["gearing.radial_mod_mm"]
+    k = g.k
+    Rpd = Rp + dRp
+    if Rpd <= 0.0 or e * z2 >= k * Rpd:
+        raise DesignError("gearing.radial_mod_mm",
+                          f"= {_fmt(dRp)}: the design curve's K1 = e*z2/(k*(R_p + Delta R_p)) = "
+                          f"{_fmt(e * z2 / (k * Rpd)) if Rpd > 0 else 'inf'} must be < 1")
+    if Rb + dRb <= 0.0:
+        raise DesignError("gearing.equidistant_mod_mm", f"= {_fmt(dRb)}: R_b + Delta R_b = {_fmt(Rb + dRb)} mm must "
+                                                        "be > 0")
+    prof = pc.CycloidProfile(g, dRp, dRb)
+    gd = prof.design
+    if prof.psi_star <= g.period:
+        raise DesignError("gearing.satellite_teeth",
+                          f"= {z1}: too few teeth for the tooth difference k = {k}: at some crank angles no pin "
+                          f"carries load (the loaded arc psi* = {_fmt(math.degrees(prof.psi_star))} deg must exceed "
+                          f"the pin pitch 360/z2 = {_fmt(360.0 / z2)} deg)")
+    rho_c = pins.min_curvature_radius(gd, prof.psi_star)
+    if gd.R_b >= rho_c:
+        key = "gearing.equidistant_mod_mm" if dRb != 0.0 else "gearing.pin_radius_mm"
+        raise DesignError(key, f"= {_fmt(design[key])}: undercut: R_b + Delta R_b = {_fmt(gd.R_b)} mm must be < the "
+                               f"least radius of curvature of the design curve over the loaded arc, min rho_c = "
+                               f"{_fmt(rho_c)} mm")
+    return prof, {}
+
+
+def _contact(design, options: Options, summary, warnings, failed, detail) -> None:
+    """The compliant contact level (pins.md §5) of one design (circular or cycloidal profile).
+
+    The satellite rotation is solved at every crank angle (gearcalc.pins_contact); the cycle mean of
+    the loss ratio uses the shared quadrature with contact entry/exit and spin reversals as
+    breakpoints.  The loss ratio depends (weakly) on the torque, so with the torque given on H the
+    torque on V is iterated to the fixed point T_V = u T_H/eta (multiplier) or eta u T_H (reducer)
+    (pins.md §7)."""
+    import numpy as np
+
+    from .. import pins, units
+    from .. import pins_contact as pc
+
+    z1, z2 = design["gearing.satellite_teeth"], design["gearing.pins"]
+    e, Rb, n_d = design["gearing.eccentricity_mm"], design["gearing.pin_radius_mm"], design["gearing.discs"]
+    Rp, _, omk = _pin_circle(design)
+    g = pins.Cycloid(z1, z2, float(e), float(Rp), float(Rb), float(omk))
+    law = _contact_law(design)
+    profile, geo = _contact_profile(design, g, warnings)
+    op = _operating_points(design)
+    mu_a, rolls_a, rolling_ok = _friction_regime(design, op)
+    mu, rolls, f = float(mu_a[0]), bool(rolls_a[0]), float(design["friction.sliding"])
+    multiplier = design["load.mode"] == "multiplier"
+    sigma = pins.MULTIPLIER if multiplier else pins.REDUCER
+    friction = (mu, f, rolls) if design.get("contact.friction_in_equilibrium", False) else None
+    on_V = design["load.torque_shaft"] == "V"
+    T = float(design["load.torque_Nm"])
+    lam, cyc, T_V, history = 0.0, None, None, []
+    for _ in range(8):                    # the torque fixed point (one pass when T is given on V)
+        if on_V:
+            T_V = T
+        elif multiplier:
+            if lam >= 1.0:
+                break                      # self-locking: no T_V balances T_H; keep the last solution
+            T_V = g.ratio * T / (1.0 - lam)
+        else:
+            T_V = g.ratio * T / (1.0 + lam)
+        model = pc.ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_d, sigma, friction)
+        try:
+            with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
+                cyc = pc.mean_loss_ratio(model, mu, f, rolls, tol=options.tol)
+        except pc.NoEquilibrium as exc:
+            key = ("gearing.tooth_circle_radius_mm" if design["gearing.profile"] == "circular"
+                   else "gearing.equidistant_mod_mm")
+            raise DesignError(key, f"= {design[key]}: no contact can carry the torque at crank angle "
+                                   f"{_fmt(math.degrees(float(exc.theta[0])))} deg: no satellite rotation within "
+                                   f"+-180/z1 = {_fmt(180.0 / z1)} deg balances T_V = {_fmt(T_V)} N*m (the teeth "
+                                   "do not mesh with the pins, or the torque crushes the contacts; pins.md "
+                                   "§5.5)") from None
+        if not (np.isfinite(cyc.loss_ratio) and np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.lam))):
+            raise DesignError("gearing.eccentricity_mm",
+                              f"= {_fmt(e)}: the contact level cannot resolve this geometry in floating point "
+                              f"(R_p = {_fmt(Rp)} mm, e = {_fmt(e)} mm, R_b = {_fmt(Rb)} mm: the deflections are "
+                              "below the round-off of the pin positions)")
+        history.append(cyc.loss_ratio)
+        lam = cyc.loss_ratio
+        if on_V or _fixed_point_settled(history, options.tol):
+            break
+    else:
+        warnings.append(f"the torque fixed point T_V = u T_H/eta did not settle in 8 passes (loss ratios "
+                        f"{history[-2]:.10g}, {history[-1]:.10g})")
+    E = cyc.loss_ratio_err
+    if mu == 0.0 and f == 0.0:
+        lam, E = 0.0, 0.0
+    et = _efficiency_torques(np.array([lam]), np.array([E]), op, g.ratio)
+    sol = cyc.sol
+    n_H = design["load.crank_speed_rpm"]
+    w_H = units.rpm_to_rad_s(n_H) if n_H is not None else None
+    Fmax_c = sol.force                                                     # (c, z2, n)
+    loaded_c = Fmax_c > 0.0
+    loaded = loaded_c.any(axis=0)
+    F_pin = Fmax_c.max(axis=0)
+    loss_pin = cyc.loss.sum(axis=0)                                        # N·mm/s per rad/s
+    t = sol.theta / g.period
+    if n_d == 1:
+        i = np.unravel_index(int(np.argmax(F_pin)), F_pin.shape)
+        F1, phF = float(F_pin[i]), float(sol.phase[i])
+        i = np.unravel_index(int(np.argmax(loss_pin)), loss_pin.shape)
+        P1, phP = float(loss_pin[i]), float(sol.phase[i])
+        tot = float(loss_pin.sum(axis=0).max())
+    else:
+        F1, phF = _disc_sum_peak(sol.phase, loaded, F_pin, n_d)
+        P1, phP = _disc_sum_peak(sol.phase, loaded, loss_pin, n_d)
+        tot = float(pins.sum_over_discs(t, loss_pin.sum(axis=0), pins.disc_offsets(n_d, z2), 1.0).max())
+    vt_load = np.abs(sol.v_t[loaded_c]) if loaded_c.any() else np.zeros(1)
+    spin_load = cyc.spin[loaded] if rolls else np.zeros(1)
+    slide_load = cyc.slide[loaded_c] if loaded_c.any() else np.zeros(1)
+    metrics = pc.engagement_metrics(sol, cyc.spin if rolls else np.zeros(F_pin.shape))
+    counts = loaded.sum(axis=0)
+    observed = sol.phase[loaded]
+    backlash = _backlash(model, profile, design)
+    s = {
+        "model": "contact", "profile": design["gearing.profile"], "rotating_pins": design["gearing.rotating_pins"],
+        "mode": design["load.mode"], "ratio": g.ratio, "curtate_ratio": g.K1,
+        "rolling_ok": None if rolling_ok is None else bool(rolling_ok[0]),
+        "loss_ratio": lam, "loss_ratio_err": E, "n_crank": cyc.n_crank, "tolerance_met": bool(cyc.converged),
+        "pin_force_max_N": F1 if math.isfinite(T_V) else None,
+        "pin_force_max_phase_deg": math.degrees(phF), "loaded_pins_min": int(counts.min()),
+        "loaded_pins_max": int(counts.max()),
+        "psi_star_deg": math.degrees(float(observed.max())) if observed.size else None,
+        "exit_entry_force_ratio": metrics["exit_entry_force_ratio"],
+        "low_spin_fraction": metrics["low_spin_fraction"], "spin_reversals": metrics["spin_reversals"],
+        "te_pp_arcsec": math.degrees(float(sol.tau.max() - sol.tau.min())) * 3600.0,
+        "backlash_deg": backlash,
+        "equilibrium_residual": float(np.abs(sol.residual).max() / model.torque_sat),
+        "contact_law": law.name, "tooth_radius_mm": geo.get("tooth_radius_mm"),
+        "tooth_circle_radius_mm": geo.get("tooth_circle_radius_mm"),
+    }
+    for key, name in (("efficiency", "efficiency"), ("efficiency_err", "efficiency_err"),
+                      ("self_locking", "self_locking"), ("efficiency_multiplier", "eta_vh"),
+                      ("efficiency_multiplier_err", "eta_vh_err"), ("efficiency_reducer", "eta_hv"),
+                      ("efficiency_reducer_err", "eta_hv_err"), ("torque_in_Nm", "torque_in"),
+                      ("torque_out_Nm", "torque_out")):
+        s[key] = _plain(et[name][0])
+    if w_H is not None:
+        Pw = w_H * 1e-3                                                   # W per (N·mm/s per rad/s)
+        s["loss_mean_W"] = lam * T_V * (w_H * g.k / g.z1)
+        s["loss_peak_W"] = tot * Pw
+        s["pin_loss_max_W"] = P1 * Pw
+        s["pin_loss_max_phase_deg"] = math.degrees(phP)
+        coeff = mu if rolls else f
+        s["pin_loss_bound_W"] = coeff * F1 * float(vt_load.max()) * Pw
+        rpm = units.rad_s_to_rpm(w_H)
+        s["pin_speed_max_rpm"] = float(np.abs(spin_load).max()) * rpm if rolls else 0.0
+        s["pin_speed_signed_min_rpm"] = float(spin_load.min()) * rpm if rolls else 0.0
+        s["pin_speed_signed_max_rpm"] = float(spin_load.max()) * rpm if rolls else 0.0
+        s["sliding_speed_max_m_s"] = (float(slide_load.max()) if rolls else float(vt_load.max())) * w_H / units.MM_PER_M
+    summary.update(s)
+    _cycle_notes(design, summary, options, warnings, failed)
+    if s["equilibrium_residual"] > 1e-9:
+        warnings.append(f"equilibrium residual {s['equilibrium_residual']:.3g} of the torque at some crank angle")
+    if options.detail:
+        detail.update(_contact_detail(g, sol, cyc, T_V, w_H, n_d))
+
+
+def _fixed_point_settled(history, tol: float) -> bool:
+    """Whether the torque fixed point has settled: the remaining error c |d_n|/(1 - c) of the last loss
+    ratio, with the contraction c = |d_n/d_(n-1)| of the last two changes d, is below tol/10 of it."""
+    if len(history) < 2:
+        return False
+    d1 = abs(history[-1] - history[-2])
+    if d1 <= 1e-15 + 1e-3 * tol * abs(history[-1]):
+        return True
+    if len(history) < 3:
+        return False
+    c = d1 / max(abs(history[-2] - history[-3]), 1e-300)
+    return c < 0.5 and c * d1 / (1.0 - c) <= 0.1 * tol * abs(history[-1])
+
+
+def _backlash(model, profile, design):
+    """backlash_deg: the satellite's angular play at no load, both flanks [deg] (pins.md §5.3).
+
+    For each flank, the least rotation over the cycle from the nominal position to the first contact
+    (:func:`gearcalc.pins_contact.free_play`), summed over the two flanks: 0 for an unmodified cycloid
+    and for the zero-backlash tooth circle (it touches the pins' paths), positive with clearance.
+    Sampled on 129 crank angles of one period, each least value refined by golden-section search
+    between the neighbouring angles."""
+    import numpy as np
+
+    from .. import pins_contact as pc
+    from ..roots import minimize_golden
+
+    if design["gearing.profile"] == "cycloidal" and not _modified(design):
+        return 0.0
+    if design["gearing.profile"] == "circular" and design["gearing.tooth_circle_radius_mm"] == "zero_backlash":
+        return 0.0
+    Tp = model.g.period
+    theta = np.linspace(0.0, Tp, 129)
+    total = 0.0
+    for side in (0, 1):
+        def play(x, side=side):
+            pair = pc.free_play(model, np.atleast_1d(x))
+            return np.reshape(np.abs(pair[side]), np.shape(x))
+
+        p = play(theta)
+        i = int(np.argmin(p))
+        a, b = theta[max(i - 1, 0)], theta[min(i + 1, theta.size - 1)]
+        res = minimize_golden(play, a, b, rtol=1e-9)
+        total += min(float(res.fun), float(p[i]))
+    return math.degrees(total)
+
+
+def _contact_detail(g, sol, cyc, T_V, w_H, n_d):
+    """Detail tables of the contact level (pins.md §8): ``crank`` and ``contacts`` rows of the final grid
+    (first disc; piece ends appear twice, the one-sided limits)."""
+    import numpy as np
+
+    from .. import units
+
+    theta_deg = np.degrees(sol.theta)
+    have_P = w_H is not None
+    lam = cyc.lam
+    loaded_c = sol.force > 0.0
+    crank = _rows({
+        "theta_deg": theta_deg, "TE_arcsec": np.degrees(sol.tau) * 3600.0, "loss_ratio": lam,
+        "loss_W": lam * n_d * units.nm_to_nmm(T_V) / n_d * (w_H * g.k / g.z1) * 1e-3 if have_P else None,
+        "loaded_pins": loaded_c.any(axis=0).sum(axis=0),
+    })
+    n_idx, j_idx, c_idx = np.nonzero(np.transpose(loaded_c, (2, 1, 0)))    # row-major: node, pin, contact
+    rpm = units.rad_s_to_rpm(w_H) if have_P else None
+    contacts = _rows({
+        "theta_deg": theta_deg[n_idx], "pin": j_idx, "contact": c_idx,
+        "phase_deg": np.degrees(sol.phase[j_idx, n_idx]), "force_N": sol.force[c_idx, j_idx, n_idx],
+        "penetration_um": sol.delta[c_idx, j_idx, n_idx] * units.UM_PER_MM,
+        "sliding_speed_m_s": cyc.slide[c_idx, j_idx, n_idx] * w_H / units.MM_PER_M if have_P else None,
+        "pin_speed_rpm": cyc.spin[j_idx, n_idx] * rpm if have_P else None,
+        "loss_W": cyc.loss[c_idx, j_idx, n_idx] * w_H * 1e-3 if have_P else None,
+    })
+    return {"crank": crank, "contacts": contacts}
 
 
 CYCLE_LEVELS = {"ideal": _ideal, "contact": _contact}
