@@ -14,16 +14,14 @@ from pathlib import Path
 import numpy as np
 import pytest
 import tomli_w
-from typer.testing import CliRunner
 
 from gearcalc import pins
 from gearcalc import pins_contact as pc
-from gearcalc.cli import app
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
+from test_pins_cli import run, summary  # the pins CLI helpers, shared
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
-runner = CliRunner()
 
 
 def circ_u10():
@@ -40,17 +38,6 @@ def circular_model(T_sat=1.0e6, sigma=MULTIPLIER, K1=None, friction=None):
     rho, R_t = full_u10() if K1 is None else pc.full_tooth(g)
     return pc.ContactModel(g, pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0), T_sat,
                            sigma, friction)
-
-
-def run(*args):
-    r = runner.invoke(app, ["pins", *map(str, args)])
-    return r.exit_code, r.stdout, r.stderr
-
-
-def summary(*args):
-    code, out, err = run(*args, "--format", "json")
-    assert code in (0, 1), err
-    return json.loads(out)["summary"], code, err
 
 
 @functools.lru_cache(maxsize=None)
