@@ -27,9 +27,9 @@ BASE = {
 }
 
 
-def design(tmp_path, name="d.toml", drop=(), **changes):
-    """Write BASE with changes {"table.key": value} (None deletes) and dropped tables."""
-    d = copy.deepcopy(BASE)
+def design(tmp_path, name="d.toml", drop=(), base=None, **changes):
+    """Write BASE (or ``base``) with changes {"table__key": value} (None deletes) and dropped tables."""
+    d = copy.deepcopy(BASE if base is None else base)
     for t in drop:
         d.pop(t, None)
     for dotted, v in changes.items():

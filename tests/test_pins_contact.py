@@ -18,7 +18,7 @@ import tomli_w
 from gearcalc import pins
 from gearcalc import pins_contact as pc
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
-from test_pins_cli import run, summary  # the pins CLI helpers, shared
+from test_pins_cli import design, run, summary  # the pins CLI helpers, shared
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
@@ -405,16 +405,7 @@ CIRC = {
 
 
 def circ_design(tmp_path, **changes):
-    d = copy.deepcopy(CIRC)
-    for dotted, v in changes.items():
-        table, key = dotted.split("__")
-        if v is None:
-            d[table].pop(key, None)
-        else:
-            d.setdefault(table, {})[key] = v
-    p = tmp_path / "c.toml"
-    p.write_text(tomli_w.dumps(d))
-    return p
+    return design(tmp_path, "c.toml", base=CIRC, **changes)
 
 
 @pytest.mark.parametrize("changes,key,text", [

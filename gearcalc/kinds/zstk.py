@@ -166,6 +166,13 @@ def _wrap_deg(x_rad):
     return 180.0 if d <= -180.0 + 1e-9 else d + 0.0  # no -0.0
 
 
+def _note_cap(sweep, what: str, per: str, warnings: list) -> None:
+    """Warn when a phase or direction sweep hit its grid cap before meeting the tolerance."""
+    if sweep.capped:
+        warnings.append(f"{what} sweep stopped at the cap of {GRID_CAP} points per {per} with error "
+                        f"{sweep.err:.3g} MPa above the target")
+
+
 def compute(design, options: Options) -> Result:
     """Close the chain, place it, share the load, and check the Hertz stresses (spec zstk.md)."""
     import numpy as np
@@ -250,9 +257,7 @@ def compute(design, options: Options) -> Result:
         err_sweep += sw.err
         sweep_fields["phase_samples"] = sw.samples
         sweep_fields["phase_step_deg"] = _deg(sw.step)
-        if sw.capped:
-            warnings.append(f"phase sweep stopped at the cap of {GRID_CAP} points per pitch with error "
-                            f"{sw.err:.3g} MPa above the target")
+        _note_cap(sw, "phase", "pitch", warnings)
     elif isinstance(scheme, str):
         phase = z.scheme_phase(scheme, n)
     else:
@@ -268,9 +273,7 @@ def compute(design, options: Options) -> Result:
         err_sweep += sw.err
         sweep_fields["direction_samples"] = sw.samples
         sweep_fields["direction_step_deg"] = _deg(sw.step)
-        if sw.capped:
-            warnings.append(f"direction sweep stopped at the cap of {GRID_CAP} points per turn with error "
-                            f"{sw.err:.3g} MPa above the target")
+        _note_cap(sw, "direction", "turn", warnings)
         sweep_value = sw.value
     else:
         gamma = float(deg_to_rad(math.remainder(direction, 360.0)))
