@@ -13,6 +13,8 @@ module (``gearcalc.kinds.<kind>``) defines a module-level ``CALCULATOR`` of type
 * ``sweep(base, raw, axes, points, options) -> dict[str, list] | list[dict] | None`` (optional):
   the summaries of a whole grid at once, vectorised, column-major (a list per field) or as rows;
   ``None`` falls back to point-by-point evaluation.
+* ``batch(designs, options) -> list[Result | Exception]`` (optional): many designs of the kind
+  at once (numpy over designs), identical to ``compute`` design by design.
 * ``plot(records, path)`` (optional): draw the calculator's figure (matplotlib, imported inside).
 
 This module imports nothing heavy: ``gearcalc --help`` loads it.
@@ -20,7 +22,7 @@ This module imports nothing heavy: ``gearcalc --help`` loads it.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import Any, Callable
+from typing import Any, Callable, Sequence
 
 REQUIRED = object()
 """Sentinel default: the key must be given."""
@@ -176,6 +178,14 @@ class Calculator:
     header: str = ""
     sweep: Callable[..., Any] | None = None
     plot: Callable[..., Any] | None = None
+    batch: Callable[[Sequence[Any], Options], list[Any]] | None = None
+    """Optional: compute many validated designs of this kind at once (numpy over designs).
+
+    ``batch(designs, options)`` returns one item per design, in order: the ``Result`` that
+    ``compute(design, options)`` would return, or the exception it would raise
+    (``DesignError`` and other exceptions are returned, not raised).  The results must be
+    identical to ``compute``; the CLI uses it for batches of two or more designs.
+    """
 
     def table(self, name: str) -> Table | None:
         for t in self.tables:

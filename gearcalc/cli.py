@@ -199,26 +199,67 @@ def compute_one(d, opts, debug: bool = False):
 
     Prints nothing itself, so that ``--jobs`` workers and the main process report identically.
     """
+    try:
+        outcome = registry.get(d.kind).compute(d, opts)
+    except Exception as exc:
+        outcome = exc
+    return report_one(d, outcome, debug)
+
+
+def report_one(d, outcome, debug: bool = False):
+    """(result or None, stderr lines, exit code) of a design from its Result or the exception it raised."""
     from . import design as dmod
 
     where = dmod.display_name(d.source)
     lines = [f"{where}: warning: {w}" for w in d.warnings]
-    try:
-        result = registry.get(d.kind).compute(d, opts)
-    except DesignError as exc:
-        lines.append(f"{where}: {exc.key}: {exc.message}" if exc.key else f"{where}: {exc.message}")
+    if isinstance(outcome, DesignError):
+        lines.append(f"{where}: {outcome.key}: {outcome.message}" if outcome.key else f"{where}: {outcome.message}")
         return None, lines, EXIT_INPUT
-    except Exception:
+    if isinstance(outcome, BaseException):
         if debug:
             import traceback
 
-            lines.append(traceback.format_exc().rstrip())
+            lines.append("".join(traceback.format_exception(outcome)).rstrip())
         lines.append(f"{where}: internal error in the {d.kind} calculator; please report it with this design "
                      "file (run with --debug for the traceback)")
         return None, lines, EXIT_BUG
+    result = outcome
     lines += [f"{where}: warning: {w}" for w in result.warnings]
     lines += [f"{where}: check failed: {f}" for f in result.failed]
     return result, lines, EXIT_CHECK if result.failed else EXIT_OK
+
+
+BATCH_CHUNK = 512
+"""Designs per batch call: bounds memory and keeps a progress bar moving."""
+
+
+def compute_batched(designs, opts, debug: bool = False):
+    """Outcomes of many designs in one process, in the order of ``designs``: each kind with a ``batch`` hook
+    computes its designs together (numpy over designs), the others one by one."""
+    outcomes: list = [None] * len(designs)
+    by_kind: dict[str, list[int]] = {}
+    for k, d in enumerate(designs):
+        by_kind.setdefault(d.kind, []).append(k)
+    for kind, idx in by_kind.items():
+        batch = registry.get(kind).batch
+        if batch is not None and len(idx) > 1:
+            try:
+                results = batch([designs[k] for k in idx], opts)
+            except Exception:  # a bug in the batch path: fall back to one by one, which reports per design
+                results = None
+            if results is not None and len(results) == len(idx):
+                for k, res in zip(idx, results):
+                    outcomes[k] = report_one(designs[k], res, debug)
+                continue
+        for k in idx:
+            outcomes[k] = compute_one(designs[k], opts, debug)
+    return outcomes
+
+
+def _outcomes(designs, opts, debug):
+    """Outcomes in order, computed a chunk at a time (so that a progress bar moves)."""
+    for start in range(0, len(designs), BATCH_CHUNK):
+        yield from compute_batched(designs[start:start + BATCH_CHUNK], opts, debug)
 
 
 def _compute_all(designs, opts, records, worst, debug, advance, jobs: int = 1) -> int:
@@ -228,11 +269,13 @@ def _compute_all(designs, opts, records, worst, debug, advance, jobs: int = 1) -
         from concurrent.futures import ProcessPoolExecutor
 
         pool = ProcessPoolExecutor(max_workers=jobs)
-        chunk = max(1, len(designs) // (4 * jobs))
-        outcomes = pool.map(compute_one, designs, [opts] * len(designs), [debug] * len(designs), chunksize=chunk)
+        size = max(1, -(-len(designs) // (4 * jobs)))
+        chunks = [designs[k:k + size] for k in range(0, len(designs), size)]
+        outcomes = (o for part in pool.map(compute_batched, chunks, [opts] * len(chunks), [debug] * len(chunks))
+                    for o in part)
     else:
         pool = None
-        outcomes = (compute_one(d, opts, debug) for d in designs)
+        outcomes = _outcomes(designs, opts, debug)
     try:
         for d, (result, lines, code) in zip(designs, outcomes):
             if advance:
@@ -378,9 +421,12 @@ def math_prod(values) -> int:
     return out
 
 
-def _progress(total: int):
-    """A rich progress bar on stderr for long runs on a terminal; (advance, stop) callables."""
-    if total < 2000 or not sys.stderr.isatty():
+def _progress(total: int, always: bool = False):
+    """A rich progress bar on stderr for long runs on a terminal; (advance, stop) callables.
+
+    Shown for ``total`` >= 2000 units (about a second of work) or when ``always``; never when stderr
+    is not a terminal."""
+    if (total < 2000 and not always) or not sys.stderr.isatty():
         return None, lambda: None
     from rich.progress import Progress
 
@@ -388,6 +434,76 @@ def _progress(total: int):
     bar.start()
     task = bar.add_task("computing", total=total)
     return (lambda k: bar.advance(task, k)), bar.stop
+
+
+@app.command("accuracy")
+def accuracy_cmd(
+    kinds: Optional[List[str]] = typer.Argument(None, help="Calculators to report (default: all): pins, zstk, rows."),
+    tols: str = typer.Option("1e-3,1e-6,1e-9", "--tols",
+                             help="Comma-separated tolerances to run every level at (what each --tol costs)."),
+    budget: float = typer.Option(0.25, "--time-budget", min=0.0,
+                                 help="Seconds of repeated calls per design, level and tolerance for the median "
+                                      "time (after one warm-up call; at least one timed call)."),
+    detail: bool = typer.Option(False, "--detail", help="One row per suite design instead of one per level and tol."),
+    fmt: Optional[str] = O_FORMAT,
+    output: Optional[str] = O_OUTPUT,
+    plot: Optional[str] = typer.Option(None, "--plot", help="Draw time against error (log axes, one curve per "
+                                       "level) to this PNG file (needs the 'plot' extra)."),
+    debug: bool = O_DEBUG,
+):
+    """Speed against error: every model level on the shipped suite of typical and hard designs.
+
+    For each level and tolerance: median time per design, error against an independent high-resolution
+    computation, the error the tool estimated, their ratio (honest when the error does not exceed the
+    estimate), and the model error against the calculator's reference model. Exit 1 when an estimate
+    was not honest."""
+
+    def body() -> int:
+        from . import accuracy as acc
+        from .render import render_rows
+
+        f = pick_format(fmt, output)
+        check_output_path(output)
+        if plot:
+            check_output_path(plot)
+        names = kinds or list(KIND_HELP)
+        for k in names:
+            if k not in registry.kinds():
+                raise Abort(f"accuracy {k}: unknown calculator; choose from " + ", ".join(registry.kinds()))
+        try:
+            tol_list = [float(t) for t in tols.split(",") if t.strip()]
+        except ValueError:
+            raise Abort(f"--tols {tols}: must be comma-separated numbers, e.g. 1e-3,1e-6,1e-9") from None
+        if not tol_list:
+            raise Abort("--tols: give at least one tolerance")
+        for t in tol_list:
+            check_tol(t)
+        total = sum(len(acc.suite(k)) * len(registry.get(k).models) for k in names) * len(tol_list)
+        advance, stop = _progress(total, always=True)
+        try:
+            rows = acc.report(names, tol_list, budget, advance)
+        finally:
+            stop()
+        out = rows if detail else acc.summarise(rows)
+        title = "gearcalc accuracy: " + "; ".join(f"{k}: {acc.SPECS[k].quantity} vs {acc.SPECS[k].reference}"
+                                                  for k in names)
+        if not emit_text(lambda width, color: render_rows(out, f, title=title, width=width, color=color), f, output):
+            return EXIT_BUG
+        if plot:
+            try:
+                from .plot import plot_accuracy
+
+                plot_accuracy(acc.summarise(rows), plot)
+            except ImportError:
+                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                return EXIT_INPUT
+        dishonest = [r for r in rows if r.get("honest") is False]
+        for r in dishonest:
+            err(f"accuracy: {r['kind']} {r['case']} at the {r['level']} level, tol {r['tol']:g}: the error "
+                f"{r['error']:.3g} exceeds the estimate {r['error_est']:.3g}")
+        return EXIT_CHECK if dishonest else EXIT_OK
+
+    finish(body, debug)
 
 
 @app.command("check")

@@ -68,6 +68,37 @@ def plot_sweep(kind: str | None, rows: list[dict[str, Any]], axes: list[str], pa
     plt.close(fig)
 
 
+def plot_accuracy(rows: list[dict[str, Any]], path: str) -> None:
+    """Time per design against relative error on log axes: one panel per calculator, one curve per model level
+    through its tolerances (filled: the actual error; hollow, dashed: the estimated error)."""
+    plt = _pyplot()
+    kinds = list(dict.fromkeys(r["kind"] for r in rows))
+    fig, axes = plt.subplots(1, len(kinds), figsize=(6 * len(kinds), 4.8), squeeze=False)
+    floor = 1e-17  # an error of exactly 0 is drawn here (log axes)
+    for ax, kind in zip(axes[0], kinds):
+        levels = list(dict.fromkeys(r["level"] for r in rows if r["kind"] == kind))
+        for k, level in enumerate(levels):
+            pts = [r for r in rows if r["kind"] == kind and r["level"] == level and r["error_max"] is not None]
+            if not pts:
+                continue
+            t = [r["time_ms_median"] for r in pts]
+            color = f"C{k}"
+            ax.plot(t, [max(r["error_max"], floor) for r in pts], "o-", color=color, label=f"{level}: error")
+            ax.plot(t, [max(r["error_est_max"], floor) for r in pts], "o--", mfc="none", color=color,
+                    label=f"{level}: estimated")
+            for r, x in zip(pts, t):
+                ax.annotate(f"tol {r['tol']:g}", (x, max(r["error_max"], floor)), fontsize=6,
+                            xytext=(3, 3), textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_xlabel("median time per design [ms]")
+        ax.set_ylabel("largest relative error over the suite [-]")
+        ax.set_title(f"{kind}: error vs its high-resolution computation", fontsize=9)
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=7)
+    save(fig, path)
+
+
 def save(fig, path: str) -> None:
     import matplotlib.pyplot as plt
 

@@ -1,0 +1,141 @@
+"""gearcalc accuracy: the independent high-precision references, the honesty of the estimated errors on
+the shipped suite, and the command."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from conftest import cli
+from gearcalc import accuracy as A
+from gearcalc import rows as R
+
+
+# ---------------------------------------------------------------- the independent references
+@pytest.mark.parametrize("kappa,n", [(1.0, 3), (0.3, 4), (5.0, 2), (0.01, 10)])
+def test_decimal_exact_level_matches_the_no_gap_closed_form(kappa, n):
+    # rows.md §11: for b = 0, K_exact = n [1 - sinh((n-1)mu)/sinh(n mu)], mu = sqrt(kappa)
+    mu = math.sqrt(kappa)
+    closed = n * (1 - math.sinh((n - 1) * mu) / math.sinh(n * mu))
+    assert float(A.rows_exact_k_decimal(kappa, 0.0, n)) == pytest.approx(closed, rel=1e-13)
+
+
+@pytest.mark.parametrize("kappa,bbar,n", [(0.309, 0.25, 3), (2.0, 0.5, 5), (7.9, 0.1, 2), (0.05, 0.25, 40)])
+def test_decimal_and_rational_references_agree_with_the_float_levels(kappa, bbar, n):
+    # the float implementations (gearcalc.rows) against the 50-digit / exact rational ones: rounding only
+    u, ok = R.stepwise_shares(kappa, bbar, n)
+    assert bool(ok)
+    assert float(u.max()) == pytest.approx(float(A.rows_stepwise_k_rational(kappa, bbar, n)), rel=1e-13)
+    ue, _ = R.exact_shares(kappa, bbar, n)
+    assert float(ue.max()) == pytest.approx(float(A.rows_exact_k_decimal(kappa, bbar, n)), rel=1e-13)
+    kc = float(R.continuous_k(kappa, bbar, n))
+    assert kc == pytest.approx(float(A.rows_continuous_k_decimal(kappa, bbar, n)), rel=1e-13)
+
+
+def test_rational_stepwise_reproduces_the_papers_smoke_value():
+    # rows.md §13.1: K = 1.489 for n = 3, n_w = 3, B = 2.4 (kappa from the Fig. 3 design)
+    assert round(float(A.rows_stepwise_k_rational(0.3092601856971798, 0.25, 3)), 3) == 1.489
+
+
+def test_continuous_reference_limits():
+    # X coth X -> 1 as kappa -> 0; n = 1 carries everything: K = 1 (rows.md §4)
+    assert float(A.rows_continuous_k_decimal(0.0, 0.25, 3)) == 1.0
+    assert float(A.rows_continuous_k_decimal(4.0, 0.25, 1)) == 1.0
+    assert float(A.rows_continuous_k_decimal(1.0, 0.0, 3)) == pytest.approx(3 / math.tanh(3), rel=1e-15)
+
+
+# ---------------------------------------------------------------- honesty on the suite
+def test_suite_has_typical_and_hard_designs_of_every_kind():
+    for kind in ("rows", "zstk", "pins"):
+        tags = {tag for _, tag, _ in A.suite(kind)}
+        assert tags == {"typical", "hard"}, kind
+
+
+def _check_honest(rows):
+    valued = [r for r in rows if r.get("error") is not None]
+    assert valued
+    for r in valued:
+        assert r["honest"], r
+        assert np.isfinite(r["error"]) and np.isfinite(r["error_est"])
+    return valued
+
+
+def test_rows_estimates_are_honest_and_model_errors_are_the_level_differences():
+    rows = _check_honest(A.report(["rows"], (1e-6,), budget=0))
+    by = {(r["case"], r["level"]): r for r in rows}
+    # the stepwise model error on the smoke design is the stepwise/exact gap the design reports
+    # (K_stepwise_vs_exact_pct = 0.20737 % of K_exact, from `gearcalc rows` on the same file)
+    assert by[("typical_fig3_c4_B2.4", "stepwise")]["model_error"] == pytest.approx(0.0020736915, rel=1e-6)
+    assert by[("typical_fig3_c4_B2.4", "exact")]["model_error"] < 1e-14
+    # kappa >= 8: the stepwise level does not apply and exact runs (rows.md §2.5)
+    assert by[("hard_soft_sun", "stepwise")]["ran"] == "exact"
+
+
+def test_zstk_estimates_are_honest_at_a_loose_tolerance():
+    # the sweeps' estimates are tested where they matter most: tol 1e-3, maxima between grid points
+    rows = _check_honest(A.report(["zstk"], (1e-3,), budget=0,
+                                  cases={"hard_asym", "hard_asym_cycle", "hard_asym_envelope", "typical_example",
+                                         "hard_N200", "hard_e0_Z20"}))
+    sweeps = [r for r in rows if r["case"] != "typical_example" and r["level"] == "equilibrium" and r["error"] > 0]
+    assert sweeps  # the sweep errors are real (not zero by symmetry)...
+    assert all(r["error"] <= r["error_est"] for r in sweeps)  # ...and bounded by the estimate
+    fixed = [r for r in rows if r["case"] == "hard_asym" and r["level"] == "fixed-direction"]
+    assert fixed[0]["model_error"] > 1e-4  # off the symmetric configurations v || u is a model error
+
+
+def test_pins_ideal_estimates_are_honest():
+    rows = _check_honest(A.report(["pins"], (1e-3, 1e-6), budget=0, levels={"ideal"}, references=False))
+    assert {r["ran"] for r in rows} == {"ideal"} and len(rows) >= 2 * 6  # every cycloidal suite design
+
+
+def test_pins_ideal_level_is_the_stiff_contact_limit():
+    # pins.md §5.7(a), §6: the contact level with a stiff linear law is the reference of the ideal level
+    (r,) = A.report(["pins"], (1e-6,), budget=0, levels={"ideal"}, cases={"typical_cyc_u10_fixed"})
+    assert r["model_error"] is not None and r["model_error"] < 1e-4
+
+
+def test_pins_contact_estimate_is_honest_on_a_circular_design():
+    _check_honest(A.report(["pins"], (1e-3,), budget=0, levels={"contact"}, cases={"typical_circ_u10_fixed"}))
+
+
+def test_summary_rows_aggregate_and_name_the_reference():
+    rows = A.report(["rows"], (1e-3, 1e-9), budget=0)
+    summ = A.summarise(rows)
+    assert len(summ) == 3 * 2
+    for s in summ:
+        assert s["designs"] == len(A.suite("rows")) and s["honest"] is True
+        assert "exact level" in s["reference"]
+        assert s["time_ms_median"] > 0 and s["ratio_max"] <= 1
+
+
+# ---------------------------------------------------------------- the command
+def test_accuracy_command_json_and_csv():
+    r = cli("accuracy", "rows", "--tols", "1e-3,1e-6", "--time-budget", "0", "-f", "json")
+    assert r.code == 0, r.err
+    data = json.loads(r.out)
+    assert {d["level"] for d in data} == {"stepwise", "exact", "continuous"}
+    assert {d["tol"] for d in data} == {1e-3, 1e-6}
+    r2 = cli("accuracy", "rows", "--tols", "1e-3", "--time-budget", "0", "-f", "csv", "--detail")
+    assert r2.code == 0
+    lines = r2.out.strip().splitlines()
+    assert lines[0].startswith("kind,level,tol,case,tag")
+    assert len(lines) == 1 + 3 * len(A.suite("rows"))
+
+
+@pytest.mark.parametrize("args,needle", [
+    (("nope",), "unknown calculator"),
+    (("rows", "--tols", "abc"), "--tols"),
+    (("rows", "--tols", "0.5"), "--tol 0.5"),
+])
+def test_accuracy_bad_usage(args, needle):
+    r = cli("accuracy", *args)
+    assert r.code == 2 and needle in r.err
+
+
+def test_accuracy_plot(tmp_path):
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "acc.png"
+    r = cli("accuracy", "rows", "--tols", "1e-3,1e-9", "--time-budget", "0", "-f", "csv", "--plot", out)
+    assert r.code == 0
+    data = out.read_bytes()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n" and len(data) > 10_000
