@@ -237,15 +237,25 @@ def _quote(text: str) -> str:
 
 
 def _csv_column(col: list) -> list[str]:
-    """A column's CSV cells; floats in bulk (repr, finiteness checked once for the column)."""
-    if col and all(type(v) is float for v in col):
-        import math
+    """A column's CSV cells, the same text as :func:`csv_cell` per value, in bulk: floats (with None for
+    undefined) by ``repr`` with one finiteness check per column, ints by ``str``, other values once per
+    distinct value."""
+    import math
 
-        if not all(map(math.isfinite, col)):
+    types = set(map(type, col))
+    if len(types) == 1 and col.count(col[0]) == len(col):  # constant: an axis not varied, a fixed input
+        return [_quote(csv_cell(col[0]))] * len(col)
+    if types <= {float, type(None)}:
+        floats = col if None not in types else [v for v in col if v is not None]
+        if not all(map(math.isfinite, floats)):
             raise NonFiniteOutput("non-finite value in CSV output")
-        return list(map(repr, col))
+        if None not in types:
+            return list(map(repr, col))
+        return ["" if v is None else repr(v) for v in col]
+    if types == {int}:
+        return list(map(str, col))
     out, cache = [], {}
-    for v in col:  # ints, words, flags and lists repeat: format each distinct value once
+    for v in col:  # words, flags and lists repeat: format each distinct value once
         key = (type(v), tuple(v) if isinstance(v, list) else v)
         try:
             text = cache[key]
