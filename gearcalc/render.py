@@ -270,7 +270,12 @@ def _csv_column(col: list) -> list[str]:
 def write_csv_columns(cols: "Columns") -> str:
     """CSV of column-major rows; the same cells as :func:`write_csv` of the equivalent rows."""
     names = list(cols.data)
-    cells = [_csv_column(cols.data[k]) for k in names]
-    lines = [",".join(_quote(k) for k in names)]
-    lines.extend(",".join(r) for r in zip(*cells))
-    return "\n".join(lines) + "\n"
+    parts = [",".join(_quote(k) for k in names) + "\n"]
+    for start in range(0, cols.n, CSV_CHUNK):  # a block of rows at a time: bounded memory for big sweeps
+        cells = [_csv_column(cols.data[k][start:start + CSV_CHUNK]) for k in names]
+        parts.append("\n".join(map(",".join, zip(*cells))) + "\n")
+    return "".join(parts)
+
+
+CSV_CHUNK = 8192
+"""Rows formatted at a time by :func:`write_csv_columns`."""
