@@ -180,10 +180,6 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
             calc = registry.get(d.kind)
             if model not in calc.models:
                 raise Abort(f"--model {model}: a {d.kind} design has the levels " + ", ".join(calc.models))
-    kinds = sorted({d.kind for d in designs})
-    if fmt == "csv" and len(kinds) > 1:
-        raise Abort("CSV holds one kind per output, and this batch has " + ", ".join(kinds)
-                    + ": use --format json, or run each kind on its own (e.g. gearcalc rows ... -o rows.csv)")
     opts = Options(tol=tol, model=model, detail=detail)
     records = []
     advance, stop = _progress(len(designs) * 20)  # a bar only for long batches on a terminal

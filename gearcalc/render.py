@@ -116,12 +116,19 @@ def write_csv(rows: list[dict]) -> str:
 
 
 def render_csv(records: list[Record], detail: bool = False) -> str:
+    """One CSV: the summaries (or, with ``detail``, the detail rows in long form).  A batch of several
+    kinds gets a leading ``kind`` column and the union of the kinds' columns (cells of another kind's
+    fields empty)."""
+    mixed = len({r.kind for r in records}) > 1
     if not detail:
+        if mixed:
+            return write_csv([{"kind": r.kind, **r.result.summary} for r in records])
         return write_csv([r.result.summary for r in records])
     rows = []
     for r in records:
+        lead = {"kind": r.kind} if mixed else {}
         for table, trows in r.result.detail.items():
-            rows.extend({"name": r.name, "table": table, **row} for row in trows)
+            rows.extend({**lead, "name": r.name, "table": table, **row} for row in trows)
     return write_csv(rows) if rows else "name,table\n"
 
 
