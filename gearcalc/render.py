@@ -3,8 +3,9 @@
 * ``json``: one object per design (an array for several), with ``summary``, the resolved
   ``design``, ``warnings``, ``checks_failed``, ``model`` and, with ``--detail``, ``detail``.
 * ``csv``: a header and one row per design; the header is the union of the designs' fields in
-  first-seen order (missing cells empty).  One kind per CSV.  With ``--detail`` the CSV holds the
-  detail rows instead, in long form: ``name``, ``table``, then the union of the detail columns.
+  first-seen order (missing cells empty).  A batch of several kinds gets a leading ``kind``
+  column.  With ``--detail`` the CSV holds the detail rows instead, in long form: (``kind``,)
+  ``name``, ``table``, then the union of the detail columns.
 * ``table``: rich tables for a terminal; the summary has one column per design and the unit of
   each quantity in its own column; detail tables carry units in their column headers.
 
