@@ -77,12 +77,19 @@ def pick_format(fmt: Optional[str], output: Optional[str]) -> str:
     if fmt is not None:
         fmt = fmt.lower()
         if fmt not in ("table", "csv", "json"):
-            raise Abort(f"--format {fmt}: must be one of table, csv, json")
+            raise Abort(f"--format {fmt}: must be one of table, csv, json"
+                        + did_you_mean(fmt, ["table", "csv", "json"]))
         return fmt
     if output:
         ext = os.path.splitext(output)[1].lower()
         return {".json": "json", ".txt": "table"}.get(ext, "csv")
     return "table" if sys.stdout.isatty() else "csv"
+
+
+def did_you_mean(word: str, choices: list[str]) -> str:
+    from .design import _suggest
+
+    return _suggest(word, choices)
 
 
 def check_output_path(output: Optional[str]) -> None:
@@ -179,7 +186,8 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
         for d in designs:
             calc = registry.get(d.kind)
             if model not in calc.models:
-                raise Abort(f"--model {model}: a {d.kind} design has the levels " + ", ".join(calc.models))
+                raise Abort(f"--model {model}: a {d.kind} design has the levels " + ", ".join(calc.models)
+                            + did_you_mean(model, list(calc.models)))
     opts = Options(tol=tol, model=model, detail=detail)
     records = []
     advance, stop = _progress(len(designs) * 20)  # a bar only for long batches on a terminal
@@ -385,8 +393,9 @@ def sweep_cmd(
                 dmod.apply_set(raw, dmod.parse_set(sets))
             kind = raw.get("kind")
             if model is not None and kind in registry.kinds() and model not in registry.get(kind).models:
-                raise Abort(f"--model {model}: a {kind} design has the levels "
-                            + ", ".join(registry.get(kind).models))
+                levels = list(registry.get(kind).models)
+                raise Abort(f"--model {model}: a {kind} design has the levels " + ", ".join(levels)
+                            + did_you_mean(model, levels))
             progress, stop = _progress(math_prod(len(v) for v in axes.values()))
             try:
                 rows = sw.evaluate(raw, file, axes, Options(tol=tol, model=model), progress, jobs)
@@ -465,7 +474,8 @@ def accuracy_cmd(
         names = kinds or list(KIND_HELP)
         for k in names:
             if k not in registry.kinds():
-                raise Abort(f"accuracy {k}: unknown calculator; choose from " + ", ".join(registry.kinds()))
+                raise Abort(f"accuracy {k}: unknown calculator; choose from " + ", ".join(registry.kinds())
+                            + did_you_mean(k, list(registry.kinds())))
         try:
             tol_list = [float(t) for t in tols.split(",") if t.strip()]
         except ValueError:
@@ -552,7 +562,8 @@ def new_cmd(
         from .template import template
 
         if kind not in registry.kinds():
-            raise Abort(f"new {kind}: unknown kind; must be one of {', '.join(registry.kinds())}")
+            raise Abort(f"new {kind}: unknown kind; must be one of {', '.join(registry.kinds())}"
+                        + did_you_mean(kind, list(registry.kinds())))
         check_output_path(output)
         text = template(registry.get(kind))
         if output:

@@ -10,6 +10,7 @@ from __future__ import annotations
 import difflib
 import math
 import os
+import re
 import sys
 import tomllib
 from dataclasses import dataclass, field
@@ -156,11 +157,11 @@ def check_value(f: Field, value: Any) -> tuple[Any, str | None]:
     if isinstance(value, str) and f.choices and f.type != "string":
         if value in f.choices:
             return value, None
-        return value, "must be " + f.constraint()
+        return value, "must be " + f.constraint() + _string_hint(f, value)
     t = f.type
     if t == "string":
         if not isinstance(value, str) or (f.choices and value not in f.choices):
-            return value, "must be " + f.constraint()
+            return value, "must be " + f.constraint() + (_string_hint(f, value) if isinstance(value, str) else "")
         return value, None
     if t == "bool":
         return (value, None) if isinstance(value, bool) else (value, "must be true or false")
@@ -176,7 +177,7 @@ def check_value(f: Field, value: Any) -> tuple[Any, str | None]:
                 return value, err
         return vals, None
     if isinstance(value, bool) or not isinstance(value, (int, float)):
-        return value, "must be " + f.constraint()
+        return value, "must be " + f.constraint() + (_string_hint(f, value) if isinstance(value, str) else "")
     if t == "integer":
         if not isinstance(value, int):
             return value, "must be " + f.constraint()
@@ -185,6 +186,20 @@ def check_value(f: Field, value: Any) -> tuple[Any, str | None]:
         if not math.isfinite(value):
             return value, "must be a finite number"
     return value, _bounds(f, value)
+
+
+def _string_hint(f: Field, value: str) -> str:
+    """The fix for a string where a word or a number was expected: a did-you-mean among the words, or,
+    for a number written with its unit ("5 mm"), that the unit belongs to the key's name."""
+    hint = _suggest(value, list(f.choices)) if f.choices else ""
+    if hint:
+        return hint
+    m = re.fullmatch(r"\s*([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z°%/·*0-9]+)\s*", value)
+    if m and f.type in ("number", "integer"):
+        unit = f.name.rsplit("_", 1)[-1] if "_" in f.name else ""
+        where = f" (the unit, {unit}, is in the key's name)" if unit and unit != f.name else ""
+        return f"; write the bare number {m.group(1)}{where}"
+    return ""
 
 
 def _bounds(f: Field, v: float) -> str | None:
@@ -206,7 +221,8 @@ def validate(raw: dict, source: str, kind_hint: str | None = None) -> Design:
         kind = kind_hint
     if not isinstance(kind, str) or kind not in registry.kinds():
         raise InputError([f"{where}: kind = {_show(kind)}: must be one of "
-                          + ", ".join(f'"{k}"' for k in registry.kinds())])
+                          + ", ".join(f'"{k}"' for k in registry.kinds())
+                          + (_suggest(kind, list(registry.kinds())) if isinstance(kind, str) else "")])
     if kind_hint is not None and kind != kind_hint:
         raise InputError([f"{where}: kind = \"{kind}\": this command computes \"{kind_hint}\" designs "
                           f"(use 'gearcalc {kind}' or 'gearcalc run')"])

@@ -95,7 +95,7 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
     import copy
 
     from . import registry
-    from .design import InputError, apply_set, check_value, validate
+    from .design import InputError, apply_set, check_value, display_name, validate
 
     kind = raw.get("kind")
     calc = registry.get(kind) if isinstance(kind, str) and kind in registry.kinds() else None
@@ -115,7 +115,9 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
             try:
                 validate(trial, source)
             except InputError as exc:
-                raise SweepError("; ".join(f"--vary {key}={values[k]!r}: {m}" for m in exc.messages)) from None
+                prefix = display_name(source) + ": "  # the caller names the file once
+                raise SweepError("; ".join(f"--vary {key}={values[k]!r}: {m.removeprefix(prefix)}"
+                                           for m in exc.messages)) from None
 
 
 FULL_CHECKS = 16

@@ -317,3 +317,26 @@ def test_batch_equals_design_by_design():
     singles = [cli("run", f, "--format", "json") for f in files]
     assert _without_timings(batch.out) == [_without_timings(s.out) for s in singles]  # one file: one object
     assert batch.err == "".join(s.err for s in singles)
+
+
+@pytest.mark.parametrize("args,fix", [
+    (("rows", FIG3, "--model", "exct"), "did you mean 'exact'?"),
+    (("rows", FIG3, "--format", "jsn"), "did you mean 'json'?"),
+    (("new", "rwos"), "did you mean 'rows'?"),
+    (("accuracy", "zstc"), "did you mean 'zstk'?"),
+    (("rows", FIG3, "--set", 'gear.module_mm="5 mm"'), "write the bare number 5 (the unit, mm, is in the key's name)"),
+    (("pins", CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--set", 'load.mode="reduce"'), "did you mean 'reducer'?"),
+])
+def test_error_messages_tell_the_fix(args, fix):
+    r = cli(*args)
+    assert r.code == 2 and fix in r.err
+
+
+def test_wrong_kind_word_gets_a_suggestion(write):
+    r = cli("check", write('kind = "row"\n'))
+    assert r.code == 2 and "did you mean 'rows'?" in r.err
+
+
+def test_sweep_error_names_the_file_once():
+    r = cli("sweep", FIG3, "--vary", "rows.cont=1")
+    assert r.code == 2 and r.err.count(FIG3.name) == 1 and "did you mean 'rows.count'?" in r.err
