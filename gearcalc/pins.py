@@ -24,8 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import units
-from .quadrature import QuadResult, geometric_breakpoints, integrate_piecewise
-from .roots import find_root, minimize_golden
+from .quadrature import QuadResult, geometric_breakpoints, integrate_pieces
 
 PAPER_PI = 3.14
 """The value of pi the paper computed with (pins.md §3)."""
@@ -332,11 +331,10 @@ def contact_angle_offset(psi, g: Cycloid):
     return np.arctan2(cy, cx - g.e) - (g.z2 / g.z1) * np.asarray(psi, dtype=float)
 
 
-def crest_cutoff(g: Cycloid, n_scan: int = 1024) -> float:
+def crest_cutoff(g: Cycloid) -> float:
     """End of the loaded arc psi* [rad]: pi for k = 1, else the first root of epsilon(psi) = -pi/z1.
 
-    The function epsilon + pi/z1 is scanned on (0, pi] and its first sign change refined by the
-    bracketed root finder (Chandrupatla) to 1e-15 rad (pins.md §4.3, §12.11).
+    One gear of :func:`crest_cutoffs` (pins.md §4.3, §12.11).
 
     Examples
     --------
@@ -346,20 +344,109 @@ def crest_cutoff(g: Cycloid, n_scan: int = 1024) -> float:
     """
     if g.k == 1:
         return math.pi
-    psi = np.linspace(0.0, math.pi, n_scan + 1)[1:]
-    h = contact_angle_offset(psi, g) + math.pi / g.z1
-    first = int(np.argmax(h <= 0.0))
-    if h[first] == 0.0:
-        return float(psi[first])
-    lo = psi[first - 1] if first > 0 else 0.0
-    res = find_root(lambda x: contact_angle_offset(x, g) + math.pi / g.z1, lo, psi[first], xtol=1e-15)
-    return float(res.root)
+    return float(crest_cutoffs(_as_arrays(g))[0])
+
+
+def _as_arrays(g: Cycloid) -> Cycloid:
+    """The same gear with every field a one-element array (for the functions vectorised over gears)."""
+    return Cycloid(*(np.atleast_1d(v) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
+
+
+def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: int = 2) -> np.ndarray:
+    """psi* of many gears at once [rad]: pi where k = 1, else the first root of h = epsilon + pi/z1.
+
+    h(psi) = epsilon(psi) + pi/z1 is positive at psi = 0 (epsilon(0) = 0).  It is scanned on
+    ``n_scan`` points of (0, pi], and its first sign change located; the bracketing cell is scanned
+    again on ``n_refine`` points, ``stages`` times (each scan keeps the *first* sign change, so a
+    non-monotone epsilon cannot send the search to a later root, pins.md §12.11).  The root is then
+    the inverse quadratic interpolation through the two ends of the last cell and the next scan
+    point; the cell is pi/(n_scan n_refine^stages) = 3.7e-7 rad wide by default, so the
+    interpolation error (of the order of the cube of the width times the ratio of the third to the
+    first derivative of h) lies below the round-off of psi*.  Every scan is one vectorised
+    evaluation over all the gears (h in the half-angle form of :func:`contact_angle_offset`, two
+    sines per point); this costs 3 evaluations where the bracketed root finder of
+    :mod:`gearcalc.roots` needs 5-8 iterations of about 40 array operations each, which dominated
+    the ideal level's time per design.
+
+    Parameters
+    ----------
+    g : gears whose fields are arrays of one shape (m,) (see :class:`Cycloid`).
+    n_scan, n_refine, stages : scan points of the first and of the refining scans, and their number.
+
+    Returns
+    -------
+    psi* [rad], shape (m,).
+
+    Examples
+    --------
+    >>> g = Cycloid(np.array([20, 21]), np.array([22, 22]), np.array([3.9, 3.9]),
+    ...             np.array([57.2, 114.4]), np.array([1.95, 1.95]), np.array([0.25, 0.25]))
+    >>> r = crest_cutoffs(g)
+    >>> bool(0 < r[0] < np.pi), bool(r[1] == np.pi)
+    (True, True)
+
+    References
+    ----------
+    pins.md §4.3 (the crest cut-off) and §12.11 (first sign change of a scan).
+    """
+    k = np.asarray(g.z2) - np.asarray(g.z1)
+    out = np.full(k.shape, math.pi)
+    rows = np.flatnonzero(k >= 2)
+    if rows.size == 0:
+        return out
+    one = rows.size == 1           # one gear: Python floats (fewer and cheaper array operations)
+
+    def col(v):
+        v = np.asarray(v)[rows]
+        return float(v[0]) if one else v[:, None]
+
+    z1, z2, e, R_p, R_b, omk = (col(v) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1))
+    A, B = omk * omk, 4.0 * (e * z2 / ((z2 - z1) * R_p))      # (1 - K1)^2 and 4 K1 (K1 as Cycloid.K1)
+    q0, e0, zr, offset = R_b / R_p, e / R_p, z2 / z1, math.pi / z1
+
+    def h(psi):
+        """epsilon(psi) + pi/z1 in half-angle form (contact_angle_offset scaled by 1/R_p; two sines)."""
+        sh, ch = np.sin(0.5 * psi), np.cos(0.5 * psi)
+        u = 2.0 * sh * sh                                        # 1 - cos psi
+        q = q0 / np.sqrt(A + B * (0.5 * u))                      # R_b/rho
+        cx = (1.0 - u) - q * (omk - u) - e0                      # (C_x - e)/R_p
+        cy = (2.0 * sh * ch) * (1.0 - q)                          # C_y/R_p
+        return np.arctan2(cy, cx) - zr * psi + offset
+
+    m = rows.size
+    r = np.arange(m)
+    lo, hi = np.zeros(m), np.full(m, math.pi)
+    h_lo, h_hi = (np.zeros((m, 1)) + offset).reshape(m), np.zeros(m)     # h(0) = pi/z1
+    found = np.ones(m, dtype=bool)
+    n = n_scan
+    for stage in range(stages + 1):
+        x = lo[:, None] + (hi - lo)[:, None] * (np.arange(1, n + 1) / n)
+        hx = h(x)
+        neg = hx <= 0.0
+        first = np.argmax(neg, axis=1)
+        if stage == 0:
+            found = neg[r, first]          # no sign change on (0, pi]: psi* = pi (not for an admissible k >= 2)
+        prev = np.maximum(first - 1, 0)
+        lo, h_lo = np.where(first > 0, x[r, prev], lo), np.where(first > 0, hx[r, prev], h_lo)
+        hi, h_hi = x[r, first], hx[r, first]
+        n = n_refine
+    # inverse quadratic interpolation through lo, hi and the next scan point (error ~ width^3),
+    # falling back to the secant if it leaves the bracket
+    k3 = np.where(first + 1 < n, first + 1, first - 2)
+    x3, h3 = x[r, k3], hx[r, k3]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        iqi = (lo * (h_hi * h3) / ((h_lo - h_hi) * (h_lo - h3)) + hi * (h_lo * h3) / ((h_hi - h_lo) * (h_hi - h3))
+               + x3 * (h_lo * h_hi) / ((h3 - h_lo) * (h3 - h_hi)))
+        sec = lo + (hi - lo) * (h_lo / (h_lo - h_hi))
+    root = np.where(h_hi == 0.0, hi, np.where((iqi >= lo) & (iqi <= hi), iqi, sec))
+    out[rows] = np.where(found, np.clip(root, lo, hi), math.pi)
+    return out
 
 
 def spin_reversal_phase(g: Cycloid) -> float | None:
     """Phase psi_0 where rho(psi_0) = R_b (the pin's spin reverses), or None when R_b <= R_p (1 - K1).
 
-    sin(psi_0/2) = sqrt(((R_b/R_p)^2 - (1 - K1)^2)/(4 K1))  (pins.md §4.5, §6).
+    One gear of :func:`spin_reversal_phases` (pins.md §4.5, §6).
 
     Examples
     --------
@@ -367,11 +454,27 @@ def spin_reversal_phase(g: Cycloid) -> float | None:
     >>> spin_reversal_phase(g) is None
     True
     """
-    q = g.R_b / g.R_p
-    arg = (q * q - g.one_minus_K1 ** 2) / (4.0 * g.K1)
-    if arg <= 0.0 or arg >= 1.0:
-        return None
-    return 2.0 * math.asin(math.sqrt(arg))
+    psi_0 = float(spin_reversal_phases(_as_arrays(g))[0])
+    return None if math.isnan(psi_0) else psi_0
+
+
+def spin_reversal_phases(g: Cycloid) -> np.ndarray:
+    """Spin-reversal phases psi_0 of many gears (NaN where R_b <= R_p (1 - K1): none) [rad].
+
+    sin(psi_0/2) = sqrt(((R_b/R_p)^2 - (1 - K1)^2)/(4 K1))  (pins.md §4.5, §6).
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 1.0, 0.999, 0.1)
+    >>> p = float(spin_reversal_phases(_as_arrays(g))[0])
+    >>> round(float(pitch_distance(p, g)), 12)     # rho(psi_0) = R_b
+    0.1
+    """
+    q = np.asarray(g.R_b) / np.asarray(g.R_p)
+    omk = np.asarray(g.one_minus_K1)
+    arg = (q * q - omk ** 2) / (4.0 * g.K1)
+    ok = (arg > 0.0) & (arg < 1.0)
+    return np.where(ok, 2.0 * np.arcsin(np.sqrt(np.where(ok, arg, 0.0))), np.nan)
 
 
 def curvature_radius(psi, g: Cycloid):
@@ -394,11 +497,30 @@ def curvature_radius(psi, g: Cycloid):
         return g.R_p * s ** 3 / D
 
 
-def min_curvature_radius(g: Cycloid, psi_star: float, n_scan: int = 2048) -> float:
+def min_curvature_radius(g: Cycloid, psi_star, n_scan=None):
     """Least radius of curvature of the convex part of the pin-centre curve over 0 <= psi <= psi* [mm].
 
-    Scan, then golden-section refinement around the smallest sample; inf if no part is convex.
-    The profile has no loops (undercut) when R_b < this value (pins.md §4.2).
+    Closed form.  With c = cos(psi), s^2 = A - B c and D = p - q c, where A = 1 + K1^2, B = 2 K1,
+    p = 1 + K1^2 Z_e and q = K1 (1 + Z_e), so rho_c = R_p (A - B c)^(3/2)/(p - q c), and
+
+        d rho_c/dc = R_p (A - B c)^(1/2) (q A - 3 B p/2 + B q c/2)/(p - q c)^2,
+
+    whose bracket is linear and increasing in c: rho_c has a single minimum, at
+    c* = 3 p/q - A/K1.  On the convex part (D > 0, i.e. c < p/q) of the loaded range
+    c in [cos psi*, 1] the least value is therefore at c* clipped to that range; it is evaluated
+    at psi = arccos(c) with the cancellation-free :func:`curvature_radius` (the clipped ends are
+    psi* and 0 exactly).  inf where no part of the range is convex.  The profile has no loops
+    (undercut) when R_b < this value (pins.md §4.2).  Works element-wise on gears of arrays.
+
+    Parameters
+    ----------
+    g : the gear (fields scalars or arrays of one shape).
+    psi_star : end of the loaded arc [rad] (scalar or array of that shape).
+    n_scan : ignored (the minimum was once found by a scan; kept for callers).
+
+    Returns
+    -------
+    min rho_c [mm] (a float for a scalar gear, else an array).
 
     Examples
     --------
@@ -406,20 +528,20 @@ def min_curvature_radius(g: Cycloid, psi_star: float, n_scan: int = 2048) -> flo
     >>> round(min_curvature_radius(g, np.pi), 3) <= round(float(curvature_radius(np.pi, g)), 3)
     True
     """
-    psi = np.linspace(0.0, psi_star, n_scan + 1)
+    K1, Ze = g.K1, np.asarray(g.z2) / np.asarray(g.k)
+    psi_star = np.asarray(psi_star, dtype=float)
+    A = 1.0 + K1 * K1                              # s^2 = A - B c with B = 2 K1
+    p, q = 1.0 + K1 * K1 * Ze, K1 * (1.0 + Ze)
+    c_lo, c_hi = np.cos(psi_star), np.minimum(1.0, p / q)
+    c_star = 3.0 * p / q - A / K1
+    convex = c_lo < p / q
+    at_end = c_star <= c_lo
+    at_zero = (c_star >= 1.0) & (c_hi >= 1.0)
+    c = np.clip(c_star, c_lo, c_hi)
+    psi = np.where(at_end, psi_star, np.where(at_zero, 0.0, np.arccos(np.clip(c, -1.0, 1.0))))
     rc = curvature_radius(psi, g)
-    rc = np.where(rc > 0, rc, np.inf)
-    i = int(np.argmin(rc))
-    if not np.isfinite(rc[i]):
-        return math.inf
-    lo, hi = psi[max(i - 1, 0)], psi[min(i + 1, n_scan)]
-
-    def fun(x):
-        r = curvature_radius(x, g)
-        return np.where(r > 0, r, np.inf)
-
-    res = minimize_golden(fun, lo, hi, rtol=1e-10)
-    return float(min(res.fun, rc[i]))
+    rc = np.where(convex & (rc > 0), rc, np.inf)
+    return float(rc) if rc.ndim == 0 else rc
 
 
 def pin_centre_curve(beta, family: int, g: Cycloid):
@@ -794,8 +916,9 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
                     n_max: int = 2 ** 20, n_start: int = 16, n_initial=None) -> CycleIntegral:
     """Cycle mean lambda_bar = (1/T_p) integral of lambda over one period, with an honest error.
 
-    Piecewise trapezoid between the breakpoints of :func:`cycle_breakpoints`, doubled to
-    ``tol`` (pins.md §6).  mu_eff = 0 short-circuits to exactly 0 with error 0.
+    Piecewise trapezoid between the breakpoints of :func:`cycle_pieces` (those of
+    :func:`cycle_breakpoints`), doubled to ``tol`` (pins.md §6), with the integrator and integrand
+    of :func:`ideal_cycles` (one gear).  mu_eff = 0 short-circuits to exactly 0 with error 0.
 
     Parameters
     ----------
@@ -804,7 +927,7 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
     tol : relative accuracy target.
     n_max : cap on crank-angle intervals per period.
     n_start : intervals of the first level.
-    n_initial : intervals per piece of the first level (see :func:`~gearcalc.quadrature.integrate_piecewise`).
+    n_initial : intervals per piece of the first level (see :func:`~gearcalc.quadrature.integrate_pieces`).
 
     Returns
     -------
@@ -819,10 +942,15 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
     """
     if mu_eff == 0.0:
         return CycleIntegral(0.0, 0.0, True, 0, None)
-    bp = cycle_breakpoints(g, psi_star, psi_0)
-    q = integrate_piecewise(lambda t, m: cycle_loss_ratio(t, m, g, psi_star, mu_eff), bp, tol=tol,
-                            n_max=n_max, n_start=n_start, n_initial=n_initial)
-    return CycleIntegral(float(q.value[0]), float(q.err[0]), q.converged, q.n, q)
+    ga = _as_arrays(g)
+    ps = np.array([psi_star], dtype=float)
+    a, b, owner = cycle_pieces(ga, ps, np.array([np.nan if psi_0 is None else psi_0]))
+    unit = _unit_loss_ratio(_GearTable.of(ga, ps), owner)
+    q = integrate_pieces(lambda x, mid, piece: mu_eff * unit(x, mid, piece), a, b, owner, 1, tol=tol,
+                         n_max=n_max, n_start=n_start, n_initial=n_initial, first_levels=first_levels(tol))
+    quad = QuadResult(value=q.value, err=q.err, trapezoid=q.trapezoid, n=int(q.n[0]), converged=bool(q.converged[0]),
+                      levels=int(q.levels[0]), edges=np.concatenate((a, b[-1:])), n_piece=q.n_piece)
+    return CycleIntegral(float(q.value[0]), float(q.err[0]), bool(q.converged[0]), int(q.n[0]), quad)
 
 
 def disc_offsets(n_discs: int, z2: int) -> np.ndarray:
@@ -866,3 +994,436 @@ def sum_over_discs(x, values, shifts, period, origin: float = 0.0, zero_outside:
         y = np.mod(x + s - origin, period) + origin
         total += np.interp(y, x, values, left=fill, right=fill)
     return total
+
+
+def disc_sum_peak(phase, values, n_d: int):
+    """Peak over the cycle and the pins of a per-contact quantity summed over n_d discs, and its phase.
+
+    The discs are 2 pi/n_d apart: a pin's history at phase psi is sum_d v(psi - 2 pi d/n_d) (pins.md
+    §12.7), interpolated linearly between the samples (error O(h^2)).
+
+    Parameters
+    ----------
+    phase : load-side phases of the loaded contacts of the first disc [rad], shape (n,).
+    values : the quantity at those contacts, shape (n,).
+    n_d : number of discs.
+
+    Returns
+    -------
+    (peak, phase of the peak [rad]).
+
+    Examples
+    --------
+    >>> disc_sum_peak(np.array([0.0, 1.0, 2.0]), np.array([0.0, 1.0, 0.0]), 1)
+    (1.0, 1.0)
+    """
+    x, val = np.asarray(phase, dtype=float), np.asarray(values, dtype=float)
+    order = np.argsort(x, kind="stable")
+    x, val = x[order], val[order]
+    shifts = -2.0 * np.pi * np.arange(n_d) / n_d
+    pts = np.unique(np.concatenate([np.mod(x - s, 2.0 * np.pi) for s in shifts]))
+    tot = np.zeros_like(pts)
+    for s in shifts:  # a handful of discs; vectorised over the samples
+        tot += np.interp(np.mod(pts + s, 2.0 * np.pi), x, val, left=0.0, right=0.0)
+    i = int(np.argmax(tot))
+    return float(tot[i]), float(pts[i])
+
+
+# ============================================================ the ideal level vectorised over gears (§4, §6)
+#
+# The functions below solve the cycle model of many gears at once: numpy over gears, pins, crank
+# angles.  Inside, a crank-angle node of gear o carries its J = ceil(c_o - t_mid) loaded contacts
+# as consecutive *entries* of flat arrays (one per loaded pin and node), and sums over a node's
+# contacts are np.bincount over the node index: sequential in contact order, so a gear's numbers do
+# not depend on the gears computed with it (a batch equals one design at a time, bit for bit).
+
+@dataclass
+class _GearTable:
+    """Per-gear constants of the cycle integrand, arrays of shape (m,), the gears sorted by z2."""
+
+    z2: np.ndarray
+    K1: np.ndarray
+    omk: np.ndarray
+    R_p: np.ndarray
+    R_b: np.ndarray
+    r_p1: np.ndarray
+    c: np.ndarray
+
+    @classmethod
+    def of(cls, g: Cycloid, psi_star):
+        z1, z2 = np.asarray(g.z1), np.asarray(g.z2)
+        k = z2 - z1
+        e, R_p = np.asarray(g.e, dtype=float), np.asarray(g.R_p, dtype=float)
+        c = np.where(k == 1, z2 / 2.0, np.asarray(psi_star) * z2 / (2.0 * math.pi))
+        return cls(z2, e * z2 / (k * R_p), np.asarray(g.one_minus_K1, dtype=float), R_p,
+                   np.asarray(g.R_b, dtype=float), e * z1 / k, c)
+
+    def take(self, name: str, idx):
+        """Field ``name`` at gear indices ``idx`` (a scalar when there is one gear: same values, fewer gathers)."""
+        arr = getattr(self, name)
+        return arr[0] if arr.size == 1 else arr[idx]
+
+    def blocks(self, gi):
+        """(slice, z2) of the runs of nodes whose gears have the same number of pins (gears sorted by z2)."""
+        if self.z2.size == 1:
+            return [(slice(None), int(self.z2[0]))]
+        z = self.z2[gi]
+        cuts = np.flatnonzero(z[1:] != z[:-1]) + 1
+        edges = [0, *cuts.tolist(), z.size]
+        return [(slice(lo, hi), int(z[lo])) for lo, hi in zip(edges[:-1], edges[1:]) if hi > lo]
+
+
+def _colsum(a):
+    """Sums over the rows (axis 0) in row order, so that a column's sum does not depend on the padding
+    rows (zeros) or on the other columns.  numpy reduces a C-ordered array over its outer axis row by
+    row (sequentially) when there are several columns; a single column is a contiguous reduction, which
+    numpy sums pairwise, so that case takes the (sequential) cumulative sum."""
+    return a.sum(axis=0) if a.shape[1] > 1 else np.cumsum(a, axis=0)[-1]
+
+
+def _contacts(x, mid, gi, G: _GearTable, z2: int, with_phase: bool = False):
+    """Loaded contacts at nodes x (pieces with midpoints mid) of gears gi that all have z2 pins.
+
+    Arrays of shape (rows j, nodes), j in load-side order; the rows beyond a node's J loaded contacts
+    are padding (lever 0).  Returns J (loaded contacts per node), loaded, phase psi~ [rad] (or None),
+    lever |l| [mm] and rho [mm].  Membership: j < J = ceil(c - mid) (pins.md §6, one-sided at piece
+    ends); psi~ = 2 pi (j + t)/z2 (pins.md §4.1).  The half phase is a + b with a = pi j/z2 per row and
+    b = pi t/z2 per node, so sin and cos of psi~/2 follow from the rows' and nodes' sines by the
+    addition theorem (products instead of sines per contact: the trigonometric functions dominated
+    the cost), and sin psi~ = 2 sin(psi~/2) cos(psi~/2); s and the lever arm then take the
+    cancellation-free forms of :func:`s_factor` and :func:`lever_arm`.
+    """
+    J = np.ceil(G.take("c", gi) - mid).astype(np.int64)
+    j = np.arange(int(J.max()))[:, None]
+    half = math.pi * (j / z2)
+    sa, ca = np.sin(half), np.cos(half)
+    b = math.pi * (x / z2)
+    sb, cb = np.sin(b), np.cos(b)
+    sh = sa * cb + ca * sb                       # sin(psi/2)
+    ch = ca * cb - sa * sb                       # cos(psi/2)
+    loaded = j < J
+    s = np.sqrt(G.take("omk", gi) ** 2 + 4.0 * G.take("K1", gi) * (sh * sh))
+    lev = np.where(loaded, np.abs(G.take("r_p1", gi) * (2.0 * sh * ch) / s), 0.0)
+    rho = G.take("R_p", gi) * s
+    phase = 2.0 * math.pi * ((j + x) / z2) if with_phase else None
+    return J, loaded, phase, lev, rho
+
+
+def _unit_loss_ratio(G: _GearTable, piece_owner):
+    """The integrand lambda(t)/mu_eff of the cycle mean, for :func:`~gearcalc.quadrature.integrate_pieces`."""
+    def f(x, mid, piece):
+        gi = piece_owner[piece]
+        out = np.empty(x.size)
+        for sl, z2 in G.blocks(gi):
+            g = gi[sl]
+            _, _, _, lev, rho = _contacts(x[sl], mid[sl], g, G, z2)
+            out[sl] = _colsum(lev * np.abs(rho - G.take("R_b", g))) / _colsum(lev * lev)
+        return out
+    return f
+
+
+def first_levels(tol: float) -> int:
+    """Doublings evaluated in the first round of the cycle quadrature (speed only, never a result).
+
+    A typical gear needs E ~ 3e-5 4^-L at level L, so L = 1 + ceil(log_4(3e-5/tol)), at least 2.
+
+    Examples
+    --------
+    >>> [first_levels(t) for t in (1e-3, 1e-6, 1e-9)]
+    [2, 4, 9]
+    """
+    return max(2, 1 + math.ceil(math.log(3e-5 / tol, 4)))
+
+
+def cycle_pieces(g: Cycloid, psi_star, psi_0):
+    """Smooth pieces of the cycle integrand of many gears in t = theta/T_p: (a, b, owner), gear by gear.
+
+    The breakpoints are those of :func:`cycle_breakpoints`: 0, 1, the exit frac(psi* z2/2 pi) and the
+    spin reversal frac(psi_0 z2/2 pi) when psi_0 < psi*, computed for all gears at once; a gear that
+    needs a geometric grading (K1 > 0.99, or a piece where a single pin carries the load) gets
+    :func:`cycle_breakpoints` itself.
+
+    Parameters
+    ----------
+    g : gears with array fields, shape (m,).
+    psi_star : psi* per gear [rad]; psi_0 : spin reversal phase per gear, NaN where none [rad].
+
+    Examples
+    --------
+    >>> g = _as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> a, b, owner = cycle_pieces(g, crest_cutoffs(g), np.array([np.nan]))
+    >>> a.size, float(a[0]), float(b[-1]), owner.tolist()
+    (2, 0.0, 1.0, [0, 0])
+    """
+    z1, z2 = np.asarray(g.z1), np.asarray(g.z2)
+    psi_star, psi_0 = np.asarray(psi_star, dtype=float), np.asarray(psi_0, dtype=float)
+    m = z2.size
+    c = np.where(z2 - z1 == 1, z2 / 2.0, psi_star * z2 / (2.0 * math.pi))
+    c0 = psi_0 * z2 / (2.0 * math.pi)
+    with np.errstate(invalid="ignore"):
+        f0 = np.where(psi_0 < psi_star, c0 - np.floor(c0), np.nan)
+    pts = np.stack([np.zeros(m), np.ones(m), c - np.floor(c), f0], axis=1)
+    pts.sort(axis=1)                                   # NaN (no spin reversal) last
+    a, b = pts[:, :-1], pts[:, 1:]
+    with np.errstate(invalid="ignore"):
+        valid = b > a
+        single = valid & (np.ceil(c[:, None] - 0.5 * (a + b)) == 1) & (a > 0.0)
+    graded = (np.asarray(g.one_minus_K1) < 0.01) | np.any(single, axis=1)
+    valid &= ~graded[:, None]
+    owner = np.repeat(np.arange(m), valid.sum(axis=1))
+    a, b = a[valid], b[valid]
+    if np.any(graded):
+        parts_a, parts_b, parts_o = [a], [b], [owner]
+        for i in np.flatnonzero(graded):   # the rare graded gears, one by one
+            gi = Cycloid(int(z1[i]), int(z2[i]), float(np.asarray(g.e)[i]), float(np.asarray(g.R_p)[i]),
+                         float(np.asarray(g.R_b)[i]), float(np.asarray(g.one_minus_K1)[i]))
+            bp = cycle_breakpoints(gi, float(psi_star[i]), None if np.isnan(psi_0[i]) else float(psi_0[i]))
+            parts_a.append(bp[:-1])
+            parts_b.append(bp[1:])
+            parts_o.append(np.full(bp.size - 1, i))
+        a, b, owner = np.concatenate(parts_a), np.concatenate(parts_b), np.concatenate(parts_o)
+        order = np.argsort(owner, kind="stable")
+        a, b, owner = a[order], b[order], owner[order]
+    return a, b, owner
+
+
+TOO_FEW_TEETH, UNDERCUT = 1, 2
+"""Status codes of :class:`IdealCycles`: psi* <= 2 pi/z2 (pins.md §12.10); R_b >= min rho_c (§4.2)."""
+
+
+@dataclass
+class IdealCycles:
+    """The ideal level's cycle solution of many gears in unit scalings (mu = 1, T_sat = 1 N·mm, |omega_V| = 1).
+
+    Arrays over gears, shape (m,):
+
+    psi_star, psi_0 : end of the loaded arc and spin-reversal phase (NaN: none) [rad];
+    rho_c_min : least radius of curvature of the pin-centre curve over the loaded arc [mm];
+    status : 0 (admissible), TOO_FEW_TEETH or UNDERCUT; the fields below are NaN where status != 0;
+    loss_ratio, loss_ratio_err, converged, n_crank : the cycle mean of lambda at mu = 1, its error
+        |Q_2N - Q_N| and the quadrature's acceptance and intervals (pins.md §6);
+    force, force_phase : max over the cycle and the pins of F/T_sat (summed over the discs) [1/mm] and
+        the load-side phase where it occurs [rad];
+    loss, loss_phase : the same for P/(mu T_sat |omega_V|) [W per (N·mm·rad/s)];
+    total : max over the cycle of the summed losses of all discs, per the same unit;
+    rel_min, rel_max, rel_abs : extremes of rho - R_b and of |rho - R_b| over the loaded contacts [mm];
+    loaded_min, loaded_max : pins carrying load (per disc).
+
+    grid_t, grid_mid, grid_gear : the final crank-angle grid (t = theta/T_p) of every admissible gear,
+    gear by gear (:meth:`grid`).
+    """
+
+    psi_star: np.ndarray
+    psi_0: np.ndarray
+    rho_c_min: np.ndarray
+    status: np.ndarray
+    loss_ratio: np.ndarray
+    loss_ratio_err: np.ndarray
+    converged: np.ndarray
+    n_crank: np.ndarray
+    force: np.ndarray
+    force_phase: np.ndarray
+    loss: np.ndarray
+    loss_phase: np.ndarray
+    total: np.ndarray
+    rel_min: np.ndarray
+    rel_max: np.ndarray
+    rel_abs: np.ndarray
+    loaded_min: np.ndarray
+    loaded_max: np.ndarray
+    grid_t: np.ndarray
+    grid_mid: np.ndarray
+    grid_gear: np.ndarray
+
+    def grid(self, i: int):
+        """(t, t_mid) of gear i's final grid (piece ends twice: the one-sided limits)."""
+        at = np.flatnonzero(self.grid_gear == i)      # one contiguous run (the gears are not in index order)
+        return self.grid_t[at], self.grid_mid[at]
+
+
+REFINE_SAMPLES = 32
+"""Samples of a peak's bracket (two grid intervals) before its parabolic vertex (:func:`ideal_cycles`)."""
+
+
+def _peak_values(u, mid, gi, row, kind, G: _GearTable):
+    """A peak candidate's quantity at crank angles u: kind 0 the force of contact ``row``, 1 its loss,
+    2 the total loss of the node; with the load-side phase of contact ``row`` [rad].  The points are
+    ordered by gear."""
+    val, ph = np.empty(u.size), np.empty(u.size)
+    for sl, z2 in G.blocks(gi):
+        g = gi[sl]
+        _, _, phase, lev, rho = _contacts(u[sl], mid[sl], g, G, z2, with_phase=True)
+        force = lev / _colsum(lev * lev)
+        loss = force * np.abs(rho - G.take("R_b", g)) * 1e-3          # contact_loss_power(force, |rho - R_b|, 1)
+        col = np.arange(force.shape[1])
+        r = row[sl]
+        k = kind[sl]
+        val[sl] = np.where(k == 0, force[r, col], np.where(k == 1, loss[r, col], _colsum(loss)))
+        ph[sl] = phase[r, col]
+    return val, ph
+
+
+def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n_start: int = 16) -> IdealCycles:
+    """Solve the ideal level (pins.md §4, §6) of many cycloidal gears at once, in unit scalings.
+
+    For every gear: psi* (:func:`crest_cutoffs`), the admissibility checks (pins.md §4.2, §12.10),
+    the spin reversal, the cycle mean of the loss ratio at mu = 1 (:func:`cycle_pieces` and the
+    piecewise trapezoid of :func:`~gearcalc.quadrature.integrate_pieces`, all gears together), and on
+    the final grid the peaks of the pin force, the pin loss and the total loss.  Each peak starts at
+    its largest grid value; for one disc it is refined inside the two grid intervals around that node
+    (the same piece only: piece ends stay one-sided) by ``REFINE_SAMPLES`` samples and the vertex of
+    the parabola through the best sample and its neighbours, keeping the largest value met (the peak
+    is a maximum of values actually evaluated, never an extrapolation).  With n_d > 1 discs the
+    discs' histories are summed per pin and per crank angle (pins.md §12.7, :func:`disc_sum_peak`).
+
+    A gear's numbers do not depend on the gears solved with it: the gears are processed in groups of
+    equal z2 as (contact, node) arrays whose sums over contacts run in contact order (:func:`_colsum`),
+    and the quadrature accumulates per gear (:func:`~gearcalc.quadrature.integrate_pieces`); so a batch
+    gives, bit for bit, what each design gives alone.
+
+    Parameters
+    ----------
+    g : gears whose fields are arrays of shape (m,).
+    n_discs : discs per gear, shape (m,) (or a scalar).
+    tol : relative accuracy target of the cycle mean.
+    n_max : cap on crank-angle intervals per period; n_start : intervals of the first level.
+
+    Returns
+    -------
+    IdealCycles
+
+    Examples
+    --------
+    >>> g = _as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> r = ideal_cycles(g, 1)
+    >>> bool(r.status[0] == 0 and r.converged[0] and r.loss_ratio_err[0] <= 1e-6 * r.loss_ratio[0])
+    True
+
+    References
+    ----------
+    pins.md §4.2-4.6, §6, §12.1, §12.7, §12.10-12.12.
+    """
+    z2 = np.atleast_1d(g.z2)
+    m = z2.size
+    n_discs = np.zeros(m, dtype=np.int64) + n_discs
+    psi_star = crest_cutoffs(g)
+    status = np.where(psi_star <= 2.0 * math.pi / z2, TOO_FEW_TEETH, 0)
+    rho_c = np.atleast_1d(min_curvature_radius(g, psi_star))
+    status = np.where((status == 0) & (np.asarray(g.R_b) >= rho_c), UNDERCUT, status)
+    psi_0 = spin_reversal_phases(g)
+    nan = np.full(m, np.nan)
+    out = {k: nan.copy() for k in ("loss_ratio", "loss_ratio_err", "force", "force_phase", "loss", "loss_phase",
+                                   "total", "rel_min", "rel_max", "rel_abs")}
+    out.update(converged=np.zeros(m, dtype=bool), n_crank=np.zeros(m, dtype=np.int64),
+               loaded_min=np.zeros(m, dtype=np.int64), loaded_max=np.zeros(m, dtype=np.int64))
+    ok = np.flatnonzero(status == 0)
+    if ok.size > 1:                                   # groups of equal z2 (then of similar loaded counts)
+        ok = ok[np.lexsort((psi_star[ok], z2[ok]))]
+    if ok.size == 0:
+        empty = np.zeros(0)
+        return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=empty, grid_mid=empty,
+                           grid_gear=np.zeros(0, dtype=np.int64), **out)
+    gk = Cycloid(*(np.atleast_1d(v)[ok] for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
+    G = _GearTable.of(gk, psi_star[ok])
+    n_ok = ok.size
+
+    # the cycle mean of lambda at mu = 1, all gears together (pins.md §4.6, §6)
+    a, b, owner = cycle_pieces(gk, psi_star[ok], psi_0[ok])
+    jmax = int(np.ceil(G.c.max())) + 1
+    q = integrate_pieces(_unit_loss_ratio(G, owner), a, b, owner, n_ok, tol=tol, n_max=n_max, n_start=n_start,
+                         first_levels=first_levels(tol), chunk=max(1024, 2 ** 20 // jmax))
+    out["loss_ratio"][ok], out["loss_ratio_err"][ok] = q.value, q.err
+    out["converged"][ok], out["n_crank"][ok] = q.converged, q.n
+
+    # the final grid: loaded contacts, forces and losses (pins.md §4.4-4.6), per group of equal z2
+    t, tmid, piece = q.grid()
+    gi = owner[piece]
+    gears = np.arange(n_ok)
+    starts = np.searchsorted(gi, gears)                 # first node of each gear
+    one = n_discs[ok] == 1
+    picks = np.zeros((3, n_ok), dtype=np.int64), np.zeros((3, n_ok), dtype=np.int64), np.zeros((3, n_ok))
+    grid_phase = np.zeros((3, n_ok))
+    for sl, zz in G.blocks(gi):
+        lo = sl.start or 0
+        gb = gi[sl]
+        J, loaded, _, lev, rho = _contacts(t[sl], tmid[sl], gb, G, zz)
+        force = lev / _colsum(lev * lev)
+        rel = rho - G.take("R_b", gb)
+        loss = force * np.abs(rel) * 1e-3              # contact_loss_power(force, |rho - R_b|, 1)
+        tot = _colsum(loss)
+        here = gb[np.flatnonzero(np.diff(gb, prepend=-1))]      # gears of the block (sorted), and their first nodes
+        seg = starts[here] - lo
+        oo = ok[here]
+        cols = np.arange(J.size)
+        # rho grows with the phase on [0, pi] (pins.md §4.2), so along a node's loaded contacts
+        # rho - R_b is least at the first and largest at the last
+        first, final = rel[0], rel[J - 1, cols]
+        out["rel_min"][oo] = np.minimum.reduceat(first, seg)
+        out["rel_max"][oo] = np.maximum.reduceat(final, seg)
+        out["rel_abs"][oo] = np.maximum.reduceat(np.maximum(np.abs(first), np.abs(final)), seg)
+        out["loaded_min"][oo] = np.minimum.reduceat(J, seg)
+        out["loaded_max"][oo] = np.maximum.reduceat(J, seg)
+        where = np.searchsorted(here, gb) if here.size > 1 else None
+        for kind, vals in enumerate((force, loss, None)):
+            if vals is None:
+                node_row, node_val = np.zeros(J.size, dtype=np.int64), tot
+            else:
+                node_row = vals.argmax(axis=0)
+                node_val = vals[node_row, cols]
+            if here.size == 1:                               # grid maximum per gear, first occurrence
+                nd = np.atleast_1d(np.argmax(node_val))
+                best = node_val[nd]
+            else:
+                best = np.maximum.reduceat(node_val, seg)
+                hit = np.flatnonzero(node_val == best[where])
+                nd = hit[np.searchsorted(gb[hit], here)]
+            picks[0][kind, here] = nd + lo
+            picks[1][kind, here] = node_row[nd]
+            picks[2][kind, here] = best
+            grid_phase[kind, here] = 2.0 * math.pi * ((node_row[nd] + t[sl][nd]) / zz)    # as _contacts
+        for i in here[~one[here]]:                       # several discs (pins.md §12.7): one by one
+            n_d = int(n_discs[ok[i]])
+            c0, c1 = starts[i] - lo, (starts[i + 1] if i + 1 < n_ok else t.size) - lo
+            ph, ld = 2.0 * math.pi * ((np.arange(loaded.shape[0])[:, None] + t[sl][c0:c1]) / zz), loaded[:, c0:c1]
+            out["force"][ok[i]], out["force_phase"][ok[i]] = disc_sum_peak(ph[ld], force[:, c0:c1][ld], n_d)
+            out["loss"][ok[i]], out["loss_phase"][ok[i]] = disc_sum_peak(ph[ld], loss[:, c0:c1][ld], n_d)
+            tt = t[lo + c0:lo + c1]
+            out["total"][ok[i]] = float(sum_over_discs(tt, tot[c0:c1], disc_offsets(n_d, zz), 1.0).max())
+
+    # peaks of one-disc gears: refined around the grid maxima (see the docstring)
+    sel = np.flatnonzero(one)
+    if sel.size:
+        K, M = 3 * sel.size, REFINE_SAMPLES
+        gsel = np.repeat(sel, 3)                                   # gear-major: groups stay contiguous
+        kind = np.tile(np.arange(3), sel.size)
+        nd, row = picks[0][kind, gsel], picks[1][kind, gsel]
+        grid_best, grid_ph = picks[2][kind, gsel], grid_phase[kind, gsel]
+        last = t.size - 1
+        same_prev = (nd > 0) & (piece[np.maximum(nd - 1, 0)] == piece[nd])
+        same_next = (nd < last) & (piece[np.minimum(nd + 1, last)] == piece[nd])
+        lo = np.where(same_prev, t[np.maximum(nd - 1, 0)], t[nd])
+        hi = np.where(same_next, t[np.minimum(nd + 1, last)], t[nd])
+        u = lo[:, None] + (hi - lo)[:, None] * (np.arange(M + 1) / M)
+        vals, phs = _peak_values(u.ravel(), np.repeat(tmid[nd], M + 1), np.repeat(gsel, M + 1),
+                                 np.repeat(row, M + 1), np.repeat(kind, M + 1), G)
+        vals, phs = vals.reshape(K, M + 1), phs.reshape(K, M + 1)
+        r = np.arange(K)
+        bi = np.argmax(vals, axis=1)
+        bm = np.minimum(np.maximum(bi, 1), M - 1)
+        f0, fm, fp = vals[r, bm], vals[r, bm - 1], vals[r, bm + 1]
+        den = fp - 2.0 * f0 + fm
+        interior = (bi > 0) & (bi < M) & (den < 0.0)
+        xv = u[r, bm] - 0.5 * (u[r, bm + 1] - u[r, bm]) * (fp - fm) / np.where(interior, den, -1.0)
+        xv = np.where(interior, np.minimum(np.maximum(xv, u[r, bm - 1]), u[r, bm + 1]), u[r, bi])
+        vv, phv = _peak_values(xv, tmid[nd], gsel, row, kind, G)
+        best, best_ph = grid_best, grid_ph
+        better = vals[r, bi] > best
+        best, best_ph = np.where(better, vals[r, bi], best), np.where(better, phs[r, bi], best_ph)
+        better = vv > best
+        best, best_ph = np.where(better, vv, best), np.where(better, phv, best_ph)
+        best, best_ph = best.reshape(-1, 3), best_ph.reshape(-1, 3)
+        okk = ok[sel]
+        out["force"][okk], out["force_phase"][okk] = best[:, 0], best_ph[:, 0]
+        out["loss"][okk], out["loss_phase"][okk] = best[:, 1], best_ph[:, 1]
+        out["total"][okk] = best[:, 2]
+    return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=t, grid_mid=tmid, grid_gear=ok[gi], **out)

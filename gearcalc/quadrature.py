@@ -274,3 +274,230 @@ def integrate_piecewise(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, 
     err = np.abs(q_new - q_old_final)
     return QuadResult(value=value, err=err, trapezoid=q_new, n=int(n_piece.sum()), converged=converged,
                       levels=level, edges=edges, n_piece=n_piece)
+
+
+# ------------------------------------------------------------------ many integrals at once
+
+@dataclass
+class PiecewiseBatch:
+    """The result of :func:`integrate_pieces`: one integral per owner, arrays over owners.
+
+    value : Richardson values Q_2N + (Q_2N - Q_N)/3, shape (n_owner,).
+    err : conservative error estimates |Q_2N - Q_N|.
+    trapezoid : the finest plain trapezoid values Q_2N.
+    n : intervals of each owner's finest level (int).
+    converged : whether each owner met the tolerance on two successive doublings.
+    levels : doublings done per owner.
+    a, b, owner : the pieces (ends and owner), owner by owner.
+    n_piece : intervals per piece at its owner's finest level.
+    """
+
+    value: np.ndarray
+    err: np.ndarray
+    trapezoid: np.ndarray
+    n: np.ndarray
+    converged: np.ndarray
+    levels: np.ndarray
+    a: np.ndarray
+    b: np.ndarray
+    owner: np.ndarray
+    n_piece: np.ndarray
+
+    def grid(self):
+        """Nodes of every owner's finest level, piece by piece: (x, piece midpoint, piece index).
+
+        Breakpoints appear once per adjacent piece (the one-sided limits of both sides).
+        """
+        return nodes_of_pieces(self.a, self.b, self.n_piece)
+
+
+def nodes_of_pieces(a, b, n_piece):
+    """All nodes of uniform grids on pieces [a_p, b_p] with n_p intervals, piece by piece.
+
+    Like :func:`piece_nodes` for pieces that need not be contiguous (several integrals at once).
+
+    Returns
+    -------
+    x, mid, piece : nodes, the midpoint of their piece, and their piece index.
+
+    Examples
+    --------
+    >>> x, mid, piece = nodes_of_pieces(np.array([0.0, 0.0]), np.array([1.0, 2.0]), np.array([2, 1]))
+    >>> x.tolist(), piece.tolist()
+    ([0.0, 0.5, 1.0, 0.0, 2.0], [0, 0, 0, 1, 1])
+    """
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    n_piece = np.asarray(n_piece, dtype=np.int64)
+    counts = n_piece + 1
+    piece = np.repeat(np.arange(n_piece.size), counts)
+    start = np.cumsum(counts) - counts
+    k = np.arange(int(counts.sum())) - start[piece]
+    ap, bp, npc = a[piece], b[piece], n_piece[piece]
+    x = np.where(k == npc, bp, ap + (bp - ap) * (k / npc))
+    return x, 0.5 * (ap + bp), piece
+
+
+def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e-6, atol: float = 1e-14,
+                     n_start: int = 16, n_max: int = 2 ** 20, accept_levels: int = 2, min_levels: int = 2,
+                     first_levels=None, n_initial=None, chunk: int = 2 ** 16,
+                     max_nodes: int = 2 ** 22) -> PiecewiseBatch:
+    """Many piecewise integrals at once (one per owner), each with the rule of :func:`integrate_piecewise`.
+
+    Every owner's integral is the one :func:`integrate_piecewise` computes on its pieces, with the same
+    node counts, the same doubling, the same acceptance (``E <= max(tol |Q|, atol)`` on
+    ``accept_levels`` successive doublings, at least ``min_levels`` doublings, at most ``n_max``
+    intervals) and the same Richardson value and conservative error ``E = |Q_2N - Q_N|`` (pins.md §6,
+    §12.6).  Two things differ, neither of which changes a result:
+
+    * the integrand is evaluated for all owners together (numpy over owners), and
+    * several levels are evaluated per round (``first_levels``, then a prediction from the observed
+      rate of convergence), because an evaluation call costs far more than its nodes.  Each level is
+      still checked in order, and an owner stops at the first level the rule accepts; the levels
+      evaluated beyond it are discarded.
+
+    Each trapezoid sum is accumulated per piece and per level in node order (``np.bincount``), so an
+    owner's result does not depend on the other owners integrated with it.
+
+    Parameters
+    ----------
+    f : callable ``f(x, mid, piece)`` -> array (n,): the integrand at nodes ``x`` of the pieces
+        ``piece`` whose midpoints are ``mid`` (decide set membership from ``mid``: one-sided ends).
+    a, b : piece ends, shape (p,), a < b; the pieces of an owner are contiguous and ordered.
+    owner : owner (integral) of each piece, non-decreasing, shape (p,).
+    n_owner : number of owners (default: max(owner) + 1).
+    tol, atol, n_start, n_max, accept_levels, min_levels : as :func:`integrate_piecewise`.
+    first_levels : levels evaluated in the first round (scalar or per owner); speed only.
+    n_initial : intervals per piece of the first level (overrides ``n_start``), shape (p,).
+    chunk : largest number of nodes passed to f at once.
+    max_nodes : largest number of new nodes evaluated in one round (memory bound).
+
+    Returns
+    -------
+    PiecewiseBatch
+
+    Examples
+    --------
+    Two integrals: exp on [0, 1] (= e - 1), and x^2 on [0, 0.5] + [0.5, 2] (= 8/3).
+
+    >>> r = integrate_pieces(lambda x, m, p: np.where(p == 0, np.exp(x), x * x),
+    ...                      [0.0, 0.0, 0.5], [1.0, 0.5, 2.0], [0, 1, 1], tol=1e-10)
+    >>> bool(abs(r.value[0] - (np.e - 1)) < 1e-12 and abs(r.value[1] - 8 / 3) < 1e-12), r.converged.tolist()
+    (True, [True, True])
+
+    References
+    ----------
+    pins.md §6 and §12.6 (rule, error estimate, adaptivity).
+    """
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    owner = np.asarray(owner, dtype=np.int64)
+    n_owner = int(owner.max()) + 1 if n_owner is None else int(n_owner)
+    length = b - a
+    if n_initial is None:
+        total = np.bincount(owner, length, minlength=n_owner)
+        n0 = np.maximum(2, np.rint(n_start * length / total[owner])).astype(np.int64)
+    else:
+        n0 = np.asarray(n_initial, dtype=np.int64)
+        if n0.shape != a.shape or np.any(n0 < 1):
+            raise ValueError(f"n_initial needs {a.size} positive interval counts, one per piece")
+    N0 = np.bincount(owner, n0, minlength=n_owner).astype(np.int64)
+    # the last level: the first L >= 1 with N0 2^L * 2 > n_max (the doubling would exceed the cap)
+    cap = np.maximum(1, np.floor(np.log2(np.maximum(n_max // np.maximum(N0, 1), 1))).astype(np.int64))
+
+    def evaluate(x, mid, piece):
+        if x.size <= chunk:
+            return np.asarray(f(x, mid, piece), dtype=float)
+        return np.concatenate([np.asarray(f(x[s:s + chunk], mid[s:s + chunk], piece[s:s + chunk]), dtype=float)
+                               for s in range(0, x.size, chunk)])
+
+    mid_p = 0.5 * (a + b)
+    P = a.size
+    # level 0: every node of every piece, end nodes weighted 1/2 (evaluated with the first round)
+    x0, _, piece0 = nodes_of_pieces(a, b, n0)
+    start = np.cumsum(n0 + 1) - (n0 + 1)
+    w0 = np.ones(x0.size)
+    w0[start] = 0.5
+    w0[start + n0] = 0.5
+    T = None                                         # trapezoid per piece, at each owner's level
+    Q = np.zeros(n_owner)
+    level = np.zeros(n_owner, dtype=np.int64)        # levels done per owner
+    streak = np.zeros(n_owner, dtype=np.int64)       # successive accepted doublings
+    e_last = np.full(n_owner, np.inf)
+    e_prev = np.full(n_owner, np.inf)
+    done = np.zeros(n_owner, dtype=bool)
+    out_value, out_err, out_trap = np.zeros(n_owner), np.zeros(n_owner), np.zeros(n_owner)
+    out_conv = np.zeros(n_owner, dtype=bool)
+    out_level = np.zeros(n_owner, dtype=np.int64)
+    target = np.maximum(1, np.zeros(n_owner, dtype=np.int64) + (min_levels if first_levels is None else first_levels))
+    while not np.all(done):
+        act = ~done
+        goal = np.where(act, np.minimum(np.maximum(target, level + 1), cap), level)
+        # bound the nodes of the round: N0 (2^goal - 2^level) new nodes per owner
+        while np.sum(np.where(act, N0 * (2.0 ** goal - 2.0 ** level), 0.0)) > max_nodes and np.any(goal > level + 1):
+            goal = np.where(goal > level + 1, goal - 1, goal)
+        lo, hi = int(level[act].min()) + 1, int(goal[act].max())
+        # the new (odd) nodes of every level lo..hi of every piece taking part, level by level
+        ells = np.arange(lo, hi + 1)
+        take = act[owner] & (level[owner] < ells[:, None]) & (goal[owner] >= ells[:, None])     # (L, P)
+        cnt = np.where(take, n0 * 2 ** (ells[:, None] - 1), 0).ravel()
+        pl = np.repeat(np.arange(cnt.size), cnt)                  # (level, piece) pair of each node
+        jn = np.arange(pl.size) - np.repeat(np.cumsum(cnt) - cnt, cnt)
+        pn = pl % P
+        ln = pl // P + 1
+        xn = a[pn] + (length[pn] / (2 * (n0[pn] * 2 ** (ln + lo - 2)))) * (2 * jn + 1)
+        if T is None:                                # the first round carries level 0
+            xn, pn, ln = np.concatenate((x0, xn)), np.concatenate((piece0, pn)), np.concatenate((0 * piece0, ln))
+        vn = evaluate(xn, mid_p[pn], pn)
+        if T is None:
+            m0 = ln == 0
+            T = np.bincount(piece0, vn[m0] * w0, minlength=P) * (length / n0)
+            Q = np.bincount(owner, T, minlength=n_owner)
+        # node sums per level and piece, in node order
+        L = hi - lo + 1
+        S = np.bincount(ln * P + pn, vn, minlength=(L + 1) * P).reshape(L + 1, P)
+        ells = np.arange(lo, hi + 1)
+        ON = act & (level < ells[:, None]) & (goal >= ells[:, None])     # owner takes part in level ell
+        Qs = np.empty((L, n_owner))
+        ONp = ON[:, owner]
+        hS = S[1:] * (length / (n0 * 2.0 ** ells[:, None]))
+        for i in range(L):   # the doubling recursion, level by level (a piece stays put off its levels)
+            T = np.where(ONp[i], 0.5 * T + hS[i], T)
+            Qs[i] = np.bincount(owner, T, minlength=n_owner)
+        Qprev = np.vstack([Q[None, :], Qs[:-1]])
+        E = np.abs(Qs - Qprev)
+        OK = E <= np.maximum(tol * np.abs(Qs), atol)
+        ST = np.empty((L, n_owner), dtype=np.int64)
+        for i in range(L):
+            streak = np.where(ON[i], (streak + 1) * OK[i], streak)
+            ST[i] = streak
+        CONV = ON & (ells[:, None] >= min_levels) & (ST >= accept_levels)
+        STOP = CONV | (ON & (ells[:, None] >= cap))
+        stopped = STOP.any(axis=0)
+        cols = np.arange(n_owner)
+        if np.any(stopped):
+            first = np.argmax(STOP, axis=0)                      # an owner stops at its first accepted level
+            Qf, Qp = Qs[first, cols], Qprev[first, cols]
+            out_value = np.where(stopped, Qf + (Qf - Qp) / 3.0, out_value)
+            out_err = np.where(stopped, E[first, cols], out_err)
+            out_trap = np.where(stopped, Qf, out_trap)
+            out_conv = np.where(stopped, CONV[first, cols], out_conv)
+            out_level = np.where(stopped, ells[first], out_level)
+            done = done | stopped
+        part = ON.any(axis=0) & ~stopped                         # owners that go on: at level goal now
+        li = np.minimum(np.maximum(goal - lo, 0), L - 1)
+        e_prev = np.where(part, np.where(goal - 1 > level, E[np.maximum(li - 1, 0), cols], e_last), e_prev)
+        e_last = np.where(part, E[li, cols], e_last)
+        Q = np.where(part, Qs[li, cols], Q)
+        level = np.where(done, out_level, np.where(part, goal, level))
+        if np.all(done):
+            break
+        # next round: predict the level that meets the rule from the observed rate (speed only)
+        thr = np.maximum(tol * np.abs(Q), atol)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            rate = np.minimum(np.maximum(np.where(e_prev > 0, e_last / e_prev, 1.0 / 16.0), 1.0 / 16.0), 0.9)
+            more = np.ceil(np.log(thr / e_last) / np.log(rate))
+        more = np.where(np.isfinite(more) & (e_last > thr), np.minimum(np.maximum(more, 1), 8), 0).astype(np.int64)
+        target = np.maximum(level + more + np.maximum(accept_levels - streak - (more > 0), 0),
+                            np.maximum(level + 1, min_levels))
+    n_piece = n0 * 2 ** out_level[owner]
+    return PiecewiseBatch(value=out_value, err=out_err, trapezoid=out_trap, n=N0 * 2 ** out_level,
+                          converged=out_conv, levels=out_level, a=a, b=b, owner=owner, n_piece=n_piece)

@@ -482,3 +482,93 @@ def test_undercut_criterion_matches_a_loop_in_the_profile(K1, Rb, loops):
     dG = np.subtract(pins.tooth_profile(beta + h, 0, g), pins.tooth_profile(beta - h, 0, g))
     dc = np.subtract(pins.pin_centre_curve(beta + h, 0, g), pins.pin_centre_curve(beta - h, 0, g))
     assert bool(np.any(np.sum(dG * dc, axis=0) < 0)) == loops
+
+
+# ------------------------------------------------------------------ speed work (issue 6): same answers, honest errors
+
+# the four cycloidal paper designs (configs/pins_paper_cyc_*: the rotating ones share the geometry) and the
+# hard cases of pins.md §9: k = 1, 2, 3, z2 = 200, K1 -> 1 (k = 1 and 2), a spin reversal inside the
+# boundary layer, and a spin reversal in the loaded arc
+HONESTY = [gear(20, 22), gear(60, 62), gear(21, 22), gear(20, 23), Cycloid.from_curtate_ratio(198, 200, 1.0, 0.75, 0.3),
+           gear(20, 22, K1=0.99, Rb=0.5), gear(20, 22, K1=1 - 1e-9, Rb=1e-4), gear(21, 22, K1=1 - 1e-9, Rb=1e-4),
+           Cycloid.from_curtate_ratio(199, 203, 6.38e-6, 1 - 1e-9, 5.0e-12),
+           Cycloid.from_curtate_ratio(21, 22, 1.0, 0.999, 0.1)]
+
+
+@pytest.mark.parametrize("g", HONESTY, ids=lambda g: f"z{g.z1}-{g.z2}-K{g.K1:.9g}")
+def test_reported_error_bounds_the_actual_error_at_every_tolerance(g):
+    # pins.md §6: E = |Q_2N - Q_N| must bound the actual error of the reported (Richardson) value.  The
+    # reference is independent of the runs checked: every piece of the tol = 1e-9 grid made 2x finer,
+    # then doubled twice (8x), with its own error estimate.
+    ps, p0 = pins.crest_cutoff(g), pins.spin_reversal_phase(g)
+    runs = {tol: pins.mean_loss_ratio(g, ps, p0, 1.0, tol=tol) for tol in (1e-3, 1e-6, 1e-9)}
+    fine = runs[1e-9]
+    ref = pins.mean_loss_ratio(g, ps, p0, 1.0, tol=1e-300, n_initial=2 * fine.quad.n_piece, n_max=8 * fine.n_crank)
+    assert ref.n_crank == 8 * fine.n_crank and ref.loss_ratio_err < fine.loss_ratio_err
+    for tol, r in runs.items():
+        assert r.converged and r.loss_ratio_err <= tol * r.loss_ratio
+        assert abs(r.loss_ratio - ref.loss_ratio) <= r.loss_ratio_err + ref.loss_ratio_err, tol
+
+
+def test_ideal_cycles_of_a_batch_equal_each_gear_alone():
+    # pins.ideal_cycles: a gear's numbers do not depend on the gears solved with it (bit for bit)
+    gs = HONESTY[:8] + [gear(20, 22, K1=0.75, Rb=1.0), gear(20, 22, K1=0.5), gear(3, 12, Rb=0.5)]  # last: too few teeth
+    n_d = np.array([1, 2, 1, 3, 1, 1, 1, 1, 1, 1, 1])
+    both = Cycloid(*(np.array([getattr(x, f) for x in gs]) for f in ("z1", "z2", "e", "R_p", "R_b", "one_minus_K1")))
+    together = pins.ideal_cycles(both, n_d, tol=1e-6)
+    assert together.status.tolist() == [0] * 10 + [pins.TOO_FEW_TEETH]
+    fields = ("psi_star", "psi_0", "rho_c_min", "loss_ratio", "loss_ratio_err", "converged", "n_crank", "force",
+              "force_phase", "loss", "loss_phase", "total", "rel_min", "rel_max", "rel_abs", "loaded_min", "loaded_max")
+    for i, gi in enumerate(gs):
+        alone = pins.ideal_cycles(pins._as_arrays(gi), n_d[i], tol=1e-6)
+        for f in fields:
+            assert np.array_equal(getattr(alone, f), getattr(together, f)[i:i + 1], equal_nan=True), (i, f)
+        if alone.status[0] == 0:
+            for a, b in zip(alone.grid(0), together.grid(i)):
+                assert np.array_equal(a, b)
+
+
+@pytest.mark.parametrize("g", HONESTY[:4] + HONESTY[5:6], ids=lambda g: f"z{g.z1}-{g.z2}-K{g.K1:.9g}")
+def test_ideal_cycles_peaks_against_a_dense_sweep(g):
+    # the refined peaks (pins.md §12.1) against 200001 crank angles of one period, pointwise (pin_forces)
+    r = pins.ideal_cycles(pins._as_arrays(g), 1, tol=1e-6)
+    theta = np.linspace(0.0, g.period, 200001)
+    F = pins.pin_forces(theta, g, float(r.psi_star[0]), 1.0, MULTIPLIER)
+    psi = pins.pin_phase(np.arange(g.z2)[:, None], theta[None, :], g.z2, MULTIPLIER)
+    P = pins.contact_loss_power(F, np.abs(pins.pitch_distance(psi, g) - g.R_b), 1.0)
+    for got, dense in ((r.force[0], F.max()), (r.loss[0], P.max()), (r.total[0], P.sum(axis=0).max())):
+        assert dense <= got * (1 + 1e-12) and got <= dense * (1 + 1e-6)
+
+
+@pytest.mark.parametrize("z1,k,K1", [(20, 2, 0.75), (60, 2, 0.75), (20, 3, 0.5), (10, 2, 0.95), (100, 4, 0.3),
+                                     (7, 2, 0.999), (30, 3, 0.05)])
+def test_crest_cutoffs_against_the_bracketed_root_finder(z1, k, K1):
+    # the nested scan + inverse quadratic interpolation of crest_cutoffs against gearcalc.roots.find_root
+    # (Chandrupatla) on the same first sign change (pins.md §4.3, §12.11)
+    from gearcalc.roots import find_root
+
+    g = Cycloid.from_curtate_ratio(z1, z1 + k, 1.0, K1, 0.0)
+    g = Cycloid.from_curtate_ratio(z1, z1 + k, 1.0, K1, 0.4 * g.R_p * math.sin(math.pi / g.z2))
+    psi = np.linspace(0.0, math.pi, 4097)[1:]
+    h = pins.contact_angle_offset(psi, g) + math.pi / g.z1
+    i = int(np.argmax(h <= 0))
+    ref = find_root(lambda x: pins.contact_angle_offset(x, g) + math.pi / g.z1, psi[i - 1], psi[i], xtol=1e-16).root
+    assert abs(pins.crest_cutoff(g) - float(ref)) < 1e-13
+
+
+@settings(max_examples=40, deadline=None)
+@given(z1=st.integers(3, 150), k=st.integers(1, 4), K1=st.floats(0.02, 0.999), q=st.floats(0.05, 0.95))
+def test_closed_form_least_curvature_radius_against_a_dense_scan(z1, k, K1, q):
+    # min_curvature_radius (closed form at c* = 3p/q - A/K1, pins.md §4.2) against a dense scan of
+    # curvature_radius over the convex part of [0, psi*]: never above it, and within the scan's resolution
+    g = Cycloid.from_curtate_ratio(z1, z1 + k, 1.0, K1, 0.0)
+    ps = pins.crest_cutoff(Cycloid.from_curtate_ratio(z1, z1 + k, 1.0, K1, q * g.R_p * math.sin(math.pi / g.z2)))
+    psi = np.linspace(0.0, ps, 200001)
+    rc = pins.curvature_radius(psi, g)
+    rc = rc[rc > 0]
+    got = pins.min_curvature_radius(g, ps)
+    if rc.size == 0:
+        assert got == math.inf
+    else:
+        assert got <= rc.min() * (1 + 1e-12)
+        assert got >= rc.min() * (1 - 1e-6)

@@ -512,6 +512,7 @@ def test_vectorised_sweep_equals_point_by_point(tmp_path, rotating):
             "load.mode": ["multiplier", "reducer"], "load.crank_speed_rpm": [10.0, 3000.0]}
     raw = read_toml(str(base))
     rows = sw.evaluate(raw, str(base), axes, Options())
+    rows = rows.rows() if hasattr(rows, "rows") else rows      # column-major (render.Columns)
     assert registry.get("pins").sweep is not None and len(rows) == 32
     for row in rows:
         point = {k: row[k] for k in axes}
@@ -528,11 +529,17 @@ def test_vectorised_sweep_equals_point_by_point(tmp_path, rotating):
                 assert row[k] == v, (point, k)
 
 
-def test_sweep_over_geometry_falls_back_point_by_point(tmp_path):
+def test_sweep_over_geometry_is_vectorised(tmp_path):
+    # geometry keys are vectorised too (each distinct geometry solved once; tests/test_pins_batch.py
+    # compares with point-by-point evaluation); the contact level falls back point by point
     from gearcalc import registry
     from gearcalc.calculator import Options
     from gearcalc.design import load
 
     d = load(str(design(tmp_path)))
-    assert registry.get("pins").sweep(d, {}, {"gearing.curtate_ratio": [0.6]}, [{"gearing.curtate_ratio": 0.6}],
+    out = registry.get("pins").sweep(d, {}, {"gearing.curtate_ratio": [0.6]}, [{"gearing.curtate_ratio": 0.6}],
+                                     Options())
+    assert out["curtate_ratio"] == [pytest.approx(0.6, rel=1e-15)] and out["model"] == ["ideal"]
+    c = load(str(design(tmp_path, "c.toml", contact__face_width_mm=10.0)))
+    assert registry.get("pins").sweep(c, {}, {"friction.sliding": [0.1]}, [{"friction.sliding": 0.1}],
                                       Options()) is None

@@ -11,7 +11,9 @@ from hypothesis import strategies as st
 
 from gearcalc.quadrature import (
     geometric_breakpoints,
+    integrate_pieces,
     integrate_piecewise,
+    nodes_of_pieces,
     piece_nodes,
     sign_change_breakpoints,
 )
@@ -138,3 +140,50 @@ def test_explicit_initial_counts_per_piece():
     assert abs(r.value[0] - (math.e - 1)) <= r.err[0]
     with pytest.raises(ValueError):
         integrate_piecewise(lambda x, m: x, [0.0, 1.0], n_initial=[2, 2])
+
+
+# ------------------------------------------------------------------ many integrals at once (integrate_pieces)
+
+def _three(x, mid, piece):
+    # owner 0: exp on [0, 1] (= e - 1); owner 1: a jump and a kink on [0, 1/pi, 0.7, 1] (see above);
+    # owner 2: 1/(x + 1e-3) on [0, 1] (= ln 1001), steep near 0
+    return np.where(piece == 0, np.exp(x),
+                    np.where(piece <= 3, np.where(mid > 1 / math.pi, 1.0, 0.0) + np.abs(x - 0.7), 1.0 / (x + 1e-3)))
+
+
+A3, B3, O3 = [0.0, 0.0, 1 / math.pi, 0.7, 0.0], [1.0, 1 / math.pi, 0.7, 1.0, 1.0], [0, 1, 1, 1, 2]
+EXACT3 = [math.e - 1, (1 - 1 / math.pi) + (0.7 ** 2 + 0.3 ** 2) / 2, math.log(1001.0)]
+
+
+@pytest.mark.parametrize("tol", [1e-3, 1e-6, 1e-9])
+def test_pieces_equal_piecewise_owner_by_owner(tol):
+    # the same rule, node counts, doublings and acceptance as integrate_piecewise, per owner
+    r = integrate_pieces(_three, A3, B3, O3, tol=tol)
+    for o in range(3):
+        sel = [i for i, w in enumerate(O3) if w == o]
+        edges = [A3[sel[0]]] + [B3[i] for i in sel]
+        one = integrate_piecewise(lambda x, m, p0=sel[0]: _three(x, m, np.full(x.shape, p0)), edges, tol=tol)
+        assert r.n[o] == one.n and r.converged[o] == one.converged and r.levels[o] == one.levels
+        assert r.value[o] == pytest.approx(one.value[0], rel=1e-13)
+        assert r.err[o] == pytest.approx(one.err[0], rel=1e-6, abs=1e-15)
+        assert abs(r.value[o] - EXACT3[o]) <= r.err[o] + 1e-14
+
+
+def test_pieces_owners_are_independent_and_rounds_do_not_matter():
+    # an owner's result is the same bit for bit alone, with others, and whatever the first round's levels
+    together = integrate_pieces(_three, A3, B3, O3, tol=1e-8)
+    for first in (1, 2, 5, 9):
+        r = integrate_pieces(_three, A3, B3, O3, tol=1e-8, first_levels=first, max_nodes=300)
+        assert r.value.tolist() == together.value.tolist() and r.err.tolist() == together.err.tolist()
+    alone = integrate_pieces(lambda x, m, p: _three(x, m, p + 4), [0.0], [1.0], [0], tol=1e-8)
+    assert alone.value[0] == together.value[2] and alone.err[0] == together.err[2] and alone.n[0] == together.n[2]
+
+
+def test_pieces_cap_and_grid():
+    # at the cap the doubling stops, not converged, with the last two levels' difference as the error
+    r = integrate_pieces(_three, A3, B3, O3, tol=1e-300, n_max=256)
+    assert r.converged.tolist() == [False, True, False]          # owner 1 is piecewise linear: E = 0 <= atol
+    assert r.n[0] == r.n[2] == 256 and r.err[0] > 0 and r.err[2] > 0
+    x, mid, piece = r.grid()
+    assert x.size == int(np.sum(r.n_piece + 1)) and np.all(np.diff(piece) >= 0)
+    assert x.tolist() == nodes_of_pieces(r.a, r.b, r.n_piece)[0].tolist()

@@ -238,11 +238,20 @@ def select_level(design, model: str | None) -> str:
 # ---------------------------------------------------------------- compute
 
 def compute(design, options: Options) -> Result:
-    """Run the level the design needs (or ``--model``); see the module docstring."""
+    """Run the level the design needs (or ``--model``); see the module docstring.
+
+    The formula and ideal levels run as a group of one (:func:`batch` computes many designs with the
+    same code, so a batch equals ``compute`` design by design); the contact level runs on its own.
+    """
     from .. import pins  # noqa: F401  (numpy and the physics load here, outside the timed model)
 
     t0 = time.perf_counter()
     level = select_level(design, options.model)
+    if level != "contact":
+        (out,) = _group([design], level, options, t0)
+        if isinstance(out, BaseException):
+            raise out
+        return out
     summary = dict.fromkeys(SUMMARY_KEYS)
     summary["name"] = design.name
     summary["model"] = level
@@ -251,60 +260,200 @@ def compute(design, options: Options) -> Result:
     detail: dict = {}
     if design.has("pin_load"):
         _formula(design, summary)
-    if level == "formula":
-        summary["rotating_pins"] = True        # eqs. (3)-(7) are the paper's rotating-pin losses
-    else:
-        CYCLE_LEVELS[level](design, options, summary, warnings, failed, detail)
+    _contact(design, options, summary, warnings, failed, detail)
     summary["model_time_ms"] = (time.perf_counter() - t0) * 1e3
+    return _result(summary, detail, warnings, failed, level)
+
+
+def _result(summary, detail, warnings, failed, level) -> Result:
     result = Result(summary=summary, detail=detail, warnings=warnings, failed=failed, model=level)
-    if summary["self_locking"] and hasattr(result, "labels"):   # tables say why a value is missing (§4.7)
+    if summary["self_locking"]:   # tables say why a value is missing (§4.7)
         result.labels.update({k: "self-locking" for k in ("efficiency", "efficiency_err", "efficiency_multiplier",
                                                            "efficiency_multiplier_err", "torque_in_Nm",
                                                            "torque_out_Nm") if summary[k] is None})
     return result
 
 
+def batch(designs, options: Options) -> list:
+    """Many pins designs at once: per design, the Result ``compute`` returns or the exception it raises.
+
+    Designs at the formula and ideal levels are computed together, numpy over designs (the ideal
+    level's geometries all in one vectorised solve, :func:`gearcalc.pins.ideal_cycles`); designs at
+    the contact level are computed one by one.  ``model_time_ms`` of a design computed in a group is
+    the group's time divided by the number of its designs.
+    """
+    from .. import pins  # noqa: F401
+
+    results: list = [None] * len(designs)
+    groups: dict[str, list[int]] = {"formula": [], "ideal": []}
+    for i, d in enumerate(designs):
+        try:
+            level = select_level(d, options.model)
+        except DesignError as exc:
+            results[i] = exc
+            continue
+        if level == "contact":
+            try:
+                results[i] = compute(d, options)
+            except Exception as exc:  # noqa: BLE001  (returned, as the contract says)
+                results[i] = exc
+        else:
+            groups[level].append(i)
+    for level, idx in groups.items():
+        if idx:
+            out = _group([designs[i] for i in idx], level, options, time.perf_counter())
+            for i, r in zip(idx, out):
+                results[i] = r
+    return results
+
+
+def _group(designs, level: str, options: Options, t0: float) -> list:
+    """Results (or DesignErrors) of designs that all run at the formula or the ideal level, computed together."""
+    n = len(designs)
+
+    def values(key):
+        return [d.get(key) for d in designs]
+
+    formula = _formula_columns(values, n) if any(d.has("pin_load") for d in designs) else None
+    errors: list = [None] * n
+    if level == "ideal":
+        ideal = _ideal_columns(values, n, options, detail=options.detail)
+        cols, errors = ideal.columns, ideal.errors
+    out = []
+    for i, d in enumerate(designs):
+        if errors[i] is not None:
+            out.append(errors[i])
+            continue
+        summary = dict.fromkeys(SUMMARY_KEYS)
+        summary["name"] = d.name
+        summary["model"] = level
+        warnings: list[str] = []
+        failed: list[str] = []
+        detail: dict = {}
+        if d.has("pin_load"):
+            summary.update({k: formula[k][i] for k in _FORMULA_KEYS})
+            if d.get("friction.sliding") is None:
+                summary["P_tr_fixed_W"] = None
+        if level == "formula":
+            summary["rotating_pins"] = True        # eqs. (3)-(7) are the paper's rotating-pin losses
+        else:
+            if d.has("contact"):   # only with --model ideal: a [contact] table otherwise selects "contact"
+                warnings.append("the [contact] table is not used by the ideal level")
+            warnings.extend(ideal.warnings[i])
+            summary.update({k: cols[k][i] for k in cols})
+            _cycle_notes(d, summary, options, warnings, failed)
+            if options.detail:
+                detail.update(ideal.detail(i, d))
+        out.append(_result(summary, detail, warnings, failed, level))
+    per_design = (time.perf_counter() - t0) * 1e3 / n
+    for r in out:
+        if isinstance(r, Result):
+            r.summary["model_time_ms"] = per_design
+    return out
+
+
 def _formula(design, summary) -> None:
+    """The formula-level fields of one design (the contact level's path)."""
+    cols = _formula_columns(lambda key: [design.get(key)], 1)
+    summary.update({k: cols[k][0] for k in _FORMULA_KEYS})
+
+
+def _floats(vals):
+    """A float array from a list of numbers and None (NaN)."""
+    import numpy as np
+
+    return np.array([np.nan if v is None else v for v in vals], dtype=float)
+
+
+def _column(arr) -> list:
+    """Plain Python values of an array (bool, int or float; NaN becomes None: undefined)."""
+    import numpy as np
+
+    arr = np.asarray(arr)
+    out = arr.tolist()
+    if arr.dtype.kind == "f" and np.isnan(arr).any():
+        out = [None if v != v else v for v in out]
+    return out
+
+
+def _columns(arrays: dict, n: int) -> dict:
+    """Plain Python lists of many arrays of shape (n,) (see :func:`_column`), the float ones converted together."""
+    import numpy as np
+
+    out, floats = {}, []
+    for key, arr in arrays.items():
+        if arr.dtype.kind == "f":
+            floats.append(key)
+        else:
+            out[key] = arr.tolist()
+    if floats:
+        block = np.array([arrays[k] for k in floats])
+        holes = np.isnan(block).any(axis=1).tolist()
+        for key, vals, hole in zip(floats, block.tolist(), holes):
+            out[key] = [None if v != v else v for v in vals] if hole else vals
+    return {key: out[key] for key in arrays}
+
+
+def _formula_columns(values, n: int) -> dict:
+    """The paper's eqs. (3)-(7) over designs or points (pins.md §3): columns of _FORMULA_KEYS (None without
+    [pin_load]; P_tr_fixed_W needs friction.sliding)."""
+    import numpy as np
+
     from .. import pins
 
-    res = pins.formula_losses(design["pin_load.normal_force_N"], design["pin_load.pin_speed_rpm"],
-                              design["pin_load.pin_radius_mm"], design["pin_load.axle_radius_mm"],
-                              design["friction.rolling_mm"], design["friction.axle"], design["pin_load.paper_pi"])
-    summary.update(F_tr1_N=res.F_tr1, F_tr2_N=res.F_tr2, P_tr1_W=res.P_tr1, P_tr2_W=res.P_tr2, P_tr_W=res.P_tr)
-    f = design["friction.sliding"]
-    if f is not None:
-        summary["P_tr_fixed_W"] = pins.fixed_pin_formula_loss(
-            design["pin_load.normal_force_N"], design["pin_load.pin_speed_rpm"], design["pin_load.pin_radius_mm"],
-            f, design["pin_load.paper_pi"])
+    F, n_pin = _floats(values("pin_load.normal_force_N")), _floats(values("pin_load.pin_speed_rpm"))
+    R, r = _floats(values("pin_load.pin_radius_mm")), _floats(values("pin_load.axle_radius_mm"))
+    fk, fc, f = (_floats(values(k)) for k in ("friction.rolling_mm", "friction.axle", "friction.sliding"))
+    paper = np.array([bool(v) for v in values("pin_load.paper_pi")])
+    omega = pins.pin_angular_speed(n_pin, False)
+    omega = np.where(paper, omega * (pins.PAPER_PI / math.pi), omega)
+    f1 = pins.rolling_friction_force(F, fk, R)
+    f2 = pins.axle_friction_force(F, fc)
+    p1, p2 = pins.friction_power(f1, omega, R), pins.friction_power(f2, omega, r)
+    fix = pins.friction_power(f * F, omega, R)
+    return {k: _column(v) for k, v in (("F_tr1_N", f1), ("F_tr2_N", f2), ("P_tr1_W", p1), ("P_tr2_W", p2),
+                                        ("P_tr_W", p1 + p2), ("P_tr_fixed_W", fix))}
 
 
 # ---------------------------------------------------------------- cycle levels: operating points
 #
 # The cycle levels share the mapping from a loss ratio to efficiencies and torques, and the friction
-# regime; both are vectorised over operating points (arrays), so that a single design and a whole
-# sweep run the same code.  The ideal level's geometric solution does not depend on the torque, the
-# speed or the friction coefficient (pins.md §4.6, §4.8 identity 8: lambda ∝ mu_eff, F ∝ T,
-# v ∝ omega): it is solved once per geometry in unit scalings (IdealSolution) and then scaled to
-# every operating point.  The contact level (not available yet) is not linear in the torque: it
-# will solve per point and reuse ``_friction_regime`` and ``_efficiency_torques``.
+# regime; both are vectorised over operating points (arrays), so that one design, a batch of designs
+# and a whole sweep run the same code.  The ideal level's geometric solution does not depend on the
+# torque, the speed or the friction coefficient (pins.md §4.6, §4.8 identity 8: lambda ∝ mu_eff,
+# F ∝ T, v ∝ omega): each distinct geometry is solved once in unit scalings
+# (gearcalc.pins.ideal_cycles, all geometries together) and then scaled to every design or point.
+# The contact level is not linear in the torque: it solves per design and reuses ``_friction_regime``
+# and ``_efficiency_torques``.
 
 OPERATING_KEYS = ("friction.sliding", "friction.rolling_mm", "friction.axle", "load.mode", "load.torque_shaft",
                   "load.torque_Nm", "load.crank_speed_rpm")
 """Keys an operating point may change without changing the ideal level's geometric solution."""
+
+GEOMETRY_KEYS = ("gearing.satellite_teeth", "gearing.pins", "gearing.eccentricity_mm", "gearing.pin_circle_radius_mm",
+                 "gearing.curtate_ratio", "gearing.pin_radius_mm", "gearing.axle_radius_mm", "gearing.rotating_pins",
+                 "gearing.discs")
+"""Geometry keys a vectorised ideal-level sweep may vary (each distinct geometry is solved once)."""
+
+PIN_LOAD_KEYS = ("pin_load.normal_force_N", "pin_load.pin_speed_rpm", "pin_load.pin_radius_mm",
+                 "pin_load.axle_radius_mm", "pin_load.paper_pi")
+FORMULA_SWEEP_KEYS = PIN_LOAD_KEYS + ("friction.sliding", "friction.rolling_mm", "friction.axle")
+IDEAL_SWEEP_KEYS = OPERATING_KEYS + GEOMETRY_KEYS + PIN_LOAD_KEYS
 
 
 def _operating_points(design, points=None) -> dict:
     """The operating-point keys as arrays over points (from ``points`` where given, else the design).
 
     Numbers become float arrays (NaN where absent: no crank speed), words stay lists."""
-    import numpy as np
-
     points = points or [{}]
+    return _operating_values(lambda key: [p.get(key, design[key]) for p in points])
+
+
+def _operating_values(values) -> dict:
     out = {}
     for key in OPERATING_KEYS:
-        vals = [p.get(key, design[key]) for p in points]
-        out[key] = vals if key in ("load.mode", "load.torque_shaft") else np.array(
-            [np.nan if v is None else float(v) for v in vals])
+        vals = values(key)
+        out[key] = list(vals) if key in ("load.mode", "load.torque_shaft") else _floats(vals)
     return out
 
 
@@ -312,15 +461,28 @@ def _friction_regime(design, op):
     """(mu_eff, rolls, rolling_ok) per operating point (pins.md §4.5-4.6); rolling_ok is None for fixed pins."""
     import numpy as np
 
+    if not design["gearing.rotating_pins"]:
+        f = op["friction.sliding"]
+        return f, np.zeros(f.shape, dtype=bool), None
+    m = op["friction.sliding"].shape
+    mu, rolls, ok = _friction_arrays(np.ones(m, dtype=bool), np.full(m, float(design["gearing.pin_radius_mm"])),
+                                     np.full(m, float(design["gearing.axle_radius_mm"])), op)
+    return mu, rolls, ok
+
+
+def _friction_arrays(rotating, Rb, r, op):
+    """(mu_eff, rolls, rolling condition) per point, with rotating pins, R_b and r per point (pins.md §4.5-4.6).
+
+    Fixed pins slide with f; rotating pins roll with mu_rot = (f_c r + f_k)/R_b when f R_b >= f_c r + f_k,
+    else they slide with f.  The condition is only meaningful where ``rotating``."""
+    import numpy as np
+
     from .. import pins
 
     f, fk, fc = op["friction.sliding"], op["friction.rolling_mm"], op["friction.axle"]
-    Rb = design["gearing.pin_radius_mm"]
-    if not design["gearing.rotating_pins"]:
-        return f, np.zeros(f.shape, dtype=bool), None
-    r = design["gearing.axle_radius_mm"]
-    ok = pins.rolling_condition(f, Rb, fc, r, fk)
-    return np.where(ok, pins.rotating_loss_coefficient(fc, r, fk, Rb), f), ok, ok
+    ok = rotating & pins.rolling_condition(f, Rb, fc, r, fk)          # NaN r (fixed pins) compares False
+    mu = np.where(ok, pins.rotating_loss_coefficient(fc, r, fk, Rb), f)
+    return mu, ok, ok
 
 
 def _efficiency_torques(lam, E, op, ratio) -> dict:
@@ -340,9 +502,8 @@ def _efficiency_torques(lam, E, op, ratio) -> dict:
     eta_vh = np.where(locked, np.nan, pins.efficiency_multiplier(lam))
     eta_hv = pins.efficiency_reducer(lam)
     eta_hv_err = E / (1.0 + lam) ** 2
-    with np.errstate(invalid="ignore"):
-        T_V = np.where(on_V, T, np.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))
-        T_H = np.where(on_V, np.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
+    T_V = np.where(on_V, T, np.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))    # NaN: no warning
+    T_H = np.where(on_V, np.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
     return {
         "locked": locked, "eta_vh": eta_vh, "eta_vh_err": np.where(locked, np.nan, E), "eta_hv": eta_hv,
         "eta_hv_err": eta_hv_err, "efficiency": np.where(multiplier, eta_vh, eta_hv),
@@ -352,135 +513,126 @@ def _efficiency_torques(lam, E, op, ratio) -> dict:
     }
 
 
-class IdealSolution:
-    """The ideal level's solution of one geometry in unit scalings (mu = 1, T_sat = 1 N·mm, |omega_V| = 1).
+class IdealColumns:
+    """The ideal level over designs or points (:func:`_ideal_columns`).
 
-    g, psi_star, psi_0 : the gear, the end of the loaded arc and the spin reversal [rad];
-    unit : the cycle mean of lambda at mu = 1 (pins.CycleIntegral);
-    t, tmid, state : the final crank-angle grid and the loaded contacts there (pins.CycleState);
-    force, force_phase : max over the cycle and the pins of F/T_sat (summed over the discs) [1/mm]
-        and the load-side phase where it occurs [rad];
-    loss, loss_phase : the same for P/(mu T_sat |omega_V|) [W per (N·mm·rad/s)];
-    total : max over the cycle of the summed losses of all discs, per the same unit;
-    rel_min, rel_max, rel_abs : extremes of rho - R_b and of |rho - R_b| over the loaded contacts [mm];
-    loaded_min, loaded_max : pins carrying load (per disc).
+    columns : summary fields (plain Python lists over points; None: undefined);
+    errors : per point, None or the DesignError ``compute`` raises for it;
+    warnings : per point, the geometry's warnings;
+    detail(i, design) : the detail tables of point i (pins.md §8), built on demand.
     """
 
     def __init__(self, **kw):
         self.__dict__.update(kw)
 
+    def detail(self, i: int, design) -> dict:
+        from .. import pins
 
-def _ideal_solution(design, options: Options, warnings) -> IdealSolution:
-    """Geometry, admissibility and the unit-scaled cycle solution of a cycloidal design (pins.md §4, §6)."""
-    from types import SimpleNamespace
+        k, cyc = int(self.gi[i]), self.cyc
+        g = pins.Cycloid(int(self.z1[i]), int(self.z2[i]), float(self.e[i]), float(self.Rp[i]), float(self.Rb[i]),
+                         float(self.omk[i]))
+        t, tmid = cyc.grid(k)
+        st = pins.cycle_state(t, tmid, g, float(cyc.psi_star[k]))
+        T_sat = float(self.T_sat[i]) if self.columns["pin_force_max_N"][i] is not None else None
+        w_V = float(self.w_V[i]) if design["load.crank_speed_rpm"] is not None else None
+        sigma = pins.MULTIPLIER if design["load.mode"] == "multiplier" else pins.REDUCER
+        return _detail_tables(g, sigma, st, t, float(self.mu[i]), T_sat, None if w_V is None else -w_V,
+                              bool(self.rolls[i]), int(self.n_d[i]))
 
+
+def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> IdealColumns:
+    """The ideal level (pins.md §4) of n designs or sweep points, numpy over them.
+
+    ``values(key)`` gives a key's values over the points (None where absent).  The distinct geometries
+    are solved once each, together (gearcalc.pins.ideal_cycles, unit scalings); every point then
+    scales its geometry's solution by its friction, torque, speed and mode."""
     import numpy as np
 
-    from .. import pins
+    from .. import pins, units
 
-    z1, z2 = design["gearing.satellite_teeth"], design["gearing.pins"]
-    e, Rb = design["gearing.eccentricity_mm"], design["gearing.pin_radius_mm"]
-    n_d = design["gearing.discs"]
-    Rp, _, omk = _pin_circle(design)
-    g = pins.Cycloid(z1, z2, float(e), float(Rp), float(Rb), float(omk))
+    z1 = np.array(values("gearing.satellite_teeth"), dtype=np.int64)
+    z2 = np.array(values("gearing.pins"), dtype=np.int64)
+    e, Rb = _floats(values("gearing.eccentricity_mm")), _floats(values("gearing.pin_radius_mm"))
+    K1g, Rpg = _floats(values("gearing.curtate_ratio")), _floats(values("gearing.pin_circle_radius_mm"))
+    n_d = np.array(values("gearing.discs"), dtype=np.int64)
+    rot = np.array([bool(v) for v in values("gearing.rotating_pins")])
+    r = _floats(values("gearing.axle_radius_mm"))
+    k = z2 - z1
+    useK = ~np.isnan(K1g)                     # pins.md §7: R_p or K1 (as _pin_circle); NaN raises no warning
+    Rp = np.where(useK, e * z2 / (k * K1g), Rpg)
+    omk = np.where(useK, 1.0 - K1g, (k * Rp - e * z2) / (k * Rp))
+    K1 = e * z2 / (k * Rp)                    # as pins.Cycloid.K1
+    key = np.stack([z1, z2, e, Rp, omk, Rb, n_d], axis=1).astype(float)
+    if n == 1:
+        uniq, gi = key, np.zeros(1, dtype=np.int64)
+    else:
+        uniq, gi = np.unique(key, axis=0, return_inverse=True)
+        gi = gi.reshape(-1)
+    g = pins.Cycloid(uniq[:, 0].astype(np.int64), uniq[:, 1].astype(np.int64), uniq[:, 2], uniq[:, 3], uniq[:, 5],
+                     uniq[:, 4])
+    cyc = pins.ideal_cycles(g, uniq[:, 6].astype(np.int64), tol=options.tol)
 
-    # admissibility (pins.md §4.2, §12.10)
-    psi_star = pins.crest_cutoff(g)
-    if psi_star <= g.period:
-        raise DesignError("gearing.satellite_teeth",
-                          f"= {z1}: too few teeth for the tooth difference k = {g.k}: at some crank angles no pin "
-                          f"carries load (the loaded arc psi* = {_fmt(math.degrees(psi_star))} deg must exceed the "
-                          f"pin pitch 360/z2 = {_fmt(360.0 / z2)} deg)")
-    rho_c = pins.min_curvature_radius(g, psi_star)
-    if Rb >= rho_c:
-        raise DesignError("gearing.pin_radius_mm",
-                          f"= {_fmt(Rb)}: undercut: R_b must be < the least radius of curvature of the pin-centre "
-                          f"curve over the loaded arc, min rho_c = {_fmt(rho_c)} mm (K1 = {_fmt(g.K1)})")
-    psi_0 = pins.spin_reversal_phase(g)
-    if Rb >= g.R_p * g.one_minus_K1:
-        warnings.append(f"R_b = {_fmt(Rb)} mm >= R_p*(1 - K1) = {_fmt(g.R_p * g.one_minus_K1)} mm: the pitch point "
-                        "lies inside the pin near entry"
-                        + (f"; the pin spin reverses at psi = {_fmt(math.degrees(psi_0))} deg" if psi_0 else ""))
+    # admissibility (pins.md §4.2, §12.10) and the warning of §4.5, per point
+    errors: list = [None] * n
+    warnings: list[list[str]] = [[] for _ in range(n)]
+    status = cyc.status[gi]
+    psi_star, psi_0 = cyc.psi_star[gi], cyc.psi_0[gi]
+    for i in np.flatnonzero(status != 0):
+        if status[i] == pins.TOO_FEW_TEETH:
+            errors[i] = DesignError(
+                "gearing.satellite_teeth",
+                f"= {z1[i]}: too few teeth for the tooth difference k = {k[i]}: at some crank angles no pin carries "
+                f"load (the loaded arc psi* = {_fmt(math.degrees(psi_star[i]))} deg must exceed the pin pitch 360/z2 "
+                f"= {_fmt(360.0 / z2[i])} deg)")
+        else:
+            errors[i] = DesignError(
+                "gearing.pin_radius_mm",
+                f"= {_fmt(Rb[i])}: undercut: R_b must be < the least radius of curvature of the pin-centre curve over "
+                f"the loaded arc, min rho_c = {_fmt(cyc.rho_c_min[gi[i]])} mm (K1 = {_fmt(K1[i])})")
+    for i in np.flatnonzero((status == 0) & (Rb >= Rp * omk)):
+        p0 = None if np.isnan(psi_0[i]) else float(psi_0[i])
+        warnings[i].append(f"R_b = {_fmt(Rb[i])} mm >= R_p*(1 - K1) = {_fmt(Rp[i] * omk[i])} mm: the pitch point "
+                           "lies inside the pin near entry"
+                           + (f"; the pin spin reverses at psi = {_fmt(math.degrees(p0))} deg" if p0 else ""))
 
-    # cycle mean of the loss ratio per unit friction (pins.md §4.6, §6); lambda_bar = mu_eff * unit
-    unit = pins.mean_loss_ratio(g, psi_star, psi_0, 1.0, tol=options.tol)
-    t, tmid, _ = unit.quad.grid()
-    st = pins.cycle_state(t, tmid, g, psi_star)
-
-    def evaluate(x, mid):
-        """Unit force F/T_sat and loss P/(mu T_sat |omega_V|) of the loaded contacts (pins.md §4.4-4.6)."""
-        s = pins.cycle_state(x, np.broadcast_to(mid, np.shape(x)), g, psi_star)
-        force = np.where(s.loaded, s.lever / s.S, 0.0)
-        return SimpleNamespace(phase=s.phase, force=force, loss=pins.contact_loss_power(force, np.abs(s.rho - Rb), 1.0))
-
-    h0 = evaluate(t, tmid)
-    force, loss = h0.force, h0.loss
-    if n_d == 1:
-        picks = [(force, lambda h: h.force), (loss, lambda h: h.loss),
-                 (loss.sum(axis=0)[None, :], lambda h: h.loss.sum(axis=0)[None, :])]
-        (F1, phF), (P1, phP), (tot, _) = _refined_maxima(t, tmid, evaluate, picks)
-    else:   # the discs' histories summed per pin and per crank angle (pins.md §12.7)
-        F1, phF = _disc_sum_peak(st.phase, st.loaded, force, n_d)
-        P1, phP = _disc_sum_peak(st.phase, st.loaded, loss, n_d)
-        tot = float(pins.sum_over_discs(t, loss.sum(axis=0), pins.disc_offsets(n_d, z2), 1.0).max())
-    rel = (st.rho - Rb)[st.loaded]
-    counts = st.loaded.sum(axis=0)
-    return IdealSolution(g=g, psi_star=psi_star, psi_0=psi_0, unit=unit, t=t, tmid=tmid, state=st,
-                         force=F1, force_phase=phF, loss=P1, loss_phase=phP, total=tot,
-                         rel_min=float(rel.min()), rel_max=float(rel.max()), rel_abs=float(np.abs(rel).max()),
-                         loaded_min=int(counts.min()), loaded_max=int(counts.max()))
-
-
-def _ideal_summaries(design, sol: IdealSolution, op) -> tuple[list[dict], dict]:
-    """Summaries of the operating points ``op`` (arrays) of one solved geometry, and the arrays used."""
-    import numpy as np
-
-    from .. import units
-
-    g = sol.g
-    n_d = design["gearing.discs"]
-    mu, rolls, rolling_ok = _friction_regime(design, op)
-    lam, E = mu * sol.unit.loss_ratio, mu * sol.unit.loss_ratio_err
-    et = _efficiency_torques(lam, E, op, g.ratio)
-    T_sat = units.nm_to_nmm(et["T_V"]) / n_d                                  # N·mm per disc
-    w_V = units.rpm_to_rad_s(op["load.crank_speed_rpm"]) * g.k / g.z1        # |omega_V| [rad/s]
-    F_max = T_sat * sol.force                                                 # N
-    spin_rpm = units.rad_s_to_rpm(w_V) / g.R_b                                # rpm per mm of rho - R_b
-    v_max = w_V * sol.rel_abs                                                 # mm/s
-    mu_rot = np.where(rolls, mu, np.nan)
-    cols = {
-        "rolling_ok": rolling_ok, "efficiency": et["efficiency"], "efficiency_err": et["efficiency_err"],
-        "self_locking": et["self_locking"], "efficiency_multiplier": et["eta_vh"],
-        "efficiency_multiplier_err": et["eta_vh_err"], "efficiency_reducer": et["eta_hv"],
-        "efficiency_reducer_err": et["eta_hv_err"], "loss_ratio": lam, "loss_ratio_err": E,
-        "torque_in_Nm": et["torque_in"], "torque_out_Nm": et["torque_out"],
-        "loss_mean_W": lam * et["T_V"] * w_V, "loss_peak_W": mu * T_sat * w_V * sol.total,
-        "pin_force_max_N": F_max, "pin_loss_max_W": mu * T_sat * w_V * sol.loss,
-        "pin_loss_bound_W": np.where(rolls, mu_rot, op["friction.sliding"]) * F_max * v_max * 1e-3,
-        "pin_speed_max_rpm": np.where(rolls, spin_rpm * max(abs(sol.rel_min), abs(sol.rel_max)), 0.0 * w_V),
-        "pin_speed_signed_min_rpm": np.where(rolls, spin_rpm * sol.rel_min, 0.0 * w_V),
-        "pin_speed_signed_max_rpm": np.where(rolls, spin_rpm * sol.rel_max, 0.0 * w_V),
-        "spin_reversals": (rolls & (sol.psi_0 is not None and sol.psi_0 < sol.psi_star)).astype(int),
-        "sliding_speed_max_m_s": np.where(rolls, 0.0 * w_V, v_max / units.MM_PER_M),
+    # operating points: lambda_bar = mu_eff * unit, forces ∝ T_sat, speeds ∝ omega_V (pins.md §4.4-4.7)
+    op = _operating_values(values)
+    mu, rolls, rolling_ok = _friction_arrays(rot, Rb, r, op)
+    lam, E = mu * cyc.loss_ratio[gi], mu * cyc.loss_ratio_err[gi]
+    et = _efficiency_torques(lam, E, op, z1 / k)
+    T_sat = units.nm_to_nmm(et["T_V"]) / n_d                                   # N·mm per disc
+    w_V = units.rpm_to_rad_s(op["load.crank_speed_rpm"]) * k / z1             # |omega_V| [rad/s]
+    F_max = T_sat * cyc.force[gi]                                              # N
+    spin_rpm = units.rad_s_to_rpm(w_V) / Rb                                    # rpm per mm of rho - R_b
+    rel_min, rel_max, rel_abs = cyc.rel_min[gi], cyc.rel_max[gi], cyc.rel_abs[gi]
+    v_max = w_V * rel_abs                                                      # mm/s
+    zero = 0.0 * w_V
+    reversals = (rolls & (psi_0 < psi_star)).astype(np.int64)     # NaN (no reversal) compares False
+    arrays = {
+        "efficiency": et["efficiency"], "efficiency_err": et["efficiency_err"], "self_locking": et["self_locking"],
+        "efficiency_multiplier": et["eta_vh"], "efficiency_multiplier_err": et["eta_vh_err"],
+        "efficiency_reducer": et["eta_hv"], "efficiency_reducer_err": et["eta_hv_err"], "loss_ratio": lam,
+        "loss_ratio_err": E, "torque_in_Nm": et["torque_in"], "torque_out_Nm": et["torque_out"],
+        "loss_mean_W": lam * et["T_V"] * w_V, "loss_peak_W": mu * T_sat * w_V * cyc.total[gi],
+        "pin_force_max_N": F_max, "pin_loss_max_W": mu * T_sat * w_V * cyc.loss[gi],
+        "pin_loss_bound_W": np.where(rolls, mu, op["friction.sliding"]) * F_max * v_max * 1e-3,
+        "pin_speed_max_rpm": np.where(rolls, spin_rpm * np.maximum(np.abs(rel_min), np.abs(rel_max)), zero),
+        "pin_speed_signed_min_rpm": np.where(rolls, spin_rpm * rel_min, zero),
+        "pin_speed_signed_max_rpm": np.where(rolls, spin_rpm * rel_max, zero),
+        "spin_reversals": reversals,
+        "sliding_speed_max_m_s": np.where(rolls, zero, v_max / units.MM_PER_M),
+        "ratio": z1 / k, "curtate_ratio": K1, "loaded_pins_min": cyc.loaded_min[gi],
+        "loaded_pins_max": cyc.loaded_max[gi], "psi_star_deg": np.degrees(psi_star), "n_crank": cyc.n_crank[gi],
+        "tolerance_met": cyc.converged[gi],
+        "pin_force_max_phase_deg": np.where(np.isnan(F_max), np.nan, np.degrees(cyc.force_phase[gi])),
+        "pin_loss_max_phase_deg": np.where(np.isnan(mu * T_sat * w_V), np.nan, np.degrees(cyc.loss_phase[gi])),
     }
-    fixed = {"model": "ideal", "profile": "cycloidal", "rotating_pins": design["gearing.rotating_pins"],
-             "ratio": g.ratio, "curtate_ratio": g.K1, "pin_force_max_phase_deg": math.degrees(sol.force_phase),
-             "pin_loss_max_phase_deg": math.degrees(sol.loss_phase), "loaded_pins_min": sol.loaded_min,
-             "loaded_pins_max": sol.loaded_max, "psi_star_deg": math.degrees(sol.psi_star),
-             "n_crank": sol.unit.n_crank, "tolerance_met": sol.unit.converged}
-    out = []
-    for k in range(lam.size):
-        s = dict.fromkeys(SUMMARY_KEYS)
-        s.update(fixed)
-        s["mode"] = op["load.mode"][k]
-        for key, arr in cols.items():
-            s[key] = None if arr is None else _plain(arr[k])
-        if s["pin_force_max_N"] is None:
-            s["pin_force_max_phase_deg"] = None
-        if s["pin_loss_max_W"] is None:
-            s["pin_loss_max_phase_deg"] = None
-        out.append(s)
-    return out, {"mu": mu, "rolls": rolls, "lam": lam, "E": E, "T_sat": T_sat, "w_V": w_V}
+    columns = {"model": ["ideal"] * n, "mode": list(op["load.mode"]), "profile": ["cycloidal"] * n,
+               "rotating_pins": rot.tolist(),
+               "rolling_ok": [bool(o) if q else None for o, q in zip(rolling_ok.tolist(), rot.tolist())]}
+    columns.update(_columns(arrays, n))
+    return IdealColumns(columns=columns, errors=errors, warnings=warnings, cyc=cyc, gi=gi, z1=z1, z2=z2, e=e, Rp=Rp,
+                        Rb=Rb, omk=omk, n_d=n_d, mu=mu, rolls=rolls, T_sat=T_sat, w_V=w_V)
 
 
 def _plain(x):
@@ -493,25 +645,6 @@ def _plain(x):
         return int(x)
     x = float(x)
     return None if math.isnan(x) else x
-
-
-def _ideal(design, options: Options, summary, warnings, failed, detail) -> None:
-    """The rigid conjugate cycle model (pins.md §4) of one cycloidal design: a one-point sweep."""
-    from .. import pins
-
-    if design.has("contact"):   # only with --model ideal: a [contact] table otherwise selects "contact"
-        warnings.append("the [contact] table is not used by the ideal level")
-    sol = _ideal_solution(design, options, warnings)
-    op = _operating_points(design)
-    (s,), used = _ideal_summaries(design, sol, op)
-    summary.update({k: v for k, v in s.items() if k not in ("name", "model_time_ms") and k not in _FORMULA_KEYS})
-    _cycle_notes(design, s, options, warnings, failed)
-    if options.detail:
-        T_sat = float(used["T_sat"][0]) if s["pin_force_max_N"] is not None else None
-        w_V = float(used["w_V"][0]) if design["load.crank_speed_rpm"] is not None else None
-        sigma = pins.MULTIPLIER if design["load.mode"] == "multiplier" else pins.REDUCER
-        detail.update(_detail_tables(sol.g, sigma, sol.state, sol.t, float(used["mu"][0]), T_sat,
-                                     None if w_V is None else -w_V, bool(used["rolls"][0]), design["gearing.discs"]))
 
 
 def _cycle_notes(design, s, options: Options, warnings, failed) -> None:
@@ -541,39 +674,92 @@ _FORMULA_KEYS = ("F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fix
 
 
 def sweep(base, raw, axes, points, options):
-    """A grid of operating points of one geometry as arrays (the ideal level; pins.md §4.8 identity 8).
+    """A grid of points as arrays: the formula and ideal levels, over operating and geometry keys.
 
-    The geometry is solved once; friction, torque, speed, mode and torque shaft (``OPERATING_KEYS``)
-    scale it per point.  Other varied keys, or a design that is not at the ideal level, return None:
-    the caller evaluates point by point.  The result equals point-by-point evaluation.
+    * Formula level (``[pin_load]``): the keys of ``FORMULA_SWEEP_KEYS``, eqs. (3)-(7) over the points.
+    * Ideal level: ``OPERATING_KEYS`` (friction, torque, speed, mode, torque shaft), ``GEOMETRY_KEYS``
+      (teeth, pins, eccentricity, pin circle or curtate ratio, pin and axle radii, rotating pins,
+      discs) and ``PIN_LOAD_KEYS``.  Each distinct geometry of the grid is solved once, all of them
+      together (numpy over geometries, :func:`gearcalc.pins.ideal_cycles`); every point scales its
+      geometry's solution (pins.md §4.8 identity 8).
+
+    Other varied keys, the contact level, or a grid where some point is invalid or inadmissible
+    return None: the caller then evaluates point by point (and reports the first bad point exactly as
+    it would).  The summaries equal point-by-point evaluation (``model_time_ms``: the grid's time per
+    point).  Returns the summaries column-major (a list per field).
     """
-    import time as _time
-
-    from .. import pins
-
-    if not base.has("gearing") or any(k not in OPERATING_KEYS for k in axes):
+    t0 = time.perf_counter()
+    level = select_level(base, options.model)
+    allowed = {"formula": FORMULA_SWEEP_KEYS, "ideal": IDEAL_SWEEP_KEYS}.get(level, ())
+    if any(k not in allowed for k in axes):
         return None
-    if select_level(base, options.model) != "ideal":
+    from .. import pins  # noqa: F401
+
+    n = len(points)
+    varied = set(axes)
+
+    def values(key):
+        if key not in varied:
+            return [base.get(key)] * n
+        fixed = base.get(key)
+        return [p.get(key, fixed) for p in points]
+
+    if not _points_pass_checks(base, values, n, level):
         return None
-    t0 = _time.perf_counter()
-    sol = _ideal_solution(base, options, [])
-    op = _operating_points(base, points)
-    summaries, _ = _ideal_summaries(base, sol, op)
+    cols: dict = {}
+    if level == "ideal":
+        ideal = _ideal_columns(values, n, options)
+        if any(err is not None for err in ideal.errors):
+            return None
+        cols.update(ideal.columns)
+    out = {key: [None] * n for key in SUMMARY_KEYS}
+    out.update(cols)
+    out["name"] = [base.name] * n
+    if level == "formula":
+        out["model"] = ["formula"] * n
+        out["rotating_pins"] = [True] * n
     if base.has("pin_load"):
-        res = pins.formula_losses(base["pin_load.normal_force_N"], base["pin_load.pin_speed_rpm"],
-                                  base["pin_load.pin_radius_mm"], base["pin_load.axle_radius_mm"],
-                                  op["friction.rolling_mm"], op["friction.axle"], base["pin_load.paper_pi"])
-        fix = pins.fixed_pin_formula_loss(base["pin_load.normal_force_N"], base["pin_load.pin_speed_rpm"],
-                                          base["pin_load.pin_radius_mm"], op["friction.sliding"],
-                                          base["pin_load.paper_pi"])
-        for k, s in enumerate(summaries):
-            s.update(F_tr1_N=float(res.F_tr1[k]), F_tr2_N=float(res.F_tr2[k]), P_tr1_W=float(res.P_tr1[k]),
-                     P_tr2_W=float(res.P_tr2[k]), P_tr_W=float(res.P_tr[k]), P_tr_fixed_W=float(fix[k]))
-    per_point = (_time.perf_counter() - t0) * 1e3 / len(points)
-    for s in summaries:
-        s["name"] = base.name
-        s["model_time_ms"] = per_point
-    return summaries
+        out.update(_formula_columns(values, n))
+    per_point = (time.perf_counter() - t0) * 1e3 / max(n, 1)
+    out["model_time_ms"] = [per_point] * n
+    return {key: out[key] for key in SUMMARY_KEYS}
+
+
+def _points_pass_checks(base, values, n: int, level: str) -> bool:
+    """Whether every point passes the cross-key checks of :func:`check` that the varied keys can break.
+
+    The sweep validates every axis value on its own (type, bounds) and the whole design with a few
+    representative values; the combinations are checked here, as arrays: z2 > z1, exactly one of R_p
+    and K1, K1 < 1, no overlapping pins, the axle smaller than the bushing (and, at the formula level,
+    than the [pin_load] bushing), f given.  A point that fails makes the sweep fall back to point-by-
+    point evaluation, which reports it with the loader's message."""
+    import numpy as np
+
+    if base.has("pin_load"):
+        R, r = _floats(values("pin_load.pin_radius_mm")), _floats(values("pin_load.axle_radius_mm"))
+        if np.any(r >= R):
+            return False
+    if level == "formula":
+        return True
+    if any(v is None for v in values("friction.sliding")):
+        return False
+    z1 = np.array(values("gearing.satellite_teeth"), dtype=np.int64)
+    z2 = np.array(values("gearing.pins"), dtype=np.int64)
+    e, Rb = _floats(values("gearing.eccentricity_mm")), _floats(values("gearing.pin_radius_mm"))
+    K1g, Rpg = _floats(values("gearing.curtate_ratio")), _floats(values("gearing.pin_circle_radius_mm"))
+    if np.any(z2 <= z1) or np.any(np.isnan(K1g) == np.isnan(Rpg)):
+        return False
+    k = z2 - z1
+    Rp = np.where(np.isnan(K1g), Rpg, e * z2 / (k * np.where(np.isnan(K1g), 1.0, K1g)))
+    K1 = np.where(np.isnan(K1g), e * z2 / (k * Rp), K1g)
+    zs, inv = np.unique(z2, return_inverse=True)
+    limit = Rp * np.array([math.sin(math.pi / int(z)) for z in zs])[inv.reshape(-1)]   # as check()
+    if np.any(K1 >= 1.0) or np.any(Rb >= limit):
+        return False
+    rot = np.array([bool(v) for v in values("gearing.rotating_pins")])
+    r = _floats(values("gearing.axle_radius_mm"))
+    with np.errstate(invalid="ignore"):
+        return not np.any(rot & (np.isnan(r) | (r >= Rb)))
 
 
 def _contact_law(design):
@@ -871,61 +1057,12 @@ def _contact_detail(g, sol, cyc, T_V, w_H, n_d):
     return {"crank": crank, "contacts": contacts}
 
 
-CYCLE_LEVELS = {"ideal": _ideal, "contact": _contact}
-"""The cycle-model levels: each fills the summary of a design with [gearing] and [load]."""
-
-
-def _refined_maxima(t, tmid, evaluate, picks):
-    """Maxima of several gridded quantities, each refined between the neighbouring nodes of its piece.
-
-    picks : list of (values (rows, nodes) on the grid, quantity(histories) -> (rows, points)).
-    Each maximum starts at its largest grid entry; one golden-section search (gearcalc.roots,
-    vectorised over the picks) refines it inside the bracket of the neighbouring nodes of the same
-    piece (piece ends stay one-sided values).  Returns [(max, load-side phase at the max [rad])]
-    (the phase of the first contact row for a quantity with one row, such as a total)."""
-    import numpy as np
-
-    from ..roots import minimize_golden
-
-    rows, nodes, lo, hi, grid_best = [], [], [], [], []
-    for values, _ in picks:
-        row, n = np.unravel_index(int(np.argmax(values)), values.shape)
-        rows.append(int(row))
-        nodes.append(int(n))
-        grid_best.append(float(values[row, n]))
-        lo.append(t[n - 1] if n > 0 and tmid[n - 1] == tmid[n] else t[n])
-        hi.append(t[n + 1] if n + 1 < t.size and tmid[n + 1] == tmid[n] else t[n])
-    mid = tmid[nodes]
-
-    def negative(x):
-        h = evaluate(np.asarray(x, dtype=float), mid)
-        return -np.array([q(h)[rows[i], i] for i, (_, q) in enumerate(picks)])
-
-    res = minimize_golden(negative, np.array(lo), np.array(hi), rtol=1e-12)
-    better = -res.fun > np.array(grid_best)
-    t_best = np.where(better, res.x, t[nodes])
-    best = np.where(better, -res.fun, grid_best)
-    phase = evaluate(t_best, mid).phase[rows, np.arange(len(picks))]
-    return [(float(b), float(p)) for b, p in zip(best, phase)]
-
-
 def _disc_sum_peak(phase, loaded, values, n_d: int):
-    """Peak over the cycle and the pins of a per-contact quantity summed over n_d discs, and its phase.
+    """Peak over the cycle and the pins of a per-contact quantity summed over n_d discs, and its phase
+    (gearcalc.pins.disc_sum_peak on the loaded contacts of the first disc; pins.md §12.7)."""
+    from .. import pins
 
-    The discs are 2 pi/n_d apart: a pin's history at phase psi is sum_d v(psi - 2 pi d/n_d) (pins.md
-    §12.7), interpolated linearly between the samples of the first disc (error O(h^2))."""
-    import numpy as np
-
-    x, val = phase[loaded], values[loaded]
-    order = np.argsort(x, kind="stable")
-    x, val = x[order], val[order]
-    shifts = -2.0 * np.pi * np.arange(n_d) / n_d
-    pts = np.unique(np.concatenate([np.mod(x - s, 2.0 * np.pi) for s in shifts]))
-    tot = np.zeros_like(pts)
-    for s in shifts:  # a handful of discs; vectorised over the samples
-        tot += np.interp(np.mod(pts + s, 2.0 * np.pi), x, val, left=0.0, right=0.0)
-    i = int(np.argmax(tot))
-    return float(tot[i]), float(pts[i])
+    return pins.disc_sum_peak(phase[loaded], values[loaded], n_d)
 
 
 def _rows(columns: dict) -> list[dict]:
@@ -1037,4 +1174,5 @@ CALCULATOR = Calculator(
     header=HEADER,
     sweep=sweep,
     plot=plot,
+    batch=batch,
 )
