@@ -43,6 +43,16 @@ INTEGER_TOL = 1e-9
 
 
 # ----------------------------------------------------------------------------- helpers
+def broadcast(a, shape):
+    """``np.broadcast_to`` that returns an array already of the shape unchanged (cheap on hot paths).
+
+    >>> broadcast(2.0, (3,)).tolist()
+    [2.0, 2.0, 2.0]
+    """
+    a = np.asarray(a)
+    return a if a.shape == shape else np.broadcast_to(a, shape)
+
+
 def wrap_angle(angle):
     """Angle wrapped to (-pi, pi] [rad].
 
@@ -290,7 +300,7 @@ def roller_number_limit(correct, outer_radius, inner_radius, eccentricity, gap):
 
     Returns
     -------
-    N_max [-] (float, ``inf`` for no limit)
+    N_max [-] (float, ``inf`` for no limit; an array for array inputs)
 
     Examples
     --------
@@ -311,11 +321,11 @@ def roller_number_limit(correct, outer_radius, inner_radius, eccentricity, gap):
         ratio = (d - e) * (d + e) / ((s - e) * (s + e))
     else:
         raise ValueError(f"unknown correction {correct!r}")
-    if ratio <= 0.0:
-        return math.inf
-    if ratio >= 1.0:
-        return 2.0
-    return math.pi / math.asin(math.sqrt(ratio))
+    ratio = np.asarray(ratio, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        limit = np.where(ratio <= 0.0, np.inf,
+                         np.where(ratio >= 1.0, 2.0, np.pi / np.arcsin(np.sqrt(np.clip(ratio, 0.0, 1.0)))))
+    return float(limit) if limit.ndim == 0 else limit
 
 
 def auto_roller_number(n_star, parity=None):
@@ -343,13 +353,29 @@ def auto_roller_number(n_star, parity=None):
     return int(n)
 
 
+def auto_roller_numbers(n_star, parity):
+    """:func:`auto_roller_number` over arrays: parity 0 (even), 1 (odd) or -1 (any), element-wise.
+
+    Examples
+    --------
+    >>> auto_roller_numbers(np.array([8.25, 8.25, 7.9999999999]), np.array([-1, 1, 0])).tolist()
+    [8, 7, 8]
+    """
+    n_star = np.asarray(n_star, dtype=float)
+    nearest = np.round(n_star)
+    n = np.where(np.abs(n_star - nearest) < INTEGER_TOL, nearest, np.floor(n_star)).astype(np.int64)
+    parity = np.asarray(parity)
+    return np.where((parity >= 0) & (n % 2 != parity), n - 1, n)
+
+
 @dataclass
 class Chain:
     """A closed chain: corrected geometry and its integer roller number.
 
     Attributes: outer_radius R_H, inner_radius R_B, eccentricity e, gap c [mm] (after
     correction), n (N), n_star (nominal N*), correct ("outer" | "inner" | "gap"), nominal and
-    corrected value of the corrected quantity [mm], n_limit (N_max).
+    corrected value of the corrected quantity [mm], n_limit (N_max).  Either floats (one chain,
+    :func:`close_chain`) or arrays of shape (G,) (stacked designs, :func:`close_chains`).
     """
 
     outer_radius: float
@@ -364,8 +390,64 @@ class Chain:
     n_limit: float
 
     @property
-    def limiting_ratio(self) -> float:
-        return limiting_point_ratio(self.outer_radius, self.inner_radius, self.eccentricity, self.gap)
+    def limiting_ratio(self):
+        q = limiting_point_ratio(self.outer_radius, self.inner_radius, self.eccentricity, self.gap)
+        return float(q) if np.ndim(q) == 0 else q
+
+
+def close_chains(outer_radius, inner_radius, eccentricity, gap, n, correct="outer"):
+    """Correct one parameter of each of many designs so that exactly N rollers close each chain.
+
+    Element-wise :func:`close_chain` over arrays of shape (G,) (N and ``correct`` per design or
+    one for all).  Invalid geometries give NaN or meaningless values, never an exception: the
+    caller checks validity (:func:`geometry_problems`, :func:`chain_problems`).
+
+    Parameters
+    ----------
+    outer_radius, inner_radius, eccentricity, gap : nominal R_H, R_B, e, c [mm], shape (G,).
+    n : integer roller numbers N, shape (G,) or scalar.
+    correct : "outer" | "inner" | "gap", or an array of them (one per design).
+
+    Returns
+    -------
+    Chain with array attributes of shape (G,) (``correct`` an object array of strings).
+
+    Examples
+    --------
+    >>> ch = close_chains(np.array([100.0, 100.0]), 50.0, 6.0, 6.0, np.array([8, 6]))
+    >>> np.round(ch.corrected - ch.nominal, 6).tolist()
+    [2.696917, 38.286579]
+
+    References
+    ----------
+    spec zstk.md §3.2.
+    """
+    r_h, r_b, e, c = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in
+                                           (outer_radius, inner_radius, eccentricity, gap)))
+    shape = r_h.shape
+    n = broadcast(np.asarray(n), shape)
+    corr = broadcast(np.asarray(correct, dtype=object), shape)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        n_star = fractional_roller_number(r_h, r_b, e, c)
+        exact = np.abs(n_star - n) < INTEGER_TOL
+        out_h, out_b, out_c = r_h.copy(), r_b.copy(), c.copy()
+        nominal, limit = np.empty(shape), np.empty(shape)
+        for kind in set(corr.ravel().tolist()):
+            m = corr == kind
+            if kind == "outer":
+                out_h = np.where(m & ~exact, corrected_outer_radius(n, r_b, e, c), out_h)
+                nominal = np.where(m, r_h, nominal)
+            elif kind == "inner":
+                out_b = np.where(m & ~exact, corrected_inner_radius(n, r_h, e, c), out_b)
+                nominal = np.where(m, r_b, nominal)
+            elif kind == "gap":
+                out_c = np.where(m & ~exact, corrected_gap(n, r_h, r_b, e), out_c)
+                nominal = np.where(m, c, nominal)
+            else:
+                raise ValueError(f"unknown correction {kind!r}")
+            limit = np.where(m, roller_number_limit(kind, r_h, r_b, e, c), limit)
+    corrected = np.where(corr == "outer", out_h, np.where(corr == "inner", out_b, out_c))
+    return Chain(out_h, out_b, e.copy(), out_c, n.astype(np.int64), n_star, corr, nominal, corrected, limit)
 
 
 def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer"):
@@ -380,7 +462,8 @@ def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer
     Returns
     -------
     Chain.  When N equals N* (within :data:`INTEGER_TOL`) the correction is exactly zero.
-    Validity (spec §3.3) is checked by :func:`chain_problems`, not here.
+    Validity (spec §3.3) is checked by :func:`chain_problems`, not here.  The same arithmetic as
+    :func:`close_chains` (one design).
 
     Examples
     --------
@@ -392,25 +475,11 @@ def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer
     ----------
     spec zstk.md §3.2.
     """
-    n_star = float(fractional_roller_number(outer_radius, inner_radius, eccentricity, gap))
-    exact = abs(n_star - n) < INTEGER_TOL
-    r_h, r_b, c = float(outer_radius), float(inner_radius), float(gap)
-    if correct == "outer":
-        nominal = r_h
-        r_h = r_h if exact else float(corrected_outer_radius(n, r_b, eccentricity, c))
-        corrected = r_h
-    elif correct == "inner":
-        nominal = r_b
-        r_b = r_b if exact else float(corrected_inner_radius(n, r_h, eccentricity, c))
-        corrected = r_b
-    elif correct == "gap":
-        nominal = c
-        c = c if exact else float(corrected_gap(n, r_h, r_b, eccentricity))
-        corrected = c
-    else:
+    if correct not in ("outer", "inner", "gap"):
         raise ValueError(f"unknown correction {correct!r}")
-    limit = roller_number_limit(correct, outer_radius, inner_radius, eccentricity, gap)
-    return Chain(r_h, r_b, float(eccentricity), c, int(n), n_star, correct, nominal, corrected, limit)
+    ch = close_chains(outer_radius, inner_radius, eccentricity, gap, n, correct)
+    return Chain(float(ch.outer_radius), float(ch.inner_radius), float(ch.eccentricity), float(ch.gap), int(n),
+                 float(ch.n_star), correct, float(ch.nominal), float(ch.corrected), float(ch.n_limit))
 
 
 def geometry_problems(outer_radius, inner_radius, eccentricity, gap):
@@ -494,7 +563,7 @@ def limiting_point_ratio(outer_radius, inner_radius, eccentricity, gap):
 
     Returns
     -------
-    q [-], 0 <= q < 1
+    q [-], 0 <= q < 1 (float; an array for array inputs)
 
     Examples
     --------
@@ -509,7 +578,8 @@ def limiting_point_ratio(outer_radius, inner_radius, eccentricity, gap):
     a = inner_radius - 0.5 * gap
     e = eccentricity
     root = np.sqrt(((x - e) ** 2 - a * a) * ((x + e) ** 2 - a * a))
-    return float(2.0 * x * e / (x * x - a * a + e * e + root))
+    q = 2.0 * x * e / (x * x - a * a + e * e + root)
+    return float(q) if np.ndim(q) == 0 else q
 
 
 def theta_of_phi(phi, q):
@@ -555,7 +625,7 @@ def roller_angles(phase, n, q, pitch=None):
     ----------
     phase : chain phase phi_0 [rad], any shape (...).
     n : roller count N.
-    q : limiting-point ratio [-].
+    q : limiting-point ratio [-], a scalar or an array broadcastable to phase (one per design).
     pitch : spacing in phi [rad]; default 2 pi/N (2 pi/N* for an open chain).
 
     Returns
@@ -573,7 +643,7 @@ def roller_angles(phase, n, q, pitch=None):
     """
     pitch = 2.0 * np.pi / n if pitch is None else pitch
     phi = np.asarray(phase, dtype=float)[..., None] + pitch * np.arange(n)
-    return theta_of_phi(phi, q)
+    return theta_of_phi(phi, np.asarray(q, dtype=float)[..., None])
 
 
 def scheme_phase(scheme, n):
@@ -616,7 +686,7 @@ def neighbour_gaps(theta, outer_radius, inner_radius, eccentricity):
 def step_chain(theta0, n, outer_radius, inner_radius, eccentricity, gap, scan=64):
     """Explicit stepping of the chain (the cross-check of spec §4.1), vectorised over starts.
 
-    From theta_k, scan forward to the first sign change of g(t) = |P(t) - P_k| - r_k - r(t) - c
+    From theta_k, scan forward (one turn) to the first sign change of g(t) = |P(t) - P_k| - r_k - r(t) - c
     and solve g = 0 with the bracketed root finder to 1e-14 rad.  After N steps the chain
     should return to roller 0.
 
@@ -624,8 +694,9 @@ def step_chain(theta0, n, outer_radius, inner_radius, eccentricity, gap, scan=64
     ----------
     theta0 : start angles [rad], shape (...).
     n : number of steps N.
-    outer_radius, inner_radius, eccentricity, gap : the (corrected) geometry [mm].
-    scan : scan points over the half turn ahead.
+    outer_radius, inner_radius, eccentricity, gap : the (corrected) geometry [mm], scalars or arrays
+        broadcastable to theta0 (stacked designs of the same N).
+    scan : scan points per half turn ahead (the whole turn ahead is scanned).
 
     Returns
     -------
@@ -639,19 +710,29 @@ def step_chain(theta0, n, outer_radius, inner_radius, eccentricity, gap, scan=64
     >>> bool(res < 1e-9)
     True
     """
-    geo = (outer_radius, inner_radius, eccentricity)
-    th = [np.asarray(theta0, dtype=float)]
-    frac = np.linspace(0.0, np.pi, scan + 1)[1:]
+    theta0, r_h, r_b, e, c = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in
+                                                    (theta0, outer_radius, inner_radius, eccentricity, gap)))
+    base = theta0.ndim
+
+    def geo(t):
+        """The geometry (R_H, R_B, e, c) shaped to broadcast against t (one design per start)."""
+        tail = (1,) * (np.ndim(t) - base)
+        return tuple(np.reshape(x, x.shape + tail) for x in (r_h, r_b, e, c))
+
+    th = [theta0]
+    # the whole turn ahead: in a very eccentric chain a neighbour can lie more than 180 degrees ahead
+    frac = np.linspace(0.0, 2.0 * np.pi, 2 * scan + 1)[1:]
     for _ in range(n):  # sequential by nature; a cross-check only, never on the hot path
         tk = th[-1]
-        pk = centres(tk, *geo)
-        rk = roller_radius(tk, *geo)
+        pk = centres(tk, *geo(tk)[:3])
+        rk = roller_radius(tk, *geo(tk)[:3])
 
         def g(t, pk=pk, rk=rk):
             pk_b = pk.reshape(pk.shape[:-1] + (1,) * (np.ndim(t) - np.ndim(rk)) + (2,))
             rk_b = np.reshape(rk, np.shape(rk) + (1,) * (np.ndim(t) - np.ndim(rk)))
-            return (np.linalg.norm(centres(t, *geo) - pk_b, axis=-1) - rk_b
-                    - roller_radius(t, *geo) - gap)
+            gt = geo(t)
+            return (np.linalg.norm(centres(t, *gt[:3]) - pk_b, axis=-1) - rk_b
+                    - roller_radius(t, *gt[:3]) - gt[3])
 
         ts = tk[..., None] + frac
         gs = g(ts)
@@ -660,7 +741,8 @@ def step_chain(theta0, n, outer_radius, inner_radius, eccentricity, gap, scan=64
         lo = np.where(first > 0, np.take_along_axis(ts, np.maximum(first - 1, 0)[..., None], axis=-1)[..., 0], tk)
         th.append(find_root(g, lo, hi, xtol=1e-14).root)
     theta = np.stack(th, axis=-1)
-    residual = np.linalg.norm(centres(theta[..., -1], *geo) - centres(theta[..., 0], *geo), axis=-1)
+    g0 = geo(theta0)[:3]
+    residual = np.linalg.norm(centres(theta[..., -1], *g0) - centres(theta[..., 0], *g0), axis=-1)
     return theta, residual
 
 
@@ -711,6 +793,11 @@ class LoadSolution:
     converged: np.ndarray = field(default_factory=lambda: np.array(True))
 
 
+def _per_roller(x):
+    """A per-configuration quantity (scalar or shape (...)) shaped to broadcast against (..., N)."""
+    return np.asarray(x, dtype=float)[..., None]
+
+
 def _residual(force, normal_angle, gamma, load):
     fx = np.sum(force * np.cos(normal_angle - gamma[..., None]), axis=-1) - load
     fy = np.sum(force * np.sin(normal_angle - gamma[..., None]), axis=-1)
@@ -740,7 +827,7 @@ def load_zero_clearance(normal_angle, gamma, load, stiffness, symmetric=False, f
     ----------
     normal_angle : polar angles of the inner normals n_Bi [rad], shape (..., N).
     gamma : load direction [rad], shape broadcastable to (...).
-    load : Q [N]; stiffness : c_L [N/mm^(10/9)].
+    load : Q [N]; stiffness : c_L [N/mm^(10/9)]; scalars or arrays broadcastable to (...).
     symmetric : bool (array) marking mirror-symmetric configurations.
     fixed_direction : take v parallel to u everywhere (the classical model).
 
@@ -760,9 +847,9 @@ def load_zero_clearance(normal_angle, gamma, load, stiffness, symmetric=False, f
     spec zstk.md §5, §5.1.
     """
     normal_angle = np.asarray(normal_angle, dtype=float)
-    gamma = np.broadcast_to(np.asarray(gamma, dtype=float), normal_angle.shape[:-1]).copy()
+    gamma = broadcast(np.asarray(gamma, dtype=float), normal_angle.shape[:-1]).copy()
     p = LOAD_EXPONENT
-    fixed = np.broadcast_to(np.asarray(symmetric) | bool(fixed_direction), gamma.shape)
+    fixed = broadcast(np.asarray(symmetric) | bool(fixed_direction), gamma.shape)
 
     rel = normal_angle - gamma[..., None]
     cos_rel, sin_rel = np.cos(rel), np.sin(rel)
@@ -788,7 +875,7 @@ def load_zero_clearance(normal_angle, gamma, load, stiffness, symmetric=False, f
         a[free] = np.maximum(np.cos(ang_free - alpha[free][..., None]), 0.0)
     a = a ** p
     denom = np.sum(a * cos_rel, axis=-1)
-    force = load * a / denom[..., None]
+    force = _per_roller(load) * a / denom[..., None]
     approach = (load / (stiffness * denom)) ** (1.0 / p)
     fx = np.sum(force * cos_rel, axis=-1) - load
     fy = np.sum(force * sin_rel, axis=-1)
@@ -809,7 +896,8 @@ def load_along_direction(normal_angle, gamma, load, stiffness, clearance):
     Parameters
     ----------
     normal_angle : [rad], (..., N); gamma : [rad], (...); load : Q [N];
-    stiffness : c_L; clearance : s [mm] (< 0 preload).
+    stiffness : c_L; clearance : s [mm] (< 0 preload); load, stiffness and clearance are scalars or
+    arrays broadcastable to (...).
 
     Returns
     -------
@@ -827,22 +915,25 @@ def load_along_direction(normal_angle, gamma, load, stiffness, clearance):
     spec zstk.md §5.2.
     """
     normal_angle = np.asarray(normal_angle, dtype=float)
-    gamma = np.broadcast_to(np.asarray(gamma, dtype=float), normal_angle.shape[:-1]).copy()
+    gamma = broadcast(np.asarray(gamma, dtype=float), normal_angle.shape[:-1]).copy()
     cos_psi = np.cos(normal_angle - gamma[..., None])
+    shape = gamma.shape
+    load, stiffness, clearance = (broadcast(np.asarray(x, dtype=float), shape) for x in
+                                  (load, stiffness, clearance))
     half = 0.5 * clearance
+    half_r, stiff_r = half[..., None], stiffness[..., None]
     m = np.max(cos_psi, axis=-1)
 
     def f(delta):
-        return np.sum(_force_law(delta[..., None] * cos_psi - half, stiffness) * cos_psi, axis=-1) - load
+        return np.sum(_force_law(delta[..., None] * cos_psi - half_r, stiff_r) * cos_psi, axis=-1) - load
 
     base = (load / (stiffness * m)) ** 0.9
-    if clearance >= 0:
-        lo = half / m
-        hi = (1.01 * base + half) / m  # 1 % margin: round-off in d may leave f(hi) a hair below 0
-        width = base / m
-    else:
-        width = (base + abs(half)) / m
-        lo, hi = -width, width.copy()
+    clear = clearance >= 0
+    # s >= 0: [s/(2m), ((Q/(c_L m))^0.9 + s/2)/m] with a 1 % margin (round-off in d may leave f(hi) a hair
+    # below 0); s < 0: a bracket around 0 doubled outward
+    width = np.where(clear, base / m, (base + np.abs(half)) / m)
+    lo = np.where(clear, half / m, -width)
+    hi = np.where(clear, (1.01 * base + half) / m, width)
     for _ in range(200):  # widen outward until the bracket holds a sign change
         flo, fhi = f(lo), f(hi)
         if np.all(flo <= 0) and np.all(fhi >= 0):
@@ -850,9 +941,9 @@ def load_along_direction(normal_angle, gamma, load, stiffness, clearance):
         lo = np.where(flo > 0, lo - width, lo)
         hi = np.where(fhi < 0, hi + width, hi)
         width = 2.0 * width
-    res = find_root(f, lo, hi, xtol=1e-17 * (abs(clearance) + np.max(base)))
+    res = find_root(f, lo, hi, xtol=1e-17 * (np.abs(clearance) + base))
     delta = res.root
-    force = _force_law(delta[..., None] * cos_psi - half, stiffness)
+    force = _force_law(delta[..., None] * cos_psi - half_r, stiff_r)
     residual, transverse = _residual(force, normal_angle, gamma, load)
     return LoadSolution(force, gamma, delta, residual, transverse, res.converged)
 
@@ -865,11 +956,12 @@ def _newton(c0, vx, vy, nx, ny, ux, uy, load, stiffness, scale0, rtol, maxiter):
     """
     p = LOAD_EXPONENT
     k19 = stiffness * 9.0 / 19.0
+    stiff_r = _per_roller(stiffness)
 
     def state(vx, vy):
         d = c0 + vx[..., None] * nx + vy[..., None] * ny
         a = np.maximum(d, 0.0)
-        force = stiffness * a ** p
+        force = stiff_r * a ** p
         gx = np.sum(force * nx, axis=-1) - load * ux
         gy = np.sum(force * ny, axis=-1) - load * uy
         pot = k19 * np.sum(a ** (p + 1.0), axis=-1) - load * (ux * vx + uy * vy)
@@ -881,7 +973,7 @@ def _newton(c0, vx, vy, nx, ny, ux, uy, load, stiffness, scale0, rtol, maxiter):
     for _ in range(maxiter):
         if np.all(done):
             break
-        w = stiffness * p * a ** (p - 1.0)
+        w = stiff_r * p * a ** (p - 1.0)
         hxx, hxy, hyy = np.sum(w * nx * nx, -1), np.sum(w * nx * ny, -1), np.sum(w * ny * ny, -1)
         lam = 1e-12 * (hxx + hyy) + 1e-9 * scale0 * ((hxx + hyy) == 0)
         hxx, hyy = hxx + lam, hyy + lam
@@ -923,7 +1015,8 @@ def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e
     Parameters
     ----------
     normal_angle : [rad], (..., N); gamma : [rad], (...); load : Q [N]; stiffness : c_L;
-    clearance : s [mm]; rtol : residual target; maxiter : Newton iteration cap.
+    clearance : s [mm]; load, stiffness and clearance are scalars or arrays broadcastable to (...);
+    rtol : residual target; maxiter : Newton iteration cap.
 
     Returns
     -------
@@ -941,10 +1034,14 @@ def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e
     spec zstk.md §5.2, §11.1.
     """
     normal_angle = np.asarray(normal_angle, dtype=float)
-    gamma = np.broadcast_to(np.asarray(gamma, dtype=float), normal_angle.shape[:-1]).copy()
+    gamma = broadcast(np.asarray(gamma, dtype=float), normal_angle.shape[:-1]).copy()
     nx, ny = np.cos(normal_angle), np.sin(normal_angle)
     ux, uy = np.cos(gamma), np.sin(gamma)
+    shape = gamma.shape
+    load, stiffness, clearance = (broadcast(np.asarray(x, dtype=float), shape) for x in
+                                  (load, stiffness, clearance))
     half = 0.5 * clearance
+    half_r = half[..., None]
     p = LOAD_EXPONENT
 
     start = load_zero_clearance(normal_angle, gamma, load, stiffness)
@@ -952,23 +1049,28 @@ def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e
     # touch exactly, so that the approaches c0_i + x·n_i carry no cancellation of s/2 against v·n_i
     # and deflections far below eps·s stay resolved.  With clearance (s > 0) v0 is the vertex of the
     # clearance polygon {v: v·n_i <= s/2} farthest along u: the corner of the two rollers whose
-    # normals bracket the load direction (c0 = 0 exactly for both).  Start: v = v0 + delta_0 w_0.
-    if clearance > 0:
+    # normals bracket the load direction (c0 = 0 exactly for both); with preload v0 = 0.
+    # Start: v = v0 + delta_0 w_0.
+    clear = clearance > 0
+    v0x, v0y = np.zeros(shape), np.zeros(shape)
+    c0 = broadcast(-half_r, normal_angle.shape).copy()
+    if np.any(clear):
         rel = wrap_angle(normal_angle - gamma[..., None])
         below = np.argmax(np.where(rel <= 0, rel, -np.inf), axis=-1)[..., None]
         above = np.argmin(np.where(rel > 0, rel, np.inf), axis=-1)[..., None]
         pair = np.concatenate([below, above], axis=-1)
         jx, jy = np.take_along_axis(nx, pair, -1), np.take_along_axis(ny, pair, -1)
         det = jx[..., 0] * jy[..., 1] - jx[..., 1] * jy[..., 0]
-        v0x = half * (jy[..., 1] - jy[..., 0]) / det
-        v0y = half * (jx[..., 0] - jx[..., 1]) / det
-        c0 = v0x[..., None] * nx + v0y[..., None] * ny - half
-        np.put_along_axis(c0, pair, 0.0, axis=-1)
-        c0 = np.minimum(c0, 0.0)  # v0 lies inside every other roller's play (round-off guard)
-    else:
-        v0x = v0y = np.zeros_like(gamma)
-        c0 = np.broadcast_to(-half, normal_angle.shape).copy()
-    scale0 = stiffness * p * max(float(np.max(start.approach)), 1e-300) ** (p - 1.0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            cx = half * (jy[..., 1] - jy[..., 0]) / det
+            cy = half * (jx[..., 0] - jx[..., 1]) / det
+        cc = cx[..., None] * nx + cy[..., None] * ny - half_r
+        np.put_along_axis(cc, pair, 0.0, axis=-1)
+        cc = np.minimum(cc, 0.0)  # v0 lies inside every other roller's play (round-off guard)
+        v0x, v0y = np.where(clear, cx, v0x), np.where(clear, cy, v0y)
+        c0 = np.where(clear[..., None], cc, c0)
+    # regularisation scale of a singular Hessian (no loaded roller), per configuration
+    scale0 = stiffness * p * np.maximum(start.approach, 1e-300) ** (p - 1.0)
     xx, xy = start.approach * np.cos(start.alpha), start.approach * np.sin(start.alpha)
     xx, xy, a, force, converged = _newton(c0, xx, xy, nx, ny, ux, uy, load, stiffness, scale0, rtol, maxiter)
     vx, vy = xx + v0x, xy + v0y
@@ -980,7 +1082,7 @@ def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e
         njx, njy = np.take_along_axis(nx, j, -1)[..., 0], np.take_along_axis(ny, j, -1)[..., 0]
         t = vx * njx + vy * njy
         px, py = t * njx, t * njy
-        others = (px[..., None] * nx + py[..., None] * ny - half) * ~loaded
+        others = (px[..., None] * nx + py[..., None] * ny - half_r) * ~loaded
         use = single & np.all(others <= 0, axis=-1)
         vx, vy = np.where(use, px, vx), np.where(use, py, vy)
     delta = np.hypot(vx, vy)
@@ -995,8 +1097,9 @@ def solve_loads(normal_angle, gamma, load, stiffness, clearance=0.0, symmetric=F
 
     Parameters
     ----------
-    normal_angle [rad] (..., N); gamma [rad] (...); load Q [N]; stiffness c_L; clearance s [mm];
-    symmetric : mirror-symmetric configuration (v parallel to u exactly);
+    normal_angle [rad] (..., N); gamma [rad] (...); load Q [N]; stiffness c_L; clearance s [mm]
+    (load, stiffness, clearance: scalars, or arrays broadcastable to (...) for stacked designs);
+    symmetric : mirror-symmetric configuration (v parallel to u exactly), bool or array (...);
     fixed_direction : the ``fixed-direction`` level (v parallel to u everywhere).
 
     Returns
@@ -1008,12 +1111,40 @@ def solve_loads(normal_angle, gamma, load, stiffness, clearance=0.0, symmetric=F
     >>> ang = np.radians(np.arange(0.0, 360.0, 45.0))
     >>> round(float(solve_loads(ang, 0.0, 800.0, 1e5, symmetric=True).force[0]), 6)
     407.700684
+    >>> two = solve_loads(np.stack([ang, ang]), 0.0, 800.0, 1e5, np.array([0.0, 0.01]), symmetric=True)
+    >>> np.round(two.force[:, 0], 6).tolist()
+    [407.700684, 472.738137]
     """
-    if clearance == 0.0:
-        return load_zero_clearance(normal_angle, gamma, load, stiffness, symmetric, fixed_direction)
-    if fixed_direction or np.all(symmetric):
-        return load_along_direction(normal_angle, gamma, load, stiffness, clearance)
-    return load_with_clearance(normal_angle, gamma, load, stiffness, clearance)
+    if np.ndim(clearance) == 0:  # one clearance for every configuration
+        if clearance == 0.0:
+            return load_zero_clearance(normal_angle, gamma, load, stiffness, symmetric, fixed_direction)
+        if fixed_direction or np.all(symmetric):
+            return load_along_direction(normal_angle, gamma, load, stiffness, clearance)
+        return load_with_clearance(normal_angle, gamma, load, stiffness, clearance)
+    # stacked designs: each configuration goes to its own solver, the results are scattered back
+    normal_angle = np.asarray(normal_angle, dtype=float)
+    shape = normal_angle.shape[:-1]
+    gamma, load, stiffness, clearance = (broadcast(np.asarray(x, dtype=float), shape) for x in
+                                         (gamma, load, stiffness, clearance))
+    symmetric = broadcast(np.asarray(symmetric, dtype=bool), shape)
+    zero = clearance == 0.0
+    along = ~zero & (symmetric | bool(fixed_direction))
+    groups = [(zero, lambda k: load_zero_clearance(normal_angle[k], gamma[k], load[k], stiffness[k],
+                                                    symmetric[k], fixed_direction)),
+              (along, lambda k: load_along_direction(normal_angle[k], gamma[k], load[k], stiffness[k],
+                                                     clearance[k])),
+              (~zero & ~along, lambda k: load_with_clearance(normal_angle[k], gamma[k], load[k], stiffness[k],
+                                                             clearance[k]))]
+    groups = [(m, solve) for m, solve in groups if np.any(m)]
+    if len(groups) == 1:
+        return groups[0][1](Ellipsis)
+    out = LoadSolution(np.empty(normal_angle.shape), np.empty(shape), np.empty(shape), np.empty(shape),
+                       np.empty(shape), np.empty(shape, bool))
+    for m, solve in groups:
+        part = solve(m)
+        for name in ("force", "alpha", "approach", "residual", "transverse", "converged"):
+            getattr(out, name)[m] = getattr(part, name)
+    return out
 
 
 # ----------------------------------------------------------------------------- evaluation
@@ -1022,6 +1153,7 @@ class Materials:
     """Contact moduli and the roller constant of a design.
 
     e_star_inner, e_star_outer : E*_B, E*_H [MPa]; length : l [mm]; stiffness : c_L.
+    Floats for one design, arrays of shape (G,) for stacked designs.
     """
 
     e_star_inner: float
@@ -1031,9 +1163,13 @@ class Materials:
 
     @classmethod
     def from_elastic(cls, length, roller_e, roller_nu, inner_e, inner_nu, outer_e, outer_nu):
-        eb = float(hertz.contact_modulus(roller_e, roller_nu, inner_e, inner_nu))
-        eh = float(hertz.contact_modulus(roller_e, roller_nu, outer_e, outer_nu))
-        return cls(eb, eh, float(length), float(roller_stiffness(length, eb, eh)))
+        eb = hertz.contact_modulus(roller_e, roller_nu, inner_e, inner_nu)
+        eh = hertz.contact_modulus(roller_e, roller_nu, outer_e, outer_nu)
+        stiffness = roller_stiffness(length, eb, eh)
+        if np.ndim(stiffness) == 0:
+            return cls(float(eb), float(eh), float(length), float(stiffness))
+        return cls(*(broadcast(np.asarray(x, dtype=float), np.shape(stiffness)) for x in
+                     (eb, eh, length, stiffness)))
 
 
 @dataclass
@@ -1068,9 +1204,11 @@ def evaluate(chain: Chain, mats: Materials, theta, gamma, load, clearance=0.0, s
 
     Parameters
     ----------
-    chain : the closed chain; mats : materials.
+    chain : the closed chain; mats : materials (floats, or arrays broadcastable to (...) for stacked
+        designs of the same N, e.g. shape (G,) with theta of shape (G, N)).
     theta : roller angles [rad], (..., N); gamma : load directions [rad], broadcastable to (...).
-    load : Q [N]; clearance : s [mm]; symmetric, fixed_direction : see :func:`solve_loads`.
+    load : Q [N]; clearance : s [mm] (floats or arrays broadcastable to (...));
+    symmetric, fixed_direction : see :func:`solve_loads`.
 
     Returns
     -------
@@ -1088,27 +1226,30 @@ def evaluate(chain: Chain, mats: Materials, theta, gamma, load, clearance=0.0, s
     ----------
     Merko et al., eqs. (3)-(7); spec zstk.md §2, §5.
     """
-    geo = (chain.outer_radius, chain.inner_radius, chain.eccentricity)
+    # per-design quantities as (..., 1): they broadcast against the rollers (floats give shape (1,))
+    r_h, r_b, e = (_per_roller(x) for x in (chain.outer_radius, chain.inner_radius, chain.eccentricity))
     theta = np.asarray(theta, dtype=float)
     gamma = np.asarray(gamma, dtype=float)
-    shape = np.broadcast_shapes(theta.shape[:-1], gamma.shape)
+    shape = np.broadcast_shapes(theta.shape[:-1], gamma.shape, r_h.shape[:-1], np.shape(load),
+                                np.shape(clearance), np.shape(mats.stiffness))
     full = shape + theta.shape[-1:]
     # the geometry depends on the phase only: computed on theta's own shape, then broadcast (views)
-    r = roller_radius(theta, *geo)
-    h = centre_distance(theta, *geo)
-    beta_s = np.arctan2(chain.eccentricity * np.sin(theta), h - chain.eccentricity * np.cos(theta))
+    r = roller_radius(theta, r_h, r_b, e)
+    h = centre_distance(theta, r_h, r_b, e)
+    beta_s = np.arctan2(e * np.sin(theta), h - e * np.cos(theta))
     nb = theta + beta_s
-    rho_b, rho_h = reduced_radii(r, h, chain.inner_radius, chain.outer_radius)
-    gamma = np.broadcast_to(gamma, shape)
-    sol = solve_loads(np.broadcast_to(nb, full), gamma, load, mats.stiffness, clearance, symmetric,
+    rho_b, rho_h = reduced_radii(r, h, r_b, r_h)
+    gamma = broadcast(gamma, shape)
+    sol = solve_loads(broadcast(nb, full), gamma, load, mats.stiffness, clearance, symmetric,
                       fixed_direction)
     f_b = sol.force
     f_h = f_b * np.cos(beta_s)
-    sig_b = hertz.peak_pressure(f_b, mats.length, rho_b, mats.e_star_inner)
-    sig_h = hertz.peak_pressure(f_h, mats.length, rho_h, mats.e_star_outer)
+    length = _per_roller(mats.length)
+    sig_b = hertz.peak_pressure(f_b, length, rho_b, _per_roller(mats.e_star_inner))
+    sig_h = hertz.peak_pressure(f_h, length, rho_h, _per_roller(mats.e_star_outer))
 
     def b(a):
-        return np.broadcast_to(a, full)
+        return broadcast(a, full)
 
     return State(b(theta), b(r), b(np.abs(beta_s)), b(nb), f_b, f_h, b(rho_b), b(rho_h), sig_b, sig_h,
                  np.asarray(gamma), sol)

@@ -638,3 +638,14 @@ def test_clearance_solver_reaches_target_on_a_grid(load, clearance):
     ax, tr = equilibrium_error(s, load)
     if clearance > 0:  # forces ~ Q: the invariant relative to Q holds as well
         assert np.max(ax) <= 1e-9 and np.max(tr) <= 1e-9
+
+
+def test_stepping_finds_a_neighbour_more_than_half_a_turn_ahead():
+    """A very eccentric chain (R_H = 20, R_B' = 5.65 after the inner correction, e = 10.94, c = 3.125,
+    N = 5) has a pitch of 187.5° about O_H between its two largest rollers; the explicit stepping must
+    still close it (spec §7.2: residual < 1e-9 mm, any start phase).  Found by a property test."""
+    ch = z.close_chain(20.0, 7.5, 10.9375, 3.125, 5, "inner")
+    theta = z.roller_angles(np.array([0.0, 0.3, 1.0]), ch.n, ch.limiting_ratio)
+    assert np.max(np.diff(np.concatenate([theta[0], [theta[0, 0] + 2 * np.pi]]))) > np.pi  # the wide pitch
+    _, res = z.step_chain(theta[:, 0], ch.n, ch.outer_radius, ch.inner_radius, ch.eccentricity, ch.gap)
+    assert np.all(res < 1e-9)

@@ -25,6 +25,12 @@ MIN_E_MPA, MAX_E_MPA = 1.0, 1e7
 MAX_ROLLERS = 2000       # gearcalc's range (the spec asks N > 200 to work); keeps sweeps in memory
 CHUNK_ELEMENTS = 1_000_000  # roller-configurations evaluated at once in the sweeps
 REFINE_ROWS_MAX_N = 200  # above this the per-roller envelope rows are grid maxima (O(N²) refinement)
+DEFAULT_ALLOWABLE_WARNING = (f"no material.allowable_stress_MPa: checked against {DEFAULT_ALLOWABLE_MPA:g} MPa "
+                             f"({DEFAULT_ALLOWABLE_SOURCE}), a static (permanent-deformation) reference, "
+                             "not an endurance allowable")
+ROLLER_FIELDS = ("theta", "radius", "beta", "psi", "force_inner", "force_outer", "rho_inner", "rho_outer",
+                 "sigma_inner", "sigma_outer")
+"""The per-roller quantities of a zstk.State that the detail table shows."""
 
 GEOMETRY = Table("geometry", (
     Field("outer_raceway_radius_mm", "number", REQUIRED, "R_H, outer (concave) raceway radius, nominal",
@@ -69,6 +75,8 @@ MATERIAL = Table("material", (
     Field("allowable_stress_MPa", "number", None, "[sigma_H], allowable contact stress", gt=0,
           default_doc="4000 (ISO 76 static reference, not an endurance allowable)"),
 ), doc="Elastic constants and the allowable contact stress")
+
+TABLES = (GEOMETRY, LOAD, MATERIAL)
 
 KEYS = {"outer": "geometry.outer_raceway_radius_mm", "inner": "geometry.inner_raceway_radius_mm",
         "eccentricity": "geometry.eccentricity_mm", "gap": "geometry.roller_gap_mm",
@@ -137,33 +145,20 @@ def check(design, problems) -> None:
         problems.error(key, msg)
 
 
-def _materials(design):
-    from .. import zstk as z
-
-    ring_e, ring_nu = design["material.ring_E_MPa"], design["material.ring_poisson"]
-
-    def pick(key, default):
-        v = design.get(key)
-        return default if v is None else v
-
-    return z.Materials.from_elastic(
-        design["geometry.roller_length_mm"], design["material.roller_E_MPa"], design["material.roller_poisson"],
-        pick("material.inner_ring_E_MPa", ring_e), pick("material.inner_ring_poisson", ring_nu),
-        pick("material.outer_ring_E_MPa", ring_e), pick("material.outer_ring_poisson", ring_nu))
-
-
 def _deg(x):
     from ..units import rad_to_deg
 
-    return float(rad_to_deg(x))
+    return rad_to_deg(x)
 
 
 def _wrap_deg(x_rad):
-    """Degrees in (-180, 180]; round-off just above -180 is shown as 180."""
+    """Degrees in (-180, 180] (arrays or floats); round-off just above -180 is shown as 180."""
+    import numpy as np
+
     from .. import zstk as z
 
     d = _deg(z.wrap_angle(x_rad))
-    return 180.0 if d <= -180.0 + 1e-9 else d + 0.0  # no -0.0
+    return np.where(d <= -180.0 + 1e-9, 180.0, d + 0.0)  # + 0.0: no -0.0
 
 
 def _note_cap(sweep, what: str, per: str, warnings: list) -> None:
@@ -173,22 +168,556 @@ def _note_cap(sweep, what: str, per: str, warnings: list) -> None:
                         f"{sweep.err:.3g} MPa above the target")
 
 
+# ----------------------------------------------------------------------------- stacked designs
+# Designs (of a batch, or the points of a sweep) are held column-wise: ``cols[dotted key]`` is one
+# resolved value shared by every design or a list with one value per design.  They are prepared
+# together (closure, correction, phase, direction, materials as arrays over designs), grouped by
+# the roller count N, and each group is solved as one stack of arrays (G, N) (spec zstk.md §8).
+
+def _design_columns(designs) -> dict:
+    """The resolved values of validated designs, one list per dotted key."""
+    return {f"{t.name}.{f.name}": [d.values[t.name][f.name] for d in designs] for t in TABLES for f in t.fields}
+
+
+class _Prepared:
+    """Arrays of shape (P,) describing P designs up to the load solve (see :func:`_prepare`)."""
+
+
+def _prepare(cols: dict, size: int) -> _Prepared:
+    """Chain closure and correction, validity, phase, load direction and materials of ``size`` designs.
+
+    Element-wise the same arithmetic as :func:`_closed_chain` + :func:`check` (one design), so that
+    a design is valid here exactly when it is valid on its own.
+    """
+    import numpy as np
+
+    from .. import zstk as z
+    from ..units import deg_to_rad
+
+    def num(key):
+        v = cols[key]
+        return np.asarray(v, dtype=float) if isinstance(v, list) else np.full(size, float(v))
+
+    def per(key, fn, dtype=bool):
+        """fn of each design's value (once when the value is shared by every design)."""
+        v = cols[key]
+        if isinstance(v, list):
+            return np.array([fn(x) for x in v], dtype=dtype)
+        return np.full(size, fn(v), dtype=dtype)
+
+    def num_or(key, fallback):
+        v = cols[key]
+        if v is None:
+            return fallback
+        if not isinstance(v, list):
+            return np.full(size, float(v))
+        return np.where(per(key, lambda x: x is not None), per(key, lambda x: 0.0 if x is None else x, float),
+                        fallback)
+
+    p = _Prepared()
+    p.size = size
+    r_h, r_b, e, c = (num(KEYS[k]) for k in ("outer", "inner", "eccentricity", "gap"))
+    p.auto = per("geometry.rollers", lambda r: r == "auto")
+    n_given = per("geometry.rollers", lambda r: 0 if r == "auto" else r, np.int64)
+    p.letter = per("geometry.scheme", lambda s: isinstance(s, str) and s in SCHEMES)
+    p.cycle = per("geometry.scheme", lambda s: s == "cycle")
+    p.scheme = per("geometry.scheme", lambda s: s if isinstance(s, str) else "angle", object)
+    parity = per("geometry.scheme", lambda s: z.SCHEME_PARITY.get(s, -1) if isinstance(s, str) else -1, np.int64)
+    mid_gap = per("geometry.scheme", lambda s: s in ("C", "D"))
+    theta_deg = per("geometry.scheme", lambda s: 0.0 if isinstance(s, str) else s, float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        n_star = z.fractional_roller_number(r_h, r_b, e, c)
+        n_auto = z.auto_roller_numbers(np.where(np.isfinite(n_star), n_star, 0.0), parity)
+    n = np.where(p.auto, n_auto, n_given)
+    p.chain = z.close_chains(r_h, r_b, e, c, n, per("geometry.correct", str, object))
+    clearance = num("load.clearance_mm")
+    # validity: the conditions of zstk.geometry_problems, the parity check, the clearance bound,
+    # z.auto_roller_number < 3, MAX_ROLLERS and zstk.chain_problems, element-wise
+    sqrt2 = np.sqrt(2.0)
+
+    def geometry_ok(r_h, r_b, e, c):
+        return ((r_b > 0) & (r_h > r_b) & (0 <= e) & (e < r_h - r_b) & (e < (r_h + r_b) / sqrt2)
+                & (0 <= c) & (c < 2 * r_b))
+
+    ch = p.chain
+    lim = ch.n_limit
+    with np.errstate(invalid="ignore"):
+        in_range = np.where(ch.correct == "gap", n <= lim + z.INTEGER_TOL,
+                            np.where(np.isfinite(lim), n < lim - z.INTEGER_TOL, True))
+        p.valid = (geometry_ok(r_h, r_b, e, c)
+                   & ~(~p.auto & (parity >= 0) & (n_given % 2 != parity))
+                   & (np.abs(clearance) < (r_h - r_b - e) / 2)
+                   & ~(p.auto & (n_auto < 3)) & (n <= MAX_ROLLERS) & (n >= 3) & in_range
+                   & geometry_ok(ch.outer_radius, ch.inner_radius, ch.eccentricity, ch.gap))
+    p.n = n
+    p.q = np.where(p.valid, ch.limiting_ratio if np.all(p.valid) else _masked_ratio(ch, p.valid), 0.0)
+    # the phase phi_0 of roller 0: scheme table (spec §4.2) or from the angle theta_0 (spec §4.3)
+    angle = ~p.letter & ~p.cycle
+    p.phase = np.where(p.letter, np.where(mid_gap, np.pi / np.maximum(n, 1), 0.0),
+                       np.where(angle, z.phi_of_theta(deg_to_rad(_remainder_360(theta_deg)), p.q), 0.0))
+    p.envelope = per("load.direction_deg", lambda v: v == "envelope")
+    p.gamma = deg_to_rad(_remainder_360(per("load.direction_deg", lambda v: 0.0 if isinstance(v, str) else v,
+                                            float)))
+    p.load, p.clearance = num("load.radial_N"), clearance
+    ring_e, ring_nu = num("material.ring_E_MPa"), num("material.ring_poisson")
+    p.mats = z.Materials.from_elastic(
+        num("geometry.roller_length_mm"), num("material.roller_E_MPa"), num("material.roller_poisson"),
+        num_or("material.inner_ring_E_MPa", ring_e), num_or("material.inner_ring_poisson", ring_nu),
+        num_or("material.outer_ring_E_MPa", ring_e), num_or("material.outer_ring_poisson", ring_nu))
+    p.allowable_default = per("material.allowable_stress_MPa", lambda v: v is None)
+    p.allowable = np.where(p.allowable_default, DEFAULT_ALLOWABLE_MPA,
+                           per("material.allowable_stress_MPa", lambda v: 0.0 if v is None else v, float))
+    return p
+
+
+def _masked_ratio(chain, valid):
+    """Limiting-point ratio q of the valid chains (0 elsewhere, where it may be undefined)."""
+    import numpy as np
+
+    from .. import zstk as z
+
+    q = np.zeros(valid.shape)
+    q[valid] = z.limiting_point_ratio(chain.outer_radius[valid], chain.inner_radius[valid],
+                                      chain.eccentricity[valid], chain.gap[valid])
+    return q
+
+
+def _remainder_360(x):
+    """math.remainder(x, 360) element-wise, exactly: x - 360 k, k the integer nearest to x/360 (ties even)."""
+    import numpy as np
+
+    r = x - 360.0 * np.round(x / 360.0)  # exact: |r| <= 180 and 360 k is a multiple of 8
+    r = np.where(r > 180.0, r - 360.0, r)  # x/360 rounded onto a tie: the nearest k is the other one
+    return np.where(r < -180.0, r + 360.0, r)
+
+
+def _take(obj, idx):
+    """A Chain or Materials of the designs ``idx`` (array attributes indexed; strings/objects too)."""
+    import dataclasses
+
+    import numpy as np
+
+    return type(obj)(*(np.asarray(getattr(obj, f.name))[idx] for f in dataclasses.fields(obj)))
+
+
+def _solve_stack(p: _Prepared, idx, options: Options, names, detail: bool):
+    """Solve the single-position designs ``idx`` of ``p`` (valid, not "cycle", not "envelope").
+
+    ``names``: the name of every design of ``p`` (a list indexed like ``p``), or one name for all.
+
+    Groups them by N, solves each group as one stack (G, N), and returns the summary columns
+    (dict field -> list, in ``idx`` order) and, with ``detail``, per design (warnings, failed, rows).
+    """
+    import numpy as np
+
+    from .. import zstk as z
+
+    model = options.model or "equilibrium"
+    fixed = model == "fixed-direction"
+    idx = np.asarray(idx)
+    ns = p.n[idx]
+    parts = []
+    for nn in np.unique(ns):
+        sub = idx[ns == nn]
+        nn = int(nn)
+        chain, mats = _take(p.chain, sub), _take(p.mats, sub)
+        theta = z.roller_angles(p.phase[sub], nn, p.q[sub])
+        theta0 = theta[:, 0]
+        gamma = p.gamma[sub]
+        # mirror-symmetric configurations (spec §5.1): a scheme with the load on the line of centres,
+        # or e = 0 with the load line through a roller or a mid-gap
+        k = (gamma - theta0) / (np.pi / nn)
+        symmetric = ((p.letter[sub] & (np.abs(np.sin(gamma)) < 1e-15))
+                     | ((chain.eccentricity == 0.0) & (np.abs(k - np.round(k)) < 1e-12)))
+        state = z.evaluate(chain, mats, theta, gamma, p.load[sub], p.clearance[sub], symmetric=symmetric,
+                           fixed_direction=fixed)
+        stepping = None
+        if model == "reference":
+            _, stepping = z.step_chain(theta0, nn, chain.outer_radius, chain.inner_radius, chain.eccentricity,
+                                       chain.gap)
+        out = _finish([names[i] for i in sub] if isinstance(names, list) else names, model, p.scheme[sub], chain,
+                      mats, state, theta0, gamma, p.load[sub], p.clearance[sub], symmetric,
+                      (p.allowable[sub], p.allowable_default[sub]), fixed, stepping=stepping, detail=detail)
+        parts.append((sub, out))
+    if len(parts) == 1:
+        return parts[0][1]
+    order = np.concatenate([sub for sub, _ in parts])
+    back = np.argsort(_positions(idx, order), kind="stable")
+    cols = {key: _gather([out[0][key] for _, out in parts], back) for key in parts[0][1][0]}
+    extra = None
+    if detail:
+        extra = _gather([out[1] for _, out in parts], back)
+    return cols, extra
+
+
+def _positions(idx, order):
+    """Position in ``idx`` of every element of ``order`` (a permutation of idx)."""
+    import numpy as np
+
+    where = np.empty(int(idx.max()) + 1, dtype=np.int64)
+    where[idx] = np.arange(idx.size)
+    return where[order]
+
+
+def _gather(lists, back):
+    """Concatenate lists and reorder them by the permutation ``back``."""
+    import operator
+
+    flat = [v for part in lists for v in part]
+    if len(flat) == 1:
+        return flat
+    return list(operator.itemgetter(*back.tolist())(flat))
+
+
+def _n_admissible_max(lim: float, correct: str):
+    """The largest admissible N (None: no limit); Python integers, exact for any size of the limit."""
+    if not math.isfinite(lim):
+        return None
+    if correct == "gap":
+        return math.floor(lim + 1e-9)
+    return int(math.ceil(lim - 1e-9) - 1)
+
+
+def _finish(names, model, schemes, chain, mats, state, theta0, gamma, load, clearance, symmetric, allowable,
+            fixed, sweeping=False, sweep_value=None, err_sweep=None, sweep_fields=None, stepping=None,
+            detail=True, envelope_rows=None, notes=()):
+    """Summary columns of G stacked designs from their solved state (arrays (G, N) and (G,)).
+
+    With ``detail``, also per design: (warnings, failed, detail rows).  ``sweeping`` marks a "cycle" or
+    "envelope" design (G = 1): ``sweep_value``, ``err_sweep`` and ``sweep_fields`` come from its sweeps,
+    ``envelope_rows`` holds its per-roller envelope columns (d_B, d_H, gamma_B, gamma_H) and ``notes`` the
+    warnings of its sweeps.
+    """
+    import numpy as np
+
+    from .. import hertz
+    from .. import zstk as z
+    from ..units import UM_PER_MM
+
+    size = theta0.shape[0]
+    smax, i_crit, contact = z.critical(state)
+    if sweep_value is not None:
+        smax = np.where(sweep_value > smax, sweep_value, smax)
+    sol = state.loads
+    shape = (size,)
+    residual, transverse = z.broadcast(sol.residual, shape), z.broadcast(sol.transverse, shape)
+    converged = z.broadcast(sol.converged, shape)
+    f_sum = np.sum(sol.force, axis=-1)
+    solver_residual = residual / (load + f_sum)
+    transverse_residual = transverse / load
+    if fixed:
+        along = np.sqrt(np.maximum(residual ** 2 - transverse ** 2, 0.0))
+        solver_residual = along / (load + f_sum)
+
+    def at_crit(a):
+        return np.take_along_axis(np.asarray(a), i_crit[:, None], axis=-1)[:, 0]
+
+    f_crit = np.where(contact == 0, at_crit(state.force_inner), at_crit(state.force_outer))
+    closed_form = symmetric & (clearance == 0.0) & (not sweeping)
+    resid_abs = residual if not fixed else solver_residual * (load + f_sum)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        err_solver = np.where(closed_form | ~(f_crit > 0), 0.0, 0.5 * smax * resid_abs / f_crit)
+    sigma_err = (0.0 if err_sweep is None else err_sweep) + err_solver
+    allow, default_allowable = allowable
+    passed = smax <= allow
+    cname = ["inner" if c == 0 else "outer" for c in contact.tolist()]
+    r_crit = at_crit(state.radius)
+    # the displacement (spec §11.3): |delta| along alpha + 180 degrees when delta < 0
+    delta = z.broadcast(sol.approach, shape)
+    alpha = z.broadcast(sol.alpha, shape)
+    neg = delta < 0
+    delta, alpha = np.where(neg, -delta, delta), np.where(neg, alpha + np.pi, alpha)
+    alpha_deg = np.mod(_deg(alpha), 360.0)
+    alpha_deg = np.where(alpha_deg >= 360.0, 0.0, alpha_deg)
+    n_adm = [_n_admissible_max(lim, corr) for lim, corr in zip(z.broadcast(chain.n_limit, shape).tolist(),
+                                                               z.broadcast(chain.correct, shape).tolist())]
+    with np.errstate(divide="ignore"):
+        safety = np.where(smax > 0, allow / np.where(smax > 0, smax, 1.0), 0.0).tolist()
+    positive = (smax > 0).tolist()
+    n = state.radius.shape[-1]
+
+    def col(v):
+        return z.broadcast(v, shape).tolist()
+
+    def nones():
+        return [None] * size
+
+    sweep_fields = sweep_fields or {}
+    cols = {
+        "name": names if isinstance(names, list) else [names] * size,
+        "model": [model] * size,
+        "scheme": schemes.tolist(),
+        "theta0_deg": col(_wrap_deg(theta0)),
+        "N": [n] * size,
+        "N_star": col(chain.n_star),
+        "N_admissible_max": n_adm,
+        "correction": col(chain.correct),
+        "outer_raceway_radius_mm": col(chain.outer_radius),
+        "inner_raceway_radius_mm": col(chain.inner_radius),
+        "roller_gap_mm": col(chain.gap),
+        "nominal_mm": col(chain.nominal),
+        "correction_mm": col(chain.corrected - chain.nominal),
+        "r_min_mm": col((chain.outer_radius - chain.inner_radius - chain.eccentricity) / 2),
+        "r_max_mm": col((chain.outer_radius - chain.inner_radius + chain.eccentricity) / 2),
+        "sigma_max_MPa": col(smax),
+        "sigma_max_err_MPa": col(sigma_err),
+        "sigma_max_contact": cname,
+        "sigma_max_roller": col(i_crit),
+        "sigma_max_angle_deg": col(_wrap_deg(at_crit(state.theta))),
+        "sigma_max_roller_radius_mm": col(r_crit),
+        "sigma_max_load_direction_deg": col(_wrap_deg(gamma)),
+        "allowable_stress_MPa": col(allow),
+        "allowable_stress_source": [DEFAULT_ALLOWABLE_SOURCE if d else "design" for d in default_allowable.tolist()],
+        "safety_factor": [v if ok else None for v, ok in zip(safety, positive)],
+        "pass": col(passed),
+        "approach_um": col(delta * UM_PER_MM),
+        "approach_direction_deg": col(alpha_deg),
+        "clearance_mm": col(clearance),
+        "loaded_rollers": col(np.count_nonzero(state.force_inner > 0, axis=-1)),
+        "solver_residual": col(solver_residual),
+        "transverse_residual": col(transverse_residual),
+        "phase_samples": [sweep_fields.get("phase_samples")] * size,
+        "phase_step_deg": [sweep_fields.get("phase_step_deg")] * size,
+        "direction_samples": [sweep_fields.get("direction_samples")] * size,
+        "direction_step_deg": [sweep_fields.get("direction_step_deg")] * size,
+        "stepping_residual_mm": nones() if stepping is None else col(stepping),
+    }
+    if not detail:
+        return cols, None
+
+    # ---- the per-roller table (with "envelope": each roller's maxima over the directions)
+    if envelope_rows is None:
+        d_b = d_h = {f: getattr(state, f) for f in ROLLER_FIELDS}
+        gam_b = gam_h = None
+    else:
+        d_b, d_h, gam_b, gam_h = envelope_rows
+    length, e_b, e_h = (np.reshape(np.asarray(x, dtype=float), (-1, 1)) for x in
+                        (mats.length, mats.e_star_inner, mats.e_star_outer))
+    f_b, f_h = d_b["force_inner"], d_h["force_outer"]
+    s_b, s_h = d_b["sigma_inner"], d_h["sigma_outer"]
+    rho_b, rho_h = d_b["rho_inner"], d_h["rho_outer"]
+    b_b = hertz.semi_width(f_b, length, rho_b, e_b)
+    b_h = hertz.semi_width(f_h, length, rho_h, e_h)
+    deg = np.degrees
+    table = {
+        "i": z.broadcast(np.arange(n), (size, n)),
+        "theta_deg": deg(z.wrap_angle(d_b["theta"])),
+        "r_mm": d_b["radius"],
+        "psi_deg": deg(d_b["psi"]),
+        "beta_deg": deg(d_b["beta"]),
+        "F_B_N": f_b,
+        "F_H_N": f_h,
+        "rho_B_mm": rho_b,
+        "rho_H_mm": rho_h,
+        "sigma_B_MPa": s_b,
+        "sigma_H_MPa": s_h,
+        "b_B_mm": b_b,
+        "b_H_mm": b_h,
+        "tau_max_B_MPa": hertz.max_subsurface_shear(s_b),
+        "tau_max_H_MPa": hertz.max_subsurface_shear(s_h),
+    }
+    if envelope_rows is not None:
+        table["gamma_B_deg"] = deg(z.wrap_angle(gam_b))
+        table["gamma_H_deg"] = deg(z.wrap_angle(gam_h))
+    else:
+        approach = (z.broadcast(sol.approach, shape)[:, None] * np.cos(state.normal_angle - z.broadcast(
+            sol.alpha, shape)[:, None]) - 0.5 * np.asarray(clearance, dtype=float)[:, None])
+        table["delta_um"] = approach * UM_PER_MM
+    keys = list(table)
+    flat = zip(*(z.broadcast(v, (size, n)).ravel().tolist() for v in table.values()))
+    rows_flat = [dict(zip(keys, vals)) for vals in flat]
+    worst = np.full(size, -np.inf)
+    for f, b, rho in ((f_b, b_b, rho_b), (f_h, b_h, rho_h)):
+        bad = (f > 0) & (b > B_OVER_RHO_LIMIT * rho)
+        worst = np.maximum(worst, np.max(np.where(bad, b / rho, -np.inf), axis=-1))
+
+    # ---- warnings and failed checks, per design (text only where there is something to say)
+    warn_solver = ~np.asarray(converged, dtype=bool)
+    warn_fixed = fixed & (transverse_residual > 1e-9)
+    fail_at = np.flatnonzero(~passed)
+    out = []
+    for g in range(size):
+        warnings = list(notes)
+        if warn_solver[g]:
+            why = (" (round-off floor: with clearance and so small a load the contact deflections approach the "
+                   "round-off of the roller positions, about 1e-16·clearance)" if clearance[g] > 0 else "")
+            warnings.append(f"the load solve reached a relative residual of {solver_residual[g]:.3g}, not the "
+                            f"target 1e-12·(Q + ΣF){why}; sigma_max_err_MPa includes it")
+        if warn_fixed[g]:
+            warnings.append(f"fixed-direction model: the rollers leave an unbalanced transverse force of "
+                            f"{100 * transverse_residual[g]:.3g} % of Q (use the default equilibrium model)")
+        if default_allowable[g]:
+            warnings.append(DEFAULT_ALLOWABLE_WARNING)
+        if np.isfinite(worst[g]):
+            warnings.append(f"a loaded contact has b/rho = {worst[g]:.3g} > {B_OVER_RHO_LIMIT}: Hertz's "
+                            "small-contact assumption is doubtful")
+        if stepping is not None and stepping[g] > 1e-9:
+            warnings.append(f"explicit stepping closes with a residual of {stepping[g]:.3g} mm (> 1e-9 mm)")
+        out.append([warnings, [], rows_flat[g * n:(g + 1) * n]])
+    for g in fail_at.tolist():
+        out[g][1].append(f"sigma_max_MPa = {smax[g]:.6g} > allowable_stress_MPa = {allow[g]:.6g} ({cname[g]} "
+                         f"contact of roller {i_crit[g]}, r = {r_crit[g]:.6g} mm)")
+    return cols, out
+
+
+def _result(cols, extra, j: int, model: str) -> Result:
+    warnings, failed, rows = extra[j]
+    return Result(summary={k: v[j] for k, v in cols.items()}, detail={"rollers": rows}, warnings=warnings,
+                  failed=failed, model=model)
+
+
+def _invalid(design):
+    """The DesignError of a design that :func:`_prepare` found invalid (the messages of :func:`check`)."""
+    _, found = _closed_chain(design)
+    if not found:  # _prepare and _closed_chain disagree: a bug
+        raise RuntimeError("zstk: the stacked validity check rejected a design that check() accepts")
+    return DesignError(*found[0])
+
+
 def compute(design, options: Options) -> Result:
-    """Close the chain, place it, share the load, and check the Hertz stresses (spec zstk.md)."""
+    """Close the chain, place it, share the load, and check the Hertz stresses (spec zstk.md).
+
+    A single-position design is a stack of one (:func:`_solve_stack`, the same code as ``batch`` and
+    ``sweep``); "cycle" and "envelope" designs run their phase and direction sweeps first.
+    """
+    p = _prepare(_design_columns([design]), 1)
+    if not p.valid[0]:
+        raise _invalid(design)
+    model = options.model or "equilibrium"
+    if p.cycle[0] or p.envelope[0]:
+        return _compute_sweeping(design, p, options)
+    cols, extra = _solve_stack(p, [0], options, [design.name], detail=True)
+    return _result(cols, extra, 0, model)
+
+
+def batch(designs, options: Options) -> list:
+    """Many validated designs at once (numpy over designs): one Result (or exception) per design.
+
+    The single-position designs are stacked by roller count N and solved together; "cycle" and
+    "envelope" designs (phase and direction sweeps of their own) are computed one by one.
+    Identical to :func:`compute` design by design.
+    """
+    import numpy as np
+
+    model = options.model or "equilibrium"
+    out: list = [None] * len(designs)
+    if not designs:
+        return out
+    p = _prepare(_design_columns(designs), len(designs))
+    stack = np.flatnonzero(p.valid & ~p.cycle & ~p.envelope)
+    for k in np.flatnonzero(~p.valid).tolist():
+        out[k] = _invalid(designs[k])
+    for k in np.flatnonzero(p.valid & (p.cycle | p.envelope)).tolist():
+        try:
+            out[k] = _compute_sweeping(designs[k], _prepare(_design_columns([designs[k]]), 1), options)
+        except Exception as exc:  # returned, not raised (the batch contract)
+            out[k] = exc
+    if stack.size:
+        cols, extra = _solve_stack(p, stack, options, [d.name for d in designs], detail=True)
+        for j, k in enumerate(stack.tolist()):
+            out[k] = _result(cols, extra, j, model)
+    return out
+
+
+def sweep(base, raw, axes, points, options):
+    """The summaries of a whole grid as columns (spec zstk.md §8: designs stacked by N).
+
+    Every grid point is a design of its own (any key may vary, the roller count N included); the
+    points are validated element-wise with the arithmetic of :func:`check` and solved in stacks of
+    the same N, exactly as :func:`compute` would solve each.  A point that is not a valid design
+    raises the DesignError that the point on its own gives, naming the key, the constraint and the
+    point.  Grids with "cycle" or "envelope" points return None (evaluated point by point: each
+    such point runs adaptive sweeps of its own).
+    """
+    import numpy as np
+
+    size = len(points)
+    cols = {}
+    for t in TABLES:
+        for f in t.fields:
+            key = f"{t.name}.{f.name}"
+            cols[key] = base.values[t.name][f.name]
+    for key in axes:
+        table, _, name = key.partition(".")
+        field = next((t.field(name) for t in TABLES if t.name == table), None)
+        if field is None:
+            return None
+        resolved = {}
+        for v in axes[key]:
+            resolved[_hashable(v)] = check_value(field, v)[0]
+        cols[key] = [resolved[_hashable(pt[key])] for pt in points]
+    p = _prepare(cols, size)
+    if not np.all(p.valid):
+        k = int(np.argmax(~p.valid))
+        key, msg = _point_problem(raw, base, points[k])
+        raise DesignError(key, f"{msg} (at {points[k]})")
+    if np.any(p.cycle | p.envelope):
+        return None
+    out, _ = _solve_stack(p, np.arange(size), options, base.name, detail=False)
+    return out
+
+
+def _hashable(v):
+    return tuple(v) if isinstance(v, list) else (type(v).__name__, v)
+
+
+def check_value(field, value):
+    from ..design import check_value as cv
+
+    return cv(field, value)
+
+
+def _point_problem(raw, base, point):
+    """(dotted key, message) of the first problem of one grid point, as ``gearcalc zstk`` reports it."""
+    import copy
+
+    from ..design import InputError, apply_set, validate
+
+    trial = copy.deepcopy(raw)
+    apply_set(trial, list(point.items()))
+    try:
+        design = validate(trial, base.source)
+    except InputError:
+        design = None
+    if design is None:  # the check hook's problems (validate prefixes them with the file name)
+        from ..design import Design
+
+        values = {t: dict(v) for t, v in base.values.items()}
+        for k, v in point.items():
+            table, _, name = k.partition(".")
+            field = next(t.field(name) for t in TABLES if t.name == table)
+            values[table][name] = check_value(field, v)[0]
+        design = Design(kind=base.kind, name=base.name, source=base.source, values=values)
+    _, found = _closed_chain(design)
+    if not found:
+        raise RuntimeError(f"zstk sweep: the stacked validity check rejected the point {point}, which check() accepts")
+    return found[0]
+
+
+def _one(obj):
+    """A Chain or Materials of one design with float attributes (from arrays of shape (1,))."""
+    import dataclasses
+
+    import numpy as np
+
+    vals = []
+    for f in dataclasses.fields(obj):
+        v = np.asarray(getattr(obj, f.name)).reshape(-1)[0]
+        vals.append(v.item() if hasattr(v, "item") else v)
+    return type(obj)(*vals)
+
+
+def _compute_sweeping(design, p, options: Options) -> Result:
+    """A "cycle" (phase) and/or "envelope" (direction) design: adaptive sweeps (spec §8), then the summary."""
     import numpy as np
 
     from .. import zstk as z
     from ..roots import minimize_golden
-    from ..units import UM_PER_MM, deg_to_rad
+    from ..units import deg_to_rad
 
     model = options.model or "equilibrium"
-    chain, found = _closed_chain(design)
-    if chain is None:
-        key, msg = found[0]
-        raise DesignError(key, msg)
-    mats = _materials(design)
-    load = float(design["load.radial_N"])
-    clearance = float(design["load.clearance_mm"])
+    chain, mats = _one(p.chain), _one(p.mats)
+    load, clearance = float(p.load[0]), float(p.clearance[0])
     scheme = design["geometry.scheme"]
     direction = design["load.direction_deg"]
     envelope = direction == "envelope"
@@ -199,7 +728,7 @@ def compute(design, options: Options) -> Result:
     grid_factor = 8 if ref else 1
     refine_rtol = 1e-12 if ref else 0.01 * math.sqrt(tol)  # see zstk.maximise_periodic
     n, q = chain.n, chain.limiting_ratio
-    warnings: list[str] = []
+    notes: list[str] = []
 
     def sigma_max(phase, gamma):
         """sigma_max of each (phase, direction) configuration, evaluated in chunks (bounded memory)."""
@@ -256,14 +785,11 @@ def compute(design, options: Options) -> Result:
         phase = sw.x
         err_sweep += sw.err
         sweep_fields["phase_samples"] = sw.samples
-        sweep_fields["phase_step_deg"] = _deg(sw.step)
-        _note_cap(sw, "phase", "pitch", warnings)
-    elif isinstance(scheme, str):
-        phase = z.scheme_phase(scheme, n)
+        sweep_fields["phase_step_deg"] = float(_deg(sw.step))
+        _note_cap(sw, "phase", "pitch", notes)
     else:
-        phase = float(z.phi_of_theta(deg_to_rad(math.remainder(float(scheme), 360.0)), q))
+        phase = float(p.phase[0])
     theta = z.roller_angles(phase, n, q)
-    theta0 = float(theta[0])
 
     # ---- the direction
     if envelope:
@@ -272,242 +798,87 @@ def compute(design, options: Options) -> Result:
         gamma = sw.x
         err_sweep += sw.err
         sweep_fields["direction_samples"] = sw.samples
-        sweep_fields["direction_step_deg"] = _deg(sw.step)
-        _note_cap(sw, "direction", "turn", warnings)
-        sweep_value = sw.value
+        sweep_fields["direction_step_deg"] = float(_deg(sw.step))
+        _note_cap(sw, "direction", "turn", notes)
+        sweep_value = np.array([sw.value])
     else:
-        gamma = float(deg_to_rad(math.remainder(direction, 360.0)))
+        gamma = float(p.gamma[0])
         sweep_value = None
 
-    symmetric = False
-    if not (cycle or envelope):
-        on_line = abs(math.sin(gamma)) < 1e-15  # gamma = 0 or 180 degrees
-        if isinstance(scheme, str) and on_line:
-            symmetric = True
-        elif chain.eccentricity == 0.0:
-            k = (gamma - theta0) / (math.pi / n)
-            symmetric = abs(k - round(k)) < 1e-12
-    state = z.evaluate(chain, mats, theta, gamma, load, clearance, symmetric=symmetric, fixed_direction=fixed)
-    crit = z.critical(state)
-    smax, i_crit, contact = float(crit[0]), int(crit[1]), int(crit[2])
-    if sweep_value is not None and sweep_value > smax:
-        smax = sweep_value
-    sol = state.loads
-    f_sum = float(np.sum(sol.force))
-    solver_residual = float(sol.residual) / (load + f_sum)
-    transverse_residual = float(sol.transverse) / load
-    if fixed:
-        along = math.sqrt(max(float(sol.residual) ** 2 - float(sol.transverse) ** 2, 0.0))
-        solver_residual = along / (load + f_sum)
-    if not bool(np.all(sol.converged)):
-        why = (" (round-off floor: with clearance and so small a load the contact deflections approach the "
-               "round-off of the roller positions, about 1e-16·clearance)" if clearance > 0 else "")
-        warnings.append(f"the load solve reached a relative residual of {solver_residual:.3g}, not the "
-                        f"target 1e-12·(Q + ΣF){why}; sigma_max_err_MPa includes it")
-    if fixed and transverse_residual > 1e-9:
-        warnings.append(f"fixed-direction model: the rollers leave an unbalanced transverse force of "
-                        f"{100 * transverse_residual:.3g} % of Q (use the default equilibrium model)")
-    f_crit = float((state.force_inner if contact == 0 else state.force_outer)[i_crit])
-    closed_form = symmetric and clearance == 0.0 and not (cycle or envelope)
-    if closed_form:
-        err_solver = 0.0
-    else:
-        resid_abs = float(sol.residual) if not fixed else solver_residual * (load + f_sum)
-        err_solver = 0.5 * smax * resid_abs / f_crit if f_crit > 0 else 0.0
-    sigma_err = err_sweep + err_solver
-
-    # ---- strength check
-    allowable = design.get("material.allowable_stress_MPa")
-    if allowable is None:
-        allowable, source = DEFAULT_ALLOWABLE_MPA, DEFAULT_ALLOWABLE_SOURCE
-        warnings.append(f"no material.allowable_stress_MPa: checked against {DEFAULT_ALLOWABLE_MPA:g} MPa "
-                        f"({DEFAULT_ALLOWABLE_SOURCE}), a static (permanent-deformation) reference, "
-                        "not an endurance allowable")
-    else:
-        source = "design"
-    allowable = float(allowable)
-    passed = smax <= allowable
-    cname = "inner" if contact == 0 else "outer"
-    failed = [] if passed else [
-        (f"sigma_max_MPa = {smax:.6g} > allowable_stress_MPa = {allowable:.6g} ({cname} contact of roller "
-        f"{i_crit}, r = {float(state.radius[i_crit]):.6g} mm)")]
-
-    # ---- displacement (spec §11.3)
-    delta, alpha = float(sol.approach), float(sol.alpha)
-    if delta < 0:
-        delta, alpha = -delta, alpha + math.pi
-    alpha_deg = _deg(alpha) % 360.0
-    if alpha_deg >= 360.0:
-        alpha_deg = 0.0
-
-    # ---- detail
-    rows, b_checks = _detail_rows(chain, mats, state, load, clearance, fixed, envelope, refine_rtol,
-                                  sweep_fields["direction_samples"])
-    if any(b_checks):
-        worst = max(b_checks)
-        warnings.append(f"a loaded contact has b/rho = {worst:.3g} > {B_OVER_RHO_LIMIT}: Hertz's small-contact "
-                        "assumption is doubtful")
-
+    state = z.evaluate(chain, mats, theta[None, :], np.array([gamma]), load, clearance, fixed_direction=fixed)
     stepping = None
     if ref:
-        _, res = z.step_chain(theta0, n, chain.outer_radius, chain.inner_radius, chain.eccentricity, chain.gap)
-        stepping = float(res)
-        if stepping > 1e-9:
-            warnings.append(f"explicit stepping closes with a residual of {stepping:.3g} mm (> 1e-9 mm)")
-
-    r_all = state.radius
-    summary = {
-        "name": design.name,
-        "model": model,
-        "scheme": scheme if isinstance(scheme, str) else "angle",
-        "theta0_deg": _wrap_deg(theta0),
-        "N": n,
-        "N_star": chain.n_star,
-        "N_admissible_max": _n_admissible_max(chain),
-        "correction": chain.correct,
-        "outer_raceway_radius_mm": chain.outer_radius,
-        "inner_raceway_radius_mm": chain.inner_radius,
-        "roller_gap_mm": chain.gap,
-        "nominal_mm": chain.nominal,
-        "correction_mm": chain.corrected - chain.nominal,
-        "r_min_mm": (chain.outer_radius - chain.inner_radius - chain.eccentricity) / 2,
-        "r_max_mm": (chain.outer_radius - chain.inner_radius + chain.eccentricity) / 2,
-        "sigma_max_MPa": smax,
-        "sigma_max_err_MPa": sigma_err,
-        "sigma_max_contact": cname,
-        "sigma_max_roller": i_crit,
-        "sigma_max_angle_deg": _wrap_deg(float(state.theta[i_crit])),
-        "sigma_max_roller_radius_mm": float(r_all[i_crit]),
-        "sigma_max_load_direction_deg": _wrap_deg(gamma),
-        "allowable_stress_MPa": allowable,
-        "allowable_stress_source": source,
-        "safety_factor": allowable / smax if smax > 0 else None,
-        "pass": passed,
-        "approach_um": delta * UM_PER_MM,
-        "approach_direction_deg": alpha_deg,
-        "clearance_mm": clearance,
-        "loaded_rollers": int(np.count_nonzero(state.force_inner > 0)),
-        "solver_residual": solver_residual,
-        "transverse_residual": transverse_residual,
-        **sweep_fields,
-        "stepping_residual_mm": stepping,
-    }
-    return Result(summary=summary, detail={"rollers": rows}, warnings=warnings, failed=failed, model=model)
+        _, res = z.step_chain(theta[0], n, chain.outer_radius, chain.inner_radius, chain.eccentricity, chain.gap)
+        stepping = np.array([float(res)])
+    rows = None
+    if envelope:
+        rows = _envelope_quantities(chain, mats, theta, load, clearance, fixed, refine_rtol,
+                                    sweep_fields["direction_samples"])
+    cols, extra = _finish([design.name], model, p.scheme[:1], p.chain, p.mats, state, theta[:1], np.array([gamma]),
+                          np.array([load]), np.array([clearance]), np.array([False]),
+                          (p.allowable[:1], p.allowable_default[:1]), fixed,
+                          sweeping=True, sweep_value=sweep_value, err_sweep=np.array([err_sweep]),
+                          sweep_fields=sweep_fields, stepping=stepping, detail=True, envelope_rows=rows, notes=notes)
+    return _result(cols, extra, 0, model)
 
 
-def _n_admissible_max(chain):
-    lim = chain.n_limit
-    if not math.isfinite(lim):
-        return None
-    if chain.correct == "gap":
-        return math.floor(lim + 1e-9)
-    return int(math.ceil(lim - 1e-9) - 1)
-
-
-def _detail_rows(chain, mats, state, load, clearance, fixed, envelope, refine_rtol, direction_samples):
-    """Per-roller table (with ``envelope``: each roller's maxima over the load directions, refined by
-    golden section from the final direction grid); and the b/rho ratios of the loaded contacts."""
+def _envelope_quantities(chain, mats, theta, load, clearance, fixed, refine_rtol, direction_samples):
+    """Each roller's maxima over the load directions (spec §5.3): grid maxima on the final direction grid,
+    refined by golden section (up to REFINE_ROWS_MAX_N rollers); returns (d_B, d_H, gamma_B, gamma_H),
+    the roller quantities at each roller's own critical direction, arrays of shape (1, N)."""
     import numpy as np
 
-    from .. import hertz
     from .. import zstk as z
     from ..roots import minimize_golden
-    from ..units import UM_PER_MM
 
     n = chain.n
-    theta = state.theta
-    fields = ("theta", "radius", "beta", "psi", "force_inner", "force_outer", "rho_inner", "rho_outer",
-              "sigma_inner", "sigma_outer")
 
     def diagonal(gams):
         """Roller i's quantities at load direction gams[i] (chunks of rollers, bounded memory)."""
-        out = {f: np.empty(n) for f in fields}
+        out = {f: np.empty(n) for f in ROLLER_FIELDS}
         step_n = max(1, CHUNK_ELEMENTS // n)
         for k in range(0, n, step_n):
             g = gams[k:k + step_n]
             st = z.evaluate(chain, mats, np.broadcast_to(theta, (g.size, n)), g, load, clearance,
                             fixed_direction=fixed)
             rows = np.arange(g.size)
-            for f in fields:
+            for f in ROLLER_FIELDS:
                 out[f][k:k + g.size] = getattr(st, f)[rows, k + rows]
-        return out
+        return {f: v[None, :] for f, v in out.items()}
 
-    if not envelope:
-        d_b = d_h = {f: np.asarray(getattr(state, f)) for f in fields}
-        gam_b = gam_h = None
+    m = direction_samples or GRID_DIRECTION
+    grid = 2 * np.pi * np.arange(m) / m
+    best = np.full((2, n), -1.0)
+    arg = np.zeros((2, n), dtype=int)
+    step_m = max(1, CHUNK_ELEMENTS // n)
+    for k in range(0, m, step_m):  # running per-roller maxima over the direction grid
+        g = grid[k:k + step_m]
+        st = z.evaluate(chain, mats, np.broadcast_to(theta, (g.size, n)), g, load, clearance,
+                        fixed_direction=fixed)
+        for c, sig in enumerate((st.sigma_inner, st.sigma_outer)):
+            j = np.argmax(sig, axis=0)
+            v = sig[j, np.arange(n)]
+            better = v > best[c]
+            best[c] = np.where(better, v, best[c])
+            arg[c] = np.where(better, k + j, arg[c])
+    centre = np.concatenate([grid[arg[0]], grid[arg[1]]])
+    if n <= REFINE_ROWS_MAX_N:
+        step = 2 * np.pi / m
+        pick = np.concatenate([np.arange(n), np.arange(n)])
+        contact = np.repeat([0, 1], n)
+        th2 = np.broadcast_to(theta, (2 * n, n))
+
+        def neg(g):
+            s = z.evaluate(chain, mats, th2, g, load, clearance, fixed_direction=fixed)
+            rows = np.arange(2 * n)
+            return -np.where(contact == 0, s.sigma_inner[rows, pick], s.sigma_outer[rows, pick])
+
+        r = minimize_golden(neg, centre - step, centre + step, rtol=refine_rtol, xtol=refine_rtol * 2 * np.pi)
+        g_best = np.where(-r.fun >= best.ravel(), r.x, centre)
     else:
-        m = direction_samples or GRID_DIRECTION
-        grid = 2 * np.pi * np.arange(m) / m
-        best = np.full((2, n), -1.0)
-        arg = np.zeros((2, n), dtype=int)
-        step_m = max(1, CHUNK_ELEMENTS // n)
-        for k in range(0, m, step_m):  # running per-roller maxima over the direction grid
-            g = grid[k:k + step_m]
-            st = z.evaluate(chain, mats, np.broadcast_to(theta, (g.size, n)), g, load, clearance,
-                            fixed_direction=fixed)
-            for c, sig in enumerate((st.sigma_inner, st.sigma_outer)):
-                j = np.argmax(sig, axis=0)
-                v = sig[j, np.arange(n)]
-                better = v > best[c]
-                best[c] = np.where(better, v, best[c])
-                arg[c] = np.where(better, k + j, arg[c])
-        centre = np.concatenate([grid[arg[0]], grid[arg[1]]])
-        if n <= REFINE_ROWS_MAX_N:
-            step = 2 * np.pi / m
-            pick = np.concatenate([np.arange(n), np.arange(n)])
-            contact = np.repeat([0, 1], n)
-            th2 = np.broadcast_to(theta, (2 * n, n))
-
-            def neg(g):
-                s = z.evaluate(chain, mats, th2, g, load, clearance, fixed_direction=fixed)
-                rows = np.arange(2 * n)
-                return -np.where(contact == 0, s.sigma_inner[rows, pick], s.sigma_outer[rows, pick])
-
-            r = minimize_golden(neg, centre - step, centre + step, rtol=refine_rtol, xtol=refine_rtol * 2 * np.pi)
-            g_best = np.where(-r.fun >= best.ravel(), r.x, centre)
-        else:
-            g_best = centre
-        gam_b, gam_h = g_best[:n], g_best[n:]
-        d_b, d_h = diagonal(gam_b), diagonal(gam_h)
-
-    f_b, f_h = d_b["force_inner"], d_h["force_outer"]
-    s_b, s_h = d_b["sigma_inner"], d_h["sigma_outer"]
-    rho_b, rho_h = d_b["rho_inner"], d_h["rho_outer"]
-    b_b = hertz.semi_width(f_b, mats.length, rho_b, mats.e_star_inner)
-    b_h = hertz.semi_width(f_h, mats.length, rho_h, mats.e_star_outer)
-    deg = np.degrees
-    cols = {
-        "i": np.arange(n),
-        "theta_deg": deg(z.wrap_angle(d_b["theta"])),
-        "r_mm": d_b["radius"],
-        "psi_deg": deg(d_b["psi"]),
-        "beta_deg": deg(d_b["beta"]),
-        "F_B_N": f_b,
-        "F_H_N": f_h,
-        "rho_B_mm": rho_b,
-        "rho_H_mm": rho_h,
-        "sigma_B_MPa": s_b,
-        "sigma_H_MPa": s_h,
-        "b_B_mm": b_b,
-        "b_H_mm": b_h,
-        "tau_max_B_MPa": hertz.max_subsurface_shear(s_b),
-        "tau_max_H_MPa": hertz.max_subsurface_shear(s_h),
-    }
-    if envelope:
-        cols["gamma_B_deg"] = deg(z.wrap_angle(gam_b))
-        cols["gamma_H_deg"] = deg(z.wrap_angle(gam_h))
-    else:
-        nb = np.asarray(state.normal_angle)
-        approach = float(state.loads.approach) * np.cos(nb - float(state.loads.alpha)) - 0.5 * clearance
-        cols["delta_um"] = approach * UM_PER_MM
-    lists = {k: np.asarray(v).tolist() for k, v in cols.items()}
-    rows = [{k: lists[k][j] for k in cols} for j in range(n)]
-    ratios = []
-    for f, b, rho in ((f_b, b_b, rho_b), (f_h, b_h, rho_h)):
-        bad = (f > 0) & (b > B_OVER_RHO_LIMIT * rho)
-        if np.any(bad):
-            ratios.append(float(np.max((b / rho)[bad])))
-    return rows, ratios
+        g_best = centre
+    gam_b, gam_h = g_best[:n], g_best[n:]
+    return diagonal(gam_b), diagonal(gam_h), gam_b[None, :], gam_h[None, :]
 
 
 def plot(records, path: str) -> None:
@@ -561,9 +932,11 @@ def plot(records, path: str) -> None:
 CALCULATOR = Calculator(
     kind="zstk",
     title="closed rolling-body mechanism (eccentric ZSTK, leading inner ring)",
-    tables=(GEOMETRY, LOAD, MATERIAL),
+    tables=TABLES,
     compute=compute,
     check=check,
+    sweep=sweep,
+    batch=batch,
     models=MODELS,
     plot=plot,
     header=("Merko et al. (seed 003): rollers of different diameters between an outer raceway (R_H) and an\n"
