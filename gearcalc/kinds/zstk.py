@@ -919,12 +919,15 @@ def plot(records, path: str) -> None:
             cx, cy = (r_h - ri) * np.cos(ti), (r_h - ri) * np.sin(ti)
             crit = k == s["sigma_max_roller"]
             ax2.fill(cx + ri * np.cos(t), cy + ri * np.sin(t), color="tab:red" if crit else "tab:blue", alpha=0.35)
-            ax2.text(cx, cy, str(k), ha="center", va="center", fontsize=7)
+            f_b = rows[k].get("F_B_N")
+            load = f"\n{f_b:,.0f} N" if f_b and f_b >= 1 else f"\n{f_b:.2g} N" if f_b else ""  # load F_iB
+            ax2.text(cx, cy, f"{k}{load}", ha="center", va="center", fontsize=7)
         g = np.radians(s["sigma_max_load_direction_deg"])
         ax2.annotate("", xy=(e + 0.8 * r_b * np.cos(g), 0.8 * r_b * np.sin(g)), xytext=(e, 0.0),
                      arrowprops={"arrowstyle": "->", "color": "tab:red", "lw": 1.5})
         ax2.set_aspect("equal")
-        ax2.set_title("chain (narrowest gap at +x); arrow: load on the inner ring", fontsize=9)
+        ax2.set_title("chain (narrowest gap at +x): roller index and load F_iB [N]\n"
+                      "arrow: the load on the inner ring; red: the critical roller", fontsize=9)
         ax2.axis("off")
     save(fig, path)
 
