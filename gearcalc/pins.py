@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import units
+from .arrays import unique_sorted
 from .quadrature import QuadResult, geometric_breakpoints, integrate_pieces
 
 PAPER_PI = 3.14
@@ -831,7 +832,7 @@ def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.nd
     if psi_0 is not None and psi_0 < psi_star:
         c0 = psi_0 * g.z2 / (2.0 * math.pi)
         pts.append(c0 - math.floor(c0))
-    pts = np.unique(np.array(pts))
+    pts = unique_sorted(np.array(pts))
     extra = []
     if g.one_minus_K1 < 0.01:
         extra.append(geometric_breakpoints(0.0, 1.0, g.one_minus_K1 * g.z2 / (2.0 * math.pi)))
@@ -839,7 +840,7 @@ def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.nd
     for lo, hi in zip(a[_loaded_count(0.5 * (a + b), c) == 1], b[_loaded_count(0.5 * (a + b), c) == 1]):
         if lo > 0.0:
             extra.append(geometric_breakpoints(lo, hi, lo))
-    return np.unique(np.concatenate([pts, *extra]))
+    return unique_sorted(np.concatenate([pts, *extra]))
 
 
 def _exit_count(g, psi_star):
@@ -1021,7 +1022,7 @@ def disc_sum_peak(phase, values, n_d: int):
     order = np.argsort(x, kind="stable")
     x, val = x[order], val[order]
     shifts = -2.0 * np.pi * np.arange(n_d) / n_d
-    pts = np.unique(np.concatenate([np.mod(x - s, 2.0 * np.pi) for s in shifts]))
+    pts = unique_sorted(np.concatenate([np.mod(x - s, 2.0 * np.pi) for s in shifts]))
     tot = np.zeros_like(pts)
     for s in shifts:  # a handful of discs; vectorised over the samples
         tot += np.interp(np.mod(pts + s, 2.0 * np.pi), x, val, left=0.0, right=0.0)

@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import pins
+from .arrays import unique_sorted
 from .pins import MULTIPLIER, REDUCER, Cycloid
 from .quadrature import QuadResult, geometric_breakpoints, integrate_piecewise, sign_change_breakpoints
 from .roots import bisect, find_root, minimize_golden
@@ -797,7 +798,7 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6)
 
 def _merge(points, gap):
     """Sorted unique points with neighbours closer than ``gap`` merged (the ends of the range kept)."""
-    x = np.unique(points)
+    x = unique_sorted(points)
     if x.size <= 2:
         return x
     keep = np.concatenate(([True], np.diff(x) > gap))

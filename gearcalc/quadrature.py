@@ -30,6 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .arrays import unique_sorted
 from .roots import bisect
 
 
@@ -208,7 +209,7 @@ def integrate_piecewise(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, 
     ----------
     pins.md §6 and §12.6 (rule, error estimate, adaptivity).
     """
-    edges = np.unique(np.asarray(breakpoints, dtype=float))
+    edges = unique_sorted(np.asarray(breakpoints, dtype=float))
     if edges.size < 2:
         raise ValueError("integrate_piecewise needs at least two distinct breakpoints")
     length = edges[1:] - edges[:-1]

@@ -380,6 +380,8 @@ def sweep(base, raw, axes, points, options):
     """
     import numpy as np
 
+    from ..arrays import unique_sorted
+
     from .. import rows as R
     from ..roots import minimize_golden
 
@@ -444,7 +446,7 @@ def sweep(base, raw, axes, points, options):
     K_row_step = np.ones(P, int)
     model = options.model or "stepwise"
     unloaded = [[] for _ in range(P)]
-    for nn in np.unique(n):
+    for nn in unique_sorted(n):
         idx = np.flatnonzero(n == nn)
         u, ok = R.stepwise_shares(kappa[idx], bbar[idx], int(nn))
         ue, pk = R.exact_shares(kappa[idx], bbar[idx], int(nn))

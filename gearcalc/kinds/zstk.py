@@ -310,6 +310,8 @@ def _solve_stack(p: _Prepared, idx, options: Options, names, detail: bool):
     """
     import numpy as np
 
+    from ..arrays import unique_sorted
+
     from .. import zstk as z
 
     model = options.model or "equilibrium"
@@ -317,7 +319,7 @@ def _solve_stack(p: _Prepared, idx, options: Options, names, detail: bool):
     idx = np.asarray(idx)
     ns = p.n[idx]
     parts = []
-    for nn in np.unique(ns):
+    for nn in unique_sorted(ns):
         sub = idx[ns == nn]
         nn = int(nn)
         chain, mats = _take(p.chain, sub), _take(p.mats, sub)
