@@ -9,7 +9,6 @@ crank-angle and contact detail tables.  Each test names the spec section (/work/
 """
 import copy
 import math
-import numbers
 import operator
 
 import numpy as np
@@ -20,6 +19,7 @@ from hypothesis import strategies as st
 from gearcalc import registry
 from gearcalc.calculator import DesignError, Options
 from gearcalc.design import validate
+from props_common import assert_all_finite
 
 CALC = registry.get("pins")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}
@@ -28,31 +28,6 @@ CONTACT = settings(max_examples=3, deadline=None, derandomize=True)
 
 
 # ------------------------------------------------------------------ helpers
-def _finite_or_none(value, where):
-    """Every number in an output is finite; None marks an undefined value (interface.md "Output")."""
-    if value is None or isinstance(value, (bool, str)):
-        return
-    if isinstance(value, numbers.Real):
-        assert math.isfinite(value), f"{where} = {value!r} is not finite"
-        return
-    if isinstance(value, (list, tuple)):
-        for k, v in enumerate(value):
-            _finite_or_none(v, f"{where}[{k}]")
-        return
-    if isinstance(value, dict):
-        for k, v in value.items():
-            _finite_or_none(v, f"{where}.{k}")
-        return
-    raise AssertionError(f"{where} = {value!r}: unexpected type {type(value).__name__}")
-
-
-def assert_all_finite(result):
-    _finite_or_none(result.summary, "summary")
-    for name, rows in result.detail.items():
-        for j, row in enumerate(rows):
-            _finite_or_none(row, f"detail.{name}[{j}]")
-
-
 ADMISSIBILITY_KEYS = ("gearing.satellite_teeth", "gearing.pin_radius_mm")
 
 

@@ -9,7 +9,6 @@ Each test names the spec section (/work/shared/spec/zstk.md) its property comes 
 """
 import copy
 import math
-import numbers
 import operator
 
 import numpy as np
@@ -21,6 +20,7 @@ from gearcalc import registry
 from gearcalc import zstk as z
 from gearcalc.calculator import Options
 from gearcalc.design import validate
+from props_common import assert_all_finite
 
 CALC = registry.get("zstk")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}
@@ -31,31 +31,6 @@ STEEL = (2.1e5, 0.3)
 
 
 # ------------------------------------------------------------------ helpers
-def _finite_or_none(value, where):
-    """Every number in an output is finite; None marks an undefined value (interface.md "Output")."""
-    if value is None or isinstance(value, (bool, str)):
-        return
-    if isinstance(value, numbers.Real):
-        assert math.isfinite(value), f"{where} = {value!r} is not finite"
-        return
-    if isinstance(value, (list, tuple)):
-        for k, v in enumerate(value):
-            _finite_or_none(v, f"{where}[{k}]")
-        return
-    if isinstance(value, dict):
-        for k, v in value.items():
-            _finite_or_none(v, f"{where}.{k}")
-        return
-    raise AssertionError(f"{where} = {value!r}: unexpected type {type(value).__name__}")
-
-
-def assert_all_finite(result):
-    _finite_or_none(result.summary, "summary")
-    for name, rows in result.detail.items():
-        for j, row in enumerate(rows):
-            _finite_or_none(row, f"detail.{name}[{j}]")
-
-
 def run(raw, model=None, detail=True, tol=1e-6):
     design = validate(copy.deepcopy(raw), "<hyp>")
     return CALC.compute(design, Options(tol=tol, model=model, detail=detail))
