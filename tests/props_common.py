@@ -27,3 +27,21 @@ def assert_all_finite(result):
     for name, rows in result.detail.items():
         for j, row in enumerate(rows):
             _finite_or_none(row, f"detail.{name}[{j}]")
+
+
+def in_schema(raw):
+    """The generator only writes keys of the schema, with values the loader's own field check accepts
+    (types, words, bounds): guards the strategies against drifting from the schema."""
+    from gearcalc import registry
+    from gearcalc.design import check_value
+
+    calc = registry.get(raw["kind"])
+    for table, vals in raw.items():
+        if table in ("kind", "name"):
+            continue
+        for key, v in vals.items():
+            field = calc.table(table).field(key)
+            assert field is not None, (table, key)
+            _, problem = check_value(field, v)
+            assert problem is None, (table, key, v, problem)
+    return raw

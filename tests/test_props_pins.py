@@ -9,7 +9,6 @@ crank-angle and contact detail tables.  Each test names the spec section (/work/
 """
 import copy
 import math
-import operator
 
 import numpy as np
 import pytest
@@ -19,7 +18,7 @@ from hypothesis import strategies as st
 from gearcalc import registry
 from gearcalc.calculator import DesignError, Options
 from gearcalc.design import validate
-from props_common import assert_all_finite
+from props_common import assert_all_finite, in_schema
 
 CALC = registry.get("pins")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}
@@ -41,19 +40,6 @@ def run(raw, model=None, detail=True, tol=1e-6):
         if exc.key in ADMISSIBILITY_KEYS:
             reject()
         raise
-
-
-def in_schema(raw):
-    """The generator only writes keys of the schema, inside the schema's bounds (guards against drift)."""
-    for table, vals in raw.items():
-        if table in ("kind", "name"):
-            continue
-        for key, v in vals.items():
-            f = SCHEMA[table][key]
-            if isinstance(v, (int, float)) and not isinstance(v, bool):
-                for bound, op in ((f.gt, operator.gt), (f.ge, operator.ge), (f.lt, operator.lt), (f.le, operator.le)):
-                    assert bound is None or op(v, bound), (table, key, v)
-    return raw
 
 
 # ------------------------------------------------------------------ the design strategy

@@ -9,7 +9,6 @@ every model level, with and without ``--detail``.  Each test names the spec sect
 """
 import copy
 import math
-import operator
 
 import numpy as np
 import pytest
@@ -20,7 +19,7 @@ from gearcalc import registry
 from gearcalc import rows as R
 from gearcalc.calculator import Options
 from gearcalc.design import validate
-from props_common import assert_all_finite
+from props_common import assert_all_finite, in_schema
 
 CALC = registry.get("rows")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}
@@ -44,19 +43,6 @@ def geometry(raw):
     b_w = r["relative_width"] * d_a / (n + bbar * (n - 1))
     alpha = math.radians(g.get("pressure_angle_deg", 20.0))
     return d_a, b_w, bbar, 0.5 * d_a * math.cos(alpha)
-
-
-def in_schema(raw):
-    """The generator only writes keys of the schema, inside the schema's bounds (guards against drift)."""
-    for table, vals in raw.items():
-        if table in ("kind", "name"):
-            continue
-        for key, v in vals.items():
-            f = SCHEMA[table][key]
-            if isinstance(v, (int, float)) and not isinstance(v, bool):
-                for bound, op in ((f.gt, operator.gt), (f.ge, operator.ge), (f.lt, operator.lt), (f.le, operator.le)):
-                    assert bound is None or op(v, bound), (table, key, v)
-    return raw
 
 
 # ------------------------------------------------------------------ the design strategy

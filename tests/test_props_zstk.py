@@ -9,7 +9,6 @@ Each test names the spec section (/work/shared/spec/zstk.md) its property comes 
 """
 import copy
 import math
-import operator
 
 import numpy as np
 import pytest
@@ -20,7 +19,7 @@ from gearcalc import registry
 from gearcalc import zstk as z
 from gearcalc.calculator import Options
 from gearcalc.design import validate
-from props_common import assert_all_finite
+from props_common import assert_all_finite, in_schema
 
 CALC = registry.get("zstk")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}
@@ -53,19 +52,6 @@ def moduli(raw):
     eb, nub = m.get("inner_ring_E_MPa", eg), m.get("inner_ring_poisson", nug)
     eh, nuh = m.get("outer_ring_E_MPa", eg), m.get("outer_ring_poisson", nug)
     return e_star(er, nur, eb, nub), e_star(er, nur, eh, nuh)
-
-
-def in_schema(raw):
-    """The generator only writes keys of the schema, inside the schema's bounds (guards against drift)."""
-    for table, vals in raw.items():
-        if table in ("kind", "name"):
-            continue
-        for key, v in vals.items():
-            f = SCHEMA[table][key]
-            if isinstance(v, (int, float)) and not isinstance(v, bool):
-                for bound, op in ((f.gt, operator.gt), (f.ge, operator.ge), (f.lt, operator.lt), (f.le, operator.le)):
-                    assert bound is None or op(v, bound), (table, key, v)
-    return raw
 
 
 # ------------------------------------------------------------------ the design strategy
