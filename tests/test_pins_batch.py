@@ -17,7 +17,7 @@ from gearcalc import registry
 from gearcalc import sweep as sw
 from gearcalc.calculator import DesignError, Options
 from gearcalc.cli import app
-from test_pins_cli import BASE, CONFIGS
+from test_pins_cli import BASE, CONFIGS, changed
 
 PINS = registry.get("pins")
 runner = CliRunner()
@@ -25,16 +25,7 @@ runner = CliRunner()
 
 def make(**changes):
     """A validated design: BASE with changes {"table__key": value} (None deletes)."""
-    import copy
-
-    d = copy.deepcopy(BASE)
-    for dotted, v in changes.items():
-        table, key = dotted.split("__")
-        if v is None:
-            d[table].pop(key, None)
-        else:
-            d.setdefault(table, {})[key] = v
-    return dmod.validate(d, "mem.toml")
+    return dmod.validate(changed(BASE, changes), "mem.toml")
 
 
 PIN_LOAD = {"pin_load__normal_force_N": 1920.0, "pin_load__pin_speed_rpm": 14.0, "pin_load__pin_radius_mm": 1.95,

@@ -27,9 +27,9 @@ BASE = {
 }
 
 
-def design(tmp_path, name="d.toml", drop=(), base=None, **changes):
-    """Write BASE (or ``base``) with changes {"table__key": value} (None deletes) and dropped tables."""
-    d = copy.deepcopy(BASE if base is None else base)
+def changed(base, changes, drop=()):
+    """A copy of a design dict with changes {"table__key": value} (None deletes) and dropped tables."""
+    d = copy.deepcopy(base)
     for t in drop:
         d.pop(t, None)
     for dotted, v in changes.items():
@@ -38,6 +38,12 @@ def design(tmp_path, name="d.toml", drop=(), base=None, **changes):
             d[table].pop(key, None)
         else:
             d.setdefault(table, {})[key] = v
+    return d
+
+
+def design(tmp_path, name="d.toml", drop=(), base=None, **changes):
+    """Write BASE (or ``base``) with changes {"table__key": value} (None deletes) and dropped tables."""
+    d = changed(BASE if base is None else base, changes, drop)
     p = tmp_path / name
     p.write_text(tomli_w.dumps(d))
     return p
