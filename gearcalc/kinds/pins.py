@@ -237,6 +237,13 @@ def select_level(design, model: str | None) -> str:
 
 # ---------------------------------------------------------------- compute
 
+def _new_summary(name: str, level: str) -> dict:
+    """A summary with every field of the kind, None until computed."""
+    summary = dict.fromkeys(SUMMARY_KEYS)
+    summary.update(name=name, model=level)
+    return summary
+
+
 def compute(design, options: Options) -> Result:
     """Run the level the design needs (or ``--model``); see the module docstring.
 
@@ -252,9 +259,7 @@ def compute(design, options: Options) -> Result:
         if isinstance(out, BaseException):
             raise out
         return out
-    summary = dict.fromkeys(SUMMARY_KEYS)
-    summary["name"] = design.name
-    summary["model"] = level
+    summary = _new_summary(design.name, level)
     warnings: list[str] = []
     failed: list[str] = []
     detail: dict = {}
@@ -324,9 +329,7 @@ def _group(designs, level: str, options: Options, t0: float) -> list:
         if errors[i] is not None:
             out.append(errors[i])
             continue
-        summary = dict.fromkeys(SUMMARY_KEYS)
-        summary["name"] = d.name
-        summary["model"] = level
+        summary = _new_summary(d.name, level)
         warnings: list[str] = []
         failed: list[str] = []
         detail: dict = {}
