@@ -1,3 +1,3 @@
-from gearcalc.cli import main
+from gearcalc.cli import console
 
-main()
+console()
