@@ -244,22 +244,38 @@ def _quote(text: str) -> str:
     return text
 
 
-def _csv_column(col: list) -> list[str]:
+def _csv_column(col: list, formatted: dict | None = None) -> list[str]:
     """A column's CSV cells, the same text as :func:`csv_cell` per value, in bulk: floats (with None for
     undefined) by ``repr`` with one finiteness check per column, ints by ``str``, other values once per
-    distinct value."""
+    distinct value.
+
+    ``formatted`` (optional) remembers the cells of the float columns already formatted, keyed by their
+    bit patterns: a column equal bit for bit to an earlier one (a varied key and the same input echoed in
+    the summary; K and K_stepwise at the stepwise level) reuses its cells instead of formatting the same
+    floats again, which is most of the time of a big sweep's CSV.
+    """
     import math
 
     types = set(map(type, col))
-    if len(types) == 1 and col.count(col[0]) == len(col):  # constant: an axis not varied, a fixed input
+    undefined = type(None) in types
+    # constant: an axis not varied, a fixed input (a float zero is not: 0.0 == -0.0 but their text differs)
+    if len(types) == 1 and col.count(col[0]) == len(col) and not (col[0] == 0 and type(col[0]) is float):
         return [_quote(csv_cell(col[0]))] * len(col)
     if types <= {float, type(None)}:
-        floats = col if None not in types else [v for v in col if v is not None]
+        floats = [v for v in col if v is not None] if undefined else col
+        if formatted is not None:
+            from array import array
+
+            bits = array("d", floats).tobytes()  # bit patterns: 0.0 and -0.0 differ, as their text does
+            key = (bits, tuple(k for k, v in enumerate(col) if v is None)) if undefined else bits
+            if key in formatted:
+                return formatted[key]
         if not all(map(math.isfinite, floats)):
             raise NonFiniteOutput("non-finite value in CSV output")
-        if None not in types:
-            return list(map(repr, col))
-        return ["" if v is None else repr(v) for v in col]
+        cells = ["" if v is None else repr(v) for v in col] if undefined else list(map(repr, col))
+        if formatted is not None:
+            formatted[key] = cells
+        return cells
     if types == {int}:
         return list(map(str, col))
     out, cache = [], {}
@@ -280,7 +296,8 @@ def write_csv_columns(cols: "Columns") -> str:
     names = list(cols.data)
     parts = [",".join(_quote(k) for k in names) + "\n"]
     for start in range(0, cols.n, CSV_CHUNK):  # a block of rows at a time: bounded memory for big sweeps
-        cells = [_csv_column(cols.data[k][start:start + CSV_CHUNK]) for k in names]
+        formatted: dict = {}
+        cells = [_csv_column(cols.data[k][start:start + CSV_CHUNK], formatted) for k in names]
         parts.append("\n".join(map(",".join, zip(*cells))) + "\n")
     return "".join(parts)
 

@@ -11,6 +11,7 @@ from __future__ import annotations
 import itertools
 import math
 import tomllib
+from collections.abc import Sequence
 from typing import Any
 
 from .calculator import DesignError
@@ -78,10 +79,68 @@ def parse_vary(items: list[str]) -> dict[str, list[Any]]:
     return axes
 
 
-def grid_points(axes: dict[str, list[Any]]):
-    """The product grid as a list of dicts (first axis slowest)."""
-    keys = list(axes)
-    return [dict(zip(keys, combo)) for combo in itertools.product(*(axes[k] for k in keys))]
+class Grid(Sequence):
+    """The product grid of the axes (first axis slowest) as a sequence of points ``{key: value}``.
+
+    Points are built on demand, so a vectorised sweep of millions of points never holds a dict per
+    point: it takes whole axis columns with :meth:`column`.  A slice is a :class:`Grid` too (cheap to
+    send to a worker process).
+
+    >>> g = Grid({"a": [1, 2], "b": [10, 20, 30]})
+    >>> len(g), g[4], g.column("b")
+    (6, {'a': 2, 'b': 20}, [10, 20, 30, 10, 20, 30])
+    >>> g[2:4].column("a"), list(g[2:4])
+    ([1, 2], [{'a': 1, 'b': 30}, {'a': 2, 'b': 10}])
+    """
+
+    def __init__(self, axes: dict[str, list[Any]], start: int = 0, stop: int | None = None):
+        self.axes = axes
+        self.keys = list(axes)
+        self.sizes = [len(axes[k]) for k in self.keys]
+        total = math.prod(self.sizes)
+        self.start = start
+        self.stop = total if stop is None else stop
+
+    def __len__(self) -> int:
+        return self.stop - self.start
+
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            start, stop, step = index.indices(len(self))
+            if step != 1:
+                return [self[k] for k in range(start, stop, step)]
+            return Grid(self.axes, self.start + start, self.start + max(start, stop))
+        k = index + len(self) if index < 0 else index
+        if not 0 <= k < len(self):
+            raise IndexError("grid point index out of range")
+        k += self.start
+        point = {}
+        for key, size in zip(reversed(self.keys), reversed(self.sizes)):  # the last axis varies fastest
+            k, r = divmod(k, size)
+            point[key] = self.axes[key][r]
+        return {key: point[key] for key in self.keys}
+
+    def __iter__(self):
+        combos = itertools.product(*(self.axes[k] for k in self.keys))
+        return (dict(zip(self.keys, c)) for c in itertools.islice(combos, self.start, self.stop))
+
+    def column(self, key: str) -> list[Any]:
+        """The values of one varied key over the points, in order."""
+        j = self.keys.index(key)
+        inner = math.prod(self.sizes[j + 1:])
+        block = list(itertools.chain.from_iterable(itertools.repeat(v, inner) for v in self.axes[key]))
+        if not block or self.stop <= self.start:
+            return []
+        outer = math.prod(self.sizes[:j])
+        first, last = self.start // len(block), -(-self.stop // len(block))
+        values = block * max(0, min(outer, last) - first)
+        offset = first * len(block)
+        return values[self.start - offset:self.stop - offset]
+
+
+def grid_points(axes: dict[str, list[Any]]) -> Grid:
+    """The product grid (first axis slowest): a sequence of points ``{key: value}``."""
+    return Grid(axes)
 
 
 def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
@@ -174,7 +233,9 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
             if isinstance(summaries, dict):  # column-major: keep it so (fast CSV)
                 from .render import Columns
 
-                return Columns({**{k: [p[k] for p in points] for k in axes}, **summaries})
+                axis_columns = {k: points.column(k) if isinstance(points, Grid) else [p[k] for p in points]
+                                for k in axes}
+                return Columns({**axis_columns, **summaries})
             return [{**p, **s} for p, s in zip(points, summaries)]
     rows = []
     for p in points:

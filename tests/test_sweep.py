@@ -6,6 +6,8 @@ import json
 import tomllib
 
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from conftest import CONFIGS, cli
 from gearcalc import sweep as sw
@@ -124,3 +126,55 @@ def test_columnar_csv_equals_row_csv():
     rows = [{"a": 1.5, "name": "x, y", "l": [1, 2], "n": None, "b": True}, {"a": 2.0, "name": 'q"q', "b": False,
                                                                            "l": [], "n": None}]
     assert write_csv_columns(Columns.from_rows(rows)) == write_csv(rows)
+
+
+@settings(max_examples=150, deadline=None, derandomize=True)
+@given(st.lists(st.sampled_from([0.0, -0.0, 1.0, 0.1, 1e-300, -2.5, 1e16, None]), min_size=1, max_size=12),
+       st.data())
+def test_columnar_csv_reuses_only_identical_float_columns(base, data):
+    # the writer reuses the text of a float column equal bit for bit to an earlier one; the row-by-row
+    # writer (csv_cell per value) is the reference. 0.0 == -0.0 but their text differs, so do their bits.
+    from gearcalc.render import Columns, write_csv, write_csv_columns
+
+    twin = list(base)
+    flips = data.draw(st.lists(st.integers(0, len(base) - 1), max_size=3))
+    for k in flips:  # a sign flip of a zero, or a None, is a different column
+        twin[k] = -twin[k] if isinstance(twin[k], float) else 0.0
+    rows = [{"a": a, "b": b, "c": a} for a, b in zip(base, twin)]
+    assert write_csv_columns(Columns.from_rows(rows)) == write_csv(rows)
+
+
+# ---------------------------------------------------------------- the grid as a lazy sequence
+
+@settings(max_examples=200, deadline=None, derandomize=True)
+@given(st.lists(st.integers(1, 4), min_size=1, max_size=4), st.data())
+def test_grid_equals_the_product_of_its_axes(sizes, data):
+    # the reference: itertools.product, first axis slowest (the documented order of the sweep's rows)
+    import itertools
+
+    axes = {f"k{i}": [10 * i + v for v in range(n)] for i, n in enumerate(sizes)}
+    ref = [dict(zip(axes, combo)) for combo in itertools.product(*axes.values())]
+    grid = sw.grid_points(axes)
+    assert len(grid) == len(ref) and list(grid) == ref
+    assert [grid[k] for k in range(-len(ref), len(ref))] == ref + ref
+    a = data.draw(st.integers(0, len(ref)))
+    b = data.draw(st.integers(0, len(ref)))
+    part = grid[a:b]
+    assert list(part) == ref[a:b] and len(part) == len(ref[a:b])
+    for key in axes:
+        assert grid.column(key) == [p[key] for p in ref]
+        assert part.column(key) == [p[key] for p in ref[a:b]]
+    with pytest.raises(IndexError):
+        grid[len(ref)]
+
+
+def test_csv_sweep_with_undefined_stepwise_values():
+    # regression: a float column with some None (K_stepwise where the stepwise level does not exist,
+    # rows.md §6, at large B) made the columnar CSV writer fail (exit 70); the JSON says which are null
+    args = ["sweep", FIG3, "--vary", "rows.count=4", "--vary", "rows.relative_width=1:30:1"]
+    as_csv, as_json = cli(*args, "-f", "csv"), cli(*args, "-f", "json")
+    assert as_csv.code == as_json.code == 0, as_csv.err
+    rows = list(csv.DictReader(io.StringIO(as_csv.out)))
+    nulls = [r["K_stepwise"] is None for r in json.loads(as_json.out)]
+    assert 0 < sum(nulls) < len(nulls)  # the case mixes defined and undefined values
+    assert [r["K_stepwise"] == "" for r in rows] == nulls

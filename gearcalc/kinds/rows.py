@@ -394,7 +394,7 @@ def sweep(base, raw, axes, points, options):
 
     def col(key, default=None):
         if key in axes:
-            vals = [p[key] for p in points]
+            vals = points.column(key) if hasattr(points, "column") else [p[key] for p in points]
             if key == "sun.torsion_diameter":
                 return vals
             return np.array(vals, dtype=float)
@@ -445,7 +445,7 @@ def sweep(base, raw, axes, points, options):
     valid = np.ones(P, bool)
     K_row_step = np.ones(P, int)
     model = options.model or "stepwise"
-    unloaded = [[] for _ in range(P)]
+    unloaded = [[]] * P  # one shared empty list: entries with unloaded rows are replaced, never appended to
     for nn in unique_sorted(n):
         idx = np.flatnonzero(n == nn)
         u, ok = R.stepwise_shares(kappa[idx], bbar[idx], int(nn))
@@ -471,15 +471,23 @@ def sweep(base, raw, axes, points, options):
         K = np.where(use_exact, K_exact, K_step)
     models = np.where(model == "continuous", "continuous", np.where(use_exact, "exact", "stepwise"))
     K_row = np.where(use_exact | (model == "continuous"), 1, K_row_step)
+    defined = valid | one  # the stepwise level exists (rows.md §6); elsewhere its columns are None
+
+    def where_defined(values):  # a column that is None where the stepwise level does not exist
+        out = values.tolist()
+        if not defined.all():
+            for k in np.flatnonzero(~defined).tolist():
+                out[k] = None
+        return out
+
     cols = {
         "name": [base.name] * P, "rows": n.tolist(), "planets_per_row": nw.astype(int).tolist(),
         "relative_width": B.tolist(), "rim_width_mm": b_w.tolist(), "cheek_ratio": bbar.tolist(),
         "torsion_diameter_mm": d_i.tolist(), "kappa": kappa.tolist(), "model": models.tolist(), "K": K.tolist(),
         "K_row": K_row.tolist(),
-        "K_stepwise": [None if not v else float(k) for v, k in zip(valid | one, K_step)],
-        "stepwise_valid": (valid | one).tolist(), "K_exact": K_exact.tolist(), "K_continuous": K_cont.tolist(),
-        "K_stepwise_vs_exact_pct": [None if not v else float(x) for v, x in
-                                    zip(valid | one, 100.0 * (np.nan_to_num(K_step) / K_exact - 1.0))],
+        "K_stepwise": where_defined(K_step),
+        "stepwise_valid": defined.tolist(), "K_exact": K_exact.tolist(), "K_continuous": K_cont.tolist(),
+        "K_stepwise_vs_exact_pct": where_defined(100.0 * (np.nan_to_num(K_step) / K_exact - 1.0)),
         "K_vs_continuous_pct": (100.0 * (K / K_cont - 1.0)).tolist(), "peak_factor": peak.tolist(),
         "row1_face_factor": (peak / K_exact).tolist(), "unloaded_rows": unloaded,
     }
