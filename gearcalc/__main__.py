@@ -1,3 +1,3 @@
-from gearcalc.cli import console
+from gearcalc.console import main
 
-console()
+main()

@@ -14,6 +14,7 @@ import typer
 
 from . import __version__, registry
 from .calculator import DesignError, Options
+from .console import _silence_stdout
 
 EXIT_OK, EXIT_CHECK, EXIT_INPUT, EXIT_BUG = 0, 1, 2, 70
 
@@ -608,14 +609,6 @@ def finish(body, debug: bool) -> None:
     raise typer.Exit(code)
 
 
-def _silence_stdout() -> None:
-    try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except OSError:
-        pass
-
-
 def _terminate(signum, frame):  # SIGTERM: unwind like Ctrl-C, so no temporary file is left behind
     raise KeyboardInterrupt
 
@@ -630,7 +623,7 @@ def main() -> None:
     everything = app.registered_commands
     app.registered_commands = _commands_to_build(sys.argv[1:], everything)
     try:
-        app()
+        app(prog_name="gearcalc")  # the same usage lines for `gearcalc` and `python -m gearcalc`
     except BrokenPipeError:
         _silence_stdout()
         sys.exit(0)
@@ -650,43 +643,3 @@ def _commands_to_build(args: list[str], commands: list) -> list:
         return commands
     invoked = [c for c in commands if c.name == args[0]]
     return invoked or commands
-
-
-def console() -> None:
-    """The ``gearcalc`` command: :func:`main`, then leave without the interpreter's teardown.
-
-    Everything the command writes is complete when :func:`main` returns (``-o`` files are closed and
-    renamed, worker pools shut down), so the only work left at exit is freeing numpy's and typer's
-    module objects one by one, about 15 ms of a one-design call. ``console`` flushes the standard
-    streams and ends the process with :func:`os._exit` instead. :func:`main` keeps the ordinary
-    ``SystemExit`` for callers in the same process.
-    """
-    try:
-        main()
-        code = 0
-    except SystemExit as stop:
-        code = _exit_status(stop.code)
-    try:
-        sys.stdout.flush()
-    except BrokenPipeError:  # the reader left: the output was not wanted, nothing failed
-        _silence_stdout()
-    except (OSError, ValueError):
-        pass
-    try:
-        sys.stderr.flush()
-    except (OSError, ValueError):
-        pass
-    os._exit(code)
-
-
-def _exit_status(code) -> int:
-    """The process status ``sys.exit(code)`` would give (None is 0, text is printed and gives 1)."""
-    if code is None:
-        return 0
-    if isinstance(code, int):
-        return code & 0xFF
-    try:
-        print(code, file=sys.stderr)
-    except (OSError, ValueError):
-        pass
-    return 1

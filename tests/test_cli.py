@@ -357,14 +357,6 @@ def test_console_keeps_every_exit_code_and_all_output(write, tmp_path):
     assert json.loads(out.read_text()) and out.read_text() == (tmp_path / "ref.json").read_text()
 
 
-def test_exit_status_follows_sys_exit(capsys):
-    from gearcalc.cli import _exit_status
-
-    assert _exit_status(None) == 0 and _exit_status(2) == 2 and _exit_status(70) == 70
-    assert _exit_status("gearcalc: stop") == 1  # as sys.exit("text"): printed on stderr, status 1
-    assert "gearcalc: stop" in capsys.readouterr().err
-
-
 def test_only_the_invoked_command_is_built():
     from gearcalc.cli import _commands_to_build, app
 

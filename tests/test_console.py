@@ -1,0 +1,57 @@
+"""The entry point: the stored top-level help is typer's, fast paths import nothing heavy, exit statuses."""
+import os
+import subprocess
+import sys
+
+import pytest
+
+from gearcalc import console
+
+
+def test_stored_help_is_what_typer_prints():
+    with open(console.HELP_FILE, encoding="utf-8") as fh:
+        stored = fh.read()
+    assert stored == console.render_help(), (
+        "gearcalc/data/help.txt is out of date: regenerate it with `python -m gearcalc.console --write-help`")
+
+
+def run(*args, columns=None, importtime=False):
+    env = {k: v for k, v in os.environ.items() if k != "COLUMNS"}
+    if columns:
+        env["COLUMNS"] = str(columns)
+    flags = ["-X", "importtime"] if importtime else []
+    return subprocess.run([sys.executable, *flags, "-m", "gearcalc", *args], capture_output=True, text=True,
+                          env=env, timeout=60)
+
+
+@pytest.mark.parametrize("args", [["--help"], ["-h"], ["--version"]])
+def test_fast_paths_do_not_import_typer_or_numpy(args):
+    p = run(*args, importtime=True)
+    assert p.returncode == 0
+    imported = [line.rsplit("|", 1)[-1].strip() for line in p.stderr.splitlines() if line.startswith("import time")]
+    assert imported and not [m for m in imported if m.split(".")[0] in ("typer", "numpy", "rich")]
+
+
+def test_fast_help_equals_typer_help_and_narrow_terminals_get_typer():
+    from gearcalc import __version__
+
+    assert run("--help").stdout == console.render_help()
+    assert run("--version").stdout == f"gearcalc {__version__}\n"
+    narrow = run("--help", columns=60)  # click wraps to the narrower width: typer renders it
+    assert narrow.returncode == 0 and narrow.stdout != console.render_help()
+    assert max(map(len, narrow.stdout.splitlines())) <= 60
+    assert "sweep" in narrow.stdout
+
+
+def test_exit_status_follows_sys_exit(capsys):
+    assert console.exit_status(None) == 0 and console.exit_status(2) == 2 and console.exit_status(70) == 70
+    assert console.exit_status("gearcalc: stop") == 1  # as sys.exit("text"): printed on stderr, status 1
+    assert "gearcalc: stop" in capsys.readouterr().err
+
+
+def test_other_arguments_reach_the_cli():
+    # the entry point hands everything else to typer: usage errors keep click's text and exit 2
+    p = run("--versoin")
+    assert p.returncode == 2 and "No such option" in p.stderr
+    p = run("rows", "--help")
+    assert p.returncode == 0 and "Usage: gearcalc rows" in p.stdout
