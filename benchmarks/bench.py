@@ -2,6 +2,10 @@
 
 Usage:  python benchmarks/bench.py [--out benchmarks/results.csv] [--repeat 7] [--loop 1000] [--quick]
 
+Run it with the interpreter of an environment where gearcalc is installed as users install it
+(``pip install .``): the subprocess figures time that environment's ``gearcalc`` command. An editable
+install (``pip install -e``) adds its import hook to every start-up; the header line says which it is.
+
 Measures (wall times of subprocesses are medians of --repeat runs; in-process times are medians after a
 warm-up call):
 * start-up: ``python -c pass``, ``gearcalc --help`` and one design of each kind, end to end (CSV out);
@@ -20,6 +24,7 @@ import csv
 import os
 import platform
 import re
+import shlex
 import shutil
 import statistics
 import subprocess
@@ -30,7 +35,23 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
-GEARCALC = [sys.executable, "-m", "gearcalc"]
+_SCRIPT = Path(sys.executable).with_name("gearcalc")
+GEARCALC = [str(_SCRIPT)] if _SCRIPT.is_file() else [sys.executable, "-m", "gearcalc"]
+"""The command a user types: the ``gearcalc`` console script of this interpreter's environment (what
+``pip install .`` writes next to ``python``), else ``python -m gearcalc``."""
+
+
+def install_kind() -> str:
+    """How gearcalc is installed: an editable install pays an import-hook finder at every start-up."""
+    from importlib import metadata
+
+    try:
+        dist = metadata.distribution("gearcalc")
+    except metadata.PackageNotFoundError:
+        return "not installed (source tree)"
+    direct = dist.read_text("direct_url.json") or ""
+    return "editable (pip install -e; its import hook adds start-up time)" if '"editable": true' in direct \
+        else "regular (pip install .)"
 
 # One design file per kind for the start-up and batch figures, and the key the batch generator varies.
 BATCH = {
@@ -104,6 +125,7 @@ def main() -> None:
 
     print(f"# {platform.node()} {platform.machine()} {platform.processor() or ''} python "
           f"{platform.python_version()}, {os.cpu_count()} cpus")
+    print(f"# command: {' '.join(GEARCALC)}; install: {install_kind()}")
     base = wall([sys.executable, "-c", "pass"], args.repeat)
     add("startup", "python -c pass", "", base * 1e3)
     t = wall(GEARCALC + ["--help"], args.repeat)
@@ -149,7 +171,7 @@ def main() -> None:
                 files = sorted(folder.glob("*.toml"))[:args.loop]
                 listing = work / "list.txt"
                 listing.write_text("\n".join(str(p) for p in files) + "\n")
-                cmd = (f'while read -r f; do "{sys.executable}" -m gearcalc rows "$f" --format csv; done '
+                cmd = (f'while read -r f; do {" ".join(map(shlex.quote, GEARCALC))} rows "$f" --format csv; done '
                        f'< "{listing}" > /dev/null 2>&1')
                 t_loop = wall(cmd, 1, shell=True)
                 per_loop = t_loop / len(files)
