@@ -26,6 +26,7 @@ several components at once, each accepted on its own relative tolerance.
 """
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -291,6 +292,9 @@ class PiecewiseBatch:
     levels : doublings done per owner.
     a, b, owner : the pieces (ends and owner), owner by owner.
     n_piece : intervals per piece at its owner's finest level.
+    carried : the rows after the first of the integrand's values at the nodes of :meth:`grid`, in its
+        order, shape (c, nodes); None when the integrand returns one row.
+    nodes : :meth:`grid` when it is already known (else computed on demand).
     """
 
     value: np.ndarray
@@ -303,19 +307,26 @@ class PiecewiseBatch:
     b: np.ndarray
     owner: np.ndarray
     n_piece: np.ndarray
+    carried: np.ndarray | None = None
+    nodes: tuple | None = None
 
     def grid(self):
         """Nodes of every owner's finest level, piece by piece: (x, piece midpoint, piece index).
 
-        Breakpoints appear once per adjacent piece (the one-sided limits of both sides).
+        Breakpoints appear once per adjacent piece (the one-sided limits of both sides).  These are the
+        nodes the integrand was evaluated at, bit for bit.
         """
-        return nodes_of_pieces(self.a, self.b, self.n_piece)
+        if self.nodes is None:
+            self.nodes = nodes_of_pieces(self.a, self.b, self.n_piece)
+        return self.nodes
 
 
 def nodes_of_pieces(a, b, n_piece):
     """All nodes of uniform grids on pieces [a_p, b_p] with n_p intervals, piece by piece.
 
     Like :func:`piece_nodes` for pieces that need not be contiguous (several integrals at once).
+    Node k of piece p is ``a_p + (b_p - a_p) (k/n_p)`` (``b_p`` itself at k = n_p), the formula
+    :func:`integrate_pieces` evaluates its integrand at.
 
     Returns
     -------
@@ -338,6 +349,68 @@ def nodes_of_pieces(a, b, n_piece):
     return x, 0.5 * (ap + bp), piece
 
 
+def _new_nodes(a, length, n0, pieces, ells):
+    """The new (odd) nodes of levels ``ells`` of pieces ``pieces``, level by level and piece by piece.
+
+    Node j of level l (> 0) of piece p is ``a_p + (b_p - a_p) ((2 j + 1)/(n0_p 2^l))``: node k = (2 j + 1)
+    2^(L - l) of the piece's grid at any level L >= l (:func:`nodes_of_pieces`), bit for bit, because the
+    two quotients of integers are the same rational number, rounded once.
+
+    Parameters
+    ----------
+    a, length, n0 : piece starts, lengths and level-0 intervals, shape (P,).
+    pieces, ells : the (piece, level) pairs taking part, level-major, shape (K,).
+
+    Returns
+    -------
+    x, piece, level, j : the nodes, their piece, level and index within the level's new nodes of the piece.
+    """
+    den = n0[pieces] * 2 ** ells                    # intervals of the level
+    cnt = den // 2                                   # its new nodes
+    pair = np.repeat(np.arange(cnt.size), cnt)
+    j = np.arange(pair.size) - (np.cumsum(cnt) - cnt)[pair]
+    pn = pieces[pair]
+    x = a[pn] + length[pn] * ((2 * j + 1) / den[pair])
+    return x, pn, ells[pair], j
+
+
+def _level0_nodes(a, b, length, n0):
+    """Every node of level 0, piece by piece (as :func:`nodes_of_pieces`): x, piece, index k, trapezoid weight."""
+    counts = n0 + 1
+    piece = np.repeat(np.arange(n0.size), counts)
+    start = np.cumsum(counts) - counts
+    k = np.arange(piece.size) - start[piece]
+    npc = n0[piece]
+    x = np.where(k == npc, b[piece], a[piece] + length[piece] * (k / npc))
+    w = np.ones(x.size)
+    w[start] = 0.5
+    w[start + n0] = 0.5
+    return x, piece, k, w
+
+
+def _carried_on_grid(kept, n0, piece_level):
+    """Gather the carried rows of every evaluated node onto the final grid (:meth:`PiecewiseBatch.grid`).
+
+    ``kept``: per evaluation, (piece, k, level, rows): node k of its piece's grid of that level (n0 2^level
+    intervals); ``piece_level``: the final level of each piece's owner.  On the final grid of level L the
+    node is k 2^(L - level) when level <= L; nodes not on it (of finer grids) are dropped.  Every node of
+    the final grid was evaluated once."""
+    if not kept:
+        return None
+    counts = n0 * 2 ** piece_level + 1
+    start = np.cumsum(counts) - counts
+    source = np.empty(int(counts.sum()), dtype=np.int64)      # evaluated node of each grid node
+    offset = 0
+    for pn, k, ell, _ in kept:
+        d = piece_level[pn] - ell                   # levels from the node's grid to the final one
+        down = np.maximum(-d, 0)
+        use = np.flatnonzero((k & ((1 << down) - 1)) == 0)       # on the final grid
+        source[start[pn[use]] + ((k[use] << np.maximum(d[use], 0)) >> down[use])] = offset + use
+        offset += pn.size
+    rows = kept[0][3] if len(kept) == 1 else np.concatenate([r for *_, r in kept], axis=1)
+    return np.take(rows, source, axis=1)
+
+
 def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e-6, atol: float = 1e-14,
                      n_start: int = 16, n_max: int = 2 ** 20, accept_levels: int = 2, min_levels: int = 2,
                      first_levels=None, n_initial=None, chunk: int = 2 ** 16,
@@ -348,21 +421,26 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
     node counts, the same doubling, the same acceptance (``E <= max(tol |Q|, atol)`` on
     ``accept_levels`` successive doublings, at least ``min_levels`` doublings, at most ``n_max``
     intervals) and the same Richardson value and conservative error ``E = |Q_2N - Q_N|`` (pins.md §6,
-    §12.6).  Two things differ, neither of which changes a result:
+    §12.6).  Three things differ, none of which changes a result beyond round-off:
 
-    * the integrand is evaluated for all owners together (numpy over owners), and
+    * the integrand is evaluated for all owners together (numpy over owners);
     * several levels are evaluated per round (``first_levels``, then a prediction from the observed
       rate of convergence), because an evaluation call costs far more than its nodes.  Each level is
       still checked in order, and an owner stops at the first level the rule accepts; the levels
-      evaluated beyond it are discarded.
+      evaluated beyond it are discarded;
+    * a node is placed as :func:`nodes_of_pieces` places it on the final grid (``a + (b - a)(k/n)``), so
+      the integrand's values at the final grid are known without evaluating it again (``carried``).
 
     Each trapezoid sum is accumulated per piece and per level in node order (``np.bincount``), so an
-    owner's result does not depend on the other owners integrated with it.
+    owner's result does not depend on the other owners integrated with it; a single owner runs its
+    bookkeeping on Python scalars (the same operations, :func:`_one_owner`).
 
     Parameters
     ----------
-    f : callable ``f(x, mid, piece)`` -> array (n,): the integrand at nodes ``x`` of the pieces
-        ``piece`` whose midpoints are ``mid`` (decide set membership from ``mid``: one-sided ends).
+    f : callable ``f(x, mid, piece)`` -> array (n,) or (1 + c, n): the integrand at nodes ``x`` of the
+        pieces ``piece`` whose midpoints are ``mid`` (decide set membership from ``mid``: one-sided
+        ends).  Rows after the first are not integrated but carried to the final grid (``carried``):
+        values the caller needs there, computed with the integrand.
     a, b : piece ends, shape (p,), a < b; the pieces of an owner are contiguous and ordered.
     owner : owner (integral) of each piece, non-decreasing, shape (p,).
     n_owner : number of owners (default: max(owner) + 1).
@@ -405,19 +483,22 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
     cap = np.maximum(1, np.floor(np.log2(np.maximum(n_max // np.maximum(N0, 1), 1))).astype(np.int64))
 
     def evaluate(x, mid, piece):
+        """The integrand at the nodes, in chunks: (values to integrate, carried rows or None)."""
         if x.size <= chunk:
-            return np.asarray(f(x, mid, piece), dtype=float)
-        return np.concatenate([np.asarray(f(x[s:s + chunk], mid[s:s + chunk], piece[s:s + chunk]), dtype=float)
-                               for s in range(0, x.size, chunk)])
+            v = np.asarray(f(x, mid, piece), dtype=float)
+        else:
+            v = np.concatenate([np.asarray(f(x[s:s + chunk], mid[s:s + chunk], piece[s:s + chunk]), dtype=float)
+                                for s in range(0, x.size, chunk)], axis=-1)
+        return (v[0], v[1:]) if v.ndim == 2 else (v, None)
 
     mid_p = 0.5 * (a + b)
+    if n_owner == 1:
+        return _one_owner(evaluate, a, b, length, mid_p, owner, n0, int(N0[0]), int(cap[0]), tol, atol,
+                          accept_levels, min_levels, first_levels, max_nodes)
+    x0, piece0, k0, w0 = _level0_nodes(a, b, length, n0)
     P = a.size
-    # level 0: every node of every piece, end nodes weighted 1/2 (evaluated with the first round)
-    x0, _, piece0 = nodes_of_pieces(a, b, n0)
-    start = np.cumsum(n0 + 1) - (n0 + 1)
-    w0 = np.ones(x0.size)
-    w0[start] = 0.5
-    w0[start + n0] = 0.5
+    pieces = np.arange(P)
+    kept = []                                        # carried rows per evaluation: (piece, level, j, rows)
     T = None                                         # trapezoid per piece, at each owner's level
     Q = np.zeros(n_owner)
     level = np.zeros(n_owner, dtype=np.int64)        # levels done per owner
@@ -439,23 +520,22 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
         # the new (odd) nodes of every level lo..hi of every piece taking part, level by level
         ells = np.arange(lo, hi + 1)
         take = act[owner] & (level[owner] < ells[:, None]) & (goal[owner] >= ells[:, None])     # (L, P)
-        cnt = np.where(take, n0 * 2 ** (ells[:, None] - 1), 0).ravel()
-        pl = np.repeat(np.arange(cnt.size), cnt)                  # (level, piece) pair of each node
-        jn = np.arange(pl.size) - np.repeat(np.cumsum(cnt) - cnt, cnt)
-        pn = pl % P
-        ln = pl // P + 1
-        xn = a[pn] + (length[pn] / (2 * (n0[pn] * 2 ** (ln + lo - 2)))) * (2 * jn + 1)
+        li, pi = np.nonzero(take)
+        xn, pn, ln, jn = _new_nodes(a, length, n0, pieces[pi], ells[li])
+        kn = 2 * jn + 1                              # node of the grid of its level
         if T is None:                                # the first round carries level 0
-            xn, pn, ln = np.concatenate((x0, xn)), np.concatenate((piece0, pn)), np.concatenate((0 * piece0, ln))
-        vn = evaluate(xn, mid_p[pn], pn)
+            xn, pn = np.concatenate((x0, xn)), np.concatenate((piece0, pn))
+            ln, kn = np.concatenate((0 * piece0, ln)), np.concatenate((k0, kn))
+        vn, rows = evaluate(xn, mid_p[pn], pn)
+        if rows is not None:
+            kept.append((pn, kn, ln, rows))
         if T is None:
             m0 = ln == 0
             T = np.bincount(piece0, vn[m0] * w0, minlength=P) * (length / n0)
             Q = np.bincount(owner, T, minlength=n_owner)
         # node sums per level and piece, in node order
         L = hi - lo + 1
-        S = np.bincount(ln * P + pn, vn, minlength=(L + 1) * P).reshape(L + 1, P)
-        ells = np.arange(lo, hi + 1)
+        S = np.bincount(np.maximum(ln - lo + 1, 0) * P + pn, vn, minlength=(L + 1) * P).reshape(L + 1, P)
         ON = act & (level < ells[:, None]) & (goal >= ells[:, None])     # owner takes part in level ell
         Qs = np.empty((L, n_owner))
         ONp = ON[:, owner]
@@ -501,4 +581,108 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
                             np.maximum(level + 1, min_levels))
     n_piece = n0 * 2 ** out_level[owner]
     return PiecewiseBatch(value=out_value, err=out_err, trapezoid=out_trap, n=N0 * 2 ** out_level,
-                          converged=out_conv, levels=out_level, a=a, b=b, owner=owner, n_piece=n_piece)
+                          converged=out_conv, levels=out_level, a=a, b=b, owner=owner, n_piece=n_piece,
+                          carried=_carried_on_grid(kept, n0, out_level[owner]))
+
+
+def _one_owner(evaluate, a, b, length, mid_p, owner, n0, N0: int, cap: int, tol, atol, accept_levels, min_levels,
+               first_levels, max_nodes) -> PiecewiseBatch:
+    """:func:`integrate_pieces` for a single owner: the same nodes, sums, acceptance and rounds, bit for bit.
+
+    The first round evaluates levels 0..G at once as the grid of level G, node by node in grid order
+    (:func:`nodes_of_pieces`); a node's level follows from its index k (level 0 where 2^G divides k, else
+    G minus the power of 2 in k), and the nodes of a level and piece are summed in the same order as by
+    level (ascending), so the sums are the same.  When the rule accepts a level of the first round, its
+    grid is every 2^(G - L)-th node of this one: no scatter, and no second computation of the grid.  Later
+    rounds evaluate the new nodes of their levels, as :func:`integrate_pieces` does.  The bookkeeping
+    (levels, streak, the trapezoid recursion over the pieces and its sum over them, the acceptance test,
+    the prediction of the next round) runs on Python floats and ints, which round exactly as numpy's
+    float64 element operations do, and which cost far less than numpy calls on arrays of one element
+    when a single design is computed.  Sums run in the order ``np.bincount`` uses (piece by piece from
+    0.0), so the result equals the owner's result in a batch of many.
+    """
+    P = a.size
+    pieces = np.arange(P)
+    kept = []
+    T: list[float] | None = None
+    Q = 0.0
+    level, streak = 0, 0
+    e_last = e_prev = math.inf
+    target = max(1, min_levels if first_levels is None else
+                 first_levels if isinstance(first_levels, int) else int(np.max(first_levels)))
+    first_round = None
+    while True:
+        goal = min(max(target, level + 1), cap)
+        while N0 * (2.0 ** goal - 2.0 ** level) > max_nodes and goal > level + 1:
+            goal -= 1
+        lo, L = level + 1, goal - level
+        if T is None:
+            # levels 0..goal: the grid of level goal, in grid order
+            npc = n0 * 2 ** goal
+            counts = npc + 1
+            pn = np.repeat(pieces, counts)
+            start = np.cumsum(counts) - counts
+            kn = np.arange(pn.size) - start[pn]
+            xn = np.where(kn == npc[pn], b[pn], a[pn] + length[pn] * (kn / npc[pn]))
+            coarse = (kn & ((1 << goal) - 1)) == 0                   # level 0: every 2^goal-th node
+            ln = np.where(coarse, 0, goal - (np.frexp(kn & -kn)[1] - 1))
+            mid = mid_p[pn]
+            vn, rows = evaluate(xn, mid, pn)
+            first_round = (xn, mid, pn, kn, goal, rows)
+            w0 = np.where((kn == 0) | (kn == npc[pn]), 0.5, 1.0)[coarse]
+            T = (np.bincount(pn[coarse], vn[coarse] * w0, minlength=P) * (length / n0)).tolist()
+            Q = _sum_in_order(T)
+        else:
+            # the new (odd) nodes of levels lo..goal, level by level and piece by piece
+            ells = np.repeat(np.arange(lo, goal + 1), P)
+            xn, pn, ln, jn = _new_nodes(a, length, n0, np.tile(pieces, L), ells)
+            kn = 2 * jn + 1
+            vn, rows = evaluate(xn, mid_p[pn], pn)
+            if rows is not None:
+                kept.append((pn, kn, ln, rows))
+        S = np.bincount(np.maximum(ln - lo + 1, 0) * P + pn, vn, minlength=(L + 1) * P).reshape(L + 1, P)
+        hS = (S[1:] * (length / (n0 * 2.0 ** np.arange(lo, goal + 1)[:, None]))).tolist()
+        stop = None
+        for i in range(L):       # the doubling recursion and the acceptance, level by level
+            T = [0.5 * t + s for t, s in zip(T, hS[i])]
+            q = _sum_in_order(T)
+            e = abs(q - Q)
+            streak = (streak + 1) if e <= max(tol * abs(q), atol) else 0
+            conv = lo + i >= min_levels and streak >= accept_levels
+            if conv or lo + i >= cap:
+                stop = (q + (q - Q) / 3.0, e, q, conv, lo + i)
+                break
+            e_prev, e_last, Q = e_last, e, q
+        if stop is not None:
+            break
+        level = goal
+        # next round: predict the level that meets the rule from the observed rate (speed only)
+        thr = max(tol * abs(Q), atol)
+        rate = min(max(e_last / e_prev if e_prev > 0 else 1.0 / 16.0, 1.0 / 16.0), 0.9)
+        more = 0
+        if e_last > thr > 0.0:
+            more = min(max(math.ceil(math.log(thr / e_last) / math.log(rate)), 1), 8)
+        target = max(level + more + max(accept_levels - streak - (more > 0), 0), max(level + 1, min_levels))
+    value, err, trap, conv, out_level = stop
+    x1, mid1, p1, k1, g1, rows1 = first_round
+    carried = nodes = None
+    if out_level <= g1:          # accepted within the first round: its grid, every 2^(g1 - L)-th node
+        on = slice(None) if out_level == g1 else (k1 & ((1 << (g1 - out_level)) - 1)) == 0
+        nodes = (x1[on], mid1[on], p1[on])
+        carried = None if rows1 is None else rows1[:, on]
+    elif rows1 is not None:
+        kept.insert(0, (p1, k1, np.full(p1.size, g1), rows1))
+        carried = _carried_on_grid(kept, n0, np.full(P, out_level))
+    return PiecewiseBatch(value=np.array([value]), err=np.array([err]), trapezoid=np.array([trap]),
+                          n=np.array([N0 * 2 ** out_level]), converged=np.array([conv]),
+                          levels=np.array([out_level]), a=a, b=b, owner=owner, n_piece=n0 * 2 ** out_level,
+                          carried=carried, nodes=nodes)
+
+
+def _sum_in_order(values) -> float:
+    """Sum of floats from 0.0 in the given order (as ``np.bincount`` accumulates; Python 3.12's ``sum`` would
+    compensate)."""
+    total = 0.0
+    for v in values:
+        total += v
+    return total

@@ -528,6 +528,37 @@ def test_ideal_cycles_of_a_batch_equal_each_gear_alone():
                 assert np.array_equal(a, b)
 
 
+# Curtate ratios for which numpy's scalar (1 - K1) ** 2 (a pow() call) is not the correctly rounded square
+# (1 - K1) * (1 - K1) (glibc, x86-64), while an array's ** 2 multiplies: a one-gear code path that squared a
+# scalar gave other numbers than the same gear solved in a batch.
+POW_SENSITIVE_K1 = (0.3648, 0.4898, 0.6824, 0.7449)
+
+
+def test_a_gear_alone_equals_it_in_a_batch_where_a_scalar_square_would_round_otherwise():
+    gs = [gear(z1, z1 + 2, K1=K1, Rb=1.0) for z1 in (20, 60) for K1 in POW_SENSITIVE_K1]
+    both = Cycloid(*(np.array([getattr(x, f) for x in gs]) for f in ("z1", "z2", "e", "R_p", "R_b", "one_minus_K1")))
+    together = pins.ideal_cycles(both, 1, tol=1e-6)
+    for i, gi in enumerate(gs):
+        alone = pins.ideal_cycles(pins._as_arrays(gi), 1, tol=1e-6)
+        for f in ("loss_ratio", "loss_ratio_err", "force", "force_phase", "loss", "loss_phase", "total", "rel_min",
+                  "rel_max", "rel_abs", "n_crank"):
+            assert np.array_equal(getattr(alone, f), getattr(together, f)[i:i + 1]), (i, f)
+
+
+@pytest.mark.parametrize("g", [gear(20, 22), gear(60, 62)], ids=["u10", "u30"])
+def test_the_first_rounds_levels_change_no_result(g, monkeypatch):
+    # pins.first_levels is speed only: the levels guessed for the quadrature's first round (capped at
+    # FIRST_LEVELS_MAX, then predicted from the observed rate) leave every number as it is
+    assert [pins.first_levels(t) for t in (1e-3, 1e-6, 1e-9, 1e-12)] == [2, 4, 6, 6]
+    capped = pins.ideal_cycles(pins._as_arrays(g), 1, tol=1e-9)
+    monkeypatch.setattr(pins, "FIRST_LEVELS_MAX", 99)
+    assert pins.first_levels(1e-9) == 9
+    one_round = pins.ideal_cycles(pins._as_arrays(g), 1, tol=1e-9)
+    for f in ("loss_ratio", "loss_ratio_err", "n_crank", "force", "force_phase", "loss", "total", "rel_abs"):
+        assert np.array_equal(getattr(capped, f), getattr(one_round, f)), f
+    assert np.array_equal(capped.grid_t, one_round.grid_t)
+
+
 @pytest.mark.parametrize("g", HONESTY[:4] + HONESTY[5:6], ids=lambda g: f"z{g.z1}-{g.z2}-K{g.K1:.9g}")
 def test_ideal_cycles_peaks_against_a_dense_sweep(g):
     # the refined peaks (pins.md §12.1) against 200001 crank angles of one period, pointwise (pin_forces)

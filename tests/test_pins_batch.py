@@ -83,6 +83,18 @@ def test_batch_equals_compute_design_by_design(model, detail):
         _assert_same(got, _outcome(d, options))
 
 
+def test_batch_equals_compute_where_a_scalar_square_would_round_otherwise():
+    # curtate ratios where numpy's scalar (1 - K1) ** 2 is not the product (test_pins.POW_SENSITIVE_K1): one
+    # design alone (scalar bookkeeping) and in a batch give the same numbers, bit for bit
+    from test_pins import POW_SENSITIVE_K1
+
+    designs = [make(gearing__curtate_ratio=K1, gearing__pin_radius_mm=1.0, **extra) for K1 in POW_SENSITIVE_K1
+               for extra in ({}, {"gearing__satellite_teeth": 60, "gearing__pins": 62, "load__mode": "reducer"})]
+    options = Options(tol=1e-6, model="ideal")
+    for d, got in zip(designs, PINS.batch(designs, options)):
+        _assert_same(got, _outcome(d, options))
+
+
 def test_batch_errors_are_returned_not_raised():
     out = PINS.batch([DESIGNS[14], DESIGNS[0], DESIGNS[15]], Options(model="ideal"))
     assert isinstance(out[0], DesignError) and out[0].key == "gearing.satellite_teeth"

@@ -179,6 +179,55 @@ def test_pieces_owners_are_independent_and_rounds_do_not_matter():
     assert alone.value[0] == together.value[2] and alone.err[0] == together.err[2] and alone.n[0] == together.n[2]
 
 
+def _alone(o, integrand=None):
+    """Owner o of the _three integrals as a single-owner problem (integrate_pieces' own path for one owner):
+    (f, a, b, owner); f is ``integrand`` (default _three) with owner o's piece numbers."""
+    sel = [i for i, w in enumerate(O3) if w == o]
+    integrand = integrand or _three
+    return (lambda x, m, p: integrand(x, m, p + sel[0])), [A3[i] for i in sel], [B3[i] for i in sel], [0] * len(sel)
+
+
+@pytest.mark.parametrize("tol", [1e-3, 1e-8, 1e-12])
+@pytest.mark.parametrize("first,max_nodes", [(None, 2 ** 22), (1, 2 ** 22), (3, 2 ** 22), (9, 2 ** 22), (1, 300)])
+def test_single_owner_equals_the_owner_among_many(tol, first, max_nodes):
+    # the single-owner path (scalar bookkeeping, first round as one grid) gives every owner's result and
+    # final grid bit for bit as the many-owner path, in one round or several, with levels discarded or not
+    together = integrate_pieces(_three, A3, B3, O3, tol=tol)
+    for o in range(3):
+        f, a, b, owner = _alone(o)
+        r = integrate_pieces(f, a, b, owner, tol=tol, first_levels=first, max_nodes=max_nodes)
+        for name in ("value", "err", "trapezoid", "n", "converged", "levels"):
+            assert getattr(r, name)[0] == getattr(together, name)[o], (o, name)
+        sel = np.repeat(together.owner, together.n_piece + 1) == o
+        for got, ref in zip(r.grid(), nodes_of_pieces(r.a, r.b, r.n_piece)):
+            assert np.array_equal(got, ref)
+        assert np.array_equal(r.grid()[0], together.grid()[0][sel])
+
+
+def _with_rows(x, mid, piece):
+    # the _three integrands, then rows to carry: the node, its midpoint and piece, and a smooth function
+    return np.stack([_three(x, mid, piece), x, mid, piece.astype(float), np.sin(7.0 * x)])
+
+
+@pytest.mark.parametrize("first,max_nodes", [(None, 2 ** 22), (9, 2 ** 22), (1, 300)])
+def test_carried_rows_are_the_integrand_at_the_final_grid(first, max_nodes):
+    # rows after the first are not integrated but delivered at the final grid's nodes (in its order): each
+    # node's values are those of the evaluation at exactly that node, whichever round evaluated it, and
+    # nodes of discarded levels are dropped; one owner alone and among many
+    many = integrate_pieces(_with_rows, A3, B3, O3, tol=1e-9, first_levels=first, max_nodes=max_nodes)
+    plain = integrate_pieces(_three, A3, B3, O3, tol=1e-9, first_levels=first, max_nodes=max_nodes)
+    assert many.value.tolist() == plain.value.tolist() and many.err.tolist() == plain.err.tolist()
+    cases = [many] + [integrate_pieces(*_alone(o, _with_rows), tol=1e-9, first_levels=first, max_nodes=max_nodes)
+                      for o in range(3)]
+    for r in cases:
+        x, mid, piece = r.grid()
+        assert r.carried.shape == (4, x.size)
+        assert np.array_equal(r.carried[0], x) and np.array_equal(r.carried[1], mid)
+        assert np.array_equal(r.carried[3], np.sin(7.0 * x))
+    assert np.array_equal(many.carried[2], many.grid()[2].astype(float))
+    assert plain.carried is None
+
+
 def test_pieces_cap_and_grid():
     # at the cap the doubling stops, not converged, with the last two levels' difference as the error
     r = integrate_pieces(_three, A3, B3, O3, tol=1e-300, n_max=256)

@@ -452,12 +452,87 @@ def _operating_points(design, points=None) -> dict:
     return _operating_values(lambda key: [p.get(key, design[key]) for p in points])
 
 
-def _operating_values(values) -> dict:
+def _operating_values(values, one: bool = False) -> dict:
+    """The operating-point keys over points: float arrays (NaN: absent) and lists of words; with ``one``,
+    the values of the single point as scalars (numpy float64, NaN where absent; the word)."""
     out = {}
     for key in OPERATING_KEYS:
         vals = values(key)
-        out[key] = list(vals) if key in ("load.mode", "load.torque_shaft") else _floats(vals)
+        if one:
+            v = vals[0]
+            out[key] = v if key in ("load.mode", "load.torque_shaft") else _float64(v)
+        else:
+            out[key] = list(vals) if key in ("load.mode", "load.torque_shaft") else _floats(vals)
     return out
+
+
+def _float64(v):
+    """A design value as a numpy float64 scalar (NaN where absent)."""
+    import numpy as np
+
+    return np.float64(math.nan if v is None else v)
+
+
+class _Scalars:
+    """The few numpy functions of the operating-point formulas, for one point of scalars.
+
+    The formulas of :func:`_friction_arrays`, :func:`_efficiency_torques` and :func:`_ideal_columns` take
+    ``xp``: numpy (arrays over points) or this class (one design, numpy float64 scalars).  Scalar float64
+    operations round exactly as the element operations on arrays do, and overflow or divide by zero to inf
+    or NaN as they do, so one design computed on scalars equals the same design in a batch, bit for bit,
+    without the cost of numpy calls on arrays of one element."""
+
+    nan = math.nan
+
+    @staticmethod
+    def where(cond, a, b):
+        return a if cond else b
+
+    @staticmethod
+    def maximum(a, b):
+        return a if a != a or a >= b else b          # as np.maximum: NaN propagates
+
+    abs = staticmethod(abs)
+
+    @staticmethod
+    def isnan(x) -> bool:
+        return x != x
+
+    @staticmethod
+    def degrees(x):
+        return x * (180.0 / math.pi)                 # as numpy's rad2deg
+
+    @staticmethod
+    def words_equal(words, word) -> bool:
+        return words == word
+
+    @staticmethod
+    def as_int(x) -> int:
+        return int(x)
+
+
+class _Arrays:
+    """numpy for the formulas that take ``xp`` (see :class:`_Scalars`), over arrays of points."""
+
+    def __getattr__(self, name):
+        import numpy as np
+
+        return getattr(np, name)
+
+    @staticmethod
+    def words_equal(words, word):
+        import numpy as np
+
+        return np.array([w == word for w in words])
+
+    @staticmethod
+    def as_int(x):
+        import numpy as np
+
+        return np.asarray(x).astype(np.int64)
+
+
+_ARRAYS = _Arrays()
 
 
 def _friction_regime(design, op):
@@ -473,46 +548,43 @@ def _friction_regime(design, op):
     return mu, rolls, ok
 
 
-def _friction_arrays(rotating, Rb, r, op):
+def _friction_arrays(rotating, Rb, r, op, xp=_ARRAYS):
     """(mu_eff, rolls, rolling condition) per point, with rotating pins, R_b and r per point (pins.md §4.5-4.6).
 
     Fixed pins slide with f; rotating pins roll with mu_rot = (f_c r + f_k)/R_b when f R_b >= f_c r + f_k,
-    else they slide with f.  The condition is only meaningful where ``rotating``."""
-    import numpy as np
-
+    else they slide with f.  The condition is only meaningful where ``rotating``.  Arrays, or the scalars
+    of one point with ``xp = _Scalars``."""
     from .. import pins
 
     f, fk, fc = op["friction.sliding"], op["friction.rolling_mm"], op["friction.axle"]
     ok = rotating & pins.rolling_condition(f, Rb, fc, r, fk)          # NaN r (fixed pins) compares False
-    mu = np.where(ok, pins.rotating_loss_coefficient(fc, r, fk, Rb), f)
+    mu = xp.where(ok, pins.rotating_loss_coefficient(fc, r, fk, Rb), f)
     return mu, ok, ok
 
 
-def _efficiency_torques(lam, E, op, ratio) -> dict:
+def _efficiency_torques(lam, E, op, ratio, xp=_ARRAYS) -> dict:
     """Efficiencies, self-locking and shaft torques from loss ratios, per operating point (pins.md §4.7).
 
-    Arrays; NaN marks an undefined value (no efficiency when the multiplier self-locks, no T_V
-    when it self-locks with the torque given on H).  Keys: locked, eta_vh, eta_vh_err, eta_hv,
-    eta_hv_err, efficiency, efficiency_err, T_V, T_H, torque_in, torque_out [N·m]."""
-    import numpy as np
-
+    Arrays (or one point's scalars with ``xp = _Scalars``); NaN marks an undefined value (no efficiency when the
+    multiplier self-locks, no T_V when it self-locks with the torque given on H).  Keys: locked, eta_vh,
+    eta_vh_err, eta_hv, eta_hv_err, efficiency, efficiency_err, T_V, T_H, torque_in, torque_out [N·m]."""
     from .. import pins
 
-    multiplier = np.array([m == "multiplier" for m in op["load.mode"]])
-    on_V = np.array([s == "V" for s in op["load.torque_shaft"]])
+    multiplier = xp.words_equal(op["load.mode"], "multiplier")
+    on_V = xp.words_equal(op["load.torque_shaft"], "V")
     T = op["load.torque_Nm"]
     locked = lam >= 1.0
-    eta_vh = np.where(locked, np.nan, pins.efficiency_multiplier(lam))
+    eta_vh = xp.where(locked, xp.nan, pins.efficiency_multiplier(lam))
     eta_hv = pins.efficiency_reducer(lam)
-    eta_hv_err = E / (1.0 + lam) ** 2
-    T_V = np.where(on_V, T, np.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))    # NaN: no warning
-    T_H = np.where(on_V, np.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
+    eta_hv_err = E / ((1.0 + lam) * (1.0 + lam))
+    T_V = xp.where(on_V, T, xp.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))    # NaN: no warning
+    T_H = xp.where(on_V, xp.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
     return {
-        "locked": locked, "eta_vh": eta_vh, "eta_vh_err": np.where(locked, np.nan, E), "eta_hv": eta_hv,
-        "eta_hv_err": eta_hv_err, "efficiency": np.where(multiplier, eta_vh, eta_hv),
-        "efficiency_err": np.where(multiplier, np.where(locked, np.nan, E), eta_hv_err),
+        "locked": locked, "eta_vh": eta_vh, "eta_vh_err": xp.where(locked, xp.nan, E), "eta_hv": eta_hv,
+        "eta_hv_err": eta_hv_err, "efficiency": xp.where(multiplier, eta_vh, eta_hv),
+        "efficiency_err": xp.where(multiplier, xp.where(locked, xp.nan, E), eta_hv_err),
         "self_locking": locked & multiplier, "T_V": T_V, "T_H": T_H,
-        "torque_in": np.where(multiplier, T_V, T_H), "torque_out": np.where(multiplier, T_H, T_V),
+        "torque_in": xp.where(multiplier, T_V, T_H), "torque_out": xp.where(multiplier, T_H, T_V),
     }
 
 
@@ -548,92 +620,126 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
 
     ``values(key)`` gives a key's values over the points (None where absent).  The distinct geometries
     are solved once each, together (gearcalc.pins.ideal_cycles, unit scalings); every point then
-    scales its geometry's solution by its friction, torque, speed and mode."""
+    scales its geometry's solution by its friction, torque, speed and mode.  One point (a design computed
+    alone) runs the same formulas on scalars (:class:`_Scalars`): the same numbers, bit for bit, without
+    the cost of numpy calls on arrays of one element."""
     import numpy as np
 
     from .. import pins, units
 
-    z1 = np.array(values("gearing.satellite_teeth"), dtype=np.int64)
-    z2 = np.array(values("gearing.pins"), dtype=np.int64)
-    e, Rb = _floats(values("gearing.eccentricity_mm")), _floats(values("gearing.pin_radius_mm"))
-    K1g, Rpg = _floats(values("gearing.curtate_ratio")), _floats(values("gearing.pin_circle_radius_mm"))
-    n_d = np.array(values("gearing.discs"), dtype=np.int64)
-    rot = np.array([bool(v) for v in values("gearing.rotating_pins")])
-    r = _floats(values("gearing.axle_radius_mm"))
-    k = z2 - z1
-    useK = ~np.isnan(K1g)                     # pins.md §7: R_p or K1 (as _pin_circle); NaN raises no warning
-    Rp = np.where(useK, e * z2 / (k * K1g), Rpg)
-    omk = np.where(useK, 1.0 - K1g, (k * Rp - e * z2) / (k * Rp))
-    K1 = e * z2 / (k * Rp)                    # as pins.Cycloid.K1
-    key = np.stack([z1, z2, e, Rp, omk, Rb, n_d], axis=1).astype(float)
-    if n == 1:
-        uniq, gi = key, np.zeros(1, dtype=np.int64)
+    one = n == 1
+    if one:                                   # scalars (NaN where absent), as _floats gives
+        def num(key):
+            return _float64(values(key)[0])
+
+        z1, z2, n_d = values("gearing.satellite_teeth")[0], values("gearing.pins")[0], values("gearing.discs")[0]
+        e, Rb, K1g, Rpg = (num(key) for key in ("gearing.eccentricity_mm", "gearing.pin_radius_mm",
+                                                "gearing.curtate_ratio", "gearing.pin_circle_radius_mm"))
+        rot, r = bool(values("gearing.rotating_pins")[0]), num("gearing.axle_radius_mm")
+        useK = K1g == K1g
+        xp = _Scalars
     else:
+        z1 = np.array(values("gearing.satellite_teeth"), dtype=np.int64)
+        z2 = np.array(values("gearing.pins"), dtype=np.int64)
+        e, Rb = _floats(values("gearing.eccentricity_mm")), _floats(values("gearing.pin_radius_mm"))
+        K1g, Rpg = _floats(values("gearing.curtate_ratio")), _floats(values("gearing.pin_circle_radius_mm"))
+        n_d = np.array(values("gearing.discs"), dtype=np.int64)
+        rot = np.array([bool(v) for v in values("gearing.rotating_pins")])
+        r = _floats(values("gearing.axle_radius_mm"))
+        useK = ~np.isnan(K1g)                 # pins.md §7: R_p or K1 (as _pin_circle); NaN raises no warning
+        xp = _ARRAYS
+    k = z2 - z1
+    Rp = xp.where(useK, e * z2 / (k * K1g), Rpg)
+    omk = xp.where(useK, 1.0 - K1g, (k * Rp - e * z2) / (k * Rp))
+    K1 = e * z2 / (k * Rp)                    # as pins.Cycloid.K1
+    if one:
+        gi = np.zeros(1, dtype=np.int64)
+        g = pins.Cycloid(np.array([z1]), np.array([z2]), np.array([e]), np.array([Rp]), np.array([Rb]),
+                         np.array([omk]))
+        cyc = pins.ideal_cycles(g, np.array([n_d]), tol=options.tol)
+    else:
+        key = np.stack([z1, z2, e, Rp, omk, Rb, n_d], axis=1).astype(float)
         uniq, gi = np.unique(key, axis=0, return_inverse=True)
         gi = gi.reshape(-1)
-    g = pins.Cycloid(uniq[:, 0].astype(np.int64), uniq[:, 1].astype(np.int64), uniq[:, 2], uniq[:, 3], uniq[:, 5],
-                     uniq[:, 4])
-    cyc = pins.ideal_cycles(g, uniq[:, 6].astype(np.int64), tol=options.tol)
+        g = pins.Cycloid(uniq[:, 0].astype(np.int64), uniq[:, 1].astype(np.int64), uniq[:, 2], uniq[:, 3],
+                         uniq[:, 5], uniq[:, 4])
+        cyc = pins.ideal_cycles(g, uniq[:, 6].astype(np.int64), tol=options.tol)
+
+    def field(name):
+        """An IdealCycles field per point: an array over points, or the one point's Python scalar."""
+        arr = getattr(cyc, name)
+        return arr.item(0) if one else arr[gi]
 
     # admissibility (pins.md §4.2, §12.10) and the warning of §4.5, per point
     errors: list = [None] * n
     warnings: list[list[str]] = [[] for _ in range(n)]
-    status = cyc.status[gi]
-    psi_star, psi_0 = cyc.psi_star[gi], cyc.psi_0[gi]
-    for i in np.flatnonzero(status != 0):
-        if status[i] == pins.TOO_FEW_TEETH:
+    status, psi_star, psi_0 = field("status"), field("psi_star"), field("psi_0")
+    at = (lambda arr, i: arr) if one else (lambda arr, i: arr[i])
+    bad = ([0] if status != 0 else []) if one else np.flatnonzero(status != 0)
+    for i in bad:
+        if at(status, i) == pins.TOO_FEW_TEETH:
             errors[i] = DesignError(
                 "gearing.satellite_teeth",
-                f"= {z1[i]}: too few teeth for the tooth difference k = {k[i]}: at some crank angles no pin carries "
-                f"load (the loaded arc psi* = {_fmt(math.degrees(psi_star[i]))} deg must exceed the pin pitch 360/z2 "
-                f"= {_fmt(360.0 / z2[i])} deg)")
+                f"= {at(z1, i)}: too few teeth for the tooth difference k = {at(k, i)}: at some crank angles no pin "
+                f"carries load (the loaded arc psi* = {_fmt(math.degrees(at(psi_star, i)))} deg must exceed the pin "
+                f"pitch 360/z2 = {_fmt(360.0 / at(z2, i))} deg)")
         else:
             errors[i] = DesignError(
                 "gearing.pin_radius_mm",
-                f"= {_fmt(Rb[i])}: undercut: R_b must be < the least radius of curvature of the pin-centre curve over "
-                f"the loaded arc, min rho_c = {_fmt(cyc.rho_c_min[gi[i]])} mm (K1 = {_fmt(K1[i])})")
-    for i in np.flatnonzero((status == 0) & (Rb >= Rp * omk)):
-        p0 = None if np.isnan(psi_0[i]) else float(psi_0[i])
-        warnings[i].append(f"R_b = {_fmt(Rb[i])} mm >= R_p*(1 - K1) = {_fmt(Rp[i] * omk[i])} mm: the pitch point "
-                           "lies inside the pin near entry"
+                f"= {_fmt(at(Rb, i))}: undercut: R_b must be < the least radius of curvature of the pin-centre curve "
+                f"over the loaded arc, min rho_c = {_fmt(cyc.rho_c_min[gi[i]])} mm (K1 = {_fmt(at(K1, i))})")
+    inside = (status == 0) & (Rb >= Rp * omk)
+    for i in ([0] if inside else []) if one else np.flatnonzero(inside):
+        p0 = None if xp.isnan(at(psi_0, i)) else float(at(psi_0, i))
+        warnings[i].append(f"R_b = {_fmt(at(Rb, i))} mm >= R_p*(1 - K1) = {_fmt(at(Rp, i) * at(omk, i))} mm: the "
+                           "pitch point lies inside the pin near entry"
                            + (f"; the pin spin reverses at psi = {_fmt(math.degrees(p0))} deg" if p0 else ""))
 
     # operating points: lambda_bar = mu_eff * unit, forces ∝ T_sat, speeds ∝ omega_V (pins.md §4.4-4.7)
-    op = _operating_values(values)
-    mu, rolls, rolling_ok = _friction_arrays(rot, Rb, r, op)
-    lam, E = mu * cyc.loss_ratio[gi], mu * cyc.loss_ratio_err[gi]
-    et = _efficiency_torques(lam, E, op, z1 / k)
+    op = _operating_values(values, one)
+    mu, rolls, rolling_ok = _friction_arrays(rot, Rb, r, op, xp)
+    lam, E = mu * field("loss_ratio"), mu * field("loss_ratio_err")
+    et = _efficiency_torques(lam, E, op, z1 / k, xp)
     T_sat = units.nm_to_nmm(et["T_V"]) / n_d                                   # N·mm per disc
     w_V = units.rpm_to_rad_s(op["load.crank_speed_rpm"]) * k / z1             # |omega_V| [rad/s]
-    F_max = T_sat * cyc.force[gi]                                              # N
+    F_max = T_sat * field("force")                                             # N
     spin_rpm = units.rad_s_to_rpm(w_V) / Rb                                    # rpm per mm of rho - R_b
-    rel_min, rel_max, rel_abs = cyc.rel_min[gi], cyc.rel_max[gi], cyc.rel_abs[gi]
+    rel_min, rel_max, rel_abs = field("rel_min"), field("rel_max"), field("rel_abs")
     v_max = w_V * rel_abs                                                      # mm/s
     zero = 0.0 * w_V
-    reversals = (rolls & (psi_0 < psi_star)).astype(np.int64)     # NaN (no reversal) compares False
+    reversals = xp.as_int(rolls & (psi_0 < psi_star))             # NaN (no reversal) compares False
     arrays = {
         "efficiency": et["efficiency"], "efficiency_err": et["efficiency_err"], "self_locking": et["self_locking"],
         "efficiency_multiplier": et["eta_vh"], "efficiency_multiplier_err": et["eta_vh_err"],
         "efficiency_reducer": et["eta_hv"], "efficiency_reducer_err": et["eta_hv_err"], "loss_ratio": lam,
         "loss_ratio_err": E, "torque_in_Nm": et["torque_in"], "torque_out_Nm": et["torque_out"],
-        "loss_mean_W": lam * et["T_V"] * w_V, "loss_peak_W": mu * T_sat * w_V * cyc.total[gi],
-        "pin_force_max_N": F_max, "pin_loss_max_W": mu * T_sat * w_V * cyc.loss[gi],
-        "pin_loss_bound_W": np.where(rolls, mu, op["friction.sliding"]) * F_max * v_max * 1e-3,
-        "pin_speed_max_rpm": np.where(rolls, spin_rpm * np.maximum(np.abs(rel_min), np.abs(rel_max)), zero),
-        "pin_speed_signed_min_rpm": np.where(rolls, spin_rpm * rel_min, zero),
-        "pin_speed_signed_max_rpm": np.where(rolls, spin_rpm * rel_max, zero),
+        "loss_mean_W": lam * et["T_V"] * w_V, "loss_peak_W": mu * T_sat * w_V * field("total"),
+        "pin_force_max_N": F_max, "pin_loss_max_W": mu * T_sat * w_V * field("loss"),
+        "pin_loss_bound_W": xp.where(rolls, mu, op["friction.sliding"]) * F_max * v_max * 1e-3,
+        "pin_speed_max_rpm": xp.where(rolls, spin_rpm * xp.maximum(xp.abs(rel_min), xp.abs(rel_max)), zero),
+        "pin_speed_signed_min_rpm": xp.where(rolls, spin_rpm * rel_min, zero),
+        "pin_speed_signed_max_rpm": xp.where(rolls, spin_rpm * rel_max, zero),
         "spin_reversals": reversals,
-        "sliding_speed_max_m_s": np.where(rolls, zero, v_max / units.MM_PER_M),
-        "ratio": z1 / k, "curtate_ratio": K1, "loaded_pins_min": cyc.loaded_min[gi],
-        "loaded_pins_max": cyc.loaded_max[gi], "psi_star_deg": np.degrees(psi_star), "n_crank": cyc.n_crank[gi],
-        "tolerance_met": cyc.converged[gi],
-        "pin_force_max_phase_deg": np.where(np.isnan(F_max), np.nan, np.degrees(cyc.force_phase[gi])),
-        "pin_loss_max_phase_deg": np.where(np.isnan(mu * T_sat * w_V), np.nan, np.degrees(cyc.loss_phase[gi])),
+        "sliding_speed_max_m_s": xp.where(rolls, zero, v_max / units.MM_PER_M),
+        "ratio": z1 / k, "curtate_ratio": K1, "loaded_pins_min": field("loaded_min"),
+        "loaded_pins_max": field("loaded_max"), "psi_star_deg": xp.degrees(psi_star), "n_crank": field("n_crank"),
+        "tolerance_met": field("converged"),
+        "pin_force_max_phase_deg": xp.where(xp.isnan(F_max), xp.nan, xp.degrees(field("force_phase"))),
+        "pin_loss_max_phase_deg": xp.where(xp.isnan(mu * T_sat * w_V), xp.nan, xp.degrees(field("loss_phase"))),
     }
-    columns = {"model": ["ideal"] * n, "mode": list(op["load.mode"]), "profile": ["cycloidal"] * n,
-               "rotating_pins": rot.tolist(),
-               "rolling_ok": [bool(o) if q else None for o, q in zip(rolling_ok.tolist(), rot.tolist())]}
-    columns.update(_columns(arrays, n))
+    if one:
+        columns = {"model": ["ideal"], "mode": [op["load.mode"]], "profile": ["cycloidal"], "rotating_pins": [rot],
+                   "rolling_ok": [bool(rolling_ok) if rot else None]}
+        for key, v in arrays.items():             # plain Python values; NaN: undefined
+            v = v.item() if isinstance(v, np.generic) else v
+            columns[key] = [None if v != v else v]
+        z1, z2, e, Rp, Rb, omk, n_d, mu, rolls, T_sat, w_V = (
+            [v] for v in (z1, z2, e, Rp, Rb, omk, n_d, mu, rolls, T_sat, w_V))
+    else:
+        columns = {"model": ["ideal"] * n, "mode": list(op["load.mode"]), "profile": ["cycloidal"] * n,
+                   "rotating_pins": rot.tolist(),
+                   "rolling_ok": [bool(o) if q else None for o, q in zip(rolling_ok.tolist(), rot.tolist())]}
+        columns.update(_columns(arrays, n))
     return IdealColumns(columns=columns, errors=errors, warnings=warnings, cyc=cyc, gi=gi, z1=z1, z2=z2, e=e, Rp=Rp,
                         Rb=Rb, omk=omk, n_d=n_d, mu=mu, rolls=rolls, T_sat=T_sat, w_V=w_V)
 
