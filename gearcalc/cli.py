@@ -620,6 +620,13 @@ def main() -> None:
         signal.signal(signal.SIGTERM, _terminate)
     except (ValueError, OSError):  # not in the main thread
         pass
+    if "--debug" not in sys.argv[1:]:
+        # numpy's RuntimeWarnings (an overflow to inf in an intermediate whose limit is the right answer,
+        # e.g. 1/(1+lambda)^2 -> 0) are not the user's to act on; a non-finite output is refused by the
+        # renderer anyway. --debug shows them.
+        import warnings
+
+        warnings.filterwarnings("ignore", category=RuntimeWarning)
     everything = app.registered_commands
     app.registered_commands = _commands_to_build(sys.argv[1:], everything)
     try:

@@ -17,6 +17,16 @@ MM_PER_M = 1000.0
 UM_PER_MM = 1000.0
 MRAD_PER_RAD = 1000.0
 
+# The ranges gearcalc accepts for inputs of these kinds (the schema's bounds). They are far outside any
+# machine (a micrometre-scale mechanism to a kilometre-scale one) and keep every result a finite double:
+# forces, stresses and powers built from them stay below ~1e300 instead of overflowing to inf.
+MIN_LENGTH_MM, MAX_LENGTH_MM = 1e-6, 1e6
+MAX_FORCE_N = 1e15
+MAX_TORQUE_NM = 1e15
+MAX_SPEED_RPM = 1e9
+MAX_FRICTION = 10.0
+"""Friction coefficients (dimensionless): dry metal pairs stay below about 1."""
+
 # Longest suffix first, so that "_N_per_mm" wins over "_mm".
 _SUFFIXES = (
     ("_kg_per_kNm", "kg/(kN·m)"),

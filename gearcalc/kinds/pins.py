@@ -18,15 +18,23 @@ import math
 import time
 
 from ..calculator import REQUIRED, Calculator, DesignError, Field, Options, Problems, Result, Table
+from ..units import MAX_FORCE_N, MAX_FRICTION, MAX_LENGTH_MM, MAX_SPEED_RPM, MAX_TORQUE_NM, MIN_LENGTH_MM
 
 MODELS = ("formula", "ideal", "contact")
+MAX_DISCS = 64
+"""Satellite discs (drives use 1-3); the cost grows with n_d, and 64 discs take ~0.4 s."""
+MAX_STIFFNESS_N_PER_MM = 1e12
+"""A linear contact stiffness far above steel's (~1e6 N/mm per mm of face); the accuracy reference uses 1e9."""
 
 TABLES = (
     Table("pin_load", (
-        Field("normal_force_N", "number", REQUIRED, "F_n, peak normal force on one pin", gt=0, example=1920.0),
-        Field("pin_speed_rpm", "number", REQUIRED, "n_pin, bushing speed", gt=0, example=14.0),
-        Field("pin_radius_mm", "number", REQUIRED, "R, outer radius of the bushing", gt=0, example=1.95),
-        Field("axle_radius_mm", "number", REQUIRED, "r, radius of the axle (< R)", gt=0, example=0.95),
+        Field("normal_force_N", "number", REQUIRED, "F_n, peak normal force on one pin", gt=0, le=MAX_FORCE_N,
+              example=1920.0),
+        Field("pin_speed_rpm", "number", REQUIRED, "n_pin, bushing speed", gt=0, le=MAX_SPEED_RPM, example=14.0),
+        Field("pin_radius_mm", "number", REQUIRED, "R, outer radius of the bushing", ge=MIN_LENGTH_MM,
+              le=MAX_LENGTH_MM, example=1.95),
+        Field("axle_radius_mm", "number", REQUIRED, "r, radius of the axle (< R)", ge=MIN_LENGTH_MM,
+              le=MAX_LENGTH_MM, example=0.95),
         Field("paper_pi", "bool", False, "compute with pi = 3.14 as the paper did"),
     ), doc="The paper's per-pin formula level, eqs. (3)-(7): give this table alone to run it",
         optional=True, in_template=False),
@@ -35,46 +43,53 @@ TABLES = (
               example="cycloidal"),
         Field("satellite_teeth", "integer", REQUIRED, "z1, teeth of the satellite", ge=2, example=20),
         Field("pins", "integer", REQUIRED, "z2, pins of the fixed ring (> z1)", ge=3, example=22),
-        Field("eccentricity_mm", "number", REQUIRED, "e, crank eccentricity", gt=0, example=3.9),
+        Field("eccentricity_mm", "number", REQUIRED, "e, crank eccentricity", ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM,
+              example=3.9),
         Field("pin_circle_radius_mm", "number", None, "R_p, pin-centre circle radius (or give curtate_ratio)",
-              gt=0),
+              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM),
         Field("curtate_ratio", "number", None, "K1 = e*z2/(k*R_p), 0 < K1 < 1 (or give pin_circle_radius_mm)",
               gt=0, example=0.75),
-        Field("pin_radius_mm", "number", REQUIRED, "R_b, pin (bushing) outer radius", gt=0, example=1.95),
-        Field("axle_radius_mm", "number", None, "r, axle radius; required with rotating pins (< R_b)", gt=0,
-              example=0.95),
+        Field("pin_radius_mm", "number", REQUIRED, "R_b, pin (bushing) outer radius", ge=MIN_LENGTH_MM,
+              le=MAX_LENGTH_MM, example=1.95),
+        Field("axle_radius_mm", "number", None, "r, axle radius; required with rotating pins (< R_b)",
+              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM, example=0.95),
         Field("rotating_pins", "bool", False, "pins are bushings turning on axles (else fixed pins)"),
-        Field("discs", "integer", 1, "n_d, satellite discs, offset by 360/n_d degrees of crank", ge=1),
+        Field("discs", "integer", 1, "n_d, satellite discs, offset by 360/n_d degrees of crank", ge=1,
+              le=MAX_DISCS),
         Field("tooth_radius_mm", "number", "full", "rho_t, circular profile: tooth radius; \"full\": adjacent "
-              "teeth tangent at the root", gt=0, choices=("full",)),
+              "teeth tangent at the root", gt=0, le=MAX_LENGTH_MM, choices=("full",)),
         Field("tooth_circle_radius_mm", "number", "zero_backlash",
               "R_t, circular profile: radius of the circle of tooth centres; \"zero_backlash\": the teeth just "
-              "touch the pins' nominal paths", gt=0, choices=("zero_backlash",)),
+              "touch the pins' nominal paths", gt=0, le=MAX_LENGTH_MM, choices=("zero_backlash",)),
         Field("equidistant_mod_mm", "number", 0.0, "Delta R_b, cycloidal: equidistant modification (> 0 adds "
-              "clearance; contact level)"),
+              "clearance; contact level)", ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM),
         Field("radial_mod_mm", "number", 0.0, "Delta R_p, cycloidal: radial modification of the pin circle of "
-              "the design curve (contact level)"),
+              "the design curve (contact level)", ge=-MAX_LENGTH_MM, le=MAX_LENGTH_MM),
     ), doc="Geometry of the pin gear: runs the cycle model", optional=True),
     Table("friction", (
         Field("sliding", "number", None, "f, tooth-pin sliding friction; required with [gearing]", ge=0,
-              example=0.1),
+              le=MAX_FRICTION, example=0.1),
         Field("rolling_mm", "number", REQUIRED, "f_k, rolling friction between tooth and bushing", ge=0,
-              example=0.01),
-        Field("axle", "number", REQUIRED, "f_c, sliding friction between bushing and axle", ge=0, example=0.1),
+              le=MAX_LENGTH_MM, example=0.01),
+        Field("axle", "number", REQUIRED, "f_c, sliding friction between bushing and axle", ge=0,
+              le=MAX_FRICTION, example=0.1),
     ), doc="Friction coefficients"),
     Table("load", (
         Field("mode", "string", REQUIRED, "multiplier: V drives H (the paper's); reducer: H drives V",
               choices=("multiplier", "reducer"), example="multiplier"),
         Field("torque_shaft", "string", REQUIRED, "the shaft whose torque is given: H (crank) or V (satellite)",
               choices=("H", "V"), example="H"),
-        Field("torque_Nm", "number", REQUIRED, "T, torque on that shaft", gt=0, example=100.0),
-        Field("crank_speed_rpm", "number", None, "n_H; powers and pin speeds need it", gt=0, example=1000.0),
+        Field("torque_Nm", "number", REQUIRED, "T, torque on that shaft", gt=0, le=MAX_TORQUE_NM, example=100.0),
+        Field("crank_speed_rpm", "number", None, "n_H; powers and pin speeds need it", gt=0, le=MAX_SPEED_RPM,
+              example=1000.0),
     ), doc="Operating point; required with [gearing]", optional=True),
     Table("contact", (
         Field("law", "string", "hertz", "contact law: hertz (steel, ISO/TS 16281), palmgren, linear",
               choices=("hertz", "palmgren", "linear")),
-        Field("face_width_mm", "number", None, "b, face width; required for hertz and palmgren", gt=0),
-        Field("stiffness_N_per_mm", "number", None, "k_lin, contact stiffness; required for linear", gt=0),
+        Field("face_width_mm", "number", None, "b, face width; required for hertz and palmgren",
+              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM),
+        Field("stiffness_N_per_mm", "number", None, "k_lin, contact stiffness; required for linear", gt=0,
+              le=MAX_STIFFNESS_N_PER_MM),
         Field("friction_in_equilibrium", "bool", False, "include the friction forces in the moment balance"),
     ), doc="Compliant contact level (circular teeth, modified cycloids): the contact law", optional=True,
         in_template=False),

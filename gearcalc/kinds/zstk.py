@@ -9,6 +9,7 @@ from __future__ import annotations
 import math
 
 from ..calculator import REQUIRED, Calculator, DesignError, Field, Options, Result, Table
+from ..units import MAX_FORCE_N, MAX_LENGTH_MM, MIN_LENGTH_MM
 
 MODELS = ("equilibrium", "fixed-direction", "reference")
 SCHEMES = ("A", "B", "C", "D")
@@ -20,7 +21,6 @@ GRID_DIRECTION = 720   # points per turn
 GRID_CAP = 2 ** 16
 # Physical ranges of the inputs (gearcalc's choice, spec §9 "a value outside its physical range"):
 # lengths from 1 nm to 1 km, moduli from soft rubber (1 MPa) to beyond diamond (1e7 MPa).
-MIN_LENGTH_MM, MAX_LENGTH_MM = 1e-6, 1e6
 MIN_E_MPA, MAX_E_MPA = 1.0, 1e7
 MAX_ROLLERS = 2000       # gearcalc's range (the spec asks N > 200 to work); keeps sweeps in memory
 CHUNK_ELEMENTS = 1_000_000  # roller-configurations evaluated at once in the sweeps
@@ -52,7 +52,8 @@ GEOMETRY = Table("geometry", (
 ), doc="Raceways, eccentricity and the roller chain")
 
 LOAD = Table("load", (
-    Field("radial_N", "number", REQUIRED, "Q, radial load on the leading inner ring", gt=0, example=10000.0),
+    Field("radial_N", "number", REQUIRED, "Q, radial load on the leading inner ring", gt=0, le=MAX_FORCE_N,
+          example=10000.0),
     Field("direction_deg", "number", 0.0, "direction of Q from the line of centres (0 = toward the narrowest "
           "gap, counter-clockwise), or \"envelope\" = every direction", choices=("envelope",)),
     Field("clearance_mm", "number", 0.0, "radial clearance s, total free travel of the inner ring (< 0: preload); "
