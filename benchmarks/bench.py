@@ -6,8 +6,8 @@ Run it with the interpreter of an environment where gearcalc is installed as use
 (``pip install .``): the subprocess figures time that environment's ``gearcalc`` command. An editable
 install (``pip install -e``) adds its import hook to every start-up; the header line says which it is.
 
-Measures (wall times of subprocesses are medians of --repeat runs; in-process times are medians after a
-warm-up call):
+Measures (wall times of subprocesses are medians of --repeat runs; in-process times are medians of up to
+10 x --repeat calls, within 0.25 s per figure, after a warm-up call):
 * start-up: ``python -c pass``, ``gearcalc --help`` and one design of each kind, end to end (CSV out);
 * per-design compute in process for every shipped config, per calculator and model level, at --tol 1e-6;
 * batch: 1000 generated design files of each kind in one ``gearcalc run DIR`` call, against one design in
@@ -83,10 +83,13 @@ def wall(cmd, repeat: int, shell: bool = False) -> float:
     return statistics.median(times)
 
 
-def in_process(design, calc, options, repeat: int) -> float:
+def in_process(design, calc, options, repeat: int, budget: float = 0.25) -> float:
+    """Median compute time after a warm-up call: at least 10 * repeat calls, or as many as fit in ``budget``
+    seconds (a median of many cheap calls is robust against a moment of load on a shared machine)."""
     calc.compute(design, options)  # warm-up
     times = []
-    for _ in range(repeat):
+    start = time.perf_counter()
+    while len(times) < 3 or (len(times) < 10 * repeat and time.perf_counter() - start < budget):
         t = time.perf_counter()
         calc.compute(design, options)
         times.append(time.perf_counter() - t)
