@@ -27,9 +27,30 @@ HELP_COLUMNS = 80
 HELP_FILE = os.path.join(os.path.dirname(__file__), "data", "help.txt")
 
 
+BLAS_THREAD_VARIABLES = ("OPENBLAS_NUM_THREADS", "MKL_NUM_THREADS")
+
+
+def one_blas_thread(environ=os.environ) -> None:
+    """Ask numpy's BLAS for one thread, unless the user chose a number (call before numpy is imported).
+
+    gearcalc's linear algebra is on small matrices, where a BLAS thread pool gains nothing, and its
+    threads keep spinning after each call, competing with the main thread on a small machine: 15 ms of
+    a one-design zstk call on two cores, and the pool's creation costs every numpy import a few ms. Set
+    ``OPENBLAS_NUM_THREADS`` (numpy's wheels) or ``MKL_NUM_THREADS`` to use more; ``--jobs`` is the way
+    gearcalc uses several cores.
+
+    >>> env = {"MKL_NUM_THREADS": "4"}
+    >>> one_blas_thread(env); sorted(env.items())
+    [('MKL_NUM_THREADS', '4'), ('OPENBLAS_NUM_THREADS', '1')]
+    """
+    for name in BLAS_THREAD_VARIABLES:
+        environ.setdefault(name, "1")
+
+
 def main() -> None:
     """Run ``gearcalc`` with the arguments of the process and leave with its exit status."""
     args = sys.argv[1:]
+    one_blas_thread()
     if args in (["--help"], ["-h"]) and _standard_width() and os.path.isfile(HELP_FILE):
         with open(HELP_FILE, encoding="utf-8") as fh:
             _leave(_write(fh.read()))
