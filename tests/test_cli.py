@@ -342,21 +342,7 @@ def test_sweep_error_names_the_file_once():
     assert r.code == 2 and r.err.count(FIG3.name) == 1 and "did you mean 'rows.count'?" in r.err
 
 
-# ---------------------------------------------------------------- the console entry (fast exit)
-def test_console_keeps_every_exit_code_and_all_output(write, tmp_path):
-    # console() leaves with os._exit after flushing: the process status must be the one main() chose, and a
-    # large piped output must arrive whole (a lost buffer would cut the CSV short).
-    r = cli_proc("sweep", FIG3, "--vary", "rows.relative_width=0.5:3.0:0.0002", "-f", "csv")
-    assert r.code == 0
-    assert len(r.out.splitlines()) == 1 + 12501  # header + (3.0-0.5)/0.0002 + 1 points
-    assert cli_proc("check", write("kind = 'rows'\n[rows]\ncount = 3\n")).code == 2
-    failing = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml"
-    out = tmp_path / "o.json"
-    r = cli_proc("run", failing, "-o", out)
-    assert r.code == cli("run", failing, "-o", tmp_path / "ref.json").code
-    assert json.loads(out.read_text()) and out.read_text() == (tmp_path / "ref.json").read_text()
-
-
+# ---------------------------------------------------------------- typer builds only the invoked command
 def test_only_the_invoked_command_is_built():
     from gearcalc.cli import _commands_to_build, app
 

@@ -1,11 +1,15 @@
 """The entry point: the stored top-level help is typer's, fast paths import nothing heavy, exit statuses."""
+import json
 import os
 import subprocess
 import sys
 
 import pytest
 
+from conftest import CONFIGS, cli, cli_proc
 from gearcalc import console
+
+FIG3 = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml"
 
 
 def test_stored_help_is_what_typer_prints():
@@ -55,3 +59,16 @@ def test_other_arguments_reach_the_cli():
     assert p.returncode == 2 and "No such option" in p.stderr
     p = run("rows", "--help")
     assert p.returncode == 0 and "Usage: gearcalc rows" in p.stdout
+
+
+def test_console_keeps_every_exit_code_and_all_output(write, tmp_path):
+    # console.main() leaves with os._exit after flushing: the process status must be the one main() chose, and a
+    # large piped output must arrive whole (a lost buffer would cut the CSV short).
+    r = cli_proc("sweep", FIG3, "--vary", "rows.relative_width=0.5:3.0:0.0002", "-f", "csv")
+    assert r.code == 0
+    assert len(r.out.splitlines()) == 1 + 12501  # header + (3.0-0.5)/0.0002 + 1 points
+    assert cli_proc("check", write("kind = 'rows'\n[rows]\ncount = 3\n")).code == 2
+    out = tmp_path / "o.json"
+    r = cli_proc("run", FIG3, "-o", out)
+    assert r.code == cli("run", FIG3, "-o", tmp_path / "ref.json").code
+    assert json.loads(out.read_text()) and out.read_text() == (tmp_path / "ref.json").read_text()

@@ -12,13 +12,6 @@ def check_png(path, min_bytes=10_000):
     assert data[:8] == PNG and len(data) > min_bytes  # a real figure, not an empty canvas
 
 
-def test_rows_design_plot(tmp_path):
-    out = tmp_path / "rows.png"
-    r = cli("rows", CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", "--plot", out)
-    assert r.code == 0
-    check_png(out)
-
-
 def test_rows_sweep_plots_fig3_and_fig5(tmp_path):
     out = tmp_path / "fig3.png"
     r = cli("sweep", CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", "--vary", "rows.count=4,3",
@@ -37,24 +30,16 @@ def test_plot_folder_missing(tmp_path):
     assert r.code == 2 and "does not exist" in r.err
 
 
-@pytest.mark.parametrize("config", [
-    "zstk_merko_example.toml",        # one position: Fig. 2 (sigma vs roller radius) + the chain drawn
-    "zstk_merko_A_envelope.toml",     # envelope over load directions
+@pytest.mark.parametrize("kind,config", [
+    ("rows", "rows_fig3_n3_nw3_B2.4.toml"),           # row loads along the sun face
+    ("zstk", "zstk_merko_example.toml"),              # one position: Fig. 2 (sigma vs roller radius) + the chain
+    ("zstk", "zstk_merko_A_envelope.toml"),           # envelope over load directions
+    ("pins", "pins_paper_cyc_u10_rotating.toml"),     # ideal level: F, n_pin, P of one pin (Figs. 8-11), lambda
+    ("pins", "pins_paper_formula_cyc_u10.toml"),      # formula level: the per-pin loss bars
 ])
-def test_zstk_design_plot(tmp_path, config):
-    out = tmp_path / "zstk.png"
-    r = cli("zstk", CONFIGS / config, "--plot", out)
-    assert r.code == 0
-    check_png(out)
-
-
-@pytest.mark.parametrize("config", [
-    "pins_paper_cyc_u10_rotating.toml",   # ideal level: F, n_pin, P of one pin (Figs. 8-11) and lambda(theta)
-    "pins_paper_formula_cyc_u10.toml",    # formula level: the per-pin loss bars
-])
-def test_pins_design_plot(tmp_path, config):
-    out = tmp_path / "pins.png"
-    r = cli("pins", CONFIGS / config, "--plot", out)
+def test_design_plot(tmp_path, kind, config):
+    out = tmp_path / f"{kind}.png"
+    r = cli(kind, CONFIGS / config, "--plot", out)
     assert r.code == 0
     check_png(out)
 
