@@ -8,8 +8,6 @@ from __future__ import annotations
 
 from typing import Any
 
-# The quantity a sweep plots for each kind (and for rows with a mass table).
-SWEEP_Y = {"rows": "K", "rows+mass": "relative_mass_kg_per_kNm", "zstk": "sigma_max_MPa", "pins": "efficiency"}
 
 
 def _pyplot():
@@ -39,11 +37,20 @@ def _label(name: str) -> str:
     return f"{base} [{unit}]" if unit else base
 
 
+def sweep_y(kind: str | None, row: dict[str, Any]) -> str:
+    """The field a sweep's figure plots: the first of the calculator's ``sweep_plot`` fields the sweep has."""
+    from . import registry
+
+    if kind not in registry.kinds():
+        return ""
+    wanted = registry.get(kind).sweep_plot
+    return next((f for f in wanted if row.get(f) is not None), wanted[-1] if wanted else "")
+
+
 def plot_sweep(kind: str | None, rows: list[dict[str, Any]], axes: list[str], path: str) -> None:
     """The swept result against the last numeric axis, one curve per combination of the others."""
     plt = _pyplot()
-    y_key = SWEEP_Y.get(f"{kind}+mass") if kind == "rows" and "relative_mass_kg_per_kNm" in rows[0] else None
-    y_key = y_key or SWEEP_Y.get(kind or "", "")
+    y_key = sweep_y(kind, rows[0])
     numeric = [a for a in axes if all(isinstance(r[a], (int, float)) for r in rows)]
     x_key = numeric[-1] if numeric else axes[-1]
     others = [a for a in axes if a != x_key]
@@ -63,9 +70,7 @@ def plot_sweep(kind: str | None, rows: list[dict[str, Any]], axes: list[str], pa
     if len(curves) > 1 or others:
         ax.legend(fontsize=8)
     ax.set_title(f"gearcalc sweep: {y_key} against {x_key}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
+    save(fig, path)
 
 
 def plot_accuracy(rows: list[dict[str, Any]], path: str) -> None:
@@ -100,8 +105,17 @@ def plot_accuracy(rows: list[dict[str, Any]], path: str) -> None:
 
 
 def save(fig, path: str) -> None:
+    """Render to memory in the format of the path's extension (png without one), then write it by the
+    -o rules (gearcalc/output.py): special files written through, symlinks followed, atomic, mode kept."""
+    import io
+    import os
+
     import matplotlib.pyplot as plt
 
+    from .output import write
+
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    buffer = io.BytesIO()
+    fig.savefig(buffer, dpi=120, format=os.path.splitext(path)[1].lower().lstrip(".") or "png")
     plt.close(fig)
+    write(path, buffer.getvalue())

@@ -1,0 +1,240 @@
+"""-o and --plot never clobber what is at the path (issue 12): special files are written through, symlinks
+are followed, modes are kept, inputs are protected, environmental write errors are exit 74.
+
+Every test writes inside its own tmp_path only; device nodes are private (mknod, root only)."""
+import errno
+import os
+import shutil
+import stat
+import subprocess
+import sys
+import threading
+
+import pytest
+
+from conftest import CONFIGS, cli, cli_proc
+
+FIG3 = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml"
+root_only = pytest.mark.skipif(os.geteuid() != 0, reason="mknod and chown need root")
+
+
+def reference_csv():
+    r = cli("rows", FIG3, "-f", "csv")
+    assert r.code == 0 and r.out.startswith("name,")
+    return r.out
+
+
+def files_in(folder):
+    return sorted(p.name for p in folder.iterdir())
+
+
+@root_only
+def test_private_null_device_stays_a_device(tmp_path):
+    null = tmp_path / "null"
+    os.mknod(null, stat.S_IFCHR | 0o666, os.makedev(1, 3))
+    r = cli("rows", FIG3, "-f", "csv", "-o", null)
+    assert r.code == 0, r
+    assert stat.S_ISCHR(os.lstat(null).st_mode) and os.lstat(null).st_rdev == os.makedev(1, 3)
+    assert files_in(tmp_path) == ["null"]  # no temporary file beside it
+
+
+def _reader(fifo, sink):
+    with open(fifo, "rb") as fh:
+        sink.append(fh.read())
+
+
+def test_fifo_receives_the_whole_csv(tmp_path):
+    fifo = tmp_path / "pipe"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=_reader, args=(fifo, got), daemon=True)
+    reader.start()
+    try:
+        r = cli_proc("rows", FIG3, "-f", "csv", "-o", fifo)  # subprocess: bounded by its timeout
+    finally:
+        reader.join(timeout=30)
+        if reader.is_alive():  # the writer never opened it: release the reader
+            os.close(os.open(fifo, os.O_WRONLY | os.O_NONBLOCK))
+            reader.join(timeout=5)
+    assert r.code == 0, r
+    assert got and got[0].decode() == reference_csv()
+    assert stat.S_ISFIFO(os.lstat(fifo).st_mode)
+    assert files_in(tmp_path) == ["pipe"]
+
+
+def test_symlink_stays_a_symlink_and_its_target_gets_the_content(tmp_path):
+    (tmp_path / "data").mkdir()
+    target = tmp_path / "data" / "real.csv"
+    target.write_text("old\n")
+    first = tmp_path / "link1.csv"
+    first.symlink_to(target)
+    link = tmp_path / "link.csv"  # a chain: link.csv -> link1.csv -> data/real.csv
+    link.symlink_to("link1.csv")
+    r = cli("rows", FIG3, "-o", link)
+    assert r.code == 0, r
+    assert link.is_symlink() and first.is_symlink() and os.readlink(link) == "link1.csv"
+    assert target.read_text() == reference_csv()
+    assert files_in(tmp_path / "data") == ["real.csv"]
+
+
+def test_dangling_symlink_creates_its_target(tmp_path):
+    link = tmp_path / "link.csv"
+    link.symlink_to(tmp_path / "new.csv")
+    r = cli("rows", FIG3, "-o", link)
+    assert r.code == 0, r
+    assert link.is_symlink() and (tmp_path / "new.csv").read_text() == reference_csv()
+    bad = tmp_path / "bad.csv"
+    bad.symlink_to(tmp_path / "no" / "such" / "x.csv")
+    r = cli("rows", FIG3, "-o", bad)
+    assert r.code == 2 and "symlink" in r.err and "does not exist" in r.err
+    assert bad.is_symlink() and not (tmp_path / "no").exists()
+
+
+@pytest.mark.parametrize("umask, mode", [(0o022, 0o644), (0o077, 0o600), (0o002, 0o664)])
+def test_new_file_mode_follows_the_umask(tmp_path, umask, mode):
+    out = tmp_path / "r.csv"
+    old = os.umask(umask)
+    try:
+        r = cli("rows", FIG3, "-o", out)
+    finally:
+        os.umask(old)
+    assert r.code == 0, r
+    assert stat.S_IMODE(out.stat().st_mode) == mode
+
+
+def test_existing_file_keeps_its_mode(tmp_path):
+    out = tmp_path / "r.csv"
+    out.write_text("old\n")
+    os.chmod(out, 0o664)
+    old = os.umask(0o077)
+    try:
+        r = cli("rows", FIG3, "-o", out)
+    finally:
+        os.umask(old)
+    assert r.code == 0, r
+    assert stat.S_IMODE(out.stat().st_mode) == 0o664 and out.read_text() == reference_csv()
+    assert files_in(tmp_path) == ["r.csv"]
+
+
+@root_only
+def test_existing_file_keeps_its_owner_as_root(tmp_path):
+    out = tmp_path / "r.csv"
+    out.write_text("old\n")
+    os.chown(out, 4321, 4322)
+    r = cli("rows", FIG3, "-o", out)
+    assert r.code == 0, r
+    st = out.stat()
+    assert (st.st_uid, st.st_gid) == (4321, 4322) and out.read_text() == reference_csv()
+
+
+def test_dash_is_standard_output(tmp_path):
+    r = cli_proc("rows", FIG3, "-o", "-", cwd=tmp_path)
+    assert r.code == 0, r
+    assert r.out == reference_csv()  # piped: the pipe rule (CSV), not a format from the name "-"
+    r = cli_proc("new", "rows", "-o", "-", cwd=tmp_path)
+    assert r.code == 0 and "kind" in r.out
+    assert files_in(tmp_path) == []  # no file named "-"
+
+
+def test_output_naming_an_input_is_refused(tmp_path):
+    design = tmp_path / "d.toml"
+    design.write_text(FIG3.read_text())
+    before = design.read_bytes()
+    r = cli("rows", design, "-o", design)
+    assert r.code == 2 and "input" in r.err and r.out == ""
+    link = tmp_path / "alias.csv"
+    link.symlink_to(design)
+    r = cli("run", tmp_path, "-o", link)  # via a symlink, and through a folder's expansion
+    assert r.code == 2 and "input" in r.err
+    r = cli("sweep", design, "--vary", "rows.relative_width=2.0,2.4", "-o", design)
+    assert r.code == 2 and "input" in r.err
+    assert design.read_bytes() == before and link.is_symlink()
+
+
+def test_output_and_plot_naming_the_same_file_is_refused(tmp_path):
+    out = tmp_path / "x.png"
+    r = cli("rows", FIG3, "-o", out, "--plot", out)
+    assert r.code == 2 and "same file" in r.err
+    assert files_in(tmp_path) == []
+
+
+def test_plot_with_an_unknown_extension_names_the_formats(tmp_path):
+    r = cli("rows", FIG3, "--plot", tmp_path / "fig.xyz")
+    assert r.code == 2 and ".xyz" in r.err
+    for ext in ("png", "pdf", "svg", "jpg", "webp"):
+        assert ext in r.err
+    assert r.out == "" and files_in(tmp_path) == []  # refused before computing
+
+
+def test_plot_through_a_symlink_keeps_the_symlink(tmp_path):
+    pytest.importorskip("matplotlib")
+    target = tmp_path / "real.svg"
+    target.write_text("old")
+    os.chmod(target, 0o640)
+    link = tmp_path / "fig.svg"
+    link.symlink_to("real.svg")
+    r = cli("rows", FIG3, "-f", "csv", "--plot", link)
+    assert r.code == 0, r
+    assert link.is_symlink() and b"<svg" in target.read_bytes()
+    assert stat.S_IMODE(target.stat().st_mode) == 0o640
+    assert files_in(tmp_path) == ["fig.svg", "real.svg"]
+
+
+@root_only
+def test_private_dev_full_is_exit_74_with_the_reason(tmp_path):
+    full = tmp_path / "full"
+    os.mknod(full, stat.S_IFCHR | 0o666, os.makedev(1, 7))
+    r = cli("rows", FIG3, "-o", full)
+    assert r.code == 74
+    assert f"cannot write {full}: No space left on device" in r.err and "internal error" not in r.err
+    assert stat.S_ISCHR(os.lstat(full).st_mode)
+
+
+@root_only
+@pytest.mark.parametrize("args", [["run", CONFIGS], ["new", "rows"], ["rows", FIG3]])
+def test_standard_output_on_a_full_device_is_exit_74(tmp_path, args):
+    # `gearcalc run configs > /dev/full`, with a private /dev/full (the error may come at the final flush)
+    full = tmp_path / "full"
+    os.mknod(full, stat.S_IFCHR | 0o666, os.makedev(1, 7))
+    with open(full, "w") as sink:
+        p = subprocess.run([sys.executable, "-m", "gearcalc", *map(str, args)], stdout=sink,
+                           stderr=subprocess.PIPE, text=True, timeout=300)
+    assert p.returncode == 74, p.stderr[-500:]
+    assert "cannot write standard output: No space left on device" in p.stderr
+    assert "internal error" not in p.stderr and "Traceback" not in p.stderr
+
+
+def test_read_only_failure_keeps_the_old_file_and_leaves_no_temporary(tmp_path, monkeypatch):
+    out = tmp_path / "r.csv"
+    out.write_bytes(b"old contents\n")
+
+    def refuse(*a, **k):
+        raise OSError(errno.EROFS, os.strerror(errno.EROFS))
+
+    monkeypatch.setattr(os, "replace", refuse)
+    r = cli("rows", FIG3, "-o", out)
+    assert r.code == 74, r
+    assert f"cannot write {out}: Read-only file system" in r.err
+    assert out.read_bytes() == b"old contents\n"
+    assert files_in(tmp_path) == ["r.csv"]
+
+
+def test_disk_full_while_writing_leaves_no_temporary(tmp_path, monkeypatch):
+    out = tmp_path / "r.json"
+
+    def full(fd, data):
+        raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC))
+
+    monkeypatch.setattr(os, "write", full)
+    r = cli("rows", FIG3, "-o", out)
+    assert r.code == 74 and "No space left on device" in r.err
+    assert files_in(tmp_path) == []
+
+
+@pytest.mark.skipif(shutil.which("bash") is None, reason="needs bash")
+def test_process_substitution(tmp_path):
+    out = tmp_path / "out.csv"
+    script = f'"{sys.executable}" -m gearcalc rows "{FIG3}" -o >(cat > "{out}"); code=$?; wait $!; exit $code'
+    p = subprocess.run(["bash", "-c", script], capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+    assert out.read_text() == reference_csv()
