@@ -4,6 +4,12 @@ One loader serves every calculator; it knows a calculator only through its schem
 (:class:`gearcalc.calculator.Table` / :class:`~gearcalc.calculator.Field`) and its optional
 ``check`` hook.  Every problem found in a file is reported, each naming the file, the dotted
 key and the constraint.  No numpy here: ``gearcalc check`` stays light.
+
+Reading is bounded: a design file is read up to :data:`MAX_DESIGN_BYTES` (more is refused), dotted
+keys have at most :data:`MAX_KEY_PARTS` parts and values nest at most :data:`MAX_NESTING` levels, so
+that every file ends, in bounded time and memory, in a design or in messages naming the file.  Every
+hint works on a bounded piece of the input, and every value or key echoed in a message is cut to
+about :data:`SHOW_CHARS` characters.
 """
 from __future__ import annotations
 
@@ -11,13 +17,27 @@ import difflib
 import math
 import os
 import re
+import stat
 import sys
 import tomllib
 from dataclasses import dataclass, field
 from typing import Any
 
 from .calculator import REQUIRED, Calculator, Field, Problems
-from . import registry
+from . import registry, units
+
+MAX_DESIGN_BYTES = 1 << 20
+"""The cap on one design file (1 MiB; the shipped designs are 1-2 KB). At most cap + 1 bytes are read."""
+MAX_KEY_PARTS = 32
+"""The most parts a dotted key or table header may have (tomllib's cost grows with their square)."""
+MAX_NESTING = 32
+"""The deepest nesting of tables, arrays and inline tables accepted (a design needs 3)."""
+SHOW_CHARS = 60
+"""Values and keys echoed in messages are cut to about this many characters."""
+MAX_UNKNOWN_SHOWN = 20
+"""Unknown keys reported one by one per table; the rest are counted."""
+MAX_SUGGEST_CHARS = 100
+"""Did-you-mean is not tried for words longer than this (no key is that long)."""
 
 
 @dataclass
@@ -68,59 +88,223 @@ class InputError(Exception):
         self.warnings = warnings or []
 
 
+class FolderFile(str):
+    """A path found in a folder (not named on the command line): read only when it is a regular file."""
+
+
+class PathProblem(str):
+    """An entry of :func:`expand_paths` that cannot be read (an unreadable folder): loading it raises
+    an :class:`InputError` with its message, so the rest of the batch goes on."""
+
+    message: str
+
+    def __new__(cls, path: str, message: str):
+        obj = super().__new__(cls, path)
+        obj.message = message
+        return obj
+
+
 def display_name(source: str) -> str:
-    return "<stdin>" if source == "-" else source
+    return "<stdin>" if source == "-" else str(source)
 
 
-def read_toml(source: str) -> dict:
-    """Read and parse a TOML design from a path or ``-`` (stdin); errors become InputError."""
-    where = display_name(source)
+def _clip(text: Any, limit: int = SHOW_CHARS) -> str:
+    """Text cut to about ``limit`` characters, with every non-printable character escaped (one line)."""
+    text = str(text)
+    cut = len(text) > limit
+    if cut:
+        text = text[: limit - 1]
+    if not text.isprintable():
+        text = "".join(c if c.isprintable() else c.encode("unicode_escape").decode("ascii") for c in text)
+    return text + "…" if cut else text
+
+
+def _size(n: int) -> str:
+    return f"{n >> 20} MiB" if n % (1 << 20) == 0 else f"{n} bytes"
+
+
+def _file_kind(mode: int) -> str:
+    for test, word in ((stat.S_ISFIFO, "a FIFO"), (stat.S_ISCHR, "a character device"),
+                       (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"), (stat.S_ISDIR, "a folder")):
+        if test(mode):
+            return word
+    return "not a regular file"
+
+
+def _read_capped(read, where: str) -> bytes:
+    """At most MAX_DESIGN_BYTES + 1 bytes from ``read(n)``; more is refused."""
+    chunks, total = [], 0
+    while total <= MAX_DESIGN_BYTES:
+        chunk = read(min(1 << 16, MAX_DESIGN_BYTES + 1 - total))
+        if not chunk:
+            break
+        chunks.append(chunk)
+        total += len(chunk)
+    if total > MAX_DESIGN_BYTES:
+        raise InputError([f"{where}: larger than {_size(MAX_DESIGN_BYTES)}, the cap on a design file "
+                          "(a design is a few KB of TOML)"])
+    return b"".join(chunks)
+
+
+def _read_bytes(source: str, where: str) -> bytes:
+    if isinstance(source, PathProblem):
+        raise InputError([source.message])
+    if source == "-":
+        return _read_capped(sys.stdin.buffer.read, where)
+    from_folder = isinstance(source, FolderFile)
+    flags = os.O_RDONLY | getattr(os, "O_CLOEXEC", 0) | getattr(os, "O_NOCTTY", 0)
+    if from_folder:
+        flags |= getattr(os, "O_NONBLOCK", 0)  # a FIFO put there after the listing must not block
     try:
-        if source == "-":
-            raw = sys.stdin.buffer.read()
-        else:
-            if os.path.isdir(source):
-                raise InputError([f"{where}: is a directory (use 'gearcalc run' for folders)"])
-            with open(source, "rb") as fh:
-                raw = fh.read()
-    except InputError:
-        raise
+        fd = os.open(source, flags)
     except FileNotFoundError:
-        raise InputError([f"{where}: no such file"]) from None
+        extra = " (a broken symbolic link)" if os.path.islink(source) else ""
+        raise InputError([f"{where}: no such file{extra}"]) from None
     except PermissionError:
         raise InputError([f"{where}: cannot be read (permission denied)"]) from None
     except OSError as exc:
         raise InputError([f"{where}: cannot be read ({exc.strerror or exc})"]) from None
+    try:
+        mode = os.fstat(fd).st_mode
+        if stat.S_ISDIR(mode):
+            raise InputError([f"{where}: is a directory (use 'gearcalc run' for folders)"])
+        if from_folder and not stat.S_ISREG(mode):
+            raise InputError([f"{where}: {_file_kind(mode)}, not a regular file; only regular files "
+                              "are read from a folder (name it explicitly to read it)"])
+        return _read_capped(lambda n: os.read(fd, n), where)
+    except OSError as exc:
+        raise InputError([f"{where}: cannot be read ({exc.strerror or exc})"]) from None
+    finally:
+        os.close(fd)
+
+
+# A chain of dotted-key parts (bare or quoted) at a key position: line start, a table header, or
+# after "{" or "," (inline tables). Possessive/atomic where a part could backtrack: linear time.
+_KEY_PART = r"""(?:[A-Za-z0-9_-]++|"[^"\n]*+"|'[^'\n]*+')"""
+_LONG_KEY = re.compile(r"(?m)(?:^[ \t]*+(?:\[\[?[ \t]*+)?|[{,][ \t]*+)" + _KEY_PART
+                       + r"(?:[ \t]*+\.[ \t]*+" + _KEY_PART + r"){%d}" % MAX_KEY_PARTS)
+
+
+def _line_col(text: str, pos: int) -> str:
+    line = text.count("\n", 0, pos) + 1
+    return f"line {line}, column {pos - text.rfind(chr(10), 0, pos)}"
+
+
+def _parse(raw: bytes, where: str) -> dict:
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
         line = raw[: exc.start].count(b"\n") + 1
         raise InputError([f"{where}: not UTF-8 text (bad byte at line {line}); "
                           "a design file is TOML in UTF-8"]) from None
+    if text.startswith("\ufeff"):  # a UTF-8 byte-order mark, as some Windows editors write
+        text = text[1:]
     if not text.strip():
         raise InputError([f"{where}: empty file; a design needs at least kind = \"...\" (see 'gearcalc new KIND')"])
+    m = _LONG_KEY.search(text)
+    if m:
+        raise InputError([f"{where}: {_line_col(text, m.start())}: a dotted key or table name of more than "
+                          f"{MAX_KEY_PARTS} parts; a design key has 2 (table.key)"])
     try:
-        return tomllib.loads(text)
+        doc = tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
-        raise InputError([f"{where}: TOML syntax error: {exc}"]) from None
+        msg = str(exc)
+        if msg.endswith("(at end of document)"):
+            msg = msg[: -1] + f", {_line_col(text, len(text))})"
+        raise InputError([f"{where}: TOML syntax error: {msg}"]) from None
     except RecursionError:
-        raise InputError([f"{where}: TOML nesting too deep"]) from None
+        raise InputError([f"{where}: TOML nesting too deep (arrays or inline tables nested hundreds of "
+                          f"levels); a design nests at most {MAX_NESTING} levels"]) from None
+    except ValueError as exc:
+        limit = sys.get_int_max_str_digits()
+        if "limit" in str(exc) and limit:
+            at = re.search(r"(?<![0-9_])[0-9][0-9_]{%d,}" % limit, text)  # from a run's start: linear
+            place = f" at {_line_col(text, at.start())}" if at else ""
+            raise InputError([f"{where}: an integer of more than {limit} digits{place}; no design value "
+                              "needs that many (the largest accepted numbers have 16 digits)"]) from None
+        raise
+    _check_nesting(doc, where)
+    return doc
+
+
+def _check_nesting(doc: dict, where: str) -> None:
+    """Refuse values nested deeper than MAX_NESTING (iteratively: no recursion on hostile input)."""
+    stack: list[tuple[Any, int, str]] = [(doc, 0, "")]
+    while stack:
+        node, depth, path = stack.pop()
+        if depth > MAX_NESTING:
+            raise InputError([f"{where}: {_clip(path) or 'the document'}: nested more than {MAX_NESTING} levels "
+                              "deep; a design is tables of plain values and arrays"])
+        items = node.items() if isinstance(node, dict) else enumerate(node)
+        for k, v in items:
+            if isinstance(v, (dict, list)):
+                sub = f"{path}.{k}" if path and isinstance(node, dict) else f"{path}[{k}]" if path else str(k)
+                stack.append((v, depth + 1, sub[: 2 * SHOW_CHARS]))  # cut: no copy of long keys per child
+
+
+def read_toml(source: str) -> dict:
+    """Read and parse a TOML design from a path or ``-`` (stdin); every problem becomes an InputError.
+
+    A path found in a folder (:class:`FolderFile`) is read only when it is a regular file; a path
+    named explicitly may be a FIFO or a device (``<(cmd)``), always read with the size cap.
+    """
+    where = display_name(source)
+    try:
+        return _parse(_read_bytes(source, where), where)
+    except InputError:
+        raise
+    except RecursionError:
+        raise InputError([f"{where}: TOML nesting too deep; a design nests at most {MAX_NESTING} levels"]) from None
+    except MemoryError:
+        raise InputError([f"{where}: too large to read into memory"]) from None
+    except Exception as exc:  # noqa: BLE001 - any other problem with this one file is this file's message
+        raise InputError([f"{where}: cannot be read or parsed ({type(exc).__name__}: {_clip(exc)})"]) from None
+
+
+_TRAILING = "Expected newline or end of document after a statement"
 
 
 def parse_set(items: list[str]) -> list[tuple[str, Any]]:
-    """Parse ``--set KEY=VALUE`` items; VALUE is read as a TOML value, else as a string."""
+    """Parse ``--set KEY=VALUE`` items: one key, one value.
+
+    VALUE is read as one TOML value; anything after it (a second value, another ``key = value`` on a
+    new line) is an error naming the item.  A bare word that is not TOML (``--set sun.torsion_diameter=root``)
+    is taken as a string, unless it holds a newline or ``=``.
+    """
     out = []
     for item in items or []:
+        shown = "'" + _clip(item) + "'"
         key, sep, value = item.partition("=")
         key = key.strip()
         if not sep or not key:
-            raise InputError([f"--set {item!r}: expected KEY=VALUE, e.g. --set rows.count=4"])
+            raise InputError([f"--set {shown}: expected KEY=VALUE, e.g. --set rows.count=4"])
+        if key.count(".") >= MAX_KEY_PARTS or not all(p.strip() for p in key.split(".")):
+            raise InputError([f"--set {shown}: the key must be a dotted key such as rows.count"])
         value = value.strip()
+        if not value:
+            raise InputError([f"--set {shown}: no value after '=' (quote an empty string: KEY='\"\"')"])
+        if _LONG_KEY.search(value):
+            raise InputError([f"--set {shown}: a dotted key of more than {MAX_KEY_PARTS} parts in the value"])
         try:
-            parsed = tomllib.loads(f"v = {value}")["v"]
-        except tomllib.TOMLDecodeError:
-            parsed = value
-        out.append((key, parsed))
+            doc = tomllib.loads(f"v = {value}")
+        except tomllib.TOMLDecodeError as exc:
+            if str(exc).startswith(_TRAILING) or "\n" in value or "\r" in value or "=" in value:
+                raise InputError([f"--set {shown}: one key takes one value; found more after the value "
+                                  "(quote a string: KEY='\"text\"')"]) from None
+            if value[0] in "[{\"'":
+                raise InputError([f"--set {shown}: not a TOML value ({_clip(exc)})"]) from None
+            doc = {"v": value}  # a bare word: a string
+        except RecursionError:
+            raise InputError([f"--set {shown}: the value is nested too deeply"]) from None
+        except ValueError as exc:
+            if "limit" in str(exc):
+                raise InputError([f"--set {shown}: an integer of more than {sys.get_int_max_str_digits()} "
+                                  "digits; no design value needs that many"]) from None
+            raise InputError([f"--set {shown}: not a value ({_clip(exc)})"]) from None
+        if set(doc) != {"v"}:
+            raise InputError([f"--set {shown}: one key takes one value; found more after the value"])
+        _check_nesting(doc, f"--set {shown}")
+        out.append((key, doc["v"]))
     return out
 
 
@@ -137,19 +321,29 @@ def apply_set(raw: dict, overrides: list[tuple[str, Any]]) -> None:
 
 
 def _suggest(word: str, candidates: list[str]) -> str:
+    """A did-you-mean among a few candidates; nothing for a word longer than any key could be."""
+    if not isinstance(word, str) or len(word) > MAX_SUGGEST_CHARS:
+        return ""
     close = difflib.get_close_matches(word, candidates, n=1, cutoff=0.6)
     return f" (did you mean '{close[0]}'?)" if close else ""
 
 
 def _show(value: Any) -> str:
+    """A value as written in TOML, for a message: at most about SHOW_CHARS characters, on one line."""
     if isinstance(value, str):
-        return f'"{value}"'
+        return f'"{_clip(value)}"'
     if isinstance(value, bool):
         return "true" if value else "false"
     if isinstance(value, (list, dict)):
-        text = repr(value)
-        return text if len(text) <= 60 else text[:57] + "..."
-    return repr(value)
+        import reprlib
+
+        r = reprlib.Repr()
+        r.maxlevel, r.maxlist, r.maxdict, r.maxstring, r.maxother, r.maxlong = 3, 8, 4, 24, 24, 24
+        return _clip(r.repr(value))
+    try:
+        return _clip(repr(value))
+    except ValueError:  # an int beyond the digit limit
+        return "<a very long number>"
 
 
 def check_value(f: Field, value: Any) -> tuple[Any, str | None]:
@@ -170,7 +364,10 @@ def check_value(f: Field, value: Any) -> tuple[Any, str | None]:
             return value, "must be " + f.constraint()
         if f.length is not None and len(value) != f.length:
             return value, "must be " + f.constraint()
-        vals = [float(v) for v in value]
+        try:
+            vals = [float(v) for v in value]
+        except OverflowError:
+            return value, "must be " + f.constraint() + " (a number is too large)"
         for v in vals:
             err = _bounds(f, v)
             if err:
@@ -182,32 +379,108 @@ def check_value(f: Field, value: Any) -> tuple[Any, str | None]:
         if not isinstance(value, int):
             return value, "must be " + f.constraint()
     else:
-        value = float(value)
+        try:
+            value = float(value)
+        except OverflowError:
+            return value, "must be a finite number"
         if not math.isfinite(value):
             return value, "must be a finite number"
     return value, _bounds(f, value)
 
 
+# A number at the start of a hint's text: digits only (no "_", no "0x"), an optional fraction and exponent.
+_NUMBER = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?")
+_HINT_CHARS = 64
+"""Only strings this short are read for a number (and a unit) to propose: linear and bounded."""
+
+
+def _number_text(x: float, integer: bool) -> str | None:
+    """A number as TOML text: an integer when it is one, else the shortest exact float."""
+    if x.is_integer() and abs(x) < 1e16:
+        return str(int(x))
+    if integer:
+        return None
+    return repr(x)
+
+
 def _string_hint(f: Field, value: str) -> str:
-    """The fix for a string where a word or a number was expected: a did-you-mean among the words, or,
-    for a number written with its unit ("5 mm"), that the unit belongs to the key's name."""
-    hint = _suggest(value, list(f.choices)) if f.choices else ""
-    if hint:
-        return hint
-    m = re.fullmatch(r"\s*([-+]?[0-9.]+(?:[eE][-+]?[0-9]+)?)\s*([A-Za-z°%/·*0-9]+)\s*", value)
-    if m and f.type in ("number", "integer"):
-        unit = f.name.rsplit("_", 1)[-1] if "_" in f.name else ""
-        where = f" (the unit, {unit}, is in the key's name)" if unit and unit != f.name else ""
-        return f"; write the bare number {m.group(1)}{where}"
-    return ""
+    """The fix for a string where a word or a number was expected: a did-you-mean among the words; for
+    a quoted number, the number without quotes; for a number with a unit ("10 kN"), the number in the
+    key's unit (the unit is in the key's name) when the unit is one gearcalc knows, else no number.
+    Never a wrong number: what cannot be converted exactly is not proposed."""
+    if f.choices:
+        hint = _suggest(value, list(f.choices))
+        if hint:
+            return hint
+    if f.type not in ("number", "integer"):
+        return ""
+    unit = units.unit_of(f.name)
+    integer = f.type == "integer"
+    what = "an integer" if integer else "a number"
+    generic = (f"; write a bare number in {unit} (the unit is in the key's name)" if unit
+               else f"; write {what} without quotes (the key has no unit)")
+    text = value.strip()
+    if len(text) > _HINT_CHARS:
+        return generic
+    m = _NUMBER.match(text)
+    if not m:
+        return ""
+    try:
+        x = float(m.group(0))
+    except (ValueError, OverflowError):
+        return generic
+    if not math.isfinite(x):
+        return generic
+    rest = text[m.end():].strip()
+    if not rest:
+        shown = _number_text(x, integer)
+        return f"; write it without quotes: {shown}" if shown else f"; write {what} without quotes"
+    y = units.convert_hint(x, rest, unit) if unit else None
+    if y is None or not math.isfinite(y):
+        return generic
+    shown = _number_text(y, integer) if y.is_integer() else (None if integer else f"{y:.15g}")
+    if shown is None:
+        return generic
+    if units.same_unit(rest, unit):
+        return f"; write the bare number {shown} (the unit, {unit}, is in the key's name)"
+    return (f"; write the bare number {shown} ({_clip(text, 30)} = {shown} {unit}: the unit, {unit}, is in the "
+            "key's name)")
 
 
 def _bounds(f: Field, v: float) -> str | None:
-    if not math.isfinite(v):
+    if isinstance(v, float) and not math.isfinite(v):  # an int (of any size) compares exactly
         return "must be a finite number"
     bad = ((f.gt is not None and not v > f.gt) or (f.ge is not None and not v >= f.ge)
            or (f.lt is not None and not v < f.lt) or (f.le is not None and not v <= f.le))
     return ("must be " + f.constraint()) if bad else None
+
+
+def _unknown_key_hint(key: str, table: str | None, calc: Calculator) -> str:
+    """Why a key is unknown and where it belongs: a key of another table names that table; a table
+    name used as a key says it is a table; else the closest key, in this table first."""
+    homes = [t.name for t in calc.tables if t.field(key) is not None and t.name != table]
+    if homes:
+        where = " or ".join(f"[{h}]" for h in homes)
+        return f" ({key} belongs in {where}, i.e. {homes[0]}.{key})"
+    table_names = [t.name for t in calc.tables]
+    if table is not None and key in table_names:
+        return f" ([{key}] is a table of its own, at the top level)"
+    if table is None:
+        hint = _suggest(key, table_names + ["kind", "name"])
+        if hint:
+            return hint
+    else:
+        names = [f.name for f in calc.table(table).fields]
+        close = difflib.get_close_matches(key, names, n=1, cutoff=0.6) if len(key) <= MAX_SUGGEST_CHARS else []
+        if close:
+            return f" (did you mean '{table}.{close[0]}'?)"
+    all_keys = [f"{t.name}.{f.name}" for t in calc.tables for f in t.fields]
+    hint = _suggest(f"{table}.{key}" if table else key, all_keys)
+    if hint or table is not None:
+        return hint
+    bare = {k.split(".", 1)[1]: k for k in all_keys}
+    close = difflib.get_close_matches(key, list(bare), n=1, cutoff=0.6) if len(key) <= MAX_SUGGEST_CHARS else []
+    return f" (did you mean '{bare[close[0]]}'?)" if close else ""
 
 
 def validate(raw: dict, source: str, kind_hint: str | None = None) -> Design:
@@ -230,25 +503,24 @@ def validate(raw: dict, source: str, kind_hint: str | None = None) -> Design:
     name = raw.get("name", os.path.splitext(os.path.basename(where))[0])
     if not isinstance(name, str):
         errors.append(f"{where}: name = {_show(name)}: must be a string")
-        name = str(name)
+        name = _show(name)
     table_names = [t.name for t in calc.tables]
-    all_keys = [f"{t.name}.{f.name}" for t in calc.tables for f in t.fields]
     values: dict[str, dict[str, Any]] = {}
     given: set[str] = set()
+    unknown = 0
     for key, val in raw.items():
         if key in ("kind", "name"):
             continue
         if key not in table_names:
-            hint = _suggest(key, table_names + ["kind", "name"])
-            if not hint:
-                bare = {k.split(".", 1)[1]: k for k in all_keys}
-                close = difflib.get_close_matches(key, list(bare), n=1, cutoff=0.6)
-                hint = f" (did you mean '{bare[close[0]]}'?)" if close else ""
-            errors.append(f"{where}: {key}: unknown key{hint}; a {kind} design has the tables "
-                          + ", ".join(f"[{t}]" for t in table_names))
+            unknown += 1
+            if unknown <= MAX_UNKNOWN_SHOWN:
+                errors.append(f"{where}: {_clip(key)}: unknown key{_unknown_key_hint(key, None, calc)}; "
+                              f"a {kind} design has the tables " + ", ".join(f"[{t}]" for t in table_names))
             continue
         if not isinstance(val, dict):
             errors.append(f"{where}: {key}: must be a table [{key}]")
+    if unknown > MAX_UNKNOWN_SHOWN:
+        errors.append(f"{where}: … and {unknown - MAX_UNKNOWN_SHOWN} more unknown keys at the top level")
     for table in calc.tables:
         given_tab = raw.get(table.name)
         if not isinstance(given_tab, dict):
@@ -258,13 +530,16 @@ def validate(raw: dict, source: str, kind_hint: str | None = None) -> Design:
                 continue
             given_tab = {}
         names = [f.name for f in table.fields]
+        unknown = 0
         for key in given_tab:
             if key not in names:
-                close = difflib.get_close_matches(key, names, n=1, cutoff=0.6)
-                hint = (f" (did you mean '{table.name}.{close[0]}'?)" if close
-                        else _suggest(f"{table.name}.{key}", all_keys))
-                errors.append(f"{where}: {table.name}.{key}: unknown key{hint}; [{table.name}] takes "
-                              + ", ".join(names))
+                unknown += 1
+                if unknown <= MAX_UNKNOWN_SHOWN:
+                    errors.append(f"{where}: {table.name}.{_clip(key)}: unknown key"
+                                  f"{_unknown_key_hint(key, table.name, calc)}; [{table.name}] takes "
+                                  + ", ".join(names))
+        if unknown > MAX_UNKNOWN_SHOWN:
+            errors.append(f"{where}: … and {unknown - MAX_UNKNOWN_SHOWN} more unknown keys in [{table.name}]")
         resolved: dict[str, Any] = {}
         for f in table.fields:
             dotted = f"{table.name}.{f.name}"
@@ -299,18 +574,50 @@ def load(source: str, overrides: list[tuple[str, Any]] | None = None, kind_hint:
     raw = read_toml(source)
     if overrides:
         apply_set(raw, overrides)
-    return validate(raw, source, kind_hint)
+    try:
+        return validate(raw, source, kind_hint)
+    except (RecursionError, MemoryError) as exc:
+        raise InputError([f"{display_name(source)}: too large or too deeply nested to check "
+                          f"({type(exc).__name__})"]) from None
 
 
-def expand_paths(paths: list[str]) -> list[str]:
-    """Files from PATHs: a folder stands for every ``*.toml`` below it (sorted)."""
+def expand_paths(paths: list[str], warn=None) -> list[str]:
+    """Files from PATHs: a folder stands for every ``*.toml`` below it (sorted).
+
+    From a folder only regular files (or symbolic links to them) are taken: a ``*.toml`` that is a
+    FIFO, a device or a socket is skipped with a warning (``warn``, default: standard error), so that
+    a folder never blocks or streams forever.  A folder (or sub-folder) that cannot be listed is an
+    entry whose loading fails with its reason (a :class:`PathProblem`).  Paths named explicitly are
+    kept as given.
+    """
+    if warn is None:
+        def warn(message: str) -> None:
+            print(message, file=sys.stderr)
     out: list[str] = []
     for p in paths:
         if p != "-" and os.path.isdir(p):
-            found = []
-            for root, dirs, files in os.walk(p):
+            found: list[str] = []
+
+            def unreadable(exc: OSError, found=found, p=p) -> None:
+                folder = exc.filename or p
+                reason = "permission denied" if isinstance(exc, PermissionError) else (exc.strerror or str(exc))
+                found.append(PathProblem(folder, f"{folder}: folder cannot be read ({reason})"))
+
+            for root, dirs, files in os.walk(p, onerror=unreadable):
                 dirs.sort()
-                found.extend(os.path.join(root, f) for f in sorted(files) if f.endswith(".toml"))
+                for f in sorted(files):
+                    if not f.endswith(".toml"):
+                        continue
+                    path = os.path.join(root, f)
+                    try:
+                        mode = os.stat(path).st_mode
+                    except OSError:
+                        found.append(FolderFile(path))  # a broken link: reading it names the problem
+                        continue
+                    if stat.S_ISREG(mode):
+                        found.append(FolderFile(path))
+                    else:
+                        warn(f"{path}: skipped: {_file_kind(mode)}, not a regular file")
             out.extend(found)
         else:
             out.append(p)

@@ -1,0 +1,314 @@
+"""The loader's way in: every input, however odd, ends in a design or in exit-2 messages naming the file,
+the key and the constraint, in bounded time and memory, and never costs the other files of a batch
+(issue 13), and its hints never propose a wrong number (issue 12).
+
+Every test writes only inside its own tmp_path; special files (FIFOs, symlinks to /dev/zero) are made
+there privately.
+"""
+import os
+import subprocess
+import sys
+import threading
+import time
+
+import pytest
+
+from conftest import CONFIGS, cli
+
+from gearcalc import design as dmod
+from gearcalc.calculator import Field
+
+ZSTK = CONFIGS / "zstk_merko_example.toml"
+ZSTK_NAME = "Merko et al. worked example"
+ROWS = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml"
+
+
+def folder_with_good(tmp_path, name="good.toml"):
+    d = tmp_path / "designs"
+    d.mkdir()
+    (d / name).write_text(ZSTK.read_text())
+    return d
+
+
+def assert_each_line_names(err, *names):
+    for line in err.strip().splitlines():
+        assert any(n in line for n in names), line
+
+
+# ---------------------------------------------------------------- one bad file never costs the batch
+def test_integer_beyond_the_digit_limit_costs_only_its_file(tmp_path):
+    d = folder_with_good(tmp_path)
+    (d / "huge.toml").write_text('kind = "zstk"\n[load]\nradial_N = ' + "7" * 4301 + "\n")
+    r = cli("run", d, "--format", "csv")
+    assert r.code == 2, r
+    assert ZSTK_NAME in r.out  # the good design is computed
+    assert "huge.toml" in r.err and "4300 digits" in r.err and "line 3, column 12" in r.err
+    assert "internal error" not in r.err
+
+
+def test_symlink_to_dev_zero_in_a_folder_is_skipped(tmp_path):
+    d = folder_with_good(tmp_path)
+    (d / "zero.toml").symlink_to("/dev/zero")
+    t0 = time.monotonic()
+    r = cli("run", d, "--format", "csv")
+    assert time.monotonic() - t0 < 10
+    assert r.code == 0, r
+    assert ZSTK_NAME in r.out
+    assert "zero.toml: skipped: a character device" in r.err
+
+
+def test_device_named_explicitly_meets_the_size_cap(tmp_path):
+    link = tmp_path / "zero.toml"
+    link.symlink_to("/dev/zero")
+    t0 = time.monotonic()
+    r = cli("check", link, ZSTK)
+    assert time.monotonic() - t0 < 10
+    assert r.code == 2 and "zero.toml: larger than 1 MiB" in r.err
+    assert f"ok  {ZSTK}" in r.out
+
+
+def test_fifo_in_a_folder_is_skipped_without_blocking(tmp_path):
+    d = folder_with_good(tmp_path)
+    os.mkfifo(d / "pipe.toml")  # no writer: reading it would block forever
+    p = subprocess.run([sys.executable, "-m", "gearcalc", "check", str(d)], capture_output=True, text=True,
+                       timeout=60)
+    assert p.returncode == 0, p
+    assert "pipe.toml: skipped: a FIFO" in p.stderr and "good.toml" in p.stdout
+
+
+def test_fifo_named_explicitly_is_read(tmp_path):
+    fifo = tmp_path / "pipe.toml"
+    os.mkfifo(fifo)
+    text = ZSTK.read_bytes()
+
+    def writer():
+        with open(fifo, "wb") as fh:
+            fh.write(text)
+
+    t = threading.Thread(target=writer, daemon=True)
+    t.start()
+    r = cli("check", fifo)
+    t.join(timeout=10)
+    assert r.code == 0 and ZSTK_NAME in r.out
+
+
+def test_size_cap(tmp_path):
+    body = 'kind = "zstk"\n'
+    at_cap = tmp_path / "at_cap.toml"
+    at_cap.write_text(body + "#" * (dmod.MAX_DESIGN_BYTES - len(body) - 1) + "\n")
+    over = tmp_path / "over.toml"
+    over.write_text(body + "#" * (dmod.MAX_DESIGN_BYTES - len(body)) + "\n")
+    r = cli("check", at_cap, over)
+    assert r.code == 2
+    assert "over.toml: larger than 1 MiB" in r.err and "at_cap.toml: larger" not in r.err
+    assert "at_cap.toml: geometry" in r.err  # read, parsed and validated
+    r = cli("check", "-", input=b"# x\n" * (dmod.MAX_DESIGN_BYTES // 4 + 1))
+    assert r.code == 2 and "<stdin>: larger than 1 MiB" in r.err
+
+
+def test_unreadable_folder_says_so(tmp_path, monkeypatch):
+    d = tmp_path / "locked"
+    d.mkdir()
+    (d / "a.toml").write_text(ZSTK.read_text())
+    if os.geteuid() == 0:  # root reads anything: simulate the refusal
+        real = os.scandir
+
+        def scandir(path="."):
+            if os.fspath(path) == str(d):
+                raise PermissionError(13, "Permission denied", str(d))
+            return real(path)
+
+        monkeypatch.setattr(os, "scandir", scandir)
+    else:
+        d.chmod(0)
+    try:
+        r = cli("check", d, ZSTK)
+    finally:
+        d.chmod(0o755)
+    assert r.code == 2 and "no design files" not in r.err
+    assert f"{d}: folder cannot be read (permission denied)" in r.err
+    assert f"ok  {ZSTK}" in r.out
+
+
+# ---------------------------------------------------------------- text details
+def test_utf8_bom_is_accepted(tmp_path):
+    p = tmp_path / "bom.toml"
+    p.write_bytes(b"\xef\xbb\xbf" + ZSTK.read_bytes())
+    r = cli("run", p, "--format", "csv")
+    assert r.code == 0, r
+    assert ZSTK_NAME in r.out
+
+
+def test_error_at_end_of_document_has_line_and_column(tmp_path):
+    p = tmp_path / "cut.toml"
+    p.write_text('kind = "zstk"\n[load]\nradial_N =')
+    r = cli("check", p)
+    assert r.code == 2 and "cut.toml: TOML syntax error" in r.err
+    assert "at end of document, line 3, column 11" in r.err
+
+
+def test_long_dotted_keys_and_deep_nesting_are_refused_fast(tmp_path):
+    cases = {
+        "dots.toml": ".".join(["a"] * 200_000) + " = 1\n",  # tomllib: quadratic in the parts
+        "header.toml": "[" + ".".join(["a"] * 5000) + "]\n",
+        "arrays.toml": "a = " + "[" * 100_000 + "]" * 100_000 + "\n",
+        "inline.toml": "x = " + "{a = " * 50_000 + "1" + "}" * 50_000 + "\n",
+        "nest40.toml": 'kind = "zstk"\nx = ' + "[" * 40 + "]" * 40 + "\n",
+    }
+    for name, text in cases.items():
+        (tmp_path / name).write_text(text)
+    t0 = time.monotonic()
+    r = cli("check", *sorted(tmp_path.iterdir()))
+    assert time.monotonic() - t0 < 5, r
+    assert r.code == 2
+    for name in cases:
+        assert name in r.err
+    assert "more than 32 parts" in r.err and "nested more than 32 levels" in r.err
+    assert_each_line_names(r.err, *cases)
+
+
+def test_every_echoed_key_and_value_is_cut_and_on_one_line(tmp_path):
+    key = "k" * 400_000
+    p = tmp_path / "long.toml"
+    p.write_text(f'kind = "rows"\n{key} = 1\n"new\\nline" = 2\nname = ["{"x" * 100_000}"]\n'
+                 f'[gear]\nmodule_mm = "{"9" * 100_000}"\n{key} = 1\n')
+    t0 = time.monotonic()
+    r = cli("check", p)
+    assert time.monotonic() - t0 < 5
+    assert r.code == 2
+    for line in r.err.splitlines():
+        assert "long.toml" in line and len(line) < 400, line[:500]
+    assert "new\\nline: unknown key" in r.err
+
+
+# ---------------------------------------------------------------- --set: one key, one value
+@pytest.mark.parametrize("item", [
+    'load.radial_N=1\nkind = "zstk"',
+    "load.radial_N=1 2",
+    "load.radial_N=1\n[geometry]",
+    "load.radial_N=true story",
+    "name=a=b",
+    "name=two\nlines",
+    "load.radial_N=[1,",
+])
+def test_set_takes_one_value(item):
+    r = cli("check", ZSTK, "--set", item)
+    assert r.code == 2 and r.err.startswith("--set '"), r
+    assert "load.radial_N" in r.err or "name=" in r.err
+    assert "ok" not in r.out
+
+
+def test_set_bare_word_is_still_a_string():
+    r = cli("check", ZSTK, "--set", "name=my design", "--resolved")
+    assert r.code == 0 and 'name = "my design"' in r.out
+
+
+def test_set_integer_beyond_the_digit_limit():
+    r = cli("check", ZSTK, "--set", "load.radial_N=" + "1" * 5000)
+    assert r.code == 2 and "more than 4300 digits" in r.err and "internal error" not in r.err
+
+
+@pytest.mark.parametrize("quote", ['"', ""])
+def test_40kb_digit_string_via_set_is_fast(quote):
+    t0 = time.monotonic()
+    r = cli("check", ZSTK, "--set", f"load.radial_N={quote}{'1' * 40_000}x{quote}")
+    assert time.monotonic() - t0 < 1
+    assert r.code == 2 and len(r.err) < 1000
+
+
+def test_32kb_digit_string_in_a_file_is_fast(tmp_path):
+    p = tmp_path / "digits.toml"
+    p.write_text(ZSTK.read_text().replace("radial_N = 10000.0", 'radial_N = "' + "1" * 32_000 + '"', 1))
+    t0 = time.monotonic()
+    r = cli("check", p)
+    assert time.monotonic() - t0 < 1
+    assert r.code == 2 and "load.radial_N" in r.err
+
+
+# ---------------------------------------------------------------- many unknown keys
+def test_250000_unknown_keys_are_counted_not_each_suggested():
+    raw = {"kind": "zstk", **{f"key_{i}": 1 for i in range(250_000)},
+           "load": {f"radial_{i}": 1 for i in range(250_000)}}
+    t0 = time.monotonic()
+    with pytest.raises(dmod.InputError) as exc:
+        dmod.validate(raw, "many.toml")
+    assert time.monotonic() - t0 < 5
+    msgs = exc.value.messages
+    assert "many.toml: … and 249980 more unknown keys at the top level" in msgs
+    assert "many.toml: … and 249980 more unknown keys in [load]" in msgs
+    assert len(msgs) < 60
+
+
+def test_a_file_full_of_unknown_keys_is_fast(tmp_path):
+    p = tmp_path / "keys.toml"
+    p.write_text('kind = "zstk"\n' + "".join(f"k{i:x} = 1\n" for i in range(100_000)))
+    t0 = time.monotonic()
+    r = cli("check", p)
+    assert time.monotonic() - t0 < 5
+    assert r.code == 2 and "more unknown keys" in r.err and r.err.count("\n") < 40
+
+
+# ---------------------------------------------------------------- hints
+def test_key_in_the_wrong_table_names_its_table(tmp_path):
+    p = tmp_path / "wrong.toml"
+    p.write_text(ZSTK.read_text().replace("[geometry]", "[geometry]\nradial_N = 5", 1))
+    r = cli("check", p)
+    assert r.code == 2
+    assert "wrong.toml: geometry.radial_N: unknown key (radial_N belongs in [load], i.e. load.radial_N)" in r.err
+    p.write_text('radial_N = 5\n' + ZSTK.read_text())  # at the top level
+    r = cli("check", p)
+    assert "radial_N: unknown key (radial_N belongs in [load], i.e. load.radial_N)" in r.err
+    p.write_text(ZSTK.read_text() + "\n[geometry.load]\nradial_N = 1\n")  # a table inside a table
+    r = cli("check", p)
+    assert "geometry.load: unknown key ([load] is a table of its own, at the top level)" in r.err
+
+
+def test_typo_in_the_right_table_still_gets_did_you_mean(tmp_path):
+    p = tmp_path / "typo.toml"
+    p.write_text(ZSTK.read_text().replace("[load]", "[load]\nradial_NN = 5", 1))
+    r = cli("check", p)
+    assert "load.radial_NN: unknown key (did you mean 'load.radial_N'?)" in r.err
+
+
+HINTS = [
+    ("force_N", "10000", "write it without quotes: 10000"),
+    ("force_N", "2.5e3", "write it without quotes: 2500"),
+    ("force_N", "05", "write it without quotes: 5"),
+    ("force_N", "10 kN", "write the bare number 10000 "),
+    ("length_mm", "0.25 in", "write the bare number 6.35 "),
+    ("length_mm", "5 mm", "write the bare number 5 (the unit, mm, is in the key's name)"),
+    ("length_mm", "1 m", "write the bare number 1000 "),
+    ("speed_rpm", "3000 rpm", "write the bare number 3000 "),
+    ("torque_Nm", "2 kN·m", "write the bare number 2000 "),
+    ("torque_Nm", "2 kNm", "write the bare number 2000 "),
+    ("modulus_MPa", "200 GPa", "write the bare number 200000 "),
+    ("angle_deg", "30 deg", "write the bare number 30 "),
+    ("angle_deg", "30°", "write the bare number 30 "),
+    ("angle_deg", "0.5 rad", "write the bare number 28.6478897565412 "),
+    ("length_mm", "5 furlongs", "write a bare number in mm (the unit is in the key's name)"),
+    ("length_mm", "5 N", "write a bare number in mm (the unit is in the key's name)"),
+    ("force_N", "1" * 40_000, "write a bare number in N (the unit is in the key's name)"),
+]
+
+
+@pytest.mark.parametrize("name,value,hint", HINTS)
+def test_hint_numbers(name, value, hint):
+    _, err = dmod.check_value(Field(name, "number", ge=0), value)
+    assert hint in err, err
+    assert len(err) < 200
+
+
+def test_hint_never_proposes_a_wrong_number():
+    # the old regex gave 1000 for "10000", 2.5 for "2.5e3", 0 for "05", 10 for "10 kN", 0.25 for "0.25 in"
+    for name, value, wrong in [("force_N", "10000", " 1000"), ("force_N", "2.5e3", " 2.5"),
+                               ("force_N", "05", " 0"), ("force_N", "10 kN", " 10 "),
+                               ("length_mm", "0.25 in", "number 0.25")]:
+        _, err = dmod.check_value(Field(name, "number"), value)
+        assert not err.rstrip(")").endswith(wrong.strip()) and f"number{wrong}" not in err, err
+
+
+def test_hint_through_the_cli():
+    r = cli("check", ZSTK, "--set", 'load.radial_N="10 kN"')
+    assert r.code == 2 and "load.radial_N = \"10 kN\"" in r.err and "write the bare number 10000" in r.err
+    r = cli("check", ROWS, "--set", 'gear.sun_teeth="05"')
+    assert r.code == 2 and "write it without quotes: 5" in r.err
