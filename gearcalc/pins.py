@@ -1150,6 +1150,30 @@ class _GearTable:
         return [(slice(lo, hi), int(z[lo])) for lo, hi in zip(edges[:-1], edges[1:]) if hi > lo]
 
 
+FINAL_BLOCK_CELLS = 4_000_000
+"""Nodes x contact rows of the final grid evaluated at once (about 32 MB an array): a batch of gears at a
+tight --tol is evaluated a few gears at a time (cut at gear boundaries, so the numbers do not change)."""
+
+
+def _bounded_blocks(blocks, gi, starts, rows: int):
+    """The (slice, z2) blocks cut at gear boundaries into runs of at most FINAL_BLOCK_CELLS nodes x rows
+    (a gear larger than that alone).  ``starts``: first node of each gear."""
+    limit = max(1, FINAL_BLOCK_CELLS // max(rows, 1))
+    for sl, zz in blocks:
+        lo, hi = sl.start or 0, gi.size if sl.stop is None else sl.stop
+        if hi - lo <= limit:
+            yield sl, zz
+            continue
+        ends = [*starts[np.unique(gi[lo:hi])][1:].tolist(), hi]    # where each gear of the block ends
+        a = prev = lo
+        for end in ends:
+            if end - a > limit and prev > a:
+                yield slice(a, prev), zz
+                a = prev
+            prev = end
+        yield slice(a, hi), zz
+
+
 def _colsum(a):
     """Sums over the rows (axis 0) in row order, so that a column's sum does not depend on the padding
     rows (zeros) or on the other columns.  numpy reduces a C-ordered array over its outer axis row by
@@ -1334,6 +1358,16 @@ def cycle_pieces(g: Cycloid, psi_star, psi_0):
 
 TOO_FEW_TEETH, UNDERCUT = 1, 2
 """Status codes of :class:`IdealCycles`: psi* <= 2 pi/z2 (pins.md §12.10); R_b >= min rho_c (§4.2)."""
+TOO_COSTLY = 3
+"""Status code: the sums over n_d discs (pins.md §12.7) on the final grid would exceed DISC_SAMPLES_MAX or
+DISC_WORK_MAX (their size follows from n_d and the crank-angle grid that --tol needs, known only after the
+quadrature); the gear's peaks are then not computed."""
+DISC_SAMPLES_MAX = 10_000_000
+"""n_d x loaded samples of one gear's disc sums: the merged phase grid and its sums, ~5 arrays of 8 bytes a
+sample (~0.4 GB)."""
+DISC_WORK_MAX = 200_000_000
+"""n_d^2 x loaded samples of one gear's disc sums (n_d interpolations over n_d x samples points, ~45 ns each:
+~10 s).  100 pins x 64 discs at --tol 1e-9 are 2.5e8 (11 s); at 1e-12, 8e9 (9.5 minutes)."""
 
 
 @dataclass
@@ -1344,7 +1378,7 @@ class IdealCycles:
 
     psi_star, psi_0 : end of the loaded arc and spin-reversal phase (NaN: none) [rad];
     rho_c_min : least radius of curvature of the pin-centre curve over the loaded arc [mm];
-    status : 0 (admissible), TOO_FEW_TEETH or UNDERCUT; the fields below are NaN where status != 0;
+    status : 0 (admissible), TOO_FEW_TEETH, UNDERCUT or TOO_COSTLY; the fields below are NaN where status != 0;
     loss_ratio, loss_ratio_err, converged, n_crank : the cycle mean of lambda at mu = 1, its error
         |Q_2N - Q_N| and the quadrature's acceptance and intervals (pins.md §6);
     force, force_phase : max over the cycle and the pins of F/T_sat (summed over the discs) [1/mm] and
@@ -1481,6 +1515,18 @@ def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows) -> dict:
     return res
 
 
+def admissibility(g: Cycloid):
+    """(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)): status 0, TOO_FEW_TEETH
+    (psi* <= 2 pi/z2, pins.md §12.10) or UNDERCUT (R_b >= min rho_c over the loaded arc, §4.2).  The ideal
+    level's checks, also run by ``gearcalc check`` (gearcalc.kinds.pins.admissibility_problem)."""
+    z2 = np.atleast_1d(g.z2)
+    psi_star = crest_cutoffs(g)
+    status = np.where(psi_star <= 2.0 * math.pi / z2, TOO_FEW_TEETH, 0)
+    rho_c = np.atleast_1d(min_curvature_radius(g, psi_star))
+    status = np.where((status == 0) & (np.asarray(g.R_b) >= rho_c), UNDERCUT, status)
+    return status, psi_star, rho_c
+
+
 def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n_start: int = 16) -> IdealCycles:
     """Solve the ideal level (pins.md §4, §6) of many cycloidal gears at once, in unit scalings.
 
@@ -1527,10 +1573,7 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     z2 = np.atleast_1d(g.z2)
     m = z2.size
     n_discs = np.zeros(m, dtype=np.int64) + n_discs
-    psi_star = crest_cutoffs(g)
-    status = np.where(psi_star <= 2.0 * math.pi / z2, TOO_FEW_TEETH, 0)
-    rho_c = np.atleast_1d(min_curvature_radius(g, psi_star))
-    status = np.where((status == 0) & (np.asarray(g.R_b) >= rho_c), UNDERCUT, status)
+    status, psi_star, rho_c = admissibility(g)
     psi_0 = spin_reversal_phases(g)
     nan = np.full(m, np.nan)
     out = {k: nan.copy() for k in ("loss_ratio", "loss_ratio_err", "force", "force_phase", "loss", "loss_phase",
@@ -1567,12 +1610,20 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
         return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=t, grid_mid=tmid,
                            grid_gear=np.zeros(t.size, dtype=np.int64) + ok[0], **out)
     gi = owner[piece]
+    multi = n_discs[ok] > 1
+    if multi.any():   # disc sums too large for the grid --tol needed: refused before any array is built
+        bound = np.bincount(gi, minlength=n_ok) * (np.ceil(G.c).astype(np.int64) + 1) * n_discs[ok]
+        costly = multi & ((bound > DISC_SAMPLES_MAX) | (bound * n_discs[ok] > DISC_WORK_MAX))
+        if costly.any():
+            status[ok[costly]] = TOO_COSTLY
+            keep = ~costly[gi]
+            t, tmid, piece, gi = t[keep], tmid[keep], piece[keep], gi[keep]
     gears = np.arange(n_ok)
     starts = np.searchsorted(gi, gears)                 # first node of each gear
     one = n_discs[ok] == 1
     picks = np.zeros((3, n_ok), dtype=np.int64), np.zeros((3, n_ok), dtype=np.int64), np.zeros((3, n_ok))
     grid_phase = np.zeros((3, n_ok))
-    for sl, zz in G.blocks(gi):
+    for sl, zz in (_bounded_blocks(G.blocks(gi), gi, starts, jmax) if gi.size else ()):
         lo = sl.start or 0
         gb = gi[sl]
         J, loaded, _, lev, rho = _contacts(t[sl], tmid[sl], gb, G, zz)
@@ -1613,7 +1664,12 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
         for i in here[~one[here]]:                       # several discs (pins.md §12.7): one by one
             n_d = int(n_discs[ok[i]])
             c0, c1 = starts[i] - lo, (starts[i + 1] if i + 1 < n_ok else t.size) - lo
-            ph, ld = 2.0 * math.pi * ((np.arange(loaded.shape[0])[:, None] + t[sl][c0:c1]) / zz), loaded[:, c0:c1]
+            ld = loaded[:, c0:c1]
+            samples = int(np.count_nonzero(ld))
+            if n_d * samples > DISC_SAMPLES_MAX or n_d * n_d * samples > DISC_WORK_MAX:
+                status[ok[i]] = TOO_COSTLY               # refused: the caller names gearing.discs and --tol
+                continue
+            ph = 2.0 * math.pi * ((np.arange(loaded.shape[0])[:, None] + t[sl][c0:c1]) / zz)
             out["force"][ok[i]], out["force_phase"][ok[i]] = disc_sum_peak(ph[ld], force[:, c0:c1][ld], n_d)
             out["loss"][ok[i]], out["loss_phase"][ok[i]] = disc_sum_peak(ph[ld], loss[:, c0:c1][ld], n_d)
             tt = t[lo + c0:lo + c1]

@@ -13,7 +13,7 @@ import pytest
 
 from conftest import CONFIGS, cli
 from gearcalc import registry
-from gearcalc import sweep as sw
+from gearcalc import grid as sw
 from gearcalc.calculator import DesignError, Options
 from gearcalc.design import apply_set, load, validate
 

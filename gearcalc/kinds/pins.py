@@ -18,11 +18,26 @@ import math
 import time
 
 from ..calculator import REQUIRED, Calculator, DesignError, Field, Options, Problems, Result, Table
-from ..units import MAX_FORCE_N, MAX_FRICTION, MAX_LENGTH_MM, MAX_SPEED_RPM, MAX_TORQUE_NM, MIN_LENGTH_MM
+from ..units import MAX_FORCE_N, MAX_FRICTION, MAX_LENGTH_MM, MAX_SPEED_RPM, MAX_TEETH, MAX_TORQUE_NM, MIN_LENGTH_MM
 
 MODELS = ("formula", "ideal", "contact")
 MAX_DISCS = 64
 """Satellite discs (drives use 1-3); the cost grows with n_d, and 64 discs take ~0.4 s."""
+IDEAL_WORK_MAX = 200_000
+"""Cost budget of one ideal-level design: pins x discs (z2 n_d).  The cycle and the disc sums cost about
+35 us per pin and disc at the default --tol (4000 pins x 64 discs: 9 s), so the budget keeps a design
+under ~10 s and its arrays under ~0.5 GB; 10 000 pins with up to 20 discs, 64 discs with up to 3125 pins."""
+IDEAL_SWEEP_WORK_MAX = 100_000
+"""Pin-discs (sum of z2 n_d over the distinct geometries) one vectorised ideal-level sweep solves together; a
+larger grid is evaluated point by point.  All geometries are solved at once, ~7 KB a pin-disc: 20 001
+eccentricities x 22 pins took 3 GB together (21 s), 115 MB point by point (24 s)."""
+CONTACT_NODES_MAX = 4096 + 256
+"""Crank angles one contact-level pass evaluates at most: the quadrature's cap (2^12) and the scan."""
+CONTACT_WORK_MAX = 1_500_000
+"""Cost budget of one contact-level design, in pin-contact solves: z2 x CONTACT_NODES_MAX x the torque
+fixed point's passes (1 with the torque on V; 3, the usual count, with it on H).  A solve costs 3-17 us, so
+the budget is ~5-25 s at the node cap (most designs converge with a fifth of the nodes): z2 <= 114 with the
+torque on H, z2 <= 344 on V."""
 MAX_STIFFNESS_N_PER_MM = 1e12
 """A linear contact stiffness far above steel's (~1e6 N/mm per mm of face); the accuracy reference uses 1e9."""
 
@@ -41,12 +56,14 @@ TABLES = (
     Table("gearing", (
         Field("profile", "string", REQUIRED, "satellite tooth profile", choices=("cycloidal", "circular"),
               example="cycloidal"),
-        Field("satellite_teeth", "integer", REQUIRED, "z1, teeth of the satellite", ge=2, example=20),
-        Field("pins", "integer", REQUIRED, "z2, pins of the fixed ring (> z1)", ge=3, example=22),
+        Field("satellite_teeth", "integer", REQUIRED, f"z1, teeth of the satellite (at most {MAX_TEETH - 1})", ge=2,
+              le=MAX_TEETH - 1, example=20),
+        Field("pins", "integer", REQUIRED, f"z2, pins of the fixed ring (> z1; at most {MAX_TEETH}: exact in floating "
+              "point, bounded memory)", ge=3, le=MAX_TEETH, example=22),
         Field("eccentricity_mm", "number", REQUIRED, "e, crank eccentricity", ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM,
               example=3.9),
         Field("pin_circle_radius_mm", "number", None, "R_p, pin-centre circle radius (or give curtate_ratio)",
-              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM),
+              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM, example=57.2, alternative_to="curtate_ratio"),
         Field("curtate_ratio", "number", None, "K1 = e*z2/(k*R_p), 0 < K1 < 1 (or give pin_circle_radius_mm)",
               gt=0, example=0.75),
         Field("pin_radius_mm", "number", REQUIRED, "R_b, pin (bushing) outer radius", ge=MIN_LENGTH_MM,
@@ -75,9 +92,11 @@ TABLES = (
               le=MAX_FRICTION, example=0.1),
     ), doc="Friction coefficients"),
     Table("load", (
-        Field("mode", "string", REQUIRED, "multiplier: V drives H (the paper's); reducer: H drives V",
+        Field("mode", "string", REQUIRED, "multiplier: V (the slow satellite output shaft) drives H (the fast "
+              "crank): the paper's; reducer: H drives V",
               choices=("multiplier", "reducer"), example="multiplier"),
-        Field("torque_shaft", "string", REQUIRED, "the shaft whose torque is given: H (crank) or V (satellite)",
+        Field("torque_shaft", "string", REQUIRED, "the shaft whose torque is given: H = crank (fast shaft) or "
+              "V = satellite output (slow shaft)",
               choices=("H", "V"), example="H"),
         Field("torque_Nm", "number", REQUIRED, "T, torque on that shaft", gt=0, le=MAX_TORQUE_NM, example=100.0),
         Field("crank_speed_rpm", "number", None, "n_H; powers and pin speeds need it", gt=0, le=MAX_SPEED_RPM,
@@ -166,6 +185,11 @@ def check(design, problems: Problems) -> None:
     elif ok_teeth:
         Rp, K1, _ = _pin_circle(design)
         k = z2 - z1
+        if K1_given is not None and not math.isfinite(Rp):        # e.g. K1 = 5e-324: R_p = inf (was exit 70)
+            problems.error("gearing.curtate_ratio", f"= {_fmt(K1)}: R_p = e*z2/(k*K1) overflows (K1 too small for "
+                                                    f"e = {_fmt(e)} mm and z2/k = {_fmt(z2 / k)}); give a larger K1 or "
+                                                    "gearing.pin_circle_radius_mm")
+            return
         if design["gearing.profile"] == "cycloidal" and K1 >= 1.0:
             if K1_given is not None:
                 problems.error("gearing.curtate_ratio", f"= {_fmt(K1)}: K1 = e*z2/(k*R_p) must be < 1 "
@@ -201,8 +225,97 @@ def check(design, problems: Problems) -> None:
     if design["gearing.profile"] == "circular" and _modified(design):
         problems.warn("gearing.equidistant_mod_mm and gearing.radial_mod_mm apply to the cycloidal profile only; "
                       "ignored for a circular one (give tooth_radius_mm / tooth_circle_radius_mm instead)")
-    if design.has("contact"):   # without the table, a run at the contact level reports the missing key
+    level = select_level(design, None)
+    if design.has("contact") or level == "contact":
         _check_contact_law(design, problems)
+    if problems.errors:
+        return
+    problem = cost_problem(design, level)
+    if problem is None and level in ("ideal", "contact"):
+        problem = admissibility_problem(design, level)
+    if problem is not None:
+        problems.error(*problem)
+
+
+def cost_problem(design, level: str):
+    """(key, message) when the design's computation at that level would exceed its cost budget
+    (:data:`IDEAL_WORK_MAX`, :data:`CONTACT_WORK_MAX`), else None.  ``check`` and compute share it."""
+    if level not in ("ideal", "contact") or not design.has("gearing"):
+        return None
+    z2, n_d = design["gearing.pins"], design["gearing.discs"]
+    if level == "ideal" and z2 * n_d > IDEAL_WORK_MAX:
+        key = "gearing.discs" if n_d > 1 else "gearing.pins"
+        return (key, f"= {design[key]}: gearing.pins x gearing.discs = {z2} x {n_d} = {z2 * n_d} exceeds the ideal "
+                     f"level's budget of {IDEAL_WORK_MAX} pin-discs (about 35 us each: ~10 s, ~0.5 GB); use fewer "
+                     "pins or discs")
+    if level == "contact":
+        on_V = design.get("load.torque_shaft") == "V"
+        passes = 1 if on_V else 3
+        work = z2 * CONTACT_NODES_MAX * passes
+        if work > CONTACT_WORK_MAX:
+            where = "with the torque on V" if on_V else "with the torque on H (3 passes of the torque fixed point)"
+            return ("gearing.pins", f"= {z2}: too many pins for the contact level: {z2} pins x {CONTACT_NODES_MAX} "
+                                    f"crank angles x {passes} pass(es) = {work} contact solves exceeds its budget of "
+                                    f"{CONTACT_WORK_MAX} (~10 s): at most "
+                                    f"{CONTACT_WORK_MAX // (CONTACT_NODES_MAX * passes)} pins {where}; a cycloidal "
+                                    "profile without modifications or [contact] runs the ideal level, which takes up "
+                                    "to 10 000 pins")
+    return None
+
+
+def admissibility_problem(design, level: str):
+    """(key, message) of the first geometric admissibility problem the computation at that level reports
+    (pins.md §4.2, §5.2-5.3, §9, §12.10), else None: the same functions as compute, run once here so that
+    ``gearcalc check`` reports them too.  Needs a design that passed the other checks."""
+    from .. import pins
+
+    if level == "ideal":
+        import numpy as np
+
+        z1, z2 = design["gearing.satellite_teeth"], design["gearing.pins"]
+        Rp, K1, omk = _pin_circle(design)
+        g = pins.Cycloid(np.array([z1]), np.array([z2]), np.array([float(design["gearing.eccentricity_mm"])]),
+                         np.array([float(Rp)]), np.array([float(design["gearing.pin_radius_mm"])]),
+                         np.array([float(omk)]))
+        status, psi_star, rho_c = pins.admissibility(g)
+        if status[0] == 0:
+            return None
+        err = _admissibility_error(int(status[0]), z1, z2, float(psi_star[0]), design["gearing.pin_radius_mm"],
+                                   float(rho_c[0]), _ideal_K1(design))
+        return err.key, err.message
+    try:
+        _contact_law(design)
+        z1, z2 = design["gearing.satellite_teeth"], design["gearing.pins"]
+        Rp, _, omk = _pin_circle(design)
+        g = pins.Cycloid(z1, z2, float(design["gearing.eccentricity_mm"]), float(Rp),
+                         float(design["gearing.pin_radius_mm"]), float(omk))
+        _contact_profile(design, g, [])
+    except DesignError as exc:
+        return exc.key, exc.message
+    return None
+
+
+def _ideal_K1(design) -> float:
+    """K1 = e z2/(k R_p) as the ideal level computes it."""
+    z1, z2 = design["gearing.satellite_teeth"], design["gearing.pins"]
+    return design["gearing.eccentricity_mm"] * z2 / ((z2 - z1) * _pin_circle(design)[0])
+
+
+def _admissibility_error(status: int, z1, z2, psi_star: float, Rb, rho_c: float, K1) -> DesignError:
+    """The DesignError of an inadmissible ideal-level gear (pins.md §4.2, §12.10): status from
+    :func:`gearcalc.pins.admissibility`."""
+    from .. import pins
+
+    if status == pins.TOO_FEW_TEETH:
+        return DesignError(
+            "gearing.satellite_teeth",
+            f"= {z1}: too few teeth for the tooth difference k = {z2 - z1}: at some crank angles no pin "
+            f"carries load (the loaded arc psi* = {_fmt(math.degrees(psi_star))} deg must exceed the pin "
+            f"pitch 360/z2 = {_fmt(360.0 / z2)} deg)")
+    return DesignError(
+        "gearing.pin_radius_mm",
+        f"= {_fmt(Rb)}: undercut: R_b must be < the least radius of curvature of the pin-centre curve "
+        f"over the loaded arc, min rho_c = {_fmt(rho_c)} mm (K1 = {_fmt(K1)})")
 
 
 def _check_contact_law(design, problems: Problems) -> None:
@@ -269,6 +382,9 @@ def compute(design, options: Options) -> Result:
 
     t0 = time.perf_counter()
     level = select_level(design, options.model)
+    problem = cost_problem(design, level)      # check() ran it for the level without --model
+    if problem is not None:
+        raise DesignError(*problem)
     if level != "contact":
         (out,) = _group([design], level, options, t0)
         if isinstance(out, BaseException):
@@ -309,10 +425,13 @@ def batch(designs, options: Options) -> list:
     for i, d in enumerate(designs):
         try:
             level = select_level(d, options.model)
+            problem = cost_problem(d, level)
+            if problem is not None:
+                raise DesignError(*problem)
         except DesignError as exc:
             results[i] = exc
             continue
-        if level == "contact":
+        if level == "contact" or (level == "ideal" and _alone(d, options)):
             try:
                 results[i] = compute(d, options)
             except Exception as exc:  # noqa: BLE001  (returned, as the contract says)
@@ -325,6 +444,18 @@ def batch(designs, options: Options) -> list:
             for i, r in zip(idx, out):
                 results[i] = r
     return results
+
+
+GROUP_PINS_MAX = 200
+"""An ideal-level design with more pins x discs than this is computed alone in a batch, as is any design at
+``--tol`` below :data:`GROUP_TOL_MIN`: a group's arrays hold every member at the finest grid any member needs
+(two 100-pin gears at 1e-15 took 2.9 GB together, 250 MB alone)."""
+GROUP_TOL_MIN = 1e-9
+
+
+def _alone(design, options: Options) -> bool:
+    return (options.tol < GROUP_TOL_MIN
+            or design["gearing.pins"] * design["gearing.discs"] > GROUP_PINS_MAX)
 
 
 def _group(designs, level: str, options: Options, t0: float) -> list:
@@ -359,6 +490,12 @@ def _group(designs, level: str, options: Options, t0: float) -> list:
                 warnings.append("the [contact] table is not used by the ideal level")
             warnings.extend(ideal.warnings[i])
             summary.update({k: cols[k][i] for k in cols})
+            if summary["loss_ratio"] is None:     # overflowed (K1 ~ 1e-300 and below): refused, not exit 70
+                key = "gearing.curtate_ratio" if d.get("gearing.curtate_ratio") is not None else \
+                    "gearing.pin_circle_radius_mm"
+                out.append(DesignError(key, f"= {_fmt(d[key])}: the loss ratio overflows floating point (it grows as "
+                                            "1/K1, K1 = e*z2/(k*R_p): the curtate ratio is too small for this gear)"))
+                continue
             _cycle_notes(d, summary, options, warnings, failed)
             if options.detail:
                 detail.update(ideal.detail(i, d))
@@ -691,18 +828,17 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
     status, psi_star, psi_0 = field("status"), field("psi_star"), field("psi_0")
     at = (lambda arr, i: arr) if one else (lambda arr, i: arr[i])
     bad = ([0] if status != 0 else []) if one else np.flatnonzero(status != 0)
-    for i in bad:
-        if at(status, i) == pins.TOO_FEW_TEETH:
+    for i in bad:                             # the messages of check() (admissibility_problem)
+        if at(status, i) == pins.TOO_COSTLY:  # known after the quadrature only: not in check()
+            n_d_i, n_i = int(at(n_d, i)), int(at(field("n_crank"), i))
             errors[i] = DesignError(
-                "gearing.satellite_teeth",
-                f"= {at(z1, i)}: too few teeth for the tooth difference k = {at(k, i)}: at some crank angles no pin "
-                f"carries load (the loaded arc psi* = {_fmt(math.degrees(at(psi_star, i)))} deg must exceed the pin "
-                f"pitch 360/z2 = {_fmt(360.0 / at(z2, i))} deg)")
-        else:
-            errors[i] = DesignError(
-                "gearing.pin_radius_mm",
-                f"= {_fmt(at(Rb, i))}: undercut: R_b must be < the least radius of curvature of the pin-centre curve "
-                f"over the loaded arc, min rho_c = {_fmt(cyc.rho_c_min[gi[i]])} mm (K1 = {_fmt(at(K1, i))})")
+                "gearing.discs", f"= {n_d_i}: the sums over {n_d_i} discs on the {n_i} crank-angle intervals per pin "
+                f"pitch that --tol {options.tol:g} needs exceed the ideal level's budget (n_d x loaded samples <= "
+                f"{pins.DISC_SAMPLES_MAX:.3g}, n_d^2 x loaded samples <= {pins.DISC_WORK_MAX:.3g}: ~10 s, ~0.4 GB); "
+                "use fewer discs or a larger --tol")
+            continue
+        errors[i] = _admissibility_error(int(at(status, i)), int(at(z1, i)), int(at(z2, i)), float(at(psi_star, i)),
+                                         float(at(Rb, i)), float(cyc.rho_c_min[gi[i]]), float(at(K1, i)))
     inside = (status == 0) & (Rb >= Rp * omk)
     for i in ([0] if inside else []) if one else np.flatnonzero(inside):
         p0 = None if xp.isnan(at(psi_0, i)) else float(at(psi_0, i))
@@ -786,7 +922,8 @@ def _cycle_notes(design, s, options: Options, warnings, failed) -> None:
                         f"loss ratio {lam:.10g} +- {E:.3g}")
     if s["self_locking"]:
         failed.append(f"self-locking in the multiplier mode: the loss ratio {lam:.6g} >= 1 (the losses exceed "
-                      "the power the V shaft delivers); no efficiency")
+                      "the power the V shaft delivers); no efficiency. A lower friction.sliding or a larger "
+                      "gearing.curtate_ratio (closer to 1) lowers the loss ratio")
     if abs(1.0 - lam) <= E:
         warnings.append(f"at the self-locking limit: the loss ratio {lam:.10g} is within its error {E:.3g} of 1")
     if design["load.crank_speed_rpm"] is None:
@@ -873,6 +1010,13 @@ def _points_pass_checks(base, values, n: int, level: str) -> bool:
     K1g, Rpg = _floats(values("gearing.curtate_ratio")), _floats(values("gearing.pin_circle_radius_mm"))
     if np.any(z2 <= z1) or np.any(np.isnan(K1g) == np.isnan(Rpg)):
         return False
+    n_d = np.array(values("gearing.discs"), dtype=np.int64)
+    if np.any(z2 * n_d > IDEAL_WORK_MAX):          # cost_problem: reported point by point
+        return False
+    key = np.nan_to_num(np.stack([z1, z2, n_d, e, Rb, K1g, Rpg], axis=1).astype(float), nan=-1.0)
+    geometries = np.unique(key, axis=0)         # each distinct geometry is solved once (_ideal_columns)
+    if float((geometries[:, 1] * geometries[:, 2]).sum()) > IDEAL_SWEEP_WORK_MAX:
+        return False   # point by point instead (bounded memory, one progress step per point)
     k = z2 - z1
     Rp = np.where(np.isnan(K1g), Rpg, e * z2 / (k * np.where(np.isnan(K1g), 1.0, K1g)))
     K1 = np.where(np.isnan(K1g), e * z2 / (k * Rp), K1g)
@@ -1297,6 +1441,9 @@ CALCULATOR = Calculator(
     models=MODELS,
     header=HEADER,
     sweep=sweep,
+    table_fields=("model", "efficiency", "self_locking", "pin_force_max_N", "P_tr_W"),
+    sweep_plot=("efficiency",),
+    failure=(("self_locking", True),),
     plot=plot,
     batch=batch,
 )

@@ -327,8 +327,7 @@ def _bridges(design, geo, s, detail, warnings, failed, kappa_for, C, E, nu, R, n
     feasible = all(f == "ok" for f in flags)
     s["bridges_feasible"] = feasible
     if not feasible:
-        bad = [f"span {j + 1}: {f}" for j, f in enumerate(flags) if f != "ok"]
-        failed.append("the bridges cannot equalise the rows (" + "; ".join(bad) + ")")
+        failed.append(_bridge_failure(design, flags, H_max, R))
     # verification: stepwise with the compliant carrier, each sun stiffness reading
     Fscale = 2.0 * b_w * math.cos(geo["alpha"])  # F = 2 w b_w cos α_w
     Y = R.carrier_matrix(res["a_w"], nw, res["stiffness"], n) * Fscale * C  # C y / w̄ = Y u
@@ -359,6 +358,68 @@ def _bridges(design, geo, s, detail, warnings, failed, kappa_for, C, E, nu, R, n
         for j in range(n)
     ]
     return K_bal
+
+
+BRIDGE_FLAG_TEXT = {
+    "exceeds_max": "needs a stiffer bridge than the widest that fits between neighbouring planets",
+    "axes_too_stiff": "the planet axes alone are stiffer than equal sharing needs (a bridge only stiffens)",
+    "no_room": "has no room for a bridge between neighbouring planets",
+}
+
+
+def _bridge_failure(design, flags, H_max, R) -> str:
+    """The failed bridge check in a designer's words: which span, why, H_max, and the widest feasible rows."""
+    spans = "; ".join(f"span {j + 1} {BRIDGE_FLAG_TEXT.get(f, f)} ({f})" for j, f in enumerate(flags) if f != "ok")
+    text = f"the bridges cannot equalise the rows: {spans} (H_max = {H_max:.4g} mm)"
+    B_ok = _largest_feasible_width(design, R)
+    if B_ok is not None:
+        text += f"; rows.relative_width <= {math.floor(B_ok * 1000) / 1000:g} makes every bridge fit"
+    return text
+
+
+def _largest_feasible_width(design, R, iterations: int = 40):
+    """The largest relative width B (below the design's) at which every bridge can be sized, by bisection
+    (narrower rows twist less); None when even a very narrow gear is infeasible or the rim is given in mm."""
+    import copy
+
+    if design.get("rows.rim_width_mm") is not None:
+        return None
+
+    def ok(B):
+        trial = copy.copy(design)
+        trial.values = {t: dict(v) for t, v in design.values.items()}
+        trial.values["rows"]["relative_width"] = B
+        geo = geometry(trial)
+        if geo["b_w"] <= 0:
+            return False
+        for key in ("axle_diameter_mm", "bridge_thickness_mm"):  # derived from b_w unless given (as check())
+            if not design.is_given(f"bridges.{key}"):
+                trial.values["bridges"][key] = 0.5 * geo["b_w"]
+        first = design["bridges.first_span"]
+        res = R.size_bridges(geo["n"], design["rows.planets_per_row"], geo["d_a"], design["gear.module_mm"],
+                             geo["b_w"], geo["b"], geo["alpha"], geo["ratio"], trial["bridges.axle_diameter_mm"],
+                             trial["bridges.bridge_thickness_mm"], design["material.E_MPa"],
+                             design["material.poisson"],
+                             R.polar_moment(torsion_diameter(design["bridges.torsion_diameter"], geo),
+                                            design["sun.bore_mm"]),
+                             first_span=None if first == "axes_only" else float(first))
+        return all(f == "ok" for f in res["flags"])
+
+    hi = geometry(design)["B"]
+    for k in range(1, 91):  # scan down in 1 % steps to a tenth of the width for the first feasible width
+        lo = hi * (1.0 - 0.01 * k)
+        if ok(lo):
+            break
+        hi_scan = lo
+    else:
+        return None
+    hi = hi if k == 1 else hi_scan
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+        if hi - lo <= 1e-6 * hi:
+            break
+    return lo
 
 
 FAST_SWEEP_KEYS = {
@@ -563,5 +624,8 @@ CALCULATOR = Calculator(
     models=("stepwise", "exact", "continuous"),
     header="Seed paper 004_971077b94d8d4426.txt; physics in rows.md. Lengths in mm, torque in N*m, stresses in MPa.",
     sweep=sweep,
+    table_fields=("K", "K_exact", "bridges_feasible", "K_balanced", "relative_mass_min_kg_per_kNm"),
+    sweep_plot=("relative_mass_kg_per_kNm", "K"),
+    failure=(("bridges_feasible", False),),
     plot=plot,
 )

@@ -22,6 +22,18 @@ GRID_CAP = 2 ** 16
 # Physical ranges of the inputs (gearcalc's choice, spec §9 "a value outside its physical range"):
 # lengths from 1 nm to 1 km, moduli from soft rubber (1 MPa) to beyond diamond (1e7 MPa).
 MIN_E_MPA, MAX_E_MPA = 1.0, 1e7
+ROUNDOFF_ULPS = 4
+"""Floor of the cycle/envelope error estimate sigma_max_err_MPa: 4 eps |sigma_max| (the stresses' own round-off;
+a sweep's estimate fell 1.2e-12 relative below the actual error when it was smaller)."""
+MIN_FORCE_N = 1e-6
+"""Smallest radial load (1 uN): far below it the contact deflections approach the round-off of the roller
+positions (~1e-16 x clearance) and the load solve cannot balance Q (5e-324 N gave solver_residual = 1 and
+pass = true; with clearance, 1e-100 N raised BracketError); at 1e-6 N the worked example balances Q to 4e-8
+with a clearance of 0.01 mm (included in sigma_max_err_MPa)."""
+SWEEP_WORK_MAX = 6_000_000
+"""Cost budget of a "cycle" and/or "envelope" design, in roller-configurations of its first sweep grid
+(:func:`sweep_work`): ~1.5-3 us each with the refinements (N = 118, "cycle" + "envelope": 5.4e6, 9 s;
+the worked example at --model reference: 5.9e6, 18 s); the sweeps' memory is bounded by CHUNK_ELEMENTS."""
 MAX_ROLLERS = 2000       # gearcalc's range (the spec asks N > 200 to work); keeps sweeps in memory
 CHUNK_ELEMENTS = 1_000_000  # roller-configurations evaluated at once in the sweeps
 REFINE_ROWS_MAX_N = 200  # above this the per-roller envelope rows are grid maxima (O(N²) refinement)
@@ -52,7 +64,8 @@ GEOMETRY = Table("geometry", (
 ), doc="Raceways, eccentricity and the roller chain")
 
 LOAD = Table("load", (
-    Field("radial_N", "number", REQUIRED, "Q, radial load on the leading inner ring", gt=0, le=MAX_FORCE_N,
+    Field("radial_N", "number", REQUIRED, f"Q, radial load on the leading inner ring (>= {MIN_FORCE_N:g} N: "
+          "smaller loads are below the round-off of the load solve)", ge=MIN_FORCE_N, le=MAX_FORCE_N,
           example=10000.0),
     Field("direction_deg", "number", 0.0, "direction of Q from the line of centres (0 = toward the narrowest "
           "gap, counter-clockwise), or \"envelope\" = every direction", choices=("envelope",)),
@@ -140,10 +153,40 @@ def _closed_chain(design, problems=None):
 
 
 def check(design, problems) -> None:
-    """Cross-key checks: raceways, eccentricity, gap, parity, N and the corrected geometry (spec §3.3, §9)."""
-    _, found = _closed_chain(design)
+    """Cross-key checks: raceways, eccentricity, gap, parity, N and the corrected geometry (spec §3.3, §9);
+    the cost budget of the phase and direction sweeps (:func:`cost_problem`, at the default model)."""
+    chain, found = _closed_chain(design)
     for key, msg in found:
         problems.error(key, msg)
+    if chain is not None:
+        problem = cost_problem(design, int(chain.n), "equilibrium")
+        if problem is not None:
+            problems.error(*problem)
+
+
+def sweep_work(n: int, cycle: bool, envelope: bool, model: str = "equilibrium") -> int:
+    """Roller-configurations of the first grids of a design's sweeps (spec §8): N x phases x directions."""
+    gf = 8 if model == "reference" else 1
+    if cycle and envelope:
+        return n * GRID_PHASE * gf * min(GRID_DIRECTION, max(GRID_DIRECTION // 4, 16 * n)) * gf
+    return n * (GRID_PHASE * gf if cycle else 1) * (GRID_DIRECTION * gf if envelope else 1)
+
+
+def cost_problem(design, n: int, model: str):
+    """(key, message) when the design's sweeps would exceed :data:`SWEEP_WORK_MAX`, else None (check and
+    compute share it; check assumes the default model)."""
+    cycle, envelope = design["geometry.scheme"] == "cycle", design["load.direction_deg"] == "envelope"
+    work = sweep_work(n, cycle, envelope, model)
+    if work <= SWEEP_WORK_MAX:
+        return None
+    what = " + ".join(w for w, on in (('geometry.scheme = "cycle"', cycle),
+                                       ('load.direction_deg = "envelope"', envelope)) if on)
+    rollers = design["geometry.rollers"]
+    shown = f'"{rollers}"' if isinstance(rollers, str) else rollers
+    return ("geometry.rollers", f"= {shown}: N = {n} rollers with {what}"
+                                f"{' at --model reference' if model == 'reference' else ''} need {work:.3g} "
+                                f"roller-configurations, over the budget of {SWEEP_WORK_MAX:.3g} (~10 s): fewer "
+                                "rollers, or one sweep at a time (a fixed scheme or a fixed load direction)")
 
 
 def _deg(x):
@@ -421,6 +464,8 @@ def _finish(names, model, schemes, chain, mats, state, theta0, gamma, load, clea
     with np.errstate(divide="ignore", invalid="ignore"):
         err_solver = np.where(closed_form | ~(f_crit > 0), 0.0, 0.5 * smax * resid_abs / f_crit)
     sigma_err = (0.0 if err_sweep is None else err_sweep) + err_solver
+    if sweeping:   # a sweep's estimate is never below the round-off of the value itself (4 ulp)
+        sigma_err = np.maximum(sigma_err, ROUNDOFF_ULPS * np.finfo(float).eps * np.abs(smax))
     allow, default_allowable = allowable
     passed = smax <= allow
     cname = ["inner" if c == 0 else "outer" for c in contact.tolist()]
@@ -719,6 +764,9 @@ def _compute_sweeping(design, p, options: Options) -> Result:
     from ..units import deg_to_rad
 
     model = options.model or "equilibrium"
+    problem = cost_problem(design, int(p.n[0]), model)
+    if problem is not None:
+        raise DesignError(*problem)
     chain, mats = _one(p.chain), _one(p.mats)
     load, clearance = float(p.load[0]), float(p.clearance[0])
     scheme = design["geometry.scheme"]
@@ -945,6 +993,9 @@ CALCULATOR = Calculator(
     sweep=sweep,
     batch=batch,
     models=MODELS,
+    table_fields=("N", "sigma_max_MPa", "sigma_max_contact", "sigma_max_roller", "pass"),
+    sweep_plot=("sigma_max_MPa",),
+    failure=(("pass", False),),
     plot=plot,
     header=("Merko et al. (seed 003): rollers of different diameters between an outer raceway (R_H) and an\n"
             "eccentric inner raceway (R_B, offset e); one raceway radius (or the gap) is corrected so that an\n"
