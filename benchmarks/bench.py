@@ -196,7 +196,7 @@ def main() -> None:
         shutil.rmtree(work, ignore_errors=True)
 
     # the rows sweep hook in process (no start-up, no CSV text)
-    from gearcalc import sweep as sw
+    from gearcalc import grid as sw
 
     raw = dmod.read_toml(str(CONFIGS / SWEEPS["rows"][0]))
     axes = sw.parse_vary(SWEEPS["rows"][1])

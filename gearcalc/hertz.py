@@ -29,6 +29,81 @@ Maximum over depth z of tau_1/p0 = t - t²/sqrt(1 + t²), t = z/b, on the axis o
 TAU_MAX_DEPTH_RATIO = 0.78615136906447
 """Depth of the maximum subsurface shear below the centre of a line contact, over b (≈ 0.786)."""
 
+ISO_ROLLER_CONSTANT = 35948.0
+"""ISO/TS 16281 roller-raceway constant [N/mm^(10/9)]: Q = 35948 L^(8/9) delta^(10/9) for a steel roller's
+two contacts in series (N, mm); the single-contact form multiplies it by 2^(10/9) (pins.md §5.4, zstk.md §5)."""
+LINE_LOAD_EXPONENT = 10.0 / 9.0
+"""Exponent of the line-contact load-deflection law F = c delta^(10/9)."""
+
+
+def iso_roller_stiffness(length):
+    """Load-deflection constant of a steel roller's two line contacts in series (ISO/TS 16281).
+
+    .. math:: c_L = 35948\\, l^{8/9} \\quad [N/mm^{10/9}], \\qquad Q = c_L \\delta^{10/9}
+
+    Parameters
+    ----------
+    length : float or array_like
+        Roller working length l [mm].
+
+    Examples
+    --------
+    >>> round(float(iso_roller_stiffness(1.0)))
+    35948
+
+    References
+    ----------
+    ISO/TS 16281:2008, Rolling bearings - Methods for calculating the modified reference rating life for
+    universally loaded bearings; zstk.md §5 item 4.
+    """
+    return ISO_ROLLER_CONSTANT * length ** (8.0 / 9.0)
+
+
+def iso_contact_stiffness(face_width):
+    """Load-deflection constant of one steel line contact (ISO/TS 16281 roller constant for one contact).
+
+    .. math:: c = 35948 \\cdot 2^{10/9}\\, b^{8/9} \\quad [N/mm^{10/9}], \\qquad F = c\\,\\delta^{10/9}
+
+    Parameters
+    ----------
+    face_width : float or array_like
+        Contact length b [mm].
+
+    Examples
+    --------
+    >>> round(float(iso_contact_stiffness(1.0)))     # pins.md §5.4: about 7.77e4 b^(8/9)
+    77652
+
+    References
+    ----------
+    ISO/TS 16281:2008 (roller constant); pins.md §5.4.
+    """
+    return ISO_ROLLER_CONSTANT * 2.0 ** LINE_LOAD_EXPONENT * face_width ** (8.0 / 9.0)
+
+
+def line_pressure_constant(poisson):
+    """The Hertz line-contact pressure constant for two bodies of one material.
+
+    .. math:: C_H = \\left(2\\pi(1-\\nu^2)\\right)^{-1/2}, \\qquad p_0 = C_H \\sqrt{F E / (b \\rho)}
+
+    0.418 for nu = 0.3 (the constant of the seed paper 004's mass formula).
+
+    Parameters
+    ----------
+    poisson : float or array_like
+        Poisson's ratio nu [-].
+
+    Examples
+    --------
+    >>> round(float(line_pressure_constant(0.3)), 3)
+    0.418
+
+    References
+    ----------
+    K. L. Johnson, Contact Mechanics, 1985, §4.2 (eq. 4.45 with E* = E/(2(1 - nu^2))); rows.md §6, §13.9.
+    """
+    return (2.0 * np.pi * (1.0 - np.asarray(poisson, float) ** 2)) ** -0.5
+
 
 def contact_modulus(e1, nu1, e2, nu2):
     """Contact modulus E* of two elastic bodies.

@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import pins
+from . import hertz
 from .arrays import unique_sorted
 from .pins import MULTIPLIER, REDUCER, Cycloid
 from .quadrature import QuadResult, geometric_breakpoints, integrate_piecewise, sign_change_breakpoints
@@ -49,33 +50,9 @@ from .roots import bisect, find_root, minimize_golden
 
 # ============================================================ contact laws (pins.md §5.4)
 
-ISO_ROLLER_CONSTANT = 35948.0
-"""ISO/TS 16281 roller-raceway constant: Q = 35948 L^(8/9) delta^(10/9) for a roller's two contacts
-in series (N, mm).  The single-contact form multiplies it by 2^(10/9) (pins.md §5.4)."""
 PALMGREN_COEFFICIENT = 3.84e-5
 """Palmgren's line contact: delta = 3.84e-5 Q^0.9 / b^0.8 (mm, N) [Harris & Kotzalas]."""
-HERTZ_EXPONENT = 10.0 / 9.0
-
-
-def hertz_line_constant(face_width):
-    """Single-contact line-contact constant c_L = 35948 * 2^(10/9) * b^(8/9) [N/mm^(10/9)], steel on steel.
-
-    F = c_L delta^(10/9).  The hertz.py module has no load-deflection law, so it lives here.
-
-    Parameters
-    ----------
-    face_width : b [mm].
-
-    Examples
-    --------
-    >>> round(hertz_line_constant(1.0))     # 35948 * 2^(10/9); pins.md §5.4: about 7.77e4 b^(8/9)
-    77652
-
-    References
-    ----------
-    ISO/TS 16281:2008 (roller constant); pins.md §5.4.
-    """
-    return ISO_ROLLER_CONSTANT * 2.0 ** HERTZ_EXPONENT * face_width ** (8.0 / 9.0)
+HERTZ_EXPONENT = hertz.LINE_LOAD_EXPONENT
 
 
 def palmgren_line_constant(face_width):
@@ -83,7 +60,7 @@ def palmgren_line_constant(face_width):
 
     Examples
     --------
-    >>> 1.03 < palmgren_line_constant(10.0) / hertz_line_constant(10.0) < 1.05   # pins.md: within ~4 %
+    >>> 1.03 < palmgren_line_constant(10.0) / hertz.iso_contact_stiffness(10.0) < 1.05   # pins.md: within ~4 %
     True
     """
     return face_width ** (8.0 / 9.0) / PALMGREN_COEFFICIENT ** HERTZ_EXPONENT
@@ -140,7 +117,7 @@ def contact_law(name: str, face_width=None, stiffness=None) -> ContactLaw:
         return ContactLaw("linear", float(stiffness), 1.0)
     if name == "palmgren":
         return ContactLaw("palmgren", float(palmgren_line_constant(face_width)), HERTZ_EXPONENT)
-    return ContactLaw("hertz", float(hertz_line_constant(face_width)), HERTZ_EXPONENT)
+    return ContactLaw("hertz", float(hertz.iso_contact_stiffness(face_width)), HERTZ_EXPONENT)
 
 
 # ============================================================ circular-arc teeth (pins.md §5.3)
@@ -946,7 +923,7 @@ def free_play(model: ContactModel, theta, limit: float | None = None):
 
 
 __all__ = [
-    "ContactLaw", "contact_law", "hertz_line_constant", "palmgren_line_constant",
+    "ContactLaw", "contact_law", "palmgren_line_constant",
     "tooth_centre_distance", "zero_backlash_tooth_circle", "full_tooth",
     "CircularProfile", "CycloidProfile", "ContactModel", "NoEquilibrium", "Solution",
     "contact_losses", "mean_loss_ratio", "cycle_breakpoints", "engagement_metrics", "free_play",

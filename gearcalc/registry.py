@@ -1,6 +1,10 @@
-"""Which calculators exist: kind name -> module that defines ``CALCULATOR``.
+"""Which calculators exist: the one list of kinds.
 
-Registering a calculator is one line here; the modules are imported only when used.
+Each kind is a module that defines ``CALCULATOR`` (a :class:`gearcalc.calculator.Calculator`) and a
+one-line help, kept here so that ``gearcalc --help`` lists the commands without importing any
+calculator.  Registering a calculator is one entry here: its command (``gearcalc KIND``), its
+template (``gearcalc new KIND``), its figures, its sweep plots and its place in ``gearcalc run`` and
+``gearcalc accuracy`` all follow from it.  The modules are imported only when used.
 """
 from __future__ import annotations
 
@@ -8,17 +12,26 @@ import importlib
 import importlib.util
 
 KINDS = {
-    "pins": "gearcalc.kinds.pins",
-    "zstk": "gearcalc.kinds.zstk",
-    "rows": "gearcalc.kinds.rows",
+    "pins": ("gearcalc.kinds.pins",
+             "KHV pin gearing: per-pin friction losses, cycle-averaged losses, efficiency."),
+    "zstk": ("gearcalc.kinds.zstk",
+             "Closed rolling-body mechanism: roller chain, closure correction, roller loads, contact stresses, "
+             "strength check."),
+    "rows": ("gearcalc.kinds.rows",
+             "Multi-row planetary gear: row load sharing K, carrier bridge widths, relative mass."),
 }
 
 
 def kinds() -> list[str]:
     """The kinds whose module is present in this installation."""
-    return [k for k in KINDS if importlib.util.find_spec(KINDS[k]) is not None]
+    return [k for k, (module, _) in KINDS.items() if importlib.util.find_spec(module) is not None]
+
+
+def help_of(kind: str) -> str:
+    """The one-line help of a kind's command (no import of the calculator)."""
+    return KINDS[kind][1]
 
 
 def get(kind: str):
     """The :class:`~gearcalc.calculator.Calculator` of a kind."""
-    return importlib.import_module(KINDS[kind]).CALCULATOR
+    return importlib.import_module(KINDS[kind][0]).CALCULATOR

@@ -13,6 +13,8 @@ import math
 
 import numpy as np
 
+from . import hertz
+
 RESCALE = 1e250
 """The far-end recurrence rescales its running values above this (rows.md §2.5)."""
 KAPPA_UNIFORM = 1e-24
@@ -542,17 +544,6 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
 
 
 # ----------------------------------------------------------------------------- relative mass
-def hertz_line_constant(poisson):
-    """The Hertz line-contact constant ``(2π(1-ν²))^(-1/2)``; 0.418 for ν = 0.3 (rows.md §6, §13.9).
-
-    Examples
-    --------
-    >>> round(float(hertz_line_constant(0.3)), 3)
-    0.418
-    """
-    return (2.0 * math.pi * (1.0 - np.asarray(poisson, float) ** 2)) ** -0.5
-
-
 def mass_bracket(ratio, rows, planets_per_row, wall_ratio, sun_fill, planet_fill, cheek_ratio):
     """The paper's volume bracket {…} of the relative mass (rows.md §6), in units of π d_a² b_w / 4.
 
@@ -578,7 +569,7 @@ def relative_mass(ratio, rows, planets_per_row, wall_ratio=0.06, sun_fill=0.7, p
     14.077
     """
     i = np.asarray(ratio, float)
-    c_h = hertz_line_constant(poisson)
+    c_h = hertz.line_pressure_constant(poisson)
     pref = 2.0 * math.pi * density * unevenness * youngs_modulus / (
         efficiency * (allowable_contact / c_h) ** 2 * rows * planets_per_row * (i - 2.0) * np.sin(2.0 * pressure_angle))
     return 1e-3 * pref * mass_bracket(i, rows, planets_per_row, wall_ratio, sun_fill, planet_fill, cheek_ratio)

@@ -32,8 +32,6 @@ from .roots import find_root, minimize_golden
 
 LOAD_EXPONENT = 10.0 / 9.0
 """Exponent of the roller load-deflection law F = c_L·delta^(10/9) (line contact)."""
-ROLLER_STIFFNESS_STEEL = 35948.0
-"""c_L = 35 948·l^(8/9) [N/mm^(10/9)], both contacts in series, steel (ISO/TS 16281:2008)."""
 E_STAR_REF = 2.1e5 / (2.0 * (1.0 - 0.3 ** 2))
 """Contact modulus of two steel bodies (E = 2.1e5 MPa, nu = 0.3) [MPa] (spec §11.4)."""
 SCHEME_PARITY = {"A": 0, "B": 1, "C": 1, "D": 0}
@@ -772,7 +770,7 @@ def roller_stiffness(length, e_star_inner=E_STAR_REF, e_star_outer=E_STAR_REF):
     ISO/TS 16281:2008; spec zstk.md §5 item 4 and §11.4.
     """
     scale = 0.5 * ((E_STAR_REF / e_star_inner) ** 0.9 + (E_STAR_REF / e_star_outer) ** 0.9)
-    return ROLLER_STIFFNESS_STEEL * length ** (8.0 / 9.0) * scale ** (-10.0 / 9.0)
+    return hertz.iso_roller_stiffness(length) * scale ** (-10.0 / 9.0)
 
 
 # ----------------------------------------------------------------------------- §5 loads

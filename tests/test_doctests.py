@@ -22,5 +22,5 @@ def test_the_examples_are_many():
     # a guard that the collection above finds the modules: the physics modules carry most examples
     finder = doctest.DocTestFinder()
     found = sum(len(t.examples) for n in ("gearcalc.rows", "gearcalc.zstk", "gearcalc.pins", "gearcalc.roots",
-                                           "gearcalc.sweep") for t in finder.find(importlib.import_module(n)))
+                                           "gearcalc.grid") for t in finder.find(importlib.import_module(n)))
     assert found >= 40

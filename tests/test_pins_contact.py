@@ -16,6 +16,7 @@ import pytest
 import tomli_w
 
 from gearcalc import pins
+from gearcalc import hertz
 from gearcalc import pins_contact as pc
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from test_pins_cli import design, run, summary  # the pins CLI helpers, shared
@@ -55,7 +56,7 @@ def test_hertz_constant_is_the_iso_roller_constant_for_one_contact():
         delta = 1e-3
         roller_force = 35948.0 * b ** (8 / 9) * (2 * delta) ** (10 / 9)
         assert float(law.force(delta)) == pytest.approx(roller_force, rel=1e-13)
-    assert pc.hertz_line_constant(1.0) == pytest.approx(7.77e4, rel=1e-3)
+    assert hertz.iso_contact_stiffness(1.0) == pytest.approx(7.77e4, rel=1e-3)
 
 
 def test_palmgren_law_inverts_palmgrens_deflection_and_agrees_within_4_percent():
@@ -64,7 +65,7 @@ def test_palmgren_law_inverts_palmgrens_deflection_and_agrees_within_4_percent()
     Q = 2500.0
     delta = 3.84e-5 * Q ** 0.9 / 10.0 ** 0.8
     assert float(law.force(delta)) == pytest.approx(Q, rel=1e-12)
-    ratio = pc.palmgren_line_constant(10.0) / pc.hertz_line_constant(10.0)
+    ratio = pc.palmgren_line_constant(10.0) / hertz.iso_contact_stiffness(10.0)
     assert 1.0 < ratio < 1.04
 
 

@@ -5,7 +5,7 @@ Willis forms over random gears).  This file checks the identities of pins.md on 
 ``CALCULATOR.compute`` returns for random TOML designs (cycloidal gears with k = 1..3, fixed or
 rotating pins, one to three discs, both modes, torque on either shaft, with or without a crank
 speed, with or without the paper's [pin_load] table), at every level the design allows, with the
-crank-angle and contact detail tables.  Each test names the spec section (/work/shared/spec/pins.md).
+crank-angle and contact detail tables.  Each test names the spec section (docs/spec/pins.md).
 """
 import copy
 import math

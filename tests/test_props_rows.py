@@ -5,7 +5,7 @@ tests/test_rows.py already holds the physics-level properties of the share solve
 designs: random TOML dicts over the schema of ``gearcalc.kinds.rows`` (every table, optional
 [bridges] and [mass]), validated by the shared loader and computed by ``CALCULATOR.compute`` at
 every model level, with and without ``--detail``.  Each test names the spec section
-(/work/shared/spec/rows.md) its property comes from.
+(docs/spec/rows.md) its property comes from.
 """
 import copy
 import math
@@ -335,6 +335,9 @@ def test_mass_independent_of_size_and_falls_with_n(raw, km, kB):
     # rows.md §6: M is independent of d_a and b_w (module and relative width)
     other = copy.deepcopy(raw)
     other["gear"]["module_mm"] *= km
+    for key in ("bore_mm", "torsion_diameter"):  # a geometrically similar gear: lengths scale with the module
+        if isinstance(other.get("sun", {}).get(key), (int, float)):
+            other["sun"][key] *= km
     other["rows"]["relative_width"] = min(other["rows"]["relative_width"] * kB, 1e4)
     o = run(other, detail=False)[0].summary
     assert o["relative_mass_kg_per_kNm"] == pytest.approx(base["relative_mass_kg_per_kNm"], rel=1e-12)

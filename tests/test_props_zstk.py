@@ -5,7 +5,7 @@ equilibrium of ``zstk.evaluate`` at random phases and directions, scaling).  Thi
 same invariants, and the output contract, on what ``CALCULATOR.compute`` returns for random TOML
 designs: the summary and the per-roller detail table (``--detail``), at every model level, for
 every correction, scheme, phase angle, load direction, clearance/preload and material pairing.
-Each test names the spec section (/work/shared/spec/zstk.md) its property comes from.
+Each test names the spec section (docs/spec/zstk.md) its property comes from.
 """
 import copy
 import math

@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from conftest import CONFIGS, cli
-from gearcalc import sweep as sw
+from gearcalc import grid as sw
 from gearcalc.calculator import Options
 
 FIG3 = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml"

@@ -1,0 +1,72 @@
+"""Streaming sweeps: peak memory and throughput of ``gearcalc sweep`` end to end (CSV to a file).
+
+Usage:  python benchmarks/sweep_stream.py [--points 1e6,1e7] [--kind rows] [--jobs 1]
+
+For each grid size it runs ``gearcalc sweep`` as a user would, in a subprocess writing CSV to a file in a
+temporary folder, and reports the wall time, the points per second and the subprocess's peak resident
+memory (``ru_maxrss`` of the child, in MB). The grid is one axis (rows: ``rows.relative_width``; zstk:
+``load.radial_N``; pins: ``friction.sliding``) of the requested number of points. Issue-14 targets:
+peak memory <= 300 MB at 1e7 rows points, >= 5e5 rows points/s.
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import resource
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CONFIGS = ROOT / "configs"
+_SCRIPT = Path(sys.executable).with_name("gearcalc")
+GEARCALC = [str(_SCRIPT)] if _SCRIPT.is_file() else [sys.executable, "-m", "gearcalc"]
+
+GRIDS = {
+    "rows": ("rows_fig3_n3_nw3_B2.4.toml", "rows.relative_width", 1.5, 3.0),
+    "zstk": ("zstk_merko_example.toml", "load.radial_N", 1000.0, 20000.0),
+    "pins": ("pins_paper_cyc_u10_fixed.toml", "friction.sliding", 0.01, 0.3),
+}
+
+
+def run(kind: str, points: int, jobs: int, work: Path) -> dict:
+    name, key, lo, hi = GRIDS[kind]
+    step = (hi - lo) / (points - 1)
+    out = work / f"{kind}_{points}.csv"
+    cmd = GEARCALC + ["sweep", str(CONFIGS / name), "--vary", f"{key}={lo!r}:{hi!r}:{step!r}", "--format", "csv",
+                      "-o", str(out), "--jobs", str(jobs)]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    t0 = time.perf_counter()
+    p = subprocess.run(cmd, capture_output=True, text=True, check=False)
+    wall = time.perf_counter() - t0
+    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    with open(out, "rb") as fh:
+        rows = sum(1 for _ in fh) - 1
+    size = out.stat().st_size
+    out.unlink()
+    return {"kind": kind, "points": rows, "jobs": jobs, "exit": p.returncode, "wall_s": wall,
+            "points_per_s": rows / wall, "peak_MB": max(peak, before) / 1024.0, "csv_MB": size / 1e6,
+            "stderr": p.stderr.strip()[-200:]}
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--points", default="1e6,1e7")
+    ap.add_argument("--kind", default="rows", choices=sorted(GRIDS))
+    ap.add_argument("--jobs", type=int, default=1)
+    args = ap.parse_args()
+    print(f"# python {sys.version.split()[0]}, {os.cpu_count()} cores, gearcalc: {' '.join(GEARCALC)}")
+    print("kind,points,jobs,exit,wall_s,points_per_s,peak_MB,csv_MB")
+    with tempfile.TemporaryDirectory() as tmp:
+        for n in args.points.split(","):
+            r = run(args.kind, int(float(n)), args.jobs, Path(tmp))
+            print(f"{r['kind']},{r['points']},{r['jobs']},{r['exit']},{r['wall_s']:.2f},{r['points_per_s']:.0f},"
+                  f"{r['peak_MB']:.0f},{r['csv_MB']:.0f}", flush=True)
+            if r["exit"] not in (0, 1):
+                print("  stderr:", r["stderr"])
+
+
+if __name__ == "__main__":
+    main()

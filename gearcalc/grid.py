@@ -1,0 +1,484 @@
+"""``gearcalc sweep``: one design evaluated over a grid of key values (the module is ``grid``; the Python
+function :func:`gearcalc.sweep` streams its chunks).
+
+A ``--vary KEY=SPEC`` gives one axis: ``start:stop:step`` (stop included when it lies on the grid,
+to within 1e-9 of a step) or a list ``v1,v2,...`` (each a TOML value: numbers, ``"root"``, ...).
+Several axes make a product grid; the first axis varies slowest.  Every axis value is validated
+once against the base design (the error names the key and the value); a calculator that defines
+``sweep`` evaluates the whole grid as arrays, others are evaluated point by point.
+"""
+from __future__ import annotations
+
+import itertools
+import math
+import sys
+import tomllib
+from collections.abc import Sequence
+from typing import Any
+
+from .calculator import DesignError
+
+
+class SweepError(ValueError):
+    """A malformed ``--vary`` or a grid value the design does not accept."""
+
+
+MAX_POINTS = 100_000_000
+"""Grid points of one sweep written as CSV or JSON: those stream a chunk at a time (:func:`stream`), so memory
+does not grow with the points (a range axis is lazy, :class:`Range`); the cap bounds the time (hours at
+~1e5 points/s)."""
+
+MAX_WHOLE_POINTS = 300_000
+"""Grid points of a sweep shown as one table or drawn (``--format table``, ``--plot``): those hold every
+point's summary at once (measured peaks: rows 1.7 KB, pins 2.8 KB a point with its ~50 fields and the
+output text), so 300 000 points peak below 1 GB."""
+
+LAZY_FROM = 100_000
+"""A range axis of more values than this is a lazy :class:`Range` rather than a list."""
+
+
+class Range(Sequence):
+    """The values of a ``start:stop:step`` axis, computed on demand (a list of 1e7 floats would take 320 MB).
+
+    Value ``k`` is ``start + k*step`` rounded to 12 significant digits (2.0 + 2*0.4 = 2.8000000000000003 is
+    2.8, the value the user typed a grid for), an int for an integer range.
+
+    >>> r = Range(2.0, 0.4, 3)
+    >>> len(r), list(r), r[-1], r[1:3]
+    (3, [2.0, 2.4, 2.8], 2.8, [2.4, 2.8])
+    """
+
+    def __init__(self, start: float, step: float, count: int, ints: bool = False):
+        self.start, self.step, self.count, self.ints = start, step, count, ints
+
+    def __len__(self) -> int:
+        return self.count
+
+    def __getitem__(self, k):
+        if isinstance(k, slice):
+            return [self[j] for j in range(*k.indices(self.count))]
+        if k < 0:
+            k += self.count
+        if not 0 <= k < self.count:
+            raise IndexError("range index out of range")
+        v = float(f"{self.start + k * self.step:.12g}")
+        return int(v) if self.ints else v
+
+    def __eq__(self, other) -> bool:
+        return isinstance(other, Sequence) and len(other) == len(self) and all(a == b for a, b in zip(self, other))
+
+    def __repr__(self) -> str:
+        return f"Range(start={self.start!r}, step={self.step!r}, count={self.count})"
+
+    def __reduce__(self):
+        return Range, (self.start, self.step, self.count, self.ints)
+
+
+def parse_spec(key: str, spec: str) -> list[Any]:
+    """Values of one axis from its SPEC.
+
+    >>> parse_spec("rows.count", "4,3")
+    [4, 3]
+    >>> parse_spec("rows.relative_width", "2.0:2.8:0.4")
+    [2.0, 2.4, 2.8]
+    """
+    spec = spec.strip()
+    from .design import _clip
+
+    shown = _clip(spec)  # echoed in messages: at most about 60 characters
+    if not spec:
+        raise SweepError(f"--vary {key}=: no values")
+    if ":" in spec and not spec.startswith(("\"", "'")):
+        parts = spec.split(":")
+        if len(parts) != 3:
+            raise SweepError(f"--vary {key}={shown}: a range is start:stop:step")
+        try:
+            start, stop, step = (float(p) for p in parts)
+        except ValueError:
+            raise SweepError(f"--vary {key}={shown}: start, stop and step must be numbers") from None
+        if not all(math.isfinite(v) for v in (start, stop, step)):
+            raise SweepError(f"--vary {key}={shown}: start, stop and step must be finite numbers")
+        span = stop - start
+        if step == 0 or not math.isfinite(span) or span / step < 0:
+            why = ("the step must be non-zero and lead from start to stop" if math.isfinite(span)
+                   else "stop - start overflows (beyond 1.8e308); use a smaller range")
+            raise SweepError(f"--vary {key}={shown}: {why}")
+        ratio = span / step
+        if not ratio < MAX_POINTS:          # also inf: a step far below the range (e.g. 1:2:5e-324)
+            raise SweepError(f"--vary {key}={shown}: the step is too small for the range: "
+                             f"{'more than 1e308' if not math.isfinite(ratio) else f'{ratio + 1:.6g}'} points, "
+                             f"more than the cap of {MAX_POINTS}")
+        count = int(math.floor(ratio + 1e-9)) + 1
+        if count > 1 and start + step == start:
+            raise SweepError(f"--vary {key}={shown}: the step {step:g} is below the resolution of the start value "
+                             f"{start:g} (every point would be the same number)")
+        ints = all(float(p).is_integer() and "." not in p and "e" not in p.lower() for p in parts)
+        values = Range(start, step, count, ints)
+        return values if count > LAZY_FROM else list(values)
+    items = spec.split(",")
+    if len(items) > MAX_POINTS:
+        raise SweepError(f"--vary {key}=...: {len(items)} values, more than the cap of {MAX_POINTS}")
+    out = []
+    for item in items:
+        item = item.strip()
+        try:
+            out.append(tomllib.loads(f"v = {item}")["v"])
+        except tomllib.TOMLDecodeError:
+            out.append(item)
+    return out
+
+
+def parse_vary(items: list[str]) -> dict[str, list[Any]]:
+    axes: dict[str, list[Any]] = {}
+    for item in items:
+        key, sep, spec = item.partition("=")
+        key = key.strip()
+        if not sep or not key:
+            raise SweepError(f"--vary {item!r}: expected KEY=SPEC, e.g. --vary rows.relative_width=2.0:2.8:0.1")
+        if key in axes:
+            raise SweepError(f"--vary {key}: given twice")
+        axes[key] = parse_spec(key, spec)
+    total = math.prod(len(v) for v in axes.values())
+    if total > MAX_POINTS:
+        raise SweepError(f"the grid has {total} points, more than {MAX_POINTS}")
+    return axes
+
+
+class Grid(Sequence):
+    """The product grid of the axes (first axis slowest) as a sequence of points ``{key: value}``.
+
+    Points are built on demand, so a vectorised sweep of millions of points never holds a dict per
+    point: it takes whole axis columns with :meth:`column`.  A slice is a :class:`Grid` too (cheap to
+    send to a worker process).
+
+    >>> g = Grid({"a": [1, 2], "b": [10, 20, 30]})
+    >>> len(g), g[4], g.column("b")
+    (6, {'a': 2, 'b': 20}, [10, 20, 30, 10, 20, 30])
+    >>> g[2:4].column("a"), list(g[2:4])
+    ([1, 2], [{'a': 1, 'b': 30}, {'a': 2, 'b': 10}])
+    """
+
+    def __init__(self, axes: dict[str, list[Any]], start: int = 0, stop: int | None = None):
+        self.axes = axes
+        self.keys = list(axes)
+        self.sizes = [len(axes[k]) for k in self.keys]
+        total = math.prod(self.sizes)
+        self.start = start
+        self.stop = total if stop is None else stop
+
+    def __len__(self) -> int:
+        return self.stop - self.start
+
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            start, stop, step = index.indices(len(self))
+            if step != 1:
+                return [self[k] for k in range(start, stop, step)]
+            return Grid(self.axes, self.start + start, self.start + max(start, stop))
+        k = index + len(self) if index < 0 else index
+        if not 0 <= k < len(self):
+            raise IndexError("grid point index out of range")
+        k += self.start
+        point = {}
+        for key, size in zip(reversed(self.keys), reversed(self.sizes)):  # the last axis varies fastest
+            k, r = divmod(k, size)
+            point[key] = self.axes[key][r]
+        return {key: point[key] for key in self.keys}
+
+    def __iter__(self):
+        combos = itertools.product(*(self.axes[k] for k in self.keys))
+        return (dict(zip(self.keys, c)) for c in itertools.islice(combos, self.start, self.stop))
+
+    def column(self, key: str) -> list[Any]:
+        """The values of one varied key over the points, in order (built for these points only: a chunk of a
+        huge grid costs the chunk, not the grid)."""
+        j = self.keys.index(key)
+        inner = math.prod(self.sizes[j + 1:])
+        values, size = self.axes[key], self.sizes[j]
+        out: list[Any] = []
+        i = self.start
+        if inner == 1:  # the fastest axis: whole slices of its values
+            while i < self.stop:
+                k = i % size
+                end = min(self.stop, i + size - k)
+                out.extend(values[k:k + end - i])
+                i = end
+            return out
+        while i < self.stop:  # one run of equal values at a time
+            end = min(self.stop, (i // inner + 1) * inner)
+            out.extend(itertools.repeat(values[(i // inner) % size], end - i))
+            i = end
+        return out
+
+
+def ignore_sigint() -> None:
+    """Initializer of ``--jobs`` worker processes: they ignore Ctrl-C (SIGINT goes to the whole process
+    group), so that the main process alone reports "interrupted" and shuts the pool down, without a
+    KeyboardInterrupt traceback from every worker."""
+    import signal
+
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def worker_pool(jobs: int):
+    """The process pool of ``--jobs``: workers that ignore Ctrl-C (:func:`ignore_sigint`), stopped at once
+    (SIGTERM) when the pool is shut down while a KeyboardInterrupt propagates, instead of finishing their
+    chunks first."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    class WorkerPool(ProcessPoolExecutor):
+        def _stop_workers(self) -> None:
+            for proc in list((getattr(self, "_processes", None) or {}).values()):
+                if proc.is_alive():
+                    proc.terminate()
+
+        def shutdown(self, wait: bool = True, *, cancel_futures: bool = False) -> None:
+            if isinstance(sys.exc_info()[1], KeyboardInterrupt):
+                self._stop_workers()
+                cancel_futures = True
+            super().shutdown(wait=wait, cancel_futures=cancel_futures)
+
+        def __exit__(self, exc_type, exc, tb):
+            if exc_type is not None and issubclass(exc_type, KeyboardInterrupt):
+                self._stop_workers()
+                super().shutdown(wait=True, cancel_futures=True)
+                return False
+            return super().__exit__(exc_type, exc, tb)
+
+    return WorkerPool(max_workers=jobs, initializer=ignore_sigint)
+
+
+def grid_points(axes: dict[str, list[Any]]) -> Grid:
+    """The product grid (first axis slowest): a sequence of points ``{key: value}``."""
+    return Grid(axes)
+
+
+def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
+    """Validate the axis values against the base design.
+
+    Every value is checked against its field (type and bounds, cheap); the whole design, with its
+    cross-key checks, is validated with each value substituted alone for at most
+    ``FULL_CHECKS`` representative values per axis (both ends and evenly spaced ones between).
+    Combinations are checked by the calculator's sweep or by the point-by-point evaluation.
+    """
+    import copy
+
+    from . import registry
+    from .design import InputError, apply_set, check_value, display_name, validate
+
+    kind = raw.get("kind")
+    calc = registry.get(kind) if isinstance(kind, str) and kind in registry.kinds() else None
+    for key, values in axes.items():
+        table, _, name = key.partition(".")
+        field = calc.table(table).field(name) if calc and calc.table(table) else None
+        if field is not None:
+            for v in _values_to_check(values):
+                _, problem = check_value(field, v)
+                if problem:
+                    raise SweepError(f"--vary {key}={_clip(v)}: {problem}")
+        step = max(1, len(values) // (FULL_CHECKS - 1))
+        picks = sorted(set(list(range(0, len(values), step)) + [len(values) - 1]))
+        for k in picks:
+            trial = copy.deepcopy(raw)
+            apply_set(trial, [(key, values[k])])
+            try:
+                validate(trial, source)
+            except InputError as exc:
+                prefix = display_name(source) + ": "  # the caller names the file once
+                raise SweepError("; ".join(f"--vary {key}={_clip(values[k])}: {m.removeprefix(prefix)}"
+                                           for m in exc.messages)) from None
+
+
+FULL_CHECKS = 16
+
+
+def _clip(value) -> str:
+    from .design import _clip as clip
+
+    return clip(repr(value))
+
+
+def _values_to_check(values: list) -> list:
+    """The values whose field check stands for all: for an axis of finite floats (a range), its least and
+    greatest (a field's bounds are an interval, its type is float for all); else every value.
+
+    >>> _values_to_check([0.5, 0.1, 0.3]), _values_to_check([1, "root"])
+    ([0.1, 0.5], [1, 'root'])
+    """
+    if isinstance(values, Range):  # monotone, one type
+        return [values[0], values[-1]]
+    if len(values) > 2 and all(type(v) is float for v in values):
+        import math
+
+        if all(map(math.isfinite, values)):
+            return [min(values), max(values)]
+    return values
+
+
+def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progress=None, jobs: int = 1):
+    """Summary rows of every grid point, each led by the varied keys, as one :class:`Columns` (or rows):
+    :func:`stream`'s chunks joined.  With ``jobs > 1`` the chunks are evaluated in worker processes;
+    the rows are identical to ``jobs = 1``.
+    """
+    return join_parts(list(stream(raw, source, axes, options, progress=progress, jobs=jobs)))
+
+
+CHUNK_POINTS = 65_536
+"""Grid points evaluated at a time: a streamed sweep holds one chunk (about 50-100 MB of Python values for the
+widest kind), and a progress bar advances per chunk."""
+
+
+def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: list[dict], options,
+                    progress=None) -> list[dict]:
+    """Evaluate the given grid points: the calculator's vectorised sweep if it has one, else one by one."""
+    import copy
+
+    from . import registry
+    from .design import InputError, apply_set, validate
+
+    base = validate(copy.deepcopy(raw), source)
+    calc = registry.get(base.kind)
+    fast = getattr(calc, "sweep", None)
+    if fast is not None:
+        try:
+            summaries = fast(base, raw, axes, points, options)
+        except DesignError as exc:
+            raise SweepError(f"{exc.key}: {exc.message}") from None
+        if summaries is not None:
+            if progress:
+                progress(len(points))
+            if isinstance(summaries, dict):  # column-major: keep it so (fast CSV)
+                from .render import Columns
+
+                axis_columns = {k: points.column(k) if isinstance(points, Grid) else [p[k] for p in points]
+                                for k in axes}
+                return Columns({**axis_columns, **summaries})
+            return [{**p, **s} for p, s in zip(points, summaries)]
+    rows = []
+    for p in points:
+        trial = copy.deepcopy(raw)
+        apply_set(trial, list(p.items()))
+        try:
+            d = validate(trial, source)
+            res = calc.compute(d, options)
+        except InputError as exc:
+            raise SweepError(f"at {p}: " + "; ".join(exc.messages)) from None
+        except DesignError as exc:
+            raise SweepError(f"at {p}: {exc.key}: {exc.message}") from None
+        rows.append({**p, **res.summary})
+        if progress:
+            progress(1)
+    return rows
+
+
+def join_parts(parts: list):
+    """Concatenate the results of chunks (lists of rows or Columns) in order."""
+    from .render import Columns
+
+    if all(isinstance(p, Columns) for p in parts):
+        names = list(parts[0].data)
+        if all(list(p.data) == names for p in parts):
+            return Columns({k: [v for p in parts for v in p.data[k]] for k in names})
+    rows: list[dict] = []
+    for p in parts:
+        rows.extend(p.rows() if isinstance(p, Columns) else p)
+    return rows
+
+
+def as_columns(part):
+    """A chunk's result (Columns, or rows from point-by-point evaluation) as :class:`Columns`."""
+    from .render import Columns
+
+    return part if isinstance(part, Columns) else Columns.from_rows(part)
+
+
+def evaluate_range(raw: dict, source: str, axes: dict[str, list[Any]], start: int, stop: int, options,
+                   progress=None):
+    """Grid points ``start`` to ``stop`` evaluated, as :class:`Columns`: a pure function of (design, axes,
+    index range), the unit a worker process or a cluster computes.  The caller validates the design and the
+    axes once (:func:`prepare`)."""
+    return as_columns(evaluate_points(raw, source, axes, Grid(axes, start, stop), options, progress))
+
+
+def prepare(raw: dict, source: str, axes: dict[str, list[Any]]) -> int:
+    """Validate the base design and every axis value once; the number of grid points."""
+    import copy
+
+    from .design import validate
+
+    validate(copy.deepcopy(raw), source)
+    validate_axes(raw, source, axes)
+    return len(Grid(axes))
+
+
+STRUCTURE_PROBES = 256
+"""At most this many points are evaluated ahead of a multi-chunk sweep to learn its columns."""
+
+
+def columns_of(raw: dict, source: str, axes: dict[str, list[Any]], options) -> list[str] | None:
+    """The columns of every point of a grid, in order, learnt ahead from one point per combination of the
+    axes' values that are not floats (counts and words decide which fields a design has; a float changes
+    only values): None when there are more than :data:`STRUCTURE_PROBES` combinations."""
+    discrete = {k: [] if isinstance(vals, Range) and not vals.ints
+                else list(dict.fromkeys(v for v in vals if not isinstance(v, float)))
+                for k, vals in axes.items()}
+    combos = math.prod(max(1, len(v)) for v in discrete.values())
+    if combos > STRUCTURE_PROBES:
+        return None
+    first = {k: vals[0] for k, vals in axes.items()}
+    probes = []
+    for combo in itertools.product(*(v or [None] for v in discrete.values())):
+        point = dict(first)
+        point.update({k: v for k, v in zip(discrete, combo) if v is not None})
+        probes.append(point)
+    probe = as_columns(evaluate_points(raw, source, axes, probes, options))
+    return list(probe.data)
+
+
+def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: int | None = None,
+           progress=None, jobs: int = 1):
+    """The grid evaluated and yielded a chunk at a time (:class:`Columns`, grid order): memory follows the
+    chunk, not the grid.  Every chunk has the same columns (those of the whole grid, missing values None),
+    so a CSV header written from the first chunk holds for all; with ``jobs > 1`` chunks are evaluated in
+    worker processes, a window of ``2 jobs`` in flight."""
+    from .render import Columns
+
+    total = prepare(raw, source, axes)
+    size = chunk or CHUNK_POINTS
+    if jobs > 1:  # enough chunks to keep every worker busy
+        size = min(size, max(1, -(-total // (4 * jobs))))
+    ranges = [(k, min(k + size, total)) for k in range(0, total, size)]
+    header = None
+    if len(ranges) > 1:
+        header = columns_of(raw, source, axes, options)
+
+    def shaped(part: Columns) -> Columns:
+        nonlocal header
+        if header is None:
+            header = list(part.data)
+        extra = [k for k in part.data if k not in header]
+        if extra:  # a column the probes did not show: keep the header (the CSV already has it), say so
+            raise SweepError("the grid's points do not all have the same output fields ("
+                             + ", ".join(extra[:5]) + " appear late); split the sweep by "
+                             + ", ".join(axes) + " or give fewer points per run")
+        if list(part.data) == header:
+            return part
+        return Columns({k: part.data.get(k, [None] * part.n) for k in header})
+
+    if jobs > 1 and len(ranges) > 1:
+        with worker_pool(jobs) as pool:
+            window: list = []
+            for a, b in ranges:
+                window.append((b - a, pool.submit(evaluate_range, raw, source, axes, a, b, options)))
+                if len(window) >= 2 * jobs:
+                    n, fut = window.pop(0)
+                    yield shaped(fut.result())
+                    if progress:
+                        progress(n)
+            for n, fut in window:
+                yield shaped(fut.result())
+                if progress:
+                    progress(n)
+        return
+    for a, b in ranges:
+        yield shaped(evaluate_range(raw, source, axes, a, b, options, progress))
