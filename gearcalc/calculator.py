@@ -45,6 +45,8 @@ class Field:
     default_doc : how the default is shown when it is derived from other keys (``"0.5 b_w"``).
     example : the value the template (``gearcalc new``) writes for a required or optional key;
         a key with neither default nor example is written commented out.
+    alternative_to : the name of an exclusive key of the same table; the template keeps exactly one of the
+        two active.
     """
 
     name: str
@@ -59,6 +61,9 @@ class Field:
     length: int | None = None
     default_doc: str = ""
     example: Any = None
+    alternative_to: str = ""
+    """The key of the same table this one replaces (the two exclusive): the template writes this one commented
+    out, with its example value, and says to swap the two lines."""
 
     def constraint(self) -> str:
         """Human-readable statement of the admissible values."""
@@ -134,6 +139,32 @@ class Result:
     model: str = ""
     labels: dict[str, str] = field(default_factory=dict)
     """Text a table shows instead of "n/a" for a summary field that is None (e.g. "self-locking")."""
+    name: str = ""
+    kind: str = ""
+    design: dict[str, Any] = field(default_factory=dict)
+    """The resolved design (set by :func:`gearcalc.compute`), as the JSON output echoes it."""
+
+    def to_dict(self, detail: bool = True) -> dict[str, Any]:
+        """The result as plain data, the JSON object of ``gearcalc KIND FILE --format json``."""
+        from .render import plain
+
+        out = {"kind": self.kind, "name": self.name, "model": self.model, "summary": plain(self.summary),
+               "warnings": list(self.warnings), "checks_failed": list(self.failed), "design": plain(self.design)}
+        if detail:
+            out["detail"] = plain(self.detail)
+        return out
+
+    def to_pandas(self, table: str | None = None):
+        """The summary as a one-row pandas DataFrame, or a detail table (``table="rollers"``) with a row per
+        element. pandas is not a dependency of gearcalc: install it to use this."""
+        import pandas as pd
+
+        if table is None:
+            return pd.DataFrame([self.summary])
+        if table not in self.detail:
+            raise ValueError(f"no detail table {table!r}; this result has " + (", ".join(self.detail) or "none")
+                             + " (compute with detail=True)")
+        return pd.DataFrame(self.detail[table])
 
 
 class DesignError(Exception):
@@ -186,6 +217,25 @@ class Calculator:
     (``DesignError`` and other exceptions are returned, not raised).  The results must be
     identical to ``compute``; the CLI uses it for batches of two or more designs.
     """
+
+    table_fields: tuple[str, ...] = ()
+    """The summary fields a terminal table shows for several designs (after ``name``), the handful an
+    engineer reads first; ``--fields`` chooses others.  Empty: every field."""
+    sweep_plot: tuple[str, ...] = ()
+    """The summary fields a sweep's figure plots against the varied key: the first that the sweep has."""
+    failure: tuple[tuple[str, Any], ...] = ()
+    """(summary field, value) pairs that mean a failed design check, e.g. ``(("pass", False),)``: a sweep
+    counts its failed points by them (``compute`` reports the same checks in ``Result.failed``)."""
+
+    def failed_points(self, columns: dict) -> int:
+        """How many points of column-major summaries fail a design check (see :attr:`failure`)."""
+        n = len(next(iter(columns.values()))) if columns else 0
+        bad = [False] * n
+        for name, value in self.failure:
+            col = columns.get(name)
+            if col is not None:
+                bad = [b or (v is not None and v == value and type(v) is type(value)) for b, v in zip(bad, col)]
+        return sum(bad)
 
     def table(self, name: str) -> Table | None:
         for t in self.tables:

@@ -13,16 +13,16 @@ from typing import List, Optional
 import typer
 
 from . import __version__, registry
-from .calculator import DesignError, Options
-from .console import _silence_stdout
-
-EXIT_OK, EXIT_CHECK, EXIT_INPUT, EXIT_BUG = 0, 1, 2, 70
+from .calculator import Options
+from .output import silence_stdout
+from .engine import EXIT_BUG, EXIT_CHECK, EXIT_INPUT, EXIT_IO, EXIT_OK  # noqa: F401 - the exit codes, once
 
 app = typer.Typer(
     name="gearcalc",
     help="Engineering calculator for gear and mechanism designers: KHV pin gearing losses (pins), "
     "closed rolling-body mechanisms (zstk), multi-row planetary load sharing (rows). "
-    "Exit codes: 0 ok, 1 a design check failed, 2 bad usage or input, 70 internal error.",
+    "Exit codes: 0 ok, 1 a design check failed, 2 bad usage or input, 70 internal error, 74 output not "
+    "written.",
     rich_markup_mode=None,
     pretty_exceptions_enable=False,
     no_args_is_help=True,
@@ -50,7 +50,7 @@ def _version(value: bool):
 
 @app.callback()
 def _root(
-    version: bool = typer.Option(False, "--version", callback=_version, is_eager=True,
+    version: bool = typer.Option(False, "--version", "-V", callback=_version, is_eager=True,
                                  help="Print the version and exit."),
 ):
     """gearcalc: numbers you can trust, with their accuracy stated."""
@@ -62,14 +62,23 @@ FORMAT_HELP = ("Output format: table | csv | json (default: table on a terminal,
 O_FORMAT = typer.Option(None, "--format", "-f", help=FORMAT_HELP)
 O_DETAIL = typer.Option(False, "--detail",
                         help="Add the per-element tables (per pin and crank angle, per roller, per row).")
-O_OUTPUT = typer.Option(None, "--output", "-o", help="Write to this file (atomically) instead of stdout.")
+O_OUTPUT = typer.Option(None, "--output", "-o", help="Write to this file instead of stdout ('-': stdout); a regular "
+                        "file is replaced atomically keeping its mode, a device or FIFO written through.")
 O_SET = typer.Option(None, "--set",
                      help="Override a design key for this run: KEY=VALUE with a dotted KEY (repeatable).")
 O_TOL = typer.Option(1e-6, "--tol", help="Relative accuracy target for numerically computed results (0 < REL < 0.1).")
 O_MODEL = typer.Option(None, "--model", help="Force a model level (see the calculator's levels); "
                        "default: the cheapest level the design needs.")
-O_PLOT = typer.Option(None, "--plot", help="Draw the calculator's figure to this PNG file (needs the 'plot' extra).")
+O_PLOT = typer.Option(None, "--plot", help="Draw the calculator's figure to this file: png, pdf, svg, ... from its "
+                      "extension (needs the 'plot' extra).")
 O_DEBUG = typer.Option(False, "--debug", help="Show the traceback of an internal error.")
+O_FIELDS = typer.Option(None, "--fields", metavar="A,B,...",
+                        help="Summary fields to output, comma-separated (name always first); 'all' for every "
+                        "field. Default: a table of several designs shows each kind's main fields, CSV and JSON "
+                        "every field.")
+O_VERBOSE = typer.Option(False, "--verbose", "-v",
+                         help="Repeat a warning that many designs share once per design (default: once, "
+                         "with the count and the first names).")
 O_JOBS = typer.Option(1, "--jobs", "-j", min=1, max=256,
                       help="Spread a batch or sweep over N processes; the results are identical to --jobs 1.")
 
@@ -78,13 +87,20 @@ def pick_format(fmt: Optional[str], output: Optional[str]) -> str:
     if fmt is not None:
         fmt = fmt.lower()
         if fmt not in ("table", "csv", "json"):
-            raise Abort(f"--format {fmt}: must be one of table, csv, json"
+            raise Abort(f"--format {clip(fmt)}: must be one of table, csv, json"
                         + did_you_mean(fmt, ["table", "csv", "json"]))
         return fmt
-    if output:
+    if output and output != "-":  # -o - is standard output: the terminal/pipe rule
         ext = os.path.splitext(output)[1].lower()
         return {".json": "json", ".txt": "table"}.get(ext, "csv")
     return "table" if sys.stdout.isatty() else "csv"
+
+
+def clip(text) -> str:
+    """A value the user gave, cut for an echo in a message (about 60 characters, one line)."""
+    from .design import _clip
+
+    return _clip(text)
 
 
 def did_you_mean(word: str, choices: list[str]) -> str:
@@ -93,58 +109,54 @@ def did_you_mean(word: str, choices: list[str]) -> str:
     return _suggest(word, choices)
 
 
-def check_output_path(output: Optional[str]) -> None:
-    """Fail before any computation when the output cannot be written."""
-    if not output:
-        return
-    folder = os.path.dirname(os.path.abspath(output))
-    if not os.path.isdir(folder):
-        raise Abort(f"-o {output}: the folder {folder} does not exist")
-    if os.path.isdir(output):
-        raise Abort(f"-o {output}: is a directory")
-    if not os.access(folder, os.W_OK):
-        raise Abort(f"-o {output}: the folder {folder} is not writable")
+def check_output_path(output: Optional[str], inputs=(), option: str = "-o", other: Optional[str] = None,
+                      plot: bool = False) -> None:
+    """Fail before any computation when the output cannot be written (the rules: gearcalc/output.py).
 
+    Exit 2 for a path that cannot be right (missing folder, a directory, one of ``inputs``, the same file
+    as ``other``, a figure format matplotlib cannot write); exit 74 for one the environment refuses."""
+    from .output import UsageError, check
 
-def write_atomic(path: str, text: str) -> None:
-    """Write text to path via a temporary file in the same folder and a rename."""
-    import tempfile
-
-    folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(dir=folder, prefix="." + os.path.basename(path) + ".", suffix=".tmp")
     try:
-        with os.fdopen(fd, "w", encoding="utf-8", newline="") as fh:
-            fh.write(text)
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.replace(tmp, path)
-    except BaseException:
-        try:
-            os.unlink(tmp)
-        except OSError:
-            pass
-        raise
+        check(output, option, inputs, other, plot)
+    except UsageError as exc:
+        raise Abort(str(exc)) from None
+
+
+def check_outputs(output: Optional[str], plot: Optional[str], inputs=()) -> None:
+    """check_output_path for -o and --plot together (and that they are not the same file)."""
+    check_output_path(output, inputs)
+    if plot:
+        check_output_path(plot, inputs, "--plot", other=output, plot=True)
+
+
+def write_atomic(path: str, text) -> None:
+    """Write to -o / --plot by the rules of gearcalc/output.py: special files and descriptors written
+    through, symlinks followed, regular files replaced atomically keeping their mode, ``-`` is stdout."""
+    from .output import write
+
+    write(path, text)
 
 
 def emit_text(render_fn, fmt: str, output: Optional[str]) -> bool:
-    """Render (width and colour from the terminal) and write to stdout or atomically to -o.
+    """Render (width and colour from the terminal) and write to stdout or to -o.
 
     Returns False, after an error message, when the calculator produced a non-finite value (a bug).
     """
+    from .output import to_file, write_stdout
     from .render import NonFiniteOutput
 
-    terminal = fmt == "table" and not output and sys.stdout.isatty()
+    terminal = fmt == "table" and not to_file(output) and sys.stdout.isatty()
     try:
         text = render_fn(os.get_terminal_size().columns if terminal else None,
                          terminal and "NO_COLOR" not in os.environ)
     except NonFiniteOutput as exc:
         err(f"internal error: {exc}; please report it with the design file")
         return False
-    if output:
+    if to_file(output):
         write_atomic(output, text)
     else:
-        sys.stdout.write(text)
-        sys.stdout.flush()
+        write_stdout(text)
     return True
 
 
@@ -155,153 +167,56 @@ def check_tol(tol: float) -> None:
 
 def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
                   output: Optional[str], sets: Optional[List[str]], tol: float, model: Optional[str],
-                  plot: Optional[str], debug: bool, jobs: int = 1) -> int:
+                  plot: Optional[str], debug: bool, jobs: int = 1, fields: Optional[str] = None,
+                  verbose: bool = False) -> int:
     """The body of every computing command; returns the exit code."""
     from . import design as dmod
 
     fmt = pick_format(fmt, output)
     check_tol(tol)
-    check_output_path(output)
-    if plot:
-        check_output_path(plot)
+    check_outputs(output, plot)
     overrides = dmod.parse_set(sets or []) if sets else []
     files = dmod.expand_paths(paths)
     if not files:
         raise Abort("no design files found in " + " ".join(paths))
     if files.count("-") > 1:
         raise Abort("'-' (standard input) can be given once")
-    worst = EXIT_OK
-    designs = []
-    for f in files:
+    check_outputs(output, plot, files)  # never overwrite an input design
+    from . import engine
+    from .render import parse_fields
+
+    designs, worst = engine.load_designs(files, overrides, kind_hint, err, debug)
+    for kind in sorted({d.kind for d in designs}):
         try:
-            d = dmod.load(f, overrides, kind_hint)
-        except dmod.InputError as exc:
-            for w in exc.warnings:
-                err(w)
-            for m in exc.messages:
-                err(m)
-            worst = max(worst, EXIT_INPUT)
-            continue
-        designs.append(d)
-    if model is not None:
-        for d in designs:
-            calc = registry.get(d.kind)
-            if model not in calc.models:
-                raise Abort(f"--model {model}: a {d.kind} design has the levels " + ", ".join(calc.models)
-                            + did_you_mean(model, list(calc.models)))
-    opts = Options(tol=tol, model=model, detail=detail)
-    records = []
-    advance, stop = _progress(len(designs) * 20)  # a bar only for long batches on a terminal
+            engine.check_model(model, kind)
+        except ValueError as exc:
+            raise Abort(str(exc)) from None
+    chosen = parse_fields(fields)
+    bar = Progress(len(designs), "designs")  # shown on a terminal once the work has run about a second
     try:
-        worst = _compute_all(designs, opts, records, worst, debug, advance, jobs)
+        records, status = engine.run(designs, Options(tol=tol, model=model, detail=detail), say=err,
+                                     advance=bar.advance, debug=debug, jobs=jobs, verbose=verbose)
     finally:
-        stop()
-    return _emit(records, fmt, detail, output, plot, worst)
+        bar.stop()
+    worst = max(worst, status)
+    array = len(paths) > 1 or any(p != "-" and os.path.isdir(p) for p in paths)
+    return _emit(records, fmt, detail, output, plot, worst, chosen, array)
 
 
-def compute_one(d, opts, debug: bool = False):
-    """Compute one validated design: (result or None, stderr lines, exit code).
+def _emit(records, fmt, detail, output, plot, worst, fields=None, array=None) -> int:
+    from .render import render, unknown_fields
 
-    Prints nothing itself, so that ``--jobs`` workers and the main process report identically.
-    """
-    try:
-        outcome = registry.get(d.kind).compute(d, opts)
-    except Exception as exc:
-        outcome = exc
-    return report_one(d, outcome, debug)
-
-
-def report_one(d, outcome, debug: bool = False):
-    """(result or None, stderr lines, exit code) of a design from its Result or the exception it raised."""
-    from . import design as dmod
-
-    where = dmod.display_name(d.source)
-    lines = [f"{where}: warning: {w}" for w in d.warnings]
-    if isinstance(outcome, DesignError):
-        lines.append(f"{where}: {outcome.key}: {outcome.message}" if outcome.key else f"{where}: {outcome.message}")
-        return None, lines, EXIT_INPUT
-    if isinstance(outcome, BaseException):
-        if debug:
-            import traceback
-
-            lines.append("".join(traceback.format_exception(outcome)).rstrip())
-        lines.append(f"{where}: internal error in the {d.kind} calculator; please report it with this design "
-                     "file (run with --debug for the traceback)")
-        return None, lines, EXIT_BUG
-    result = outcome
-    lines += [f"{where}: warning: {w}" for w in result.warnings]
-    lines += [f"{where}: check failed: {f}" for f in result.failed]
-    return result, lines, EXIT_CHECK if result.failed else EXIT_OK
-
-
-BATCH_CHUNK = 512
-"""Designs per batch call: bounds memory and keeps a progress bar moving."""
-
-
-def compute_batched(designs, opts, debug: bool = False):
-    """Outcomes of many designs in one process, in the order of ``designs``: each kind with a ``batch`` hook
-    computes its designs together (numpy over designs), the others one by one."""
-    outcomes: list = [None] * len(designs)
-    by_kind: dict[str, list[int]] = {}
-    for k, d in enumerate(designs):
-        by_kind.setdefault(d.kind, []).append(k)
-    for kind, idx in by_kind.items():
-        batch = registry.get(kind).batch
-        if batch is not None and len(idx) > 1:
-            try:
-                results = batch([designs[k] for k in idx], opts)
-            except Exception:  # a bug in the batch path: fall back to one by one, which reports per design
-                results = None
-            if results is not None and len(results) == len(idx):
-                for k, res in zip(idx, results):
-                    outcomes[k] = report_one(designs[k], res, debug)
-                continue
-        for k in idx:
-            outcomes[k] = compute_one(designs[k], opts, debug)
-    return outcomes
-
-
-def _outcomes(designs, opts, debug):
-    """Outcomes in order, computed a chunk at a time (so that a progress bar moves)."""
-    for start in range(0, len(designs), BATCH_CHUNK):
-        yield from compute_batched(designs[start:start + BATCH_CHUNK], opts, debug)
-
-
-def _compute_all(designs, opts, records, worst, debug, advance, jobs: int = 1) -> int:
-    from .render import Record
-
-    if jobs > 1 and len(designs) > 1:
-        from concurrent.futures import ProcessPoolExecutor
-
-        pool = ProcessPoolExecutor(max_workers=jobs)
-        size = max(1, -(-len(designs) // (4 * jobs)))
-        chunks = [designs[k:k + size] for k in range(0, len(designs), size)]
-        outcomes = (o for part in pool.map(compute_batched, chunks, [opts] * len(chunks), [debug] * len(chunks))
-                    for o in part)
-    else:
-        pool = None
-        outcomes = _outcomes(designs, opts, debug)
-    try:
-        for d, (result, lines, code) in zip(designs, outcomes):
-            if advance:
-                advance(20)
-            for line in lines:
-                err(line)
-            worst = max(worst, code)
-            if result is not None:
-                records.append(Record(d.source, d.kind, d.name, d.resolved(), result))
-    finally:
-        if pool is not None:
-            pool.shutdown(cancel_futures=True)
-    return worst
-
-
-def _emit(records, fmt, detail, output, plot, worst) -> int:
-    from .render import render
-
-    if records:
-        if not emit_text(lambda width, color: render(records, fmt, detail, width=width, color=color), fmt, output):
+    if fields is not None and records:
+        bad = unknown_fields(fields, list(dict.fromkeys(k for r in records for k in r.result.summary)))
+        if bad:
+            raise Abort("; ".join(bad) + " (the summary fields are the CSV columns: --format csv --fields all)")
+    if records or (fmt == "json" and array):
+        notes: list[str] = []
+        if not emit_text(lambda width, color: render(records, fmt, detail, width=width, color=color, fields=fields,
+                                                     notes=notes, array=array), fmt, output):
             return EXIT_BUG
+        for note in dict.fromkeys(notes):
+            err(note)
         if plot:
             from .plot import plot_records
 
@@ -326,22 +241,19 @@ def _kind_command(kind: str, summary: str):
         plot: Optional[str] = O_PLOT,
         debug: bool = O_DEBUG,
         jobs: int = O_JOBS,
+        fields: Optional[str] = O_FIELDS,
+        verbose: bool = O_VERBOSE,
     ):
-        finish(lambda: compute_files(files, kind, fmt, detail, output, sets, tol, model, plot, debug, jobs), debug)
+        finish(lambda: compute_files(files, kind, fmt, detail, output, sets, tol, model, plot, debug, jobs, fields,
+                                     verbose), debug)
 
     command.__doc__ = summary
     command.__name__ = kind
     return command
 
 
-KIND_HELP = {
-    "pins": "KHV pin gearing: per-pin friction losses, cycle-averaged losses, efficiency.",
-    "zstk": "Closed rolling-body mechanism: roller chain, closure correction, roller loads, contact stresses, "
-            "strength check.",
-    "rows": "Multi-row planetary gear: row load sharing K, carrier bridge widths, relative mass.",
-}
-for _kind, _help in KIND_HELP.items():
-    app.command(_kind, help=_help)(_kind_command(_kind, _help))
+for _kind in registry.KINDS:  # the registry is the one list of kinds
+    app.command(_kind, help=registry.help_of(_kind))(_kind_command(_kind, registry.help_of(_kind)))
 
 
 @app.command("run")
@@ -357,9 +269,15 @@ def run_cmd(
     plot: Optional[str] = O_PLOT,
     debug: bool = O_DEBUG,
     jobs: int = O_JOBS,
+    fields: Optional[str] = O_FIELDS,
+    verbose: bool = O_VERBOSE,
 ):
-    """Compute any design files, dispatching on their `kind`."""
-    finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug, jobs), debug)
+    """Compute any design files, dispatching on their `kind`.
+
+    JSON: an array when PATH is a folder or several PATHs are given (even if one design is computed),
+    one object for a single file."""
+    finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug, jobs, fields,
+                                 verbose), debug)
 
 
 @app.command("sweep")
@@ -375,50 +293,134 @@ def sweep_cmd(
     plot: Optional[str] = O_PLOT,
     debug: bool = O_DEBUG,
     jobs: int = O_JOBS,
+    fields: Optional[str] = O_FIELDS,
 ):
-    """Evaluate one design over a grid of key values; one output row per point."""
+    """Evaluate one design over a grid of key values; one output row per point.
+
+    Exit 1 when any point fails a design check (the count is said on stderr), as the same design alone
+    would."""
 
     def body() -> int:
         from . import design as dmod
-        from . import sweep as sw
-        from .render import render_rows
+        from . import grid as sw
+        from .engine import check_model
+        from .render import parse_fields
 
         f = pick_format(fmt, output)
         check_tol(tol)
-        check_output_path(output)
-        if plot:
-            check_output_path(plot)
+        check_outputs(output, plot, [file])
+        chosen = parse_fields(fields)
+        where = dmod.display_name(file)
         try:
             axes = sw.parse_vary(vary)
             raw = dmod.read_toml(file)
             if sets:
                 dmod.apply_set(raw, dmod.parse_set(sets))
             kind = raw.get("kind")
-            if model is not None and kind in registry.kinds() and model not in registry.get(kind).models:
-                levels = list(registry.get(kind).models)
-                raise Abort(f"--model {model}: a {kind} design has the levels " + ", ".join(levels)
-                            + did_you_mean(model, levels))
-            progress, stop = _progress(math_prod(len(v) for v in axes.values()))
+            if isinstance(kind, str) and kind in registry.kinds():
+                try:
+                    check_model(model, kind)
+                except ValueError as exc:
+                    raise Abort(str(exc)) from None
+            calc = registry.get(kind) if isinstance(kind, str) and kind in registry.kinds() else None
+            bar = Progress(math_prod(len(v) for v in axes.values()), "points")
             try:
-                rows = sw.evaluate(raw, file, axes, Options(tol=tol, model=model), progress, jobs)
+                chunks = sw.stream(raw, file, axes, Options(tol=tol, model=model), progress=bar.advance, jobs=jobs)
+                if f == "table" or plot:  # a table and a figure show every point at once
+                    result = _sweep_whole(chunks, f, output, chosen, axes, where, plot, calc)
+                else:  # CSV and JSON are written a chunk at a time: memory follows the chunk, not the grid
+                    result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc)
             finally:
-                stop()
+                bar.stop()
         except sw.SweepError as exc:
-            raise Abort(f"{dmod.display_name(file)}: {exc}") from None
-        title = f"gearcalc sweep {dmod.display_name(file)}"
-        if not emit_text(lambda width, color: render_rows(rows, f, title=title, width=width, color=color), f, output):
+            raise Abort(f"{where}: {exc}") from None
+        if result is None:
             return EXIT_BUG
-        if plot:
-            try:
-                from .plot import plot_sweep
-
-                plot_sweep(raw.get("kind"), rows.rows() if hasattr(rows, "rows") else rows, list(axes), plot)
-            except ImportError:
-                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
-                return EXIT_INPUT
-        return EXIT_OK
+        failed, total, code = result
+        if failed:
+            err(f"{where}: check failed at {failed} of {total} points ("
+                + ", ".join(f"{k} = {_word(v)}" for k, v in calc.failure) + ")")
+            code = max(code, EXIT_CHECK)
+        return code
 
     finish(body, debug)
+
+
+def _fields_or_abort(fields, names) -> None:
+    from .render import unknown_fields
+
+    bad = unknown_fields(fields, list(names))
+    if bad:
+        raise Abort("; ".join(bad))
+
+
+def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc):
+    """Write a sweep's chunks as they come (CSV: the header once; JSON: one array); (failed points, points,
+    exit status), or None after an internal-error message (a non-finite value)."""
+    from .output import stream, to_file
+    from .render import NonFiniteOutput, csv_blocks, json_array_piece, select_columns
+
+    failed = total = 0
+    try:
+        with stream(output if to_file(output) else None) as out:
+            first = True
+            for part in chunks:
+                if first:
+                    _fields_or_abort(fields, part.data)
+                failed += calc.failed_points(part.data)
+                total += part.n
+                shown = select_columns(part, fields, lead)
+                if fmt == "csv":
+                    for block in csv_blocks(shown, header=first):
+                        out.write(block)
+                else:
+                    out.write(json_array_piece(shown, first))
+                first = False
+                del part, shown  # one chunk at a time
+            if fmt == "json":
+                out.write("[]\n" if first else "\n]\n")
+    except NonFiniteOutput as exc:
+        err(f"internal error: {exc}; please report it with the design file")
+        return None
+    return failed, total, EXIT_OK
+
+
+def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc):
+    """Collect every chunk, then render (a table) and draw (--plot); (failed points, points, exit status) or
+    None after an internal-error message."""
+    from . import grid as sw
+    from .render import render_rows
+
+    total = math_prod(len(v) for v in axes.values())
+    if total > sw.MAX_WHOLE_POINTS:
+        what = "--plot" if plot else "a table"
+        raise Abort(f"{where}: the grid has {total} points; {what} holds every point at once and takes at most "
+                    f"{sw.MAX_WHOLE_POINTS} (memory): write --format csv or json, which stream any size")
+    rows = sw.join_parts(list(chunks))
+    _fields_or_abort(fields, rows.data)
+    default = list(calc.table_fields) or None
+    notes: list[str] = []
+    title = f"gearcalc sweep {where}"
+    if not emit_text(lambda width, color: render_rows(rows, fmt, title=title, width=width, color=color,
+                                                      fields=fields, default=default, lead=tuple(axes),
+                                                      notes=notes), fmt, output):
+        return None
+    for note in notes:
+        err(note)
+    code = EXIT_OK
+    if plot:
+        try:
+            from .plot import plot_sweep
+
+            plot_sweep(calc.kind, rows.rows(), list(axes), plot)
+        except ImportError:
+            err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+            code = EXIT_INPUT
+    return calc.failed_points(rows.data), rows.n, code
+
+
+def _word(value) -> str:
+    return ("true" if value else "false") if isinstance(value, bool) else str(value)
 
 
 def math_prod(values) -> int:
@@ -428,19 +430,68 @@ def math_prod(values) -> int:
     return out
 
 
-def _progress(total: int, always: bool = False):
-    """A rich progress bar on stderr for long runs on a terminal; (advance, stop) callables.
+class Progress:
+    """A progress bar on stderr, only when stderr is a terminal, shown once the work has run :attr:`DELAY`
+    seconds (so quick runs print nothing), for any amount of work: a single slow design shows an
+    elapsed-time bar, a batch or sweep advances per design or per finished chunk.  Never on stdout.
 
-    Shown for ``total`` >= 2000 units (about a second of work) or when ``always``; never when stderr
-    is not a terminal."""
-    if (total < 2000 and not always) or not sys.stderr.isatty():
-        return None, lambda: None
-    from rich.progress import Progress
+    ``advance(k)`` counts ``k`` units done; ``stop()`` removes the bar (it is transient).
+    """
 
-    bar = Progress(transient=True, console=None)
-    bar.start()
-    task = bar.add_task("computing", total=total)
-    return (lambda k: bar.advance(task, k)), bar.stop
+    DELAY = 1.0
+    """Seconds before the bar appears; ``GEARCALC_PROGRESS_DELAY`` sets another (the tests use 0)."""
+
+    def __init__(self, total: int, unit: str = "designs", stream=None):
+        import threading
+
+        self.total, self.unit, self.done = max(int(total), 0), unit, 0
+        self.stream = sys.stderr if stream is None else stream
+        self.bar = self.task = None
+        self.lock = threading.Lock()
+        self.timer = None
+        if _is_terminal(self.stream):
+            try:
+                delay = float(os.environ.get("GEARCALC_PROGRESS_DELAY", self.DELAY))
+            except ValueError:
+                delay = self.DELAY
+            self.timer = threading.Timer(delay, self._show)
+            self.timer.daemon = True
+            self.timer.start()
+
+    def _show(self) -> None:
+        from rich.console import Console
+        from rich.progress import BarColumn, MofNCompleteColumn, Progress as Bar, TextColumn, TimeElapsedColumn
+
+        with self.lock:
+            if self.timer is None:  # stopped meanwhile
+                return
+            console = Console(file=self.stream, stderr=True)
+            self.bar = Bar(TextColumn("computing"), BarColumn(), MofNCompleteColumn(), TextColumn(self.unit),
+                           TimeElapsedColumn(), console=console, transient=True)
+            self.bar.start()
+            self.task = self.bar.add_task("computing", total=self.total or None, completed=self.done)
+
+    def advance(self, k: int = 1) -> None:
+        with self.lock:
+            self.done += k
+            if self.bar is not None:
+                self.bar.update(self.task, completed=self.done)
+
+    def stop(self) -> None:
+        with self.lock:
+            if self.timer is not None:
+                self.timer.cancel()
+                self.timer = None
+            if self.bar is not None:
+                self.bar.stop()
+                self.bar = None
+
+
+def _is_terminal(stream) -> bool:
+    try:
+        return stream.isatty()
+    except (AttributeError, ValueError, OSError):
+        return False
 
 
 @app.command("accuracy")
@@ -471,33 +522,36 @@ def accuracy_cmd(
         from .render import render_rows
 
         f = pick_format(fmt, output)
-        check_output_path(output)
-        if plot:
-            check_output_path(plot)
-        names = kinds or list(KIND_HELP)
+        check_outputs(output, plot)
+        names = kinds or [k for k in registry.kinds() if k in acc.SPECS]
         for k in names:
             if k not in registry.kinds():
-                raise Abort(f"accuracy {k}: unknown calculator; choose from " + ", ".join(registry.kinds())
+                raise Abort(f"accuracy {clip(k)}: unknown calculator; choose from " + ", ".join(registry.kinds())
                             + did_you_mean(k, list(registry.kinds())))
+            if k not in acc.SPECS:
+                raise Abort(f"accuracy {k}: the {k} calculator has no accuracy suite yet (gearcalc/accuracy.py)")
         try:
             tol_list = [float(t) for t in tols.split(",") if t.strip()]
         except ValueError:
-            raise Abort(f"--tols {tols}: must be comma-separated numbers, e.g. 1e-3,1e-6,1e-9") from None
+            raise Abort(f"--tols {clip(tols)}: must be comma-separated numbers, e.g. 1e-3,1e-6,1e-9") from None
         if not tol_list:
             raise Abort("--tols: give at least one tolerance")
         for t in tol_list:
             check_tol(t)
         total = sum(len(acc.suite(k)) * len(registry.get(k).models) for k in names) * len(tol_list)
-        advance, stop = _progress(total, always=True)
+        bar = Progress(total, "runs")
         try:
-            rows = acc.report(names, tol_list, budget, advance)
+            rows = acc.report(names, tol_list, budget, bar.advance)
         finally:
-            stop()
+            bar.stop()
         out = rows if detail else acc.summarise(rows)
-        title = "gearcalc accuracy: " + "; ".join(f"{k}: {acc.SPECS[k].quantity} vs {acc.SPECS[k].reference}"
-                                                  for k in names)
-        if not emit_text(lambda width, color: render_rows(out, f, title=title, width=width, color=color), f, output):
+        title = "gearcalc accuracy: " + "; ".join(f"{k}: {acc.SPECS[k].quantity}" for k in names)
+        notes: list[str] = []
+        if not emit_text(lambda width, color: render_rows(out, f, title=title, width=width, color=color, notes=notes,
+                                                          lift_key=0), f, output):
             return EXIT_BUG
+        for note in notes:
+            err(note)
         if plot:
             try:
                 from .plot import plot_accuracy
@@ -523,7 +577,12 @@ def check_cmd(
                                   help="Print each valid design with every default filled in, as TOML."),
     debug: bool = O_DEBUG,
 ):
-    """Validate design files only; print every problem found."""
+    """Validate design files only; print every problem found.
+
+    check runs every check a run reports as bad input that follows from the design alone (the schema, the
+    cross-key and geometric checks, the cost guards). It does not see --model or --tol, so these are
+    reported by a run only: the pins disc-sum budget (it depends on --tol), the contact solve's "no contact
+    carries the torque", geometries below floating-point resolution and a loss-ratio overflow."""
 
     def body() -> int:
         from . import design as dmod
@@ -532,15 +591,15 @@ def check_cmd(
         files = dmod.expand_paths(paths)
         if not files:
             raise Abort("no design files found in " + " ".join(paths))
+        from .engine import load_designs
+
         worst = EXIT_OK
-        for f in files:
-            try:
-                d = dmod.load(f, overrides)
-            except dmod.InputError as exc:
-                for m in exc.warnings + exc.messages:
-                    err(m)
-                worst = EXIT_INPUT
+        for f in files:  # file by file: each file's messages and its "ok" line in order
+            designs, code = load_designs([f], overrides, None, err, debug)
+            worst = max(worst, code)
+            if not designs:
                 continue
+            d = designs[0]
             for w in d.warnings:
                 err(f"{dmod.display_name(f)}: warning: {w}")
             if resolved:
@@ -565,14 +624,16 @@ def new_cmd(
         from .template import template
 
         if kind not in registry.kinds():
-            raise Abort(f"new {kind}: unknown kind; must be one of {', '.join(registry.kinds())}"
+            raise Abort(f"new {clip(kind)}: unknown kind; must be one of {', '.join(registry.kinds())}"
                         + did_you_mean(kind, list(registry.kinds())))
         check_output_path(output)
         text = template(registry.get(kind))
-        if output:
+        from .output import to_file, write_stdout
+
+        if to_file(output):
             write_atomic(output, text)
         else:
-            sys.stdout.write(text)
+            write_stdout(text)
         return EXIT_OK
 
     finish(body, False)
@@ -586,15 +647,21 @@ def finish(body, debug: bool) -> None:
         err(f"gearcalc: {exc}")
         code = exc.code
     except BrokenPipeError:
-        _silence_stdout()
+        silence_stdout()
         code = EXIT_OK
     except KeyboardInterrupt:
         err("gearcalc: interrupted")
         code = 130
     except Exception as exc:  # noqa: BLE001 - the last line of defence
         from .design import InputError
+        from .output import OutputError, write_error
 
-        if isinstance(exc, InputError):
+        if isinstance(exc, OSError) and write_error(exc):  # e.g. ENOSPC from a print to stdout
+            exc = OutputError(exc.filename or "standard output", exc)
+        if isinstance(exc, OutputError):  # the environment refused a write: not a bug
+            err(f"gearcalc: {exc}")
+            code = EXIT_IO
+        elif isinstance(exc, InputError):
             for m in exc.messages:
                 err(m)
             code = EXIT_INPUT
@@ -632,7 +699,7 @@ def main() -> None:
     try:
         app(prog_name="gearcalc")  # the same usage lines for `gearcalc` and `python -m gearcalc`
     except BrokenPipeError:
-        _silence_stdout()
+        silence_stdout()
         sys.exit(0)
     finally:
         app.registered_commands = everything

@@ -54,7 +54,7 @@ def main() -> None:
     if args in (["--help"], ["-h"]) and _standard_width() and os.path.isfile(HELP_FILE):
         with open(HELP_FILE, encoding="utf-8") as fh:
             _leave(_write(fh.read()))
-    if args == ["--version"]:
+    if args in (["--version"], ["-V"]):
         from . import __version__
 
         _leave(_write(f"gearcalc {__version__}\n"))
@@ -106,25 +106,27 @@ def exit_status(code) -> int:
 
 def _leave(code: int):
     """Flush the standard streams and end the process without the interpreter's teardown."""
+    from .output import silence_stdout
+
     try:
         sys.stdout.flush()
     except BrokenPipeError:  # the reader left: the output was not wanted, nothing failed
-        _silence_stdout()
-    except (OSError, ValueError):
+        silence_stdout()
+    except OSError as exc:  # disk full, I/O error, ...: the output is lost; exit status 74 (EX_IOERR)
+        if code != 74:  # 74: the CLI has said so already
+            try:
+                sys.stderr.write(f"gearcalc: cannot write standard output: {exc.strerror or exc}\n")
+            except (OSError, ValueError):
+                pass
+        code = 74 if code in (0, 1) else code
+        silence_stdout()
+    except ValueError:
         pass
     try:
         sys.stderr.flush()
     except (OSError, ValueError):
         pass
     os._exit(code)
-
-
-def _silence_stdout() -> None:
-    try:
-        devnull = os.open(os.devnull, os.O_WRONLY)
-        os.dup2(devnull, sys.stdout.fileno())
-    except OSError:
-        pass
 
 
 def render_help() -> str:

@@ -19,6 +19,7 @@ import csv
 import io
 import json
 import math
+import re
 from dataclasses import dataclass
 from typing import Any
 
@@ -74,9 +75,11 @@ def to_json_obj(rec: Record, detail: bool) -> dict:
     return obj
 
 
-def render_json(records: list[Record], detail: bool = False) -> str:
+def render_json(records: list[Record], detail: bool = False, array: bool | None = None) -> str:
+    """JSON: an object for one design, an array for several; ``array=True`` (a folder or several paths on the
+    command line) makes it an array always, ``False`` an object for one design."""
     objs = [to_json_obj(r, detail) for r in records]
-    data = objs[0] if len(objs) == 1 else objs
+    data = objs[0] if len(objs) == 1 and not array else objs
     return json.dumps(data, indent=2, ensure_ascii=False, allow_nan=False) + "\n"
 
 
@@ -94,7 +97,22 @@ def csv_cell(value: Any) -> str:
         return repr(value)
     if isinstance(value, list):
         return " ".join(csv_cell(v) for v in value)
-    return str(value)
+    return neutralise(value) if isinstance(value, str) else str(value)
+
+
+FORMULA_START = ("=", "+", "-", "@", "\t", "\r")
+"""A CSV text cell starting with one of these would be read as a formula by a spreadsheet."""
+
+
+def neutralise(text: str) -> str:
+    """A CSV text cell a spreadsheet will not run as a formula: one starting with ``= + - @``, a tab or a
+    carriage return gets a leading apostrophe (OWASP's CSV-injection rule, as csvkit and LibreOffice read
+    it).  Numbers are never text cells, so a negative number keeps its sign.
+
+    >>> neutralise("=HYPERLINK(1)"), neutralise("-x"), neutralise("Fig. 3")
+    ("'=HYPERLINK(1)", "'-x", 'Fig. 3')
+    """
+    return "'" + text if text.startswith(FORMULA_START) else text
 
 
 def _union(rows: list[dict]) -> list[str]:
@@ -134,7 +152,11 @@ def render_csv(records: list[Record], detail: bool = False) -> str:
 
 
 def fmt_value(value: Any) -> str:
-    """Format a value for a table cell (6 significant digits)."""
+    """Format a value for a table cell (6 significant digits).
+
+    >>> fmt_value(1.4909365e-16), fmt_value(True), fmt_value(None), fmt_value([1, 2])
+    ('1.49094e-16', 'yes', 'n/a', '1 2')
+    """
     value = plain(value)
     if value is None:
         return "n/a"
@@ -147,78 +169,364 @@ def fmt_value(value: Any) -> str:
     return str(value)
 
 
-def render_table(records: list[Record], detail: bool = False, width: int | None = None,
-                 color: bool = False) -> str:
-    """Rich tables, one summary per kind (a column per design), then the detail tables."""
-    from rich.console import Console
+# ----------------------------------------------------------------------------- field selection
+ALL_FIELDS = "all"
+
+
+def parse_fields(text: str | None) -> list[str] | None:
+    """``--fields a,b,c`` as a list (``None`` for the default, ``["all"]`` for every field).
+
+    >>> parse_fields("K, K_exact,,bridges_feasible"), parse_fields(None), parse_fields("all")
+    (['K', 'K_exact', 'bridges_feasible'], None, ['all'])
+    """
+    if text is None:
+        return None
+    return [f.strip() for f in text.split(",") if f.strip()]
+
+
+def unknown_fields(requested: list[str] | None, available: list[str]) -> list[str]:
+    """Messages for requested fields that no result has (each with a did-you-mean)."""
+    if not requested or requested == [ALL_FIELDS]:
+        return []
+    import difflib
+
+    have = set(available)
+    out = []
+    for f in requested:
+        if f not in have and f != "name":
+            close = difflib.get_close_matches(f[:100], available, n=1, cutoff=0.6)
+            out.append(f"--fields {f[:60]}: no such output field" + (f" (did you mean '{close[0]}'?)" if close else ""))
+    return out
+
+
+def select(names: list[str], requested: list[str] | None, default: list[str] | None, lead=("name",)) -> list[str]:
+    """The fields to show, in order: ``lead`` first, then the requested ones (or the default ones, or all).
+
+    >>> select(["name", "a", "b", "c"], None, ["c", "a"])
+    ['name', 'c', 'a']
+    >>> select(["name", "a", "b"], ["all"], None), select(["name", "a", "b"], ["b"], ["a"])
+    (['name', 'a', 'b'], ['name', 'b'])
+    """
+    have = set(names)
+    if requested == [ALL_FIELDS] or (requested is None and default is None):
+        return list(names)
+    wanted = requested if requested is not None else default
+    out = [f for f in lead if f in have]
+    out += [f for f in wanted if f in have and f not in out]
+    return out
+
+
+def filter_summary(summary: dict, fields: list[str] | None) -> dict:
+    """The summary restricted to ``--fields`` (``name`` kept first); all of it without ``--fields``."""
+    if fields is None or fields == [ALL_FIELDS]:
+        return summary
+    return {k: summary[k] for k in select(list(summary), fields, None)}
+
+
+# ----------------------------------------------------------------------------- terminal tables
+NAME_MIN = 12
+"""A design name column is never narrower than this (it is elided with "…" beyond)."""
+LONG_TEXT = 28
+"""A text column whose cells are longer than this goes above the table (once per distinct value)."""
+
+
+def _header_lines(field: str, width: int) -> list[str]:
+    """A column header: the field's name wrapped at underscores to ``width``, then ``[unit]``.
+
+    >>> _header_lines("sigma_max_roller_radius_mm", 10)
+    ['sigma_max_', 'roller_', 'radius', '[mm]']
+    """
+    base, unit = split_unit(field)
+    lines, cur = [], ""
+    for part in re.split(r"(?<=_)", base):
+        if cur and len(cur) + len(part) > width:
+            lines.append(cur)
+            cur = part
+        else:
+            cur += part
+    lines.append(cur)
+    return lines + ([f"[{unit}]"] if unit else [])
+
+
+def _column_width(field: str, cells: list[str]) -> int:
+    base, unit = split_unit(field)
+    data = max(map(len, cells), default=1)
+    longest_part = max(map(len, re.split(r"(?<=_)", base)), default=1)
+    return max(data, len(unit) + 2 if unit else 0, min(len(base), max(data, 10)), longest_part)
+
+
+def _elide(text: str, width: int, middle: bool = False) -> str:
+    """``text`` cut to ``width`` with "…" at the end (``middle``: in the middle, which keeps the part where names
+    of variants usually differ).
+
+    >>> _elide("Bridge table, n = 3, B = 3, i = 10", 20, middle=True), _elide("abcdef", 4)
+    ('Bridge tab…3, i = 10', 'abc…')
+    """
+    if len(text) <= width:
+        return text
+    if middle and width >= 8:
+        tail = (width - 1) // 2
+        return text[: width - 1 - tail] + "…" + text[len(text) - tail:]
+    return text[: max(width - 1, 0)] + "…"
+
+
+@dataclass
+class Grid2D:
+    """A table's content before layout: field names, cell texts, which columns are text (left-aligned)."""
+
+    fields: list[str]
+    cells: list[list[str]]
+    text: list[bool]
+
+
+def _layout(grid: Grid2D, width: int | None, elastic: int | None = 0):
+    """Column widths that fit ``width`` (None: no limit): whole columns from the left while they fit; the
+    ``elastic`` column (the design name) shrinks to :data:`NAME_MIN` first.  Returns (widths, shown)."""
+    widths = [_column_width(f, [row[j] for row in grid.cells]) for j, f in enumerate(grid.fields)]
+    if width is None:
+        return widths, len(widths)
+    sep = 3  # a column separator and its padding
+
+    def total(k):
+        return sum(widths[:k]) + sep * (k - 1)
+
+    if elastic is not None and total(len(widths)) > width and widths[elastic] > NAME_MIN:
+        widths[elastic] = max(NAME_MIN, widths[elastic] - (total(len(widths)) - width))
+    shown = len(widths)
+    while shown > 1 and total(shown) > width:
+        shown -= 1
+    if total(shown) > width and elastic == 0:  # even the name alone is too wide: elide it to the width
+        widths[0] = max(1, width)
+    return widths, shown
+
+
+def _lift_long_text(grid: Grid2D, key_col: int | None = None) -> tuple[Grid2D, list[str]]:
+    """Move text columns with long cells out of the table into lines above it (once per distinct value)."""
+    keep, lines = [], []
+    for j, f in enumerate(grid.fields):
+        col = [row[j] for row in grid.cells]
+        if grid.text[j] and j != key_col and j != 0 and max(map(len, col), default=0) > LONG_TEXT:
+            distinct = list(dict.fromkeys(col))
+            if len(distinct) == 1:
+                lines.append(f"{f}: {distinct[0]}")
+            elif key_col is not None and len(distinct) <= 8:
+                seen = dict.fromkeys((row[key_col], row[j]) for row in grid.cells)
+                lines += [f"{f} ({k}): {v}" for k, v in seen]
+            else:
+                keep.append(j)
+                continue
+        else:
+            keep.append(j)
+    if len(keep) == len(grid.fields):
+        return grid, []
+    return Grid2D([grid.fields[j] for j in keep], [[row[j] for j in keep] for row in grid.cells],
+                  [grid.text[j] for j in keep]), lines
+
+
+def layout_table(grid: Grid2D, width: int | None, title: str = "", notes: list | None = None,
+                 what: str = "columns", elastic: int | None = 0, lift_key: int | None = None,
+                 above: tuple = ()):
+    """A rich renderable for a grid: units in headers, one line per row, no cell ever wrapped.
+
+    Columns that do not fit ``width`` are left out and a note (for stderr) says which and how to see them.
+    """
+    from rich.console import Group
     from rich.table import Table
+    from rich.text import Text
+    from rich import box
+
+    grid, lifted = _lift_long_text(grid, lift_key)
+    above = list(above) + lifted
+    widths, shown = _layout(grid, width, elastic)
+    if shown < len(grid.fields) and notes is not None:
+        hidden = grid.fields[shown:]
+        notes.append(f"{title + ': ' if title else ''}{len(hidden)} more {what} not shown at this width ("
+                     + ", ".join(hidden[:6]) + (", …" if len(hidden) > 6 else "")
+                     + "): choose them with --fields, or use --format csv / json")
+    t = Table(box=box.SIMPLE_HEAD, padding=(0, 1), pad_edge=False, show_edge=False)
+    for j in range(shown):
+        head = "\n".join(_header_lines(grid.fields[j], widths[j]))
+        t.add_column(Text(head, style="bold"), justify="left" if grid.text[j] else "right", no_wrap=True,
+                     vertical="bottom", overflow="ellipsis", min_width=widths[j], max_width=widths[j])
+    for row in grid.cells:
+        t.add_row(*(Text(_elide(row[j], widths[j], middle=j == elastic)) for j in range(shown)))
+    head = ([Text(title, style="bold")] if title else []) + [Text(line) for line in above]
+    return Group(*head, t) if head else t
+
+
+def _console(buf, width, color):
+    from rich.console import Console
+
+    return Console(file=buf, width=width or 10_000, force_terminal=color, no_color=not color, highlight=False,
+                   soft_wrap=False, emoji=False, markup=False)
+
+
+def _cell(result, field: str) -> str:
+    value = result.summary.get(field)
+    if value is None and field in result.summary:
+        return result.labels.get(field, "n/a")
+    if field not in result.summary:
+        return ""
+    return fmt_value(value)
+
+
+def _is_text(values: list) -> bool:
+    return any(isinstance(v, str) for v in values) and not any(
+        isinstance(v, (int, float)) and not isinstance(v, bool) for v in values)
+
+
+def summary_grid(records: list[Record], fields: list[str] | None, default: list[str] | None) -> Grid2D:
+    """One row per design: ``name`` then the selected fields (the kind's table fields by default); a field no
+    design has is left out."""
+    names = _union([r.result.summary for r in records])
+    cols = select(names, fields, default)
+    cols = [c for c in cols if any(c in r.result.summary for r in records)]
+    cells = [[r.name if c == "name" else _cell(r.result, c) for c in cols] for r in records]
+    text = [c == "name" or _is_text([r.result.summary.get(c) for r in records]) for c in cols]
+    return Grid2D(cols, cells, text)
+
+
+def vertical_grid(rec: Record, fields: list[str] | None) -> Grid2D:
+    """One design as field / value / unit rows (every field by default)."""
+    names = [f for f in select(list(rec.result.summary), fields, None) if f != "name"]
+    cells = [[f, _cell(rec.result, f), unit_of(f)] for f in names]
+    return Grid2D(["field", "value", "unit"], cells, [True, True, True])
+
+
+def render_table(records: list[Record], detail: bool = False, width: int | None = None,
+                 color: bool = False, fields: list[str] | None = None, notes: list | None = None) -> str:
+    """Tables for a terminal.
+
+    One design alone: a vertical field / value / unit table of its whole summary (or of ``fields``).
+    Several: per kind, one row per design with ``name`` and the kind's table fields (``Calculator.table_fields``;
+    ``fields`` chooses others, ``["all"]`` every field).  Columns that do not fit ``width`` are left out and
+    named in ``notes``.  Then the detail tables with ``detail``.
+    """
+    from . import registry
 
     buf = io.StringIO()
-    console = Console(file=buf, width=width or 1000, force_terminal=color, no_color=not color,
-                      highlight=False, soft_wrap=False)
+    console = _console(buf, width, color)
     kinds: dict[str, list[Record]] = {}
     for r in records:
         kinds.setdefault(r.kind, []).append(r)
     for kind, recs in kinds.items():
-        t = Table(title=f"gearcalc {kind}", title_justify="left")
-        t.add_column("quantity", style="bold", no_wrap=True)
-        t.add_column("unit", no_wrap=True)
-        for r in recs:
-            t.add_column(r.name, justify="right", overflow="fold")
-        fields = _union([r.result.summary for r in recs])
-        for f in fields:
-            if f == "name":
-                continue
-            t.add_row(f, unit_of(f), *(r.result.labels.get(f, "n/a") if r.result.summary.get(f) is None
-                                       else fmt_value(r.result.summary.get(f)) for r in recs))
-        console.print(t)
+        if len(records) == 1:
+            grid = vertical_grid(recs[0], fields)
+            title = f"gearcalc {kind}: {recs[0].name}"
+            console.print(layout_table(grid, width, title, notes, elastic=1))
+            continue
+        default = list(getattr(registry.get(kind), "table_fields", ()) or ()) or None
+        grid = summary_grid(recs, fields, default)
+        console.print(layout_table(grid, width, f"gearcalc {kind}", notes))
     if detail:
         for r in records:
             for table, rows in r.result.detail.items():
-                if not rows:
-                    continue
-                console.print(rows_table(rows, f"{r.name}: {table}"))
+                if rows:
+                    console.print(layout_table(rows_grid(rows), width, f"{r.name}: {table}", notes,
+                                               elastic=None))
     return buf.getvalue()
 
 
-def rows_table(rows: list[dict], title: str = ""):
-    """A rich table of plain rows: a column per field, units in the headers."""
-    from rich.table import Table
-
-    t = Table(title=title or None, title_justify="left")
+def rows_grid(rows: list[dict], fields: list[str] | None = None, lead: tuple = ()) -> Grid2D:
+    """Plain rows (detail, sweep, accuracy) as a grid: a column per field, in first-seen order."""
     cols = _union(rows)
-    for c in cols:
-        base, u = split_unit(c)
-        t.add_column(f"{base}\n[{u}]" if u else c, justify="right", overflow="fold")
-    for row in rows:
-        t.add_row(*(fmt_value(row.get(c)) for c in cols))
-    return t
+    if fields is not None:
+        cols = select(cols, fields, None, lead=lead)
+    cells = [[fmt_value(row.get(c)) if c in row else "" for c in cols] for row in rows]
+    text = [_is_text([row.get(c) for row in rows]) for c in cols]
+    return Grid2D(cols, cells, text)
+
+
+def rows_table(rows: list[dict], title: str = "", width: int | None = None, notes: list | None = None):
+    """A rich table of plain rows: a column per field, units in the headers."""
+    return layout_table(rows_grid(rows), width, title, notes, elastic=None)
 
 
 def render(records: list[Record], fmt: str, detail: bool = False, width: int | None = None,
-           color: bool = False) -> str:
+           color: bool = False, fields: list[str] | None = None, notes: list | None = None,
+           array: bool | None = None) -> str:
+    """Render computed designs as ``fmt``; ``fields`` selects summary fields (``--fields``); ``array`` forces
+    a JSON array (a folder or several paths) even for one design."""
+    if fields is not None and fields != [ALL_FIELDS]:
+        records = [Record(r.source, r.kind, r.name, r.design,
+                          Result(summary=filter_summary(r.result.summary, fields), detail=r.result.detail,
+                                 warnings=r.result.warnings, failed=r.result.failed, model=r.result.model,
+                                 labels=r.result.labels))
+                   for r in records]
     if fmt == "json":
-        return render_json(records, detail)
+        return render_json(records, detail, array)
     if fmt == "csv":
         return render_csv(records, detail)
-    return render_table(records, detail, width=width, color=color)
+    return render_table(records, detail, width=width, color=color, fields=fields, notes=notes)
 
 
-def render_rows(rows, fmt: str, title: str = "", width: int | None = None, color: bool = False) -> str:
+def render_rows(rows, fmt: str, title: str = "", width: int | None = None, color: bool = False,
+                fields: list[str] | None = None, default: list[str] | None = None, lead: tuple = (),
+                notes: list | None = None, lift_key: int | None = None) -> str:
     """Plain rows (a sweep; a list of dicts or :class:`Columns`): CSV with a union header, a JSON
-    array, or one table."""
+    array, or one table.  ``fields`` (``--fields``) selects columns after the ``lead`` ones (the varied keys);
+    a table shows ``default`` when no ``fields`` are given, and lifts columns that are the same on every row
+    (a sweep's fixed inputs) above it."""
+    if fields is not None and fields != [ALL_FIELDS]:
+        rows = _select_rows(rows, fields, lead)
     if fmt == "csv":
         return write_csv_columns(rows) if isinstance(rows, Columns) else write_csv(rows)
     if isinstance(rows, Columns):
         rows = rows.rows()
     if fmt == "json":
         return json.dumps([plain(r) for r in rows], indent=2, ensure_ascii=False, allow_nan=False) + "\n"
-    from rich.console import Console
-
+    grid = rows_grid(rows, default if fields is None else None, lead=lead)
+    above = []
+    if len(rows) > 1:
+        grid, above = _lift_constant(grid, keep=len(lead))
     buf = io.StringIO()
-    console = Console(file=buf, width=width or 1000, force_terminal=color, no_color=not color, highlight=False)
-    console.print(rows_table(rows, title))
+    console = _console(buf, width, color)
+    console.print(layout_table(grid, width, title, notes, what="columns", elastic=None, lift_key=lift_key,
+                               above=tuple(above)))
     return buf.getvalue()
+
+
+def _select_rows(rows, fields, lead):
+    if isinstance(rows, Columns):
+        keep = select(list(rows.data), fields, None, lead=lead)
+        return Columns({k: rows.data[k] for k in keep})
+    keep = select(_union(rows), fields, None, lead=lead)
+    return [{k: r[k] for k in keep if k in r} for r in rows]
+
+
+def _lift_constant(grid: Grid2D, keep: int = 0) -> tuple[Grid2D, list[str]]:
+    """Columns with one value on every row (but the first ``keep``) become ``field = value`` lines."""
+    const = [j for j in range(keep, len(grid.fields))
+             if len({row[j] for row in grid.cells}) == 1 and len(grid.fields) - keep > 1]
+    if not const or len(const) == len(grid.fields):
+        return grid, []
+    lines = ["same on every row: " + "; ".join(
+        f"{grid.fields[j]} = {grid.cells[0][j]}" for j in const)]
+    stay = [j for j in range(len(grid.fields)) if j not in const]
+    return Grid2D([grid.fields[j] for j in stay], [[row[j] for j in stay] for row in grid.cells],
+                  [grid.text[j] for j in stay]), lines
+
+
+def select_columns(cols: "Columns", fields: list[str] | None, lead: tuple = ()) -> "Columns":
+    """The ``lead`` columns (a sweep's varied keys) and ``fields`` (``--fields``; None or ``all``: every one)."""
+    if fields is None or fields == [ALL_FIELDS]:
+        return cols
+    return Columns({k: cols.data[k] for k in select(list(cols.data), fields, None, lead=lead)})
+
+
+def json_array_piece(cols: "Columns", first: bool) -> str:
+    """A chunk of rows as part of one JSON array, the same text as ``json.dumps(rows, indent=2)`` once the
+    pieces are joined and closed with ``"\\n]\\n"`` (``"[]\\n"`` for no rows).
+
+    >>> c = Columns({"a": [1.5, None], "b": ["x", "y"]})
+    >>> json_array_piece(c, True) + "\\n]\\n" == json.dumps(c.rows(), indent=2) + "\\n"
+    True
+    """
+    if not cols.n:
+        return ""
+    body = ",\n".join("  " + json.dumps(plain(r), indent=2, ensure_ascii=False, allow_nan=False).replace("\n", "\n  ")
+                      for r in cols.rows())
+    return ("[\n" if first else ",\n") + body
 
 
 class Columns:
@@ -236,6 +544,12 @@ class Columns:
     def rows(self) -> list[dict]:
         names = list(self.data)
         return [dict(zip(names, vals)) for vals in zip(*self.data.values())]
+
+    def to_pandas(self):
+        """A pandas DataFrame (pandas is not a dependency of gearcalc: install it to use this)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.data)
 
 
 def _quote(text: str) -> str:
@@ -291,15 +605,22 @@ def _csv_column(col: list, formatted: dict | None = None) -> list[str]:
     return out
 
 
-def write_csv_columns(cols: "Columns") -> str:
-    """CSV of column-major rows; the same cells as :func:`write_csv` of the equivalent rows."""
+def write_csv_columns(cols: "Columns", header: bool = True) -> str:
+    """CSV of column-major rows; the same cells as :func:`write_csv` of the equivalent rows (``header=False``:
+    the rows only, for the second and later chunks of a streamed sweep)."""
+    return "".join(csv_blocks(cols, header))
+
+
+def csv_blocks(cols: "Columns", header: bool = True):
+    """The CSV text of :func:`write_csv_columns` in blocks of :data:`CSV_CHUNK` rows (a streamed sweep writes
+    each block as it is formatted, so the text of a whole chunk is never held)."""
     names = list(cols.data)
-    parts = [",".join(_quote(k) for k in names) + "\n"]
-    for start in range(0, cols.n, CSV_CHUNK):  # a block of rows at a time: bounded memory for big sweeps
+    if header:
+        yield ",".join(_quote(k) for k in names) + "\n"
+    for start in range(0, cols.n, CSV_CHUNK):
         formatted: dict = {}
         cells = [_csv_column(cols.data[k][start:start + CSV_CHUNK], formatted) for k in names]
-        parts.append("\n".join(map(",".join, zip(*cells))) + "\n")
-    return "".join(parts)
+        yield "\n".join(map(",".join, zip(*cells))) + "\n"
 
 
 CSV_CHUNK = 8192

@@ -45,6 +45,10 @@ def template(calc: Calculator) -> str:
         for f in table.fields:
             value = f.example if f.example is not None else (
                 None if f.default in (None, REQUIRED) else f.default)
+            if f.alternative_to and value is not None:  # exclusive keys: exactly one of the two active
+                swap = f" (instead of {f.alternative_to}: uncomment this line and comment out that one)"
+                lines.append(f"# {f.name} = {toml_value(value)}".ljust(40) + f"  # {_comment(f)}{swap}")
+                continue
             if value is None:
                 lines.append(f"# {f.name} = ...".ljust(40) + f"  # {_comment(f)}")
             else:

@@ -8,6 +8,8 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
+PAPER = ROOT / "paper"
+"""Paper cases shipped apart from configs/ because they fail a design check on purpose."""
 DATA = Path(__file__).resolve().parent / "data"
 
 

@@ -31,5 +31,6 @@ def test_one_design_does_not_import_numpy_ma(tmp_path):
 
     files = [CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", CONFIGS / "zstk_merko_example.toml",
              CONFIGS / "pins_paper_cyc_u10_fixed.toml"]
-    r = subprocess.run([sys.executable, "-c", code.format(*files, tmp_path / "out.csv")], capture_output=True, text=True)
+    r = subprocess.run([sys.executable, "-c", code.format(*files, tmp_path / "out.csv")], capture_output=True,
+                       text=True)
     assert r.returncode == 0, r.stderr[-500:]

@@ -7,7 +7,7 @@ import tomllib
 
 import pytest
 
-from conftest import CONFIGS, cli, cli_proc
+from conftest import PAPER, CONFIGS, cli, cli_proc
 
 FIG3 = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml"
 GOOD = FIG3.read_text()
@@ -120,7 +120,7 @@ def test_kind_command_refuses_other_kind(write):
 
 def test_batch_continues_past_bad_file_worst_exit(write, tmp_path):
     bad = write("kind = 'rows'\n[gear]\n", "bad.toml")
-    capped = CONFIGS / "rows_bridges_n3_B3_i4.toml"
+    capped = PAPER / "rows_bridges_n3_B3_i4.toml"
     r = cli("run", bad, FIG3, capped, "--format", "json")
     assert r.code == 2
     objs = json.loads(r.out)
@@ -277,7 +277,7 @@ def test_unreadable_file(tmp_path):
 
 
 def test_jobs_give_identical_batch(tmp_path):
-    files = sorted(CONFIGS.glob("rows_*.toml"))
+    files = sorted(CONFIGS.glob("rows_*.toml")) + [PAPER / "rows_bridges_n3_B3_i4.toml"]
     one = cli("rows", *files, "--format", "json")
     three = cli("rows", *files, "--format", "json", "--jobs", "3")
     assert one.code == three.code == 1  # the capped bridge case
@@ -313,7 +313,7 @@ def test_jobs_give_identical_results_for_every_kind():
 def test_batch_equals_design_by_design():
     # one call over many files (the calculators' batch hooks) gives what single calls give
     files = _mixed_batch()
-    batch = cli("run", *files, "--format", "json")
+    batch = cli("run", *files, "--format", "json", "--verbose")  # --verbose: each warning per design, in order
     singles = [cli("run", f, "--format", "json") for f in files]
     assert _without_timings(batch.out) == [_without_timings(s.out) for s in singles]  # one file: one object
     assert batch.err == "".join(s.err for s in singles)
