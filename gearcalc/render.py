@@ -270,6 +270,23 @@ def _elide(text: str, width: int, middle: bool = False) -> str:
     return text[: max(width - 1, 0)] + "…"
 
 
+def _shorten_names(names: list[str], width: int) -> list[str]:
+    """Design names cut to ``width``: first the words every name starts with ("Merko et al. example, ...")
+    become "…", then the middle of what is still too long.
+
+    >>> _shorten_names(["Merko example, scheme A, inner", "Merko example, scheme B, outer"], 20)
+    ['…A, inner', '…B, outer']
+    """
+    if len(names) > 1 and max(map(len, names)) > width:
+        import os.path
+
+        prefix = os.path.commonprefix(names)
+        cut = max(prefix.rfind(" "), prefix.rfind(","), prefix.rfind("_")) + 1  # at a word boundary
+        if cut > 3:
+            names = ["…" + n[cut:].lstrip() for n in names]
+    return [_elide(n, width, middle=True) for n in names]
+
+
 @dataclass
 class Grid2D:
     """A table's content before layout: field names, cell texts, which columns are text (left-aligned)."""
@@ -348,8 +365,11 @@ def layout_table(grid: Grid2D, width: int | None, title: str = "", notes: list |
         head = "\n".join(_header_lines(grid.fields[j], widths[j]))
         t.add_column(Text(head, style="bold"), justify="left" if grid.text[j] else "right", no_wrap=True,
                      vertical="bottom", overflow="ellipsis", min_width=widths[j], max_width=widths[j])
-    for row in grid.cells:
-        t.add_row(*(Text(_elide(row[j], widths[j], middle=j == elastic)) for j in range(shown)))
+    names = _shorten_names([row[elastic] for row in grid.cells], widths[elastic]) if (
+        elastic is not None and elastic < shown) else None
+    for k, row in enumerate(grid.cells):
+        t.add_row(*(Text(names[k] if j == elastic and names else _elide(row[j], widths[j], middle=j == elastic))
+                    for j in range(shown)))
     head = ([Text(title, style="bold")] if title else []) + [Text(line) for line in above]
     return Group(*head, t) if head else t
 
