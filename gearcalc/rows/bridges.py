@@ -1,0 +1,402 @@
+"""The compliant carrier and its equalising bridges: the carrier's axle displacements, the guided
+Timoshenko beam compliance, and the bridge sizing of eq. (2) (rows.md §5).
+
+Pure functions over floats and numpy arrays; units N, mm, N·mm, MPa (= N/mm²), rad.
+
+References
+----------
+.. [1] Seed paper 004_971077b94d8d4426.txt: an OCR of a Russian journal paper on multi-row planetary
+   gears (its title, authors and journal cannot be recovered; its ref. [1] is F. I. Plekhanov,
+   «Зубчатые планетарные передачи»), as reconstructed in the gearcalc specification
+   docs/spec/rows.md (the section numbers "rows.md §x" refer to it).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .geometry import DEFAULT_SECTION_PER_RIM, face_geometry, rims_fit
+from .sharing import KAPPA_STEPWISE_MAX, stepwise_active_set
+
+__all__ = ["Verification", "carrier_compliance", "verify_carrier", "bridges_fit", "largest_feasible_width",
+           "carrier_displacements", "carrier_matrix", "beam_compliance", "bridge_width_for_compliance",
+           "size_bridges"]
+
+
+def carrier_displacements(forces, lever_radius, planets_per_row, stiffness):
+    """Axle mid-span displacements y_j of a compliant carrier under planet forces (rows.md §5.5).
+
+    ``T_c,j = n_w a_w (Σ_{k<j} F_k + F_j/2)``, ``ψ_n = 0``, ``ψ_{j-1} = ψ_j + T_c,j / k_j``,
+    ``y_j = a_w (ψ_{j-1} + ψ_j)/2``.
+
+    Parameters
+    ----------
+    forces : F_j, tangential load of one planet on its axle, per row [N]
+    lever_radius : a_w [mm]
+    planets_per_row : n_w
+    stiffness : k_j, torsional stiffness of span j [N·mm/rad]
+
+    Returns
+    -------
+    y [mm], per row
+
+    Examples
+    --------
+    >>> carrier_displacements([1.0, 1.0], 100.0, 3, [1e6, 1e6]).tolist()   # T_c = 3 x 100 x (0.5, 1.5) N·mm
+    [0.0525, 0.0225]
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), its carrier with bridges; gearcalc specification docs/spec/rows.md §5.1, §5.5.
+    """
+    F = np.asarray(forces, float)
+    Tc = planets_per_row * lever_radius * (np.cumsum(F) - 0.5 * F)
+    dpsi = Tc / np.asarray(stiffness, float)
+    # ψ_{j-1} = Σ_{m≥j} dpsi_m ; cheeks 0..n
+    psi = np.concatenate([np.cumsum(dpsi[::-1])[::-1], [0.0]])
+    return lever_radius * 0.5 * (psi[:-1] + psi[1:])
+
+
+def carrier_matrix(lever_radius, planets_per_row, stiffness, rows: int):
+    """Matrix Y with y = Y F for :func:`carrier_displacements` (linear in the forces).
+
+    Examples
+    --------
+    >>> carrier_matrix(100.0, 3, [1e6, 1e6], 2).tolist()   # columns: unit force on row 1, on row 2
+    [[0.0375, 0.015], [0.015, 0.0075]]
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), its carrier with bridges; gearcalc specification docs/spec/rows.md §5.5.
+    """
+    return np.stack([carrier_displacements(np.eye(rows)[k], lever_radius, planets_per_row, stiffness)
+                     for k in range(rows)], axis=1)
+
+
+def beam_compliance(length, second_moment, area, youngs_modulus, poisson):
+    """Compliance of a guided (clamped-clamped) Timoshenko beam under relative end translation.
+
+    ``δ = (l/E) [ l²/(12 I) + 2.4(1+ν)/S ]``   (rows.md §5.1; 2.4(1+ν)/E = 1.2/G, shear factor 1.2)
+
+    Parameters
+    ----------
+    length : l [mm]; second_moment : I [mm⁴]; area : S [mm²]
+    youngs_modulus : E [MPa]; poisson : ν
+
+    Returns
+    -------
+    δ [mm/N]
+
+    Examples
+    --------
+    >>> d = 20.0   # a round axle, l = 40 mm: (40/2e5) (40²/(12 π d⁴/64) + 2.4 x 1.3/(π d²/4))
+    >>> round(float(beam_compliance(40.0, math.pi * d**4 / 64, math.pi * d**2 / 4, 2e5, 0.3)) * 1e6, 6)
+    5.381559
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), its axle and bridge compliances; gearcalc specification docs/spec/rows.md §5.1.
+    """
+    return length / youngs_modulus * (length**2 / (12.0 * second_moment) + 2.4 * (1.0 + poisson) / area)
+
+
+def bridge_width_for_compliance(compliance, length, thickness, youngs_modulus, poisson):
+    """Bridge width H whose compliance equals the required one (rows.md §5.3).
+
+    Solves ``H³ - p H² - q = 0`` with ``p = 2.4(1+ν) l/(E h δ*)``, ``q = l³/(E h δ*)`` by Newton
+    from ``H = p + q^{1/3}`` (monotone convergence: the cubic is increasing and convex right of
+    its only positive root), to a relative step of 1e-14.
+
+    Examples
+    --------
+    >>> H = bridge_width_for_compliance(1e-5, 40.0, 20.0, 2e5, 0.3)
+    >>> d = beam_compliance(40.0, 20.0 * H**3 / 12, 20.0 * H, 2e5, 0.3)
+    >>> abs(float(d) / 1e-5 - 1) < 1e-12
+    True
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.3.
+    """
+    Eh = youngs_modulus * thickness * np.asarray(compliance, float)
+    p = 2.4 * (1.0 + poisson) * length / Eh
+    q = length**3 / Eh
+    H = p + np.cbrt(q)
+    for _ in range(100):
+        f = H**3 - p * H**2 - q
+        df = 3.0 * H**2 - 2.0 * p * H
+        step = f / df
+        H = H - step
+        if np.all(np.abs(step) <= 1e-14 * np.abs(H)):
+            break
+    return H
+
+
+def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_width, cheek, pressure_angle,
+                 ratio, axle_diameter, bridge_thickness, youngs_modulus, poisson, polar_moment,
+                 first_span=None):
+    """Bridge widths H_j that make the carrier follow the sun's twist (eq. (2), rows.md §5.2-5.5).
+
+    March ``D_{j+1} = (j+0.5) / (Q (n-j) - (j-0.5)/D_j)`` from the closure ``D_1`` (``H_1 = 0``
+    by default, "axes only"), with ``Q = (1+ν) r_ba² (b_w+b) n_w / (E δ_o I_p cos α_w)``, then
+    widths from ``D_j = 1 + (δ_o/δ_hj)(a_c/a_w)²``.  Spans that cannot be met are flagged
+    (``axes_too_stiff``, ``exceeds_max``, ``no_room``) and clamped; the march continues with
+    the clamped value.
+
+    Parameters
+    ----------
+    rows, planets_per_row : n, n_w
+    sun_diameter, module : d_a, m [mm]
+    rim_width, cheek : b_w, b [mm] (span length l = b_w)
+    pressure_angle : α_w [rad]
+    ratio : i (sun input, ring fixed, carrier output)
+    axle_diameter, bridge_thickness : d, h [mm]
+    youngs_modulus, poisson : E [MPa], ν
+    polar_moment : I_p of the sun with the sizing diameter [mm⁴]
+    first_span : H_1 [mm], or None for "axes only" (H_1 = 0)
+
+    Returns
+    -------
+    dict with ``H`` [mm], ``H_max`` [mm], ``H_rel`` = H/H_max (0 without room), ``D``, ``flags``,
+    ``feasible`` (every flag ``ok``), ``Q``, ``axle_compliance`` [mm/N],
+    ``stiffness`` (k_j of every span [N·mm/rad]), ``a_w``, ``a_c`` [mm].
+
+    Examples
+    --------
+    >>> from gearcalc.rows.sharing import polar_moment
+    >>> b_w = 3 * 90.0 / 3.5   # the paper's table, n = 3, B = 3, i = 10: H/H_max = 0, 0.10, 0.21
+    >>> r = size_bridges(3, 3, 90.0, 5.0, b_w, 0.25 * b_w, math.radians(20.0), 10.0, 0.5 * b_w, 0.5 * b_w,
+    ...                  2e5, 0.3, polar_moment(77.5))
+    >>> r["H_rel"].round(2).tolist(), r["flags"]
+    ([0.0, 0.1, 0.2], ['ok', 'ok', 'ok'])
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (2) and its table of H_j/H_max; gearcalc specification docs/spec/rows.md §5.2-5.6.
+    """
+    n = rows
+    d_a, m = sun_diameter, module
+    span = rim_width  # l, the span length
+    r_ba = 0.5 * d_a * math.cos(pressure_angle)
+    z_a = d_a / m
+    z_g = z_a * (ratio - 2.0) / 2.0
+    a_w = 0.25 * d_a * ratio
+    a_c = 0.5 * (d_a * (ratio - 1.0) - 2.5 * m - bridge_thickness)
+    H_max = 2.0 * math.pi * a_c / planets_per_row - m * (z_g + 1.0)
+    I_o = math.pi * axle_diameter**4 / 64.0
+    S_o = math.pi * axle_diameter**2 / 4.0
+    delta_o = beam_compliance(span, I_o, S_o, youngs_modulus, poisson)
+    Q = (1.0 + poisson) * r_ba**2 * (rim_width + cheek) * planets_per_row / (
+        youngs_modulus * delta_o * polar_moment * math.cos(pressure_angle))
+    geo = (a_c / a_w) ** 2
+
+    def D_of(H):
+        H = np.asarray(H, float)
+        with np.errstate(divide="ignore"):
+            dh = beam_compliance(span, bridge_thickness * H**3 / 12.0, H * bridge_thickness, youngs_modulus, poisson)
+            return np.where(H > 0, 1.0 + delta_o / dh * geo, 1.0)
+
+    flags = ["ok"] * n
+    D = np.ones(n)
+    H = np.zeros(n)
+    if H_max <= 0:
+        flags = ["no_room"] * n
+    else:
+        D_max = float(D_of(H_max))
+        D_req = np.ones(n)
+        D_req[0] = 1.0 if not first_span else float(D_of(first_span))
+        D[0] = D_req[0]
+        for j in range(1, n):  # 0-based j: span j+1, equation index j (1-based) = j
+            denom = Q * (n - j) - (j - 0.5) / D[j - 1]
+            D_req[j] = (j + 0.5) / denom if denom > 0 else math.inf
+            if D_req[j] < 1.0:
+                flags[j] = "axes_too_stiff"
+                D[j] = 1.0
+            elif D_req[j] > D_max:
+                flags[j] = "exceeds_max"
+                D[j] = D_max
+            else:
+                D[j] = D_req[j]
+        # widths
+        need = (D > 1.0) & np.array([f == "ok" for f in flags])
+        if np.any(need):
+            delta_star = delta_o * geo / (D[need] - 1.0)
+            H[need] = bridge_width_for_compliance(delta_star, span, bridge_thickness, youngs_modulus, poisson)
+        for j, f in enumerate(flags):
+            if f == "exceeds_max":
+                H[j] = H_max
+        if first_span:
+            H[0] = first_span
+    with np.errstate(divide="ignore"):
+        d_h = np.where(H > 0, beam_compliance(span, bridge_thickness * np.maximum(H, 1e-300) ** 3 / 12.0,
+                                              np.maximum(H, 1e-300) * bridge_thickness, youngs_modulus, poisson),
+                       np.inf)
+    stiffness = planets_per_row * (a_w**2 / delta_o + np.where(H > 0, a_c**2 / d_h, 0.0))
+    rel = H / H_max if H_max > 0 else np.zeros(n)  # never 0/0 (rows.md §13.6)
+    return {"H": H, "H_max": H_max, "H_rel": rel, "D": D, "flags": flags, "feasible": all(f == "ok" for f in flags),
+            "Q": Q, "axle_compliance": delta_o, "stiffness": stiffness, "a_w": a_w, "a_c": a_c, "planet_teeth": z_g}
+
+
+# ----------------------------------------------------------------------------- verification (rows.md §5.5)
+def carrier_compliance(lever_radius, planets_per_row, stiffness, rows: int, rim_width, pressure_angle, mesh_stiffness):
+    """Dimensionless carrier compliance Y with ``C y / w̄ = Y u`` (rows.md §5.5).
+
+    ``Y = C (2 b_w cos α_w) Y_F``, Y_F from :func:`carrier_matrix` (y per planet force) and
+    ``F = 2 w b_w cos α_w`` the tangential load one planet puts on its axle [paper, with b_w restored].
+
+    Parameters
+    ----------
+    lever_radius : a_w [mm]; planets_per_row : n_w; stiffness : k_j per span [N·mm/rad]; rows : n
+    rim_width : b_w [mm]; pressure_angle : α_w [rad]; mesh_stiffness : C [N/mm²]
+
+    Examples
+    --------
+    >>> Y = carrier_compliance(100.0, 3, np.array([1e9, 1e9]), 2, 40.0, 0.0, 1e4)
+    >>> Y.shape, bool(Y[0, 0] > Y[1, 1] > 0)
+    ((2, 2), True)
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), F = 2 w b_w cos α_w; gearcalc specification docs/spec/rows.md §5.1, §5.5.
+    """
+    force_per_load = 2.0 * rim_width * math.cos(pressure_angle)  # F / w [mm]
+    return carrier_matrix(lever_radius, planets_per_row, stiffness, rows) * force_per_load * mesh_stiffness
+
+
+@dataclass(frozen=True)
+class Verification:
+    """The stepwise load sharing with a compliant carrier (rows.md §5.5, §13.10)."""
+
+    valid: bool
+    """False where the stepwise system does not exist (κ ≥ 8, n ≥ 2): no shares"""
+    shares: np.ndarray | None = None
+    unloaded: list | None = None
+    """1-based rows the active set left unloaded"""
+    converged: bool = False
+    """False if the active set did not settle within 3n iterations"""
+    residual: float = 0.0
+
+    @property
+    def K(self) -> float | None:
+        """K_balanced: the largest share, or None without a settled solution."""
+        return float(self.shares.max()) if self.valid and self.converged else None
+
+
+def verify_carrier(kappa: float, cheek_ratio: float, rows: int, carrier) -> Verification:
+    """Solve the stepwise load sharing with the carrier compliance (``K_balanced``; rows.md §5.5, §13.10).
+
+    Parameters
+    ----------
+    kappa : κ of the sun reading verified [-]; cheek_ratio : b̄ [-]; rows : n
+    carrier : Y from :func:`carrier_compliance`
+
+    Examples
+    --------
+    >>> v = verify_carrier(0.5, 0.25, 3, np.zeros((3, 3)))   # a rigid carrier: the stepwise shares
+    >>> v.converged, round(v.K, 6)
+    (True, 1.690909)
+    >>> verify_carrier(9.0, 0.25, 3, np.zeros((3, 3))).K is None   # κ ≥ 8: not available
+    True
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1) with the sized carrier; gearcalc specification docs/spec/rows.md §5.5, §13.10.
+    """
+    if rows > 1 and kappa >= KAPPA_STEPWISE_MAX:
+        return Verification(False)
+    u, unloaded, converged, residual = stepwise_active_set(kappa, cheek_ratio, rows, carrier=carrier)
+    return Verification(True, u, unloaded, converged, residual)
+
+
+def bridges_fit(relative_width, rows: int, planets_per_row: int, sun_teeth, module, pressure_angle, ratio,
+                youngs_modulus, poisson, polar_moment, cheek_ratio=0.25, cheek=None, axle_diameter=None,
+                bridge_thickness=None, first_span=None) -> bool:
+    """True when every span's bridge can be sized at relative width B (all flags ``ok``; rows.md §5.5).
+
+    The face is re-derived at B (:func:`~gearcalc.rows.geometry.face_geometry`); an axle diameter or
+    bridge thickness of None is 0.5 b_w at that B (rows.md §7).
+
+    Parameters
+    ----------
+    relative_width : B [-]; the others as :func:`size_bridges` and :func:`~gearcalc.rows.geometry.face_geometry`;
+    polar_moment : I_p of the sun with the sizing diameter [mm⁴] (does not depend on B)
+
+    Examples
+    --------
+    >>> from gearcalc.rows.sharing import polar_moment
+    >>> Ip = polar_moment(77.5)
+    >>> args = (3, 3, 18, 5.0, math.radians(20.0), 4.0, 2e5, 0.3, Ip)
+    >>> bridges_fit(3.0, *args), bridges_fit(2.97, *args)   # the capped cell n = 3, B = 3, i = 4 (rows.md §5.6)
+    (False, True)
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    """
+    face = face_geometry(sun_teeth, module, rows, pressure_angle, relative_width=relative_width,
+                         cheek_ratio=cheek_ratio, cheek=cheek)
+    if not rims_fit(face.rim_width):
+        return False
+    section = DEFAULT_SECTION_PER_RIM * face.rim_width
+    res = size_bridges(rows, planets_per_row, face.sun_diameter, module, face.rim_width, face.cheek, pressure_angle,
+                       ratio, section if axle_diameter is None else axle_diameter,
+                       section if bridge_thickness is None else bridge_thickness, youngs_modulus, poisson,
+                       polar_moment, first_span=first_span)
+    return res["feasible"]
+
+
+def largest_feasible_width(relative_width, *args, iterations: int = 40, **kwargs):
+    """The largest relative width B (below the given one) at which every bridge can be sized (rows.md §5.5).
+
+    Narrower rows twist less: scan down in 1 % steps to a tenth of B for the first width where
+    :func:`bridges_fit` holds, then bisect to a relative 1e-6.
+
+    Parameters
+    ----------
+    relative_width : B of the design [-]
+    *args, **kwargs : the arguments of :func:`bridges_fit` after B
+
+    Returns
+    -------
+    B_ok [-], or None when even a tenth of B does not fit
+
+    Examples
+    --------
+    >>> from gearcalc.rows.sharing import polar_moment
+    >>> B = largest_feasible_width(3.0, 3, 3, 18, 5.0, math.radians(20.0), 4.0, 2e5, 0.3, polar_moment(77.5))
+    >>> 2.9 < B < 3.0
+    True
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    """
+    def ok(B):
+        return bridges_fit(B, *args, **kwargs)
+
+    hi = relative_width
+    for k in range(1, 91):  # scan down in 1 % steps to a tenth of the width for the first feasible width
+        lo = hi * (1.0 - 0.01 * k)
+        if ok(lo):
+            break
+        hi_scan = lo
+    else:
+        return None
+    hi = hi if k == 1 else hi_scan
+    for _ in range(iterations):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ok(mid) else (lo, mid)
+        if hi - lo <= 1e-6 * hi:
+            break
+    return lo

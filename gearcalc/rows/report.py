@@ -1,0 +1,123 @@
+"""The words of the ``rows`` calculator: summary field names, detail rows and warning texts (rows.md §8, §13).
+
+No physics here: the values come from :mod:`gearcalc.rows`; the adapter (gearcalc/kinds/rows.py) passes them
+in.  A field builder takes ``plain``, which turns a value of one design (:func:`one`) or a column of a sweep
+(:func:`columns`) into output, None where the stepwise level does not exist.
+"""
+from __future__ import annotations
+
+__all__ = ["one", "columns", "sharing_fields", "load_fields", "mass_fields", "detail_rows", "BRIDGE_FLAG_TEXT",
+           "bridge_failure", "bridge_fields", "STEPWISE_UNAVAILABLE", "LEVELS_DIFFER", "MASS_ON_BOUND", "UNSETTLED",
+           "K_BALANCED_UNAVAILABLE"]
+
+STEPWISE_UNAVAILABLE = ("the stepwise level is not available at kappa = {kappa:.6g} >= 8 (the half-row twist "
+                        "outweighs the mesh compliance): K comes from the exact level")
+LEVELS_DIFFER = ("the stepwise and exact levels differ by {pct:+.3g} % (> 2 %): the paper's uniform-within-a-row "
+                 "assumption is strained; consider --model exact")
+MASS_ON_BOUND = "the mass minimum lies on an end of mass.ratio_range = [{lo!r}, {hi!r}]: widen it"
+UNSETTLED = "the active-set verification ({label} diameter) did not settle within 3n iterations"
+K_BALANCED_UNAVAILABLE = ("K_balanced is not available: the stepwise verification is invalid at kappa >= 8 with the "
+                          "sizing diameter; the bridge widths are still reported")
+
+
+def one(value, defined=True):
+    """A 0-d value of one design as a plain Python scalar (None where not defined)."""
+    return (value.tolist() if hasattr(value, "tolist") else value) if defined else None
+
+
+def columns(points: int):
+    """``plain`` for a sweep of that many points: a list per field, None where not defined."""
+    import numpy as np
+
+    def column(values, defined=None):
+        out = np.broadcast_to(values, (points,)).tolist()
+        for k in [] if defined is None else np.flatnonzero(~defined).tolist():
+            out[k] = None
+        return out
+
+    return column
+
+
+def sharing_fields(name, n, nw, f, d_i, kappa, sh, plain):
+    """The load-sharing summary fields; ``plain(values, defined=None)`` turns a value (compute) or a column
+    (sweep) into output, None where ``defined`` is False (the stepwise level does not exist)."""
+    import numpy as np
+
+    K_step = np.where(sh.stepwise_valid, sh.K_stepwise, np.nan)
+    return {"name": name, "rows": plain(n), "planets_per_row": plain(nw), "relative_width": plain(f.relative_width),
+            "rim_width_mm": plain(f.rim_width), "cheek_ratio": plain(f.cheek_ratio),
+            "torsion_diameter_mm": plain(d_i), "kappa": plain(kappa), "model": plain(sh.level), "K": plain(sh.K),
+            "K_row": plain(sh.K_row), "K_stepwise": plain(K_step, sh.stepwise_valid),
+            "stepwise_valid": plain(sh.stepwise_valid), "K_exact": plain(sh.K_exact),
+            "K_continuous": plain(sh.K_continuous),
+            "K_stepwise_vs_exact_pct": plain(100.0 * (np.nan_to_num(K_step) / sh.K_exact - 1.0), sh.stepwise_valid),
+            "K_vs_continuous_pct": plain(100.0 * (sh.K / sh.K_continuous - 1.0)), "peak_factor": plain(sh.peak_factor),
+            "row1_face_factor": plain(sh.peak_factor / sh.K_exact)}
+
+
+def load_fields(w, sh, plain) -> dict:
+    """The line-load fields from the mean line load w̄ [N/mm]."""
+    return {"w_mean_N_per_mm": plain(w), "w_max_N_per_mm": plain(sh.K * w),
+            "w_peak_N_per_mm": plain(sh.peak_factor * w)}
+
+
+def mass_fields(m, unevenness, plain) -> dict:
+    """The fields of :func:`gearcalc.rows.mass.mass_and_optimum`."""
+    return {"relative_mass_kg_per_kNm": plain(m.relative_mass), "ratio": plain(m.ratio),
+            "ratio_opt": plain(m.ratio_opt),
+            "ratio_opt_err": plain(m.ratio_opt_err), "ratio_opt_on_bound": plain(m.ratio_opt_on_bound),
+            "relative_mass_min_kg_per_kNm": plain(m.relative_mass_min), "mass_unevenness": plain(unevenness)}
+
+
+def detail_rows(sh, n: int, w_mean, twist, unloaded) -> list[dict]:
+    """The per-row detail table of one design: shares, line loads, twist, unloaded mark (rows.md §8)."""
+    rows = []
+    for j in range(n):
+        row = {"row": j + 1}
+        if bool(sh.stepwise_valid):
+            row["u_stepwise"] = float(sh.u_stepwise[j])
+            row["share_stepwise_pct"] = 100.0 * float(sh.u_stepwise[j]) / n
+            if w_mean is not None:
+                row["w_stepwise_N_per_mm"] = float(sh.u_stepwise[j]) * w_mean
+        row["u_exact"] = float(sh.u_exact[j])
+        row["share_exact_pct"] = 100.0 * float(sh.u_exact[j]) / n
+        if w_mean is not None:
+            row["w_exact_N_per_mm"] = float(sh.u_exact[j]) * w_mean
+            row["twist_mrad"] = float(twist[j])
+        row["unloaded"] = (j + 1) in unloaded
+        rows.append(row)
+    return rows
+
+
+BRIDGE_FLAG_TEXT = {
+    "exceeds_max": "needs a stiffer bridge than the widest that fits between neighbouring planets",
+    "axes_too_stiff": "the planet axes alone are stiffer than equal sharing needs (a bridge only stiffens)",
+    "no_room": "has no room for a bridge between neighbouring planets",
+}
+
+
+def bridge_failure(flags, H_max, B_ok) -> str:
+    """The failed bridge check in a designer's words: which span, why, H_max, and the widest feasible rows."""
+    spans = "; ".join(f"span {j + 1} {BRIDGE_FLAG_TEXT.get(f, f)} ({f})" for j, f in enumerate(flags) if f != "ok")
+    text = f"the bridges cannot equalise the rows: {spans} (H_max = {H_max:.4g} mm)"
+    if B_ok is not None:
+        import math
+
+        text += f"; rows.relative_width <= {math.floor(B_ok * 1000) / 1000:g} makes every bridge fit"
+    return text
+
+
+def bridge_fields(res, sizing_diameter, verified) -> tuple[dict, list[dict]]:
+    """The bridge summary fields and detail rows (rows.md §8) from :func:`gearcalc.rows.size_bridges` and the
+    :class:`~gearcalc.rows.bridges.Verification` of each sun reading (``sized``, ``pitch``, ``root``)."""
+    H, rel, n = res["H"], res["H_rel"], len(res["H"])
+    s = {"bridge_max_mm": max(res["H_max"], 0.0), "bridge_torsion_diameter_mm": sizing_diameter}
+    s.update({f"bridge_rel_{j + 1}": float(rel[j]) for j in range(n)})
+    s.update({f"bridge_{j + 1}_mm": float(H[j]) for j in range(n)})
+    sized = verified["sized"]
+    u_bal = None if sized.K is None else sized.shares
+    s.update(bridges_feasible=res["feasible"], K_balanced=sized.K, K_balanced_pitch=verified["pitch"].K,
+             K_balanced_root=verified["root"].K, unloaded_rows_balanced=[] if u_bal is None else sized.unloaded)
+    detail = [{"span": j + 1, "D": float(res["D"][j]), "H_mm": float(H[j]), "H_rel": float(rel[j]),
+               "flag": res["flags"][j], "u_balanced": None if u_bal is None else float(u_bal[j])} for j in range(n)]
+    return s, detail

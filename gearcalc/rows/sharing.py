@@ -1,0 +1,650 @@
+"""Load sharing between the rows: the sun as a torsion shaft (I_p, kappa) and the three model levels
+(stepwise, exact, continuous), with the active-set solver for a compliant carrier (rows.md §2, §3, §5.5).
+
+Pure functions over floats and numpy arrays; units N, mm, N·mm, MPa (= N/mm²), rad.  Every function
+that takes a torsion parameter ``kappa`` broadcasts over a batch of designs (arrays of any shape); row
+loops run over rows, never over designs.
+
+References
+----------
+.. [1] Seed paper 004_971077b94d8d4426.txt: an OCR of a Russian journal paper on multi-row planetary
+   gears (its title, authors and journal cannot be recovered; its ref. [1] is F. I. Plekhanov,
+   «Зубчатые планетарные передачи»), as reconstructed in the gearcalc specification
+   docs/spec/rows.md (the section numbers "rows.md §x" refer to it).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["RESCALE", "KAPPA_UNIFORM", "KAPPA_STEPWISE_MAX", "UNLOADED_SHARE", "LEVELS", "Sharing", "continuous_x",
+           "continuous_profile", "row_sharing", "SharingBatch", "row_sharing_mixed", "mean_line_load",
+           "twist_from_shares", "polar_moment", "torsion_parameter", "stepwise_shares", "stepwise_dense",
+           "twist_between", "exact_shares", "exact_k_no_gap", "x_coth_x", "continuous_k", "stepwise_active_set"]
+
+RESCALE = 1e250
+"""The far-end recurrence rescales its running values above this (rows.md §2.5)."""
+KAPPA_UNIFORM = 1e-24
+"""Below this torsion parameter the exact level returns the uniform limit (rows.md §3b)."""
+KAPPA_STEPWISE_MAX = 8.0
+"""The stepwise level is valid only for kappa < 8 (rows.md §2.5)."""
+UNLOADED_SHARE = 1e-12
+"""A row is unloaded when its load is <= 1e-12 w̄; the active set uses the same threshold (rows.md §13.4)."""
+LEVELS = ("stepwise", "exact", "continuous")
+"""The model levels, by name (rows.md §3)."""
+
+def polar_moment(torsion_diameter, bore=0.0):
+    """Polar second moment of area of a (hollow) round shaft.
+
+    ``I_p = pi (d_I^4 - d_0^4) / 32``
+
+    Parameters
+    ----------
+    torsion_diameter : d_I [mm]
+    bore : d_0 [mm], 0 for a solid sun
+
+    Returns
+    -------
+    I_p [mm^4]
+
+    Examples
+    --------
+    >>> round(float(polar_moment(10.0)), 4)   # pi 10^4 / 32
+    981.7477
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable); gearcalc specification docs/spec/rows.md §1 Notation, §2.4.
+    """
+    return math.pi * (np.asarray(torsion_diameter, float) ** 4 - np.asarray(bore, float) ** 4) / 32.0
+
+
+def torsion_parameter(mesh_stiffness, base_radius, planets_per_row, rim_width, shear_modulus, polar_moment):
+    """Torsion parameter κ of the sun (dimensionless).
+
+    ``kappa = 0.5 C r_ba^2 n_w b_w^2 / (G I_p)``  (rows.md §2.3)
+
+    Parameters
+    ----------
+    mesh_stiffness : C, per unit face width [N/mm²]
+    base_radius : r_ba = 0.5 d_a cos α_w [mm]
+    planets_per_row : n_w [-]
+    rim_width : b_w [mm]
+    shear_modulus : G [MPa]
+    polar_moment : I_p [mm⁴]
+
+    Returns
+    -------
+    kappa [-]
+
+    Examples
+    --------
+    >>> torsion_parameter(2.0, 1.0, 1, 1.0, 1.0, 1.0)   # 0.5 * 2 * 1 * 1 * 1 / (1 * 1)
+    1.0
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1), dimensionless; gearcalc specification docs/spec/rows.md §2.3.
+    """
+    return 0.5 * mesh_stiffness * base_radius**2 * planets_per_row * rim_width**2 / (shear_modulus * polar_moment)
+
+
+def stepwise_shares(kappa, cheek_ratio, rows: int):
+    """Row load ratios u_N = w_N / w̄ of the paper's stepwise model, by the far-end recurrence.
+
+    Solves ``(1 - κ/8)(u_N - u_{N+1}) = κ(1+b̄) Σ_{k>N} u_k``, ``Σ u = n`` (rows.md §2.5):
+    ``v_n = 1``, ``v_N = v_{N+1} + ρ Σ_{k>N} v_k`` with ``ρ = κ(1+b̄)/(1-κ/8)``, ``u = n v/Σv``.
+    O(n), rescaled against overflow; valid for κ < 8 (for n ≥ 2).
+
+    Parameters
+    ----------
+    kappa : torsion parameter κ [-], any shape S
+    cheek_ratio : b̄ [-], broadcastable to S
+    rows : n
+
+    Returns
+    -------
+    u : array of shape S + (n,), rows from the input side; for κ ≥ 8 the entries are
+        meaningless (uniform) and ``valid`` is False.
+    valid : bool array of shape S
+
+    Examples
+    --------
+    >>> u, ok = stepwise_shares(0.0, 0.25, 3)
+    >>> u.tolist(), bool(ok)
+    ([1.0, 1.0, 1.0], True)
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1); gearcalc specification docs/spec/rows.md §2.3, §2.5.
+    """
+    kappa, cheek_ratio = np.broadcast_arrays(np.asarray(kappa, float), np.asarray(cheek_ratio, float))
+    valid = (kappa < KAPPA_STEPWISE_MAX) | (rows == 1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        rho_rec = np.where(valid, kappa * (1.0 + cheek_ratio) / (1.0 - kappa / 8.0), 0.0)
+    v = np.empty(kappa.shape + (rows,))
+    v[..., rows - 1] = 1.0
+    tail = np.ones(kappa.shape)  # Σ_{k>N} v_k (including v_{N+1})
+    for N in range(rows - 2, -1, -1):
+        v[..., N] = v[..., N + 1] + rho_rec * tail
+        tail = tail + v[..., N]
+        big = v[..., N] > RESCALE
+        if np.any(big):
+            scale = np.where(big, 1.0 / v[..., N], 1.0)
+            v *= scale[..., None]
+            tail = tail * scale
+    u = rows * v / tail[..., None]
+    return u, valid
+
+
+def stepwise_dense(kappa: float, cheek_ratio: float, rows: int, form: str = "paper"):
+    """Stepwise shares by a dense solve (cross-check for small n only; rows.md §2.5).
+
+    ``form="paper"``: the paper's system (1) in dimensionless form (rows from row 1, nested sums)
+    ``(1-κ/8)(u1-uN) = κ(1+b̄) Σ_{m<N} (n - S_m)``; ``form="difference"``: the difference form.
+
+    Examples
+    --------
+    >>> bool(np.allclose(stepwise_dense(0.5, 0.25, 3), stepwise_shares(0.5, 0.25, 3)[0]))
+    True
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1); gearcalc specification docs/spec/rows.md §2.5.
+    """
+    n = rows
+    A = np.zeros((n, n))
+    rhs = np.zeros(n)
+    a = 1.0 - kappa / 8.0
+    g = kappa * (1.0 + cheek_ratio)
+    A[0, :] = 1.0
+    rhs[0] = n
+    for N in range(2, n + 1):
+        r = N - 1
+        if form == "paper":
+            # (1-κ/8)(u1 - uN) + g Σ_{m=1}^{N-1} S_m = g (N-1) n
+            A[r, 0] += a
+            A[r, N - 1] -= a
+            for m in range(1, N):
+                A[r, :m] += g
+            rhs[r] = g * (N - 1) * n
+        else:
+            # (1-κ/8)(u_{N-1} - u_N) - g Σ_{k≥N} u_k = 0
+            A[r, N - 2] += a
+            A[r, N - 1] -= a
+            A[r, N - 1:] -= g
+    return np.linalg.solve(A, rhs)
+
+
+def twist_between(loads, p: int, q: int, sun_torque, base_radius, rim_width, cheek, planets_per_row,
+                  shear_modulus, polar_moment):
+    """Sun twist between the mid-planes of rows p < q (1-based) under the stepwise torque diagram.
+
+    ``I_p G φ_{p→q} = (b_w+b) Σ_{m=p}^{q-1} (T_a - r_ba b_w n_w S_m) + 0.125 n_w b_w² r_ba (w_p - w_q)``
+    (rows.md §2.1, general N and pair form).
+
+    Parameters
+    ----------
+    loads : line loads w_1..w_n [N/mm]
+    p, q : row numbers, 1 ≤ p < q ≤ n
+    sun_torque : T_a [N·mm]
+    base_radius, rim_width, cheek : r_ba, b_w, b [mm]
+    planets_per_row : n_w
+    shear_modulus : G [MPa]; polar_moment : I_p [mm⁴]
+
+    Returns
+    -------
+    twist [rad]
+
+    Examples
+    --------
+    >>> u, _ = stepwise_shares(0.5, 0.25, 3)   # w̄ = 1, T_a = n r_ba b_w n_w w̄ = 3, C = 2κ = 1
+    >>> round(float(twist_between(u, 1, 3, 3.0, 1.0, 1.0, 0.25, 1, 1.0, 1.0)), 12)   # = 2 (u_1 - u_3)/(C r_ba)
+    2.4
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), its twist angles leading to eq. (1); gearcalc specification docs/spec/rows.md §2.1.
+    """
+    w = np.asarray(loads, float)
+    S = np.cumsum(w)
+    k = base_radius * rim_width * planets_per_row
+    body = (rim_width + cheek) * np.sum(sun_torque - k * S[p - 1:q - 1])
+    half = 0.125 * planets_per_row * rim_width**2 * base_radius * (w[p - 1] - w[q - 1])
+    return (body + half) / (shear_modulus * polar_moment)
+
+
+def exact_shares(kappa, cheek_ratio, rows: int):
+    """Row shares and within-row peak of the piecewise exact model, by the impedance sweep.
+
+    Inside a row the sun is a torsion shaft on an elastic foundation (θ'' = λ²θ, μ = λ b_w = √κ),
+    across a gap a plain shaft; T(0) = T_a, T(b_a) = 0.  The sweep propagates the dimensionless
+    stiffness r = T/(G I_p λ θ) from the free end and uses only tanh and e^(-μ), so it neither
+    overflows nor loses precision (rows.md §3b).
+
+    Parameters
+    ----------
+    kappa : κ [-], any shape S
+    cheek_ratio : b̄ [-], broadcastable
+    rows : n
+
+    Returns
+    -------
+    u : shares w_j / w̄ of the row-mean loads, shape S + (n,)
+    peak_factor : w(0)/w̄, the load at the input edge of row 1 over the mean, shape S
+
+    Examples
+    --------
+    >>> u, peak = exact_shares(1.0, 0.25, 1)
+    >>> float(u[0]), round(float(peak), 6)   # n = 1: u = 1, peak = μ coth μ
+    (1.0, 1.313035)
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable); gearcalc specification docs/spec/rows.md §3b.
+    """
+    kappa, cheek_ratio = np.broadcast_arrays(np.asarray(kappa, float), np.asarray(cheek_ratio, float))
+    tiny = kappa < KAPPA_UNIFORM
+    mu = np.sqrt(np.where(tiny, 1.0, kappa))
+    em = np.exp(-mu)
+    em2 = em * em
+    tau = np.tanh(mu)  # accurate for tiny and large mu alike
+    sech = 2.0 * em / (1.0 + em2)
+    s = np.expm1(-mu) ** 2 / (1.0 + em2)  # 1 - sech mu without cancellation
+    r_in = np.empty(kappa.shape + (rows,))
+    r_out = np.empty(kappa.shape + (rows,))
+    ro = np.zeros(kappa.shape)
+    for j in range(rows - 1, -1, -1):
+        r_out[..., j] = ro
+        ri = (ro + tau) / (1.0 + ro * tau)
+        r_in[..., j] = ri
+        ro = ri / (1.0 + cheek_ratio * mu * ri)
+    mean_theta = np.empty(kappa.shape + (rows,))
+    theta_in1 = 1.0 / r_in[..., 0]
+    th = theta_in1
+    for j in range(rows):
+        ro = r_out[..., j]
+        denom = 1.0 + ro * tau
+        mean_theta[..., j] = th * (tau + ro * s) / (mu * denom)
+        if j + 1 < rows:
+            th = th * sech / denom * ro / r_in[..., j + 1]
+    avg = mean_theta.mean(axis=-1)
+    u = mean_theta / avg[..., None]
+    peak = theta_in1 / avg
+    u = np.where(tiny[..., None], 1.0, u)
+    peak = np.where(tiny, 1.0, peak)
+    return u, peak
+
+
+def exact_k_no_gap(kappa, rows: int):
+    """K of the exact level for b = 0 in closed form (rows.md §11, exact identities).
+
+    ``K = n [1 - sinh((n-1)μ) / sinh(nμ)]``, μ = √κ, evaluated stably as
+    ``n [1 - e^{-μ} (1 - e^{-2(n-1)μ}) / (1 - e^{-2nμ})]``.
+
+    Examples
+    --------
+    >>> round(float(exact_k_no_gap(1.0, 3)), 6)   # 3 (1 - sinh 2 / sinh 3) = 1.913883
+    1.913883
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable); gearcalc specification docs/spec/rows.md §3b, §11.
+    """
+    mu = np.sqrt(np.asarray(kappa, float))
+    return rows * (1.0 - np.exp(-mu) * -np.expm1(-2.0 * (rows - 1) * mu) / -np.expm1(-2.0 * rows * mu))
+
+
+def x_coth_x(x):
+    """x coth x, stable for small x (1 + x²/3 below 1e-4) and large x.
+
+    Examples
+    --------
+    >>> float(x_coth_x(0.0)), round(float(x_coth_x(2.0)), 6)   # 2 / tanh 2 = 2.074629
+    (1.0, 2.074629)
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable); gearcalc specification docs/spec/rows.md §3c.
+    """
+    x = np.asarray(x, float)
+    small = np.abs(x) < 1e-4
+    with np.errstate(divide="ignore", invalid="ignore"):
+        big = x / np.tanh(np.where(small, 1.0, x))
+    return np.where(small, 1.0 + x * x / 3.0, big)
+
+
+def continuous_x(kappa, cheek_ratio, rows):
+    """The continuous level's decay length ``X = λ_eff b_a`` [-] (rows.md §3c).
+
+    ``X = sqrt(κ/(1+b̄)) (n + b̄(n-1))`` for n ≥ 2 (the cheek gaps homogenised) and ``X = √κ`` for n = 1.
+
+    Examples
+    --------
+    >>> float(continuous_x(1.0, 0.0, 3)), float(continuous_x(4.0, 0.25, 1))
+    (3.0, 2.0)
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable); gearcalc specification docs/spec/rows.md §3c; M. Hetényi, Beams on Elastic Foundation, 1946.
+    """
+    kappa = np.asarray(kappa, float)
+    rows = np.asarray(rows)
+    return np.where(rows >= 2, np.sqrt(kappa / (1.0 + cheek_ratio)) * (rows + cheek_ratio * (rows - 1)), np.sqrt(kappa))
+
+
+def continuous_k(kappa, cheek_ratio, rows):
+    """K of the continuous (homogenised) model: ``K = X coth X``, ``X = λ_eff b_a`` (rows.md §3c).
+
+    ``X = sqrt(κ/(1+b̄)) (n + b̄(n-1))`` for n ≥ 2 and ``X = √κ`` for n = 1 (:func:`continuous_x`; the
+    torsional Winkler-foundation result, M. Hetényi, *Beams on Elastic Foundation*, 1946).
+
+    Examples
+    --------
+    >>> round(float(continuous_k(1.0, 0.0, 3)), 6)   # b = 0: X = 3, 3 coth 3 = 3.014909
+    3.014909
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable); gearcalc specification docs/spec/rows.md §3c; M. Hetényi, Beams on Elastic Foundation, 1946.
+    """
+    return x_coth_x(continuous_x(kappa, cheek_ratio, rows))
+
+
+def continuous_profile(position, kappa, cheek_ratio, rows):
+    """Load profile of the continuous level along the face, ``u(x) = X cosh(X(1 - x/b_a)) / sinh X`` (rows.md §3c).
+
+    Evaluated as ``X (e^{-Xξ} + e^{-X(2-ξ)}) / (1 - e^{-2X})`` (no overflow); uniform for X ≤ 1e-6.
+
+    Parameters
+    ----------
+    position : ξ = x / b_a from the input edge [-], array
+    kappa : κ [-]; cheek_ratio : b̄ [-]; rows : n
+
+    Returns
+    -------
+    u(ξ) = w(x) / w̄ [-]
+
+    Examples
+    --------
+    >>> round(float(continuous_profile(0.0, 1.0, 0.0, 3)), 6)   # u(0) = X coth X = K_continuous
+    3.014909
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable); gearcalc specification docs/spec/rows.md §3c; M. Hetényi, Beams on Elastic Foundation, 1946.
+    """
+    xi = np.asarray(position, float)
+    X = float(continuous_x(kappa, cheek_ratio, rows))
+    if X <= 1e-6:
+        return np.ones_like(xi)
+    return X * (np.exp(-X * xi) + np.exp(-X * (2 - xi))) / -np.expm1(-2 * X)
+
+
+@dataclass(frozen=True)
+class Sharing:
+    """The row shares of every level for a batch of designs with the same number of rows (shape S)."""
+
+    u_stepwise: np.ndarray
+    """stepwise shares u = w/w̄, shape S + (n,) (meaningless where not stepwise_valid)"""
+    stepwise_valid: np.ndarray
+    """the stepwise level exists (κ < 8 or n = 1), shape S"""
+    u_exact: np.ndarray
+    """exact-level shares, shape S + (n,)"""
+    peak_factor: np.ndarray
+    """w(0)/w̄ of the exact level"""
+    K_stepwise: np.ndarray
+    """max u of the stepwise level (NaN where it does not exist; 1 for n = 1)"""
+    K_exact: np.ndarray
+    K_continuous: np.ndarray
+    K: np.ndarray
+    """K of the level that supplies it"""
+    K_row: np.ndarray
+    """the row (1-based) that carries K"""
+    level: np.ndarray
+    """the level that supplies K, by name"""
+    u: np.ndarray
+    """the shares of that level (the exact ones for the continuous level)"""
+    unloaded: np.ndarray
+    """rows whose share is <= UNLOADED_SHARE (never for n = 1), shape S + (n,)"""
+
+
+def row_sharing(kappa, cheek_ratio, rows: int, level: str = "stepwise") -> Sharing:
+    """Row shares and K at every level, and K from the level chosen by name (rows.md §3, §13.2-13.4).
+
+    All three levels are computed; ``level`` chooses the one that supplies K.  Where the stepwise level
+    does not exist (κ ≥ 8, n ≥ 2) K falls back to the exact level.  For n = 1, K = 1 at every level.
+    With a rigid carrier the most loaded row is row 1 (rows.md §2.2): the stepwise recurrence is
+    monotone in floating point, so its argmax is used; the exact and continuous levels report row 1
+    (the exact shares' argmax is rounding noise at κ ≲ 1e-16).
+
+    Parameters
+    ----------
+    kappa : κ [-], any shape S
+    cheek_ratio : b̄ [-], broadcastable to S
+    rows : n
+    level : "stepwise", "exact" or "continuous"
+
+    Returns
+    -------
+    :class:`Sharing`
+
+    Raises
+    ------
+    ValueError
+        for an unknown level, listing the levels.
+
+    Examples
+    --------
+    >>> s = row_sharing(0.5, 0.25, 3)   # ρ = 2/3: v = (31/9, 5/3, 1), u_1 = 3 v_1/Σv = 1.690909
+    >>> str(s.level), round(float(s.K), 6), int(s.K_row)
+    ('stepwise', 1.690909, 1)
+    >>> str(row_sharing(9.0, 0.25, 3).level)   # κ ≥ 8: the stepwise level does not exist
+    'exact'
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1) and its K = w_1/w̄; gearcalc specification docs/spec/rows.md §2.2, §3, §13.2-13.4.
+    """
+    if level not in LEVELS:
+        raise ValueError(f"unknown level {level!r}; the levels are " + ", ".join(LEVELS))
+    u_s, valid = stepwise_shares(kappa, cheek_ratio, rows)
+    u_e, peak = exact_shares(kappa, cheek_ratio, rows)
+    if rows == 1:
+        K_s = K_e = K_c = np.ones(valid.shape)
+    else:
+        K_s = np.where(valid, u_s.max(axis=-1), np.nan)
+        K_e = u_e.max(axis=-1)
+        K_c = continuous_k(kappa, cheek_ratio, rows)
+    continuous = level == "continuous"
+    use_exact = (level == "exact") | ((level == "stepwise") & ~valid)
+    K = K_c if continuous else np.where(use_exact, K_e, K_s)
+    names = np.full(valid.shape, "continuous") if continuous else np.where(use_exact, "exact", "stepwise")
+    K_row = np.where(use_exact | continuous, 1, np.argmax(u_s, axis=-1) + 1)
+    u = np.where((use_exact | continuous)[..., None], u_e, u_s)
+    unloaded = (u <= UNLOADED_SHARE) & (rows > 1)
+    return Sharing(u_s, valid, u_e, peak, K_s, K_e, K_c, K, K_row, names, u, unloaded)
+
+
+@dataclass(frozen=True)
+class SharingBatch:
+    """The K values of :class:`Sharing` for designs with different numbers of rows, one entry per design."""
+
+    stepwise_valid: np.ndarray
+    K_stepwise: np.ndarray
+    K_exact: np.ndarray
+    K_continuous: np.ndarray
+    K: np.ndarray
+    K_row: np.ndarray
+    level: np.ndarray
+    peak_factor: np.ndarray
+    unloaded: list
+    """the unloaded rows of each design, 1-based (one shared empty list where none)"""
+
+
+def row_sharing_mixed(kappa, cheek_ratio, rows, level: str = "stepwise") -> SharingBatch:
+    """:func:`row_sharing` over a batch of designs whose numbers of rows differ (rows.md §9).
+
+    The designs are grouped by n and each group is one batch of :func:`row_sharing`: no loop over designs.
+
+    Parameters
+    ----------
+    kappa, cheek_ratio : κ, b̄ [-], arrays of shape (P,)
+    rows : n per design, integer array of shape (P,)
+    level : as :func:`row_sharing`
+
+    Examples
+    --------
+    >>> b = row_sharing_mixed(np.array([0.5, 0.5, 9.0]), np.full(3, 0.25), np.array([3, 1, 3]))
+    >>> b.level.tolist(), b.K.round(6).tolist()
+    (['stepwise', 'stepwise', 'exact'], [1.690909, 1.0, 2.891354])
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1); gearcalc specification docs/spec/rows.md §3, §9.
+    """
+    from ..arrays import unique_sorted
+
+    P = len(rows)
+    out = SharingBatch(np.ones(P, bool), np.ones(P), np.ones(P), np.ones(P), np.ones(P), np.ones(P, int),
+                       np.empty(P, "<U10"), np.ones(P), [[]] * P)
+    for n in unique_sorted(rows):
+        idx = np.flatnonzero(rows == n)
+        part = row_sharing(kappa[idx], cheek_ratio[idx], int(n), level)
+        for name in ("stepwise_valid", "K_stepwise", "K_exact", "K_continuous", "K", "K_row", "level", "peak_factor"):
+            getattr(out, name)[idx] = getattr(part, name)
+        for k in np.flatnonzero(np.any(part.unloaded, axis=-1)):  # rows.md §13.4
+            out.unloaded[idx[k]] = (np.flatnonzero(part.unloaded[k]) + 1).tolist()
+    return out
+
+
+def mean_line_load(sun_torque, rows, base_radius, rim_width, planets_per_row):
+    """Mean line load ``w̄ = T_a / (n r_ba b_w n_w)`` [N/mm] (rows.md §2.2).
+
+    Parameters
+    ----------
+    sun_torque : T_a [N·mm]; rows : n; base_radius : r_ba [mm]; rim_width : b_w [mm]; planets_per_row : n_w
+
+    Examples
+    --------
+    >>> mean_line_load(1.2e6, 2, 50.0, 40.0, 3)
+    100.0
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), its w̄ = T_a/(n r_ba b_w n_w); gearcalc specification docs/spec/rows.md §2.2.
+    """
+    return sun_torque / (rows * base_radius * rim_width * planets_per_row)
+
+
+def twist_from_shares(shares, mean_load, mesh_stiffness, base_radius):
+    """Sun twist between row 1 and row N from the solved loads, ``φ_{N-1} = 2 (w_1 - w_N) / (C r_ba)`` [rad]
+    (the twist identity, rows.md §2.2).
+
+    Parameters
+    ----------
+    shares : u = w/w̄ per row [-]; mean_load : w̄ [N/mm]; mesh_stiffness : C [N/mm²]; base_radius : r_ba [mm]
+
+    Examples
+    --------
+    >>> [round(float(t), 12) for t in twist_from_shares(np.array([1.5, 0.5]), 100.0, 1e4, 50.0)]  # 2 x 100 / 5e5
+    [0.0, 0.0004]
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1); gearcalc specification docs/spec/rows.md §2.2.
+    """
+    return 2.0 * (shares[..., :1] - shares) / (mesh_stiffness * base_radius) * mean_load
+
+
+def stepwise_active_set(kappa: float, cheek_ratio: float, rows: int, carrier=None, threshold: float = 1e-12):
+    """Stepwise shares with unloaded rows handled by an active set (rows.md §2.5, §5.5).
+
+    Unknowns u_1..u_n (loads over w̄) and c (the load row 1 would carry).  Active rows:
+    ``u_j = c - [κ(1+b̄) Σ_{m<j}(n - S_m) + (κ/8)(u_1 - u_j)] + (Y u)_1 - (Y u)_j``, where
+    ``Y`` (dimensionless, ``C y/w̄ = Y u``) is the carrier compliance (``None``: rigid carrier);
+    inactive rows ``u_j = 0``; equilibrium ``Σ u = n``.  Rows with u ≤ 0 are deactivated; an
+    inactive row whose implied load exceeds ``threshold`` is re-activated, the largest first.
+
+    Returns
+    -------
+    u : shares [-]
+    unloaded : 1-based indices of the inactive rows
+    converged : False if the active set did not settle within 3n iterations
+    residual : max |A x - b| / n of the final linear solve
+
+    Examples
+    --------
+    >>> u, unloaded, converged, residual = stepwise_active_set(0.5, 0.25, 3)   # rigid carrier: system (1)
+    >>> u.round(6).tolist(), unloaded, converged
+    ([1.690909, 0.818182, 0.490909], [], True)
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1) with contact loss and a compliant carrier; gearcalc specification docs/spec/rows.md
+       §2.5, §5.5.
+    """
+    n = rows
+    g = kappa * (1.0 + cheek_ratio)
+    a8 = kappa / 8.0
+    Y = np.zeros((n, n)) if carrier is None else np.asarray(carrier, float)
+    # Row j (0-based) of the "implied load" map: u_j = c + sum_k M[j,k] u_k + const_j
+    # twist term: g Σ_{m<j} (n - S_m) = g*j*n - g Σ_{m<j} S_m ; Σ_{m<j} S_m = Σ_k (j - k)_+ u_k
+    M = np.zeros((n, n))
+    const = np.zeros(n)
+    for j in range(n):
+        const[j] = -g * j * n
+        for k in range(j):
+            M[j, k] += g * (j - k)
+        M[j, 0] -= a8
+        M[j, j] += a8
+        M[j, :] += Y[0, :] - Y[j, :]
+    active = np.ones(n, bool)
+    u = np.zeros(n)
+    residual = 0.0
+    for _ in range(3 * n + 1):
+        idx = np.flatnonzero(active)
+        m = idx.size
+        A = np.zeros((m + 1, m + 1))
+        b = np.zeros(m + 1)
+        # active row equations: u_j - Σ_{k active} M[j,k] u_k - c = const_j
+        A[:m, :m] = np.eye(m) - M[np.ix_(idx, idx)]
+        A[:m, m] = -1.0
+        b[:m] = const[idx]
+        A[m, :m] = 1.0
+        b[m] = n
+        x = np.linalg.solve(A, b)
+        residual = float(np.max(np.abs(A @ x - b))) / n
+        u = np.zeros(n)
+        u[idx] = x[:m]
+        c = x[m]
+        if np.any(u[idx] <= threshold):
+            worst = idx[u[idx] <= threshold]
+            active[worst] = False
+            if not np.any(active):
+                break
+            continue
+        implied = c + M @ u + const
+        cand = np.flatnonzero(~active & (implied > threshold))
+        if cand.size == 0:
+            return u, (np.flatnonzero(~active) + 1).tolist(), True, residual
+        active[cand[np.argmax(implied[cand])]] = True
+    return u, (np.flatnonzero(~active) + 1).tolist(), False, residual
