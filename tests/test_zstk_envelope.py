@@ -1,0 +1,75 @@
+"""Tests of gearcalc.zstk.envelope: the "cycle" and "envelope" maxima (spec docs/spec/zstk.md §5.3, §8).
+
+Expected values: the worked example of Merko et al. (sigma_max = 748.9357 MPa at scheme A, load on the
+line of centres: the baseline of configs/zstk_merko_example.toml), brute-force maxima on fine grids
+computed here, and the grid arithmetic of §8.
+"""
+import numpy as np
+import pytest
+
+from gearcalc import zstk as z
+
+CHAIN = z.close_chain(100.0, 50.0, 6.0, 6.0, 8)            # Merko et al. worked example, N = 8
+STEEL = z.Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+Q = 1e4
+
+
+def test_sigma_max_at_worked_example():
+    # zstk.md §6: scheme A, gamma = 0 -> sigma_max = 748.935693220922 MPa (the product's value)
+    s = z.sigma_max_at(CHAIN, STEEL, 0.0, 0.0, Q, 0.0)
+    assert float(s) == pytest.approx(748.935693220922, rel=1e-12)
+
+
+def test_sigma_max_at_chunks_do_not_change_values():
+    ph, g = np.meshgrid(np.linspace(0, 0.7, 9), np.linspace(0, 6.2, 11))
+    a = z.sigma_max_at(CHAIN, STEEL, ph, g, Q, 0.0)
+    b = z.sigma_max_at(CHAIN, STEEL, ph, g, Q, 0.0, chunk=17)
+    assert np.array_equal(a, b)
+
+
+def test_direction_envelope_against_brute_force():
+    # §5.3: the max over directions >= every sampled direction, and within 1e-7 of a 20000-point grid
+    g = 2 * np.pi * np.arange(20000) / 20000
+    brute = np.max(z.sigma_max_at(CHAIN, STEEL, 0.0, g, Q, 0.0))
+    pl = z.critical_placement(CHAIN, STEEL, Q, 0.0, phase=0.0, tol=1e-9, refine_rtol=1e-10)
+    assert pl.value >= brute * (1 - 1e-12)
+    assert pl.value == pytest.approx(brute, rel=1e-7)
+    assert pl.phase == 0.0 and pl.phase_sweep is None and pl.direction_sweep.samples >= 720
+
+
+def test_cycle_covers_the_schemes():
+    # §4.3: the envelope over the phases is >= schemes A (phase 0) and D (phase pi/N), same direction
+    pl = z.critical_placement(CHAIN, STEEL, Q, 0.0, gamma=0.0, tol=1e-8, refine_rtol=1e-6)
+    for phase in (0.0, np.pi / 8):
+        assert pl.value is None and pl.gamma == 0.0
+        assert z.sigma_max_at(CHAIN, STEEL, pl.phase, 0.0, Q, 0.0) >= z.sigma_max_at(CHAIN, STEEL, phase, 0.0, Q, 0.0)
+
+
+def test_roller_envelope_rows():
+    # §5.3: each roller's envelope stress is >= its stress at any sampled direction
+    theta = z.roller_angles(0.0, CHAIN.n, CHAIN.limiting_ratio)
+    d_b, d_h, g_b, g_h = z.roller_envelope(CHAIN, STEEL, theta, Q, 0.0, 1e-8)
+    g = 2 * np.pi * np.arange(360) / 360
+    st = z.evaluate(CHAIN, STEEL, np.broadcast_to(theta, (g.size, CHAIN.n)), g, Q)
+    assert np.all(d_b["sigma_inner"][0] >= st.sigma_inner.max(axis=0) * (1 - 1e-12))
+    assert np.all(d_h["sigma_outer"][0] >= st.sigma_outer.max(axis=0) * (1 - 1e-12))
+    assert g_b.shape == g_h.shape == (1, CHAIN.n)
+
+
+def test_sweep_work():
+    # §8: N x phases (64 per pitch) x directions (720 per turn; the inner grid of the nested sweep is
+    # max(720/4, 16 N) capped at 720); the reference level multiplies each grid by 8
+    assert z.sweep_work(8, True, False) == 8 * 64
+    assert z.sweep_work(8, False, True) == 8 * 720
+    assert z.sweep_work(8, True, True) == 8 * 64 * 180
+    assert z.sweep_work(100, True, True) == 100 * 64 * 720
+    assert z.sweep_work(8, False, True, z.SweepGrid(factor=8)) == 8 * 720 * 8
+
+
+def test_evaluate_placement_at_the_critical_placement():
+    # §8: the state at the envelope's placement reproduces the sweep's maximum; stepping closes (§4.1)
+    pl = z.critical_placement(CHAIN, STEEL, Q, 0.0, phase=0.0, tol=1e-8, refine_rtol=1e-6)
+    theta, st, res, rows = z.evaluate_placement(CHAIN, STEEL, pl, Q, 0.0, refine_rtol=1e-6, stepping=True, rows=True)
+    assert float(z.critical(st)[0][0]) == pytest.approx(pl.value, rel=1e-12)
+    assert res[0] < 1e-9 and theta.shape == (CHAIN.n,)
+    assert np.max(rows[0]["sigma_inner"]) >= pl.value * (1 - 1e-12)

@@ -1,0 +1,63 @@
+"""Tests of the summary functions of gearcalc.zstk.stress (spec docs/spec/zstk.md §2, §8, §10).
+
+Expected values: the worked example of Merko et al. as the product reports it (configs/zstk_merko_example.toml:
+sigma_max 748.935693220922 MPa, b_B 0.2066159512375799 mm, delta 15.036652650445422 um, 5 loaded
+rollers), and Johnson's line-contact relations b = 2F/(pi l sigma), tau_max = 0.3003 sigma.
+"""
+import numpy as np
+import pytest
+
+from gearcalc import zstk as z
+
+CHAIN = z.close_chains(np.array([100.0]), 50.0, 6.0, 6.0, np.array([8]))
+STEEL = z.Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+
+
+def solved(clearance=0.0, gamma=0.0):
+    return z.solve_placements(CHAIN, STEEL, np.zeros(1), CHAIN.limiting_ratio, np.array([gamma]), np.array([1e4]),
+                              np.array([clearance]), np.array([True]))
+
+
+def test_worked_example_summary():
+    state, sym, step = solved()
+    assert sym.tolist() == [True] and step is None
+    s = z.summarise(state, np.array([1e4]), np.zeros(1), sym)
+    assert s.sigma_max[0] == pytest.approx(748.935693220922, rel=1e-13)   # zstk.md §6 (product baseline)
+    assert (s.roller[0], s.contact[0], s.loaded[0]) == (0, 0, 5)
+    assert s.sigma_err[0] == 0.0                                            # closed form (§5.1)
+    assert s.approach[0] * 1e3 == pytest.approx(15.036652650445422, rel=1e-12)
+
+
+def test_sweep_error_floor():
+    # §8: a sweep's estimate is at least 4 eps sigma_max
+    state, sym, _ = solved()
+    s = z.summarise(state, np.array([1e4]), np.zeros(1), sym, sweep_err=np.zeros(1))
+    assert s.sigma_err[0] == 4 * np.finfo(float).eps * s.sigma_max[0]
+
+
+def test_contacts_follow_johnson():
+    state, _, _ = solved(clearance=0.01, gamma=0.3)
+    c = z.roller_contacts(state, state, STEEL)
+    loaded = c.force_inner > 0
+    # Johnson 1985 §4.2: b = 2F/(pi l p0); §2.8: tau_max = 0.3003 p0
+    assert np.allclose(c.width_inner[loaded], 2 * c.force_inner[loaded] / (np.pi * 20.0 * c.sigma_inner[loaded]),
+                       rtol=1e-12)
+    assert np.allclose(c.shear_outer, 0.30028310600077 * c.sigma_outer, rtol=1e-13)
+    assert z.worst_width_ratio(c, 0.1).tolist() == [-np.inf]
+    assert z.worst_width_ratio(c, 1e-6)[0] == pytest.approx(np.max(np.where(loaded, c.width_inner / c.rho_inner,
+                                                                            c.width_outer / c.rho_outer)))
+
+
+def test_roller_approach_is_zero_at_the_edge_of_contact():
+    # §5: F = c_L delta_i^(10/9) for delta_i > 0; unloaded rollers have delta_i <= 0
+    state, _, _ = solved(clearance=0.01, gamma=0.3)
+    d = z.roller_approach(state, np.array([0.01]))
+    f = state.force_inner
+    assert np.all(d[f == 0] <= 0)
+    assert np.allclose(f[f > 0], STEEL.stiffness * d[f > 0] ** (10 / 9), rtol=1e-9)
+
+
+def test_safety_factor():
+    # §10: [sigma_H] / sigma_max, the worked example against the 4000 MPa default
+    assert z.safety_factor(748.935693220922, 4000.0) == pytest.approx(5.340912492496302, rel=1e-15)
+    assert np.isnan(z.safety_factor(0.0, 4000.0))
