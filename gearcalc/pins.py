@@ -49,8 +49,12 @@ def pin_angular_speed(pin_speed_rpm, paper_pi: bool = False):
     --------
     >>> round(pin_angular_speed(30.0, paper_pi=True), 12)
     3.14
+    >>> pin_angular_speed(np.array([30.0, 30.0]), np.array([True, False])).round(4).tolist()
+    [3.14, 3.1416]
     """
     omega = units.rpm_to_rad_s(pin_speed_rpm)
+    if np.ndim(paper_pi):                       # per element
+        return np.where(paper_pi, omega * (PAPER_PI / math.pi), omega)
     return omega * (PAPER_PI / math.pi) if paper_pi else omega
 
 
@@ -118,51 +122,74 @@ def friction_power(force, angular_speed, radius):
 
 @dataclass(frozen=True)
 class FormulaLosses:
-    """Per-pin maximum losses of the paper (eqs. 3-7): forces [N], powers [W]."""
+    """Per-pin maximum losses of the paper (eqs. 3-7): forces [N], powers [W] (floats or arrays).
+
+    ``P_tr_fixed`` is the fixed-pin variant (:func:`fixed_pin_formula_loss`), None unless the sliding
+    friction was given."""
 
     F_tr1: float
     F_tr2: float
     P_tr1: float
     P_tr2: float
     P_tr: float
+    P_tr_fixed: float | None = None
 
 
 def formula_losses(normal_force, pin_speed_rpm, bushing_radius, axle_radius, rolling_coefficient,
-                   axle_friction, paper_pi: bool = False) -> FormulaLosses:
-    """The paper's maximum friction loss on one rotating pin, eqs. (3)-(7).
+                   axle_friction, paper_pi=False, sliding_friction=None) -> FormulaLosses:
+    r"""The paper's maximum friction loss on one rotating pin, eqs. (3)-(7).
 
-    F_tr1 = f_k F_n/R, F_tr2 = f_c F_n, P_tr1 = F_tr1 omega R 1e-3, P_tr2 = F_tr2 omega r 1e-3,
-    P_tr = P_tr1 + P_tr2, with omega = pi n_pin/30.
+    .. math::
+
+        F_{tr1} = \frac{f_k F_n}{R},\quad F_{tr2} = f_c F_n,\quad
+        P_{tr1} = F_{tr1}\,\omega R\,10^{-3},\quad P_{tr2} = F_{tr2}\,\omega r\,10^{-3},\quad
+        P_{tr} = P_{tr1} + P_{tr2},\quad \omega = \frac{\pi n_{pin}}{30}
 
     Parameters
     ----------
-    normal_force : F_n [N].
-    pin_speed_rpm : n_pin [rpm].
-    bushing_radius : R [mm].
-    axle_radius : r [mm].
-    rolling_coefficient : f_k [mm].
-    axle_friction : f_c [-].
-    paper_pi : compute with pi = 3.14 (reproduces the paper's printed digits).
+    normal_force : float or array_like
+        F_n, peak normal force on one pin [N].
+    pin_speed_rpm : float or array_like
+        n_pin, bushing speed [rpm].
+    bushing_radius : float or array_like
+        R, outer radius of the bushing [mm].
+    axle_radius : float or array_like
+        r, radius of the axle [mm].
+    rolling_coefficient : float or array_like
+        f_k, rolling friction between tooth and bushing [mm].
+    axle_friction : float or array_like
+        f_c, sliding friction between bushing and axle [-].
+    paper_pi : bool or array_like of bool
+        compute with pi = 3.14 (reproduces the paper's printed digits), per element for an array.
+    sliding_friction : float or array_like, optional
+        f, tooth-pin sliding friction [-]: also gives ``P_tr_fixed``, the fixed-pin loss
+        f F_n omega R 1e-3 [W] (pins.md §3).
 
     Returns
     -------
     FormulaLosses
+        F_tr1, F_tr2 [N]; P_tr1, P_tr2, P_tr, P_tr_fixed [W]; floats or arrays (NaN in, NaN out).
 
     Examples
     --------
     >>> round(formula_losses(1920, 14, 1.95, 0.95, 0.01, 0.1, paper_pi=True).P_tr, 3)  # paper 0.295 W
     0.295
+    >>> formula_losses(np.array([1920.0, 960.0]), 14, 1.95, 0.95, 0.01, 0.1, paper_pi=True).P_tr.round(4).tolist()
+    [0.2954, 0.1477]
 
     References
     ----------
-    Prudnikov (seed 000), eqs. (3)-(7); pins.md §3.
+    .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary
+       gearing", *Mashinostroenie* (seed 000), eqs. (3)-(7); pins.md §3.
     """
     omega = pin_angular_speed(pin_speed_rpm, paper_pi)
     f1 = rolling_friction_force(normal_force, rolling_coefficient, bushing_radius)
     f2 = axle_friction_force(normal_force, axle_friction)
     p1 = friction_power(f1, omega, bushing_radius)
     p2 = friction_power(f2, omega, axle_radius)
-    return FormulaLosses(f1, f2, p1, p2, p1 + p2)
+    fixed = None if sliding_friction is None else friction_power(sliding_friction * normal_force, omega,
+                                                                 bushing_radius)
+    return FormulaLosses(f1, f2, p1, p2, p1 + p2, fixed)
 
 
 def fixed_pin_formula_loss(normal_force, pin_speed_rpm, bushing_radius, sliding_friction, paper_pi=False):
@@ -251,6 +278,94 @@ class Cycloid:
     def period(self) -> float:
         """Integration period T_p = 2 pi/z2 of crank angle [rad]."""
         return 2.0 * math.pi / self.z2
+
+
+@dataclass(frozen=True)
+class GeometryViolations:
+    """Which gears break a geometric rule of pins.md §4.2, §7, §9 (:func:`geometry_violations`).
+
+    Boolean masks: teeth (z2 <= z1), overflow (R_p = e z2/(k K1) not finite), curtate (K1 >= 1 for a
+    cycloid), overlap (R_b >= R_p sin(pi/z2)), axle (rotating pins with r >= R_b); and the pin circle
+    R_p [mm], K1 [-] and the overlap limit R_p sin(pi/z2) [mm] they were decided on."""
+
+    teeth: np.ndarray
+    overflow: np.ndarray
+    curtate: np.ndarray
+    overlap: np.ndarray
+    axle: np.ndarray
+    pin_circle_radius: np.ndarray
+    curtate_ratio: np.ndarray
+    overlap_limit: np.ndarray
+
+    def any(self) -> np.ndarray:
+        """Masks of gears that break any rule."""
+        return self.teeth | self.overflow | self.curtate | self.overlap | self.axle
+
+
+def geometry_violations(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, pin_radius, axle_radius=np.nan,
+                        rotating=False, cycloidal=True) -> GeometryViolations:
+    r"""The geometric validity rules of a pin gear, over arrays of gears (pins.md §4.2, §7, §9).
+
+    .. math::
+
+        k = z_2 - z_1 \ge 1,\quad K_1 = \frac{e z_2}{k R_p} < 1\ \text{(cycloid)},\quad
+        R_b < R_p \sin\frac{\pi}{z_2},\quad r < R_b\ \text{(rotating pins)}
+
+    One of R_p and K1 is given (the other NaN).  The one rule set of ``gearcalc check``, of a computed
+    design and of a vectorised sweep.  The admissibility of the ideal level (psi* beyond the pin pitch,
+    no undercut) is :func:`admissibility`.
+
+    Parameters
+    ----------
+    z1, z2 : int or array_like of int
+        teeth of the satellite, pins of the ring.
+    eccentricity : float or array_like
+        e [mm].
+    pin_circle_radius : float or array_like
+        R_p [mm], NaN where K1 is given.
+    curtate_ratio : float or array_like
+        K1 [-], NaN where R_p is given.
+    pin_radius : float or array_like
+        R_b [mm].
+    axle_radius : float or array_like
+        r [mm] (NaN: none).
+    rotating : bool or array_like of bool
+        rotating pins (bushings on axles).
+    cycloidal : bool or array_like of bool
+        cycloidal satellite profile (K1 < 1 applies to it only).
+
+    Returns
+    -------
+    GeometryViolations
+        masks of shape (n,).
+
+    Examples
+    --------
+    >>> v = geometry_violations([21, 21, 22], [22, 22, 22], 3.9, np.nan, [0.75, 1.2, 0.75], 1.95)
+    >>> v.teeth.tolist(), v.curtate.tolist(), v.any().tolist()
+    ([False, False, True], [False, True, False], [False, True, True])
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
+       *Mashinostroenie* (seed 000); pins.md §4.2, §7, §9.
+    """
+    z1 = np.atleast_1d(np.asarray(z1, dtype=np.int64))
+    z2 = np.atleast_1d(np.asarray(z2, dtype=np.int64))
+    e, Rb, r = (np.atleast_1d(np.asarray(x, dtype=float)) for x in (eccentricity, pin_radius, axle_radius))
+    K1g, Rpg = (np.atleast_1d(np.asarray(x, dtype=float)) for x in (curtate_ratio, pin_circle_radius))
+    with np.errstate(all="ignore"):
+        k = z2 - z1
+        useK = ~np.isnan(K1g)
+        Rp = np.where(useK, e * z2 / (k * np.where(useK, K1g, 1.0)), Rpg)
+        K1 = np.where(useK, K1g, e * z2 / (k * Rp))
+        zs, inv = np.unique(z2, return_inverse=True)
+        sines = np.array([math.sin(math.pi / int(z)) if z > 0 else math.nan for z in zs])
+        limit = Rp * sines[inv.reshape(-1)]
+        return GeometryViolations(
+            teeth=z2 <= z1, overflow=useK & ~np.isfinite(Rp), curtate=np.asarray(cycloidal) & (K1 >= 1.0),
+            overlap=Rb >= limit, axle=np.asarray(rotating) & (r >= Rb), pin_circle_radius=Rp, curtate_ratio=K1,
+            overlap_limit=limit)
 
 
 def s_factor(psi, K1, one_minus_K1):
@@ -854,6 +969,290 @@ def willis_efficiencies(loss_ratio_mean, z1: int, z2: int):
     return eta0, (z2 * eta0 - z1) / k, k * eta0 / (z2 - z1 * eta0)
 
 
+# ============================================================ operating points (pins.md §4.5-4.7)
+#
+# The friction regime and the mapping from loss ratios to efficiencies and torques, for one operating
+# point (floats) or many (arrays).  They take ``xp``: :data:`ARRAY_OPS` (numpy, arrays over points) or
+# :data:`SCALAR_OPS` (one point, numpy float64 scalars).  Scalar float64 operations round exactly as the
+# element operations on arrays do, and overflow or divide by zero to inf or NaN as they do, so one design
+# computed on scalars equals the same design in a batch, bit for bit, without the cost of numpy calls on
+# arrays of one element.
+
+class _ScalarOps:
+    """The few numpy functions of the operating-point formulas, for one point of scalars."""
+
+    nan = math.nan
+
+    @staticmethod
+    def where(cond, a, b):
+        return a if cond else b
+
+    @staticmethod
+    def maximum(a, b):
+        return a if a != a or a >= b else b          # as np.maximum: NaN propagates
+
+    abs = staticmethod(abs)
+
+    @staticmethod
+    def isnan(x) -> bool:
+        return x != x
+
+    @staticmethod
+    def degrees(x):
+        return x * (180.0 / math.pi)                 # as numpy's rad2deg
+
+    @staticmethod
+    def as_int(x) -> int:
+        return int(x)
+
+
+class _ArrayOps:
+    """numpy for the formulas that take ``xp`` (see :class:`_ScalarOps`), over arrays of points."""
+
+    def __getattr__(self, name):
+        return getattr(np, name)
+
+    @staticmethod
+    def as_int(x):
+        return np.asarray(x).astype(np.int64)
+
+
+SCALAR_OPS = _ScalarOps()
+"""``xp`` for one operating point of scalars."""
+ARRAY_OPS = _ArrayOps()
+"""``xp`` for arrays over operating points (numpy)."""
+
+
+def friction_regime(rotating, bushing_radius, axle_radius, sliding_friction, rolling_coefficient, axle_friction,
+                    xp=ARRAY_OPS):
+    r"""Effective friction coefficient and whether the pins roll, per operating point (pins.md §4.5-4.6).
+
+    .. math::
+
+        \mu_{eff} = \begin{cases} \mu_{rot} = (f_c r + f_k)/R_b & \text{rotating and } f R_b \ge f_c r + f_k \\
+        f & \text{otherwise (fixed pins, or bushings that cannot turn: they slide)} \end{cases}
+
+    Parameters
+    ----------
+    rotating : bool or array_like of bool
+        whether the pins carry rotating bushings.
+    bushing_radius : float or array_like
+        R_b [mm].
+    axle_radius : float or array_like
+        r [mm]; NaN (absent) for fixed pins.
+    sliding_friction : float or array_like
+        f, tooth-pin sliding friction [-].
+    rolling_coefficient : float or array_like
+        f_k [mm].
+    axle_friction : float or array_like
+        f_c [-].
+    xp : :data:`ARRAY_OPS` or :data:`SCALAR_OPS`
+
+    Returns
+    -------
+    mu_eff : float or ndarray
+        [-].
+    rolls : bool or ndarray of bool
+        rotating pins whose rolling condition holds (false for fixed pins).
+
+    Examples
+    --------
+    >>> mu, rolls = friction_regime(True, 1.95, 0.95, 0.1, 0.01, 0.1, SCALAR_OPS)
+    >>> round(mu, 12), bool(rolls)
+    (0.053846153846, True)
+    >>> friction_regime(np.array([True, False]), 1.95, np.array([0.95, np.nan]), 0.1, 0.01, 0.1)[0].tolist()
+    [0.05384615384615384, 0.1]
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
+       *Mashinostroenie* (seed 000); pins.md §4.5-4.6.
+    """
+    rolls = rotating & rolling_condition(sliding_friction, bushing_radius, axle_friction, axle_radius,
+                                         rolling_coefficient)          # NaN r (fixed pins) compares False
+    mu = xp.where(rolls, rotating_loss_coefficient(axle_friction, axle_radius, rolling_coefficient, bushing_radius),
+                  sliding_friction)
+    return mu, rolls
+
+
+@dataclass(frozen=True)
+class EfficiencyTorques:
+    """Efficiencies, self-locking and shaft torques per operating point (:func:`efficiency_torques`).
+
+    NaN marks an undefined value (no multiplier efficiency when it self-locks, no T_V when it self-locks
+    with the torque given on H).  Torques in the unit of the torque given (N·m in the product)."""
+
+    locked: object
+    eta_vh: object
+    eta_vh_err: object
+    eta_hv: object
+    eta_hv_err: object
+    efficiency: object
+    efficiency_err: object
+    self_locking: object
+    T_V: object
+    T_H: object
+    torque_in: object
+    torque_out: object
+
+
+def efficiency_torques(loss_ratio_mean, loss_ratio_err, torque, ratio, multiplier, torque_on_V,
+                       xp=ARRAY_OPS) -> EfficiencyTorques:
+    r"""Efficiencies, self-locking and shaft torques from the cycle-mean loss ratio (pins.md §4.7).
+
+    .. math::
+
+        \eta_{VH} = 1 - \bar\lambda,\quad \eta_{HV} = \frac{1}{1 + \bar\lambda},\quad
+        T_V = \frac{u T_H}{\eta_{VH}}\ \text{(multiplier)},\quad T_V = \eta_{HV} u T_H\ \text{(reducer)}
+
+    The drive self-locks in the multiplier mode when lambda_bar >= 1.  Error of eta_HV:
+    E/(1 + lambda_bar)^2; of eta_VH: E.
+
+    Parameters
+    ----------
+    loss_ratio_mean : float or array_like
+        lambda_bar [-].
+    loss_ratio_err : float or array_like
+        E, its error estimate [-].
+    torque : float or array_like
+        the torque given, on V when ``torque_on_V`` else on H [N·m].
+    ratio : float or array_like
+        u = z1/k [-].
+    multiplier : bool or array_like of bool
+        multiplier mode (V drives H), else reducer.
+    torque_on_V : bool or array_like of bool
+        the torque is given on the satellite shaft V, else on the crank H.
+    xp : :data:`ARRAY_OPS` or :data:`SCALAR_OPS`
+
+    Returns
+    -------
+    EfficiencyTorques
+
+    Examples
+    --------
+    >>> et = efficiency_torques(0.25, 1e-9, 100.0, 10.0, False, False, SCALAR_OPS)
+    >>> et.efficiency, et.T_V
+    (0.8, 800.0)
+    >>> et = efficiency_torques(np.array([0.25, 1.5]), 0.0, 100.0, 10.0, True, True)
+    >>> et.self_locking.tolist(), et.efficiency.tolist()
+    ([False, True], [0.75, nan])
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
+       *Mashinostroenie* (seed 000); pins.md §4.7.
+    """
+    lam, E, T = loss_ratio_mean, loss_ratio_err, torque
+    locked = lam >= 1.0
+    eta_vh = xp.where(locked, xp.nan, efficiency_multiplier(lam))
+    eta_hv = efficiency_reducer(lam)
+    eta_hv_err = E / ((1.0 + lam) * (1.0 + lam))
+    T_V = xp.where(torque_on_V, T, xp.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))  # NaN: no warning
+    T_H = xp.where(torque_on_V, xp.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
+    return EfficiencyTorques(
+        locked=locked, eta_vh=eta_vh, eta_vh_err=xp.where(locked, xp.nan, E), eta_hv=eta_hv,
+        eta_hv_err=eta_hv_err, efficiency=xp.where(multiplier, eta_vh, eta_hv),
+        efficiency_err=xp.where(multiplier, xp.where(locked, xp.nan, E), eta_hv_err),
+        self_locking=locked & multiplier, T_V=T_V, T_H=T_H,
+        torque_in=xp.where(multiplier, T_V, T_H), torque_out=xp.where(multiplier, T_H, T_V))
+
+
+@dataclass(frozen=True)
+class ScaledCycle:
+    """The ideal level's unit cycle scaled to operating points (:func:`scale_unit_cycle`); NaN: undefined.
+
+    torque_sat [N·mm per disc]; omega_V, |omega_V| [rad/s]; loss_mean, loss_peak, loss_max (one pin),
+    loss_bound [W]; force_max [N]; force_phase, loss_phase [deg] (NaN where the force or loss is);
+    spin_abs_max, spin_min, spin_max [rpm] (0 for pins that do not roll); spin_reversals (int);
+    sliding_speed_max [m/s] (0 for rolling pins)."""
+
+    torque_sat: object
+    omega_V: object
+    loss_mean: object
+    loss_peak: object
+    loss_max: object
+    loss_bound: object
+    force_max: object
+    force_phase: object
+    loss_phase: object
+    spin_abs_max: object
+    spin_min: object
+    spin_max: object
+    spin_reversals: object
+    sliding_speed_max: object
+
+
+def scale_unit_cycle(unit, loss_ratio_mean, mu_eff, rolls, sliding_friction, torque_V, n_discs, crank_speed_rpm,
+                     z1, k, pin_radius, xp=ARRAY_OPS) -> ScaledCycle:
+    r"""Scale the ideal level's unit cycle (unit torque, speed and friction) to operating points (pins.md §4.4-4.8).
+
+    The rigid solution does not depend on the torque, the speed or the friction coefficient (pins.md
+    §4.8 identity 8): forces scale with T_sat, speeds with omega_V, losses with mu_eff T_sat omega_V.
+
+    .. math::
+
+        T_{sat} = \frac{T_V}{n_d},\quad |\omega_V| = \omega_H \frac{k}{z_1},\quad
+        F_{max} = T_{sat} \hat F,\quad P = \mu_{eff} T_{sat} |\omega_V| \hat P,\quad
+        \bar P = \bar\lambda T_V |\omega_V|
+
+    Parameters
+    ----------
+    unit : object
+        the unit cycle per point (fields of :class:`IdealCycles`: force, total, loss, rel_min, rel_max,
+        rel_abs, psi_0, psi_star [rad], force_phase, loss_phase [rad]).
+    loss_ratio_mean : float or array_like
+        lambda_bar = mu_eff x the unit loss ratio [-].
+    mu_eff : float or array_like
+        [-]; rolls : bool or array_like, the pins roll; sliding_friction : f [-].
+    torque_V : float or array_like
+        T_V [N·m] (:func:`efficiency_torques`).
+    n_discs : int or array_like
+        n_d.
+    crank_speed_rpm : float or array_like
+        n_H [rpm] (NaN: not given; the losses and speeds are then NaN).
+    z1, k : int or array_like
+        teeth of the satellite, tooth difference.
+    pin_radius : float or array_like
+        R_b [mm].
+    xp : :data:`ARRAY_OPS` or :data:`SCALAR_OPS`
+
+    Returns
+    -------
+    ScaledCycle
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> u = SimpleNamespace(force=0.01, total=0.02, loss=0.005, rel_min=-1.0, rel_max=2.0, rel_abs=2.0,
+    ...                     psi_0=np.nan, psi_star=3.0, force_phase=1.0, loss_phase=1.5)
+    >>> sc = scale_unit_cycle(u, 0.05, 0.1, False, 0.1, 100.0, 1, 1000.0, 20, 1, 2.0, SCALAR_OPS)
+    >>> sc.force_max, sc.spin_abs_max
+    (1000.0, 0.0)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
+       *Mashinostroenie* (seed 000); pins.md §4.4-4.8.
+    """
+    T_sat = units.nm_to_nmm(torque_V) / n_discs                            # N·mm per disc
+    w_V = units.rpm_to_rad_s(crank_speed_rpm) * k / z1                      # |omega_V| [rad/s]
+    F_max = T_sat * unit.force                                              # N
+    spin_rpm = units.rad_s_to_rpm(w_V) / pin_radius                         # rpm per mm of rho - R_b
+    v_max = w_V * unit.rel_abs                                              # mm/s
+    zero = 0.0 * w_V
+    P = mu_eff * T_sat * w_V
+    return ScaledCycle(
+        torque_sat=T_sat, omega_V=w_V, loss_mean=loss_ratio_mean * torque_V * w_V, loss_peak=P * unit.total,
+        loss_max=P * unit.loss, loss_bound=xp.where(rolls, mu_eff, sliding_friction) * F_max * v_max * 1e-3,
+        force_max=F_max, force_phase=xp.where(xp.isnan(F_max), xp.nan, xp.degrees(unit.force_phase)),
+        loss_phase=xp.where(xp.isnan(P), xp.nan, xp.degrees(unit.loss_phase)),
+        spin_abs_max=xp.where(rolls, spin_rpm * xp.maximum(xp.abs(unit.rel_min), xp.abs(unit.rel_max)), zero),
+        spin_min=xp.where(rolls, spin_rpm * unit.rel_min, zero),
+        spin_max=xp.where(rolls, spin_rpm * unit.rel_max, zero),
+        spin_reversals=xp.as_int(rolls & (unit.psi_0 < unit.psi_star)),   # NaN (no reversal) compares False
+        sliding_speed_max=xp.where(rolls, zero, v_max / units.MM_PER_M))
+
+
 # ============================================================ cycle model (pins.md §4.6, §6)
 #
 # Over one period the load-side phases of the pins are psi_j(t) = 2 pi (j + t)/z2, j = 0 .. z2-1,
@@ -953,9 +1352,145 @@ def cycle_loss_ratio(t, t_mid, g: Cycloid, psi_star: float, mu_eff: float):
     >>> bool(abs(a[0] - b[0]) < 1e-13)
     True
     """
-    st = cycle_state(t, t_mid, g, psi_star)
-    num = np.sum(st.lever * np.abs(st.rho - g.R_b), axis=0)
-    return mu_eff * num / st.S
+    return state_loss_ratio(cycle_state(t, t_mid, g, psi_star), g, mu_eff)
+
+
+def state_loss_ratio(st: CycleState, g: Cycloid, mu_eff, n_discs: int = 1):
+    r"""lambda at the nodes of a :class:`CycleState`, averaged over n_d discs (pins.md §4.6, §12.7).
+
+    .. math::
+
+        \lambda(t) = \mu_{eff} \frac{\sum_i |l_i| |\rho_i - R_b|}{\sum_i l_i^2},\qquad
+        \lambda_{n_d}(t) = \frac{1}{n_d} \sum_{d=0}^{n_d-1} \lambda(t + \Delta_d)
+
+    with the disc offsets Delta_d of :func:`disc_offsets` (one period = 1 in t).
+
+    Parameters
+    ----------
+    st : CycleState
+        the loaded contacts at nodes t (one disc).
+    g : Cycloid
+    mu_eff : float
+        effective friction coefficient [-].
+    n_discs : int
+        n_d, discs in phase-shifted sets.
+
+    Returns
+    -------
+    ndarray
+        lambda at the nodes [-].
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> st = cycle_state(np.array([0.3]), np.array([0.5]), g, np.pi)
+    >>> bool(state_loss_ratio(st, g, 0.1)[0] == cycle_loss_ratio(np.array([0.3]), np.array([0.5]), g, np.pi, 0.1)[0])
+    True
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
+       *Mashinostroenie* (seed 000); pins.md §4.6, §12.7.
+    """
+    lam = mu_eff * np.sum(st.lever * np.abs(st.rho - g.R_b), axis=0) / st.S
+    if n_discs > 1:   # all discs: the mean of the discs' shifted histories (pins.md §12.7)
+        lam = sum_over_discs(st.t, lam, disc_offsets(n_discs, g.z2), 1.0) / n_discs
+    return lam
+
+
+@dataclass(frozen=True)
+class CycleDetail:
+    """The ideal level's cycle at the nodes of its final grid (:func:`cycle_detail`), crank angle ascending.
+
+    Per node: theta [deg], loss_ratio (all discs) [-], loss (all discs) [W] or None, loaded (pins of the
+    first disc).  Per loaded contact of the first disc (row-major by node, then pin): contact_theta [deg],
+    pin (index of the fixed ring), phase [deg], force [N] or None, sliding_speed [m/s] or None,
+    pin_speed [rpm] or None, contact_loss [W] or None.  None: the torque or the crank speed is not known."""
+
+    theta: np.ndarray
+    loss_ratio: np.ndarray
+    loss: np.ndarray | None
+    loaded: np.ndarray
+    contact_theta: np.ndarray
+    pin: np.ndarray
+    phase: np.ndarray
+    force: np.ndarray | None
+    sliding_speed: np.ndarray | None
+    pin_speed: np.ndarray | None
+    contact_loss: np.ndarray | None
+
+
+def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_sat, omega_V, rolls: bool,
+                 n_discs: int = 1) -> CycleDetail:
+    r"""Loss ratio, forces, speeds and losses at the nodes of the ideal level's cycle (pins.md §4.4-4.6, §8).
+
+    The cycle variable t maps to crank angle theta = T_p t (multiplier; pin i = -j mod z2) or
+    theta = T_p (1 - t) (reducer; pin i = j + 1 mod z2), by the mirror relation of pins.md §4.8.
+
+    .. math::
+
+        F_j = T_{sat} \frac{|l_j|}{\sum_i l_i^2},\quad v_j = |\omega_V| |\rho_j - R_b|,\quad
+        \omega_{pin} = -\omega_V \frac{\rho_j - R_b}{R_b},\quad P_j = \mu_{eff} F_j v_j 10^{-3}
+
+    Parameters
+    ----------
+    g : Cycloid
+    sigma : int
+        +1 reducer, -1 multiplier.
+    st : CycleState
+        the loaded contacts at the nodes t (:func:`cycle_state`).
+    mu_eff : float
+        [-].
+    torque_sat : float or None
+        T_sat per disc [N·mm] (None: unknown, e.g. self-locking with the torque on H).
+    omega_V : float or None
+        signed satellite speed [rad/s] (None: no crank speed).
+    rolls : bool
+        the pins roll.
+    n_discs : int
+        n_d.
+
+    Returns
+    -------
+    CycleDetail
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> st = cycle_state(np.array([0.0, 0.5, 1.0]), np.array([0.5, 0.5, 0.5]), g, np.pi)
+    >>> d = cycle_detail(g, REDUCER, st, 0.1, 1000.0, -1.0, False)
+    >>> d.theta.tolist() == sorted(d.theta.tolist()), bool(np.all(d.force >= 0)), d.loaded.tolist()  # k = 1: half
+    (True, True, [11, 11, 11])
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
+       *Mashinostroenie* (seed 000); pins.md §4.4-4.6, §8.
+    """
+    t = st.t
+    Tp_deg = 360.0 / g.z2
+    lam = state_loss_ratio(st, g, mu_eff, n_discs)
+    if sigma == MULTIPLIER:      # theta = T_p t, pin i = -j mod z2
+        theta, pin_shift, pin_sign = t * Tp_deg, 0, -1
+    else:                        # theta = T_p (1 - t), pin i = j + 1 mod z2
+        theta, pin_shift, pin_sign = (1.0 - t) * Tp_deg, 1, 1
+    order = np.argsort(theta, kind="stable")
+    have_P = torque_sat is not None and omega_V is not None
+    loaded = st.loaded[:, order]
+    jj, nn = np.nonzero(loaded.T)[1], order[np.nonzero(loaded.T)[0]]      # row-major by node, then pin
+    F = torque_sat * st.lever[jj, nn] / st.S[nn] if torque_sat is not None else None
+    v = sliding_speed(st.rho[jj, nn], g.R_b, omega_V) if omega_V is not None else None
+    if omega_V is not None:
+        spin = units.rad_s_to_rpm(pin_spin(st.rho[jj, nn], g.R_b, omega_V)) if rolls else np.zeros(jj.size)
+        slide = np.zeros(jj.size) if rolls else v / units.MM_PER_M
+    else:
+        spin = slide = None
+    return CycleDetail(
+        theta=theta[order], loss_ratio=lam[order],
+        loss=(lam * (n_discs * torque_sat * abs(omega_V) * 1e-3))[order] if have_P else None,
+        loaded=st.loaded.sum(axis=0)[order], contact_theta=theta[nn], pin=(pin_sign * jj + pin_shift) % g.z2,
+        phase=np.degrees(st.phase[jj, nn]), force=F, sliding_speed=slide, pin_speed=spin,
+        contact_loss=contact_loss_power(F, v, mu_eff) if have_P else None)
 
 
 @dataclass

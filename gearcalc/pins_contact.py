@@ -879,6 +879,101 @@ def engagement_metrics(sol: Solution, spin, low: float = 0.1):
             "loaded_from": float(zz[0]), "loaded_to": float(zz[-1])}
 
 
+@dataclass(frozen=True)
+class CyclePeaks:
+    """Peaks of one contact cycle over the pins and crank angles, all discs (:func:`cycle_peaks`).
+
+    force, force_phase : peak pin force [N] and its load-side phase [rad];
+    loss, loss_phase : peak loss of one pin [N·mm/s per rad/s of crank speed] and its phase [rad];
+    total : peak loss of all pins [N·mm/s per rad/s];
+    contact_speed : largest |v_t| at a loaded contact; slide : largest sliding speed at a loaded contact
+        [mm/s per rad/s];
+    spin_min, spin_max, spin_abs : signed least, largest and largest |spin| of a loaded rolling pin
+        [rad/s per rad/s] (0 for pins that do not roll);
+    loaded_min, loaded_max : least and most loaded pins; psi_star : largest loaded phase [rad] (None: none).
+    """
+
+    force: float
+    force_phase: float
+    loss: float
+    loss_phase: float
+    total: float
+    contact_speed: float
+    slide: float
+    spin_min: float
+    spin_max: float
+    spin_abs: float
+    loaded_min: int
+    loaded_max: int
+    psi_star: float | None
+
+
+def cycle_peaks(cyc: ContactCycle, g: Cycloid, n_discs: int, rolls: bool) -> CyclePeaks:
+    r"""Peak force, loss and speeds of a contact cycle (pins.md §5.6, §8, §12.7).
+
+    With n_d > 1 discs the per-pin histories are summed over the discs, 2 pi/n_d apart
+    (:func:`gearcalc.pins.disc_sum_peak`, :func:`gearcalc.pins.sum_over_discs`):
+
+    .. math::
+
+        F_{max} = \max_{\psi} \sum_{d=0}^{n_d-1} F(\psi - 2\pi d/n_d)
+
+    Parameters
+    ----------
+    cyc : ContactCycle
+        the solved cycle (:func:`mean_loss_ratio`).
+    g : Cycloid
+        the pin gear.
+    n_discs : int
+        n_d.
+    rolls : bool
+        the pins roll.
+
+    Returns
+    -------
+    CyclePeaks
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> m = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, REDUCER)
+    >>> pk = cycle_peaks(mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-4), g, 1, False)
+    >>> pk.force > 0.0, pk.spin_abs
+    (True, 0.0)
+
+    References
+    ----------
+    .. [1] pins.md §5.6 (losses), §8 (output), §12.7 (discs).
+    """
+    sol = cyc.sol
+    loaded_c = sol.force > 0.0
+    loaded = loaded_c.any(axis=0)
+    F_pin = sol.force.max(axis=0)
+    loss_pin = cyc.loss.sum(axis=0)
+    if n_discs == 1:
+        i = np.unravel_index(int(np.argmax(F_pin)), F_pin.shape)
+        F1, phF = float(F_pin[i]), float(sol.phase[i])
+        i = np.unravel_index(int(np.argmax(loss_pin)), loss_pin.shape)
+        P1, phP = float(loss_pin[i]), float(sol.phase[i])
+        tot = float(loss_pin.sum(axis=0).max())
+    else:
+        F1, phF = pins.disc_sum_peak(sol.phase[loaded], F_pin[loaded], n_discs)
+        P1, phP = pins.disc_sum_peak(sol.phase[loaded], loss_pin[loaded], n_discs)
+        t = sol.theta / g.period
+        tot = float(pins.sum_over_discs(t, loss_pin.sum(axis=0), pins.disc_offsets(n_discs, g.z2), 1.0).max())
+    vt_load = np.abs(sol.v_t[loaded_c]) if loaded_c.any() else np.zeros(1)
+    spin_load = cyc.spin[loaded] if rolls else np.zeros(1)
+    slide_load = cyc.slide[loaded_c] if loaded_c.any() else np.zeros(1)
+    counts = loaded.sum(axis=0)
+    observed = sol.phase[loaded]
+    return CyclePeaks(
+        force=F1, force_phase=phF, loss=P1, loss_phase=phP, total=tot, contact_speed=float(vt_load.max()),
+        slide=float(slide_load.max()), spin_min=float(spin_load.min()) if rolls else 0.0,
+        spin_max=float(spin_load.max()) if rolls else 0.0,
+        spin_abs=float(np.abs(spin_load).max()) if rolls else 0.0, loaded_min=int(counts.min()),
+        loaded_max=int(counts.max()), psi_star=float(observed.max()) if observed.size else None)
+
+
 def free_play(model: ContactModel, theta, limit: float | None = None):
     """Angular free play of the unloaded satellite at crank angles theta: (tau_minus, tau_plus) [rad].
 
@@ -922,10 +1017,202 @@ def free_play(model: ContactModel, theta, limit: float | None = None):
     return out[0], out[1]
 
 
+def backlash(model: ContactModel, n_scan: int = 129) -> float:
+    r"""The satellite's angular play at no load, both flanks [rad] (pins.md §5.3).
+
+    .. math::
+
+        j = \min_\theta |\tau_-(\theta)| + \min_\theta \tau_+(\theta)
+
+    For each flank, the least rotation over the cycle from the nominal position to the first contact
+    (:func:`free_play`), summed over the two flanks: 0 for an unmodified cycloid and for the
+    zero-backlash tooth circle (it touches the pins' paths), positive with clearance.  Sampled on
+    ``n_scan`` crank angles of one period, each least value refined by golden-section search
+    (:func:`gearcalc.roots.minimize_golden`) between the neighbouring angles.
+
+    Parameters
+    ----------
+    model : ContactModel
+        the satellite (its torque is not used).
+    n_scan : int
+        crank angles of the scan over one period T_p = 2 pi/z2.
+
+    Returns
+    -------
+    float
+        backlash [rad].
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> m = ContactModel(g, CycloidProfile(g, 0.0, 0.05), contact_law("linear", stiffness=1e5), 1e3, REDUCER)
+    >>> bool(backlash(m) > 0.0)
+    True
+
+    References
+    ----------
+    .. [1] pins.md §5.3 (backlash_deg), §8.
+    """
+    Tp = model.g.period
+    theta = np.linspace(0.0, Tp, n_scan)
+    total = 0.0
+    for side in (0, 1):
+        def play(x, side=side):
+            pair = free_play(model, np.atleast_1d(x))
+            return np.reshape(np.abs(pair[side]), np.shape(x))
+
+        p = play(theta)
+        i = int(np.argmin(p))
+        a, b = theta[max(i - 1, 0)], theta[min(i + 1, theta.size - 1)]
+        res = minimize_golden(play, a, b, rtol=1e-9)
+        total += min(float(res.fun), float(p[i]))
+    return total
+
+
+# ============================================================ the torque fixed point (pins.md §7)
+
+class Unresolvable(ValueError):
+    """The contact level cannot resolve the geometry in floating point (non-finite forces or losses)."""
+
+
+def fixed_point_settled(history, tol: float) -> bool:
+    """Whether the torque fixed point has settled: the remaining error c |d_n|/(1 - c) of the last loss
+    ratio, with the contraction c = |d_n/d_(n-1)| of the last two changes d, is below tol/10 of it.
+
+    Examples
+    --------
+    >>> fixed_point_settled([0.1, 0.11, 0.1101], 1e-3), fixed_point_settled([0.1, 0.2], 1e-6)
+    (True, False)
+    """
+    if len(history) < 2:
+        return False
+    d1 = abs(history[-1] - history[-2])
+    if d1 <= 1e-15 + 1e-3 * tol * abs(history[-1]):
+        return True
+    if len(history) < 3:
+        return False
+    c = d1 / max(abs(history[-2] - history[-3]), 1e-300)
+    return c < 0.5 and c * d1 / (1.0 - c) <= 0.1 * tol * abs(history[-1])
+
+
+@dataclass
+class TorqueCycle:
+    """The contact cycle at the torque fixed point (:func:`cycle_at_torque`).
+
+    cycle : the last :class:`ContactCycle`; model : its :class:`ContactModel`; torque_V : T_V [N·m];
+    loss_ratio, loss_ratio_err : lambda_bar and its error (exactly 0 without friction);
+    history : the loss ratios of the passes; settled : False when the passes ran out unsettled.
+    """
+
+    cycle: ContactCycle
+    model: ContactModel
+    torque_V: float
+    loss_ratio: float
+    loss_ratio_err: float
+    history: list
+    settled: bool
+
+
+def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
+                    n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool,
+                    friction_in_equilibrium: bool = False, tol: float = 1e-6, passes: int = 8) -> TorqueCycle:
+    r"""The contact cycle under the torque given on V, or on H through the torque fixed point (pins.md §4.7, §7).
+
+    The loss ratio depends (weakly) on the torque, so with the torque given on H the torque on V is
+    iterated to the fixed point
+
+    .. math::
+
+        T_V = \frac{u T_H}{1 - \bar\lambda(T_V)}\ \text{(multiplier)},\qquad
+        T_V = \frac{u T_H}{1 + \bar\lambda(T_V)}\ \text{(reducer)}
+
+    until :func:`fixed_point_settled` (at most ``passes``; one pass when the torque is on V).  A
+    multiplier that self-locks (lambda_bar >= 1) keeps the last solution.
+
+    Parameters
+    ----------
+    g : Cycloid
+        the pin gear.
+    profile : CircularProfile or CycloidProfile
+    law : ContactLaw
+    torque : float
+        T, on V when ``torque_on_V`` else on H [N·m].
+    torque_on_V, multiplier : bool
+        where the torque is given; multiplier (V drives H) or reducer mode.
+    n_discs : int
+        n_d, discs sharing the torque.
+    mu_eff, sliding_friction : float
+        mu_eff and f [-]; rolls : bool, the pins roll.
+    friction_in_equilibrium : bool
+        add the friction forces to the moment balance (pins.md §5.5).
+    tol : float
+        relative accuracy of the cycle mean and of the fixed point.
+
+    Returns
+    -------
+    TorqueCycle
+
+    Raises
+    ------
+    NoEquilibrium
+        no satellite rotation balances the torque; its ``torque_V`` is the T_V tried [N·m].
+    Unresolvable
+        non-finite forces or losses (deflections below the round-off of the pin positions).
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> tc = cycle_at_torque(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 10.0, False,
+    ...                      False, 1, 0.1, 0.1, False, tol=1e-4)
+    >>> tc.settled, 0.0 < tc.loss_ratio < 1.0
+    (True, True)
+
+    References
+    ----------
+    .. [1] pins.md §4.7, §5.5, §7 (torque_shaft).
+    """
+    from . import units
+
+    sigma = MULTIPLIER if multiplier else REDUCER
+    friction = (mu_eff, sliding_friction, rolls) if friction_in_equilibrium else None
+    T = float(torque)
+    lam, cyc, model, T_V, history = 0.0, None, None, None, []
+    settled = True
+    for _ in range(passes):
+        if torque_on_V:
+            T_V = T
+        elif multiplier:
+            if lam >= 1.0:
+                break                      # self-locking: no T_V balances T_H; keep the last solution
+            T_V = g.ratio * T / (1.0 - lam)
+        else:
+            T_V = g.ratio * T / (1.0 + lam)
+        model = ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
+        try:
+            with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
+                cyc = mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol)
+        except NoEquilibrium as exc:
+            exc.torque_V = T_V
+            raise
+        if not (np.isfinite(cyc.loss_ratio) and np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.lam))):
+            raise Unresolvable("non-finite contact forces or losses")
+        history.append(cyc.loss_ratio)
+        lam = cyc.loss_ratio
+        if torque_on_V or fixed_point_settled(history, tol):
+            break
+    else:
+        settled = False
+    E = cyc.loss_ratio_err
+    if mu_eff == 0.0 and sliding_friction == 0.0:
+        lam, E = 0.0, 0.0
+    return TorqueCycle(cyc, model, T_V, lam, E, history, settled)
+
+
 __all__ = [
     "ContactLaw", "contact_law", "palmgren_line_constant",
     "tooth_centre_distance", "zero_backlash_tooth_circle", "full_tooth",
     "CircularProfile", "CycloidProfile", "ContactModel", "NoEquilibrium", "Solution",
     "contact_losses", "mean_loss_ratio", "cycle_breakpoints", "engagement_metrics", "free_play",
+    "backlash", "CyclePeaks", "cycle_peaks", "Unresolvable", "fixed_point_settled", "TorqueCycle", "cycle_at_torque",
     "MULTIPLIER", "REDUCER",
 ]

@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import math
 import time
+from types import SimpleNamespace
 
 from ..calculator import REQUIRED, Calculator, DesignError, Field, Options, Problems, Result, Table
 from ..units import MAX_FORCE_N, MAX_FRICTION, MAX_LENGTH_MM, MAX_SPEED_RPM, MAX_TEETH, MAX_TORQUE_NM, MIN_LENGTH_MM
@@ -151,6 +152,31 @@ def _pin_circle(design):
     return Rp, e * z2 / (k * Rp), (k * Rp - e * z2) / (k * Rp)
 
 
+def _violations(values) -> dict:
+    """The cross-key rules over designs or sweep points (``values(key)``: a key's values, None where absent):
+    per rule's key a boolean array; "geometry": :func:`gearcalc.pins.geometry_violations`.  The one rule set
+    of :func:`check` (one design) and of a vectorised sweep (:func:`_points_pass_checks`)."""
+    import numpy as np
+
+    from .. import pins
+
+    K1g, Rpg = _floats(values("gearing.curtate_ratio")), _floats(values("gearing.pin_circle_radius_mm"))
+    R, r_pl = _floats(values("pin_load.pin_radius_mm")), _floats(values("pin_load.axle_radius_mm"))
+    rot = np.array([bool(v) for v in values("gearing.rotating_pins")])
+    r = _floats(values("gearing.axle_radius_mm"))
+    z1, z2 = values("gearing.satellite_teeth"), values("gearing.pins")
+    has_g = all(v is not None for v in z1 + z2)
+    cycloidal = np.array([p == "cycloidal" for p in values("gearing.profile")])
+    geometry = pins.geometry_violations(
+        z1 if has_g else 0, z2 if has_g else 0, _floats(values("gearing.eccentricity_mm")), Rpg, K1g,
+        _floats(values("gearing.pin_radius_mm")), r, rot, cycloidal)
+    with np.errstate(invalid="ignore"):
+        return {"pin_load.axle_radius_mm": r_pl >= R,
+                "friction.sliding": np.array([v is None for v in values("friction.sliding")]),
+                "gearing.pin_circle_radius_mm": np.isnan(K1g) == np.isnan(Rpg),
+                "gearing.axle_radius_mm": rot & np.isnan(r), "geometry": geometry}
+
+
 def check(design, problems: Problems) -> None:
     """Cross-key checks (pins.md §7, §9); every problem is reported."""
     has_g, has_pl = design.has("gearing"), design.has("pin_load")
@@ -158,9 +184,10 @@ def check(design, problems: Problems) -> None:
         problems.error("gearing", "missing; a pins design needs [gearing] (cycle model: efficiency, losses "
                                   "over the cycle) or [pin_load] (the paper's per-pin formula level)")
         return
+    bad = _violations(lambda key: [design.get(key)])
     if has_pl:
         R, r = design["pin_load.pin_radius_mm"], design["pin_load.axle_radius_mm"]
-        if r >= R:
+        if bad["pin_load.axle_radius_mm"][0]:
             problems.error("pin_load.axle_radius_mm", f"= {_fmt(r)}: must be < pin_load.pin_radius_mm = {_fmt(R)} "
                                                       "(the axle must be smaller than the bushing)")
     if not has_g:
@@ -168,29 +195,30 @@ def check(design, problems: Problems) -> None:
     if not design.has("load"):
         problems.error("load", "missing; a design with [gearing] needs [load] (mode, torque_shaft, torque_Nm, "
                                "crank_speed_rpm)")
-    if design["friction.sliding"] is None:
+    if bad["friction.sliding"][0]:
         problems.error("friction.sliding", "missing; required with [gearing] (f, tooth-pin sliding friction; "
                                            "it also drives rotating pins), a number >= 0")
     z1, z2 = design["gearing.satellite_teeth"], design["gearing.pins"]
     e, Rb = design["gearing.eccentricity_mm"], design["gearing.pin_radius_mm"]
-    ok_teeth = z2 > z1
+    geo = bad["geometry"]
+    ok_teeth = not geo.teeth[0]
     if not ok_teeth:
         problems.error("gearing.pins", f"= {z2}: z2 must exceed z1 (k = z2 - z1 >= 1); "
                                        f"gearing.satellite_teeth = {z1}")
     Rp_given, K1_given = design["gearing.pin_circle_radius_mm"], design["gearing.curtate_ratio"]
-    if (Rp_given is None) == (K1_given is None):
+    if bad["gearing.pin_circle_radius_mm"][0]:
         problems.error("gearing.pin_circle_radius_mm",
                        "give exactly one of gearing.pin_circle_radius_mm (R_p) and gearing.curtate_ratio "
                        f"(K1 = e*z2/(k*R_p)); {'both' if Rp_given is not None else 'neither'} given")
     elif ok_teeth:
         Rp, K1, _ = _pin_circle(design)
         k = z2 - z1
-        if K1_given is not None and not math.isfinite(Rp):        # e.g. K1 = 5e-324: R_p = inf (was exit 70)
+        if geo.overflow[0]:        # e.g. K1 = 5e-324: R_p = inf (was exit 70)
             problems.error("gearing.curtate_ratio", f"= {_fmt(K1)}: R_p = e*z2/(k*K1) overflows (K1 too small for "
                                                     f"e = {_fmt(e)} mm and z2/k = {_fmt(z2 / k)}); give a larger K1 or "
                                                     "gearing.pin_circle_radius_mm")
             return
-        if design["gearing.profile"] == "cycloidal" and K1 >= 1.0:
+        if geo.curtate[0]:
             if K1_given is not None:
                 problems.error("gearing.curtate_ratio", f"= {_fmt(K1)}: K1 = e*z2/(k*R_p) must be < 1 "
                                                         "(a curtate cycloid)")
@@ -199,15 +227,15 @@ def check(design, problems: Problems) -> None:
                                f"= {_fmt(Rp)}: K1 = e*z2/(k*R_p) = {_fmt(K1)} must be < 1: R_p must exceed "
                                f"e*z2/k = {_fmt(e * z2 / k)} mm (or reduce gearing.eccentricity_mm = {_fmt(e)})")
         limit = Rp * math.sin(math.pi / z2)
-        if Rb >= limit:
+        if geo.overlap[0]:
             problems.error("gearing.pin_radius_mm", f"= {_fmt(Rb)}: pins overlap: R_b must be < R_p*sin(pi/z2) = "
                                                     f"{_fmt(limit)} mm (R_p = {_fmt(Rp)} mm, z2 = {z2})")
     if design["gearing.rotating_pins"]:
         r = design["gearing.axle_radius_mm"]
-        if r is None:
+        if bad["gearing.axle_radius_mm"][0]:
             problems.error("gearing.axle_radius_mm", "missing; required with rotating_pins = true (r, axle "
                                                      "radius, > 0 and < pin_radius_mm)")
-        elif r >= Rb:
+        elif geo.axle[0]:
             problems.error("gearing.axle_radius_mm", f"= {_fmt(r)}: must be < gearing.pin_radius_mm = {_fmt(Rb)} "
                                                      "(the axle must be smaller than the bushing)")
     rho_t = design["gearing.tooth_radius_mm"]
@@ -560,14 +588,9 @@ def _formula_columns(values, n: int) -> dict:
     R, r = _floats(values("pin_load.pin_radius_mm")), _floats(values("pin_load.axle_radius_mm"))
     fk, fc, f = (_floats(values(k)) for k in ("friction.rolling_mm", "friction.axle", "friction.sliding"))
     paper = np.array([bool(v) for v in values("pin_load.paper_pi")])
-    omega = pins.pin_angular_speed(n_pin, False)
-    omega = np.where(paper, omega * (pins.PAPER_PI / math.pi), omega)
-    f1 = pins.rolling_friction_force(F, fk, R)
-    f2 = pins.axle_friction_force(F, fc)
-    p1, p2 = pins.friction_power(f1, omega, R), pins.friction_power(f2, omega, r)
-    fix = pins.friction_power(f * F, omega, R)
-    return {k: _column(v) for k, v in (("F_tr1_N", f1), ("F_tr2_N", f2), ("P_tr1_W", p1), ("P_tr2_W", p2),
-                                        ("P_tr_W", p1 + p2), ("P_tr_fixed_W", fix))}
+    res = pins.formula_losses(F, n_pin, R, r, fk, fc, paper_pi=paper, sliding_friction=f)
+    return {k: _column(v) for k, v in (("F_tr1_N", res.F_tr1), ("F_tr2_N", res.F_tr2), ("P_tr1_W", res.P_tr1),
+                                        ("P_tr2_W", res.P_tr2), ("P_tr_W", res.P_tr), ("P_tr_fixed_W", res.P_tr_fixed))}
 
 
 # ---------------------------------------------------------------- cycle levels: operating points
@@ -625,66 +648,11 @@ def _float64(v):
     return np.float64(math.nan if v is None else v)
 
 
-class _Scalars:
-    """The few numpy functions of the operating-point formulas, for one point of scalars.
+def _words_equal(words, word, one: bool):
+    """Whether each word of an operating-point column is ``word`` (one point: a bool; else an array)."""
+    import numpy as np
 
-    The formulas of :func:`_friction_arrays`, :func:`_efficiency_torques` and :func:`_ideal_columns` take
-    ``xp``: numpy (arrays over points) or this class (one design, numpy float64 scalars).  Scalar float64
-    operations round exactly as the element operations on arrays do, and overflow or divide by zero to inf
-    or NaN as they do, so one design computed on scalars equals the same design in a batch, bit for bit,
-    without the cost of numpy calls on arrays of one element."""
-
-    nan = math.nan
-
-    @staticmethod
-    def where(cond, a, b):
-        return a if cond else b
-
-    @staticmethod
-    def maximum(a, b):
-        return a if a != a or a >= b else b          # as np.maximum: NaN propagates
-
-    abs = staticmethod(abs)
-
-    @staticmethod
-    def isnan(x) -> bool:
-        return x != x
-
-    @staticmethod
-    def degrees(x):
-        return x * (180.0 / math.pi)                 # as numpy's rad2deg
-
-    @staticmethod
-    def words_equal(words, word) -> bool:
-        return words == word
-
-    @staticmethod
-    def as_int(x) -> int:
-        return int(x)
-
-
-class _Arrays:
-    """numpy for the formulas that take ``xp`` (see :class:`_Scalars`), over arrays of points."""
-
-    def __getattr__(self, name):
-        import numpy as np
-
-        return getattr(np, name)
-
-    @staticmethod
-    def words_equal(words, word):
-        import numpy as np
-
-        return np.array([w == word for w in words])
-
-    @staticmethod
-    def as_int(x):
-        import numpy as np
-
-        return np.asarray(x).astype(np.int64)
-
-
-_ARRAYS = _Arrays()
+    return words == word if one else np.array([w == word for w in words])
 
 
 def _friction_regime(design, op):
@@ -700,44 +668,25 @@ def _friction_regime(design, op):
     return mu, rolls, ok
 
 
-def _friction_arrays(rotating, Rb, r, op, xp=_ARRAYS):
-    """(mu_eff, rolls, rolling condition) per point, with rotating pins, R_b and r per point (pins.md §4.5-4.6).
-
-    Fixed pins slide with f; rotating pins roll with mu_rot = (f_c r + f_k)/R_b when f R_b >= f_c r + f_k,
-    else they slide with f.  The condition is only meaningful where ``rotating``.  Arrays, or the scalars
-    of one point with ``xp = _Scalars``."""
+def _friction_arrays(rotating, Rb, r, op, xp=None):
+    """(mu_eff, rolls, rolling condition) per point (:func:`gearcalc.pins.friction_regime`); the condition
+    is only meaningful where ``rotating``."""
     from .. import pins
 
-    f, fk, fc = op["friction.sliding"], op["friction.rolling_mm"], op["friction.axle"]
-    ok = rotating & pins.rolling_condition(f, Rb, fc, r, fk)          # NaN r (fixed pins) compares False
-    mu = xp.where(ok, pins.rotating_loss_coefficient(fc, r, fk, Rb), f)
+    mu, ok = pins.friction_regime(rotating, Rb, r, op["friction.sliding"], op["friction.rolling_mm"],
+                                  op["friction.axle"], xp or pins.ARRAY_OPS)
     return mu, ok, ok
 
 
-def _efficiency_torques(lam, E, op, ratio, xp=_ARRAYS) -> dict:
-    """Efficiencies, self-locking and shaft torques from loss ratios, per operating point (pins.md §4.7).
-
-    Arrays (or one point's scalars with ``xp = _Scalars``); NaN marks an undefined value (no efficiency when the
-    multiplier self-locks, no T_V when it self-locks with the torque given on H).  Keys: locked, eta_vh,
-    eta_vh_err, eta_hv, eta_hv_err, efficiency, efficiency_err, T_V, T_H, torque_in, torque_out [N·m]."""
+def _efficiency_torques(lam, E, op, ratio, xp=None):
+    """:func:`gearcalc.pins.efficiency_torques` of the operating points ``op`` (pins.md §4.7)."""
     from .. import pins
 
-    multiplier = xp.words_equal(op["load.mode"], "multiplier")
-    on_V = xp.words_equal(op["load.torque_shaft"], "V")
-    T = op["load.torque_Nm"]
-    locked = lam >= 1.0
-    eta_vh = xp.where(locked, xp.nan, pins.efficiency_multiplier(lam))
-    eta_hv = pins.efficiency_reducer(lam)
-    eta_hv_err = E / ((1.0 + lam) * (1.0 + lam))
-    T_V = xp.where(on_V, T, xp.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))    # NaN: no warning
-    T_H = xp.where(on_V, xp.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
-    return {
-        "locked": locked, "eta_vh": eta_vh, "eta_vh_err": xp.where(locked, xp.nan, E), "eta_hv": eta_hv,
-        "eta_hv_err": eta_hv_err, "efficiency": xp.where(multiplier, eta_vh, eta_hv),
-        "efficiency_err": xp.where(multiplier, xp.where(locked, xp.nan, E), eta_hv_err),
-        "self_locking": locked & multiplier, "T_V": T_V, "T_H": T_H,
-        "torque_in": xp.where(multiplier, T_V, T_H), "torque_out": xp.where(multiplier, T_H, T_V),
-    }
+    xp = xp or pins.ARRAY_OPS
+    one = xp is pins.SCALAR_OPS
+    multiplier = _words_equal(op["load.mode"], "multiplier", one)
+    return pins.efficiency_torques(lam, E, op["load.torque_Nm"], ratio, multiplier,
+                                   _words_equal(op["load.torque_shaft"], "V", one), xp)
 
 
 class IdealColumns:
@@ -773,11 +722,11 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
     ``values(key)`` gives a key's values over the points (None where absent).  The distinct geometries
     are solved once each, together (gearcalc.pins.ideal_cycles, unit scalings); every point then
     scales its geometry's solution by its friction, torque, speed and mode.  One point (a design computed
-    alone) runs the same formulas on scalars (:class:`_Scalars`): the same numbers, bit for bit, without
+    alone) runs the same formulas on scalars (``gearcalc.pins.SCALAR_OPS``): the same numbers, bit for bit, without
     the cost of numpy calls on arrays of one element."""
     import numpy as np
 
-    from .. import pins, units
+    from .. import pins
 
     one = n == 1
     if one:                                   # scalars (NaN where absent), as _floats gives
@@ -789,7 +738,7 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
                                                 "gearing.curtate_ratio", "gearing.pin_circle_radius_mm"))
         rot, r = bool(values("gearing.rotating_pins")[0]), num("gearing.axle_radius_mm")
         useK = K1g == K1g
-        xp = _Scalars
+        xp = pins.SCALAR_OPS
     else:
         z1 = np.array(values("gearing.satellite_teeth"), dtype=np.int64)
         z2 = np.array(values("gearing.pins"), dtype=np.int64)
@@ -799,7 +748,7 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
         rot = np.array([bool(v) for v in values("gearing.rotating_pins")])
         r = _floats(values("gearing.axle_radius_mm"))
         useK = ~np.isnan(K1g)                 # pins.md §7: R_p or K1 (as _pin_circle); NaN raises no warning
-        xp = _ARRAYS
+        xp = pins.ARRAY_OPS
     k = z2 - z1
     Rp = xp.where(useK, e * z2 / (k * K1g), Rpg)
     omk = xp.where(useK, 1.0 - K1g, (k * Rp - e * z2) / (k * Rp))
@@ -851,32 +800,26 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
     mu, rolls, rolling_ok = _friction_arrays(rot, Rb, r, op, xp)
     lam, E = mu * field("loss_ratio"), mu * field("loss_ratio_err")
     et = _efficiency_torques(lam, E, op, z1 / k, xp)
-    T_sat = units.nm_to_nmm(et["T_V"]) / n_d                                   # N·mm per disc
-    w_V = units.rpm_to_rad_s(op["load.crank_speed_rpm"]) * k / z1             # |omega_V| [rad/s]
-    F_max = T_sat * field("force")                                             # N
-    spin_rpm = units.rad_s_to_rpm(w_V) / Rb                                    # rpm per mm of rho - R_b
-    rel_min, rel_max, rel_abs = field("rel_min"), field("rel_max"), field("rel_abs")
-    v_max = w_V * rel_abs                                                      # mm/s
-    zero = 0.0 * w_V
-    reversals = xp.as_int(rolls & (psi_0 < psi_star))             # NaN (no reversal) compares False
+    unit = SimpleNamespace(**{name: field(name) for name in ("force", "total", "loss", "rel_min", "rel_max",
+                                                             "rel_abs", "force_phase", "loss_phase")},
+                           psi_0=psi_0, psi_star=psi_star)
+    sc = pins.scale_unit_cycle(unit, lam, mu, rolls, op["friction.sliding"], et.T_V, n_d,
+                               op["load.crank_speed_rpm"], z1, k, Rb, xp)
+    T_sat, w_V = sc.torque_sat, sc.omega_V
     arrays = {
-        "efficiency": et["efficiency"], "efficiency_err": et["efficiency_err"], "self_locking": et["self_locking"],
-        "efficiency_multiplier": et["eta_vh"], "efficiency_multiplier_err": et["eta_vh_err"],
-        "efficiency_reducer": et["eta_hv"], "efficiency_reducer_err": et["eta_hv_err"], "loss_ratio": lam,
-        "loss_ratio_err": E, "torque_in_Nm": et["torque_in"], "torque_out_Nm": et["torque_out"],
-        "loss_mean_W": lam * et["T_V"] * w_V, "loss_peak_W": mu * T_sat * w_V * field("total"),
-        "pin_force_max_N": F_max, "pin_loss_max_W": mu * T_sat * w_V * field("loss"),
-        "pin_loss_bound_W": xp.where(rolls, mu, op["friction.sliding"]) * F_max * v_max * 1e-3,
-        "pin_speed_max_rpm": xp.where(rolls, spin_rpm * xp.maximum(xp.abs(rel_min), xp.abs(rel_max)), zero),
-        "pin_speed_signed_min_rpm": xp.where(rolls, spin_rpm * rel_min, zero),
-        "pin_speed_signed_max_rpm": xp.where(rolls, spin_rpm * rel_max, zero),
-        "spin_reversals": reversals,
-        "sliding_speed_max_m_s": xp.where(rolls, zero, v_max / units.MM_PER_M),
+        "efficiency": et.efficiency, "efficiency_err": et.efficiency_err, "self_locking": et.self_locking,
+        "efficiency_multiplier": et.eta_vh, "efficiency_multiplier_err": et.eta_vh_err,
+        "efficiency_reducer": et.eta_hv, "efficiency_reducer_err": et.eta_hv_err, "loss_ratio": lam,
+        "loss_ratio_err": E, "torque_in_Nm": et.torque_in, "torque_out_Nm": et.torque_out,
+        "loss_mean_W": sc.loss_mean, "loss_peak_W": sc.loss_peak,
+        "pin_force_max_N": sc.force_max, "pin_loss_max_W": sc.loss_max, "pin_loss_bound_W": sc.loss_bound,
+        "pin_speed_max_rpm": sc.spin_abs_max, "pin_speed_signed_min_rpm": sc.spin_min,
+        "pin_speed_signed_max_rpm": sc.spin_max, "spin_reversals": sc.spin_reversals,
+        "sliding_speed_max_m_s": sc.sliding_speed_max,
         "ratio": z1 / k, "curtate_ratio": K1, "loaded_pins_min": field("loaded_min"),
         "loaded_pins_max": field("loaded_max"), "psi_star_deg": xp.degrees(psi_star), "n_crank": field("n_crank"),
         "tolerance_met": field("converged"),
-        "pin_force_max_phase_deg": xp.where(xp.isnan(F_max), xp.nan, xp.degrees(field("force_phase"))),
-        "pin_loss_max_phase_deg": xp.where(xp.isnan(mu * T_sat * w_V), xp.nan, xp.degrees(field("loss_phase"))),
+        "pin_force_max_phase_deg": sc.force_phase, "pin_loss_max_phase_deg": sc.loss_phase,
     }
     if one:
         columns = {"model": ["ideal"], "mode": [op["load.mode"]], "profile": ["cycloidal"], "rotating_pins": [rot],
@@ -996,20 +939,17 @@ def _points_pass_checks(base, values, n: int, level: str) -> bool:
     point evaluation, which reports it with the loader's message."""
     import numpy as np
 
-    if base.has("pin_load"):
-        R, r = _floats(values("pin_load.pin_radius_mm")), _floats(values("pin_load.axle_radius_mm"))
-        if np.any(r >= R):
-            return False
+    bad = _violations(values)
+    if base.has("pin_load") and np.any(bad["pin_load.axle_radius_mm"]):
+        return False
     if level == "formula":
         return True
-    if any(v is None for v in values("friction.sliding")):
+    if np.any(bad["friction.sliding"]) or np.any(bad["geometry"].teeth) or np.any(bad["gearing.pin_circle_radius_mm"]):
         return False
     z1 = np.array(values("gearing.satellite_teeth"), dtype=np.int64)
     z2 = np.array(values("gearing.pins"), dtype=np.int64)
     e, Rb = _floats(values("gearing.eccentricity_mm")), _floats(values("gearing.pin_radius_mm"))
     K1g, Rpg = _floats(values("gearing.curtate_ratio")), _floats(values("gearing.pin_circle_radius_mm"))
-    if np.any(z2 <= z1) or np.any(np.isnan(K1g) == np.isnan(Rpg)):
-        return False
     n_d = np.array(values("gearing.discs"), dtype=np.int64)
     if np.any(z2 * n_d > IDEAL_WORK_MAX):          # cost_problem: reported point by point
         return False
@@ -1017,17 +957,7 @@ def _points_pass_checks(base, values, n: int, level: str) -> bool:
     geometries = np.unique(key, axis=0)         # each distinct geometry is solved once (_ideal_columns)
     if float((geometries[:, 1] * geometries[:, 2]).sum()) > IDEAL_SWEEP_WORK_MAX:
         return False   # point by point instead (bounded memory, one progress step per point)
-    k = z2 - z1
-    Rp = np.where(np.isnan(K1g), Rpg, e * z2 / (k * np.where(np.isnan(K1g), 1.0, K1g)))
-    K1 = np.where(np.isnan(K1g), e * z2 / (k * Rp), K1g)
-    zs, inv = np.unique(z2, return_inverse=True)
-    limit = Rp * np.array([math.sin(math.pi / int(z)) for z in zs])[inv.reshape(-1)]   # as check()
-    if np.any(K1 >= 1.0) or np.any(Rb >= limit):
-        return False
-    rot = np.array([bool(v) for v in values("gearing.rotating_pins")])
-    r = _floats(values("gearing.axle_radius_mm"))
-    with np.errstate(invalid="ignore"):
-        return not np.any(rot & (np.isnan(r) | (r >= Rb)))
+    return not (np.any(bad["geometry"].any()) or np.any(bad["gearing.axle_radius_mm"]))
 
 
 def _contact_law(design):
@@ -1136,84 +1066,43 @@ def _contact(design, options: Options, summary, warnings, failed, detail) -> Non
     op = _operating_points(design)
     mu_a, rolls_a, rolling_ok = _friction_regime(design, op)
     mu, rolls, f = float(mu_a[0]), bool(rolls_a[0]), float(design["friction.sliding"])
-    multiplier = design["load.mode"] == "multiplier"
-    sigma = pins.MULTIPLIER if multiplier else pins.REDUCER
-    friction = (mu, f, rolls) if design.get("contact.friction_in_equilibrium", False) else None
-    on_V = design["load.torque_shaft"] == "V"
-    T = float(design["load.torque_Nm"])
-    lam, cyc, T_V, history = 0.0, None, None, []
-    for _ in range(8):                    # the torque fixed point (one pass when T is given on V)
-        if on_V:
-            T_V = T
-        elif multiplier:
-            if lam >= 1.0:
-                break                      # self-locking: no T_V balances T_H; keep the last solution
-            T_V = g.ratio * T / (1.0 - lam)
-        else:
-            T_V = g.ratio * T / (1.0 + lam)
-        model = pc.ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_d, sigma, friction)
-        try:
-            with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
-                cyc = pc.mean_loss_ratio(model, mu, f, rolls, tol=options.tol)
-        except pc.NoEquilibrium as exc:
-            key = ("gearing.tooth_circle_radius_mm" if design["gearing.profile"] == "circular"
-                   else "gearing.equidistant_mod_mm")
-            raise DesignError(key, f"= {design[key]}: no contact can carry the torque at crank angle "
-                                   f"{_fmt(math.degrees(float(exc.theta[0])))} deg: no satellite rotation within "
-                                   f"+-180/z1 = {_fmt(180.0 / z1)} deg balances T_V = {_fmt(T_V)} N*m (the teeth "
-                                   "do not mesh with the pins, or the torque crushes the contacts; pins.md "
-                                   "§5.5)") from None
-        if not (np.isfinite(cyc.loss_ratio) and np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.lam))):
-            raise DesignError("gearing.eccentricity_mm",
-                              f"= {_fmt(e)}: the contact level cannot resolve this geometry in floating point "
-                              f"(R_p = {_fmt(Rp)} mm, e = {_fmt(e)} mm, R_b = {_fmt(Rb)} mm: the deflections are "
-                              "below the round-off of the pin positions)")
-        history.append(cyc.loss_ratio)
-        lam = cyc.loss_ratio
-        if on_V or _fixed_point_settled(history, options.tol):
-            break
-    else:
+    try:
+        tc = pc.cycle_at_torque(g, profile, law, design["load.torque_Nm"], design["load.torque_shaft"] == "V",
+                                design["load.mode"] == "multiplier", n_d, mu, f, rolls,
+                                design.get("contact.friction_in_equilibrium", False), tol=options.tol)
+    except pc.NoEquilibrium as exc:
+        key = ("gearing.tooth_circle_radius_mm" if design["gearing.profile"] == "circular"
+               else "gearing.equidistant_mod_mm")
+        raise DesignError(key, f"= {design[key]}: no contact can carry the torque at crank angle "
+                               f"{_fmt(math.degrees(float(exc.theta[0])))} deg: no satellite rotation within "
+                               f"+-180/z1 = {_fmt(180.0 / z1)} deg balances T_V = {_fmt(exc.torque_V)} N*m (the teeth "
+                               "do not mesh with the pins, or the torque crushes the contacts; pins.md "
+                               "§5.5)") from None
+    except pc.Unresolvable:
+        raise DesignError("gearing.eccentricity_mm",
+                          f"= {_fmt(e)}: the contact level cannot resolve this geometry in floating point "
+                          f"(R_p = {_fmt(Rp)} mm, e = {_fmt(e)} mm, R_b = {_fmt(Rb)} mm: the deflections are "
+                          "below the round-off of the pin positions)") from None
+    if not tc.settled:
         warnings.append(f"the torque fixed point T_V = u T_H/eta did not settle in 8 passes (loss ratios "
-                        f"{history[-2]:.10g}, {history[-1]:.10g})")
-    E = cyc.loss_ratio_err
-    if mu == 0.0 and f == 0.0:
-        lam, E = 0.0, 0.0
+                        f"{tc.history[-2]:.10g}, {tc.history[-1]:.10g})")
+    cyc, model, T_V, lam, E = tc.cycle, tc.model, tc.torque_V, tc.loss_ratio, tc.loss_ratio_err
     et = _efficiency_torques(np.array([lam]), np.array([E]), op, g.ratio)
     sol = cyc.sol
     n_H = design["load.crank_speed_rpm"]
     w_H = units.rpm_to_rad_s(n_H) if n_H is not None else None
-    Fmax_c = sol.force                                                     # (c, z2, n)
-    loaded_c = Fmax_c > 0.0
-    loaded = loaded_c.any(axis=0)
-    F_pin = Fmax_c.max(axis=0)
-    loss_pin = cyc.loss.sum(axis=0)                                        # N·mm/s per rad/s
-    t = sol.theta / g.period
-    if n_d == 1:
-        i = np.unravel_index(int(np.argmax(F_pin)), F_pin.shape)
-        F1, phF = float(F_pin[i]), float(sol.phase[i])
-        i = np.unravel_index(int(np.argmax(loss_pin)), loss_pin.shape)
-        P1, phP = float(loss_pin[i]), float(sol.phase[i])
-        tot = float(loss_pin.sum(axis=0).max())
-    else:
-        F1, phF = _disc_sum_peak(sol.phase, loaded, F_pin, n_d)
-        P1, phP = _disc_sum_peak(sol.phase, loaded, loss_pin, n_d)
-        tot = float(pins.sum_over_discs(t, loss_pin.sum(axis=0), pins.disc_offsets(n_d, z2), 1.0).max())
-    vt_load = np.abs(sol.v_t[loaded_c]) if loaded_c.any() else np.zeros(1)
-    spin_load = cyc.spin[loaded] if rolls else np.zeros(1)
-    slide_load = cyc.slide[loaded_c] if loaded_c.any() else np.zeros(1)
-    metrics = pc.engagement_metrics(sol, cyc.spin if rolls else np.zeros(F_pin.shape))
-    counts = loaded.sum(axis=0)
-    observed = sol.phase[loaded]
+    pk = pc.cycle_peaks(cyc, g, n_d, rolls)
+    metrics = pc.engagement_metrics(sol, cyc.spin if rolls else np.zeros(sol.force.shape[1:]))
     backlash = _backlash(model, profile, design)
     s = {
         "model": "contact", "profile": design["gearing.profile"], "rotating_pins": design["gearing.rotating_pins"],
         "mode": design["load.mode"], "ratio": g.ratio, "curtate_ratio": g.K1,
         "rolling_ok": None if rolling_ok is None else bool(rolling_ok[0]),
         "loss_ratio": lam, "loss_ratio_err": E, "n_crank": cyc.n_crank, "tolerance_met": bool(cyc.converged),
-        "pin_force_max_N": F1 if math.isfinite(T_V) else None,
-        "pin_force_max_phase_deg": math.degrees(phF), "loaded_pins_min": int(counts.min()),
-        "loaded_pins_max": int(counts.max()),
-        "psi_star_deg": math.degrees(float(observed.max())) if observed.size else None,
+        "pin_force_max_N": pk.force if math.isfinite(T_V) else None,
+        "pin_force_max_phase_deg": math.degrees(pk.force_phase), "loaded_pins_min": pk.loaded_min,
+        "loaded_pins_max": pk.loaded_max,
+        "psi_star_deg": math.degrees(pk.psi_star) if pk.psi_star is not None else None,
         "exit_entry_force_ratio": metrics["exit_entry_force_ratio"],
         "low_spin_fraction": metrics["low_spin_fraction"], "spin_reversals": metrics["spin_reversals"],
         "te_pp_arcsec": math.degrees(float(sol.tau.max() - sol.tau.min())) * 3600.0,
@@ -1227,20 +1116,20 @@ def _contact(design, options: Options, summary, warnings, failed, detail) -> Non
                       ("efficiency_multiplier_err", "eta_vh_err"), ("efficiency_reducer", "eta_hv"),
                       ("efficiency_reducer_err", "eta_hv_err"), ("torque_in_Nm", "torque_in"),
                       ("torque_out_Nm", "torque_out")):
-        s[key] = _plain(et[name][0])
+        s[key] = _plain(getattr(et, name)[0])
     if w_H is not None:
         Pw = w_H * 1e-3                                                   # W per (N·mm/s per rad/s)
         s["loss_mean_W"] = lam * T_V * (w_H * g.k / g.z1)
-        s["loss_peak_W"] = tot * Pw
-        s["pin_loss_max_W"] = P1 * Pw
-        s["pin_loss_max_phase_deg"] = math.degrees(phP)
+        s["loss_peak_W"] = pk.total * Pw
+        s["pin_loss_max_W"] = pk.loss * Pw
+        s["pin_loss_max_phase_deg"] = math.degrees(pk.loss_phase)
         coeff = mu if rolls else f
-        s["pin_loss_bound_W"] = coeff * F1 * float(vt_load.max()) * Pw
+        s["pin_loss_bound_W"] = coeff * pk.force * pk.contact_speed * Pw
         rpm = units.rad_s_to_rpm(w_H)
-        s["pin_speed_max_rpm"] = float(np.abs(spin_load).max()) * rpm if rolls else 0.0
-        s["pin_speed_signed_min_rpm"] = float(spin_load.min()) * rpm if rolls else 0.0
-        s["pin_speed_signed_max_rpm"] = float(spin_load.max()) * rpm if rolls else 0.0
-        s["sliding_speed_max_m_s"] = (float(slide_load.max()) if rolls else float(vt_load.max())) * w_H / units.MM_PER_M
+        s["pin_speed_max_rpm"] = pk.spin_abs * rpm if rolls else 0.0
+        s["pin_speed_signed_min_rpm"] = pk.spin_min * rpm if rolls else 0.0
+        s["pin_speed_signed_max_rpm"] = pk.spin_max * rpm if rolls else 0.0
+        s["sliding_speed_max_m_s"] = (pk.slide if rolls else pk.contact_speed) * w_H / units.MM_PER_M
     summary.update(s)
     _cycle_notes(design, summary, options, warnings, failed)
     if s["equilibrium_residual"] > 1e-9:
@@ -1249,51 +1138,16 @@ def _contact(design, options: Options, summary, warnings, failed, detail) -> Non
         detail.update(_contact_detail(g, sol, cyc, T_V, w_H, n_d))
 
 
-def _fixed_point_settled(history, tol: float) -> bool:
-    """Whether the torque fixed point has settled: the remaining error c |d_n|/(1 - c) of the last loss
-    ratio, with the contraction c = |d_n/d_(n-1)| of the last two changes d, is below tol/10 of it."""
-    if len(history) < 2:
-        return False
-    d1 = abs(history[-1] - history[-2])
-    if d1 <= 1e-15 + 1e-3 * tol * abs(history[-1]):
-        return True
-    if len(history) < 3:
-        return False
-    c = d1 / max(abs(history[-2] - history[-3]), 1e-300)
-    return c < 0.5 and c * d1 / (1.0 - c) <= 0.1 * tol * abs(history[-1])
-
-
 def _backlash(model, profile, design):
-    """backlash_deg: the satellite's angular play at no load, both flanks [deg] (pins.md §5.3).
-
-    For each flank, the least rotation over the cycle from the nominal position to the first contact
-    (:func:`gearcalc.pins_contact.free_play`), summed over the two flanks: 0 for an unmodified cycloid
-    and for the zero-backlash tooth circle (it touches the pins' paths), positive with clearance.
-    Sampled on 129 crank angles of one period, each least value refined by golden-section search
-    between the neighbouring angles."""
-    import numpy as np
-
+    """backlash_deg (pins.md §5.3): 0 without play by construction (an unmodified cycloid, the zero-backlash
+    tooth circle), else :func:`gearcalc.pins_contact.backlash`."""
     from .. import pins_contact as pc
-    from ..roots import minimize_golden
 
     if design["gearing.profile"] == "cycloidal" and not _modified(design):
         return 0.0
     if design["gearing.profile"] == "circular" and design["gearing.tooth_circle_radius_mm"] == "zero_backlash":
         return 0.0
-    Tp = model.g.period
-    theta = np.linspace(0.0, Tp, 129)
-    total = 0.0
-    for side in (0, 1):
-        def play(x, side=side):
-            pair = pc.free_play(model, np.atleast_1d(x))
-            return np.reshape(np.abs(pair[side]), np.shape(x))
-
-        p = play(theta)
-        i = int(np.argmin(p))
-        a, b = theta[max(i - 1, 0)], theta[min(i + 1, theta.size - 1)]
-        res = minimize_golden(play, a, b, rtol=1e-9)
-        total += min(float(res.fun), float(p[i]))
-    return math.degrees(total)
+    return math.degrees(pc.backlash(model))
 
 
 def _contact_detail(g, sol, cyc, T_V, w_H, n_d):
@@ -1325,14 +1179,6 @@ def _contact_detail(g, sol, cyc, T_V, w_H, n_d):
     return {"crank": crank, "contacts": contacts}
 
 
-def _disc_sum_peak(phase, loaded, values, n_d: int):
-    """Peak over the cycle and the pins of a per-contact quantity summed over n_d discs, and its phase
-    (gearcalc.pins.disc_sum_peak on the loaded contacts of the first disc; pins.md §12.7)."""
-    from .. import pins
-
-    return pins.disc_sum_peak(phase[loaded], values[loaded], n_d)
-
-
 def _rows(columns: dict) -> list[dict]:
     """Rows (dicts) from equal-length columns; a None column stays None in every row."""
     n = max(len(v) for v in columns.values() if v is not None)
@@ -1343,42 +1189,18 @@ def _rows(columns: dict) -> list[dict]:
 
 
 def _detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1):
-    """Rows of the final grid (pins.md §8): ``crank`` (one per crank angle: the loss ratio and loss of
-    all discs, the loaded pins of the first) and ``contacts`` (one per loaded contact of the first disc);
-    piece ends appear twice (the one-sided limits of both sides)."""
+    """Rows of the final grid (pins.md §8, :func:`gearcalc.pins.cycle_detail`): ``crank`` (one per crank
+    angle: the loss ratio and loss of all discs, the loaded pins of the first) and ``contacts`` (one per
+    loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides)."""
     import numpy as np
 
-    from .. import pins, units
+    from .. import pins
 
-    Tp_deg = 360.0 / g.z2
-    lam = mu * np.sum(st.lever * np.abs(st.rho - g.R_b), axis=0) / st.S
-    if n_d > 1:   # all discs: the mean of the discs' shifted histories (pins.md §12.7)
-        lam = pins.sum_over_discs(t, lam, pins.disc_offsets(n_d, g.z2), 1.0) / n_d
-    if sigma == pins.MULTIPLIER:      # theta = T_p t, pin i = -j mod z2
-        theta, pin_shift, pin_sign = t * Tp_deg, 0, -1
-    else:                             # theta = T_p (1 - t), pin i = j + 1 mod z2
-        theta, pin_shift, pin_sign = (1.0 - t) * Tp_deg, 1, 1
-    order = np.argsort(theta, kind="stable")
-    have_P = T_sat is not None and omega_V is not None
-    crank = _rows({
-        "theta_deg": theta[order], "TE_arcsec": np.zeros(order.size), "loss_ratio": lam[order],
-        "loss_W": (lam * (n_d * T_sat * abs(omega_V) * 1e-3))[order] if have_P else None,
-        "loaded_pins": st.loaded.sum(axis=0)[order],
-    })
-    loaded = st.loaded[:, order]
-    jj, nn = np.nonzero(loaded.T)[1], order[np.nonzero(loaded.T)[0]]      # row-major by node, then pin
-    F = T_sat * st.lever[jj, nn] / st.S[nn] if T_sat is not None else None
-    v = pins.sliding_speed(st.rho[jj, nn], g.R_b, omega_V) if omega_V is not None else None
-    if omega_V is not None:
-        spin = units.rad_s_to_rpm(pins.pin_spin(st.rho[jj, nn], g.R_b, omega_V)) if rolls else np.zeros(jj.size)
-        slide = np.zeros(jj.size) if rolls else v / units.MM_PER_M
-    else:
-        spin = slide = None
-    contacts = _rows({
-        "theta_deg": theta[nn], "pin": (pin_sign * jj + pin_shift) % g.z2,
-        "phase_deg": np.degrees(st.phase[jj, nn]), "force_N": F, "sliding_speed_m_s": slide,
-        "pin_speed_rpm": spin, "loss_W": pins.contact_loss_power(F, v, mu) if have_P else None,
-    })
+    d = pins.cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d)
+    crank = _rows({"theta_deg": d.theta, "TE_arcsec": np.zeros(d.theta.size), "loss_ratio": d.loss_ratio,
+                   "loss_W": d.loss, "loaded_pins": d.loaded})
+    contacts = _rows({"theta_deg": d.contact_theta, "pin": d.pin, "phase_deg": d.phase, "force_N": d.force,
+                      "sliding_speed_m_s": d.sliding_speed, "pin_speed_rpm": d.pin_speed, "loss_W": d.contact_loss})
     return {"crank": crank, "contacts": contacts}
 
 
