@@ -248,26 +248,44 @@ def _header_lines(field: str, width: int) -> list[str]:
     return lines + ([f"[{unit}]"] if unit else [])
 
 
+def _cells(text: str) -> int:
+    """Terminal cells a text takes (a wide character takes two, a combining one none)."""
+    from rich.cells import cell_len
+
+    return cell_len(text)
+
+
 def _column_width(field: str, cells: list[str]) -> int:
     base, unit = split_unit(field)
-    data = max(map(len, cells), default=1)
+    data = max(map(_cells, cells), default=1)
     longest_part = max(map(len, re.split(r"(?<=_)", base)), default=1)
     return max(data, len(unit) + 2 if unit else 0, min(len(base), max(data, 10)), longest_part)
 
 
+def _head(text: str, width: int) -> str:
+    """The longest start of ``text`` that takes at most ``width`` terminal cells."""
+    out = ""
+    for ch in text:
+        if _cells(out + ch) > width:
+            break
+        out += ch
+    return out
+
+
 def _elide(text: str, width: int, middle: bool = False) -> str:
-    """``text`` cut to ``width`` with "…" at the end (``middle``: in the middle, which keeps the part where names
-    of variants usually differ).
+    """``text`` cut to ``width`` terminal cells with "…" at the end (``middle``: in the middle, which keeps the
+    part where names of variants usually differ).
 
     >>> _elide("Bridge table, n = 3, B = 3, i = 10", 20, middle=True), _elide("abcdef", 4)
     ('Bridge tab…3, i = 10', 'abc…')
     """
-    if len(text) <= width:
+    if _cells(text) <= width:
         return text
     if middle and width >= 8:
         tail = (width - 1) // 2
-        return text[: width - 1 - tail] + "…" + text[len(text) - tail:]
-    return text[: max(width - 1, 0)] + "…"
+        end = _head(text[::-1], tail)[::-1]
+        return _head(text, width - 1 - _cells(end)) + "…" + end
+    return _head(text, max(width - 1, 0)) + "…"
 
 
 def _shorten_names(names: list[str], width: int) -> list[str]:
@@ -277,7 +295,7 @@ def _shorten_names(names: list[str], width: int) -> list[str]:
     >>> _shorten_names(["Merko example, scheme A, inner", "Merko example, scheme B, outer"], 20)
     ['…A, inner', '…B, outer']
     """
-    if len(names) > 1 and max(map(len, names)) > width:
+    if len(names) > 1 and max(map(_cells, names)) > width:
         import os.path
 
         prefix = os.path.commonprefix(names)

@@ -21,6 +21,6 @@ def test_docstring_examples(name):
 def test_the_examples_are_many():
     # a guard that the collection above finds the modules: the physics modules carry most examples
     finder = doctest.DocTestFinder()
-    found = sum(len(t.examples) for n in ("gearcalc.rows", "gearcalc.zstk", "gearcalc.pins", "gearcalc.roots",
-                                           "gearcalc.grid") for t in finder.find(importlib.import_module(n)))
+    physics = [n for n in MODULES if n.split(".")[1] in ("rows", "zstk", "pins", "roots", "grid", "hertz")]
+    found = sum(len(t.examples) for n in physics for t in finder.find(importlib.import_module(n)))
     assert found >= 40
