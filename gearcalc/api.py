@@ -65,22 +65,37 @@ def load(design, *, overrides: Iterable[tuple[str, Any]] | Mapping[str, Any] = (
     InputError
         With ``messages``: every problem of the design, each naming the key and the constraint.
     """
+    from . import design as dmod
+
+    if isinstance(design, Design) and not _pairs(overrides):
+        return design
+    raw, source = _raw(design, overrides)
+    return dmod.validate(raw, source, kind)
+
+
+def _pairs(overrides) -> list[tuple[str, Any]]:
+    """``overrides`` as (dotted key, value) pairs, from a mapping or pairs."""
+    return list(overrides.items()) if isinstance(overrides, Mapping) else list(overrides)
+
+
+def _raw(design, overrides=()) -> tuple[dict, str]:
+    """(design data as a file gives it, with the overrides set; its source name) from a path, data or a
+    loaded design."""
     import copy
 
     from . import design as dmod
 
-    pairs = list(overrides.items()) if isinstance(overrides, Mapping) else list(overrides)
     if isinstance(design, Design):
-        if not pairs:
-            return design
         raw, source = copy.deepcopy(design.resolved()), design.source
     elif isinstance(design, Mapping):
         raw, source = copy.deepcopy(dict(design)), "<data>"
     else:
-        return dmod.load(os.fspath(design), pairs, kind)
+        source = os.fspath(design)
+        raw = dmod.read_toml(source)
+    pairs = _pairs(overrides)
     if pairs:
         dmod.apply_set(raw, pairs)
-    return dmod.validate(raw, source, kind)
+    return raw, source
 
 
 def compute(design, *, model: str | None = None, tol: float = DEFAULT_TOL, detail: bool = False,
@@ -155,9 +170,8 @@ def compute_files(paths, *, kind: str | None = None, model: str | None = None, t
         if say is not None:
             say(line)
 
-    pairs = list(overrides.items()) if isinstance(overrides, Mapping) else list(overrides)
     files = dmod.expand_paths(paths, warn=tell)
-    designs, worst = engine.load_designs(files, pairs, kind, tell)
+    designs, worst = engine.load_designs(files, _pairs(overrides), kind, tell)
     for k in sorted({d.kind for d in designs}):
         engine.check_model(model, k)
     records, status = engine.run(designs, Options(tol=tol, model=model, detail=detail), say=tell,
@@ -180,25 +194,12 @@ def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None
     ...  for k in part.data["K"]]
     [1.366, 1.489]
     """
-    import copy
+    from collections.abc import Sequence
 
     from . import grid as sw
 
-    axes = {k: list(v) for k, v in axes.items()}
-    if isinstance(design, Design):
-        raw, source = copy.deepcopy(design.resolved()), design.source
-    elif isinstance(design, Mapping):
-        raw, source = copy.deepcopy(dict(design)), "<data>"
-    else:
-        source = os.fspath(design)
-        from . import design as dmod
-
-        raw = dmod.read_toml(source)
-    pairs = list(overrides.items()) if isinstance(overrides, Mapping) else list(overrides)
-    if pairs:
-        from .design import apply_set
-
-        apply_set(raw, pairs)
+    axes = {k: v if isinstance(v, Sequence) and not isinstance(v, str) else list(v) for k, v in axes.items()}
+    raw, source = _raw(design, overrides)
     _check_tol(tol)
     kind = raw.get("kind")
     if isinstance(kind, str):

@@ -5,10 +5,8 @@ Pure functions over floats and numpy arrays; M in kg/(kN·m), ρ in kg/m³, E an
 
 References
 ----------
-.. [1] Seed paper 004_971077b94d8d4426.txt: an OCR of a Russian journal paper on multi-row planetary
-   gears (its title, authors and journal cannot be recovered; its ref. [1] is F. I. Plekhanov,
-   «Зубчатые планетарные передачи»), as reconstructed in the gearcalc specification
-   docs/spec/rows.md (the section numbers "rows.md §x" refer to it).
+.. [1] The seed paper 004, cited in full in :mod:`gearcalc.rows`; docs/spec/rows.md (the
+   section numbers "rows.md §x" refer to it).
 """
 from __future__ import annotations
 

@@ -5,10 +5,7 @@ Pure functions over floats and numpy arrays (units mm, radians).  Frame: O_H = (
 
 References
 ----------
-Merko M.A., Mesnyankin M.V., Kolotov A.V., Mityaev A.E., Savitskaya M.V., Merko A.M., Yurov S.A.,
-«Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем
-внутреннем кольце и вводе поправки по радиусу дорожки качения наружного кольца» (Siberian Federal
-University; UDC 621.838.2; no journal or year given: seed 003_2d1da402cb0b8488.txt); docs/spec/zstk.md.
+The seed paper by Merko et al. (seed 003), cited in full in :mod:`gearcalc.zstk`; docs/spec/zstk.md.
 """
 from __future__ import annotations
 
