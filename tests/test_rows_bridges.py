@@ -1,14 +1,18 @@
 """Tests of gearcalc.rows.bridges: the carrier verification and the feasible-width search (rows.md §5.5).
-Bridge sizing against the paper's table is tested in tests/test_rows.py."""
+Bridge sizing against the paper's table (rows.md §5.6) and the sized carrier's balance."""
 import math
 
 import numpy as np
 import pytest
 
+from gearcalc import rows as R
 from gearcalc.rows import bridges as Br
 from gearcalc.rows import sharing as S
 
 ALPHA = math.radians(20.0)
+D_A, E, NU = 90.0, 2e5, 0.3
+G = E / (2 * (1 + NU))
+R_BA = 0.5 * D_A * math.cos(ALPHA)
 PAPER_CELL = (3, 3, 18, 5.0, ALPHA, 4.0, 2e5, 0.3)   # n = 3, n_w = 3, z_a = 18, m = 5, i = 4 (rows.md §5.6)
 
 
@@ -49,3 +53,78 @@ def test_feasible_width_uses_the_given_sections():
     b_w = 3.0 * 90.0 / 3.5
     assert Br.bridges_fit(3.0, *PAPER_CELL, Ip, axle_diameter=0.5 * b_w, bridge_thickness=0.5 * b_w) is False
     assert Br.bridges_fit(1.0, *PAPER_CELL, Ip, cheek=200.0) is False     # no room for the rims
+
+
+# ------------------------------------------------------------------ bridge table (paper, rows.md §5.6)
+TABLE = {  # (n, B, i): H_j/H_max by row, row 1 on the sun-input side
+    (4, 4.0, 4): [0, 0.25, 0.98, 1.00], (4, 4.0, 6): [0, 0.12, 0.43, 0.43], (4, 4.0, 10): [0, 0.06, 0.19, 0.19],
+    (3, 3.0, 4): [0, 0.47, 1.00], (3, 3.0, 6): [0, 0.22, 0.46], (3, 3.0, 10): [0, 0.10, 0.21],
+}
+
+
+def sized(n, B, i, module=5.0, bore=0.0):
+    d_a = 18 * module
+    b_w = R.rim_width(B, n, 0.25, d_a)
+    return R.size_bridges(n, 3, d_a, module, b_w, 0.25 * b_w, ALPHA, i, 0.5 * b_w, 0.5 * b_w, E, NU,
+                          R.polar_moment(d_a - 2.5 * module, bore))
+
+
+@pytest.mark.parametrize("key", list(TABLE))
+def test_bridge_table_within_0035(key):
+    res = sized(*key)
+    rel = res["H"] / res["H_max"]
+    assert np.all(np.abs(rel - np.array(TABLE[key])) <= 0.035), rel
+
+
+def test_bridge_capped_cell_flagged():
+    # rows.md §5.6: n = 3, B = 3, i = 4 row 3 asks for slightly more than H_max: capped and flagged
+    res = sized(3, 3.0, 4)
+    assert res["flags"] == ["ok", "ok", "exceeds_max"]
+    assert res["H"][2] == res["H_max"]
+    assert all(f == "ok" for f in sized(4, 4.0, 6)["flags"])
+
+
+@pytest.mark.parametrize("module", [1.0, 3.0, 12.0])
+def test_bridge_ratios_independent_of_module(module):
+    a, b = sized(4, 4.0, 6), sized(4, 4.0, 6, module=module)
+    assert np.allclose(a["H"] / a["H_max"], b["H"] / b["H_max"], rtol=1e-12, atol=1e-15)
+    assert a["Q"] == pytest.approx(b["Q"], rel=1e-12)
+
+
+def test_sized_width_has_required_compliance():
+    # rows.md §11: the compliance of the sized width equals the required compliance
+    res = sized(4, 4.0, 6)
+    b_w = R.rim_width(4.0, 4, 0.25, 90.0)
+    h = 0.5 * b_w
+    geo = (res["a_c"] / res["a_w"]) ** 2
+    for H, D in zip(res["H"][1:], res["D"][1:]):
+        required = res["axle_compliance"] * geo / (D - 1)
+        actual = R.beam_compliance(b_w, h * H**3 / 12, H * h, E, NU)
+        assert actual == pytest.approx(required, rel=1e-12)
+
+
+def test_sized_carrier_balances_rows():
+    # rows.md §5.5: a design sized exactly (all flags ok) gives K_balanced = 1 up to rounding
+    n, B, i = 4, 4.0, 6
+    res = sized(n, B, i)
+    d_a = 90.0
+    b_w = R.rim_width(B, n, 0.25, d_a)
+    Y = R.carrier_matrix(res["a_w"], 3, res["stiffness"], n) * 2 * b_w * math.cos(ALPHA) * 0.075 * E
+    kap = float(R.torsion_parameter(0.075 * E, R_BA, 3, b_w, G, R.polar_moment(d_a - 12.5)))
+    u, unloaded, ok, resid = R.stepwise_active_set(kap, 0.25, n, carrier=Y)
+    assert ok and unloaded == [] and resid < 1e-12
+    assert np.allclose(u, 1.0, rtol=0, atol=1e-12)
+    # and the same carrier under the stiffer (pitch) sun over-compensates: the far rows carry more
+    kap_p = float(R.torsion_parameter(0.075 * E, R_BA, 3, b_w, G, R.polar_moment(d_a)))
+    u_p = R.stepwise_active_set(kap_p, 0.25, n, carrier=Y)[0]
+    assert u_p.max() > 1.0 and np.argmax(u_p) > 0
+
+
+def test_active_set_unloads_rows_with_overcompensating_carrier():
+    # A carrier compliance that pushes load to the far end: near rows unload; equilibrium holds.
+    n = 5
+    Y = -np.tril(np.ones((n, n))) * 3.0  # strongly overcompensating, made-up but admissible matrix
+    u, unloaded, ok, resid = R.stepwise_active_set(0.5, 0.25, n, carrier=Y)
+    assert ok and unloaded, u
+    assert np.all(u >= 0) and u.sum() == pytest.approx(n, rel=1e-12)
+    assert all(u[j - 1] == 0 for j in unloaded)
