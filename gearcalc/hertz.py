@@ -26,8 +26,12 @@ TAU_MAX_RATIO = 0.30028310600077
 Maximum over depth z of tau_1/p0 = t - t²/sqrt(1 + t²), t = z/b, on the axis of the contact
 (Johnson 1985, §2.8, eq. 2.25 with the frictionless Hertz pressure); Johnson quotes 0.30.
 """
-TAU_MAX_DEPTH_RATIO = 0.78615136906447
-"""Depth of the maximum subsurface shear below the centre of a line contact, over b (≈ 0.786)."""
+TAU_MAX_DEPTH_RATIO = 0.7861513777574233
+"""Depth of the maximum subsurface (principal) shear below the centre of a line contact, over b: the exact
+sqrt((sqrt(5) - 1)/2) = 0.786151377757423 (d tau_1/dt = 0 gives t^4 + t^2 = 1; then tau_1/p0 = t^5)."""
+TRESCA_POISSON_CROSSOVER = 0.2422701946728895
+"""Poisson's ratio below which the out-of-plane shear (sigma_z - sigma_y)/2 of a plane-strain line contact
+exceeds the in-plane principal shear tau_1 (root of (1 - u) sqrt(1 - u^2)/2 = t^5, u(1 + u) = 2 nu)."""
 
 ISO_ROLLER_CONSTANT = 35948.0
 """ISO/TS 16281 roller-raceway constant [N/mm^(10/9)]: Q = 35948 L^(8/9) delta^(10/9) for a steel roller's
@@ -274,3 +278,51 @@ def max_subsurface_shear(p0):
     Johnson 1985, §2.8 and Fig. 4.6 (tau_1 = 0.30 p0 at z = 0.78 b).
     """
     return TAU_MAX_RATIO * p0
+
+
+def tresca_shear_ratio(poisson):
+    """Maximum (Tresca) shear stress of a plane-strain line contact over p0, and its depth over b.
+
+    Along the axis of the contact (Johnson 1985, eqs. 4.47-4.48, t = z/b, s = sqrt(1 + t²)) the
+    principal stresses are sigma_z = -p0/s, sigma_x = -p0((1 + 2t²)/s - 2t) and, in plane strain,
+    sigma_y = nu(sigma_x + sigma_z); sigma_z is the most compressive.  The largest shear is the larger
+    of two maxima over depth:
+
+    .. math:: \\tau_1 = \\tfrac12(\\sigma_x - \\sigma_z) = p_0 (t - t^2/s): \\quad \\max = t_1^5\\,p_0 = 0.30028\\,p_0
+              \\text{ at } t_1 = \\sqrt{(\\sqrt5 - 1)/2} = 0.78615
+
+    .. math:: \\tau_y = \\tfrac12(\\sigma_y - \\sigma_z) = \\tfrac{p_0}2 (1/s - 2\\nu(s - t)): \\quad
+              \\max = \\tfrac12 (1 - u)\\sqrt{1 - u^2}\\,p_0 \\text{ at } t = u/\\sqrt{1 - u^2},\\;
+              u = \\tfrac12(\\sqrt{1 + 8\\nu} - 1)
+
+    (d tau_y/dt = 0 with u = t/s gives u(1 + u) = 2 nu).  tau_y governs for nu <
+    :data:`TRESCA_POISSON_CROSSOVER` = 0.24227: 0.330 p0 at nu = 0.2, 0.408 p0 at 0.1; above it the
+    result is :data:`TAU_MAX_RATIO` and :data:`TAU_MAX_DEPTH_RATIO` exactly.
+
+    Parameters
+    ----------
+    poisson : float or array_like
+        Poisson's ratio nu of the body in which the stress is wanted [-], 0 <= nu < 0.5.
+
+    Returns
+    -------
+    (tau_max/p0 [-], depth/b [-]), arrays of the shape of ``poisson``.
+
+    Examples
+    --------
+    >>> [round(float(x), 4) for x in tresca_shear_ratio(0.2)]
+    [0.3302, 0.3217]
+    >>> [float(x) for x in tresca_shear_ratio(0.3)] == [TAU_MAX_RATIO, TAU_MAX_DEPTH_RATIO]
+    True
+
+    References
+    ----------
+    K. L. Johnson, Contact Mechanics, 1985, §2.8 (stresses along the axis, eq. 2.25) and §4.2 (plane strain
+    sigma_y = nu(sigma_x + sigma_z)); zstk.md §2.
+    """
+    nu = np.asarray(poisson, dtype=float)
+    u = 0.5 * (np.sqrt(1.0 + 8.0 * nu) - 1.0)
+    root = np.sqrt(1.0 - u * u)
+    tau_y = 0.5 * (1.0 - u) * root
+    out_of_plane = tau_y > TAU_MAX_RATIO
+    return np.where(out_of_plane, tau_y, TAU_MAX_RATIO), np.where(out_of_plane, u / root, TAU_MAX_DEPTH_RATIO)

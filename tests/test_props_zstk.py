@@ -141,7 +141,8 @@ def test_cycle_and_envelope_outputs_finite(raw, model):
     res = run(raw, model=model, tol=1e-2)
     assert_all_finite(res)
     s = res.summary
-    assert s["phase_samples"] >= 64 and s["direction_samples"] >= 720
+    # zstk.md §8: the joint search's grid doubled at least once (roller positions per turn, relative directions)
+    assert s["phase_samples"] >= 32 and s["direction_samples"] >= 64
     assert 0.0 <= s["sigma_max_err_MPa"]
 
 
@@ -247,7 +248,8 @@ def test_force_equilibrium_from_the_detail_table(raw, model):
     beta = np.radians(col(res, "beta_deg"))
     assert np.all(F >= 0) and np.all(FH >= 0) and np.all(FH <= F)
     assert np.allclose(FH, F * np.cos(beta), rtol=1e-12, atol=0)
-    assert s["loaded_rollers"] == int(np.count_nonzero(F > 0)) >= 1
+    # zstk.md §10: a roller counts as loaded above 1e-12 of the largest roller force (not its round-off)
+    assert s["loaded_rollers"] == int(np.count_nonzero(F > 1e-12 * F.max())) >= 1
 
 
 @PROPS
@@ -271,7 +273,14 @@ def test_hertz_stresses_and_summary_agree_with_the_detail(raw):
     loaded = F > 0
     assert np.allclose(col(res, "b_B_mm")[loaded], 2 * F[loaded] / (np.pi * length * sb[loaded]), rtol=1e-11)
     assert np.all(col(res, "b_B_mm")[~loaded] == 0.0)
-    assert np.allclose(col(res, "tau_max_B_MPa"), 0.30 * sb, rtol=1e-3)
+    # zstk.md §2: the Tresca maximum for the smaller nu of the contact's bodies: 0.3003 sigma for nu >= 0.2423,
+    # else (1 - u) sqrt(1 - u^2)/2 sigma, u(1 + u) = 2 nu (test_zstk_v2.py checks it against a depth scan)
+    m = raw.get("material", {})
+    nu_r, nu_g = m.get("roller_poisson", STEEL[1]), m.get("ring_poisson", STEEL[1])
+    nu = min(nu_r, m.get("inner_ring_poisson", nu_g))
+    u = (math.sqrt(1 + 8 * nu) - 1) / 2
+    ratio = max(0.30028310600077, 0.5 * (1 - u) * math.sqrt(1 - u * u))
+    assert np.allclose(col(res, "tau_max_B_MPa"), ratio * sb, rtol=1e-12)
     # zstk.md §6 claim 1: the inner contact is the more stressed when E*_B >= E*_H
     if eb >= eh:
         assert np.all(sb[loaded] > sh[loaded])

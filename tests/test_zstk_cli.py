@@ -285,7 +285,8 @@ def test_cycle_with_envelope(tmp_path):
     cyc, _ = summary(p, "--set", "geometry.scheme=cycle")
     tol = both["sigma_max_err_MPa"] + env["sigma_max_err_MPa"] + cyc["sigma_max_err_MPa"]
     assert both["sigma_max_MPa"] >= max(env["sigma_max_MPa"], cyc["sigma_max_MPa"]) - tol
-    assert both["phase_samples"] >= 64 and both["direction_samples"] >= 720
+    # §8: the joint search's grid doubled at least once (roller positions per turn, relative directions per turn)
+    assert both["phase_samples"] >= 32 and both["direction_samples"] >= 64
 
 
 def test_plot(tmp_path):

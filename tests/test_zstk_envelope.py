@@ -57,12 +57,13 @@ def test_roller_envelope_rows():
 
 
 def test_sweep_work():
-    # §8: N x phases (64 per pitch) x directions (720 per turn; the inner grid of the nested sweep is
-    # max(720/4, 16 N) capped at 720); the reference level multiplies each grid by 8
+    # §8: N x phases (64 per pitch) x directions (720 per turn); both together: 3 x N x (8 + 1) roller positions x
+    # 32 relative directions (the joint search's first grid); the reference level multiplies each grid by 8
     assert z.sweep_work(8, True, False) == 8 * 64
     assert z.sweep_work(8, False, True) == 8 * 720
-    assert z.sweep_work(8, True, True) == 8 * 64 * 180
-    assert z.sweep_work(100, True, True) == 100 * 64 * 720
+    assert z.sweep_work(8, True, True) == 3 * 8 * 9 * 32          # x3: the joint search's cost per grid point
+    assert z.sweep_work(100, True, True) == 3 * 100 * 9 * 32
+    assert z.sweep_work(100, True, True, z.SweepGrid(factor=8)) == 3 * 100 * 65 * 256
     assert z.sweep_work(8, False, True, z.SweepGrid(factor=8)) == 8 * 720 * 8
 
 

@@ -24,15 +24,17 @@ def test_worked_example_summary():
     s = z.summarise(state, np.array([1e4]), np.zeros(1), sym)
     assert s.sigma_max[0] == pytest.approx(748.935693220922, rel=1e-13)   # zstk.md §6 (product baseline)
     assert (s.roller[0], s.contact[0], s.loaded[0]) == (0, 0, 5)
-    assert s.sigma_err[0] == 0.0                                            # closed form (§5.1)
+    assert s.sigma_err[0] == 1e-12 * s.sigma_max[0]                        # closed form (§5.1): round-off floor
     assert s.approach[0] * 1e3 == pytest.approx(15.036652650445422, rel=1e-12)
 
 
 def test_sweep_error_floor():
-    # §8: a sweep's estimate is at least 4 eps sigma_max
+    # §8, issue 16 item 6: every estimate is at least 1e-12 sigma_max (the closed-form parts' round-off)
     state, sym, _ = solved()
     s = z.summarise(state, np.array([1e4]), np.zeros(1), sym, sweep_err=np.zeros(1))
-    assert s.sigma_err[0] == 4 * np.finfo(float).eps * s.sigma_max[0]
+    assert s.sigma_err[0] == 1e-12 * s.sigma_max[0]
+    s = z.summarise(state, np.array([1e4]), np.zeros(1), sym, sweep_err=np.array([1e-3]))
+    assert s.sigma_err[0] == pytest.approx(1e-3, rel=1e-9)     # the sweep term plus the solver's (~1e-13)
 
 
 def test_contacts_follow_johnson():

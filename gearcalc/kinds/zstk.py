@@ -24,9 +24,9 @@ GRID_CAP = 2 ** 16
 # Physical ranges of the inputs (gearcalc's choice, spec §9 "a value outside its physical range"):
 # lengths from 1 nm to 1 km, moduli from soft rubber (1 MPa) to beyond diamond (1e7 MPa).
 MIN_E_MPA, MAX_E_MPA = 1.0, 1e7
-ROUNDOFF_ULPS = 4
-"""Floor of the cycle/envelope error estimate sigma_max_err_MPa: 4 eps |sigma_max| (the stresses' own round-off;
-a sweep's estimate fell 1.2e-12 relative below the actual error when it was smaller)."""
+ROUNDOFF_RTOL = 1e-12
+"""Floor of the error estimate sigma_max_err_MPa, relative to sigma_max (spec §8: the closed-form parts are
+accurate to about 1e-12; estimates of 0 or 4 eps fell below the actual difference to an independent solver)."""
 MIN_FORCE_N = 1e-6
 """Smallest radial load (1 uN): far below it the contact deflections approach the round-off of the roller
 positions (~1e-16 x clearance) and the load solve cannot balance Q (5e-324 N gave solver_residual = 1 and
@@ -34,11 +34,17 @@ pass = true; with clearance, 1e-100 N raised BracketError); at 1e-6 N the worked
 with a clearance of 0.01 mm (included in sigma_max_err_MPa)."""
 SWEEP_WORK_MAX = 6_000_000
 """Cost budget of a "cycle" and/or "envelope" design, in roller-configurations of its first sweep grid
-(:func:`gearcalc.zstk.sweep_work`): ~1.5-3 us each with the refinements (N = 118, "cycle" + "envelope": 5.4e6, 9 s;
-the worked example at --model reference: 5.9e6, 18 s); the sweeps' memory is bounded by CHUNK_ELEMENTS."""
+(:func:`gearcalc.zstk.sweep_work`): ~2-7 us each with the refinements (N = 2000, "cycle" + "envelope": 1.7e6, 4 s;
+N = 248 "cycle" + "envelope" at --model reference: 1.2e7, ~25 s, refused); the sweeps' memory is bounded by
+CHUNK_ELEMENTS."""
 MAX_ROLLERS = 2000       # gearcalc's range (the spec asks N > 200 to work); keeps sweeps in memory
 CHUNK_ELEMENTS = 1_000_000  # roller-configurations evaluated at once in the sweeps
 REFINE_ROWS_MAX_N = 200  # above this the per-roller envelope rows are grid maxima (O(N²) refinement)
+SEPARATOR_MESSAGE = ("= false: rollers without a separator are not modelled. The rollers' tangential reactions "
+                     "F_iB·sin(beta_i) would then be carried by roller-to-roller contacts (possible only with "
+                     "roller_gap_mm = 0), a statically indeterminate closed chain that needs every roller's own "
+                     "displacement; gearcalc models the separator only (zstk.md §5.5). Use separator = true "
+                     "(roller_gap_mm may be 0)")
 DEFAULT_ALLOWABLE_WARNING = (f"no material.allowable_stress_MPa: checked against {DEFAULT_ALLOWABLE_MPA:g} MPa "
                              f"({DEFAULT_ALLOWABLE_SOURCE}), a static (permanent-deformation) reference, "
                              "not an endurance allowable")
@@ -60,6 +66,8 @@ GEOMETRY = Table("geometry", (
           choices=("outer", "inner", "gap")),
     Field("scheme", "number", "A", "chain phase: a symmetric scheme, the polar angle theta_0 of roller 0 "
           "in degrees, or \"cycle\" = envelope over every placement", choices=SCHEMES + ("cycle",)),
+    Field("separator", "bool", True, "a separator holds each roller in place (the model); false (rollers "
+          "touching without one) is refused: roller-to-roller contact is not modelled"),
 ), doc="Raceways, eccentricity and the roller chain")
 
 LOAD = Table("load", (
@@ -113,7 +121,8 @@ def _problems(p, k: int) -> list:
     def at(key):
         return p.cols[key][k] if isinstance(p.cols[key], list) else p.cols[key]
 
-    return [(KEYS[q], msg) for q, msg in p.validity.problems(k, at("geometry.scheme"), at("geometry.rollers"))]
+    out = [] if p.separator[k] else [("geometry.separator", SEPARATOR_MESSAGE)]
+    return out + [(KEYS[q], msg) for q, msg in p.validity.problems(k, at("geometry.scheme"), at("geometry.rollers"))]
 
 
 def _grid(model: str):
@@ -217,7 +226,8 @@ def _prepare(cols: dict, size: int) -> _Prepared:
     clearance = num("load.clearance_mm")
     p.validity = z.check_designs(r_h, r_b, e, c, n_given, parity, clearance, per("geometry.correct", str, object),
                                  MAX_ROLLERS)
-    p.valid, p.n, p.chain = p.validity.valid, p.validity.n, p.validity.chain
+    p.separator = per("geometry.separator", bool)
+    p.valid, p.n, p.chain = p.validity.valid & p.separator, p.validity.n, p.validity.chain
     p.q = z.limiting_ratios(p.chain, p.valid)
     p.phase = z.chain_phases(p.n, p.q, p.letter, mid_gap, ~p.letter & ~p.cycle,
                              deg_to_rad(z.remainder_360(theta_deg)))
@@ -294,11 +304,13 @@ def _gather(lists, back):
 
 
 def _finish(names, model, schemes, chain, mats, state, gamma, load, clearance, symmetric, allowable, fixed,
-            stepping=None, detail=True, sweep=None):
+            stepping=None, detail=True, sweep=None, capacity=None):
     """Summary columns of G stacked designs from their solved state (arrays (G, N) and (G,)).
 
     With ``detail``, also per design: (warnings, failed, detail rows).  ``sweep`` (a "cycle" or "envelope"
     design, G = 1): (value, err, fields, envelope rows (d_B, d_H, gamma_B, gamma_H) or None, notes).
+    ``capacity``: the allowable radial load (:class:`gearcalc.zstk.AllowableLoad`) of a sweeping design
+    (computed here for single positions).
     """
     import numpy as np
 
@@ -306,9 +318,16 @@ def _finish(names, model, schemes, chain, mats, state, gamma, load, clearance, s
     from ..units import UM_PER_MM
 
     value, err, fields, env, notes = sweep or (None, None, {}, None, ())
-    sm = z.summarise(state, load, clearance, symmetric, fixed, value, err, ROUNDOFF_ULPS)
+    sm = z.summarise(state, load, clearance, symmetric, fixed, value, err, ROUNDOFF_RTOL)
     size, n = state.radius.shape
     allow, default_allowable = allowable
+    if capacity is None:
+        capacity = z.allowable_load(chain, mats, state.theta, gamma, load, clearance, sm.sigma_max, sm.sigma_err,
+                                    allow, symmetric, fixed)
+    tau, tau_depth = z.critical_shear(state, sm, mats)
+    d_b = env[0] if env is not None else state
+    get_b = (lambda f: d_b[f]) if isinstance(d_b, dict) else (lambda f: getattr(d_b, f))
+    separator_max = np.max(z.separator_forces(get_b("force_inner"), get_b("beta")), axis=-1)
     passed = sm.sigma_max <= allow
     cname = ["inner" if c == 0 else "outer" for c in sm.contact.tolist()]
     alpha_deg = np.mod(_deg(sm.approach_direction), 360.0)
@@ -330,10 +349,12 @@ def _finish(names, model, schemes, chain, mats, state, gamma, load, clearance, s
         "sigma_max_MPa": col(sm.sigma_max), "sigma_max_err_MPa": col(sm.sigma_err), "sigma_max_contact": cname,
         "sigma_max_roller": col(sm.roller), "sigma_max_angle_deg": col(_wrap_deg(sm.theta)),
         "sigma_max_roller_radius_mm": col(sm.radius), "sigma_max_load_direction_deg": col(_wrap_deg(gamma)),
+        "tau_max_MPa": col(tau), "tau_max_depth_mm": col(tau_depth), "separator_force_max_N": col(separator_max),
         "allowable_stress_MPa": col(allow),
         "allowable_stress_source": [DEFAULT_ALLOWABLE_SOURCE if d else "design" for d in default_allowable.tolist()],
         "safety_factor": [v if ok else None for v, ok in zip(safety, (sm.sigma_max > 0).tolist())],
-        "pass": col(passed), "approach_um": col(sm.approach * UM_PER_MM),
+        "pass": col(passed), "radial_load_allowable_N": col(capacity.load),
+        "radial_load_allowable_err_N": col(capacity.err), "approach_um": col(sm.approach * UM_PER_MM),
         "approach_direction_deg": col(np.where(alpha_deg >= 360.0, 0.0, alpha_deg)), "clearance_mm": col(clearance),
         "loaded_rollers": col(sm.loaded), "solver_residual": col(sm.solver_residual),
         "transverse_residual": col(sm.transverse_residual),
@@ -347,6 +368,9 @@ def _finish(names, model, schemes, chain, mats, state, gamma, load, clearance, s
     out = []
     for g in range(size):
         warnings = list(notes) + _warnings(sm, g, clearance[g], fixed, default_allowable[g], rows[1][g], stepping)
+        if capacity.preload_exceeds[g]:
+            warnings.append(f"the preload alone (load.clearance_mm = {clearance[g]:.6g}) reaches allowable_stress_MPa "
+                            f"= {allow[g]:.6g}: radial_load_allowable_N = 0")
         failed = [] if passed[g] else [f"sigma_max_MPa = {sm.sigma_max[g]:.6g} > allowable_stress_MPa = {allow[g]:.6g} "
                                        f"({cname[g]} contact of roller {sm.roller[g]}, r = {sm.radius[g]:.6g} mm)"]
         out.append([warnings, failed, rows[0][g * n:(g + 1) * n]])
@@ -366,9 +390,12 @@ def _roller_rows(state, mats, clearance, env):
     get = (lambda f: d_b[f]) if isinstance(d_b, dict) else (lambda f: getattr(d_b, f))
     table = {"i": z.broadcast(np.arange(n), (size, n)), "theta_deg": np.degrees(z.wrap_angle(get("theta"))),
              "r_mm": get("radius"), "psi_deg": np.degrees(get("psi")), "beta_deg": np.degrees(get("beta")),
-             "F_B_N": ct.force_inner, "F_H_N": ct.force_outer, "rho_B_mm": ct.rho_inner, "rho_H_mm": ct.rho_outer,
-             "sigma_B_MPa": ct.sigma_inner, "sigma_H_MPa": ct.sigma_outer, "b_B_mm": ct.width_inner,
-             "b_H_mm": ct.width_outer, "tau_max_B_MPa": ct.shear_inner, "tau_max_H_MPa": ct.shear_outer}
+             "F_B_N": ct.force_inner, "F_H_N": ct.force_outer,
+             "F_S_N": z.separator_forces(ct.force_inner, get("beta")), "rho_B_mm": ct.rho_inner,
+             "rho_H_mm": ct.rho_outer, "sigma_B_MPa": ct.sigma_inner, "sigma_H_MPa": ct.sigma_outer,
+             "b_B_mm": ct.width_inner, "b_H_mm": ct.width_outer, "tau_max_B_MPa": ct.shear_inner,
+             "tau_max_H_MPa": ct.shear_outer, "tau_depth_B_mm": ct.shear_depth_inner,
+             "tau_depth_H_mm": ct.shear_depth_outer}
     if env is not None:
         table["gamma_B_deg"], table["gamma_H_deg"] = np.degrees(z.wrap_angle(gam_b)), np.degrees(z.wrap_angle(gam_h))
     else:
@@ -531,6 +558,9 @@ def _compute_sweeping(design, p, options: Options) -> Result:
         if sw is not None and sw.capped:
             notes.append(f"{what} sweep stopped at the cap of {GRID_CAP} points per {per} with error "
                          f"{sw.err:.3g} MPa above the target")
+    capacity = z.allowable_load_sweeping(chain, mats, load, clearance, float(p.allowable[0]), pl,
+                                         phase=None if cycle else float(p.phase[0]), gamma=gamma0, tol=options.tol,
+                                         refine_rtol=refine_rtol, grid=grid, fixed_direction=fixed)
     pl.gamma = pl.gamma if envelope else float(p.gamma[0])  # the design's direction (as a stacked design's)
     _, state, stepping, rows = z.evaluate_placement(chain, mats, pl, load, clearance, refine_rtol=refine_rtol,
                                                     grid=grid, fixed_direction=fixed, stepping=ref, rows=envelope)
@@ -538,7 +568,7 @@ def _compute_sweeping(design, p, options: Options) -> Result:
                           np.array([load]), np.array([clearance]), np.array([False]),
                           (p.allowable[:1], p.allowable_default[:1]), fixed, stepping=stepping,
                           sweep=(None if pl.value is None else np.array([pl.value]), np.array([pl.err]), fields, rows,
-                                 notes))
+                                 notes), capacity=capacity)
     return _result(cols, extra, 0, model)
 
 

@@ -15,7 +15,8 @@ Modules (spec ``docs/spec/zstk.md``):
 * :mod:`.loads` §5 the load distribution (zero clearance: direction root; clearance/preload:
   bracketed 1-D root or Newton on the convex potential);
 * :mod:`.stress` §2 the Hertz stresses (through :mod:`gearcalc.hertz`) and the summary quantities;
-* :mod:`.envelope` §8 the sweeps over the chain phase ("cycle") and the load direction ("envelope").
+* :mod:`.envelope` §8 the sweeps over the chain phase ("cycle") and the load direction ("envelope");
+* :mod:`.capacity` §5.4 the allowable radial load (sigma_max = [sigma_H]).
 
 Every public name of the modules is re-exported here (``from gearcalc import zstk as z``).
 
@@ -31,7 +32,8 @@ from __future__ import annotations
 
 import numpy as np  # noqa: F401 (the examples' np, as in the modules)
 
-from . import chain, envelope, geometry, loads, stress, validity
+from . import capacity, chain, envelope, geometry, loads, stress, validity
+from .capacity import *  # noqa: F401,F403
 from .chain import *  # noqa: F401,F403
 from .envelope import *  # noqa: F401,F403
 from .geometry import *  # noqa: F401,F403
@@ -39,7 +41,7 @@ from .loads import *  # noqa: F401,F403
 from .stress import *  # noqa: F401,F403
 from .validity import *  # noqa: F401,F403
 
-_MODULES = (geometry, chain, validity, loads, stress, envelope)
+_MODULES = (geometry, chain, validity, loads, stress, envelope, capacity)
 __all__ = [name for m in _MODULES for name in m.__all__]
 
 # the examples of the modules' functions count as this package's own (doctest finds re-exported

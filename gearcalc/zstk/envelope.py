@@ -7,7 +7,8 @@ The seed paper by Merko et al. (seed 003), cited in full in :mod:`gearcalc.zstk`
 from __future__ import annotations
 
 __all__ = ['SweepResult', 'maximise_periodic', 'SweepGrid', 'sweep_work', 'Placement', 'ROLLER_FIELDS', 'sigma_max_at',
-           'direction_maxima', 'critical_placement', 'evaluate_placement', 'roller_envelope']
+           'direction_maxima', 'roller_sigma', 'position_direction_max', 'critical_placement', 'evaluate_placement',
+           'roller_envelope']
 
 import math
 from dataclasses import dataclass
@@ -16,6 +17,9 @@ import numpy as np
 
 from ..roots import minimize_golden
 from .chain import Chain, close_chain, roller_angles, step_chain  # noqa: F401 (close_chain: the examples)
+from .. import hertz
+from .geometry import centre_distance, reduced_radii, roller_radius
+from .loads import solve_loads
 from .stress import Materials, critical, evaluate
 
 
@@ -131,7 +135,9 @@ class SweepGrid:
     phase : points per roller pitch; direction : points per turn; cap : the largest grid; chunk :
     roller-configurations evaluated at once (bounds the memory); refine_rows_max_n : above this N the
     per-roller envelope rows are grid maxima (their refinement is O(N²)); factor : grid multiplier
-    (8 at the reference level).
+    (8 at the reference level); joint_position, joint_direction : the first grid of "cycle" with
+    "envelope" (:func:`position_direction_max`): intervals of the roller position over a half turn, and
+    load directions relative to the roller's normal over a turn.
     """
 
     phase: int = 64
@@ -140,20 +146,29 @@ class SweepGrid:
     chunk: int = 1_000_000
     refine_rows_max_n: int = 200
     factor: int = 1
+    joint_position: int = 8
+    joint_direction: int = 32
+
+
+JOINT_COST = 3
+"""Weight of a first-grid configuration of :func:`position_direction_max` in :func:`sweep_work`: its grid doubling
+and box refinements cost about 3 times as much per first-grid point as the single sweeps' (measured: N = 2000,
+3.8 s for 5.8e5 first-grid roller-configurations; the single sweeps ~2 us per unit)."""
 
 
 def sweep_work(n, cycle, envelope, grid=SweepGrid()):
     """Roller-configurations of the first grids of a design's sweeps (spec §8): N x phases x directions
-    (the cost budget's measure).
+    (the cost budget's measure); "cycle" with "envelope": :data:`JOINT_COST` x N x (positions + 1) x relative
+    directions of :func:`position_direction_max`'s first grid.
 
     Examples
     --------
     >>> sweep_work(8, True, False), sweep_work(8, False, True), sweep_work(8, True, True)
-    (512, 5760, 92160)
+    (512, 5760, 6912)
     """
     gf = grid.factor
     if cycle and envelope:
-        return n * grid.phase * gf * min(grid.direction, max(grid.direction // 4, 16 * n)) * gf
+        return JOINT_COST * n * (grid.joint_position * gf + 1) * grid.joint_direction * gf
     return n * (grid.phase * gf if cycle else 1) * (grid.direction * gf if envelope else 1)
 
 
@@ -284,6 +299,211 @@ def direction_maxima(chain: Chain, mats: Materials, phase, gamma_grid, load, cle
     return res.reshape(np.shape(phase))
 
 
+def roller_sigma(chain: Chain, mats: Materials, position, relative_direction, load, clearance, fixed_direction=False,
+                 chunk=1_000_000):
+    r"""The larger contact stress of roller 0 placed at the uniformising angle ``position``, under a load whose
+    direction is ``relative_direction`` from that roller's inner normal (spec §4.1, §8).
+
+    .. math:: f(\varphi, \rho) = \max(\sigma_{0B}, \sigma_{0H}), \quad \theta_k = \theta(\varphi + 2\pi k/N),
+              \quad \gamma = \theta_0 + \beta_0 + \rho
+
+    Every roller is roller 0 at another position (theta_k = theta(phi_0 + 2 pi k/N)), so the maximum of
+    sigma_max over chain phases and load directions is the maximum of f over the roller position
+    phi in [0, 2 pi) and rho; the mirror symmetry of the chain makes f(-phi, -rho) = f(phi, rho).
+
+    Parameters
+    ----------
+    chain, mats : one closed chain and its materials (floats).
+    position, relative_direction : array_like
+        phi [rad] and rho [rad], broadcast against each other.
+    load, clearance : float
+        Q [N], s [mm].
+    fixed_direction, chunk : see :func:`sigma_max_at`.
+
+    Returns
+    -------
+    f [MPa], the broadcast shape.
+
+    Examples
+    --------
+    >>> ch = close_chain(100.0, 50.0, 6.0, 6.0, 8)
+    >>> m = Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+    >>> round(float(roller_sigma(ch, m, 0.0, 0.0, 1e4, 0.0)), 6)      # scheme A, load on the line of centres
+    748.935693
+
+    References
+    ----------
+    Merko et al. (see the module), eq. (3); docs/spec/zstk.md §4.1, §8.
+    """
+    n, q = chain.n, chain.limiting_ratio
+    r_h, r_b, e = chain.outer_radius, chain.inner_radius, chain.eccentricity
+    pos, rel = np.broadcast_arrays(np.asarray(position, dtype=float), np.asarray(relative_direction, dtype=float))
+    flat_p, flat_r = pos.ravel(), rel.ravel()
+    out = np.empty(flat_p.shape)
+    step = max(1, chunk // n)
+    for k in range(0, flat_p.size, step):
+        # evaluate()'s arithmetic, the stresses of roller 0 only (the same numbers, less work)
+        theta = roller_angles(flat_p[k:k + step], n, q)
+        h = centre_distance(theta, r_h, r_b, e)
+        beta_s = np.arctan2(e * np.sin(theta), h - e * np.cos(theta))
+        nb = theta + beta_s
+        sol = solve_loads(nb, nb[:, 0] + flat_r[k:k + step], load, mats.stiffness, clearance,
+                          fixed_direction=fixed_direction)
+        f_b = sol.force[:, 0]
+        rho_b, rho_h = reduced_radii(roller_radius(theta[:, 0], r_h, r_b, e), h[:, 0], r_b, r_h)
+        sig_b = hertz.peak_pressure(f_b, mats.length, rho_b, mats.e_star_inner)
+        sig_h = hertz.peak_pressure(f_b * np.cos(beta_s[:, 0]), mats.length, rho_h, mats.e_star_outer)
+        out[k:k + step] = np.maximum(sig_b, sig_h)
+    return out.reshape(pos.shape)
+
+
+ZOOM_POINTS = 7
+"""Points per axis of the shrinking-box refinement of :func:`position_direction_max` (the box shrinks 3-fold per
+step)."""
+
+
+def _grid_maxima(values, top):
+    """Indices (j, k) of the ``top`` largest local maxima of a grid periodic in its second axis (ends of the first
+    axis compared one-sidedly), without those that cannot reach the grid's maximum: a local maximum whose value
+    plus its largest difference to a neighbour stays below the grid maximum (refinement within one grid step
+    raises a smooth maximum by less than that)."""
+    padded = np.pad(values, ((1, 1), (0, 0)), constant_values=-np.inf)
+    peak = np.ones(values.shape, bool)
+    rise = np.zeros(values.shape)
+    for dj in (-1, 0, 1):
+        for dk in (-1, 0, 1):
+            if dj or dk:
+                nb = np.roll(padded, -dk, axis=1)[1 + dj:1 + dj + values.shape[0]]
+                peak &= values >= nb
+                rise = np.maximum(rise, np.where(np.isfinite(nb), values - nb, 0.0))
+    j, k = np.nonzero(peak)
+    if j.size == 0:
+        j, k = np.unravel_index(np.argmax(values), values.shape)
+        return np.atleast_1d(j), np.atleast_1d(k)
+    order = np.argsort(-values[j, k], kind="stable")[:top]
+    j, k = j[order], k[order]
+    keep = values[j, k] + rise[j, k] >= values[j[0], k[0]]
+    return j[keep], k[keep]
+
+
+def position_direction_max(chain: Chain, mats: Materials, load, clearance, *, tol, refine_rtol, grid=SweepGrid(),
+                           fixed_direction=False, top=3):
+    r"""Maximum of sigma_max over the chain phase and the load direction together ("cycle" with "envelope",
+    spec §8, §11.8), as the maximum of one roller's stress over its position and the relative load direction.
+
+    .. math:: \max_{\varphi_0, \gamma} \sigma_{max} = \max_{\varphi \in [0, \pi]} \max_{\rho} f(\varphi, \rho)
+
+    (:func:`roller_sigma`; [0, pi] by the mirror symmetry).  Each level evaluates f on a grid of
+    P + 1 positions over [0, pi] and M relative directions over a turn, refines the ``top`` largest local
+    maxima of the grid by a shrinking-box search (a 7 x 7 grid within one grid step of the candidate,
+    recentred on its best point and shrunk 3-fold, down to the tolerance), then doubles P and M; the
+    error estimate is the change of the maximum plus the refinement error (how much f moves one final
+    step away from the refined point), repeated until it is <= tol·max.  The
+    direction grid is relative to the roller's normal, where f is one smooth bump (kinks where rollers
+    enter or leave the load zone): far fewer configurations than a phase grid per pitch times a
+    direction grid per turn (the nested sweep of :func:`direction_maxima`).
+
+    Parameters
+    ----------
+    chain, mats : one closed chain and its materials (floats).
+    load, clearance : float
+        Q [N], s [mm].
+    tol : float
+        Relative accuracy target.
+    refine_rtol : float
+        Golden-section tolerance (relative to the turn); tightened 1000-fold when the refinement error
+        dominates.
+    grid : SweepGrid
+        ``joint_position``, ``joint_direction`` (times ``factor``), ``cap``, ``chunk``.
+    fixed_direction : bool
+    top : int
+        Grid maxima refined per level.
+
+    Returns
+    -------
+    (position phi [rad], relative direction rho [rad], load direction gamma [rad], value [MPa], SweepResult of
+    the positions (samples: positions per turn), SweepResult of the directions (samples: per turn)).
+
+    Examples
+    --------
+    >>> ch = close_chain(100.0, 50.0, 6.0, 6.0, 8)
+    >>> m = Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+    >>> phi, rho, gam, v, sp, sd = position_direction_max(ch, m, 1e4, 0.0, tol=1e-6, refine_rtol=1e-5)
+    >>> round(v, 6), round(phi, 9), round(rho, 9)
+    (748.935693, 0.0, 0.0)
+
+    References
+    ----------
+    Merko et al. (see the module), Fig. 2; docs/spec/zstk.md §4.1, §8, §11.8.
+    """
+    gf = grid.factor
+    p_count, m_count = grid.joint_position * gf, grid.joint_direction * gf
+    r_h, r_b, e = chain.outer_radius, chain.inner_radius, chain.eccentricity
+
+    def f(pos, rel):
+        return roller_sigma(chain, mats, pos, rel, load, clearance, fixed_direction, grid.chunk)
+
+    offsets = np.linspace(-1.0, 1.0, ZOOM_POINTS)
+    shrink = 2.0 / (ZOOM_POINTS - 1)
+
+    def zoom(pos, rel, h_pos, h_rel, rtol):
+        """Shrinking-box search around each candidate (vectorised over candidates): a ZOOM_POINTS² grid over
+        pos ± h_pos, rel ± h_rel, recentred on its best point with the box shrunk to one grid step, until the
+        step is <= rtol · 2 pi; returns the best points, their values and how much f moves one final step
+        away from them (the refinement error)."""
+        while True:
+            pp = pos[:, None, None] + h_pos * offsets[None, :, None]
+            rr = rel[:, None, None] + h_rel * offsets[None, None, :]
+            vals = f(pp, rr).reshape(pos.size, -1)
+            b = np.argmax(vals, axis=1)
+            rows = np.arange(pos.size)
+            shape = (pos.size, ZOOM_POINTS, ZOOM_POINTS)
+            pos = np.broadcast_to(pp, shape).reshape(pos.size, -1)[rows, b]
+            rel = np.broadcast_to(rr, shape).reshape(pos.size, -1)[rows, b]
+            best = vals[rows, b]
+            step = shrink * max(h_pos, h_rel)
+            if step <= rtol * 2 * np.pi:
+                bj, bk = np.divmod(b, ZOOM_POINTS)
+                grid_v = vals.reshape(pos.size, ZOOM_POINTS, ZOOM_POINTS)
+                spread = np.zeros(pos.size)
+                for dj in (-1, 0, 1):
+                    for dk in (-1, 0, 1):
+                        jj, kk = np.clip(bj + dj, 0, ZOOM_POINTS - 1), np.clip(bk + dk, 0, ZOOM_POINTS - 1)
+                        spread = np.maximum(spread, np.abs(grid_v[rows, jj, kk] - best))
+                return pos, rel, best, spread
+            h_pos, h_rel = shrink * h_pos, shrink * h_rel
+
+    prev = None
+    while True:
+        pos_grid = np.pi * np.arange(p_count + 1) / p_count
+        rel_grid = 2 * np.pi * np.arange(m_count) / m_count
+        rel_grid = np.where(rel_grid > np.pi, rel_grid - 2 * np.pi, rel_grid)
+        values = f(pos_grid[:, None], rel_grid[None, :])
+        j, k = _grid_maxima(values, top)
+        h_pos, h_rel = np.pi / p_count, 2 * np.pi / m_count
+        pos0, rel0 = pos_grid[j], rel_grid[k]
+        z_pos, z_rel, z_val, z_spread = zoom(pos0, rel0, h_pos, h_rel, refine_rtol)
+        b = int(np.argmax(z_val))
+        pos_b, rel_b, v, err_ref = float(z_pos[b]), float(z_rel[b]), float(z_val[b]), float(z_spread[b])
+        g_j, g_k = np.unravel_index(np.argmax(values), values.shape)
+        if values[g_j, g_k] > v:
+            pos_b, rel_b, v, err_ref = float(pos_grid[g_j]), float(rel_grid[g_k]), float(values[g_j, g_k]), 0.0
+        capped = 2 * m_count > grid.cap
+        if prev is not None:
+            err = abs(v - prev) + err_ref
+            if err <= tol * abs(v) or capped:
+                break
+        if err_ref > 0.25 * tol * abs(v):
+            refine_rtol *= 1e-3
+        prev = v
+        p_count, m_count = 2 * p_count, 2 * m_count
+    t0 = float(roller_angles(pos_b, chain.n, chain.limiting_ratio)[0])
+    gamma = t0 + float(np.arctan2(e * np.sin(t0), centre_distance(t0, r_h, r_b, e) - e * np.cos(t0))) + rel_b
+    over = err > tol * abs(v)
+    return (pos_b, rel_b, gamma, v, SweepResult(pos_b, v, err, 2 * p_count, np.pi / p_count, over),
+            SweepResult(rel_b, v, err, m_count, 2 * np.pi / m_count, over))
+
+
 def critical_placement(chain: Chain, mats: Materials, load, clearance, phase=None, gamma=None, *, tol,
                        refine_rtol, grid=SweepGrid(), fixed_direction=False) -> Placement:
     r"""The chain phase and/or load direction of the largest contact stress (spec §8, "cycle" and "envelope").
@@ -293,10 +513,9 @@ def critical_placement(chain: Chain, mats: Materials, load, clearance, phase=Non
 
     ``phase=None`` sweeps the phase over one roller pitch ("cycle"); ``gamma=None`` sweeps the load
     direction over a turn ("envelope").  Each sweep is :func:`maximise_periodic` (grid, golden
-    refinement, grid doubled until the change is <= tol); with both, the phase sweep maximises
-    :func:`direction_maxima` on an inner grid of >= 16 directions per roller pitch (each roller's
-    stress is one smooth bump over the directions), and the final value comes from the full direction
-    sweep at the critical phase.
+    refinement, grid doubled until the change is <= tol); with both, :func:`position_direction_max`
+    (one roller's stress over its position and the load direction relative to its normal); the phase
+    is then the chain phase in [0, 2 pi/N) that puts a roller at the critical position.
 
     Parameters
     ----------
@@ -333,16 +552,19 @@ def critical_placement(chain: Chain, mats: Materials, load, clearance, phase=Non
     gf = grid.factor
     err = 0.0
     out = Placement(phase, gamma, 0.0)
+    if phase is None and gamma is None:
+        pos, _, gam, value, sw_pos, sw_dir = position_direction_max(chain, mats, load, clearance, tol=tol,
+                                                                    refine_rtol=refine_rtol, grid=grid,
+                                                                    fixed_direction=fixed_direction)
+        pitch = 2 * np.pi / n
+        phase0 = float(np.mod(pos, pitch))
+        if pitch - phase0 <= 1e-15 * pitch:
+            phase0 = 0.0
+        return Placement(phase0, float(np.mod(gam + np.pi, 2 * np.pi) - np.pi), sw_pos.err, sw_pos, sw_dir, value)
     if phase is None:
         pitch = 2 * np.pi / n
-        if gamma is None:
-            m_inner = min(grid.direction, max(grid.direction // 4, 16 * n)) * gf
-            gamma_grid = 2 * np.pi * np.arange(m_inner) / m_inner
-            fun = lambda ph: direction_maxima(chain, mats, ph, gamma_grid, load, clearance, refine_rtol,  # noqa: E731
-                                              fixed_direction, grid.chunk)
-        else:
-            fun = lambda ph: sigma_max_at(chain, mats, ph, gamma, load, clearance, fixed_direction,  # noqa: E731
-                                          grid.chunk)
+        fun = lambda ph: sigma_max_at(chain, mats, ph, gamma, load, clearance, fixed_direction,  # noqa: E731
+                                      grid.chunk)
         sw = maximise_periodic(fun, 0.0, pitch, grid.phase * gf, tol, grid.cap, refine_rtol)
         out.phase, out.phase_sweep = sw.x, sw
         err += sw.err
@@ -404,8 +626,9 @@ def evaluate_placement(chain: Chain, mats: Materials, placement: Placement, load
         residual = np.array([float(res)])
     env = None
     if rows:
-        env = roller_envelope(chain, mats, theta, load, clearance, refine_rtol, placement.direction_sweep.samples,
-                              grid=grid, fixed_direction=fixed_direction)
+        samples = max(placement.direction_sweep.samples, grid.direction * grid.factor)  # >= the envelope's own grid
+        env = roller_envelope(chain, mats, theta, load, clearance, refine_rtol, samples, grid=grid,
+                              fixed_direction=fixed_direction)
     return theta, state, residual, env
 
 
@@ -471,18 +694,29 @@ def roller_envelope(chain: Chain, mats: Materials, theta, load, clearance, refin
     best = np.full((2, n), -1.0)
     arg = np.zeros((2, n), dtype=int)
     step_m = max(1, chunk // n)
+    refine = n <= grid.refine_rows_max_n
+    # without refinement the rows are the grid maxima: their quantities are kept as the grid runs (no O(N²)
+    # re-evaluation at each roller's own direction)
+    kept = None if refine else [{f: np.zeros(n) for f in ROLLER_FIELDS} for _ in range(2)]
+    cols = np.arange(n)
     for k in range(0, m, step_m):  # running per-roller maxima over the direction grid
         g = directions[k:k + step_m]
         st = evaluate(chain, mats, np.broadcast_to(theta, (g.size, n)), g, load, clearance,
                       fixed_direction=fixed_direction)
         for c, sig in enumerate((st.sigma_inner, st.sigma_outer)):
             j = np.argmax(sig, axis=0)
-            v = sig[j, np.arange(n)]
+            v = sig[j, cols]
             better = v > best[c]
             best[c] = np.where(better, v, best[c])
             arg[c] = np.where(better, k + j, arg[c])
+            if kept is not None:
+                for f in ROLLER_FIELDS:
+                    kept[c][f] = np.where(better, np.broadcast_to(getattr(st, f), sig.shape)[j, cols], kept[c][f])
     centre = np.concatenate([directions[arg[0]], directions[arg[1]]])
-    if n <= grid.refine_rows_max_n:
+    if kept is not None:
+        return ({f: v[None, :] for f, v in kept[0].items()}, {f: v[None, :] for f, v in kept[1].items()},
+                centre[None, :n], centre[None, n:])
+    if refine:
         step = 2 * np.pi / m
         pick = np.concatenate([np.arange(n), np.arange(n)])
         contact = np.repeat([0, 1], n)
@@ -495,7 +729,5 @@ def roller_envelope(chain: Chain, mats: Materials, theta, load, clearance, refin
 
         r = minimize_golden(neg, centre - step, centre + step, rtol=refine_rtol, xtol=refine_rtol * 2 * np.pi)
         g_best = np.where(-r.fun >= best.ravel(), r.x, centre)
-    else:
-        g_best = centre
     gam_b, gam_h = g_best[:n], g_best[n:]
     return diagonal(gam_b), diagonal(gam_h), gam_b[None, :], gam_h[None, :]

@@ -7,7 +7,8 @@ The seed paper by Merko et al. (seed 003), cited in full in :mod:`gearcalc.zstk`
 from __future__ import annotations
 
 __all__ = ['Materials', 'State', 'evaluate', 'critical', 'solve_placements', 'Summary', 'summarise', 'safety_factor',
-           'Contacts', 'roller_contacts', 'roller_approach', 'worst_width_ratio']
+           'Contacts', 'roller_contacts', 'roller_approach', 'worst_width_ratio', 'separator_forces',
+           'LOADED_RTOL', 'ROUNDOFF_RTOL', 'critical_shear']
 
 from dataclasses import dataclass
 
@@ -25,7 +26,9 @@ from .loads import LoadSolution, _per_roller, roller_stiffness, solve_loads
 class Materials:
     """Contact moduli and the roller constant of a design.
 
-    e_star_inner, e_star_outer : E*_B, E*_H [MPa]; length : l [mm]; stiffness : c_L.
+    e_star_inner, e_star_outer : E*_B, E*_H [MPa]; length : l [mm]; stiffness : c_L;
+    poisson_inner, poisson_outer : the smaller Poisson's ratio of the two bodies of the inner / outer
+    contact [-] (the body in which the maximum shear is largest, :func:`gearcalc.hertz.tresca_shear_ratio`).
     Floats for one design, arrays of shape (G,) for stacked designs.
     """
 
@@ -33,16 +36,19 @@ class Materials:
     e_star_outer: float
     length: float
     stiffness: float
+    poisson_inner: float = 0.3
+    poisson_outer: float = 0.3
 
     @classmethod
     def from_elastic(cls, length, roller_e, roller_nu, inner_e, inner_nu, outer_e, outer_nu):
         eb = hertz.contact_modulus(roller_e, roller_nu, inner_e, inner_nu)
         eh = hertz.contact_modulus(roller_e, roller_nu, outer_e, outer_nu)
         stiffness = roller_stiffness(length, eb, eh)
+        nu_b, nu_h = np.minimum(roller_nu, inner_nu), np.minimum(roller_nu, outer_nu)
         if np.ndim(stiffness) == 0:
-            return cls(float(eb), float(eh), float(length), float(stiffness))
+            return cls(float(eb), float(eh), float(length), float(stiffness), float(nu_b), float(nu_h))
         return cls(*(broadcast(np.asarray(x, dtype=float), np.shape(stiffness)) for x in
-                     (eb, eh, length, stiffness)))
+                     (eb, eh, length, stiffness, nu_b, nu_h)))
 
 
 @dataclass
@@ -210,6 +216,46 @@ def solve_placements(chain: Chain, mats: Materials, phase, q, gamma, load, clear
 
 
 # ----------------------------------------------------------------------------- summary quantities
+LOADED_RTOL = 1e-12
+"""A roller counts as loaded when F_iB > LOADED_RTOL · max_j F_jB (spec §10): a roller whose normal is
+exactly perpendicular to the load carries ~1e-18 Q of round-off, not a load."""
+ROUNDOFF_RTOL = 1e-12
+"""Round-off floor of sigma_max_err_MPa, relative to sigma_max (spec §8: the closed-form parts are accurate
+to about 1e-12 relative)."""
+
+
+def separator_forces(force_inner, beta):
+    r"""Force of the separator on each roller (spec §5 item 2): the tangential reaction that keeps the roller
+    in place, perpendicular to O_H P_i, [N] (>= 0; zero on the line of centres and when e = 0).
+
+    .. math:: F_{iS} = F_{iB} \sin\beta_i
+
+    Roller equilibrium along n_Hi gives F_iH = F_iB cos beta_i; across it the separator balances
+    F_iB sin beta_i (the normals n_Bi and n_Hi differ by beta_i).
+
+    Parameters
+    ----------
+    force_inner : array_like
+        F_iB [N].
+    beta : array_like
+        Angle between the contact normals [rad].
+
+    Returns
+    -------
+    F_iS [N], the broadcast shape.
+
+    Examples
+    --------
+    >>> float(separator_forces(1000.0, np.pi / 6))
+    499.99999999999994
+
+    References
+    ----------
+    docs/spec/zstk.md §5 (item 2, separator), §10.
+    """
+    return np.asarray(force_inner, dtype=float) * np.sin(np.abs(beta))
+
+
 @dataclass
 class Summary:
     """The summary quantities of G configurations (arrays of shape (G,)), from :func:`summarise`.
@@ -217,7 +263,8 @@ class Summary:
     sigma_max [MPa], roller (index), contact (0 inner, 1 outer), sigma_err (error estimate [MPa]),
     radius and theta of the critical roller [mm, rad], solver_residual (|sum F n - Q u|/(Q + sum F);
     the component along u for the fixed-direction level), transverse_residual (|transverse force|/Q),
-    converged, approach (|delta| [mm]) along approach_direction [rad], loaded (rollers with F_iB > 0).
+    converged, approach (|delta| [mm]) along approach_direction [rad], loaded (rollers with
+    F_iB > :data:`LOADED_RTOL` · max F_jB).
     """
 
     sigma_max: np.ndarray
@@ -235,15 +282,16 @@ class Summary:
 
 
 def summarise(state: State, load, clearance, symmetric, fixed_direction=False, sweep_value=None, sweep_err=None,
-              roundoff_ulps=4) -> Summary:
+              roundoff=ROUNDOFF_RTOL) -> Summary:
     r"""The largest stress, where it occurs, its error estimate and the solver's residuals (spec §8, §10).
 
-    .. math:: \varepsilon_\sigma = \varepsilon_{sweep} + \tfrac12 \sigma_{max}\, |r| / F_{crit}
+    .. math:: \varepsilon_\sigma = \max\left(\varepsilon_{sweep} + \tfrac12 \sigma_{max}\, |r| / F_{crit},\;
+              \epsilon_{ro}\, \sigma_{max}\right)
 
-    (sigma ∝ sqrt(F): a relative load error r/F moves sigma by half as much); zero for the closed
-    form (a mirror-symmetric configuration without clearance).  With sweeps (``sweep_err`` given) the
-    estimate is at least ``roundoff_ulps`` eps |sigma_max| (the round-off of the value itself: a
-    sweep's estimate fell 1.2e-12 relative below the actual error when it was smaller).
+    (sigma ∝ sqrt(F): a relative load error r/F moves sigma by half as much); the solver term is zero
+    for the closed form (a mirror-symmetric configuration without clearance).  The estimate is at
+    least ``roundoff`` |sigma_max| (the round-off of the closed-form parts, about 1e-12 relative: estimates
+    below it fell below the actual difference to an independent solver).
 
     Parameters
     ----------
@@ -259,8 +307,8 @@ def summarise(state: State, load, clearance, symmetric, fixed_direction=False, s
         The maximum found by a direction sweep [MPa] (used when above the state's own).
     sweep_err : array_like or None
         The sweeps' error estimate [MPa]; None for a single placement.
-    roundoff_ulps : float
-        Floor of a sweep's estimate, in eps |sigma_max|.
+    roundoff : float
+        Floor of the estimate, relative to |sigma_max| (:data:`ROUNDOFF_RTOL`).
 
     Returns
     -------
@@ -272,8 +320,8 @@ def summarise(state: State, load, clearance, symmetric, fixed_direction=False, s
     >>> m = Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
     >>> st = evaluate(ch, m, roller_angles(np.zeros(1), 8, ch.limiting_ratio), np.zeros(1), 1e4, symmetric=True)
     >>> s = summarise(st, np.array([1e4]), np.zeros(1), np.array([True]))
-    >>> round(float(s.sigma_max[0]), 6), int(s.roller[0]), int(s.contact[0]), float(s.sigma_err[0])
-    (748.935693, 0, 0, 0.0)
+    >>> round(float(s.sigma_max[0]), 6), int(s.roller[0]), int(s.contact[0]), bool(s.sigma_err[0] == 1e-12 * s.sigma_max[0])
+    (748.935693, 0, 0, True)
 
     References
     ----------
@@ -302,16 +350,60 @@ def summarise(state: State, load, clearance, symmetric, fixed_direction=False, s
     resid_abs = residual if not fixed_direction else solver_residual * (load + f_sum)
     with np.errstate(divide="ignore", invalid="ignore"):
         err_solver = np.where(closed_form | ~(f_crit > 0), 0.0, 0.5 * smax * resid_abs / f_crit)
-    sigma_err = (0.0 if sweep_err is None else sweep_err) + err_solver
-    if sweep_err is not None:
-        sigma_err = np.maximum(sigma_err, roundoff_ulps * np.finfo(float).eps * np.abs(smax))
+    sigma_err = np.maximum((0.0 if sweep_err is None else sweep_err) + err_solver, roundoff * np.abs(smax))
     # the displacement (spec §11.3): |delta| along alpha + 180 degrees when delta < 0
     delta = broadcast(sol.approach, shape)
     alpha = broadcast(sol.alpha, shape)
     neg = delta < 0
     delta, alpha = np.where(neg, -delta, delta), np.where(neg, alpha + np.pi, alpha)
     return Summary(smax, i_crit, contact, sigma_err, at_crit(state.radius), at_crit(state.theta), solver_residual,
-                   transverse_residual, converged, delta, alpha, np.count_nonzero(state.force_inner > 0, axis=-1))
+                   transverse_residual, converged, delta, alpha, np.count_nonzero(
+                       state.force_inner > LOADED_RTOL * np.max(state.force_inner, axis=-1, keepdims=True), axis=-1))
+
+
+def critical_shear(state: State, summary: Summary, mats: Materials):
+    r"""Maximum (Tresca) subsurface shear at the critical contact of each configuration, and its depth (spec §2).
+
+    .. math:: \tau_{max} = k_\tau(\nu)\, \sigma_{max}, \qquad z = k_z(\nu)\, b, \quad b = 2 \sigma_{max} \rho / E^*
+
+    (b = sqrt(4 F rho/(pi l E*)) with F = pi l rho sigma²/E*); nu, rho and E* of the critical roller's
+    critical contact; k_tau, k_z from :func:`gearcalc.hertz.tresca_shear_ratio`.
+
+    Parameters
+    ----------
+    state : State
+        G configurations (arrays (G, N)).
+    summary : Summary
+        Their :func:`summarise` (sigma_max, roller, contact).
+    mats : Materials
+        Floats or arrays (G,).
+
+    Returns
+    -------
+    (tau_max [MPa], depth [mm]), arrays (G,).
+
+    Examples
+    --------
+    >>> ch = close_chain(100.0, 50.0, 6.0, 6.0, 8)
+    >>> m = Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+    >>> st = evaluate(ch, m, roller_angles(np.zeros(1), 8, ch.limiting_ratio), np.zeros(1), 1e4, symmetric=True)
+    >>> tau, z = critical_shear(st, summarise(st, np.array([1e4]), np.zeros(1), np.array([True])), m)
+    >>> round(float(tau[0]), 4), round(float(z[0]), 6)
+    (224.8927, 0.162431)
+
+    References
+    ----------
+    Johnson K.L., Contact Mechanics, 1985, §2.8, §4.2; docs/spec/zstk.md §2, §10.
+    """
+    size = state.sigma_inner.shape[0]
+    inner = summary.contact == 0
+    i = summary.roller[:, None]
+    rho = np.where(inner, np.take_along_axis(state.rho_inner, i, -1)[:, 0],
+                   np.take_along_axis(state.rho_outer, i, -1)[:, 0])
+    e_star = np.where(inner, broadcast(mats.e_star_inner, (size,)), broadcast(mats.e_star_outer, (size,)))
+    nu = np.where(inner, broadcast(mats.poisson_inner, (size,)), broadcast(mats.poisson_outer, (size,)))
+    k_tau, k_z = hertz.tresca_shear_ratio(nu)
+    return k_tau * summary.sigma_max, k_z * 2.0 * summary.sigma_max * rho / e_star
 
 
 def safety_factor(sigma_max, allowable):
@@ -345,7 +437,8 @@ def safety_factor(sigma_max, allowable):
 @dataclass
 class Contacts:
     """Per-roller contact quantities (arrays (G, N)) of the inner (B) and outer (H) contacts: force [N],
-    peak stress [MPa], reduced radius [mm], Hertz semi-width b [mm], maximum subsurface shear [MPa]."""
+    peak stress [MPa], reduced radius [mm], Hertz semi-width b [mm], maximum (Tresca) subsurface shear [MPa]
+    and its depth below the contact centre [mm]."""
 
     force_inner: np.ndarray
     force_outer: np.ndarray
@@ -357,12 +450,19 @@ class Contacts:
     width_outer: np.ndarray
     shear_inner: np.ndarray
     shear_outer: np.ndarray
+    shear_depth_inner: np.ndarray = None
+    shear_depth_outer: np.ndarray = None
 
 
 def roller_contacts(inner, outer, mats: Materials) -> Contacts:
-    r"""Hertz semi-widths and subsurface shear of every roller's two contacts (spec §2).
+    r"""Hertz semi-widths and maximum subsurface shear of every roller's two contacts (spec §2).
 
-    .. math:: b = \sqrt{4 F \rho / (\pi l E^*)} = 2F/(\pi l \sigma), \qquad \tau_{max} \approx 0.300\,\sigma
+    .. math:: b = \sqrt{4 F \rho / (\pi l E^*)} = 2F/(\pi l \sigma), \qquad \tau_{max} = k_\tau(\nu)\,\sigma
+              \text{ at depth } z = k_z(\nu)\, b
+
+    k_tau, k_z: the Tresca maximum along the contact axis in plane strain
+    (:func:`gearcalc.hertz.tresca_shear_ratio`), for the smaller Poisson's ratio of the contact's two
+    bodies: 0.3003 and 0.7862 for nu >= 0.2423, larger and shallower below it.
 
     Parameters
     ----------
@@ -385,6 +485,8 @@ def roller_contacts(inner, outer, mats: Materials) -> Contacts:
     >>> c = roller_contacts(st, st, m)
     >>> round(float(c.width_inner[0, 0]), 6), round(float(c.shear_inner[0, 0] / c.sigma_inner[0, 0]), 4)
     (0.206616, 0.3003)
+    >>> round(float(c.shear_depth_inner[0, 0] / c.width_inner[0, 0]), 6)
+    0.786151
 
     References
     ----------
@@ -394,15 +496,16 @@ def roller_contacts(inner, outer, mats: Materials) -> Contacts:
     def get(obj, name):
         return obj[name] if isinstance(obj, dict) else getattr(obj, name)
 
-    length, e_b, e_h = (np.reshape(np.asarray(x, dtype=float), (-1, 1)) for x in
-                        (mats.length, mats.e_star_inner, mats.e_star_outer))
+    length, e_b, e_h, nu_b, nu_h = (np.reshape(np.asarray(x, dtype=float), (-1, 1)) for x in
+                                    (mats.length, mats.e_star_inner, mats.e_star_outer, mats.poisson_inner,
+                                     mats.poisson_outer))
     f_b, f_h = get(inner, "force_inner"), get(outer, "force_outer")
     s_b, s_h = get(inner, "sigma_inner"), get(outer, "sigma_outer")
     rho_b, rho_h = get(inner, "rho_inner"), get(outer, "rho_outer")
     b_b = hertz.semi_width(f_b, length, rho_b, e_b)
     b_h = hertz.semi_width(f_h, length, rho_h, e_h)
-    return Contacts(f_b, f_h, s_b, s_h, rho_b, rho_h, b_b, b_h, hertz.max_subsurface_shear(s_b),
-                    hertz.max_subsurface_shear(s_h))
+    (k_b, z_b), (k_h, z_h) = hertz.tresca_shear_ratio(nu_b), hertz.tresca_shear_ratio(nu_h)
+    return Contacts(f_b, f_h, s_b, s_h, rho_b, rho_h, b_b, b_h, k_b * s_b, k_h * s_h, z_b * b_b, z_h * b_h)
 
 
 def roller_approach(state: State, clearance):
