@@ -151,12 +151,14 @@ class Batch:
 
 def compute_files(paths, *, kind: str | None = None, model: str | None = None, tol: float = DEFAULT_TOL,
                   detail: bool = False, overrides: Iterable[tuple[str, Any]] | Mapping[str, Any] = (),
-                  jobs: int = 1, progress=None, verbose: bool = False, say=None) -> Batch:
+                  jobs: int = 1, progress=None, verbose: bool = False, say=None, scheduler=None) -> Batch:
     """Compute design files and folders (every ``*.toml`` below a folder), as ``gearcalc run`` does.
 
     A bad file is its messages and exit status 2, never the end of the batch; ``jobs > 1`` spreads the
-    designs over worker processes (identical results).  ``progress(k)`` is called as designs finish;
-    ``say(line)`` receives each message as it comes (default: collected in ``Batch.messages`` only).
+    designs over worker processes (identical results), ``scheduler`` over a Dask cluster (``--scheduler``: an
+    address, ``"local:N"``, or a ``distributed.Client``; needs the ``dask`` extra; identical results).
+    ``progress(k)`` is called as designs finish; ``say(line)`` receives each message as it comes (default:
+    collected in ``Batch.messages`` only).
     """
     from . import design as dmod
     from . import engine
@@ -174,18 +176,27 @@ def compute_files(paths, *, kind: str | None = None, model: str | None = None, t
     designs, worst = engine.load_designs(files, _pairs(overrides), kind, tell)
     for k in sorted({d.kind for d in designs}):
         engine.check_model(model, k)
-    records, status = engine.run(designs, Options(tol=tol, model=model, detail=detail), say=tell,
-                                 advance=progress, jobs=jobs, verbose=verbose)
+    opts = Options(tol=tol, model=model, detail=detail)
+    if scheduler is None:
+        records, status = engine.run(designs, opts, say=tell, advance=progress, jobs=jobs, verbose=verbose)
+    else:
+        from .distributed import Cluster
+
+        with Cluster(scheduler, say=tell) as cluster:
+            records, status = engine.run(designs, opts, say=tell, advance=progress, verbose=verbose,
+                                         cluster=cluster)
     batch.records, batch.status = records, max(worst, status)
     return batch
 
 
 def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None, tol: float = DEFAULT_TOL,
-          overrides: Iterable[tuple[str, Any]] | Mapping[str, Any] = (), chunk: int | None = None) -> Iterator:
+          overrides: Iterable[tuple[str, Any]] | Mapping[str, Any] = (), chunk: int | None = None,
+          scheduler=None) -> Iterator:
     """Evaluate one design over the product grid of ``axes`` (the first axis varies slowest), a chunk at a
     time: yields :class:`~gearcalc.render.Columns` (``.data[field]`` lists, the varied keys first; rows
     with ``.rows()``, a DataFrame with ``.to_pandas()``), in grid order.  Memory is bounded by the chunk,
-    not by the grid.
+    not by the grid.  ``scheduler``: the chunks are computed on a Dask cluster (an address, ``"local:N"``
+    or a ``distributed.Client``; needs the ``dask`` extra), the same values in the same order.
 
     >>> import gearcalc
     >>> base = {"kind": "rows", "gear": {"sun_teeth": 18, "module_mm": 5.0},
@@ -209,7 +220,13 @@ def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None
             from .engine import check_model
 
             check_model(model, kind)
-    yield from sw.stream(raw, source, axes, Options(tol=tol, model=model), chunk=chunk)
+    if scheduler is None:
+        yield from sw.stream(raw, source, axes, Options(tol=tol, model=model), chunk=chunk)
+        return
+    from .distributed import Cluster
+
+    with Cluster(scheduler) as cluster:
+        yield from sw.stream(raw, source, axes, Options(tol=tol, model=model), chunk=chunk, cluster=cluster)
 
 
 def sweep_chunk(raw: Mapping, source: str, axes: Mapping[str, list], start: int, stop: int,

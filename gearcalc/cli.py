@@ -6,6 +6,7 @@ is rendered.
 """
 from __future__ import annotations
 
+import contextlib
 import os
 import sys
 from typing import List, Optional
@@ -81,6 +82,12 @@ O_VERBOSE = typer.Option(False, "--verbose", "-v",
                          "with the count and the first names).")
 O_JOBS = typer.Option(1, "--jobs", "-j", min=1, max=256,
                       help="Spread a batch or sweep over N processes; the results are identical to --jobs 1.")
+O_SCHEDULER = typer.Option(None, "--scheduler", envvar="DASK_SCHEDULER_ADDRESS", metavar="ADDRESS|local[:N]",
+                           show_envvar=False,
+                           help="Compute on a Dask cluster: its scheduler's ADDRESS (tcp://HOST:8786, or a "
+                           "scheduler file *.json), or local[:N] for N worker processes here (default: the "
+                           "cores). Output identical to a run without it. Default: $DASK_SCHEDULER_ADDRESS. "
+                           "Needs the 'dask' extra.")
 
 
 def pick_format(fmt: Optional[str], output: Optional[str]) -> str:
@@ -168,12 +175,13 @@ def check_tol(tol: float) -> None:
 def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
                   output: Optional[str], sets: Optional[List[str]], tol: float, model: Optional[str],
                   plot: Optional[str], debug: bool, jobs: int = 1, fields: Optional[str] = None,
-                  verbose: bool = False) -> int:
+                  verbose: bool = False, scheduler: Optional[str] = None) -> int:
     """The body of every computing command; returns the exit code."""
     from . import design as dmod
 
     fmt = pick_format(fmt, output)
     check_tol(tol)
+    cluster = dask_cluster(scheduler, jobs, debug)
     check_outputs(output, plot)
     overrides = dmod.parse_set(sets or []) if sets else []
     files = dmod.expand_paths(paths)
@@ -194,8 +202,10 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
     chosen = parse_fields(fields)
     bar = Progress(len(designs), "designs")  # shown on a terminal once the work has run about a second
     try:
-        records, status = engine.run(designs, Options(tol=tol, model=model, detail=detail), say=err,
-                                     advance=bar.advance, debug=debug, jobs=jobs, verbose=verbose)
+        with on_cluster(cluster):
+            records, status = engine.run(designs, Options(tol=tol, model=model, detail=detail), say=err,
+                                         advance=bar.advance, debug=debug, jobs=jobs, verbose=verbose,
+                                         cluster=cluster)
     finally:
         bar.stop()
     worst = max(worst, status)
@@ -271,13 +281,14 @@ def run_cmd(
     jobs: int = O_JOBS,
     fields: Optional[str] = O_FIELDS,
     verbose: bool = O_VERBOSE,
+    scheduler: Optional[str] = O_SCHEDULER,
 ):
     """Compute any design files, dispatching on their `kind`.
 
     JSON: an array when PATH is a folder or several PATHs are given (even if one design is computed),
     one object for a single file."""
     finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug, jobs, fields,
-                                 verbose), debug)
+                                 verbose, scheduler), debug)
 
 
 @app.command("sweep")
@@ -294,6 +305,7 @@ def sweep_cmd(
     debug: bool = O_DEBUG,
     jobs: int = O_JOBS,
     fields: Optional[str] = O_FIELDS,
+    scheduler: Optional[str] = O_SCHEDULER,
 ):
     """Evaluate one design over a grid of key values; one output row per point.
 
@@ -308,6 +320,7 @@ def sweep_cmd(
 
         f = pick_format(fmt, output)
         check_tol(tol)
+        cluster = dask_cluster(scheduler, jobs, debug)
         check_outputs(output, plot, [file])
         chosen = parse_fields(fields)
         where = dmod.display_name(file)
@@ -325,11 +338,13 @@ def sweep_cmd(
             calc = registry.get(kind) if isinstance(kind, str) and kind in registry.kinds() else None
             bar = Progress(math_prod(len(v) for v in axes.values()), "points")
             try:
-                chunks = sw.stream(raw, file, axes, Options(tol=tol, model=model), progress=bar.advance, jobs=jobs)
-                if f == "table" or plot:  # a table and a figure show every point at once
-                    result = _sweep_whole(chunks, f, output, chosen, axes, where, plot, calc)
-                else:  # CSV and JSON are written a chunk at a time: memory follows the chunk, not the grid
-                    result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc)
+                with on_cluster(cluster):
+                    chunks = sw.stream(raw, file, axes, Options(tol=tol, model=model), progress=bar.advance,
+                                       jobs=jobs, cluster=cluster, debug=debug)
+                    if f == "table" or plot:  # a table and a figure show every point at once
+                        result = _sweep_whole(chunks, f, output, chosen, axes, where, plot, calc)
+                    else:  # CSV and JSON are written a chunk at a time: memory follows the chunk, not the grid
+                        result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc)
             finally:
                 bar.stop()
         except sw.SweepError as exc:
@@ -344,6 +359,49 @@ def sweep_cmd(
         return code
 
     finish(body, debug)
+
+
+def dask_cluster(scheduler: Optional[str], jobs: int, debug: bool):
+    """The Dask cluster of ``--scheduler`` (:class:`gearcalc.distributed.Cluster`, connected when first used;
+    it says its dashboard on a terminal), or None: then gearcalc does not import Dask."""
+    if scheduler is None:
+        return None
+    from .distributed import Cluster, SchedulerError, is_terminal
+
+    if jobs > 1:
+        given = any(a.startswith("--scheduler") for a in sys.argv)
+        source = "" if given else " (from DASK_SCHEDULER_ADDRESS)"
+        raise Abort(f"--jobs {jobs} and --scheduler {clip(scheduler)}{source}: choose one (--scheduler local:N "
+                    "computes in N processes on this machine)")
+
+    class Told(Cluster):
+        def connect(self):
+            fresh = self.client is None
+            super().connect()
+            if fresh and is_terminal():
+                err(self.describe())
+            return self
+
+    try:
+        return Told(scheduler, say=err, debug=debug)
+    except SchedulerError as exc:
+        raise Abort(str(exc)) from None
+
+
+@contextlib.contextmanager
+def on_cluster(cluster):
+    """The body of a command on the ``--scheduler`` cluster (closed at the end: its futures cancelled, a local
+    cluster stopped), an unusable one an :class:`Abort`; with no cluster, the body alone."""
+    if cluster is None:
+        yield
+        return
+    from .distributed import SchedulerError
+
+    try:
+        with cluster:
+            yield
+    except SchedulerError as exc:
+        raise Abort(str(exc)) from None
 
 
 def _fields_or_abort(fields, names) -> None:

@@ -114,11 +114,29 @@ def compute_batched(designs, opts: Options, debug: bool = False) -> list:
     return outcomes
 
 
-def outcomes(designs: list, opts: Options, debug: bool = False, jobs: int = 1) -> Iterator:
+def outcomes(designs: list, opts: Options, debug: bool = False, jobs: int = 1, cluster=None,
+             progress: Callable | None = None) -> Iterator:
     """(design, result or None, message lines, exit status) for every design, in order.
 
     In one process the designs are computed in chunks (about 20, at most :data:`BATCH_CHUNK` designs), so a
-    progress bar moves; with ``jobs > 1`` the chunks go to worker processes (results identical)."""
+    progress bar moves; with ``jobs > 1`` the chunks go to worker processes, with a ``cluster``
+    (:class:`gearcalc.distributed.Cluster`) to its Dask workers (results identical).  ``progress(k)``, when
+    given, is called as chunks of ``k`` designs finish (on a cluster: in the order they finish)."""
+    if cluster is not None and designs:
+        from .distributed import batch_chunk, batch_data
+
+        threads = cluster.connect().threads
+        size = min(BATCH_CHUNK, max(1, -(-len(designs) // (4 * threads))))
+        chunks = [designs[k:k + size] for k in range(0, len(designs), size)]
+        parts = cluster.ordered(batch_chunk, [(c,) for c in chunks], batch_data(opts, debug),
+                                [len(c) for c in chunks], progress)
+        try:
+            for chunk, part in zip(chunks, parts):
+                for d, o in zip(chunk, part):
+                    yield (d, *o)
+        finally:
+            parts.close()
+        return
     if jobs > 1 and len(designs) > 1:
         from .grid import worker_pool  # workers ignore Ctrl-C: the main process reports it once
 
@@ -138,6 +156,8 @@ def outcomes(designs: list, opts: Options, debug: bool = False, jobs: int = 1) -
         chunk = designs[start:start + size]
         for d, o in zip(chunk, compute_batched(chunk, opts, debug)):
             yield (d, *o)
+        if progress:
+            progress(len(chunk))
 
 
 class Warnings:
@@ -178,17 +198,19 @@ class Warnings:
 
 
 def run(designs: list, opts: Options, *, say: Callable = print, advance: Callable | None = None,
-        debug: bool = False, jobs: int = 1, verbose: bool = False) -> tuple[list, int]:
+        debug: bool = False, jobs: int = 1, verbose: bool = False, cluster=None) -> tuple[list, int]:
     """Compute designs in order; (records, worst exit status).  Errors are said as they come, warnings
-    once per text at the end (``verbose``: each as it comes)."""
+    once per text at the end (``verbose``: each as it comes).  ``cluster``: computed on its Dask workers
+    (:class:`gearcalc.distributed.Cluster`), ``advance`` then called as their chunks finish."""
     from .design import display_name
     from .render import Record
 
     said = Warnings(verbose, say)
     records, worst = [], EXIT_OK
     try:
-        for d, result, lines, code in outcomes(designs, opts, debug, jobs):
-            if advance:
+        for d, result, lines, code in outcomes(designs, opts, debug, jobs, cluster,
+                                               advance if cluster is not None else None):
+            if advance and cluster is None:
                 advance(1)
             prefix = f"{display_name(d.source)}: warning: "
             for line in lines:

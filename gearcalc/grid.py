@@ -436,15 +436,19 @@ def columns_of(raw: dict, source: str, axes: dict[str, list[Any]], options) -> l
 
 
 def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: int | None = None,
-           progress=None, jobs: int = 1):
+           progress=None, jobs: int = 1, cluster=None, debug: bool = False):
     """The grid evaluated and yielded a chunk at a time (:class:`Columns`, grid order): memory follows the
     chunk, not the grid.  Every chunk has the same columns (those of the whole grid, missing values None),
     so a CSV header written from the first chunk holds for all; with ``jobs > 1`` chunks are evaluated in
-    worker processes, a window of ``2 jobs`` in flight."""
+    worker processes, a window of ``2 jobs`` in flight; with a ``cluster``
+    (:class:`gearcalc.distributed.Cluster`) on its Dask workers, a window of twice its threads in flight.
+    The chunks' values are the same in every case."""
     from .render import Columns
 
     total = prepare(raw, source, axes)
     size = chunk or CHUNK_POINTS
+    if cluster is not None and total:
+        jobs = cluster.connect().threads
     if jobs > 1:  # enough chunks to keep every worker busy
         size = min(size, max(1, -(-total // (4 * jobs))))
     ranges = [(k, min(k + size, total)) for k in range(0, total, size)]
@@ -465,6 +469,17 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
             return part
         return Columns({k: part.data.get(k, [None] * part.n) for k in header})
 
+    if cluster is not None and ranges:
+        from .distributed import sweep_chunk, sweep_data
+
+        parts = cluster.ordered(sweep_chunk, ranges, sweep_data(raw, source, axes, options, debug),
+                                [b - a for a, b in ranges], progress)
+        try:
+            for part in parts:
+                yield shaped(part)
+        finally:
+            parts.close()  # the chunks in flight cancelled at once, not when the generator is collected
+        return
     if jobs > 1 and len(ranges) > 1:
         with worker_pool(jobs) as pool:
             window: list = []
