@@ -15,7 +15,9 @@ report gives
   high-resolution run``;
 * the **model error**: the difference from the calculator's reference model (rows: the exact
   level; zstk: the ``reference`` level; pins: the contact level with a stiff linear law for
-  cycloidal designs), which is what choosing a cheaper level costs.
+  cycloidal designs), which is what choosing a cheaper level costs;
+* the **model sensitivity** (pins, ideal level): the change of the value under the other friction model
+  (friction-consistent against first-order, pins.md §4.9), relative: what the model assumption costs.
 
 The quantity compared is the calculator's headline result: rows ``K``, zstk ``sigma_max_MPa``,
 pins ``efficiency``.  This module is the orchestration only; the physics stays in the calculators.
@@ -32,6 +34,7 @@ from typing import Any, Callable
 
 from . import registry
 from .calculator import DesignError, Options
+from .design import InputError
 
 SUITE = Path(__file__).parent / "data" / "accuracy"
 TOLS = (1e-3, 1e-6, 1e-9)
@@ -61,6 +64,9 @@ class KindSpec:
     """The reference model's value for the design (None where it does not apply)."""
     quantities: tuple[tuple[str, str], ...] = ()
     """(level, field) pairs where a level reports another headline result."""
+    sensitivity: Callable[[Any, dict, str], float | None] | None = None
+    """The quantity's change under the calculator's alternative model assumption (pins: the friction model,
+    friction-consistent against first-order, pins.md §4.9), relative; None where it does not apply."""
 
     def quantity_of(self, level: str) -> str:
         return dict(self.quantities).get(level, self.quantity)
@@ -203,6 +209,26 @@ def _pins_high(design, s: dict, level: str, tol: float) -> tuple[float, float] |
     return hs["efficiency"], _pins_estimate(hs, level)
 
 
+def _pins_sensitivity(design, s: dict, level: str) -> float | None:
+    """(eta - eta_other)/eta: the efficiency under the design's friction model against the other one
+    (friction-consistent, pins.md §4.9, against first-order, §4.6-4.7) at the ideal level, at tol 1e-6.
+    The contact level's friction model is the contact level's own (not compared here: each run costs
+    seconds)."""
+    from .design import validate
+    from .kinds.pins import friction_model
+
+    if level != "ideal" or s.get("efficiency") is None:
+        return None
+    raw = design.resolved()
+    other = "first-order" if friction_model(design) == "consistent" else "consistent"
+    raw.setdefault("friction", {})["model"] = other
+    raw.get("contact", {}).pop("friction_in_equilibrium", None)
+    alt = registry.get("pins").compute(validate(raw, design.source), Options(tol=1e-6, model=level)).summary
+    if alt["efficiency"] is None:
+        return None
+    return _rel(s["efficiency"] - alt["efficiency"], s["efficiency"])
+
+
 def _pins_reference(design, s: dict) -> float | None:
     from .design import validate
 
@@ -224,7 +250,8 @@ SPECS = {
     "pins": KindSpec("efficiency", f"the contact level with a stiff linear law ({PINS_STIFF:g} N/mm) at tol "
                      f"{HIGH_TOL_CONTACT:g} (cycloidal designs)",
                      f"the same level at tol {HIGH_TOL:g} (contact: {HIGH_TOL_CONTACT:g}, its cap of 2^12 angles)",
-                     _pins_estimate, _pins_high, _pins_reference, quantities=(("formula", "P_tr_W"),)),
+                     _pins_estimate, _pins_high, _pins_reference, quantities=(("formula", "P_tr_W"),),
+                     sensitivity=_pins_sensitivity),
 }
 
 
@@ -291,6 +318,8 @@ def run_case(kind: str, case: str, tag: str, design, level: str, tol: float, bud
                honest=bool(err <= est + hi_est))
     ref = _cached(("reference", kind, case), lambda: _reference(kind, design)) if references else None
     row["model_error"] = None if ref is None else _rel(value - ref, ref)
+    if spec.sensitivity is not None:   # the alternative model assumption's effect (pins: the friction model)
+        row["model_sensitivity"] = _cached(("sensitivity", kind, case, ran), lambda: spec.sensitivity(design, s, ran))
     return row
 
 
@@ -308,7 +337,7 @@ def _reference(kind: str, design) -> float | None:
     try:
         s = registry.get(kind).compute(design, Options(tol=1e-6)).summary
         return SPECS[kind].reference_value(design, s)
-    except DesignError:
+    except (DesignError, InputError):   # no reference for this design (e.g. past the contact level's cost bound)
         return None
 
 
@@ -347,6 +376,7 @@ def summarise(rows: list[dict]) -> list[dict]:
         valued = [r for r in ran if r.get("error") is not None]
         ratios = [r["ratio"] for r in valued]
         models = [r["model_error"] for r in valued if r.get("model_error") is not None]
+        sens = [r["model_sensitivity"] for r in valued if r.get("model_sensitivity") is not None]
         out.append({
             "kind": kind, "level": level, "tol": tol, "designs": len(ran), "not_applicable": len(rs) - len(ran),
             "time_ms_median": statistics.median(r["time_ms"] for r in ran) if ran else None,
@@ -356,6 +386,7 @@ def summarise(rows: list[dict]) -> list[dict]:
             "ratio_max": None if not valued or any(x is None for x in ratios) else max(ratios),
             "honest": all(r["honest"] for r in valued) if valued else None,
             "model_error_max": max(models) if models else None,
+            "model_sensitivity_max": max(sens) if sens else None,
             "reference": SPECS[kind].reference,
             "high_resolution": SPECS[kind].high_res,
         })

@@ -14,13 +14,21 @@ error, phi_nom = -k theta/z1) is the one unknown:
   safeguarded Newton search on the profile parameter, crest corners for k >= 2);
 * forces from a line-contact law (Hertz after ISO/TS 16281, Palmgren, or linear), compression only
   (§5.4);
-* tau from the moment equilibrium of the satellite, M(tau) = M_req, by the shared bracketed root
-  finder (:func:`gearcalc.roots.find_root`), batched over crank angles (§5.5);
-* the satellite's angular speed by implicit differentiation, the contact-point velocities, the pin
-  spin and the per-contact losses (§5.6), reusing the loss functions of :mod:`gearcalc.pins`;
+* tau from the moment equilibrium of the satellite, M(tau) = M_req, at all crank angles at once by
+  safeguarded Newton with the analytic G_tau, warm-started from the solved neighbours (cubic Hermite
+  in tau and d tau/d theta), with the shared bracketed root finder (:func:`gearcalc.roots.find_root`)
+  as the fallback (§5.5); with friction in the balance (the friction-consistent model, §4.9) the
+  friction forces' directions are iterated to a fixed point, and a crank angle where no rotation
+  balances the torque with them makes the mode jam (:class:`Jam`);
+* only the pins of a candidate window, those that can touch, are evaluated (:meth:`ContactModel.set_window`);
+* the satellite's angular speed d tau/d theta = -G_theta/G_tau analytically, the contact-point
+  velocities, the pin spin and the per-contact losses (§5.6), reusing the loss functions of
+  :mod:`gearcalc.pins`;
 * the cycle mean of the loss ratio with :func:`gearcalc.quadrature.integrate_piecewise`, the
-  breakpoints (contact entry/exit, spin reversals) located by
-  :func:`gearcalc.quadrature.sign_change_breakpoints` (§6).
+  breakpoints (contact entry/exit, spin reversals, crest passages) scanned and refined by Newton
+  (penetrations, with their slope along the solution) or secant steps (§6);
+* the torque fixed point (§7): a coarse loss ratio from the window's scan, then full passes until the
+  contraction estimated from the last two passes says the remaining change is below tol/10.
 
 Why a separate module: the formula and ideal levels (:mod:`gearcalc.pins`) are closed-form
 geometry evaluated pointwise; this level carries its own state (profiles, a contact law, a solved
@@ -45,10 +53,12 @@ from . import pins
 from . import hertz
 from .arrays import unique_sorted
 from .pins import MULTIPLIER, REDUCER, Cycloid
-from .quadrature import QuadResult, geometric_breakpoints, integrate_piecewise, sign_change_breakpoints
+from .quadrature import QuadResult, geometric_breakpoints, integrate_piecewise
 from .roots import bisect, find_root, minimize_golden
 
 # ============================================================ contact laws (pins.md §5.4)
+
+EPS = float(np.finfo(float).eps)
 
 PALMGREN_COEFFICIENT = 3.84e-5
 """Palmgren's line contact: delta = 3.84e-5 Q^0.9 / b^0.8 (mm, N) [Harris & Kotzalas]."""
@@ -100,6 +110,22 @@ class ContactLaw:
             return np.where(active, self.constant * np.asarray(delta, dtype=float), 0.0)
         return np.where(active, self.force(delta), 0.0)
 
+    def stiffness(self, delta):
+        """dF/d delta [N/mm]; 0 for delta <= 0."""
+        delta = np.asarray(delta, dtype=float)
+        if self.exponent == 1.0:
+            return np.where(delta > 0.0, self.constant, 0.0)
+        out = np.zeros(delta.shape)
+        on = delta > 0.0
+        out[on] = self.constant * self.exponent * delta[on] ** (self.exponent - 1.0)
+        return out
+
+    def stiffness_on(self, delta, active):
+        """dF/d delta of :meth:`force_on` (the smooth extension on the active pairs)."""
+        if self.exponent == 1.0:
+            return np.where(active, self.constant, 0.0)
+        return np.where(active, self.stiffness(delta), 0.0)
+
     def deflection(self, force):
         """delta(F) [mm], the inverse of :meth:`force` for F >= 0."""
         return (np.asarray(force, dtype=float) / self.constant) ** (1.0 / self.exponent)
@@ -126,7 +152,7 @@ def _unit(a):
     return np.cos(a), np.sin(a)
 
 
-def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64):
+def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64, with_slope: bool = False, max_newton: int = 50):
     """D(R_t): least distance from the tooth centre T_0 = R_t u(pi/z1) to the nominal pin-centre curves [mm].
 
     Minimum over every family b and over the curve parameter beta within two tooth pitches of the
@@ -138,10 +164,12 @@ def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64):
     R_t : radius of the circle of tooth centres [mm] (array-like).
     g : the pin gear (z1, z2, e, R_p; R_b is not used).
     n_scan : samples per tooth pitch and family.
+    max_newton : cap on the Newton iterations of the least distance (a scan only needs a few).
 
     Returns
     -------
-    D [mm], the shape of R_t.
+    D [mm], the shape of R_t; with ``with_slope`` also dD/dR_t = -(c - T).u(pi/z1)/D [-] (the foot
+    point is stationary: envelope theorem).
 
     Examples
     --------
@@ -170,14 +198,34 @@ def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64):
     lo = beta[np.maximum(best_i - 1, 0)]
     hi = beta[np.minimum(best_i + 1, beta.size - 1)]
 
-    def dist2(x):
-        a = (g.z2 / g.k) * x - 2.0 * math.pi * best_b / g.k
-        cx = g.R_p * np.cos(x) - g.e * np.cos(a)
-        cy = g.R_p * np.sin(x) - g.e * np.sin(a)
-        return (cx - tx) ** 2 + (cy - ty) ** 2
+    ze = g.z2 / g.k
 
-    res = minimize_golden(dist2, lo, hi, rtol=1e-13)
-    return np.sqrt(np.minimum(res.fun, best)).reshape(shape)
+    def curve(x):
+        a = ze * x - 2.0 * math.pi * best_b / g.k
+        ca, sa, cx_, sx_ = np.cos(a), np.sin(a), np.cos(x), np.sin(x)
+        return (g.R_p * cx_ - g.e * ca - tx, g.R_p * sx_ - g.e * sa - ty, -g.R_p * sx_ + g.e * ze * sa,
+                g.R_p * cx_ - g.e * ze * ca, -g.R_p * cx_ + g.e * ze * ze * ca, -g.R_p * sx_ + g.e * ze * ze * sa)
+
+    # the least distance: safeguarded Newton on (c - T).c' = 0 between the neighbouring samples
+    x = beta[best_i]
+    for _ in range(max_newton):
+        rx, ry, dx, dy, ddx, ddy = curve(x)
+        h = rx * dx + ry * dy
+        hp = dx * dx + dy * dy + rx * ddx + ry * ddy
+        lo = np.where(h < 0.0, np.maximum(lo, x), lo)
+        hi = np.where(h > 0.0, np.minimum(hi, x), hi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            new = x - h / hp
+        new = np.where((hp > 0.0) & (new > lo) & (new < hi), new, 0.5 * (lo + hi))
+        step = np.abs(new - x)
+        x = new
+        if np.all(step <= 1e-15 * (1.0 + np.abs(x))):
+            break
+    rx, ry = curve(x)[:2]
+    D = np.sqrt(np.minimum(rx * rx + ry * ry, best))
+    if with_slope:
+        return D.reshape(shape), (-(rx * math.cos(chi) + ry * math.sin(chi)) / D).reshape(shape)
+    return D.reshape(shape)
 
 
 def _distance_grid(g: Cycloid, step: float):
@@ -185,18 +233,38 @@ def _distance_grid(g: Cycloid, step: float):
     top = g.R_p + g.e
     n = int(min(max(64, math.ceil(top / step)), 20000))
     grid = np.linspace(0.0, top, n + 1)
-    return grid, tooth_centre_distance(grid, g)
+    return grid, tooth_centre_distance(grid, g, max_newton=6)     # signs only: the roots are refined
 
 
 def _first_root(fun, grid, values, xtol):
-    """First sign change (from > 0 to <= 0) of sampled values, refined by the bracketed root finder."""
+    """First sign change (from > 0 to <= 0) of sampled values, refined by safeguarded Newton.
+
+    ``fun(x)`` returns (value, slope) at a scalar x; a Newton step that leaves the bracket is replaced
+    by bisection; stops when the step or the bracket is below ``xtol``."""
     below = np.nonzero(values <= 0.0)[0]
     if below.size == 0 or below[0] == 0:
         return None
     i = int(below[0])
     if values[i] == 0.0:
         return float(grid[i])
-    return float(find_root(fun, grid[i - 1], grid[i], xtol=xtol).root)
+    lo, hi = float(grid[i - 1]), float(grid[i])
+    flo, fhi = float(values[i - 1]), float(values[i])
+    x = lo - flo * (hi - lo) / (fhi - flo)
+    for _ in range(200):
+        f, d = (float(v) for v in fun(x))
+        if f == 0.0:
+            return x
+        if f > 0.0:
+            lo = x
+        else:
+            hi = x
+        new = x - f / d if d != 0.0 and math.isfinite(d) else 0.5 * (lo + hi)
+        if not lo < new < hi:
+            new = 0.5 * (lo + hi)
+        if abs(new - x) <= xtol or hi - lo <= xtol:
+            return new
+        x = new
+    return x
 
 
 def zero_backlash_tooth_circle(g: Cycloid, tooth_radius: float, grid=None) -> float | None:
@@ -218,10 +286,27 @@ def zero_backlash_tooth_circle(g: Cycloid, tooth_radius: float, grid=None) -> fl
         return None
     if grid is None or grid[0][1] - grid[0][0] > target / 4.0:
         grid = _distance_grid(g, target / 4.0)
-    return _first_root(lambda r: tooth_centre_distance(r, g) - target, grid[0], grid[1] - target, 1e-13 * g.R_p)
+    def fun(r):
+        D, dD = tooth_centre_distance(r, g, with_slope=True)
+        return D - target, dD
+
+    return _first_root(fun, grid[0], grid[1] - target, 1e-13 * g.R_p)
+
+
+_TOOTH_CACHE: dict = {}
+"""full_tooth results by (z1, z2, e, R_p, R_b): a pure function of them, reused by repeated runs."""
 
 
 def full_tooth(g: Cycloid) -> tuple[float, float] | None:
+    key = (g.z1, g.z2, g.e, g.R_p, g.R_b)
+    if key not in _TOOTH_CACHE:
+        if len(_TOOTH_CACHE) > 256:
+            _TOOTH_CACHE.clear()
+        _TOOTH_CACHE[key] = _full_tooth(g)
+    return _TOOTH_CACHE[key]
+
+
+def _full_tooth(g: Cycloid) -> tuple[float, float] | None:
     """The "full" circular tooth: rho_t = R_t(rho_t) sin(pi/z1) (adjacent teeth tangent at the root).
 
     Solved as the first root of D(R_t) - R_b - R_t sin(pi/z1) on the outward scan (the same root as
@@ -239,8 +324,11 @@ def full_tooth(g: Cycloid) -> tuple[float, float] | None:
     if g.R_b >= g.R_p - g.e:
         return None
     grid = _distance_grid(g, g.R_b / 4.0)
-    R_t = _first_root(lambda r: tooth_centre_distance(r, g) - g.R_b - r * s, grid[0],
-                      grid[1] - g.R_b - grid[0] * s, 1e-13 * g.R_p)
+    def fun(r):
+        D, dD = tooth_centre_distance(r, g, with_slope=True)
+        return D - g.R_b - r * s, dD - s
+
+    R_t = _first_root(fun, grid[0], grid[1] - g.R_b - grid[0] * s, 1e-13 * g.R_p)
     if R_t is None:
         return None
     rho = R_t * s
@@ -259,6 +347,9 @@ def full_tooth(g: Cycloid) -> tuple[float, float] | None:
         if R_t is None:
             return None
     return float(rho), float(R_t)
+
+
+full_tooth.__doc__ = _full_tooth.__doc__
 
 
 # ============================================================ profiles: penetrations (pins.md §5.2-5.3)
@@ -288,6 +379,9 @@ class Contacts:
     (satellite frame); arm: X_j x n, the moment arm of the normal about O1 [mm]; xn: X_j . n [mm];
     switch: (s, c, z2, n) quantities whose sign changes mark a change of the contact's geometry (a
     cycloidal pin passing from its flank to a crest corner, where the contact stiffness jumps), or None.
+    wx, wy: the turning rate of the normal with the pin centre, dn = (wx dx + wy dy) (z x n) [1/mm]
+    (-1/distance to the normal's centre of curvature: the tooth centre, a crest corner, or the
+    design curve's centre of curvature seen from the pin centre); used by the analytic derivatives.
     """
 
     delta: np.ndarray
@@ -297,6 +391,8 @@ class Contacts:
     xn: np.ndarray
     switch: np.ndarray | None = None
     branch: np.ndarray | None = None
+    wx: np.ndarray | None = None
+    wy: np.ndarray | None = None
 
 
 class CircularProfile:
@@ -323,7 +419,8 @@ class CircularProfile:
         dx, dy = tx - x, ty - y
         dist = np.hypot(dx, dy)
         nx, ny = dx / dist, dy / dist
-        return Contacts(self.g.R_b + self.rho_t - dist, nx, ny, x * ny - y * nx, x * nx + y * ny)
+        return Contacts(self.g.R_b + self.rho_t - dist, nx, ny, x * ny - y * nx, x * nx + y * ny,
+                        wx=ny / dist, wy=-nx / dist)
 
 
 class CycloidProfile:
@@ -356,13 +453,18 @@ class CycloidProfile:
                 -d.R_p * sb + d.e * ze * sa, d.R_p * cb - d.e * ze * ca,
                 -d.R_p * cb + d.e * ze * ze * ca, -d.R_p * sb + d.e * ze * ze * sa)
 
-    def _newton(self, beta, fam, x, y, steps):
+    def _newton(self, beta, fam, x, y, steps, tol=None):
+        """Newton steps on the foot point: ``steps`` of them, or with ``tol`` until the largest step is
+        below it (at most ``steps``)."""
         for _ in range(steps):
             cx, cy, dx, dy, ddx, ddy = self._curve(beta, fam)
             rx, ry = cx - x, cy - y
             gval = rx * dx + ry * dy
             gder = dx * dx + dy * dy + rx * ddx + ry * ddy
-            beta = beta - gval / gder
+            step = gval / gder
+            beta = beta - step
+            if tol is not None and not np.max(np.abs(step), initial=0.0) > tol:
+                break
         return beta
 
     def foot_point(self, beta0, fam, x, y, tol: float = 1e-14, maxiter: int = 60):
@@ -400,7 +502,7 @@ class CycloidProfile:
         return beta.reshape(shape)
 
     def prepare(self, pose: Pose) -> None:
-        fam = np.mod(np.arange(self.g.z2), self.g.k)[:, None] * np.ones_like(pose.x0, dtype=np.int64)
+        fam = np.mod(pose.aux["idx"], self.g.k) * np.ones_like(pose.x0, dtype=np.int64)
         pose.aux["fam"] = fam
         pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0)
         if self.crests:
@@ -413,12 +515,21 @@ class CycloidProfile:
     def contacts(self, pose: Pose, x, y, branch=None) -> Contacts:
         """``branch`` (z2, n), optional, forces the flank (-1) or a crest corner (0: +psi*, 1: -psi*)."""
         fam = pose.aux["fam"]
-        beta = self._newton(pose.aux["beta"], fam, x, y, 2)   # from ~1e-3 rad: 1e-12 rad after two steps
-        cx, cy, dx, dy, _, _ = self._curve(beta, fam)
-        t = np.hypot(dx, dy)
+        # Newton from the foot point of the last call on this pose (usually one step) or the nominal one
+        # (~1e-3 rad away), until a step below 1e-7 rad has been applied: Newton's error after it is
+        # ~(c''/c') 1e-14 rad, and the distance is stationary in beta (its error is second order in that)
+        start = pose.aux.get("beta1", pose.aux["beta"])
+        beta = self._newton(start, fam, x, y, 8, 1e-7)
+        pose.aux["beta1"] = beta
+        cx, cy, dx, dy, ddx, ddy = self._curve(beta, fam)
+        t2 = dx * dx + dy * dy
+        t = np.sqrt(t2)
         nx, ny = -dy / t, dx / t                          # inward normal (the outward one is (c'_y, -c'_x))
         d_out = -((x - cx) * nx + (y - cy) * ny)
         delta = -d_out - self.dRb
+        # dn = (d beta* c'x c''/|c'|^2) (z x n), d beta* = (c'.dX)/g', g' = |c'|^2 + (c - X).c''
+        kap = (dx * ddy - dy * ddx) / (t2 * (t2 + (cx - x) * ddx + (cy - y) * ddy))
+        wx, wy = dx * kap, dy * kap
         switch = None
         if self.crests:
             zd = self.g.z1 / self.g.k
@@ -437,7 +548,10 @@ class CycloidProfile:
                 delta = np.where(crest, self.g.R_b - r, delta)
                 nx = np.where(crest, ex / r, nx)
                 ny = np.where(crest, ey / r, ny)
-        ct = Contacts(delta[None], nx[None], ny[None], (x * ny - y * nx)[None], (x * nx + y * ny)[None], switch)
+                wx = np.where(crest, ny / r, wx)
+                wy = np.where(crest, -nx / r, wy)
+        ct = Contacts(delta[None], nx[None], ny[None], (x * ny - y * nx)[None], (x * nx + y * ny)[None], switch,
+                      wx=wx[None], wy=wy[None])
         ct.branch = side[None] if self.crests else None
         return ct
 
@@ -452,6 +566,12 @@ class NoEquilibrium(ValueError):
         self.theta = theta
 
 
+class Jam(NoEquilibrium):
+    """With the friction forces in the moment balance, no positive contact force balances the torque at
+    some crank angle although the frictionless balance has a solution: the mode jams (self-locks) there
+    (pins.md §4.9, §5.5)."""
+
+
 @dataclass
 class Solution:
     """The solved contact state at crank angles theta (n,), per contact (c, z2, n).
@@ -459,7 +579,14 @@ class Solution:
     tau: transmission error phi - phi_nom [rad]; dtau: d tau/d theta [-]; residual: M - M_req [N·mm];
     delta [mm], force [N], v_t: tangential speed of the satellite at the contact per unit crank
     speed [mm/s per rad/s] (positive along z x n); phase: load-side phase of each pin [rad] (z2, n);
-    zeta: pin phase measured along time, theta - phi_j wrapped to (-pi, pi] [rad] (z2, n).
+    zeta: pin phase measured along time, theta - phi_j wrapped to (-pi, pi] [rad] (z2, n);
+    cand: (z2, n) the pins evaluated at each angle (the candidate window), None: all; the others cannot
+    touch (delta = -inf, F = 0, v_t = 0 there);
+    ddelta: (c, z2, n) d delta/d theta along the solution, n.dX/dtheta - (X x n) d tau/d theta [mm/rad]
+    (the Newton slope of the contact entries and exits, :func:`cycle_breakpoints`);
+    noise: (n,) the round-off floor of the residual [N·mm]: eps (R_p + e) sum |F'(delta) X x n|, the moment
+    change of a round-off of the pin positions at every contact (the penetrations are differences of
+    lengths ~R_p).
     """
 
     theta: np.ndarray
@@ -473,6 +600,15 @@ class Solution:
     zeta: np.ndarray
     switch: np.ndarray | None = None
     branch: np.ndarray | None = None
+    cand: np.ndarray | None = None
+    ddelta: np.ndarray | None = None
+    noise: np.ndarray | None = None
+
+
+def _sub_pose(pose: Pose, sel) -> Pose:
+    """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis)."""
+    return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.psi[:, sel],
+                {k: v[..., sel] for k, v in pose.aux.items()})
 
 
 class ContactModel:
@@ -485,8 +621,14 @@ class ContactModel:
     law : the contact law.
     torque_sat : T_sat, torque per satellite [N·mm], > 0.
     sigma : +1 reducer (M_req = -T_sat), -1 multiplier (M_req = +T_sat)  (pins.md §5.5).
-    friction : None (frictionless forces, the default) or (mu_eff, f, rolls): add the tangential
-        friction forces to the moment balance (option ``contact.friction_in_equilibrium``, §5.5).
+    friction : None (frictionless forces, the first-order model) or (mu_eff, f, rolls): add the
+        tangential friction forces to the moment balance (the friction-consistent model, §4.9, §5.5).
+
+    Speed (pins.md §5.5-5.6): the equilibrium is solved at all crank angles at once by safeguarded
+    Newton on G(tau) = M(tau) - M_req with the analytic G_tau (warm-started from the nearest solved
+    angle, tau + d tau/d theta * d theta), falling back to the bracketed root finder; d tau/d theta =
+    -G_theta/G_tau analytically; only the pins of a candidate window (those that can touch for
+    |tau| <= 2 max |tau| of a first solve, :meth:`set_window`) are evaluated.
     """
 
     def __init__(self, g: Cycloid, profile, law: ContactLaw, torque_sat: float, sigma: int, friction=None):
@@ -496,21 +638,120 @@ class ContactModel:
         self.pins = np.arange(g.z2)[:, None]
         self.friction = friction
         self.diff_step = 1e-6
+        self.window = None            # (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all
+        self._memo = {0: None, 1: None}   # solved (theta, tau, dtau) for warm starts: 0 frictionless, 1 final
 
     # -- geometry -------------------------------------------------------------------------------
-    def pose(self, theta) -> Pose:
-        """Nominal satellite-frame pin positions at crank angles theta (tau = 0)."""
+    def pose(self, theta, idx=None) -> Pose:
+        """Nominal satellite-frame pin positions at crank angles theta (tau = 0); ``idx`` (m, n): only
+        these pins (default: all, shape (z2, n))."""
         g = self.g
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        beta0 = 2.0 * math.pi * self.pins / g.z2 + (g.k / g.z1) * theta[None, :]
+        sel = self.pins if idx is None else idx
+        beta0 = 2.0 * math.pi * sel / g.z2 + (g.k / g.z1) * theta[None, :]
         a = (g.z2 / g.z1) * theta[None, :]
         x0 = g.R_p * np.cos(beta0) - g.e * np.cos(a)
         y0 = g.R_p * np.sin(beta0) - g.e * np.sin(a)
-        psi = pins.pin_phase(self.pins, theta[None, :], g.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
+        psi = pins.pin_phase(sel, theta[None, :], g.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
         psi = np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
-        p = Pose(theta, x0, y0, beta0, psi)
+        p = Pose(theta, x0, y0, np.broadcast_to(beta0, x0.shape), psi)
+        p.aux["idx"] = np.broadcast_to(sel, x0.shape)
         self.profile.prepare(p)
         return p
+
+    def candidates(self, theta):
+        """Pin indices (m, n) of the candidate window at crank angles theta, or None (all pins).
+
+        Pin j has the time phase zeta_j = theta - 2 pi j/z2 (mod 2 pi); the window holds the m
+        consecutive pins from the first with zeta_j <= z_hi, which covers [z_lo, z_hi]."""
+        if self.window is None:
+            return None
+        _, z_hi, m, _ = self.window
+        j0 = np.ceil((np.asarray(theta, dtype=float) - z_hi) / self.g.period).astype(np.int64)
+        return np.mod(j0[None, :] + np.arange(m)[:, None], self.g.z2)
+
+    def set_window(self, n_scan: int = 64):
+        """The candidate window: the time phases zeta of the pins that can touch (pins.md §5.5, speed).
+
+        A first solve over all pins on ``n_scan`` crank angles of one period gives tau; the window
+        allows tau in [tau_lo, tau_hi], each end of the solved range twice as far from 0 (or half as
+        near when the range does not reach 0).  Since d delta/d tau = -(X x n) and
+        |d^2 delta/d tau^2| <= |X| <= R_p + e, a pair with
+
+            max over tau in {tau_lo, tau_hi} of delta(0) - (X x n) tau + (R_p + e) tau^2/2 <= 0
+
+        (1 % and 1e-12 R_p of margin) cannot touch there.  The window is the shortest arc of zeta holding
+        every other pair, widened by one pin pitch on each side (the scan's resolution).
+        :func:`mean_loss_ratio` checks the tau range on the final grid.  Returns the scan's solution
+        (all pins' phases), which also seeds the warm starts."""
+        g = self.g
+        theta = np.arange(n_scan) * (g.period / n_scan)
+        if getattr(self, "_mirrored", False) and self.window is not None:
+            return self.state(theta)      # the other mode's window, mirrored: the scan only
+        self.window = None
+        pose = self.pose(theta)
+        # the doubling starts near the rotation at which one pin at R_p would carry the torque, /64
+        R = g.R_p + g.e
+        h0 = float(self.law.deflection(self.torque_sat / R)) / R / 64.0
+        tau = self._bracketed(pose, None, 1e-15, h0 if math.isfinite(h0) and h0 > 1e-9 else 1e-9, newton=True)
+        lo, hi = float(tau.min()), float(tau.max())
+        t_lo = 2.0 * lo if lo < 0.0 else 0.5 * lo                   # twice as far from 0, or half as near
+        t_hi = 2.0 * hi if hi > 0.0 else 0.5 * hi
+        ct = self.contacts(pose, np.zeros(theta.size))
+        # delta(tau) <= delta(0) - (X x n) tau + (R_p + e) tau^2/2: convex in tau, largest at an end
+        reach = np.maximum(-ct.arm * t_lo + 0.5 * R * t_lo * t_lo, -ct.arm * t_hi + 0.5 * R * t_hi * t_hi)
+        touch = np.any(ct.delta + reach + 0.01 * np.abs(reach) + 1e-12 * g.R_p > 0.0, axis=0)
+        z = np.sort(-pose.psi[touch])
+        if z.size:
+            gaps = np.diff(np.concatenate((z, [z[0] + 2.0 * math.pi])))
+            i = int(np.argmax(gaps))
+            z_lo, z_hi = (z[0], z[-1]) if i == z.size - 1 else (z[i + 1], z[i] + 2.0 * math.pi)
+            z_lo, z_hi = z_lo - g.period, z_hi + g.period
+            m = int(math.floor((z_hi - z_lo) / g.period)) + 2
+            if m < g.z2:
+                self.window = (float(z_lo), float(z_hi), m, (t_lo, t_hi))
+        return self.state(theta)      # and the warm-start memory for the cycle
+
+    def window_holds(self, tau) -> bool:
+        """Whether the solved tau stay in the range the candidate window allows (or there is no window)."""
+        if self.window is None:
+            return True
+        t_lo, t_hi = self.window[3]
+        return bool(np.all((tau >= t_lo) & (tau <= t_hi)))
+
+    def mirror(self, other: "ContactModel") -> None:
+        """Start from the solved other mode of the same design: its window and warm starts mirrored.
+
+        Without friction in the balance the reducer is the multiplier run backwards (pins.md §4.8(5),
+        §5.7): tau_R(-theta) = -tau_M(theta), so the time phases zeta, the tau range and tau change
+        sign and d tau/d theta keeps it; scaled by the torque ratio like :meth:`inherit`.  With friction
+        this is a warm start only (the window's tau range is checked on the final grid)."""
+        r = (self.torque_sat / other.torque_sat) ** (1.0 / self.law.exponent)
+        if other.window is not None:
+            z_lo, z_hi, m, (t_lo, t_hi) = other.window
+            self.window = (-z_hi, -z_lo, m, (-t_hi * r, -t_lo * r))
+        Tp = self.g.period
+        for key, memo in other._memo.items():
+            if memo is not None:
+                th = np.mod(-memo[0], Tp)
+                order = np.argsort(th, kind="stable")
+                self._memo[key] = (th[order], -memo[1][order] * r, memo[2][order] * r)
+        if self.friction is not None and self._memo[1] is None:
+            self._memo[1] = self._memo[0]
+        self._mirrored = True
+
+    def inherit(self, prev: "ContactModel") -> None:
+        """Start from the candidate window and the solved angles of the same design at another torque.
+
+        tau scales about as the deflection, (T/T_prev)^(1/p) for the law F ~ delta^p: the warm starts
+        and the window's tau range are scaled by it (the range is checked on the final grid)."""
+        r = (self.torque_sat / prev.torque_sat) ** (1.0 / self.law.exponent)
+        if prev.window is not None:
+            z_lo, z_hi, m, (t_lo, t_hi) = prev.window
+            self.window = (z_lo, z_hi, m, (t_lo * r, t_hi * r))
+        for key, memo in prev._memo.items():
+            if memo is not None:
+                self._memo[key] = (memo[0], memo[1] * r, memo[2] * r)
 
     def contacts(self, pose: Pose, tau, branch=None) -> Contacts:
         """Penetrations and normals with the satellite turned by tau from nominal (tau shape (n,))."""
@@ -537,6 +778,33 @@ class ContactModel:
             return np.sum(F * ct.arm, axis=(0, 1))
         return np.sum(F * (ct.arm + traction * (ct.xn + self.g.R_b)), axis=(0, 1))
 
+    def _balance(self, pose: Pose, tau, traction=None, ref=None):
+        r"""G = M - M_req and its analytic derivative G_tau, with the contact data (pins.md §5.5).
+
+        With the moment arm A = X x n + q (X.n + R_b) of a pair, dn = (w . dX)(z x n) and
+        dX/dtau = (y, -x):
+
+        .. math::
+
+            G_\tau = \sum -F'(\delta)\,(X\times n)\,A + F\,(1 + w\cdot X_\tau)(X\cdot n - q\,X\times n)
+
+        Returns (G, G_tau, ct, F, Fp, A, q, x, y)."""
+        c, s = np.cos(tau), np.sin(tau)
+        x = c * pose.x0 + s * pose.y0
+        y = -s * pose.x0 + c * pose.y0
+        if ref is None:
+            ct = self.profile.contacts(pose, x, y)
+            F, Fp = self.law.force(ct.delta), self.law.stiffness(ct.delta)
+        else:
+            ct = self.profile.contacts(pose, x, y, ref[1])
+            F, Fp = self.law.force_on(ct.delta, ref[0]), self.law.stiffness_on(ct.delta, ref[0])
+        q = 0.0 if traction is None else traction
+        A = ct.arm if traction is None else ct.arm + q * (ct.xn + self.g.R_b)
+        G = np.sum(F * A, axis=(0, 1)) - self.M_req
+        one = 1.0 + (ct.wx * y - ct.wy * x)
+        G_tau = np.sum(-Fp * ct.arm * A + F * one * (ct.xn - q * ct.arm), axis=(0, 1))
+        return G, G_tau, ct, F, Fp, A, q, x, y
+
     # -- equilibrium ------------------------------------------------------------------------------
     def solve(self, theta, xtol: float = 1e-15, traction=None, pose=None):
         """tau at crank angles theta from M(tau) = M_req: bracket by doubling from 1e-9 rad, then Chandrupatla.
@@ -546,11 +814,15 @@ class ContactModel:
         +-pi/z1.  Returns (pose, tau, residual).
         """
         pose = self.pose(theta) if pose is None else pose
+        tau = self._bracketed(pose, traction, xtol)
+        return pose, tau, self.moment(pose, tau, traction) - self.M_req
+
+    def _bracketed(self, pose: Pose, traction=None, xtol: float = 1e-15, h0: float = 1e-9, newton: bool = False):
         n = pose.theta.size
         G0 = self.moment(pose, np.zeros(n), traction) - self.M_req
         direction = np.where(G0 > 0.0, 1.0, -1.0)            # G decreasing: root on the side of sign(G0)
         lo, hi = np.zeros(n), np.zeros(n)
-        h = 1e-9
+        h = h0
         open_ = G0 != 0.0
         limit = math.pi / self.g.z1
         prev = np.zeros(n)
@@ -566,39 +838,195 @@ class ContactModel:
                 raise NoEquilibrium(pose.theta[open_])
             h *= 2.0
         a, b = np.minimum(lo, hi), np.maximum(lo, hi)
-        res = find_root(lambda t: self.moment(pose, t, traction) - self.M_req, a, b, xtol=xtol, rtol=0.0)
-        tau = res.root
-        return pose, tau, self.moment(pose, tau, traction) - self.M_req
+        if not newton:
+            return find_root(lambda t: self.moment(pose, t, traction) - self.M_req, a, b, xtol=xtol, rtol=0.0).root
+        return self._solve(pose, traction, 0.5 * (a + b), xtol, bracket=(a, b))
 
-    def state(self, theta, ref=None) -> Solution:
+    def _solve(self, pose: Pose, traction=None, guess=None, xtol: float = 1e-15, maxiter: int = 40, bracket=None):
+        """tau from G(tau) = 0 at every crank angle of ``pose``: safeguarded Newton from ``guess``.
+
+        The analytic G_tau (:meth:`_balance`); a step that leaves the bracket of sign changes met so far
+        is replaced by bisection; stops at |d tau| <= xtol (pins.md §5.5).  Angles without a guess, or
+        where Newton cannot proceed (G_tau >= 0 with one side unbracketed, no convergence), are solved
+        by the bracketed root finder (:meth:`solve`)."""
+        n = pose.theta.size
+        if guess is None:
+            return self._bracketed(pose, traction, xtol)
+        tau = np.array(guess, dtype=float)
+        lo, hi = (np.full(n, -np.inf), np.full(n, np.inf)) if bracket is None else (bracket[0].copy(), bracket[1].copy())
+        done = np.zeros(n, dtype=bool)
+        failed = np.zeros(n, dtype=bool)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for _ in range(maxiter):
+                G, G_tau = self._balance(pose, tau, traction)[:2]
+                lo = np.where(G > 0.0, np.maximum(lo, tau), lo)
+                hi = np.where(G < 0.0, np.minimum(hi, tau), hi)
+                step = -G / G_tau
+                newton = tau + step
+                ok = np.isfinite(newton) & (G_tau < 0.0) & (newton > lo) & (newton < hi)
+                both = np.isfinite(lo) & np.isfinite(hi)
+                # quadratic convergence: after a step |s| <= 1e-8 |tau| the error is ~ s^2/tau <= 1e-16 |tau|;
+                # a step below the spacing of floats (not inside the open bracket) leaves tau as it is
+                tiny = (G_tau < 0.0) & (np.abs(step) <= xtol)
+                small = ok & (np.abs(step) <= 1e-8 * np.abs(tau))
+                conv = (G == 0.0) | tiny | small | (both & (hi - lo <= xtol))
+                failed |= ~done & ~ok & ~both & ~conv
+                act = ~done & ~failed & (G != 0.0)
+                tau = np.where(act & ok, newton, np.where(act & ~conv & both, 0.5 * (lo + hi), tau))
+                done |= conv & ~failed
+                if np.all(done | failed):
+                    break
+        failed |= ~done
+        if np.any(failed) and bracket is not None:
+            sub = _sub_pose(pose, failed)
+            tr = None if traction is None else traction[..., failed]
+            tau[failed] = find_root(lambda t: self.moment(sub, t, tr) - self.M_req, bracket[0][failed],
+                                    bracket[1][failed], xtol=xtol, rtol=0.0).root
+        elif np.any(failed):
+            tau[failed] = self._bracketed(_sub_pose(pose, failed),
+                                          None if traction is None else traction[..., failed], xtol)
+        return tau
+
+    def state(self, theta, ref=None, phases: bool = True) -> Solution:
         """The solved state at crank angles theta: tau, d tau/d theta, forces, tangential speeds.
 
         ``ref`` = (active, branch) (c, z2, n), optional: the active set and contact branches of the
         piece of the cycle each theta belongs to; the derivative d tau/d theta is then the one-sided
         limit from inside that piece (at a piece end, where a contact enters or changes branch, the
-        central difference would straddle a jump of the contact stiffness).
+        derivative would straddle a jump of the contact stiffness).
         With ``friction``, the tangential forces take their directions from the previous solution and
         the equilibrium is re-solved until the directions no longer change (a fixed point, at most 8
-        passes; pins.md §5.5).
+        passes; pins.md §5.5); when no rotation balances the torque with them, :class:`Jam`.
+        ``phases = False`` leaves phase and zeta None (the cycle adds them once, :meth:`phases`).
         """
-        pose, tau, residual = self.solve(theta)
-        sol = self._kinematics(pose, tau, residual, None, ref)
+        theta = np.atleast_1d(np.asarray(theta, dtype=float))
+        idx = self.candidates(theta)
+        pose = self.pose(theta, idx)
+        fixed = None if ref is None or len(ref) < 3 else ref[2]
+        if ref is not None and idx is not None:
+            cols = np.arange(theta.size)[None, :]
+            ref = (ref[0][:, idx, cols], None if ref[1] is None else ref[1][:, idx, cols])
+            fixed = None if fixed is None else fixed[:, idx, cols]
+        elif ref is not None:
+            ref = ref[:2]
         if self.friction is None:
-            return sol
+            tau = self._solve(pose, None, self._guess(theta, 0))
+            sol = self._kinematics(pose, tau, None, ref)
+        elif fixed is not None:
+            # the piece's own sliding directions (set at its midpoint, like its active set): the friction
+            # forces jump only at the piece ends
+            tau = self._guess(theta, 1)
+            if tau is None:
+                tau = self._solve(pose, None, self._guess(theta, 0))
+            sol = self._friction_solve(pose, fixed, tau, ref)
+        else:
+            sol = self._friction_fixed_point(theta, pose, ref)
+        self._remember(1 if self.friction is not None else 0, sol)
+        sol = self._full(sol, idx)
+        if phases:
+            sol.phase, sol.zeta = self.phases(theta)
+        return sol
+
+    def _friction_solve(self, pose: Pose, traction, tau, ref) -> Solution:
+        """The equilibrium with the friction forces ``traction`` from the start ``tau``; :class:`Jam` when
+        no rotation balances the torque with them."""
+        try:
+            tau = self._solve(pose, traction, tau)
+        except NoEquilibrium as exc:
+            raise Jam(exc.theta) from None
+        return self._kinematics(pose, tau, traction, ref)
+
+    def _friction_fixed_point(self, theta, pose: Pose, ref) -> Solution:
+        """The friction forces' directions iterated to a fixed point (at most 8 passes; pins.md §5.5).
+
+        The first directions come from the kinematics at the warm start of an earlier friction solution,
+        or, without one (or where that start leaves a contact set without stiffness), from the
+        frictionless equilibrium."""
+        sol = None
+        guess = self._guess(theta, 1)
+        if guess is not None:
+            with np.errstate(divide="ignore", invalid="ignore"):
+                sol = self._kinematics(pose, guess, None, ref)
+            if not np.all(np.isfinite(sol.v_t)):
+                sol = None
+        if sol is None:
+            sol = self._kinematics(pose, self._solve(pose, None, self._guess(theta, 0)), None, ref)
+            self._remember(0, sol)
         traction = None
         for _ in range(8):
             new = self.traction(sol)
             if traction is not None and np.array_equal(new, traction):
                 break
             traction = new
-            _, tau, residual = self.solve(theta, traction=traction, pose=pose)
-            sol = self._kinematics(pose, tau, residual, traction, ref)
+            sol = self._friction_solve(pose, traction, sol.tau, ref)
         return sol
 
+    def phases(self, theta):
+        """(phase, zeta) of all pins at crank angles theta (z2, n): the load-side phase of the mode
+        and the time phase theta - phi_j wrapped to [-pi, pi) [rad]."""
+        g = self.g
+        th = np.atleast_1d(np.asarray(theta, dtype=float))[None, :]
+        psi = pins.pin_phase(self.pins, th, g.z2, REDUCER)
+        zeta = -np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
+        return pins.pin_phase(self.pins, th, g.z2, self.sigma), zeta
+
+    def _remember(self, key, sol: Solution) -> None:
+        old = self._memo[key]
+        th, ta, dt = sol.theta, sol.tau, sol.dtau
+        if old is not None:
+            th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
+        order = np.argsort(th, kind="stable")
+        self._memo[key] = (th[order], ta[order], dt[order])
+
+    def _guess(self, theta, key):
+        """tau at theta from the solved angles around it: the cubic Hermite interpolant of tau and
+        d tau/d theta between the two neighbours (the tangent line of the nearer one where they coincide
+        or lie on one side only), or None when nothing is solved yet."""
+        memo = self._memo[key] if key == 0 or self.friction is not None else None
+        if memo is None:
+            return None
+        th, ta, dt = memo
+        if th.size == 1:
+            return ta[0] + dt[0] * (theta - th[0])
+        j = np.clip(np.searchsorted(th, theta, side="right"), 1, th.size - 1)
+        a, b = j - 1, j
+        near = np.where(np.abs(theta - th[a]) <= np.abs(th[b] - theta), a, b)
+        line = ta[near] + dt[near] * (theta - th[near])
+        h = th[b] - th[a]
+        inside = (h > 0.0) & (theta >= th[a]) & (theta <= th[b])
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t = np.where(inside, (theta - th[a]) / h, 0.0)
+            t2, t3 = t * t, t * t * t
+            herm = ((2 * t3 - 3 * t2 + 1) * ta[a] + (t3 - 2 * t2 + t) * h * dt[a]
+                    + (-2 * t3 + 3 * t2) * ta[b] + (t3 - t2) * h * dt[b])
+        return np.where(inside, herm, line)
+
+    def _full(self, sol: Solution, idx) -> Solution:
+        """The solution over all pins: the candidates' values scattered, the others untouched by contact."""
+        if idx is None:
+            return sol
+        g, n = self.g, sol.theta.size
+        cols = np.arange(n)[None, :]
+
+        def scatter(a, fill):
+            if a is None:
+                return None
+            out = np.full(a.shape[:-2] + (g.z2, n), fill, dtype=a.dtype)
+            out[..., idx, cols] = a
+            return out
+
+        cand = np.zeros((g.z2, n), dtype=bool)
+        cand[idx, cols] = True
+        return Solution(sol.theta, sol.tau, sol.dtau, sol.residual, scatter(sol.delta, -np.inf),
+                        scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
+                        scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
+                        sol.noise)
+
     def reference(self, theta):
-        """(active, branch) of the solved state at theta: the fixed sets of the pieces with these midpoints."""
-        sol = self.state(theta)
-        return sol.force > 0.0, sol.branch
+        """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
+        midpoints (traction: the friction forces' directions with friction in the balance, else None)."""
+        sol = self.state(theta, phases=False)
+        return sol.force > 0.0, sol.branch, None if self.friction is None else self.traction(sol)
 
     def traction(self, sol: Solution):
         """Tangential force per unit normal force against the sliding (pins.md §5.5, §5.6).
@@ -615,28 +1043,45 @@ class ContactModel:
         is_lead = np.arange(v.shape[0])[:, None, None] == lead[None]
         return np.where(is_lead, -mu_eff * np.sign(v), -f * np.sign(v - v_lead))
 
-    def _kinematics(self, pose: Pose, tau, residual, traction, ref=None) -> Solution:
+    def _kinematics(self, pose: Pose, tau, traction, ref=None) -> Solution:
+        r"""Forces, d tau/d theta and the contact speeds at the solved tau (pins.md §5.6).
+
+        d tau/d theta = -G_theta/G_tau, both analytic (on the piece's active set and branches ``ref``);
+        at fixed tau, dX/dtheta = -Rot(-phi) O1' + (k/z1)(-y, x), so with V = dX/dtheta
+
+        .. math::
+
+            G_\theta = \sum F'(\delta)(n\cdot V) A + F\left[V\times n + (w\cdot V)(X\cdot n)
+                       + q\,(n\cdot V - (w\cdot V)(X\times n))\right]
+        """
         g = self.g
         th = pose.theta
-        # d tau/d theta = -G_theta/G_tau by central differences (pins.md §5.6), at fixed tau
-        h = self.diff_step * g.period
-        p_plus, p_minus = self.pose(th + h), self.pose(th - h)
-        G_th = (self.moment(p_plus, tau, traction, ref) - self.moment(p_minus, tau, traction, ref)) / (2.0 * h)
-        h_tau = h * g.k / g.z1
-        G_tau = (self.moment(pose, tau + h_tau, traction, ref)
-                 - self.moment(pose, tau - h_tau, traction, ref)) / (2.0 * h_tau)
+        G, G_tau, ct, F, Fp, A, q, x, y = self._balance(pose, tau, traction)
+        if ref is not None and np.array_equal(ref[0], F > 0.0) and (ref[1] is None or np.array_equal(ref[1], ct.branch)):
+            ref = None                  # the piece's sets are the solution's own: the same derivatives
+        if ref is not None:
+            _, G_tau, cr, F_r, Fp_r, A_r, _, _, _ = self._balance(pose, tau, traction, ref)
+        else:
+            cr, F_r, Fp_r, A_r = ct, F, Fp, A
+        kz = g.k / g.z1
+        ang = (g.z2 / g.z1) * th - tau
+        ca, sa = np.cos(ang), np.sin(ang)
+        vx = g.e * sa - kz * y
+        vy = -g.e * ca + kz * x
+        dd = cr.nx * vx + cr.ny * vy
+        om = cr.wx * vx + cr.wy * vy
+        d_arm = vx * cr.ny - vy * cr.nx + om * cr.xn
+        d_xn = dd - om * cr.arm
+        G_th = np.sum(Fp_r * dd * A_r + F_r * (d_arm + q * d_xn), axis=(0, 1))
         dtau = -G_th / G_tau
-        ct = self.contacts(pose, tau)
-        force = self.law.force(ct.delta)
         # contact velocity (omega_H = 1): v = z x O1 + w1 z x (C - O1); v_t = v.(z x n)
         #   = O1'.n + w1 (C.n), O1' = e u(theta - phi) and C = X + R_b n in the satellite axes
-        w1 = -g.k / g.z1 + dtau
-        ang = (g.z2 / g.z1) * th - tau
-        o_n = g.e * (np.cos(ang) * ct.nx + np.sin(ang) * ct.ny)
+        w1 = -kz + dtau
+        o_n = g.e * (ca * ct.nx + sa * ct.ny)
         v_t = o_n + w1 * (ct.xn + g.R_b)
-        phase = pins.pin_phase(self.pins, th[None, :], g.z2, self.sigma)
-        zeta = -pose.psi
-        return Solution(th, tau, dtau, residual, ct.delta, force, v_t, phase, zeta, ct.switch, ct.branch)
+        ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
+        noise = EPS * (g.R_p + g.e) * np.sum(np.abs(Fp * ct.arm), axis=(0, 1))
+        return Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise)
 
     def bearing_force(self, sol: Solution, traction=None):
         """Force B of the crank bearing on the satellite (crank-frame axes turned by phi) [N], (2, n).
@@ -711,15 +1156,19 @@ def _concat(parts: list[Solution]) -> Solution:
     order = np.argsort(theta, kind="stable")
 
     def cat(name, axis):
+        if any(getattr(p, name) is None for p in parts):
+            return None
         return np.take(np.concatenate([getattr(p, name) for p in parts], axis=axis), order, axis=axis)
 
     return Solution(theta[order], cat("tau", 0), cat("dtau", 0), cat("residual", 0), cat("delta", 2),
                     cat("force", 2), cat("v_t", 2), cat("phase", 1), cat("zeta", 1),
                     None if parts[0].switch is None else cat("switch", 3),
-                    None if parts[0].branch is None else cat("branch", 2))
+                    None if parts[0].branch is None else cat("branch", 2),
+                    None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
+                    cat("noise", 0))
 
 
-def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6) -> np.ndarray:
+def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6, rolls: bool = False) -> np.ndarray:
     """Breakpoints in [0, T_p] of the contact level's cycle integrand (pins.md §6, §12.9, §12.12).
 
     * the ends 0 and T_p;
@@ -731,7 +1180,14 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6)
       and exit: there dF/d delta ~ delta^(1/9), so the satellite's speed (through d tau/d theta) has
       an algebraic singularity (theta - theta_0)^(1/9) that plain doubling resolves only to order
       1.1; the grading stops at a width where that term is below tol/100 of the integrand;
-    * K1 > 0.99: the geometric grading toward entry of the ideal level.
+    * K1 > 0.99: the geometric grading toward entry of the ideal level;
+    * rolling pins (``rolls``) with two loaded contacts on one pin: where the two forces are equal (the
+      contact that sets the spin changes) and where the other contact's sliding speed v_t - omega_pin R_b
+      changes sign (its friction force flips): the loss, and with friction in the balance the forces, jump
+      or kink there (pins.md §5.6).
+
+    The scan's sign changes are refined by safeguarded Newton (the penetrations, with the slope
+    d delta/d theta of the solution) or secant steps (the others) to 1e-12 T_p.
     """
     Tp = model.g.period
     memo: dict = {}
@@ -740,24 +1196,44 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6)
         key = (x.size, x.tobytes())
         if key not in memo:
             memo.clear()
-            memo[key] = model.state(x)
+            memo[key] = model.state(x, phases=False)
         return memo[key]
 
     def components(x):
+        """(values, slopes) of the components; the slope is known for the penetrations only (NaN else)."""
         s = state(x)
-        parts = [s.delta.reshape(-1, x.size), np.where(s.force > 0.0, s.v_t, 0.0).reshape(-1, x.size)]
+        delta = s.delta if s.cand is None else np.where(s.cand, s.delta, np.nan)   # NaN: no sign change
+        parts = [delta.reshape(-1, x.size), np.where(s.force > 0.0, s.v_t, 0.0).reshape(-1, x.size)]
+        slopes = [s.ddelta.reshape(-1, x.size), np.full(parts[1].shape, np.nan)]
         if s.switch is not None:      # not masked: a pin can reach the crest and leave it in one scan step
             parts.append(s.switch.reshape(-1, x.size))
-        return np.concatenate(parts)
+            slopes.append(np.full(parts[-1].shape, np.nan))
+        if rolls and s.force.shape[0] == 2:
+            loaded = s.force > 0.0
+            lead = np.argmax(s.force, axis=0)
+            v_lead = np.take_along_axis(s.v_t, lead[None], axis=0)
+            other = loaded & (np.arange(2)[:, None, None] != lead[None])
+            parts.append(np.where(loaded.all(axis=0), s.force[0] - s.force[1], np.nan).reshape(-1, x.size))
+            parts.append(np.where(other, s.v_t - v_lead, np.nan).reshape(-1, x.size))
+            slopes.extend(np.full(p.shape, np.nan) for p in parts[-2:])
+        return np.concatenate(parts), np.concatenate(slopes), delta.reshape(-1, x.size).shape[0]
 
     xtol = 1e-12 * Tp
-    found = sign_change_breakpoints(components, 0.0, Tp, n_scan, xtol=xtol)   # one vectorised bisection
-    # which scan intervals hold a change of a penetration (the contact entries and exits)
     x = np.linspace(0.0, Tp, n_scan + 1)
-    c = state(x).delta.reshape(-1, x.size)
-    sg = np.sign(c)
-    entry = np.any(sg[:, :-1] * sg[:, 1:] < 0, axis=0)
-    contact_bp = found[entry[np.clip(np.searchsorted(x, found) - 1, 0, n_scan - 1)]]
+    v, _, n_delta = components(x)
+    sgn = np.sign(v)
+    comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
+    if comp.size:
+        def h(t):
+            val, slope, _ = components(t)
+            k = np.arange(comp.size)
+            return val[comp, k], slope[comp, k]
+
+        roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol)
+    else:
+        roots = np.empty(0)
+    found = np.sort(roots)
+    contact_bp = np.sort(roots[comp < n_delta])      # the contact entries and exits (a penetration changes sign)
     edges = _merge(np.concatenate(([0.0, Tp], found)), 4.0 * xtol)
     extra = []
     if model.law.exponent != 1.0 and contact_bp.size:
@@ -773,6 +1249,37 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6)
     return _merge(np.concatenate([edges, *extra]), 4.0 * xtol)
 
 
+def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100):
+    """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
+    slope, secant otherwise, bisection when a step leaves the bracket (pins.md §6: breakpoints to
+    1e-12 T_p).  ``h(x)`` returns (values, slopes), a slope NaN where unknown.  Stops element by element
+    when the step or the bracket is below ``xtol`` or h is exactly 0."""
+    lo, hi = np.array(a, dtype=float), np.array(b, dtype=float)
+    flo, fhi = np.array(fa, dtype=float), np.array(fb, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        x = lo - flo * (hi - lo) / (fhi - flo)                # the scan's linear interpolation
+    x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
+    xp, fp = np.where(np.abs(flo) < np.abs(fhi), lo, hi), np.where(np.abs(flo) < np.abs(fhi), flo, fhi)
+    done = np.zeros(x.shape, dtype=bool)
+    for _ in range(maxiter):
+        f, slope = h(x)
+        left = np.sign(f) == np.sign(flo)
+        lo, flo = np.where(left & ~done, x, lo), np.where(left & ~done, f, flo)
+        hi, fhi = np.where(~left & ~done, x, hi), np.where(~left & ~done, f, fhi)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d = np.where(np.isfinite(slope) & (slope != 0.0), slope, (f - fp) / (x - xp))
+            new = x - f / d
+        bad = ~np.isfinite(new) | (new <= lo) | (new >= hi)
+        new = np.where(bad, 0.5 * (lo + hi), new)
+        conv = (f == 0.0) | (~bad & (np.abs(new - x) <= xtol)) | (hi - lo <= 2.0 * xtol)
+        xp, fp = np.where(done, xp, x), np.where(done, fp, f)
+        x = np.where(done | (f == 0.0), x, np.where(conv & (hi - lo <= 2.0 * xtol), 0.5 * (lo + hi), new))
+        done |= conv
+        if np.all(done):
+            break
+    return x
+
+
 def _merge(points, gap):
     """Sorted unique points with neighbours closer than ``gap`` merged (the ends of the range kept)."""
     x = unique_sorted(points)
@@ -786,7 +1293,8 @@ def _merge(points, gap):
 
 
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
-                    tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256) -> ContactCycle:
+                    tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
+                    prefilter: bool = True) -> ContactCycle:
     """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error.
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
@@ -809,19 +1317,27 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         um, inv = np.unique(mid, return_inverse=True)
         new = np.array([m for m in um if m not in refs])
         if new.size:
-            active, branch = model.reference(new)
+            active, branch, traction = model.reference(new)
             for i, m in enumerate(new):
-                refs[m] = (active[..., i], None if branch is None else branch[..., i])
+                refs[m] = (active[..., i], None if branch is None else branch[..., i],
+                           None if traction is None else traction[..., i])
         active = np.stack([refs[m][0] for m in um], axis=-1)[..., inv]
         branch = None if refs[um[0]][1] is None else np.stack([refs[m][1] for m in um], axis=-1)[..., inv]
-        s = model.state(x, (active, branch))
+        traction = None if refs[um[0]][2] is None else np.stack([refs[m][2] for m in um], axis=-1)[..., inv]
+        s = model.state(x, (active, branch, traction), phases=False)
         cache.append(s)
         loss, _, _ = contact_losses(s, g.R_b, mu_eff, sliding_friction, rolls)
         return loss.sum(axis=(0, 1)) / scale / g.period
 
-    edges = cycle_breakpoints(model, n_scan, tol)
+    if model.window is None and prefilter:
+        model.set_window()
+    edges = cycle_breakpoints(model, n_scan, tol, rolls)
     q = integrate_piecewise(integrand, edges, tol=tol, n_max=n_max, n_start=n_start)
     sol = _concat(cache)
+    sol.phase, sol.zeta = model.phases(sol.theta)
+    if not model.window_holds(sol.tau):
+        model.window = None        # the window's tau bound does not hold: every pin, every angle
+        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False)
     loss, spin, slide = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)
     lam = loss.sum(axis=(0, 1)) / scale
     return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, q.n, q, sol, loss, spin, slide, lam,
@@ -867,7 +1383,10 @@ def engagement_metrics(sol: Solution, spin, low: float = 0.1):
     if wmax == 0.0:
         return {"exit_entry_force_ratio": ratio, "spin_reversals": 0, "low_spin_fraction": None,
                 "loaded_from": float(zz[0]), "loaded_to": float(zz[-1])}
-    sg = np.sign(ww)
+    # a reversal is a change between spins above round-off and the friction-induced dither at a reversal
+    # with friction in the balance (the spin jumps through 0 where the friction forces flip): |spin| below
+    # 1e-3 of its peak does not count
+    sg = np.sign(np.where(np.abs(ww) > 1e-3 * wmax, ww, 0.0))
     sg = sg[sg != 0]
     reversals = int(np.count_nonzero(sg[1:] != sg[:-1]))
     # share of the interval (by zeta length) where |spin| < low * max: trapezoid weights
@@ -1115,7 +1634,8 @@ class TorqueCycle:
 
 def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
                     n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool,
-                    friction_in_equilibrium: bool = False, tol: float = 1e-6, passes: int = 8) -> TorqueCycle:
+                    friction_in_equilibrium: bool = False, tol: float = 1e-6, passes: int = 8,
+                    seed: "ContactModel | None" = None) -> TorqueCycle:
     r"""The contact cycle under the torque given on V, or on H through the torque fixed point (pins.md §4.7, §7).
 
     The loss ratio depends (weakly) on the torque, so with the torque given on H the torque on V is
@@ -1126,8 +1646,12 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         T_V = \frac{u T_H}{1 - \bar\lambda(T_V)}\ \text{(multiplier)},\qquad
         T_V = \frac{u T_H}{1 + \bar\lambda(T_V)}\ \text{(reducer)}
 
-    until :func:`fixed_point_settled` (at most ``passes``; one pass when the torque is on V).  A
-    multiplier that self-locks (lambda_bar >= 1) keeps the last solution.
+    (at most ``passes``; one pass when the torque is on V).  The iteration starts from a coarse loss ratio
+    of the candidate window's scan (64 uniform crank angles at T_V = u T_H), so that two full passes
+    usually settle it: it stops when :func:`fixed_point_settled`, or when the contraction estimated from
+    the last two passes, c = |d lambda/d T_V| |d T_V/d lambda|, bounds the remaining change,
+    c |lambda_n - lambda_(n-1)|/(1 - c), below tol/10 of lambda.  A multiplier that self-locks
+    (lambda_bar >= 1) keeps the last solution.
 
     Parameters
     ----------
@@ -1145,6 +1669,9 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         mu_eff and f [-]; rolls : bool, the pins roll.
     friction_in_equilibrium : bool
         add the friction forces to the moment balance (pins.md §5.5).
+    seed : ContactModel, optional
+        the solved other mode of the same design: its candidate window and warm starts, mirrored
+        (:meth:`ContactModel.mirror`), replace the first bracketed solve.
     tol : float
         relative accuracy of the cycle mean and of the fixed point.
 
@@ -1176,8 +1703,34 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     sigma = MULTIPLIER if multiplier else REDUCER
     friction = (mu_eff, sliding_friction, rolls) if friction_in_equilibrium else None
     T = float(torque)
-    lam, cyc, model, T_V, history = 0.0, None, None, None, []
+    lam, cyc, model, T_V, history, torques = 0.0, None, None, None, [], []
     settled = True
+    frictionless = mu_eff == 0.0 and sliding_friction == 0.0
+
+    def run(T_V, prev, window_only=False):
+        model = ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
+        if prev is not None:
+            model.inherit(prev)
+        elif seed is not None and seed.sigma != sigma:
+            model.mirror(seed)
+        try:
+            with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
+                if window_only:
+                    sol = model.set_window()
+                    loss = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)[0]
+                    return model, float(np.mean(loss.sum(axis=(0, 1)))) / (model.torque_sat * g.k / g.z1)
+                return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol)
+        except NoEquilibrium as exc:
+            exc.torque_V = T_V
+            raise
+
+    prev = None
+    if not torque_on_V and not frictionless:
+        # a coarse loss ratio from the candidate-window scan (uniform angles, no breakpoints) starts the
+        # fixed point close to it: two full passes then settle it
+        prev, lam = run(g.ratio * T, None, window_only=True)
+        if not (np.isfinite(lam) and lam < 1.0):
+            lam = 0.0
     for _ in range(passes):
         if torque_on_V:
             T_V = T
@@ -1187,23 +1740,25 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             T_V = g.ratio * T / (1.0 - lam)
         else:
             T_V = g.ratio * T / (1.0 + lam)
-        model = ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
-        try:
-            with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
-                cyc = mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol)
-        except NoEquilibrium as exc:
-            exc.torque_V = T_V
-            raise
+        model, cyc = run(T_V, prev)
+        prev = model
         if not (np.isfinite(cyc.loss_ratio) and np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.lam))):
             raise Unresolvable("non-finite contact forces or losses")
         history.append(cyc.loss_ratio)
+        torques.append(T_V)
         lam = cyc.loss_ratio
-        if torque_on_V or fixed_point_settled(history, tol):
+        if torque_on_V or frictionless or fixed_point_settled(history, tol):
             break
+        if len(history) >= 2 and torques[-1] != torques[-2]:
+            # the contraction of the fixed point from the last two passes: c = |d lambda/d T_V| |d T_V/d lambda|
+            c = abs((history[-1] - history[-2]) / (torques[-1] - torques[-2])) * T_V / (1.0 - lam if multiplier
+                                                                                         else 1.0 + lam)
+            if c < 0.5 and c * abs(history[-1] - history[-2]) / (1.0 - c) <= 0.1 * tol * abs(lam):
+                break
     else:
         settled = False
     E = cyc.loss_ratio_err
-    if mu_eff == 0.0 and sliding_friction == 0.0:
+    if frictionless:
         lam, E = 0.0, 0.0
     return TorqueCycle(cyc, model, T_V, lam, E, history, settled)
 

@@ -19,6 +19,17 @@ from gearcalc.calculator import DesignError, Options
 from gearcalc.cli import app
 from test_pins_cli import BASE, CONFIGS, changed
 
+
+@pytest.fixture(autouse=True)
+def _first_order_default(monkeypatch):
+    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
+    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
+    tests/test_pins_consistent.py)."""
+    from gearcalc.kinds import pins as kind_pins
+
+    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
+
+
 PINS = registry.get("pins")
 runner = CliRunner()
 

@@ -13,6 +13,17 @@ from typer.testing import CliRunner
 
 from gearcalc.cli import app
 
+
+@pytest.fixture(autouse=True)
+def _first_order_default(monkeypatch):
+    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
+    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
+    tests/test_pins_consistent.py)."""
+    from gearcalc.kinds import pins as kind_pins
+
+    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
+
+
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
 runner = CliRunner()

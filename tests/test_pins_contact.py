@@ -3,7 +3,10 @@
 Independent references used: the ISO/TS 16281 roller constant and Palmgren's formula (pins.md §5.4);
 brute-force minimum distances by dense sampling; the ideal level's closed-form lever arms, forces,
 speeds and loss ratio (pins.md §4), which the contact level must approach for a stiff linear law on
-an unmodified cycloid (pins.md §5.7(a)); exact kinematic identities (period, power balance).
+an unmodified cycloid (pins.md §5.7(a)); exact kinematic identities (period, power balance); central
+differences of the moment balance (the analytic derivatives); the friction-consistent reference values of
+pins.md §4.9 and an independent brute-force rigid friction-consistent model written in this file (each
+mode with its own forces, issue 15).
 """
 import copy
 import functools
@@ -486,3 +489,227 @@ def test_two_discs_share_the_torque(tmp_path):
     two = summary(circ_design(tmp_path, gearing__discs=2), "--tol", "1e-5")[0]
     assert two["pin_force_max_N"] < 0.6 * one["pin_force_max_N"]
     assert two["efficiency"] == pytest.approx(one["efficiency"], abs=5e-3)
+
+
+# ------------------------------------------------------------------ issue 15: speed, friction per mode, residual
+
+def _fd_check_model(profile_kind):
+    if profile_kind == "circular":
+        return circular_model(friction=(0.1, 0.1, False))
+    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)          # k = 2: crest corners
+    return pc.ContactModel(g, pc.CycloidProfile(g, 0.0, 0.02), pc.contact_law("hertz", face_width=10.0), 1e6,
+                           MULTIPLIER, (0.1, 0.1, False))
+
+
+@pytest.mark.parametrize("profile_kind", ["circular", "cycloidal"])
+def test_analytic_derivatives_match_central_differences(profile_kind):
+    # pins.md §5.5-5.6: G_tau and G_theta (hence d tau/d theta = -G_theta/G_tau) analytic; reference: central
+    # differences of the moment balance M(tau, theta) itself (independent of the derivative formulas)
+    m = _fd_check_model(profile_kind)
+    theta = np.linspace(0.01, m.g.period - 0.01, 7)
+    s = m.state(theta)
+    pose = m.pose(theta)
+    q = m.traction(s)
+    G, G_tau = m._balance(pose, s.tau, q)[:2]
+    h = 1e-4 * np.abs(s.tau).max()             # round-off ~ eps R_p G_tau/(|arm| h), truncation ~ (h/tau)^2
+    fd_tau = (m.moment(pose, s.tau + h, q) - m.moment(pose, s.tau - h, q)) / (2 * h)
+    assert np.allclose(G_tau, fd_tau, rtol=1e-6)
+    ht = 1e-6
+    fd_th = (m.moment(m.pose(theta + ht), s.tau, q) - m.moment(m.pose(theta - ht), s.tau, q)) / (2 * ht)
+    fd_dtau = -fd_th / fd_tau
+    assert np.allclose(s.dtau, fd_dtau, rtol=1e-5, atol=1e-9)
+
+
+@pytest.mark.parametrize("sigma", [MULTIPLIER, REDUCER])
+def test_candidate_window_changes_nothing(sigma):
+    # the prefilter evaluates only the pins that can touch; every other pin stays unloaded (pins.md §5.5)
+    a = pc.mean_loss_ratio(circular_model(sigma=sigma), 0.1, 0.1, False, tol=1e-6)
+    b = pc.mean_loss_ratio(circular_model(sigma=sigma), 0.1, 0.1, False, tol=1e-6, prefilter=False)
+    assert a.sol.cand is not None and a.sol.cand.sum(axis=0).max() < circ_u10().z2
+    assert abs(a.loss_ratio - b.loss_ratio) <= 1e-3 * a.loss_ratio_err   # round-off of the solve paths only
+    assert a.sol.force.max() == pytest.approx(b.sol.force.max(), rel=1e-10)
+
+
+# §4.9 reference values of an independent friction-consistent model (K1 = 0.75, fixed pins): k = 1,
+# z1/z2 = 10/11, f = 0.1: eta_HV 0.83078, eta_VH 0.84594 (first-order 0.85075, 0.82457); f = 0.3: 0.52580,
+# 0.62833.  The pin radius is not printed there: R_b/e = 0.9 reproduces the printed first-order pair to all
+# five digits (0.850755, 0.824573; the first-order efficiency is linear in R_b), so it is the geometry used.
+K1_REF = {
+    "kind": "pins", "name": "k1 reference",
+    "gearing": {"profile": "cycloidal", "satellite_teeth": 10, "pins": 11, "eccentricity_mm": 1.0,
+                "curtate_ratio": 0.75, "pin_radius_mm": 0.9, "axle_radius_mm": 0.25, "rotating_pins": False},
+    "friction": {"sliding": 0.1, "rolling_mm": 0.0, "axle": 0.0},
+    "load": {"mode": "multiplier", "torque_shaft": "V", "torque_Nm": 10.0},
+    "contact": {"law": "linear", "stiffness_N_per_mm": 1e9},
+}
+
+
+@pytest.mark.parametrize("f,model,eta_hv,eta_vh", [
+    (0.1, "consistent", 0.83078, 0.84594),
+    (0.3, "consistent", 0.52580, 0.62833),
+    (0.1, "first-order", 0.85075, 0.82457),
+])
+def test_contact_friction_in_equilibrium_matches_the_reference_model(tmp_path, f, model, eta_hv, eta_vh):
+    # pins.md §4.9/§5.5: each mode solved with its own forces; stiff linear law (the rigid limit)
+    p = design(tmp_path, "k1.toml", base=K1_REF, friction__sliding=f, friction__model=model)
+    s, code, _ = summary(p, "--model", "contact", "--tol", "1e-7")
+    assert code == 0 and s["model"] == "contact"
+    assert s["efficiency_reducer"] == pytest.approx(eta_hv, abs=1e-5)
+    assert s["efficiency_multiplier"] == pytest.approx(eta_vh, abs=1e-5)
+    assert s["efficiency"] == s["efficiency_multiplier"] and s["self_locking"] is False
+
+
+def _cross(a, b):
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def _rigid_consistent(z1, z2, K1, e, R_b, f, sigma, n=4001):
+    """Independent brute-force friction-consistent rigid model (pins.md §4.9) of a k = 1 cycloid, fixed pins:
+    per crank angle all pins with 0 < psi < pi load with F_i = c |l_i|; the satellite's moment balance about O1
+    with the normal and friction forces gives c; the crank torque from the bearing force; efficiency from the
+    cycle means of the shaft powers (uniform grid over one period, plain trapezoid; the pieces end at 0,
+    T_p/2 and T_p, grid points for odd n, so the error is O(n^-2))."""
+    k = z2 - z1
+    R_p = e * z2 / (k * K1)
+    r_p2 = e * z2 / k                               # fixed pitch circle radius
+    theta = np.linspace(0.0, 2 * np.pi / z2, n)
+    phi_pins = 2 * np.pi * np.arange(z2) / z2
+    w_H, w_V = 1.0, -k / z1
+    PH, PW = [], []
+    for th in theta:
+        O1 = e * np.array([np.cos(th), np.sin(th)])
+        P = r_p2 * np.array([np.cos(th), np.sin(th)])
+        A = R_p * np.stack([np.cos(phi_pins), np.sin(phi_pins)], axis=1)
+        psi = np.mod(sigma * (phi_pins - th), 2 * np.pi)
+        on = (psi > 1e-12) & (psi < np.pi - 1e-12)
+        A = A[on]
+        AP = A - P
+        rho = np.linalg.norm(AP, axis=1)
+        nvec = AP / rho[:, None]                   # from the contact point toward the pin centre
+        C = A - R_b * nvec
+        rel = C - P
+        vel = w_V * np.stack([-rel[:, 1], rel[:, 0]], axis=1)   # satellite velocity at C relative to the pin
+        vhat = vel / np.linalg.norm(vel, axis=1)[:, None]
+        lever = np.abs(_cross(C - O1, nvec))
+        force_dir = -nvec - f * vhat               # force of the pin on the satellite per unit normal force
+        m_unit = _cross(C - O1, force_dir) * lever
+        T_W = 1.0 if sigma == REDUCER else -1.0     # reducer: the coupling resists (+T); multiplier: it drives
+        c = -T_W / m_unit.sum()
+        assert c > 0
+        B = -(force_dir * (c * lever)[:, None]).sum(axis=0)
+        T_H = _cross(O1, B)
+        PH.append(T_H * w_H)
+        PW.append(T_W * w_V)
+    PH, PW = np.trapezoid(PH, theta), np.trapezoid(PW, theta)
+    return -PW / PH if sigma == REDUCER else -PH / PW
+
+
+def test_brute_force_rigid_model_gives_the_reference_values():
+    # the independent model in this file reproduces pins.md §4.9's printed values (checks the test's reference)
+    assert _rigid_consistent(10, 11, 0.75, 1.0, 0.9, 0.1, REDUCER) == pytest.approx(0.83078, abs=1e-5)
+    assert _rigid_consistent(10, 11, 0.75, 1.0, 0.9, 0.1, MULTIPLIER) == pytest.approx(0.84594, abs=1e-5)
+
+
+def test_consistent_contact_agrees_with_the_brute_force_rigid_model_at_another_geometry(tmp_path):
+    # k = 1, z1/z2 = 12/13, K1 = 0.6, R_b = 1.2 e, f = 0.2: the contact level (stiff linear law, friction in
+    # the balance) against the independent rigid model above, to 1e-5 (pins.md §4.9 "Limits and checks")
+    p = design(tmp_path, "k1b.toml", base=K1_REF, gearing__satellite_teeth=12, gearing__pins=13,
+               gearing__curtate_ratio=0.6, gearing__pin_radius_mm=1.2, friction__sliding=0.2)
+    s, code, _ = summary(p, "--model", "contact", "--tol", "1e-7")
+    assert code == 0
+    assert s["efficiency_reducer"] == pytest.approx(_rigid_consistent(12, 13, 0.6, 1.0, 1.2, 0.2, REDUCER), abs=1e-5)
+    assert s["efficiency_multiplier"] == pytest.approx(_rigid_consistent(12, 13, 0.6, 1.0, 1.2, 0.2, MULTIPLIER),
+                                                       abs=1e-5)
+
+
+def test_reducer_jams_while_the_multiplier_runs(tmp_path):
+    # pins.md §4.9: at high friction the reducer jams (no positive normal-force solution; k = 1, u = 10 at
+    # f ~ 0.68) while the multiplier still runs; the jammed mode is self-locking, the other one computed
+    p = design(tmp_path, "jam.toml", base=K1_REF, friction__sliding=0.9, load__mode="reducer")
+    s, code, err = summary(p, "--model", "contact", "--tol", "1e-6")
+    assert code == 1 and s["self_locking"] is True
+    assert s["efficiency"] is None and s["efficiency_reducer"] is None
+    assert 0.0 < s["efficiency_multiplier"] < 0.6
+    assert "self-locking in the reducer mode" in err and "jams" in err
+    s, code, _ = summary(design(tmp_path, "run.toml", base=K1_REF, friction__sliding=0.9), "--model", "contact",
+                         "--tol", "1e-6")
+    assert code == 0 and s["self_locking"] is False and s["efficiency_reducer"] is None
+    assert s["efficiency"] == s["efficiency_multiplier"] > 0.0
+
+
+def test_first_order_contact_keeps_one_loss_ratio_for_both_modes(tmp_path):
+    # friction.model = "first-order" (pins.md §4.7): frictionless forces, eta_VH = 1 - lambda, eta_HV = 1/(1 + lambda)
+    s = summary(circ_design(tmp_path, friction__model="first-order"), "--tol", "1e-6")[0]
+    lam = s["loss_ratio"]
+    assert s["efficiency_multiplier"] == pytest.approx(1.0 - lam, abs=1e-15)
+    assert s["efficiency_reducer"] == pytest.approx(1.0 / (1.0 + lam), abs=1e-15)
+
+
+def test_consistent_power_balance_and_mode_efficiencies_from_the_crank_torque():
+    # the cycle power balance with friction in the equilibrium (pins.md §5.5): <P_H> + <P_W> = <sum P_j>; the
+    # reducer's efficiency from the shaft powers <-P_W>/<P_H> equals 1/(1 + lambda_bar) within the error
+    from gearcalc.quadrature import integrate_piecewise
+
+    m = circular_model(sigma=REDUCER, friction=(0.1, 0.1, False))
+    g = m.g
+
+    def f(th, mid):
+        s = m.state(th)
+        Bx, By = m.bearing_force(s, m.traction(s))
+        ang = (g.z2 / g.z1) * th - s.tau
+        T_H = g.e * (np.cos(ang) * By - np.sin(ang) * Bx)          # O1 x B (satellite axes)
+        loss, _, _ = pc.contact_losses(s, g.R_b, 0.1, 0.1, False)
+        return np.stack([T_H, loss.sum(axis=(0, 1))])
+
+    q = integrate_piecewise(f, pc.cycle_breakpoints(m, tol=1e-6), tol=1e-6, n_max=2 ** 12)
+    P_W = -m.torque_sat * g.k / g.z1 * g.period                  # T_W omega_V over a period, T_W = +T_sat
+    assert q.value[0] + P_W == pytest.approx(q.value[1], rel=1e-6)
+    lam = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-7).loss_ratio
+    assert -P_W / q.value[0] == pytest.approx(1.0 / (1.0 + lam), abs=1e-7)
+
+
+def test_residual_above_the_tolerance_is_an_error(tmp_path, monkeypatch):
+    # pins.md §5.5, issue 15 item 5: an equilibrium that is not met is an error for the design (exit 2)
+    orig = pc.ContactModel._solve
+
+    def off(self, *a, **k):
+        return orig(self, *a, **k) * (1.0 + 1e-4)
+
+    monkeypatch.setattr(pc.ContactModel, "_solve", off)
+    code, out, err = run(circ_design(tmp_path), "--tol", "1e-4")
+    assert code == 2 and out == "" and "Traceback" not in err
+    assert "load.torque_Nm" in err and "too high for the contact stiffness" in err
+
+
+@pytest.mark.parametrize("fname,ratio", [("pins_circ_band_u10.toml", 2.04), ("pins_circ_band_u30.toml", 1.72)])
+def test_band_configs_show_the_papers_circular_profile_findings(fname, ratio):
+    # pins.md §5.7(b) on a documented (fitted) geometry: in the two-touch band of the tooth radius the pin spin
+    # reverses once between entry and exit, the exit force exceeds the entry force (paper: x1.7 and x2.6) and
+    # part of the loaded time runs at low spin (paper: about a third); the values are this model's own
+    s = config_summary(fname)
+    assert s["model"] == "contact" and s["tolerance_met"] is True and s["mode"] == "multiplier"
+    assert s["spin_reversals"] == 1
+    assert s["exit_entry_force_ratio"] == pytest.approx(ratio, abs=0.01)
+    assert 0.05 < s["low_spin_fraction"] < 0.34
+
+
+def test_the_band_is_narrow(tmp_path):
+    # 0.05 mm either side of the u = 10 band point the exit/entry ratio is back near 1 (README sweep)
+    base = json.loads(json.dumps(CIRC))
+    base["gearing"].update({"pin_circle_radius_mm": 44.227})
+    for rho, lo, hi in ((3.522, 1.0, 1.4), (3.603, 0.7, 1.0)):
+        p = design(tmp_path, "band.toml", base=base, gearing__tooth_radius_mm=rho)
+        s = summary(p, "--tol", "1e-5")[0]
+        assert lo < s["exit_entry_force_ratio"] < hi
+
+
+def test_the_other_mode_seeded_by_the_mirror_gives_the_same_result():
+    # the reducer started from the solved multiplier, mirrored (tau_R(-theta) = -tau_M(theta), pins.md §4.8(5)),
+    # is the same cycle as the reducer solved from scratch: the seed only warm-starts and bounds the window
+    g, (rho, R_t) = circ_u10(), full_u10()
+    args = (g, pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0), 100.0, False)
+    m = pc.cycle_at_torque(*args, True, 1, 0.1, 0.1, False, True, tol=1e-6)
+    alone = pc.cycle_at_torque(*args, False, 1, 0.1, 0.1, False, True, tol=1e-6)
+    seeded = pc.cycle_at_torque(*args, False, 1, 0.1, 0.1, False, True, tol=1e-6, seed=m.model)
+    assert seeded.loss_ratio == pytest.approx(alone.loss_ratio, abs=1e-3 * alone.loss_ratio_err + 1e-15)
+    assert seeded.model.window is not None

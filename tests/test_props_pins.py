@@ -20,6 +20,17 @@ from gearcalc.calculator import DesignError, Options
 from gearcalc.design import validate
 from props_common import assert_all_finite, in_schema
 
+
+@pytest.fixture(autouse=True)
+def _first_order_default(monkeypatch):
+    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
+    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
+    tests/test_pins_consistent.py)."""
+    from gearcalc.kinds import pins as kind_pins
+
+    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
+
+
 CALC = registry.get("pins")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}
 PROPS = settings(max_examples=30, deadline=None, derandomize=True)

@@ -9,7 +9,9 @@ Schema, cross-key checks and the glue between a design and the physics of :mod:`
   cycloids with clearance or modifications, a [contact] table, or ``--model contact``).
 
 The ideal level solves a geometry once in unit scalings and scales it to operating points
-(friction, torque, speed, mode), so ``gearcalc sweep`` over those keys runs as arrays (``sweep``).
+(friction, torque, speed, mode), so ``gearcalc sweep`` over those keys runs as arrays (``sweep``).  The
+friction-consistent model (the default, pins.md §4.9) is not linear in the friction: it is evaluated per
+operating point from friction-free sums the geometry's solve keeps on its final grid (still arrays).
 No numpy at module level: ``gearcalc check``/``new``/``--help`` stay light.
 """
 from __future__ import annotations
@@ -91,6 +93,9 @@ TABLES = (
               le=MAX_LENGTH_MM, example=0.01),
         Field("axle", "number", REQUIRED, "f_c, sliding friction between bushing and axle", ge=0,
               le=MAX_FRICTION, example=0.1),
+        Field("model", "string", None, "consistent (default): the friction forces enter the satellite's force "
+              "balance, each mode solved on its own (pins.md §4.9); first-order: forces without friction, losses "
+              "charged afterwards (§4.6-4.7, the paper's)", choices=("consistent", "first-order")),
     ), doc="Friction coefficients"),
     Table("load", (
         Field("mode", "string", REQUIRED, "multiplier: V (the slow satellite output shaft) drives H (the fast "
@@ -110,7 +115,8 @@ TABLES = (
               ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM),
         Field("stiffness_N_per_mm", "number", None, "k_lin, contact stiffness; required for linear", gt=0,
               le=MAX_STIFFNESS_N_PER_MM),
-        Field("friction_in_equilibrium", "bool", False, "include the friction forces in the moment balance"),
+        Field("friction_in_equilibrium", "bool", None, "alias of friction.model: true = \"consistent\", "
+              "false = \"first-order\""),
     ), doc="Compliant contact level (circular teeth, modified cycloids): the contact law", optional=True,
         in_template=False),
 )
@@ -128,7 +134,9 @@ SUMMARY_KEYS = (
     "loss_mean_W", "loss_peak_W", "pin_force_max_N", "pin_force_max_phase_deg",
     "pin_loss_max_W", "pin_loss_max_phase_deg", "pin_loss_bound_W",
     "pin_speed_max_rpm", "pin_speed_signed_min_rpm", "pin_speed_signed_max_rpm", "spin_reversals",
-    "sliding_speed_max_m_s", "loaded_pins_min", "loaded_pins_max", "psi_star_deg", "rolling_ok",
+    "sliding_speed_max_m_s", "crank_torque_mean_Nm", "crank_torque_ripple_Nm", "bearing_force_max_N",
+    "bearing_force_mean_N", "contact_stress_max_MPa", "axle_pressure_max_MPa", "friction_model",
+    "loaded_pins_min", "loaded_pins_max", "psi_star_deg", "rolling_ok",
     "exit_entry_force_ratio", "low_spin_fraction", "te_pp_arcsec", "backlash_deg", "equilibrium_residual",
     "contact_law", "tooth_radius_mm", "tooth_circle_radius_mm",
     "n_crank", "model_time_ms", "tolerance_met",
@@ -150,6 +158,24 @@ def _pin_circle(design):
     if K1 is not None:
         return e * z2 / (k * K1), K1, 1.0 - K1
     return Rp, e * z2 / (k * Rp), (k * Rp - e * z2) / (k * Rp)
+
+
+DEFAULT_FRICTION_MODEL = "consistent"
+"""The friction model of a design that names none (pins.md §4.9, §7); tests that pin first-order numbers set
+it to "first-order", which is the same as giving ``friction.model = "first-order"`` in every design."""
+
+
+def friction_model(design) -> str:
+    """The friction model of a design: ``friction.model``, or its alias ``contact.friction_in_equilibrium``
+    (true: "consistent", false: "first-order"); "consistent" when neither is given (pins.md §4.9, §7)."""
+    model, alias = design.get("friction.model"), design.get("contact.friction_in_equilibrium")
+    if alias is None:
+        return model or DEFAULT_FRICTION_MODEL
+    from_alias = "consistent" if alias else "first-order"
+    if model is not None and model != from_alias:
+        raise DesignError("contact.friction_in_equilibrium", f"= {str(alias).lower()} contradicts friction.model = "
+                                                             f"\"{model}\" (the key is its alias; give one of them)")
+    return from_alias
 
 
 def _violations(values) -> dict:
@@ -515,10 +541,12 @@ def _group(designs, level: str, options: Options, t0: float) -> list:
             summary["rotating_pins"] = True        # eqs. (3)-(7) are the paper's rotating-pin losses
         else:
             if d.has("contact"):   # only with --model ideal: a [contact] table otherwise selects "contact"
-                warnings.append("the [contact] table is not used by the ideal level")
+                warnings.append("the [contact] table's contact law is not used by the ideal level (rigid contacts; "
+                                "contact.face_width_mm gives the contact stress and the axle pressure)")
             warnings.extend(ideal.warnings[i])
             summary.update({k: cols[k][i] for k in cols})
-            if summary["loss_ratio"] is None:     # overflowed (K1 ~ 1e-300 and below): refused, not exit 70
+            if summary["loss_ratio"] is None and not summary["self_locking"]:   # overflowed (K1 ~ 1e-300 and
+                # below): refused, not exit 70 (a jammed mode of the friction-consistent model has no loss ratio)
                 key = "gearing.curtate_ratio" if d.get("gearing.curtate_ratio") is not None else \
                     "gearing.pin_circle_radius_mm"
                 out.append(DesignError(key, f"= {_fmt(d[key])}: the loss ratio overflows floating point (it grows as "
@@ -712,8 +740,14 @@ class IdealColumns:
         T_sat = float(self.T_sat[i]) if self.columns["pin_force_max_N"][i] is not None else None
         w_V = float(self.w_V[i]) if design["load.crank_speed_rpm"] is not None else None
         sigma = pins.MULTIPLIER if design["load.mode"] == "multiplier" else pins.REDUCER
+        consistent = self.models[i] == "consistent"
+        hist = pins.crank_history(g, float(cyc.psi_star[k]), t, tmid, float(self.mu[i]), sigma, consistent)
+        if consistent and T_sat is not None:
+            # the friction-consistent T_sat: from T_V of the consistent efficiency (torque_in/out, pins.md §4.9)
+            T_V = self.columns["torque_in_Nm" if sigma == pins.MULTIPLIER else "torque_out_Nm"][i]
+            T_sat = None if T_V is None else T_V * 1000.0 / int(self.n_d[i])
         return _detail_tables(g, sigma, st, t, float(self.mu[i]), T_sat, None if w_V is None else -w_V,
-                              bool(self.rolls[i]), int(self.n_d[i]))
+                              bool(self.rolls[i]), int(self.n_d[i]), hist, consistent)
 
 
 def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> IdealColumns:
@@ -757,7 +791,13 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
         gi = np.zeros(1, dtype=np.int64)
         g = pins.Cycloid(np.array([z1]), np.array([z2]), np.array([e]), np.array([Rp]), np.array([Rb]),
                          np.array([omk]))
-        cyc = pins.ideal_cycles(g, np.array([n_d]), tol=options.tol)
+        try:                                  # a consistent design alone needs no friction-free peaks
+            model = friction_model({"friction.model": values("friction.model")[0],
+                                    "contact.friction_in_equilibrium": values("contact.friction_in_equilibrium")[0]})
+        except DesignError:                   # reported by _friction_models
+            model = None
+        cyc = pins.ideal_cycles(g, np.array([n_d]), tol=options.tol,
+                                first_order_peaks=not (n_d == 1 and model == "consistent"))
     else:
         key = np.stack([z1, z2, e, Rp, omk, Rb, n_d], axis=1).astype(float)
         uniq, gi = np.unique(key, axis=0, return_inverse=True)
@@ -806,6 +846,8 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
     sc = pins.scale_unit_cycle(unit, lam, mu, rolls, op["friction.sliding"], et.T_V, n_d,
                                op["load.crank_speed_rpm"], z1, k, Rb, xp)
     T_sat, w_V = sc.torque_sat, sc.omega_V
+    models = _friction_models(values, n, errors)
+    cons_mask = np.array([m_ == "consistent" for m_ in models])
     arrays = {
         "efficiency": et.efficiency, "efficiency_err": et.efficiency_err, "self_locking": et.self_locking,
         "efficiency_multiplier": et.eta_vh, "efficiency_multiplier_err": et.eta_vh_err,
@@ -821,9 +863,27 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
         "tolerance_met": field("converged"),
         "pin_force_max_phase_deg": sc.force_phase, "pin_loss_max_phase_deg": sc.loss_phase,
     }
+    ext = _consistent_fields(cyc, gi, status, cons_mask, values, n, op, mu, rolls, rot, r, z1, k, n_d, T_sat, w_V,
+                             options.tol)
+    cons, peaks = ext.pop("_consistent"), ext.pop("_peaks")
+    warn_nd = ext.pop("_multi_disc")
+    scale = ext.pop("_torque_scale", None)
+    if np.any(warn_nd):          # several discs: the friction-free peaks, at the friction-consistent torque
+        for key in ("pin_force_max_N", "pin_loss_max_W", "loss_peak_W", "pin_loss_bound_W"):
+            arrays[key] = arrays[key] * scale if one else np.where(warn_nd, arrays[key] * scale, arrays[key])
+    for key, v in ext.items():
+        if key in arrays:       # the friction-consistent values replace the first-order ones (pins.md §4.9)
+            m_ = peaks if key in _PEAK_KEYS else cons
+            arrays[key] = ((v if m_[0] else arrays[key]) if one else np.where(m_, v, arrays[key]))
+        else:
+            arrays[key] = v
+    for i in np.flatnonzero(warn_nd):
+        warnings[i].append("pin_force_max_N, pin_loss_max_W and loss_peak_W with several discs follow the "
+                           "friction-free force distribution (first-order model) at the friction-consistent torque; "
+                           "the efficiencies, crank torque and bearing force are friction-consistent")
     if one:
         columns = {"model": ["ideal"], "mode": [op["load.mode"]], "profile": ["cycloidal"], "rotating_pins": [rot],
-                   "rolling_ok": [bool(rolling_ok) if rot else None]}
+                   "rolling_ok": [bool(rolling_ok) if rot else None], "friction_model": models}
         for key, v in arrays.items():             # plain Python values; NaN: undefined
             v = v.item() if isinstance(v, np.generic) else v
             columns[key] = [None if v != v else v]
@@ -832,10 +892,148 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
     else:
         columns = {"model": ["ideal"] * n, "mode": list(op["load.mode"]), "profile": ["cycloidal"] * n,
                    "rotating_pins": rot.tolist(),
-                   "rolling_ok": [bool(o) if q else None for o, q in zip(rolling_ok.tolist(), rot.tolist())]}
+                   "rolling_ok": [bool(o) if q else None for o, q in zip(rolling_ok.tolist(), rot.tolist())],
+                   "friction_model": models}
         columns.update(_columns(arrays, n))
     return IdealColumns(columns=columns, errors=errors, warnings=warnings, cyc=cyc, gi=gi, z1=z1, z2=z2, e=e, Rp=Rp,
-                        Rb=Rb, omk=omk, n_d=n_d, mu=mu, rolls=rolls, T_sat=T_sat, w_V=w_V)
+                        Rb=Rb, omk=omk, n_d=n_d, mu=mu, rolls=rolls, T_sat=T_sat, w_V=w_V, models=models)
+
+
+def _friction_models(values, n: int, errors: list) -> list:
+    """friction.model per point (:func:`friction_model`); a contradiction with its alias is that point's error."""
+    out = []
+    for i, (m, a) in enumerate(zip(values("friction.model"), values("contact.friction_in_equilibrium"))):
+        try:
+            out.append(friction_model({"friction.model": m, "contact.friction_in_equilibrium": a}))
+        except DesignError as exc:
+            if errors[i] is None:
+                errors[i] = exc
+            out.append("consistent")
+    return out
+
+
+_PEAK_KEYS = ("pin_force_max_N", "pin_force_max_phase_deg", "pin_loss_max_W", "pin_loss_max_phase_deg", "loss_peak_W",
+              "pin_loss_bound_W")
+STEEL_E_MPA, STEEL_NU = 2.1e5, 0.3
+"""Steel pins and satellite (the Hertz contact stress; the contact level's ``hertz`` law is steel too)."""
+
+
+def _consistent_fields(cyc, gi, status, cons_mask, values, n, op, mu, rolls, rot, r, z1, k, n_d, T_sat, w_V, tol):
+    """The friction-consistent efficiencies, torques and peaks (pins.md §4.9) of the points whose model is
+    "consistent", and the outputs of pins.md §8 every point gets (crank torque, crank-bearing force, contact
+    stress, axle pressure): per field an array over the n points, or the one point's float (NaN: undefined),
+    plus ``_consistent`` (mask of the points whose efficiency fields are replaced), ``_peaks`` (those whose
+    peaks are replaced: one disc) and ``_multi_disc`` (consistent points with several discs, whose peaks stay
+    first-order).  One point runs the same formulas on Python floats (:data:`gearcalc.pins.SCALAR_OPS`, as
+    :func:`_ideal_columns`): the same numbers as in a batch, without numpy calls on one-element arrays."""
+    import numpy as np
+
+    from .. import pins
+
+    one = n == 1
+    cons_mask = np.asarray(cons_mask)
+    nd_a = np.zeros(n, dtype=np.int64) + np.asarray(n_d)
+    good = (np.zeros(n, dtype=np.int64) + np.asarray(status)) == 0
+    cons = cons_mask & good
+    flags = {"_consistent": cons, "_multi_disc": cons & (nd_a > 1), "_peaks": cons & (nd_a == 1)}
+    keys = ("crank_torque_mean_Nm", "crank_torque_ripple_Nm", "bearing_force_max_N", "bearing_force_mean_N",
+            "contact_stress_max_MPa", "axle_pressure_max_MPa")
+    if not good.any():
+        return {**{key: (math.nan if one else np.full(n, np.nan)) for key in keys}, **flags}
+    sel = np.flatnonzero(good)
+    modes = [op["load.mode"]] if one else op["load.mode"]
+    multiplier = np.array([m == "multiplier" for m in modes])[sel]
+    mu_a = np.zeros(n) + np.asarray(mu, dtype=float)
+    mu_c = np.where(cons[sel], mu_a[sel], 0.0)           # first-order points: friction-free forces
+    cc = pins.consistent_cycles(cyc, gi[sel], mu_c, nd_a[sel], tol,
+                                mode=np.where(multiplier, pins.MULTIPLIER, pins.REDUCER))
+    b = _floats(values("contact.face_width_mm"))[sel]
+    f_sl = _floats(values("friction.sliding"))[sel]
+    rel_abs = np.asarray(cyc.rel_abs)[gi[sel]]
+    if one:                                             # Python floats from here on
+        xp = pins.SCALAR_OPS
+        c = {f: (getattr(cc, f)[..., 0].tolist()) for f in cc.__dataclass_fields__}
+        pt = dict(cons=bool(cons[0]), multiplier=bool(multiplier[0]), mu=float(mu_a[0]), T_sat=float(T_sat),
+                  w_V=float(w_V), r=float(r), rot=bool(rot), rolls=bool(rolls), z1=int(z1), k=int(k),
+                  n_d=int(nd_a[0]), b=float(b[0]), f=float(f_sl[0]), rel_abs=float(rel_abs[0]),
+                  T=float(op["load.torque_Nm"]), on_V=op["load.torque_shaft"] == "V")
+    else:
+        xp = pins.ARRAY_OPS
+        c = {f: getattr(cc, f) for f in cc.__dataclass_fields__}
+
+        def at(x, dtype=float):
+            return (np.zeros(n, dtype=dtype) + np.asarray(x, dtype=dtype))[sel]
+        pt = dict(cons=cons[sel], multiplier=multiplier, mu=mu_a[sel], T_sat=at(T_sat), w_V=at(w_V), r=at(r),
+                  rot=at(rot, bool), rolls=at(rolls, bool), z1=at(z1, np.int64), k=at(k, np.int64), n_d=nd_a[sel],
+                  b=b, f=f_sl, rel_abs=rel_abs, T=at(op["load.torque_Nm"]),
+                  on_V=np.array([w == "V" for w in op["load.torque_shaft"]])[sel])
+    out = _point_fields(xp, c, **pt)
+    if one:
+        return {**{key: (v.item() if hasattr(v, "item") else v) for key, v in out.items()}, **flags}
+    full = {}
+    for key, v in out.items():
+        v = np.asarray(v)
+        arr = np.full(n, np.nan) if v.dtype.kind == "f" else np.zeros(n, dtype=v.dtype)
+        arr[sel] = v
+        full[key] = arr
+    return {**full, **flags}
+
+
+def _point_fields(xp, c, cons, multiplier, mu, T_sat, w_V, r, rot, rolls, z1, k, n_d, b, f, rel_abs, T, on_V):
+    """The formulas of :func:`_consistent_fields` per point (floats with SCALAR_OPS, arrays with ARRAY_OPS).
+
+    ``c``: the ConsistentCycles fields (row 0 reducer, row 1 multiplier; the peaks of the point's own mode).
+    First-order points (``cons`` false) get the outputs of pins.md §8 from their friction-free forces
+    (T_sat of the first-order efficiency); consistent ones everything from the friction-consistent model."""
+    from .. import hertz, units
+
+    nan = xp.nan
+    e_star = hertz.contact_modulus(STEEL_E_MPA, STEEL_NU, STEEL_E_MPA, STEEL_NU)
+    lam_R, lam_M = c["loss_ratio"][0], c["loss_ratio"][1]
+    err_R, err_M = c["err"][0], c["err"][1]
+    jam_R, jam_M = c["jammed"][0], c["jammed"][1]
+    eta_vh0 = 1.0 - lam_M
+    locked_M = jam_M | xp.logical_not(eta_vh0 > 0.0)
+    locked_R = jam_R
+    eta_vh = xp.where(locked_M, nan, eta_vh0)
+    eta_hv = xp.where(locked_R, nan, 1.0 / (1.0 + lam_R))
+    u = z1 / k
+    T_V = xp.where(on_V, T, xp.where(multiplier, u * T / eta_vh, eta_hv * u * T))
+    T_H = xp.where(on_V, xp.where(multiplier, eta_vh * T / u, T / (eta_hv * u)), T)
+    Ts = xp.where(cons, units.nm_to_nmm(T_V) / n_d, T_sat)     # first-order points: their own T_sat
+    P = mu * Ts * w_V
+    F = Ts * c["force"]
+    err_hv = err_R / ((1.0 + lam_R) * (1.0 + lam_R))
+    out = {
+        "bearing_force_max_N": Ts * c["bearing_max"], "bearing_force_mean_N": Ts * c["bearing_mean"],
+        "contact_stress_max_MPa": hertz.peak_pressure(Ts * c["stress"], b, 1.0, e_star) * 1.0,
+        "axle_pressure_max_MPa": xp.where(rot, F / (2.0 * r * b), nan),
+        "crank_torque_mean_Nm": xp.where(cons, _nmm_to_nm(Ts * c["crank_mean"]), nan),
+        "crank_torque_ripple_Nm": xp.where(cons, _nmm_to_nm(Ts * (c["crank_max"] - c["crank_min"])), nan),
+        # the friction-consistent efficiencies and torques (pins.md §4.9)
+        "efficiency": xp.where(multiplier, eta_vh, eta_hv),
+        "efficiency_err": xp.where(multiplier, xp.where(locked_M, nan, err_M), xp.where(locked_R, nan, err_hv)),
+        "self_locking": xp.where(multiplier, locked_M, locked_R),
+        "efficiency_multiplier": eta_vh, "efficiency_multiplier_err": xp.where(locked_M, nan, err_M),
+        "efficiency_reducer": eta_hv, "efficiency_reducer_err": xp.where(locked_R, nan, err_hv),
+        "loss_ratio": xp.where(multiplier, lam_M, lam_R), "loss_ratio_err": xp.where(multiplier, err_M, err_R),
+        "torque_in_Nm": xp.where(multiplier, T_V, T_H), "torque_out_Nm": xp.where(multiplier, T_H, T_V),
+        "loss_mean_W": xp.where(multiplier, lam_M, lam_R) * T_V * w_V,
+        "tolerance_met": xp.where(multiplier, c["converged"][1] | jam_M, c["converged"][0] | jam_R),
+        "n_crank": xp.maximum(c["n_crank"][0], c["n_crank"][1]),
+        # the peaks of the point's own mode (one disc)
+        "pin_force_max_N": F, "pin_force_max_phase_deg": xp.degrees(c["force_phase"]),
+        "pin_loss_max_W": P * c["loss"], "loss_peak_W": P * c["total"],
+        "pin_loss_max_phase_deg": xp.where(xp.isnan(P), nan, xp.degrees(c["loss_phase"])),
+        "pin_loss_bound_W": xp.where(rolls, mu, f) * F * (w_V * rel_abs) * 1e-3,
+        "_torque_scale": Ts / T_sat,     # friction-consistent over first-order T_sat (the multi-disc peaks)
+    }
+    return out
+
+
+def _nmm_to_nm(x):
+    """A torque in N·mm as N·m."""
+    return x / 1000.0
 
 
 def _plain(x):
@@ -860,15 +1058,25 @@ def _cycle_notes(design, s, options: Options, warnings, failed) -> None:
                         f"f_c = {_fmt(fc)}, r = {_fmt(r)} mm, f_k = {_fmt(fk)} mm: {_fmt(f * Rb)} < "
                         f"{_fmt(fc * r + fk)}): the bushings cannot turn; treated as fixed pins sliding with f")
     lam, E = s["loss_ratio"], s["loss_ratio_err"]
-    if not s["tolerance_met"]:
+    jammed = s["self_locking"] and lam is None         # friction-consistent model: no positive normal forces
+    if not s["tolerance_met"] and not jammed:
         warnings.append(f"tolerance {options.tol:g} not met at {s['n_crank']} crank-angle intervals: "
                         f"loss ratio {lam:.10g} +- {E:.3g}")
-    if s["self_locking"]:
+    if jammed:
+        failed.append(f"self-locking in the {s['mode']} mode: with the friction forces in the satellite's balance "
+                      "(friction.model = \"consistent\", pins.md §4.9) no positive normal force carries the torque "
+                      "at some crank angle (the drive jams); no efficiency. A lower friction.sliding or a larger "
+                      "gearing.curtate_ratio (closer to 1) avoids it")
+    elif s["self_locking"]:
         failed.append(f"self-locking in the multiplier mode: the loss ratio {lam:.6g} >= 1 (the losses exceed "
                       "the power the V shaft delivers); no efficiency. A lower friction.sliding or a larger "
                       "gearing.curtate_ratio (closer to 1) lowers the loss ratio")
-    if abs(1.0 - lam) <= E:
+    if lam is not None and abs(1.0 - lam) <= E:
         warnings.append(f"at the self-locking limit: the loss ratio {lam:.10g} is within its error {E:.3g} of 1")
+    other = "reducer" if s["mode"] == "multiplier" else "multiplier"
+    if s.get("friction_model") == "consistent" and s[f"efficiency_{other}"] is None:
+        warnings.append(f"the {other} mode self-locks (friction-consistent model, pins.md §4.9): "
+                        f"efficiency_{other} is empty")
     if design["load.crank_speed_rpm"] is None:
         warnings.append("loss_mean_W, loss_peak_W, pin_loss_max_W, pin_loss_bound_W and the pin and sliding speeds "
                         "need load.crank_speed_rpm; they are left empty")
@@ -1051,7 +1259,13 @@ def _contact(design, options: Options, summary, warnings, failed, detail) -> Non
     the loss ratio uses the shared quadrature with contact entry/exit and spin reversals as
     breakpoints.  The loss ratio depends (weakly) on the torque, so with the torque given on H the
     torque on V is iterated to the fixed point T_V = u T_H/eta (multiplier) or eta u T_H (reducer)
-    (pins.md §7)."""
+    (pins.md §7).
+
+    Friction model (:func:`friction_model`, pins.md §4.9, §5.5): "consistent" (the default) puts the
+    friction forces into the moment balance and solves each mode (reducer, multiplier) with its own
+    forces; a mode jams (no positive contact force balances the torque at some crank angle) and is then
+    self-locking in that mode, the other one still computed.  "first-order" solves the requested mode
+    with frictionless forces and takes both efficiencies from its loss ratio (§4.7)."""
     import numpy as np
 
     from .. import pins, units
@@ -1066,29 +1280,78 @@ def _contact(design, options: Options, summary, warnings, failed, detail) -> Non
     op = _operating_points(design)
     mu_a, rolls_a, rolling_ok = _friction_regime(design, op)
     mu, rolls, f = float(mu_a[0]), bool(rolls_a[0]), float(design["friction.sliding"])
-    try:
-        tc = pc.cycle_at_torque(g, profile, law, design["load.torque_Nm"], design["load.torque_shaft"] == "V",
-                                design["load.mode"] == "multiplier", n_d, mu, f, rolls,
-                                design.get("contact.friction_in_equilibrium", False), tol=options.tol)
-    except pc.NoEquilibrium as exc:
-        key = ("gearing.tooth_circle_radius_mm" if design["gearing.profile"] == "circular"
-               else "gearing.equidistant_mod_mm")
-        raise DesignError(key, f"= {design[key]}: no contact can carry the torque at crank angle "
-                               f"{_fmt(math.degrees(float(exc.theta[0])))} deg: no satellite rotation within "
-                               f"+-180/z1 = {_fmt(180.0 / z1)} deg balances T_V = {_fmt(exc.torque_V)} N*m (the teeth "
-                               "do not mesh with the pins, or the torque crushes the contacts; pins.md "
-                               "§5.5)") from None
-    except pc.Unresolvable:
-        raise DesignError("gearing.eccentricity_mm",
-                          f"= {_fmt(e)}: the contact level cannot resolve this geometry in floating point "
-                          f"(R_p = {_fmt(Rp)} mm, e = {_fmt(e)} mm, R_b = {_fmt(Rb)} mm: the deflections are "
-                          "below the round-off of the pin positions)") from None
-    if not tc.settled:
-        warnings.append(f"the torque fixed point T_V = u T_H/eta did not settle in 8 passes (loss ratios "
-                        f"{tc.history[-2]:.10g}, {tc.history[-1]:.10g})")
+    multiplier = design["load.mode"] == "multiplier"
+    consistent = friction_model(design) == "consistent" and not (mu == 0.0 and f == 0.0)
+
+    def run(mult: bool, in_equilibrium: bool, seed=None):
+        try:
+            return pc.cycle_at_torque(g, profile, law, design["load.torque_Nm"], design["load.torque_shaft"] == "V",
+                                      mult, n_d, mu, f, rolls, in_equilibrium, tol=options.tol, seed=seed)
+        except pc.Jam:
+            raise
+        except pc.NoEquilibrium as exc:
+            key = ("gearing.tooth_circle_radius_mm" if design["gearing.profile"] == "circular"
+                   else "gearing.equidistant_mod_mm")
+            raise DesignError(key, f"= {design[key]}: no contact can carry the torque at crank angle "
+                                   f"{_fmt(math.degrees(float(exc.theta[0])))} deg: no satellite rotation within "
+                                   f"+-180/z1 = {_fmt(180.0 / z1)} deg balances T_V = {_fmt(exc.torque_V)} N*m (the "
+                                   "teeth do not mesh with the pins, or the torque crushes the contacts; pins.md "
+                                   "§5.5)") from None
+        except pc.Unresolvable:
+            raise DesignError("gearing.eccentricity_mm",
+                              f"= {_fmt(e)}: the contact level cannot resolve this geometry in floating point "
+                              f"(R_p = {_fmt(Rp)} mm, e = {_fmt(e)} mm, R_b = {_fmt(Rb)} mm: the deflections are "
+                              "below the round-off of the pin positions)") from None
+
+    # each mode with its own forces (consistent), or the requested mode's frictionless forces (first-order)
+    jams = {}
+    runs = {}
+    for mult in ((multiplier, not multiplier) if consistent else (multiplier,)):
+        seed = runs[multiplier].model if mult != multiplier and multiplier in runs else None
+        try:
+            runs[mult] = run(mult, consistent, seed)       # the other mode starts from the first one, mirrored
+        except pc.Jam as exc:
+            jams[mult] = exc
+    if multiplier in jams:
+        # the requested mode jams: its forces, speeds and peaks are those of the frictionless balance
+        runs[multiplier] = run(multiplier, False)
+        warnings.append(f"the {design['load.mode']} mode jams (self-locks) with the friction forces in the moment "
+                        f"balance at crank angle {_fmt(math.degrees(float(jams[multiplier].theta[0])))} deg: no "
+                        "positive contact force balances the torque; forces, speeds and losses are those of the "
+                        "frictionless balance (friction.model = \"first-order\")")
+    tc = runs[multiplier]
+    for mult, t in runs.items():
+        if not t.settled:
+            warnings.append(f"the torque fixed point T_V = u T_H/eta did not settle in 8 passes (loss ratios "
+                            f"{t.history[-2]:.10g}, {t.history[-1]:.10g})")
     cyc, model, T_V, lam, E = tc.cycle, tc.model, tc.torque_V, tc.loss_ratio, tc.loss_ratio_err
-    et = _efficiency_torques(np.array([lam]), np.array([E]), op, g.ratio)
     sol = cyc.sol
+    # the equilibrium residual against its limit: 1/100 of --tol (pins.md §6: inner tolerances 100x tighter),
+    # or 100x the round-off floor of the penetrations (stiff contacts: deflections of 1e-7 mm on R_p)
+    residual, excess = 0.0, 0.0
+    for t in runs.values():
+        r = np.abs(t.cycle.sol.residual) / t.model.torque_sat
+        limit = np.maximum(0.01 * options.tol, 100.0 * t.cycle.sol.noise / t.model.torque_sat)
+        residual, excess = max(residual, float(r.max())), max(excess, float(np.max(r / limit)))
+    if not excess <= 1.0:
+        stiff = (f"contact.stiffness_N_per_mm = {_fmt(law.constant)} N/mm" if law.name == "linear"
+                 else f"the {law.name} law with contact.face_width_mm = {_fmt(design['contact.face_width_mm'])} mm")
+        raise DesignError("load.torque_Nm", f"= {_fmt(design['load.torque_Nm'])}: the torque is too high for the "
+                                            f"contact stiffness ({stiff}): the satellite's moment balance is met only "
+                                            f"to {residual:.3g} of the torque at some crank angle (more than 1/100 of "
+                                            f"--tol {options.tol:g} and than its round-off floor; pins.md §5.5); "
+                                            "lower the torque or stiffen the contacts (a residual that stays "
+                                            "when the torque is lowered is a jump of the moment where a contact "
+                                            "passes a sharp crest corner: a curtate ratio further from 1)")
+    # the loss ratio of each mode: its own (consistent) or the requested mode's (first-order)
+    lam_mode = {m: (runs[m].loss_ratio, runs[m].loss_ratio_err) for m in runs if m not in jams}
+    if not consistent:
+        lam_mode = {True: (lam, E), False: (lam, E)}
+    et_m = _efficiency_torques(np.array([lam_mode.get(True, (np.inf, np.nan))[0]]),
+                               np.array([lam_mode.get(True, (np.inf, np.nan))[1]]), op, g.ratio)
+    et_r = _efficiency_torques(np.array([lam_mode.get(False, (0.0, np.nan))[0]]),
+                               np.array([lam_mode.get(False, (0.0, np.nan))[1]]), op, g.ratio)
+    locked = {True: bool(et_m.locked[0]) or True in jams, False: False in jams}
     n_H = design["load.crank_speed_rpm"]
     w_H = units.rpm_to_rad_s(n_H) if n_H is not None else None
     pk = pc.cycle_peaks(cyc, g, n_d, rolls)
@@ -1107,16 +1370,20 @@ def _contact(design, options: Options, summary, warnings, failed, detail) -> Non
         "low_spin_fraction": metrics["low_spin_fraction"], "spin_reversals": metrics["spin_reversals"],
         "te_pp_arcsec": math.degrees(float(sol.tau.max() - sol.tau.min())) * 3600.0,
         "backlash_deg": backlash,
-        "equilibrium_residual": float(np.abs(sol.residual).max() / model.torque_sat),
+        "equilibrium_residual": residual,
         "contact_law": law.name, "tooth_radius_mm": geo.get("tooth_radius_mm"),
         "tooth_circle_radius_mm": geo.get("tooth_circle_radius_mm"),
     }
-    for key, name in (("efficiency", "efficiency"), ("efficiency_err", "efficiency_err"),
-                      ("self_locking", "self_locking"), ("efficiency_multiplier", "eta_vh"),
-                      ("efficiency_multiplier_err", "eta_vh_err"), ("efficiency_reducer", "eta_hv"),
-                      ("efficiency_reducer_err", "eta_hv_err"), ("torque_in_Nm", "torque_in"),
-                      ("torque_out_Nm", "torque_out")):
-        s[key] = _plain(getattr(et, name)[0])
+    et = et_m if multiplier else et_r
+    s["efficiency_multiplier"] = None if locked[True] else _plain(et_m.eta_vh[0])
+    s["efficiency_multiplier_err"] = None if locked[True] else _plain(et_m.eta_vh_err[0])
+    s["efficiency_reducer"] = None if locked[False] else _plain(et_r.eta_hv[0])
+    s["efficiency_reducer_err"] = None if locked[False] else _plain(et_r.eta_hv_err[0])
+    s["self_locking"] = locked[multiplier]
+    s["efficiency"] = s["efficiency_multiplier" if multiplier else "efficiency_reducer"]
+    s["efficiency_err"] = s["efficiency_multiplier_err" if multiplier else "efficiency_reducer_err"]
+    s["torque_in_Nm"] = None if locked[multiplier] else _plain(et.torque_in[0])
+    s["torque_out_Nm"] = None if locked[multiplier] else _plain(et.torque_out[0])
     if w_H is not None:
         Pw = w_H * 1e-3                                                   # W per (N·mm/s per rad/s)
         s["loss_mean_W"] = lam * T_V * (w_H * g.k / g.z1)
@@ -1131,9 +1398,23 @@ def _contact(design, options: Options, summary, warnings, failed, detail) -> Non
         s["pin_speed_signed_max_rpm"] = pk.spin_max * rpm if rolls else 0.0
         s["sliding_speed_max_m_s"] = (pk.slide if rolls else pk.contact_speed) * w_H / units.MM_PER_M
     summary.update(s)
-    _cycle_notes(design, summary, options, warnings, failed)
-    if s["equilibrium_residual"] > 1e-9:
-        warnings.append(f"equilibrium residual {s['equilibrium_residual']:.3g} of the torque at some crank angle")
+    if consistent and locked[multiplier]:
+        # the shared notes word self-locking for the first-order multiplier; this level words it per mode
+        summary["self_locking"] = False
+        _cycle_notes(design, summary, options, warnings, failed)
+        summary["self_locking"] = True
+        cause = ("jams: no positive contact force balances the torque with the friction forces at some crank angle"
+                 if multiplier in jams else f"the loss ratio {lam:.6g} >= 1 (the losses exceed the power the V shaft "
+                                             "delivers)")
+        failed.append(f"self-locking in the {design['load.mode']} mode (friction-consistent model, pins.md §4.9): "
+                      f"it {cause}; no efficiency. A lower friction.sliding lowers the friction moments")
+    else:
+        _cycle_notes(design, summary, options, warnings, failed)
+    for mult in jams:
+        if mult != multiplier:
+            warnings.append(f"the {'multiplier' if mult else 'reducer'} mode jams (self-locks) with the friction "
+                            "forces in the moment balance: efficiency_" + ("multiplier" if mult else "reducer")
+                            + " is empty")
     if options.detail:
         detail.update(_contact_detail(g, sol, cyc, T_V, w_H, n_d))
 
@@ -1188,26 +1469,48 @@ def _rows(columns: dict) -> list[dict]:
     return [dict(zip(keys, vals)) for vals in zip(*cols.values())]
 
 
-def _detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1):
+def _detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist=None, consistent=False):
     """Rows of the final grid (pins.md §8, :func:`gearcalc.pins.cycle_detail`): ``crank`` (one per crank
-    angle: the loss ratio and loss of all discs, the loaded pins of the first) and ``contacts`` (one per
-    loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides)."""
+    angle: the loss ratio and loss of all discs, the loaded pins of the first, the crank torque of all discs
+    along the power flow and the crank-bearing force of the first disc: magnitude, radial (along the crank
+    arm, outward) and tangential components, direction from the crank arm) and ``contacts`` (one per
+    loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides).
+    ``hist``: :func:`gearcalc.pins.crank_history` at the nodes; with ``consistent`` the forces are the
+    friction-consistent ones (pins.md §4.9)."""
     import numpy as np
 
     from .. import pins
 
-    d = pins.cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d)
-    crank = _rows({"theta_deg": d.theta, "TE_arcsec": np.zeros(d.theta.size), "loss_ratio": d.loss_ratio,
-                   "loss_W": d.loss, "loaded_pins": d.loaded})
+    d = pins.cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d,
+                          denominator=hist["D"] if consistent else None)
+    cols = {"theta_deg": d.theta, "TE_arcsec": np.zeros(d.theta.size), "loss_ratio": d.loss_ratio,
+            "loss_W": d.loss, "loaded_pins": d.loaded}
+    if hist is not None:
+        theta_node = t * 360.0 / g.z2 if sigma == pins.MULTIPLIER else (1.0 - t) * 360.0 / g.z2
+        order = np.argsort(theta_node, kind="stable")            # as cycle_detail orders the nodes
+        have = T_sat is not None
+        crank_t = hist["crank"] * (T_sat if have else np.nan) / 1000.0
+        if n_d > 1:                                              # all discs' torques (pins.md §12.7)
+            crank_t = pins.sum_over_discs(t, crank_t, pins.disc_offsets(n_d, g.z2), 1.0)
+        Bx, By = hist["Bx"] * (T_sat if have else np.nan), hist["By"] * (T_sat if have else np.nan)
+        cols.update({
+            "crank_torque_Nm": crank_t[order] if have and consistent else None,
+            "bearing_force_N": np.hypot(Bx, By)[order] if have else None,
+            "bearing_radial_N": Bx[order] if have else None,
+            "bearing_tangential_N": By[order] if have else None,
+            "bearing_angle_deg": np.degrees(np.arctan2(By, Bx))[order] if have else None,
+        })
+    crank = _rows(cols)
     contacts = _rows({"theta_deg": d.contact_theta, "pin": d.pin, "phase_deg": d.phase, "force_N": d.force,
                       "sliding_speed_m_s": d.sliding_speed, "pin_speed_rpm": d.pin_speed, "loss_W": d.contact_loss})
     return {"crank": crank, "contacts": contacts}
 
 
 def plot(records, path: str) -> None:
-    """The pins figure (pins.md §8): force, pin speed and loss of one pin against crank angle over one
-    engagement, and lambda(theta) over one period; one curve per design (up to 6).  Formula-level
-    designs get a bar chart of P_tr1 and P_tr2 instead."""
+    """The pins figure (pins.md §8): force, pin speed (rotating pins only) and loss of one pin against crank
+    angle over one engagement, the crank torque (the driving torque of a reducer, the paper's Figs 3-7) and
+    lambda(theta) over one period; one curve per design (up to 6), the efficiencies in the title.
+    Formula-level designs get a bar chart of P_tr1 and P_tr2 instead."""
     import numpy as np
 
     from ..design import validate
@@ -1228,29 +1531,50 @@ def plot(records, path: str) -> None:
         ax.legend()
         save(fig, path)
         return
-    fig, axes = plt.subplots(2, 2, figsize=(10, 7))
-    (aF, aN), (aP, aL) = axes
+    runs = []
     for rec in cyc:
         d = validate(dict(rec.design), rec.source)
-        res = compute(d, Options(model=rec.result.model, detail=True))
+        runs.append((rec, compute(d, Options(model=rec.result.model, detail=True))))
+    rotating = any(any((row.get("pin_speed_rpm") or 0.0) != 0.0 for row in res.detail["contacts"])
+                   for _, res in runs)
+    torque = any(any(row.get("crank_torque_Nm") is not None for row in res.detail["crank"]) for _, res in runs)
+    panels = [("force_N", "pin force F [N]")] + ([("pin_speed_rpm", "pin speed n_pin [rpm]")] if rotating else [])
+    panels += [("loss_W", "pin loss P [W]")] + ([("crank_torque_Nm", "crank torque [N·m]")] if torque else [])
+    panels += [("loss_ratio", "loss ratio lambda")]
+    ncol = (len(panels) + 1) // 2
+    fig, axes = plt.subplots(2, ncol, figsize=(5 * ncol, 7), squeeze=False)
+    flat = list(axes.T.ravel()) if ncol > 1 else list(axes.ravel())
+    for ax in flat[len(panels):]:                # no empty panel (fixed pins have no spin)
+        fig.delaxes(ax)
+    ax_of = {key: flat[i] for i, (key, _) in enumerate(panels)}
+    titles = []
+    for rec, res in runs:
         s = res.summary
         rows = sorted(res.detail["contacts"], key=lambda r: r["phase_deg"])
         phase = np.array([r["phase_deg"] for r in rows])
         # crank angle since the pin entered its loaded arc
         since = phase if s["mode"] == "multiplier" else s["psi_star_deg"] - phase
         label = rec.name
-        for ax, key in ((aF, "force_N"), (aN, "pin_speed_rpm"), (aP, "loss_W")):
+        for key in ("force_N", "pin_speed_rpm", "loss_W"):
             y = [r[key] for r in rows]
-            if all(v is not None for v in y):
-                ax.plot(since, y, label=label)
+            if key in ax_of and all(v is not None for v in y):
+                ax_of[key].plot(since, y, label=label)
         crank = res.detail["crank"]
-        aL.plot([r["theta_deg"] for r in crank], [r["loss_ratio"] for r in crank], label=label)
-    for ax, ylab in ((aF, "pin force F [N]"), (aN, "pin speed n_pin [rpm]"), (aP, "pin loss P [W]")):
-        ax.set_xlabel("crank angle since entry [deg]")
+        th = [r["theta_deg"] for r in crank]
+        ax_of["loss_ratio"].plot(th, [r["loss_ratio"] for r in crank], label=label)
+        if "crank_torque_Nm" in ax_of and crank and crank[0].get("crank_torque_Nm") is not None:
+            ax_of["crank_torque_Nm"].plot(th, [r["crank_torque_Nm"] for r in crank], label=label)
+        eff = s["efficiency"]
+        model = s.get("friction_model") or ""
+        titles.append(f"{label}: {s['mode']} efficiency "
+                      + (f"{eff:.4f}" if eff is not None else "self-locking") + (f" ({model})" if model else ""))
+    for key, ylab in panels:
+        ax = ax_of[key]
         ax.set_ylabel(ylab)
-    aL.set_xlabel("crank angle theta over one period 360/z2 [deg]")
-    aL.set_ylabel("loss ratio lambda")
-    aL.legend(fontsize=7)
+        ax.set_xlabel("crank angle since entry [deg]" if key in ("force_N", "pin_speed_rpm", "loss_W")
+                      else "crank angle theta over one period 360/z2 [deg]")
+    ax_of["loss_ratio"].legend(fontsize=7)
+    fig.suptitle("\n".join(titles), fontsize=8)
     save(fig, path)
 
 
