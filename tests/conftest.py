@@ -1,5 +1,6 @@
 """Shared test helpers: run the CLI in process (fast) or as a subprocess (end to end)."""
 import os
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -11,6 +12,12 @@ CONFIGS = ROOT / "configs"
 PAPER = ROOT / "paper"
 """Paper cases shipped apart from configs/ because they fail a design check on purpose."""
 DATA = Path(__file__).resolve().parent / "data"
+
+if signal.getsignal(signal.SIGINT) is signal.SIG_IGN:
+    # pytest started in the background of a non-interactive shell (`pytest &`) inherits SIGINT ignored, and so
+    # would every gearcalc subprocess of the Ctrl-C tests (an ignored signal stays ignored across exec):
+    # give the suite the normal handler, so those tests test gearcalc, not how pytest was started
+    signal.signal(signal.SIGINT, signal.default_int_handler)
 
 
 class Run:

@@ -9,7 +9,7 @@ import pytest
 
 from conftest import CONFIGS, cli_proc
 
-SLOW = CONFIGS / "pins_paper_circ_u10_fixed.toml"  # the contact level: about half a second per point
+SLOW = CONFIGS / "pins_paper_circ_u10_fixed.toml"  # the contact level: about 0.1 s per point
 
 
 def _start(*args, cwd=None):
@@ -20,8 +20,8 @@ def _start(*args, cwd=None):
 @pytest.mark.parametrize("sig", [signal.SIGINT, signal.SIGTERM])
 def test_interrupted_output_leaves_no_file_and_no_temporary(tmp_path, sig):
     out = tmp_path / "out.csv"
-    # 40 contact-level points: many seconds of work, interrupted after 1.5 s
-    p = _start("sweep", SLOW, "--vary", "friction.sliding=0.01:0.4:0.01", "-o", out)
+    # 79 contact-level points: many seconds of work, interrupted after 1.5 s
+    p = _start("sweep", SLOW, "--vary", "friction.sliding=0.01:0.4:0.005", "-o", out)
     time.sleep(1.5)
     assert p.poll() is None, "the run ended before the signal: make it longer"
     p.send_signal(sig)
