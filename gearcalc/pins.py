@@ -1029,6 +1029,51 @@ ARRAY_OPS = _ArrayOps()
 """``xp`` for arrays over operating points (numpy)."""
 
 
+def pin_circle(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, xp=ARRAY_OPS):
+    r"""The pin-centre circle radius R_p and 1 - K1 from whichever of R_p and K1 is given (pins.md §4.1, §7).
+
+    .. math::
+
+        K_1 = \frac{e z_2}{k R_p}:\quad R_p = \frac{e z_2}{k K_1},\quad 1 - K_1 = \frac{k R_p - e z_2}{k R_p}
+
+    (1 - K1 from R_p without the cancellation of 1 - e z2/(k R_p); as :meth:`Cycloid.from_pin_circle` and
+    :meth:`Cycloid.from_curtate_ratio`.)
+
+    Parameters
+    ----------
+    z1, z2 : int or array_like of int
+        satellite teeth and pins (k = z2 - z1 >= 1).
+    eccentricity : float or array_like
+        e [mm].
+    pin_circle_radius : float or array_like
+        R_p [mm], NaN where K1 is given.
+    curtate_ratio : float or array_like
+        K1 [-], NaN where R_p is given (it wins where both are).
+    xp : :data:`ARRAY_OPS` or :data:`SCALAR_OPS`
+
+    Returns
+    -------
+    R_p [mm], 1 - K1 [-].
+
+    Examples
+    --------
+    >>> pin_circle(20, 22, 3.9, math.nan, 0.75, SCALAR_OPS)       # R_p = 3.9 x 22/(2 x 0.75)
+    (57.199999999999996, 0.25)
+    >>> [round(float(v[0]), 12) for v in pin_circle(np.array([20]), np.array([22]), 3.9, np.array([57.2]),
+    ...                                             np.array([np.nan]))]
+    [57.2, 0.25]
+
+    References
+    ----------
+    pins.md §4.1 (K1 = e z2/(k R_p)), §7 (give R_p or K1).
+    """
+    k = z2 - z1
+    use_K1 = xp.logical_not(xp.isnan(curtate_ratio))
+    R_p = xp.where(use_K1, eccentricity * z2 / (k * curtate_ratio), pin_circle_radius)
+    one_minus_K1 = xp.where(use_K1, 1.0 - curtate_ratio, (k * R_p - eccentricity * z2) / (k * R_p))
+    return R_p, one_minus_K1
+
+
 def friction_regime(rotating, bushing_radius, axle_radius, sliding_friction, rolling_coefficient, axle_friction,
                     xp=ARRAY_OPS):
     r"""Effective friction coefficient and whether the pins roll, per operating point (pins.md §4.5-4.6).
@@ -1079,6 +1124,81 @@ def friction_regime(rotating, bushing_radius, axle_radius, sliding_friction, rol
     mu = xp.where(rolls, rotating_loss_coefficient(axle_friction, axle_radius, rolling_coefficient, bushing_radius),
                   sliding_friction)
     return mu, rolls
+
+
+def efficiency_reducer_err(loss_ratio_mean, loss_ratio_err):
+    r"""Error of the reducer efficiency from that of the loss ratio, E_HV = E/(1 + lambda_bar)^2  (pins.md §4.7).
+
+    The first-order propagation of E through eta_HV = 1/(1 + lambda_bar) (|d eta_HV/d lambda_bar| E).
+
+    Parameters
+    ----------
+    loss_ratio_mean : float or array_like
+        lambda_bar [-].
+    loss_ratio_err : float or array_like
+        E, the error estimate of lambda_bar [-].
+
+    Returns
+    -------
+    E_HV [-].
+
+    Examples
+    --------
+    >>> efficiency_reducer_err(0.25, 1e-6)   # 1e-6/1.5625
+    6.4e-07
+
+    References
+    ----------
+    pins.md §4.7 (the efficiencies), §6 (the error estimate).
+    """
+    return loss_ratio_err / ((1.0 + loss_ratio_mean) * (1.0 + loss_ratio_mean))
+
+
+def shaft_torques(torque, ratio, eta_vh, eta_hv, multiplier, torque_on_V, xp=ARRAY_OPS):
+    r"""Shaft torques T_V (satellite output) and T_H (crank) from the torque given on one of them (pins.md §4.7).
+
+    Input power = output power + loss, with the efficiency of the mode:
+
+    .. math::
+
+        \text{multiplier: } T_V = \frac{u T_H}{\eta_{VH}},\qquad
+        \text{reducer: } T_V = \eta_{HV} u T_H,\qquad u = z_1/k
+
+    Parameters
+    ----------
+    torque : float or array_like
+        the torque given, on V when ``torque_on_V`` else on H [N·m].
+    ratio : float or array_like
+        u = z1/k [-].
+    eta_vh, eta_hv : float or array_like
+        the multiplier and reducer efficiencies [-] (NaN: the mode self-locks).
+    multiplier : bool or array_like of bool
+        multiplier mode (V drives H), else reducer.
+    torque_on_V : bool or array_like of bool
+        the torque is given on V, else on H.
+    xp : :data:`ARRAY_OPS` or :data:`SCALAR_OPS`
+
+    Returns
+    -------
+    T_V, T_H : float or ndarray
+        [N·m] (the unit of ``torque``); NaN where the efficiency they need is.
+
+    Examples
+    --------
+    >>> shaft_torques(100.0, 10.0, 0.75, 0.8, False, False, SCALAR_OPS)   # reducer: T_V = 0.8 x 10 x 100
+    (800.0, 100.0)
+    >>> shaft_torques(100.0, 10.0, 0.75, 0.8, True, False, SCALAR_OPS)[0]  # multiplier: 10 x 100/0.75
+    1333.3333333333333
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
+       *Mashinostroenie* (seed 000); pins.md §4.7, §4.9 (the friction-consistent efficiencies).
+    """
+    T = torque
+    T_V = xp.where(torque_on_V, T, xp.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))
+    T_H = xp.where(torque_on_V, xp.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
+    return T_V, T_H
 
 
 @dataclass(frozen=True)
@@ -1148,13 +1268,12 @@ def efficiency_torques(loss_ratio_mean, loss_ratio_err, torque, ratio, multiplie
     .. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
        *Mashinostroenie* (seed 000); pins.md §4.7.
     """
-    lam, E, T = loss_ratio_mean, loss_ratio_err, torque
+    lam, E = loss_ratio_mean, loss_ratio_err
     locked = lam >= 1.0
     eta_vh = xp.where(locked, xp.nan, efficiency_multiplier(lam))
     eta_hv = efficiency_reducer(lam)
-    eta_hv_err = E / ((1.0 + lam) * (1.0 + lam))
-    T_V = xp.where(torque_on_V, T, xp.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))  # NaN: no warning
-    T_H = xp.where(torque_on_V, xp.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
+    eta_hv_err = efficiency_reducer_err(lam, E)
+    T_V, T_H = shaft_torques(torque, ratio, eta_vh, eta_hv, multiplier, torque_on_V, xp)   # NaN: no warning
     return EfficiencyTorques(
         locked=locked, eta_vh=eta_vh, eta_vh_err=xp.where(locked, xp.nan, E), eta_hv=eta_hv,
         eta_hv_err=eta_hv_err, efficiency=xp.where(multiplier, eta_vh, eta_hv),
@@ -1742,6 +1861,13 @@ def _contacts(x, mid, gi, G: _GearTable, z2: int, with_phase: bool = False):
     the cost), and sin psi~ = 2 sin(psi~/2) cos(psi~/2); s and the lever arm then take the
     cancellation-free forms of :func:`s_factor` and :func:`lever_arm`.
     """
+    J, j, loaded, lev, rho, _, _ = _contact_rows(x, mid, gi, G, z2)
+    phase = 2.0 * math.pi * ((j + x) / z2) if with_phase else None
+    return J, loaded, phase, lev, rho
+
+
+def _contact_rows(x, mid, gi, G: _GearTable, z2: int):
+    """The computation of :func:`_contacts`: J, row index j, loaded, lever |l| [mm], rho [mm], sin(psi~/2), s."""
     J = np.ceil(G.take("c", gi) - mid).astype(np.int64)
     j, sa, ca = G.rows(z2, int(J.max()))
     b = math.pi * (x / z2)
@@ -1752,8 +1878,7 @@ def _contacts(x, mid, gi, G: _GearTable, z2: int, with_phase: bool = False):
     s = np.sqrt(G.take("omk2", gi) + 4.0 * G.take("K1", gi) * (sh * sh))
     lev = np.where(loaded, np.abs(G.take("r_p1", gi) * (2.0 * sh * ch) / s), 0.0)
     rho = G.take("R_p", gi) * s
-    phase = 2.0 * math.pi * ((j + x) / z2) if with_phase else None
-    return J, loaded, phase, lev, rho
+    return J, j, loaded, lev, rho, sh, s
 
 
 def _contacts_geo(x, mid, gi, G: _GearTable, z2: int):
@@ -1761,16 +1886,7 @@ def _contacts_geo(x, mid, gi, G: _GearTable, z2: int):
 
     Returns J, lever |l| [mm], rho [mm], sin(psi~/2) and s (rows j, nodes); lever and rho by the very
     operations of :func:`_contacts` (the same numbers, bit for bit)."""
-    J = np.ceil(G.take("c", gi) - mid).astype(np.int64)
-    j, sa, ca = G.rows(z2, int(J.max()))
-    b = math.pi * (x / z2)
-    sb, cb = np.sin(b), np.cos(b)
-    sh = sa * cb + ca * sb                       # sin(psi/2)
-    ch = ca * cb - sa * sb                       # cos(psi/2)
-    loaded = j < J
-    s = np.sqrt(G.take("omk2", gi) + 4.0 * G.take("K1", gi) * (sh * sh))
-    lev = np.where(loaded, np.abs(G.take("r_p1", gi) * (2.0 * sh * ch) / s), 0.0)
-    rho = G.take("R_p", gi) * s
+    J, _, _, lev, rho, sh, s = _contact_rows(x, mid, gi, G, z2)
     return J, lev, rho, sh, s
 
 
@@ -2637,7 +2753,10 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     for i in np.flatnonzero(n_d > 1):          # the discs' torques summed (pins.md §12.7): a handful of points
         sl = slice(seg[i], seg[i] + counts[i])
         tot_c = sum_over_discs(t[sl], crank[sl], disc_offsets(int(n_d[i]), int(z2[i])), 1.0)
-        res["crank_max"][i], res["crank_min"][i] = np.nanmax(tot_c), np.nanmin(tot_c)
+        if np.isnan(tot_c).all():              # the mode jams at every node: no crank torque (and no warning)
+            res["crank_max"][i] = res["crank_min"][i] = np.nan
+        else:
+            res["crank_max"][i], res["crank_min"][i] = np.nanmax(tot_c), np.nanmin(tot_c)
     own_jam = np.where(sig == REDUCER, jam[0], jam[1])
     if own_jam.any():
         for key in ("force", "force_phase", "loss", "loss_phase", "total", "stress", "bearing_max", "bearing_mean",
@@ -2695,8 +2814,11 @@ def _refine_consistent(cyc: IdealCycles, slot: int, t, t_mid, w, mu, sigma, lam,
     conv, jam = np.zeros(K, dtype=bool), np.zeros(K, dtype=bool)
     n_out = np.zeros(K, dtype=np.int64)
     active = np.ones(K, dtype=bool)
-    G1 = _GearTable(G.z2[slot:slot + 1], G.K1[slot:slot + 1], G.omk[slot:slot + 1], G.R_p[slot:slot + 1],
-                    G.R_b[slot:slot + 1], G.r_p1[slot:slot + 1], G.c[slot:slot + 1], Ze=G.Ze[slot:slot + 1])
+    if G.z2.size == 1:               # one gear (a design alone): its table, with the rows' sines already cached
+        G1 = G
+    else:
+        G1 = _GearTable(G.z2[slot:slot + 1], G.K1[slot:slot + 1], G.omk[slot:slot + 1], G.R_p[slot:slot + 1],
+                        G.R_b[slot:slot + 1], G.r_p1[slot:slot + 1], G.c[slot:slot + 1], Ze=G.Ze[slot:slot + 1])
     mids = 0.5 * (a + b)
     while active.any():
         if 2 * int(n.sum()) > CONSISTENT_N_MAX:        # the cap: the best value and its error

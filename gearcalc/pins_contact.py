@@ -24,7 +24,7 @@ error, phi_nom = -k theta/z1) is the one unknown:
 * the satellite's angular speed d tau/d theta = -G_theta/G_tau analytically, the contact-point
   velocities, the pin spin and the per-contact losses (§5.6), reusing the loss functions of
   :mod:`gearcalc.pins`;
-* the cycle mean of the loss ratio with :func:`gearcalc.quadrature.integrate_piecewise`, the
+* the cycle mean of the loss ratio with :func:`integrate_adaptive` (pieces doubled only where needed), the
   breakpoints (contact entry/exit, spin reversals, crest passages) scanned and refined by Newton
   (penetrations, with their slope along the solution) or secant steps (§6);
 * the torque fixed point (§7): a coarse loss ratio from the window's scan, then full passes until the
@@ -53,7 +53,7 @@ from . import pins
 from . import hertz
 from .arrays import unique_sorted
 from .pins import MULTIPLIER, REDUCER, Cycloid
-from .quadrature import QuadResult, geometric_breakpoints, integrate_piecewise
+from .quadrature import QuadResult, geometric_breakpoints, piece_nodes
 from .roots import bisect, find_root, minimize_golden
 
 # ============================================================ contact laws (pins.md §5.4)
@@ -423,6 +423,10 @@ class CircularProfile:
                         wx=ny / dist, wy=-nx / dist)
 
 
+_CURVE_KEYS = ("c1x", "c1y", "d1x", "d1y", "dd1x", "dd1y")
+"""Pose keys of the design curve c_b, c_b', c_b'' at the last foot point (:meth:`CycloidProfile.contacts`)."""
+
+
 class CycloidProfile:
     """Cycloidal teeth cut on the design curve: R_p + Delta R_p, equidistant R_b + Delta R_b (pins.md §5.2).
 
@@ -518,10 +522,20 @@ class CycloidProfile:
         # Newton from the foot point of the last call on this pose (usually one step) or the nominal one
         # (~1e-3 rad away), until a step below 1e-7 rad has been applied: Newton's error after it is
         # ~(c''/c') 1e-14 rad, and the distance is stationary in beta (its error is second order in that)
-        start = pose.aux.get("beta1", pose.aux["beta"])
-        beta = self._newton(start, fam, x, y, 8, 1e-7)
+        if "beta1" in pose.aux:
+            # the first Newton step from the last call's foot point uses the curve kept from that call
+            cx, cy, dx, dy, ddx, ddy = (pose.aux[k] for k in _CURVE_KEYS)
+            rx, ry = cx - x, cy - y
+            step = (rx * dx + ry * dy) / (dx * dx + dy * dy + rx * ddx + ry * ddy)
+            beta = pose.aux["beta1"] - step
+            if np.max(np.abs(step), initial=0.0) > 1e-7:
+                beta = self._newton(beta, fam, x, y, 7, 1e-7)
+        else:
+            beta = self._newton(pose.aux["beta"], fam, x, y, 8, 1e-7)
+        cur = self._curve(beta, fam)
         pose.aux["beta1"] = beta
-        cx, cy, dx, dy, ddx, ddy = self._curve(beta, fam)
+        pose.aux.update(zip(_CURVE_KEYS, cur))
+        cx, cy, dx, dy, ddx, ddy = cur
         t2 = dx * dx + dy * dy
         t = np.sqrt(t2)
         nx, ny = -dy / t, dx / t                          # inward normal (the outward one is (c'_y, -c'_x))
@@ -694,6 +708,10 @@ class ContactModel:
         R = g.R_p + g.e
         h0 = float(self.law.deflection(self.torque_sat / R)) / R / 64.0
         tau = self._bracketed(pose, None, 1e-15, h0 if math.isfinite(h0) and h0 > 1e-9 else 1e-9, newton=True)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            first = self._kinematics(pose, tau, None)
+        if np.all(np.isfinite(first.dtau)):
+            self._remember(0, first)   # the frictionless solution warm-starts the scan below
         lo, hi = float(tau.min()), float(tau.max())
         t_lo = 2.0 * lo if lo < 0.0 else 0.5 * lo                   # twice as far from 0, or half as near
         t_hi = 2.0 * hi if hi > 0.0 else 0.5 * hi
@@ -953,10 +971,20 @@ class ContactModel:
             sol = self._kinematics(pose, self._solve(pose, None, self._guess(theta, 0)), None, ref)
             self._remember(0, sol)
         traction = None
-        for _ in range(8):
+        back = None                  # (traction, solution) of the pass before the last
+        passes = 8
+        for it in range(passes):
             new = self.traction(sol)
             if traction is not None and np.array_equal(new, traction):
                 break
+            if back is not None and np.array_equal(new, back[0]):
+                # a cycle of two (the directions flip back and forth where no direction is consistent, at a
+                # jump of the sliding speed): the remaining passes repeat the last two, so the directions of
+                # the last pass's parity are those of the full count; one more solve from their solution
+                trac, start = back if (passes - 1 - it) % 2 == 0 else (traction, sol)
+                sol = self._friction_solve(pose, trac, start.tau, ref)
+                break
+            back = None if traction is None else (traction, sol)
             traction = new
             sol = self._friction_solve(pose, traction, sol.tau, ref)
         return sol
@@ -1224,12 +1252,15 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
     sgn = np.sign(v)
     comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
     if comp.size:
-        def h(t):
+        def h(t, k):
             val, slope, _ = components(t)
-            k = np.arange(comp.size)
-            return val[comp, k], slope[comp, k]
+            i = np.arange(k.size)
+            return val[comp[k], i], slope[comp[k], i]
 
-        roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol)
+        # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
+        # 1e-3 tol times the jump of lambda over lambda_bar
+        roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
+                                     jump_xtol=1e-3 * tol * Tp)
     else:
         roots = np.empty(0)
     found = np.sort(roots)
@@ -1249,34 +1280,50 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
     return _merge(np.concatenate([edges, *extra]), 4.0 * xtol)
 
 
-def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100):
+def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None):
     """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
     slope, secant otherwise, bisection when a step leaves the bracket (pins.md §6: breakpoints to
-    1e-12 T_p).  ``h(x)`` returns (values, slopes), a slope NaN where unknown.  Stops element by element
-    when the step or the bracket is below ``xtol`` or h is exactly 0."""
+    1e-12 T_p).  ``h(x, k)`` returns (values, slopes) of the brackets ``k`` (indices) at x, a slope NaN
+    where unknown; only the brackets not yet done are evaluated.  Stops bracket by bracket when the step
+    or the bracket is below ``xtol`` or h is exactly 0.
+
+    A bracket whose end values stay 100x above what the scan's slope |fb - fa|/(b - a) allows over the
+    shrunken bracket (after shrinking it 1000x) holds a jump, not a root (e.g. the tangential speed
+    where the friction forces flip): it is bisected only to ``jump_xtol`` (default ``xtol``).
+    """
     lo, hi = np.array(a, dtype=float), np.array(b, dtype=float)
     flo, fhi = np.array(fa, dtype=float), np.array(fb, dtype=float)
+    w0 = hi - lo
+    slope0 = np.abs(fhi - flo) / np.where(w0 > 0.0, w0, 1.0)
+    jtol = xtol if jump_xtol is None else max(xtol, jump_xtol)
     with np.errstate(divide="ignore", invalid="ignore"):
         x = lo - flo * (hi - lo) / (fhi - flo)                # the scan's linear interpolation
     x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
     xp, fp = np.where(np.abs(flo) < np.abs(fhi), lo, hi), np.where(np.abs(flo) < np.abs(fhi), flo, fhi)
-    done = np.zeros(x.shape, dtype=bool)
+    act = np.arange(x.size)
     for _ in range(maxiter):
-        f, slope = h(x)
-        left = np.sign(f) == np.sign(flo)
-        lo, flo = np.where(left & ~done, x, lo), np.where(left & ~done, f, flo)
-        hi, fhi = np.where(~left & ~done, x, hi), np.where(~left & ~done, f, fhi)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            d = np.where(np.isfinite(slope) & (slope != 0.0), slope, (f - fp) / (x - xp))
-            new = x - f / d
-        bad = ~np.isfinite(new) | (new <= lo) | (new >= hi)
-        new = np.where(bad, 0.5 * (lo + hi), new)
-        conv = (f == 0.0) | (~bad & (np.abs(new - x) <= xtol)) | (hi - lo <= 2.0 * xtol)
-        xp, fp = np.where(done, xp, x), np.where(done, fp, f)
-        x = np.where(done | (f == 0.0), x, np.where(conv & (hi - lo <= 2.0 * xtol), 0.5 * (lo + hi), new))
-        done |= conv
-        if np.all(done):
+        if act.size == 0:
             break
+        xa = x[act]
+        f, slope = h(xa, act)
+        l, hh, fl, fh = lo[act], hi[act], flo[act], fhi[act]
+        left = np.sign(f) == np.sign(fl)
+        l, fl = np.where(left, xa, l), np.where(left, f, fl)
+        hh, fh = np.where(~left, xa, hh), np.where(~left, f, fh)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            d = np.where(np.isfinite(slope) & (slope != 0.0), slope, (f - fp[act]) / (xa - xp[act]))
+            new = xa - f / d
+        bad = ~np.isfinite(new) | (new <= l) | (new >= hh)
+        new = np.where(bad, 0.5 * (l + hh), new)
+        width = hh - l
+        jump = (width <= 1e-3 * w0[act]) & (np.minimum(np.abs(fl), np.abs(fh)) > 100.0 * slope0[act] * width)
+        conv = ((f == 0.0) | (~bad & (np.abs(new - xa) <= xtol)) | (width <= 2.0 * xtol)
+                | (jump & (width <= 2.0 * jtol)))
+        closed = conv & ((width <= 2.0 * xtol) | (jump & (width <= 2.0 * jtol)))
+        lo[act], hi[act], flo[act], fhi[act] = l, hh, fl, fh
+        xp[act], fp[act] = xa, f
+        x[act] = np.where(f == 0.0, xa, np.where(closed, 0.5 * (l + hh), new))
+        act = act[~conv]
     return x
 
 
@@ -1292,9 +1339,113 @@ def _merge(points, gap):
     return out
 
 
+def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n_start: int = 128,
+                       n_max: int = 2 ** 12, min_levels: int = 2, n_initial=None) -> QuadResult:
+    r"""Piecewise composite trapezoid with Richardson extrapolation, refined piece by piece (pins.md §6, §12.6).
+
+    Like :func:`gearcalc.quadrature.integrate_piecewise` (first level ``n_start`` intervals shared out in
+    proportion to the piece lengths, at least 2 per piece; node counts then doubled exactly, only the new
+    nodes evaluated; one-sided piece ends; the integrand ``f(x, mid)`` told the piece midpoint), but a piece
+    is doubled only while it needs it.  Every piece is doubled ``min_levels`` times; then, with the piece
+    estimates e_p = T_2N,p - T_N,p of each piece's last doubling and e'_p of the one before,
+
+    .. math::
+
+        Q = \sum_p T_{2N,p} + e_p/3,\qquad E = \Big|\sum_p e_p\Big|
+
+    is accepted when E <= max(tol |Q|, atol) and |sum_p e'_p| <= max(tol |Q|, atol): the rule of two
+    successive doublings, with each piece's own last two (the same estimate and rule as uniform
+    doubling, |Q_2N - Q_N|, when every piece has been doubled equally often).  Otherwise the pieces
+    with the largest max(|e_p|, |e'_p|) are doubled, largest first, until the others hold at most half
+    of the tolerance (the tiny pieces of a geometric grading, whose estimates are far below it, stop
+    after ``min_levels`` doublings), as many of them as ``n_max`` intervals in all allow.  Stops
+    unconverged when not even the first of them can be doubled.
+
+    ``n_initial`` (one count per piece, optional) replaces the first level's counts, e.g. a quarter of
+    the final counts of a run on nearly the same integrand (the next pass of the torque fixed point).
+
+    Returns a :class:`~gearcalc.quadrature.QuadResult` (value and err of one component; ``levels`` the
+    most doublings of a piece, ``n_piece`` the intervals per piece).
+
+    Examples
+    --------
+    A jump at x = 1 and a kink at x = 2 (exact on the pieces), and a smooth piece refined alone:
+
+    >>> g = lambda x, mid: np.where(mid < 1.0, 0.0, 1.0) + np.abs(x - 2.0) + np.where(mid > 3.0, np.exp(x), 0.0)
+    >>> r = integrate_adaptive(g, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-6)
+    >>> bool(abs(r.value[0] - (7.0 + math.e ** 4 - math.e ** 3)) <= 1e-3 * r.err[0]), r.converged, r.n_piece.tolist()
+    (True, True, [128, 128, 128, 1024])
+
+    References
+    ----------
+    pins.md §6 (rule, error estimate), §12.6 (per-piece doubling at the contact level).
+    """
+    edges = unique_sorted(np.asarray(breakpoints, dtype=float))
+    a, b = edges[:-1], edges[1:]
+    keep = b > a
+    a, b = a[keep], b[keep]
+    edges = np.concatenate((a, b[-1:]))
+    p = a.size
+    if n_initial is not None and np.size(n_initial) == p:
+        n_piece = np.maximum(2, np.asarray(n_initial)).astype(np.int64)
+    else:
+        n_piece = np.maximum(2, np.rint(n_start * (b - a) / (b[-1] - a[0]))).astype(np.int64)
+    mid_p = 0.5 * (a + b)
+    x, mid, piece = piece_nodes(edges, n_piece)
+    w = np.where(np.concatenate(([True], piece[1:] != piece[:-1])) | np.concatenate((piece[1:] != piece[:-1], [True])),
+                 0.5, 1.0)
+    v = np.asarray(f(x, mid), dtype=float).ravel()
+    trap = np.bincount(piece, weights=v * w, minlength=p) * (b - a) / n_piece
+    e_last = np.full(p, np.nan)
+    e_prev = np.full(p, np.nan)
+    lev = np.zeros(p, dtype=np.int64)
+    act = np.arange(p)
+    converged = False
+    while True:
+        if act.size == 0 or int(n_piece.sum() + n_piece[act].sum()) > n_max:
+            break
+        # the new (odd) nodes of the active pieces
+        cnt = n_piece[act]
+        pc = np.repeat(act, cnt)
+        st = np.concatenate(([0], np.cumsum(cnt)[:-1]))
+        j = np.arange(int(cnt.sum())) - np.repeat(st, cnt)
+        h_new = (b - a) / (2 * n_piece)
+        xn = a[pc] + h_new[pc] * (2 * j + 1)
+        vn = np.asarray(f(xn, mid_p[pc]), dtype=float).ravel()
+        s = np.bincount(pc, weights=vn, minlength=p)[act]
+        new = 0.5 * trap[act] + h_new[act] * s
+        e_prev[act], e_last[act] = e_last[act], new - trap[act]
+        trap[act] = new
+        n_piece[act] *= 2
+        lev[act] += 1
+        if np.any(lev < min_levels):
+            act = np.nonzero(lev < min_levels)[0]
+            continue
+        Q = float(np.sum(trap + e_last / 3.0))
+        budget = max(tol * abs(Q), atol)
+        if abs(np.sum(e_last)) <= budget and abs(np.sum(e_prev)) <= budget:
+            converged = True
+            break
+        est = np.maximum(np.abs(e_last), np.abs(e_prev))
+        order = np.argsort(-est, kind="stable")
+        rest = est.sum() - np.cumsum(est[order])          # what the unrefined pieces hold
+        k = int(np.searchsorted(-rest, -0.5 * budget)) + 1  # first count whose rest is <= budget/2
+        # within the cap on intervals: the largest estimates first
+        room = n_max - int(n_piece.sum())
+        k = min(k, int(np.searchsorted(np.cumsum(n_piece[order]), room, side="right")))
+        act = np.sort(order[:k])
+    done = np.isfinite(e_last)
+    e = np.where(done, e_last, 0.0)
+    value = float(np.sum(trap + e / 3.0))
+    err = float(abs(np.sum(e))) if np.all(done) else float("inf")
+    return QuadResult(value=np.array([value]), err=np.array([err]), trapezoid=np.array([float(trap.sum())]),
+                      n=int(n_piece.sum()), converged=converged, levels=int(lev.max()), edges=edges,
+                      n_piece=n_piece)
+
+
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
                     tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
-                    prefilter: bool = True) -> ContactCycle:
+                    prefilter: bool = True, n_initial=None) -> ContactCycle:
     """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error.
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
@@ -1307,6 +1458,8 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     sliding_friction : f, for the second contact of a rolling pin [-].
     rolls : the pins roll.
     tol : relative accuracy target; n_max : cap on crank-angle intervals (2^12, pins.md §6).
+    n_initial : first-level intervals per piece (:func:`integrate_adaptive`), used when the breakpoints
+        give that many pieces.
     """
     g = model.g
     scale = model.torque_sat * g.k / g.z1
@@ -1332,12 +1485,12 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     if model.window is None and prefilter:
         model.set_window()
     edges = cycle_breakpoints(model, n_scan, tol, rolls)
-    q = integrate_piecewise(integrand, edges, tol=tol, n_max=n_max, n_start=n_start)
+    q = integrate_adaptive(integrand, edges, tol=tol, n_max=n_max, n_start=n_start, n_initial=n_initial)
     sol = _concat(cache)
     sol.phase, sol.zeta = model.phases(sol.theta)
     if not model.window_holds(sol.tau):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
-        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False)
+        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial)
     loss, spin, slide = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)
     lam = loss.sum(axis=(0, 1)) / scale
     return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, q.n, q, sol, loss, spin, slide, lam,
@@ -1619,7 +1772,8 @@ class TorqueCycle:
     """The contact cycle at the torque fixed point (:func:`cycle_at_torque`).
 
     cycle : the last :class:`ContactCycle`; model : its :class:`ContactModel`; torque_V : T_V [N·m];
-    loss_ratio, loss_ratio_err : lambda_bar and its error (exactly 0 without friction);
+    loss_ratio, loss_ratio_err : lambda_bar and its error, the quadrature's plus the fixed point's remaining change
+        (exactly 0 without friction);
     history : the loss ratios of the passes; settled : False when the passes ran out unsettled.
     """
 
@@ -1704,10 +1858,16 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     friction = (mu_eff, sliding_friction, rolls) if friction_in_equilibrium else None
     T = float(torque)
     lam, cyc, model, T_V, history, torques = 0.0, None, None, None, [], []
+    remainder = 0.0
     settled = True
     frictionless = mu_eff == 0.0 and sliding_friction == 0.0
 
-    def run(T_V, prev, window_only=False):
+    def coarse(model, sol):
+        """lambda_bar from the window scan's uniform crank angles (no breakpoints): a coarse value."""
+        loss = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)[0]
+        return float(np.mean(loss.sum(axis=(0, 1)))) / (model.torque_sat * g.k / g.z1)
+
+    def run(T_V, prev, window_only=False, n_initial=None):
         model = ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
         if prev is not None:
             model.inherit(prev)
@@ -1716,10 +1876,8 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         try:
             with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
                 if window_only:
-                    sol = model.set_window()
-                    loss = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)[0]
-                    return model, float(np.mean(loss.sum(axis=(0, 1)))) / (model.torque_sat * g.k / g.z1)
-                return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol)
+                    return model, coarse(model, model.set_window())
+                return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise
@@ -1740,24 +1898,36 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             T_V = g.ratio * T / (1.0 - lam)
         else:
             T_V = g.ratio * T / (1.0 + lam)
-        model, cyc = run(T_V, prev)
+        # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
+        # changes little between passes: two doublings then usually suffice)
+        model, cyc = run(T_V, prev, n_initial=None if cyc is None else cyc.quad.n_piece // 4)
         prev = model
         if not (np.isfinite(cyc.loss_ratio) and np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.lam))):
             raise Unresolvable("non-finite contact forces or losses")
         history.append(cyc.loss_ratio)
         torques.append(T_V)
         lam = cyc.loss_ratio
-        if torque_on_V or frictionless or fixed_point_settled(history, tol):
+        if torque_on_V or frictionless:
+            remainder = 0.0
+            break
+        remainder = abs(history[-1] - history[-2]) if len(history) >= 2 else math.inf
+        if fixed_point_settled(history, tol):
+            if len(history) >= 3:
+                c = remainder / max(abs(history[-2] - history[-3]), 1e-300)
+                remainder = min(remainder, c * remainder / (1.0 - c)) if c < 1.0 else remainder
             break
         if len(history) >= 2 and torques[-1] != torques[-2]:
             # the contraction of the fixed point from the last two passes: c = |d lambda/d T_V| |d T_V/d lambda|
             c = abs((history[-1] - history[-2]) / (torques[-1] - torques[-2])) * T_V / (1.0 - lam if multiplier
                                                                                          else 1.0 + lam)
             if c < 0.5 and c * abs(history[-1] - history[-2]) / (1.0 - c) <= 0.1 * tol * abs(lam):
+                remainder = c * abs(history[-1] - history[-2]) / (1.0 - c)
                 break
     else:
         settled = False
-    E = cyc.loss_ratio_err
+    # the error: the quadrature's plus the fixed point's remaining change (the contraction bound, or the last
+    # change when the passes ran out)
+    E = cyc.loss_ratio_err + (remainder if math.isfinite(remainder) else 0.0)
     if frictionless:
         lam, E = 0.0, 0.0
     return TorqueCycle(cyc, model, T_V, lam, E, history, settled)

@@ -614,3 +614,38 @@ def test_closed_form_least_curvature_radius_against_a_dense_scan(z1, k, K1, q):
     else:
         assert got <= rc.min() * (1 + 1e-12)
         assert got >= rc.min() * (1 - 1e-6)
+
+
+def test_pin_circle_both_ways_and_scalars_equal_arrays():
+    """:func:`gearcalc.pins.pin_circle`: R_p from K1 = e z2/(k R_p) (paper u = 10 design: R_p = 3.9 x 22/(2 x 0.75)
+    = 57.2 mm) and 1 - K1 from R_p without cancellation (the spec's K1 recovered to 1e-15); one gear on Python
+    floats equals the same gear in an array, bit for bit, and equals :class:`gearcalc.pins.Cycloid`'s."""
+    Rp, omk = pins.pin_circle(20, 22, 3.9, math.nan, 0.75, pins.SCALAR_OPS)
+    assert Rp == pytest.approx(57.2, rel=1e-15) and omk == 0.25
+    Rp2, omk2 = pins.pin_circle(20, 22, 3.9, 57.2, math.nan, pins.SCALAR_OPS)
+    assert Rp2 == 57.2 and 1.0 - omk2 == pytest.approx(3.9 * 22 / (2 * 57.2), rel=1e-15)
+    R_arr, o_arr = pins.pin_circle(np.array([20, 20]), np.array([22, 22]), np.array([3.9, 3.9]),
+                                   np.array([np.nan, 57.2]), np.array([0.75, np.nan]))
+    assert R_arr.tolist() == [Rp, Rp2] and o_arr.tolist() == [omk, omk2]
+    g1, g2 = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95), Cycloid.from_pin_circle(20, 22, 3.9, 57.2, 1.95)
+    assert (g1.R_p, g1.one_minus_K1) == (Rp, omk) and (g2.R_p, g2.one_minus_K1) == (Rp2, omk2)
+
+
+@pytest.mark.parametrize("multiplier", [False, True])
+@pytest.mark.parametrize("on_V", [False, True])
+def test_shaft_torques_balance_the_powers(multiplier, on_V):
+    """:func:`gearcalc.pins.shaft_torques`: input power x efficiency = output power (pins.md §4.7), with
+    omega_H = u |omega_V|; the given torque is returned unchanged on its shaft."""
+    u, eta_vh, eta_hv, T = 10.0, 0.87, 0.86, 100.0
+    T_V, T_H = pins.shaft_torques(T, u, eta_vh, eta_hv, multiplier, on_V, pins.SCALAR_OPS)
+    w_V = 1.0
+    w_H = u * w_V
+    if multiplier:      # V drives H
+        assert T_H * w_H == pytest.approx(eta_vh * T_V * w_V, rel=1e-15)
+    else:
+        assert T_V * w_V == pytest.approx(eta_hv * T_H * w_H, rel=1e-15)
+    assert (T_V if on_V else T_H) == T
+    # the reducer efficiency's error: |d eta_HV/d lambda| E (central difference)
+    lam, E, h = 0.15, 2e-7, 1e-6
+    d = (pins.efficiency_reducer(lam + h) - pins.efficiency_reducer(lam - h)) / (2 * h)
+    assert pins.efficiency_reducer_err(lam, E) == pytest.approx(abs(d) * E, rel=1e-8)

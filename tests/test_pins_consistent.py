@@ -389,3 +389,149 @@ def test_two_discs_warn_that_their_peaks_are_first_order(tmp_path):
     r = run("pins", str(s_path), "--format", "json")
     assert r.exit_code == 0
     assert "with several discs follow the friction-free force distribution" in r.stderr
+
+
+# ---------------------------------------------------------------- the pure output functions (gearcalc.pins_outputs)
+
+def _cycles(geometry, n_d=1):
+    g = pins._as_arrays(pins.Cycloid.from_curtate_ratio(*geometry))
+    return pins.ideal_cycles(g, np.array([n_d]))
+
+
+@pytest.mark.parametrize("multiplier", [False, True])
+@pytest.mark.parametrize("on_V", [False, True])
+def test_consistent_outputs_crank_torque_power_identity_and_scalars_equal_arrays(multiplier, on_V):
+    """:func:`gearcalc.pins_outputs.consistent_outputs`: the cycle mean of the crank torque is the torque on H
+    (its definition T_H = O1 x B, pins.md §4.9, against the shaft torque from the efficiency: 1e-7, the
+    quadrature error), the mean loss is input power - output power (an exact identity of §4.7: 1e-12),
+    and one point on Python floats equals the same point in an array of points bit for bit."""
+    from gearcalc import pins_outputs as po
+
+    cyc = _cycles(PAPER_U10)
+    n, f, T, n_H = 3, np.array([0.1, 0.05, 0.2]), 100.0, 1000.0
+    w_V = n_H * math.pi / 30 * 2 / 20                  # |omega_V| = omega_H k/z1
+    mult, onV = np.full(n, multiplier), np.full(n, on_V)
+    args = dict(status=np.zeros(n, dtype=np.int64), consistent=np.ones(n, dtype=bool), multiplier=mult,
+                mu_eff=f, torque_sat_first_order=np.full(n, 1.0), omega_V=np.full(n, w_V),
+                axle_radius=np.full(n, 0.95), rotating=np.ones(n, dtype=bool), rolls=np.zeros(n, dtype=bool),
+                z1=20, k=2, n_discs=1, face_width=np.full(n, 10.0), sliding_friction=f, torque=np.full(n, T),
+                torque_on_V=onV)
+    p, cons = po.consistent_outputs(cyc, np.zeros(n, dtype=np.int64), **args)
+    assert cons.all()
+    T_H = np.where(on_V, p.T_H, T)
+    assert np.allclose(p.crank_torque_mean, T_H, rtol=1e-7, atol=0)
+    assert (T_H == T).all() if not on_V else (p.T_V == T).all()
+    w_H, w_Vs = w_V * 10.0, w_V                         # u = 10
+    P_in = np.where(mult, p.torque_in * w_Vs, p.torque_in * w_H)
+    P_out = np.where(mult, p.torque_out * w_H, p.torque_out * w_Vs)
+    assert np.allclose(p.loss_mean, P_in - P_out, rtol=1e-12, atol=0)
+    # efficiency = output power / input power in the mode
+    assert np.allclose(p.efficiency, P_out / P_in, rtol=1e-12, atol=0)
+    for i in range(n):                                  # one point alone: scalars, the same numbers
+        one = {key: (v[i:i + 1] if isinstance(v, np.ndarray) else v) for key, v in args.items()}
+        one.update({key: one[key][0] for key in ("mu_eff", "torque_sat_first_order", "omega_V", "axle_radius",
+                                                 "rotating", "rolls", "torque")})
+        q, _ = po.consistent_outputs(cyc, np.zeros(1, dtype=np.int64), **one)
+        for key, v in q.__dict__.items():
+            w = getattr(p, key)[i].item()
+            assert (v == w) or (v != v and w != w), key
+
+
+def test_consistent_efficiencies_reproduce_the_reference_model():
+    """:func:`gearcalc.pins_outputs.consistent_efficiencies` from :func:`gearcalc.pins.consistent_cycles`: the
+    printed values of the independent friction-consistent model (pins.md §4.9: k = 1, z1/z2 = 10/11, K1 = 0.75,
+    f = 0.1: eta_HV 0.83078, eta_VH 0.84594) and, from the loss ratios alone, 1/(1 + lambda) and 1 - lambda."""
+    from gearcalc import pins_outputs as po
+
+    *_, cc = solve(10, 11, 1.95, 0.75, 1.755, 0.1)
+    ce = po.consistent_efficiencies(cc.loss_ratio[0], cc.loss_ratio[1], cc.err[0], cc.err[1], cc.jammed[0],
+                                    cc.jammed[1])
+    assert round(float(ce.eta_hv[0]), 5) == 0.83078 and round(float(ce.eta_vh[0]), 5) == 0.84594
+    # the error of eta_HV is E/(1 + lambda)^2: the derivative of 1/(1 + lambda), by a central difference
+    lam, E = float(cc.loss_ratio[0, 0]), float(cc.err[0, 0])
+    h = 1e-6
+    deriv = (1 / (1 + lam + h) - 1 / (1 + lam - h)) / (2 * h)
+    assert float(ce.eta_hv_err[0]) == pytest.approx(abs(deriv) * E, rel=1e-8)
+    # a jammed mode, and a multiplier with lambda >= 1, self-lock: no efficiency
+    ce = po.consistent_efficiencies(np.array([np.nan, 0.2]), np.array([0.3, 1.0]), 0.0, 0.0,
+                                    np.array([True, False]), np.array([False, False]))
+    assert ce.locked_hv.tolist() == [True, False] and ce.locked_vh.tolist() == [False, True]
+    assert np.isnan(ce.eta_hv[0]) and np.isnan(ce.eta_vh[1]) and ce.eta_vh[0] == 0.7
+
+
+def test_contact_stress_and_axle_pressure_against_hertz_and_closed_forms():
+    """p0 = sqrt(F E*/(pi b R)) of a steel line contact: :func:`gearcalc.pins_outputs.contact_stress` equals
+    :func:`gearcalc.hertz.peak_pressure` with E* = E/(2(1 - nu^2)) written out (Johnson 1985, eq. 4.45), and
+    the axle pressure is F/(2 r b) (pins.md §8)."""
+    from gearcalc import hertz
+    from gearcalc import pins_outputs as po
+
+    e_star = 2.1e5 / (2 * (1 - 0.3 ** 2))             # steel on steel, by hand
+    assert hertz.contact_modulus(po.STEEL_E_MPA, po.STEEL_NU, po.STEEL_E_MPA, po.STEEL_NU) == \
+        pytest.approx(e_star, rel=1e-15)
+    T_sat, unit, b = 400_000.0, 0.02, 12.0            # F/R_eff = 8000 N/mm
+    F_over_R = T_sat * unit
+    assert float(po.contact_stress(T_sat, unit, b, e_star)) == pytest.approx(
+        math.sqrt(F_over_R * e_star / (math.pi * b)), rel=1e-14)
+    F, R = 4000.0, 0.5                               # the same F/R as a force on a radius, through gearcalc.hertz
+    assert float(po.contact_stress(T_sat, unit, b, e_star)) == pytest.approx(
+        float(hertz.peak_pressure(F, b, R, e_star)), rel=1e-14)
+    assert math.isnan(float(po.contact_stress(T_sat, unit, np.nan, e_star)))
+    assert po.axle_pressure(3800.0, 0.95, 10.0) == pytest.approx(200.0, rel=1e-15)   # 3800 N on 19 mm^2
+    assert po.satellite_torque(100.0, 4) == 25_000.0    # 100 N·m over 4 discs in N·mm
+    assert po.crank_torque(25_000.0, 0.1) == pytest.approx(2.5, rel=1e-15)
+    # eq. (7): the friction of the regime (mu_eff when rolling, else f) x F_max x v_max
+    assert po.pin_loss_bound(0.05, True, 0.1, 1000.0, 300.0, pins.SCALAR_OPS) == pytest.approx(15.0, rel=1e-15)
+    assert po.pin_loss_bound(np.array([0.05]), np.array([False]), 0.1, 1000.0, 300.0).tolist() == \
+        pytest.approx([30.0], rel=1e-15)
+
+
+@pytest.mark.parametrize("sigma", [pins.REDUCER, pins.MULTIPLIER])
+def test_crank_detail_against_the_explicit_vector_model(sigma):
+    """:func:`gearcalc.pins_outputs.crank_detail`: the crank torque and the bearing force magnitude at the nodes
+    equal the explicit vectors of :func:`brute_at` (T_H = O1 x B, |B|; 1e-12), ordered by crank angle; two
+    discs give the sum of the two shifted histories, friction-free T_H = n_d T_sat/u exactly (pins.md §12.7)."""
+    from gearcalc import pins_outputs as po
+
+    z1, z2, e, K1, Rb = PAPER_U10
+    f = 0.2
+    g = pins.Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb)
+    psi = pins.crest_cutoff(g)
+    c_exit = psi * z2 / (2 * math.pi) % 1.0
+    t = np.linspace(0.01, 0.99, 23)
+    mid = np.where(t < c_exit, 0.5 * c_exit, 0.5 * (1 + c_exit))
+    h = pins.crank_history(g, psi, t, mid, f, sigma)
+    cd = po.crank_detail(h, t, sigma, z2, 1000.0)     # T_sat = 1000 N·mm: T_H [N·m] = T_H per N·mm of T_sat
+    theta = (t if sigma == pins.MULTIPLIER else 1 - t) * 2 * math.pi / z2
+    *_, d = brute_at(g, f, sigma, theta, psi, mid, t)
+    O1 = np.stack([e * np.cos(theta), e * np.sin(theta)])
+    T_H = O1[0] * d["B"][1] - O1[1] * d["B"][0]          # per N·mm of T_sat
+    order = np.argsort(theta)
+    scale = np.abs(T_H).max()
+    assert np.allclose(cd.crank_torque, (sigma * T_H)[order], rtol=0, atol=1e-12 * scale)
+    assert np.allclose(cd.bearing_force, 1000.0 * np.hypot(*d["B"])[order], rtol=1e-12, atol=0)
+    assert np.allclose(np.hypot(cd.bearing_radial, cd.bearing_tangential), cd.bearing_force, rtol=1e-14, atol=0)
+    # friction-free, two discs: each disc's T_H = T_sat/u at every node, so the sum is 2 T_sat/u
+    h0 = pins.crank_history(g, psi, t, mid, 0.0, sigma)
+    cd2 = po.crank_detail(h0, t, sigma, z2, 1000.0, n_discs=2)
+    assert np.allclose(cd2.crank_torque, 2 * 1.0 / 10.0, rtol=1e-12, atol=0)
+
+
+def test_jammed_mode_with_two_discs_raises_no_numpy_warning():
+    """A mode that jams with several discs has no crank torque; computing it from Python emits no numpy
+    'All-NaN slice' RuntimeWarning (the command line filtered it; gearcalc.compute did not)."""
+    import warnings
+
+    import gearcalc
+
+    raw = {"kind": "pins", "gearing": {"profile": "cycloidal", "satellite_teeth": 10, "pins": 11,
+                                       "eccentricity_mm": 1.95, "curtate_ratio": 0.75, "pin_radius_mm": 1.755,
+                                       "discs": 2},
+           "friction": {"sliding": 0.75, "rolling_mm": 0.01, "axle": 0.1},
+           "load": {"mode": "reducer", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1500.0}}
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        r = gearcalc.compute(raw)
+    # the reducer jams (f = 0.75 > 0.68, pins.md §4.9): self-locking, no efficiency and no crank torque
+    assert r.summary["self_locking"] is True and r.summary["efficiency"] is None
+    assert r.summary["crank_torque_mean_Nm"] is None and r.summary["efficiency_multiplier"] is not None

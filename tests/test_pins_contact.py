@@ -713,3 +713,60 @@ def test_the_other_mode_seeded_by_the_mirror_gives_the_same_result():
     seeded = pc.cycle_at_torque(*args, False, 1, 0.1, 0.1, False, True, tol=1e-6, seed=m.model)
     assert seeded.loss_ratio == pytest.approx(alone.loss_ratio, abs=1e-3 * alone.loss_ratio_err + 1e-15)
     assert seeded.model.window is not None
+
+
+def test_adaptive_quadrature_refines_only_the_pieces_that_need_it():
+    # pins.md §12.6 (contact level): a piece is doubled only while its own estimate needs it.  Exact values:
+    # int_0^1 1 dx + int_1^2 |x - 2| dx + int_2^3 x dx = 1 + 0.5 + 2.5 (trapezoid-exact pieces), and
+    # int_3^4 e^x dx = e^4 - e^3 (closed form), which alone needs refinement
+    def f(x, mid):
+        return np.where(mid < 1.0, 1.0, np.where(mid < 2.0, np.abs(x - 2.0), np.where(mid < 3.0, x, np.exp(x))))
+
+    exact = 4.0 + math.e ** 4 - math.e ** 3
+    q = pc.integrate_adaptive(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-7, n_max=2 ** 14)
+    assert q.converged and abs(q.value[0] - exact) <= q.err[0] <= 1e-7 * exact
+    assert q.n_piece[:3].tolist() == [128, 128, 128]            # n_start/4 = 32 per piece, doubled twice only
+    assert q.n_piece[3] > 128
+    # the uniform rule of gearcalc.quadrature spends its doublings on every piece
+    from gearcalc.quadrature import integrate_piecewise
+    u = integrate_piecewise(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-7, n_start=128, n_max=2 ** 20)
+    assert abs(u.value[0] - q.value[0]) <= u.err[0] + q.err[0] and u.n > q.n
+    # the cap on intervals: the largest estimates are doubled first, and the result says it is unconverged
+    capped = pc.integrate_adaptive(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-14, n_max=1024)
+    assert not capped.converged and capped.n <= 1024 and abs(capped.value[0] - exact) <= capped.err[0]
+
+
+def test_adaptive_quadrature_grades_a_boundary_layer_cheaply():
+    # a geometrically graded x^(1/9) layer at 0 (the Hertz law's entry singularity, pins.md §6): the tiny
+    # pieces stop after two doublings, the estimate stays honest against the closed form 9/10
+    from gearcalc.quadrature import geometric_breakpoints
+
+    edges = np.sort(np.concatenate(([0.0, 1.0], geometric_breakpoints(0.0, 1.0, 1e-8, ratio=0.25))))
+    q = pc.integrate_adaptive(lambda x, mid: x ** (1.0 / 9.0), edges, tol=1e-6)
+    assert q.converged and abs(q.value[0] - 0.9) <= q.err[0] <= 1e-6 * 0.9
+    from gearcalc.quadrature import integrate_piecewise
+    u = integrate_piecewise(lambda x, mid: x ** (1.0 / 9.0), edges, tol=1e-6, n_start=128, n_max=2 ** 20)
+    assert q.n_piece.min() == 8 and q.n < u.n
+
+
+@pytest.mark.parametrize("fname,model,changes", [
+    ("pins_paper_circ_u10_fixed.toml", None, {}),
+    ("pins_paper_circ_u10_fixed.toml", None, {"friction.model": "first-order"}),
+    ("pins_paper_circ_u30_rotating.toml", None, {}),
+    ("pins_circ_band_u10.toml", None, {}),
+    ("pins_paper_cyc_u10_fixed.toml", "contact", {"contact.face_width_mm": 10}),
+])
+def test_contact_efficiency_errors_are_honest_on_the_paper_configs(fname, model, changes):
+    # pins.md §6, §12.6: the reported efficiency_err (quadrature plus the torque fixed point's remainder) bounds
+    # the difference to a run 100x tighter.  (--tol 1e-8: tighter runs meet the equilibrium residual limit,
+    # tol/100, only to round-off; the cycloid's reference stops at the 2^12 intervals of the contact level,
+    # with its own error estimate added.)
+    from gearcalc import api
+
+    path = Path(__file__).resolve().parents[1] / "configs" / fname
+    run_ = functools.partial(api.compute, str(path), model=model, overrides=changes)
+    s, ref = run_(tol=1e-6).summary, run_(tol=1e-8).summary
+    for mode in ("reducer", "multiplier"):
+        eta, err = s[f"efficiency_{mode}"], s[f"efficiency_{mode}_err"]
+        assert abs(eta - ref[f"efficiency_{mode}"]) <= err + ref[f"efficiency_{mode}_err"]
+        assert abs(eta - ref[f"efficiency_{mode}"]) <= 0.5 * err     # measured: at most 0.14 of it

@@ -1,7 +1,8 @@
 """The ``pins`` calculator: KHV planetary pin gearing, per-pin friction losses and efficiency.
 
-Schema, cross-key checks and the glue between a design and the physics of :mod:`gearcalc.pins`
-(spec: pins.md).  Three model levels; this module picks the cheapest one the design needs:
+Schema, cross-key checks and the glue between a design and the physics of :mod:`gearcalc.pins` and
+:mod:`gearcalc.pins_outputs` (spec: pins.md): design keys to physics arguments, physics results to named
+output fields, and the warning and error texts.  Three model levels; this module picks the cheapest one the design needs:
 
 * ``formula``: the paper's eqs. (3)-(7) from a given normal force and pin speed ([pin_load]);
 * ``ideal``: the rigid conjugate cycle model of a cycloidal satellite ([gearing], no modifications);
@@ -151,13 +152,16 @@ def _fmt(x) -> str:
 # ---------------------------------------------------------------- cross-key checks
 
 def _pin_circle(design):
-    """(R_p, K1, 1 - K1) from whichever of pin_circle_radius_mm / curtate_ratio is given."""
+    """(R_p, K1, 1 - K1) from whichever of pin_circle_radius_mm / curtate_ratio is given
+    (:func:`gearcalc.pins.pin_circle`; K1 as given, else e z2/(k R_p))."""
+    from .. import pins
+
     z1, z2 = design["gearing.satellite_teeth"], design["gearing.pins"]
     e, k = design["gearing.eccentricity_mm"], z2 - z1
     Rp, K1 = design["gearing.pin_circle_radius_mm"], design["gearing.curtate_ratio"]
-    if K1 is not None:
-        return e * z2 / (k * K1), K1, 1.0 - K1
-    return Rp, e * z2 / (k * Rp), (k * Rp - e * z2) / (k * Rp)
+    Rp, omk = pins.pin_circle(z1, z2, e, math.nan if Rp is None else Rp, math.nan if K1 is None else K1,
+                              pins.SCALAR_OPS)
+    return Rp, (e * z2 / (k * Rp) if K1 is None else K1), omk
 
 
 DEFAULT_FRICTION_MODEL = "consistent"
@@ -252,7 +256,7 @@ def check(design, problems: Problems) -> None:
                 problems.error("gearing.pin_circle_radius_mm",
                                f"= {_fmt(Rp)}: K1 = e*z2/(k*R_p) = {_fmt(K1)} must be < 1: R_p must exceed "
                                f"e*z2/k = {_fmt(e * z2 / k)} mm (or reduce gearing.eccentricity_mm = {_fmt(e)})")
-        limit = Rp * math.sin(math.pi / z2)
+        limit = float(geo.overlap_limit[0])        # R_p sin(pi/z2) (gearcalc.pins.geometry_violations)
         if geo.overlap[0]:
             problems.error("gearing.pin_radius_mm", f"= {_fmt(Rb)}: pins overlap: R_b must be < R_p*sin(pi/z2) = "
                                                     f"{_fmt(limit)} mm (R_p = {_fmt(Rp)} mm, z2 = {z2})")
@@ -730,7 +734,7 @@ class IdealColumns:
         self.__dict__.update(kw)
 
     def detail(self, i: int, design) -> dict:
-        from .. import pins
+        from .. import pins, pins_outputs
 
         k, cyc = int(self.gi[i]), self.cyc
         g = pins.Cycloid(int(self.z1[i]), int(self.z2[i]), float(self.e[i]), float(self.Rp[i]), float(self.Rb[i]),
@@ -745,7 +749,7 @@ class IdealColumns:
         if consistent and T_sat is not None:
             # the friction-consistent T_sat: from T_V of the consistent efficiency (torque_in/out, pins.md §4.9)
             T_V = self.columns["torque_in_Nm" if sigma == pins.MULTIPLIER else "torque_out_Nm"][i]
-            T_sat = None if T_V is None else T_V * 1000.0 / int(self.n_d[i])
+            T_sat = None if T_V is None else pins_outputs.satellite_torque(T_V, int(self.n_d[i]))
         return _detail_tables(g, sigma, st, t, float(self.mu[i]), T_sat, None if w_V is None else -w_V,
                               bool(self.rolls[i]), int(self.n_d[i]), hist, consistent)
 
@@ -771,7 +775,6 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
         e, Rb, K1g, Rpg = (num(key) for key in ("gearing.eccentricity_mm", "gearing.pin_radius_mm",
                                                 "gearing.curtate_ratio", "gearing.pin_circle_radius_mm"))
         rot, r = bool(values("gearing.rotating_pins")[0]), num("gearing.axle_radius_mm")
-        useK = K1g == K1g
         xp = pins.SCALAR_OPS
     else:
         z1 = np.array(values("gearing.satellite_teeth"), dtype=np.int64)
@@ -781,11 +784,9 @@ def _ideal_columns(values, n: int, options: Options, detail: bool = False) -> Id
         n_d = np.array(values("gearing.discs"), dtype=np.int64)
         rot = np.array([bool(v) for v in values("gearing.rotating_pins")])
         r = _floats(values("gearing.axle_radius_mm"))
-        useK = ~np.isnan(K1g)                 # pins.md §7: R_p or K1 (as _pin_circle); NaN raises no warning
         xp = pins.ARRAY_OPS
     k = z2 - z1
-    Rp = xp.where(useK, e * z2 / (k * K1g), Rpg)
-    omk = xp.where(useK, 1.0 - K1g, (k * Rp - e * z2) / (k * Rp))
+    Rp, omk = pins.pin_circle(z1, z2, e, Rpg, K1g, xp)     # pins.md §7: R_p or K1; NaN raises no warning
     K1 = e * z2 / (k * Rp)                    # as pins.Cycloid.K1
     if one:
         gi = np.zeros(1, dtype=np.int64)
@@ -914,126 +915,46 @@ def _friction_models(values, n: int, errors: list) -> list:
 
 _PEAK_KEYS = ("pin_force_max_N", "pin_force_max_phase_deg", "pin_loss_max_W", "pin_loss_max_phase_deg", "loss_peak_W",
               "pin_loss_bound_W")
-STEEL_E_MPA, STEEL_NU = 2.1e5, 0.3
-"""Steel pins and satellite (the Hertz contact stress; the contact level's ``hertz`` law is steel too)."""
+
+_CONSISTENT_FIELDS = (   # summary field <- gearcalc.pins_outputs.ConsistentPoint field
+    ("crank_torque_mean_Nm", "crank_torque_mean"), ("crank_torque_ripple_Nm", "crank_torque_ripple"),
+    ("bearing_force_max_N", "bearing_force_max"), ("bearing_force_mean_N", "bearing_force_mean"),
+    ("contact_stress_max_MPa", "contact_stress_max"), ("axle_pressure_max_MPa", "axle_pressure_max"),
+    ("efficiency", "efficiency"), ("efficiency_err", "efficiency_err"), ("self_locking", "self_locking"),
+    ("efficiency_multiplier", "eta_vh"), ("efficiency_multiplier_err", "eta_vh_err"),
+    ("efficiency_reducer", "eta_hv"), ("efficiency_reducer_err", "eta_hv_err"),
+    ("loss_ratio", "loss_ratio"), ("loss_ratio_err", "loss_ratio_err"),
+    ("torque_in_Nm", "torque_in"), ("torque_out_Nm", "torque_out"), ("loss_mean_W", "loss_mean"),
+    ("tolerance_met", "converged"), ("n_crank", "n_crank"),
+    ("pin_force_max_N", "force_max"), ("pin_force_max_phase_deg", "force_phase"),
+    ("pin_loss_max_W", "loss_max"), ("loss_peak_W", "loss_peak"), ("pin_loss_max_phase_deg", "loss_phase"),
+    ("pin_loss_bound_W", "loss_bound"))
+_OUTPUT_KEYS = _CONSISTENT_FIELDS[:6]   # pins.md §8: every admissible point gets them (first-order ones too)
 
 
 def _consistent_fields(cyc, gi, status, cons_mask, values, n, op, mu, rolls, rot, r, z1, k, n_d, T_sat, w_V, tol):
     """The friction-consistent efficiencies, torques and peaks (pins.md §4.9) of the points whose model is
-    "consistent", and the outputs of pins.md §8 every point gets (crank torque, crank-bearing force, contact
-    stress, axle pressure): per field an array over the n points, or the one point's float (NaN: undefined),
-    plus ``_consistent`` (mask of the points whose efficiency fields are replaced), ``_peaks`` (those whose
-    peaks are replaced: one disc) and ``_multi_disc`` (consistent points with several discs, whose peaks stay
-    first-order).  One point runs the same formulas on Python floats (:data:`gearcalc.pins.SCALAR_OPS`, as
-    :func:`_ideal_columns`): the same numbers as in a batch, without numpy calls on one-element arrays."""
+    "consistent", and the outputs of pins.md §8 every point gets (:func:`gearcalc.pins_outputs.consistent_outputs`):
+    per summary field an array over the n points, or the one point's float (NaN: undefined), plus ``_consistent``
+    (mask of the points whose efficiency fields are replaced), ``_peaks`` (those whose peaks are replaced: one
+    disc), ``_multi_disc`` (consistent points with several discs, whose peaks stay first-order) and
+    ``_torque_scale``."""
     import numpy as np
 
-    from .. import pins
+    from .. import pins_outputs
 
     one = n == 1
-    cons_mask = np.asarray(cons_mask)
-    nd_a = np.zeros(n, dtype=np.int64) + np.asarray(n_d)
-    good = (np.zeros(n, dtype=np.int64) + np.asarray(status)) == 0
-    cons = cons_mask & good
-    flags = {"_consistent": cons, "_multi_disc": cons & (nd_a > 1), "_peaks": cons & (nd_a == 1)}
-    keys = ("crank_torque_mean_Nm", "crank_torque_ripple_Nm", "bearing_force_max_N", "bearing_force_mean_N",
-            "contact_stress_max_MPa", "axle_pressure_max_MPa")
-    if not good.any():
-        return {**{key: (math.nan if one else np.full(n, np.nan)) for key in keys}, **flags}
-    sel = np.flatnonzero(good)
     modes = [op["load.mode"]] if one else op["load.mode"]
-    multiplier = np.array([m == "multiplier" for m in modes])[sel]
-    mu_a = np.zeros(n) + np.asarray(mu, dtype=float)
-    mu_c = np.where(cons[sel], mu_a[sel], 0.0)           # first-order points: friction-free forces
-    cc = pins.consistent_cycles(cyc, gi[sel], mu_c, nd_a[sel], tol,
-                                mode=np.where(multiplier, pins.MULTIPLIER, pins.REDUCER))
-    b = _floats(values("contact.face_width_mm"))[sel]
-    f_sl = _floats(values("friction.sliding"))[sel]
-    rel_abs = np.asarray(cyc.rel_abs)[gi[sel]]
-    if one:                                             # Python floats from here on
-        xp = pins.SCALAR_OPS
-        c = {f: (getattr(cc, f)[..., 0].tolist()) for f in cc.__dataclass_fields__}
-        pt = dict(cons=bool(cons[0]), multiplier=bool(multiplier[0]), mu=float(mu_a[0]), T_sat=float(T_sat),
-                  w_V=float(w_V), r=float(r), rot=bool(rot), rolls=bool(rolls), z1=int(z1), k=int(k),
-                  n_d=int(nd_a[0]), b=float(b[0]), f=float(f_sl[0]), rel_abs=float(rel_abs[0]),
-                  T=float(op["load.torque_Nm"]), on_V=op["load.torque_shaft"] == "V")
-    else:
-        xp = pins.ARRAY_OPS
-        c = {f: getattr(cc, f) for f in cc.__dataclass_fields__}
-
-        def at(x, dtype=float):
-            return (np.zeros(n, dtype=dtype) + np.asarray(x, dtype=dtype))[sel]
-        pt = dict(cons=cons[sel], multiplier=multiplier, mu=mu_a[sel], T_sat=at(T_sat), w_V=at(w_V), r=at(r),
-                  rot=at(rot, bool), rolls=at(rolls, bool), z1=at(z1, np.int64), k=at(k, np.int64), n_d=nd_a[sel],
-                  b=b, f=f_sl, rel_abs=rel_abs, T=at(op["load.torque_Nm"]),
-                  on_V=np.array([w == "V" for w in op["load.torque_shaft"]])[sel])
-    out = _point_fields(xp, c, **pt)
-    if one:
-        return {**{key: (v.item() if hasattr(v, "item") else v) for key, v in out.items()}, **flags}
-    full = {}
-    for key, v in out.items():
-        v = np.asarray(v)
-        arr = np.full(n, np.nan) if v.dtype.kind == "f" else np.zeros(n, dtype=v.dtype)
-        arr[sel] = v
-        full[key] = arr
-    return {**full, **flags}
-
-
-def _point_fields(xp, c, cons, multiplier, mu, T_sat, w_V, r, rot, rolls, z1, k, n_d, b, f, rel_abs, T, on_V):
-    """The formulas of :func:`_consistent_fields` per point (floats with SCALAR_OPS, arrays with ARRAY_OPS).
-
-    ``c``: the ConsistentCycles fields (row 0 reducer, row 1 multiplier; the peaks of the point's own mode).
-    First-order points (``cons`` false) get the outputs of pins.md §8 from their friction-free forces
-    (T_sat of the first-order efficiency); consistent ones everything from the friction-consistent model."""
-    from .. import hertz, units
-
-    nan = xp.nan
-    e_star = hertz.contact_modulus(STEEL_E_MPA, STEEL_NU, STEEL_E_MPA, STEEL_NU)
-    lam_R, lam_M = c["loss_ratio"][0], c["loss_ratio"][1]
-    err_R, err_M = c["err"][0], c["err"][1]
-    jam_R, jam_M = c["jammed"][0], c["jammed"][1]
-    eta_vh0 = 1.0 - lam_M
-    locked_M = jam_M | xp.logical_not(eta_vh0 > 0.0)
-    locked_R = jam_R
-    eta_vh = xp.where(locked_M, nan, eta_vh0)
-    eta_hv = xp.where(locked_R, nan, 1.0 / (1.0 + lam_R))
-    u = z1 / k
-    T_V = xp.where(on_V, T, xp.where(multiplier, u * T / eta_vh, eta_hv * u * T))
-    T_H = xp.where(on_V, xp.where(multiplier, eta_vh * T / u, T / (eta_hv * u)), T)
-    Ts = xp.where(cons, units.nm_to_nmm(T_V) / n_d, T_sat)     # first-order points: their own T_sat
-    P = mu * Ts * w_V
-    F = Ts * c["force"]
-    err_hv = err_R / ((1.0 + lam_R) * (1.0 + lam_R))
-    out = {
-        "bearing_force_max_N": Ts * c["bearing_max"], "bearing_force_mean_N": Ts * c["bearing_mean"],
-        "contact_stress_max_MPa": hertz.peak_pressure(Ts * c["stress"], b, 1.0, e_star) * 1.0,
-        "axle_pressure_max_MPa": xp.where(rot, F / (2.0 * r * b), nan),
-        "crank_torque_mean_Nm": xp.where(cons, _nmm_to_nm(Ts * c["crank_mean"]), nan),
-        "crank_torque_ripple_Nm": xp.where(cons, _nmm_to_nm(Ts * (c["crank_max"] - c["crank_min"])), nan),
-        # the friction-consistent efficiencies and torques (pins.md §4.9)
-        "efficiency": xp.where(multiplier, eta_vh, eta_hv),
-        "efficiency_err": xp.where(multiplier, xp.where(locked_M, nan, err_M), xp.where(locked_R, nan, err_hv)),
-        "self_locking": xp.where(multiplier, locked_M, locked_R),
-        "efficiency_multiplier": eta_vh, "efficiency_multiplier_err": xp.where(locked_M, nan, err_M),
-        "efficiency_reducer": eta_hv, "efficiency_reducer_err": xp.where(locked_R, nan, err_hv),
-        "loss_ratio": xp.where(multiplier, lam_M, lam_R), "loss_ratio_err": xp.where(multiplier, err_M, err_R),
-        "torque_in_Nm": xp.where(multiplier, T_V, T_H), "torque_out_Nm": xp.where(multiplier, T_H, T_V),
-        "loss_mean_W": xp.where(multiplier, lam_M, lam_R) * T_V * w_V,
-        "tolerance_met": xp.where(multiplier, c["converged"][1] | jam_M, c["converged"][0] | jam_R),
-        "n_crank": xp.maximum(c["n_crank"][0], c["n_crank"][1]),
-        # the peaks of the point's own mode (one disc)
-        "pin_force_max_N": F, "pin_force_max_phase_deg": xp.degrees(c["force_phase"]),
-        "pin_loss_max_W": P * c["loss"], "loss_peak_W": P * c["total"],
-        "pin_loss_max_phase_deg": xp.where(xp.isnan(P), nan, xp.degrees(c["loss_phase"])),
-        "pin_loss_bound_W": xp.where(rolls, mu, f) * F * (w_V * rel_abs) * 1e-3,
-        "_torque_scale": Ts / T_sat,     # friction-consistent over first-order T_sat (the multi-disc peaks)
-    }
-    return out
-
-
-def _nmm_to_nm(x):
-    """A torque in N·mm as N·m."""
-    return x / 1000.0
+    shafts = [op["load.torque_shaft"]] if one else op["load.torque_shaft"]
+    p, cons = pins_outputs.consistent_outputs(
+        cyc, gi, status, np.asarray(cons_mask), np.array([m == "multiplier" for m in modes]), mu, T_sat, w_V, r, rot,
+        rolls, z1, k, n_d, _floats(values("contact.face_width_mm")), _floats(values("friction.sliding")),
+        op["load.torque_Nm"], np.array([w == "V" for w in shafts]), tol)
+    nd_a = np.zeros(n, dtype=np.int64) + np.asarray(n_d)
+    flags = {"_consistent": cons, "_multi_disc": cons & (nd_a > 1), "_peaks": cons & (nd_a == 1)}
+    if p is None:                                 # no admissible point
+        return {**{key: (math.nan if one else np.full(n, np.nan)) for key, _ in _OUTPUT_KEYS}, **flags}
+    return {**{key: getattr(p, name) for key, name in _CONSISTENT_FIELDS}, "_torque_scale": p.torque_scale, **flags}
 
 
 def _plain(x):
@@ -1479,26 +1400,21 @@ def _detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, his
     friction-consistent ones (pins.md §4.9)."""
     import numpy as np
 
-    from .. import pins
+    from .. import pins, pins_outputs
 
     d = pins.cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d,
                           denominator=hist["D"] if consistent else None)
     cols = {"theta_deg": d.theta, "TE_arcsec": np.zeros(d.theta.size), "loss_ratio": d.loss_ratio,
             "loss_W": d.loss, "loaded_pins": d.loaded}
     if hist is not None:
-        theta_node = t * 360.0 / g.z2 if sigma == pins.MULTIPLIER else (1.0 - t) * 360.0 / g.z2
-        order = np.argsort(theta_node, kind="stable")            # as cycle_detail orders the nodes
         have = T_sat is not None
-        crank_t = hist["crank"] * (T_sat if have else np.nan) / 1000.0
-        if n_d > 1:                                              # all discs' torques (pins.md §12.7)
-            crank_t = pins.sum_over_discs(t, crank_t, pins.disc_offsets(n_d, g.z2), 1.0)
-        Bx, By = hist["Bx"] * (T_sat if have else np.nan), hist["By"] * (T_sat if have else np.nan)
+        cd = pins_outputs.crank_detail(hist, t, sigma, g.z2, T_sat, n_d) if have else None
         cols.update({
-            "crank_torque_Nm": crank_t[order] if have and consistent else None,
-            "bearing_force_N": np.hypot(Bx, By)[order] if have else None,
-            "bearing_radial_N": Bx[order] if have else None,
-            "bearing_tangential_N": By[order] if have else None,
-            "bearing_angle_deg": np.degrees(np.arctan2(By, Bx))[order] if have else None,
+            "crank_torque_Nm": cd.crank_torque if have and consistent else None,
+            "bearing_force_N": cd.bearing_force if have else None,
+            "bearing_radial_N": cd.bearing_radial if have else None,
+            "bearing_tangential_N": cd.bearing_tangential if have else None,
+            "bearing_angle_deg": cd.bearing_angle if have else None,
         })
     crank = _rows(cols)
     contacts = _rows({"theta_deg": d.contact_theta, "pin": d.pin, "phase_deg": d.phase, "force_N": d.force,

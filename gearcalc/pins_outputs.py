@@ -1,0 +1,512 @@
+"""KHV pin gearing, ideal level: the outputs of one operating point from the friction-consistent cycles.
+
+Pure physics over floats and numpy arrays (no I/O, no design keys): the friction-consistent efficiencies
+and shaft torques (pins.md §4.9), the per-pin peaks, and the outputs of pins.md §8 (crank torque,
+crank-bearing force, Hertz contact stress, axle pressure), from the unit-torque cycle means and peaks of
+:func:`gearcalc.pins.consistent_cycles`.  Units inside: N, mm, N·mm, rad/s; torques given and returned in
+N·m; powers in W.  The functions that take ``xp`` run the same formulas on arrays over operating points
+(:data:`gearcalc.pins.ARRAY_OPS`) or on the Python floats of one point (:data:`gearcalc.pins.SCALAR_OPS`):
+the same numbers, bit for bit.
+
+References
+----------
+.. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
+   *Mashinostroenie* (seed 000), eqs. (3)-(7) and Figs 3-7 (the crank torque over the cycle).
+.. [2] M. Blagojević, N. Marjanović, Ž. Đorđević, B. Stojanović, A. Disić, "A new design of a two-stage
+   cycloidal speed reducer", *J. Mech. Des.* 133 (2011) (model 2: friction forces in the satellite's balance).
+.. [3] K. L. Johnson, *Contact Mechanics*, Cambridge 1985, eq. (4.45) (Hertz line contact).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import hertz, units
+from .pins import (ARRAY_OPS, MULTIPLIER, REDUCER, SCALAR_OPS, consistent_cycles, disc_offsets,
+                   efficiency_multiplier, efficiency_reducer, efficiency_reducer_err, shaft_torques, sum_over_discs)
+
+STEEL_E_MPA, STEEL_NU = 2.1e5, 0.3
+"""Steel pins and satellite: Young's modulus [MPa] and Poisson's ratio (the Hertz contact stress of pins.md §8;
+the contact level's ``hertz`` law is steel too)."""
+STEEL_E_STAR_MPA = hertz.contact_modulus(STEEL_E_MPA, STEEL_NU, STEEL_E_MPA, STEEL_NU)
+"""E* of steel on steel, E/(2 (1 - nu^2)) = 115384.6 MPa (:func:`gearcalc.hertz.contact_modulus`)."""
+
+
+# ------------------------------------------------------------------ efficiencies (pins.md §4.9)
+
+@dataclass(frozen=True)
+class ConsistentEfficiencies:
+    """Both modes' friction-consistent efficiencies (:func:`consistent_efficiencies`); NaN: the mode self-locks.
+
+    eta_vh, eta_vh_err : multiplier efficiency and its error [-]; eta_hv, eta_hv_err : the reducer's;
+    locked_vh, locked_hv : the mode self-locks (jams, or eta_VH <= 0)."""
+
+    eta_vh: object
+    eta_vh_err: object
+    eta_hv: object
+    eta_hv_err: object
+    locked_vh: object
+    locked_hv: object
+
+
+def consistent_efficiencies(loss_ratio_reducer, loss_ratio_multiplier, err_reducer, err_multiplier, jam_reducer,
+                            jam_multiplier, xp=ARRAY_OPS) -> ConsistentEfficiencies:
+    r"""The efficiencies of both modes from their own friction-consistent loss ratios (pins.md §4.9).
+
+    .. math::
+
+        \eta_{HV} = \frac{1}{1 + \bar\lambda_{reducer}},\quad \eta_{VH} = 1 - \bar\lambda_{multiplier},\quad
+        E_{HV} = \frac{E_{reducer}}{(1 + \bar\lambda_{reducer})^2},\quad E_{VH} = E_{multiplier}
+
+    A mode self-locks where it jams (no positive normal-force solution at some crank angle) and, the
+    multiplier, where eta_VH <= 0; its efficiency and error are then NaN.
+
+    Parameters
+    ----------
+    loss_ratio_reducer, loss_ratio_multiplier : float or array_like
+        lambda_bar of each mode [-] (NaN where it jams).
+    err_reducer, err_multiplier : float or array_like
+        their error estimates E [-].
+    jam_reducer, jam_multiplier : bool or array_like of bool
+        the mode jams.
+    xp : :data:`gearcalc.pins.ARRAY_OPS` or :data:`gearcalc.pins.SCALAR_OPS`
+
+    Returns
+    -------
+    ConsistentEfficiencies
+
+    Examples
+    --------
+    >>> ce = consistent_efficiencies(0.25, 0.2, 1e-6, 1e-6, False, False, SCALAR_OPS)
+    >>> ce.eta_hv, ce.eta_vh, ce.eta_hv_err
+    (0.8, 0.8, 6.4e-07)
+    >>> consistent_efficiencies(np.array([0.1]), np.array([1.2]), 0.0, 0.0, False, False).locked_vh.tolist()
+    [True]
+
+    References
+    ----------
+    pins.md §4.9 (efficiency from the cycle-mean powers, jam), §4.7; Blagojević et al. 2011 (model 2).
+    """
+    eta_vh0 = efficiency_multiplier(loss_ratio_multiplier)
+    locked_vh = jam_multiplier | xp.logical_not(eta_vh0 > 0.0)
+    locked_hv = jam_reducer
+    return ConsistentEfficiencies(
+        eta_vh=xp.where(locked_vh, xp.nan, eta_vh0), eta_vh_err=xp.where(locked_vh, xp.nan, err_multiplier),
+        eta_hv=xp.where(locked_hv, xp.nan, efficiency_reducer(loss_ratio_reducer)),
+        eta_hv_err=xp.where(locked_hv, xp.nan, efficiency_reducer_err(loss_ratio_reducer, err_reducer)),
+        locked_vh=locked_vh, locked_hv=locked_hv)
+
+
+# ------------------------------------------------------------------ the outputs of pins.md §8
+
+def satellite_torque(torque_V, n_discs):
+    r"""Torque on one satellite disc, T_sat = T_V/n_d [N·mm] from T_V [N·m] (pins.md §4.4, §12.7).
+
+    Examples
+    --------
+    >>> satellite_torque(800.0, 2)
+    400000.0
+
+    References
+    ----------
+    pins.md §4.4 (forces from T_sat), §12.7 (several discs share T_V equally).
+    """
+    return units.nm_to_nmm(torque_V) / n_discs
+
+
+def crank_torque(torque_sat, unit_crank_torque):
+    r"""Crank torque T_H [N·m] from T_sat [N·mm] and the unit-torque crank torque T_H/T_sat [-] (pins.md §4.9).
+
+    .. math::  T_H = \sigma e B_y = T_{sat} \hat T_H
+
+    Examples
+    --------
+    >>> crank_torque(400000.0, 0.05)     # 400 N·m on the satellite, T_H/T_sat = 1/20
+    20.0
+
+    References
+    ----------
+    pins.md §4.9 (T_H = O1 x B), §8 (crank_torque_mean_Nm, crank_torque_ripple_Nm); Prudnikov, Figs 3-7.
+    """
+    return torque_sat * unit_crank_torque / units.NMM_PER_NM
+
+
+def contact_stress(torque_sat, unit_stress, face_width, e_star):
+    r"""Peak Hertz pressure of the pin-tooth line contact, p0 [MPa] (pins.md §8; Johnson 1985, eq. 4.45).
+
+    .. math::
+
+        p_0 = \sqrt{\frac{F E^*}{\pi b R_{eff}}},\quad \frac{F}{R_{eff}} = T_{sat}\,\widehat{(F/R_{eff})},\quad
+        R_{eff} = R_b (1 - R_b/\rho_c)
+
+    Parameters
+    ----------
+    torque_sat : float or array_like
+        T_sat [N·mm].
+    unit_stress : float or array_like
+        the largest F/(T_sat R_eff) over contacts and crank angles [1/mm^2]
+        (:attr:`gearcalc.pins.ConsistentCycles.stress`).
+    face_width : float or array_like
+        b [mm] (NaN: not given; the result is then NaN).
+    e_star : float
+        contact modulus E* [MPa] (:func:`gearcalc.hertz.contact_modulus`).
+
+    Returns
+    -------
+    p0 [MPa] (a numpy float or array).
+
+    Examples
+    --------
+    >>> round(float(contact_stress(5000.0, 0.04, 10.0, 115384.6153846154)), 3)   # F/R = 200 N/mm: hertz
+    857.066
+
+    References
+    ----------
+    pins.md §8 (contact_stress_max_MPa); Johnson 1985, eq. (4.45); :func:`gearcalc.hertz.peak_pressure`.
+    """
+    return hertz.peak_pressure(torque_sat * unit_stress, face_width, 1.0, e_star) * 1.0
+
+
+def axle_pressure(force, axle_radius, face_width):
+    r"""Mean bushing-axle pressure of a rotating pin on the projected area, p = F/(2 r b) [MPa] (pins.md §8).
+
+    Parameters
+    ----------
+    force : float or array_like
+        the pin force F [N].
+    axle_radius : float or array_like
+        r [mm].
+    face_width : float or array_like
+        b [mm].
+
+    Examples
+    --------
+    >>> axle_pressure(1900.0, 0.95, 10.0)    # 1900 N on a 1.9 mm x 10 mm projected area
+    100.0
+
+    References
+    ----------
+    pins.md §8 (axle_pressure_max_MPa).
+    """
+    return force / (2.0 * axle_radius * face_width)
+
+
+def pin_loss_bound(mu_eff, rolls, sliding_friction, force_max, speed_max, xp=ARRAY_OPS):
+    r"""Upper bound of one pin's loss, eq. (7) with the peak force and the peak contact speed [W] (pins.md §8).
+
+    .. math::  P \le \mu F_{max} v_{max} 10^{-3},\quad \mu = \mu_{eff} \text{ (rolling pins) else } f
+
+    Parameters
+    ----------
+    mu_eff : float or array_like [-]; rolls : bool or array_like (the pins roll); sliding_friction : f [-].
+    force_max : F_max [N]; speed_max : the peak contact speed (|omega_V| |rho - R_b|) [mm/s].
+    xp : :data:`gearcalc.pins.ARRAY_OPS` or :data:`gearcalc.pins.SCALAR_OPS`
+
+    Examples
+    --------
+    >>> pin_loss_bound(0.05, True, 0.1, 1000.0, 200.0, SCALAR_OPS)   # 0.05 x 1000 N x 0.2 m/s
+    10.0
+
+    References
+    ----------
+    Prudnikov, eq. (7); pins.md §8 (pin_loss_bound_W).
+    """
+    return xp.where(rolls, mu_eff, sliding_friction) * force_max * speed_max * 1e-3
+
+
+@dataclass(frozen=True)
+class ConsistentPoint:
+    """The friction-consistent outputs of operating points (:func:`consistent_point`); NaN: undefined.
+
+    Efficiencies (pins.md §4.9): eta_vh, eta_vh_err, eta_hv, eta_hv_err, efficiency, efficiency_err (the point's
+    mode), self_locking, loss_ratio, loss_ratio_err (the point's mode) [-]; T_V, T_H, torque_in, torque_out
+    [N·m]; loss_mean [W]; converged (bool), n_crank (int).  Peaks of the point's own mode: force_max [N],
+    force_phase [deg], loss_max, loss_peak, loss_bound [W], loss_phase [deg].  pins.md §8: crank_torque_mean,
+    crank_torque_ripple [N·m] (all discs; NaN for first-order points), bearing_force_max, bearing_force_mean [N]
+    (one disc), contact_stress_max [MPa], axle_pressure_max [MPa] (NaN for fixed pins).  torque_scale: T_sat
+    of the friction-consistent over the first-order efficiency [-]."""
+
+    eta_vh: object
+    eta_vh_err: object
+    eta_hv: object
+    eta_hv_err: object
+    efficiency: object
+    efficiency_err: object
+    self_locking: object
+    loss_ratio: object
+    loss_ratio_err: object
+    T_V: object
+    T_H: object
+    torque_in: object
+    torque_out: object
+    loss_mean: object
+    converged: object
+    n_crank: object
+    force_max: object
+    force_phase: object
+    loss_max: object
+    loss_peak: object
+    loss_phase: object
+    loss_bound: object
+    crank_torque_mean: object
+    crank_torque_ripple: object
+    bearing_force_max: object
+    bearing_force_mean: object
+    contact_stress_max: object
+    axle_pressure_max: object
+    torque_scale: object
+
+
+def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V, axle_radius, rotating,
+                     rolls, z1, k, n_discs, face_width, sliding_friction, rel_abs, torque, torque_on_V,
+                     xp=ARRAY_OPS) -> ConsistentPoint:
+    r"""Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points, from their
+    friction-consistent unit cycles (pins.md §4.9).
+
+    Consistent points (``consistent``) take everything from the friction-consistent model; first-order points
+    get the outputs of §8 (bearing force, contact stress, axle pressure) from their friction-free forces at
+    their own (first-order) T_sat.
+
+    .. math::
+
+        T_{sat} = T_V/n_d,\quad F_{max} = T_{sat}\hat F,\quad P = \mu_{eff} T_{sat} |\omega_V| \hat P,\quad
+        \bar P = \bar\lambda T_V |\omega_V|,\quad |B| = T_{sat} \hat B,\quad T_H = T_{sat} \hat T_H,\quad
+        p_{axle} = \frac{F_{max}}{2 r b}
+
+    Parameters
+    ----------
+    c : mapping
+        the :class:`gearcalc.pins.ConsistentCycles` fields at the points (rows 0 reducer, 1 multiplier of
+        loss_ratio, err, jammed, converged, n_crank; the peaks of the point's own mode): arrays, or for one
+        point Python values (``.tolist()``).
+    consistent : bool or array_like of bool
+        the point uses the friction-consistent model (else first-order).
+    multiplier : bool or array_like of bool
+        multiplier mode (V drives H), else reducer.
+    mu_eff : float or array_like
+        [-].
+    torque_sat_first_order : float or array_like
+        T_sat of the first-order efficiency [N·mm] (:func:`gearcalc.pins.scale_unit_cycle`).
+    omega_V : float or array_like
+        |omega_V| [rad/s] (NaN: no crank speed; the powers are then NaN).
+    axle_radius : float or array_like
+        r [mm]; rotating : bool or array_like (rotating pins); rolls : bool or array_like (they roll).
+    z1, k : int or array_like
+        satellite teeth, tooth difference (u = z1/k).
+    n_discs : int or array_like
+        n_d.
+    face_width : float or array_like
+        b [mm] (NaN: not given; the stress and the axle pressure are then NaN).
+    sliding_friction : float or array_like
+        f [-].
+    rel_abs : float or array_like
+        the peak |rho - R_b| over the cycle [mm] (the contact speed per |omega_V|).
+    torque : float or array_like
+        the torque given [N·m], on V when ``torque_on_V`` else on H.
+    torque_on_V : bool or array_like of bool
+    xp : :data:`gearcalc.pins.ARRAY_OPS` or :data:`gearcalc.pins.SCALAR_OPS`
+
+    Returns
+    -------
+    ConsistentPoint
+
+    Examples
+    --------
+    >>> from gearcalc import pins
+    >>> g = pins._as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> cyc = pins.ideal_cycles(g, 1)
+    >>> cc = pins.consistent_cycles(cyc, np.array([0]), np.array([0.1]), mode=pins.REDUCER)
+    >>> c = {f: getattr(cc, f)[..., 0].tolist() for f in cc.__dataclass_fields__}
+    >>> p = consistent_point(c, True, False, 0.1, 1.0, 10.0, 0.95, False, False, 20, 2, 1, 10.0, 0.1, 1.0,
+    ...                      100.0, False, SCALAR_OPS)
+    >>> round(p.crank_torque_mean, 4)          # the cycle mean of the crank torque is the torque on H (1e-8)
+    100.0
+
+    References
+    ----------
+    pins.md §4.9, §8; Prudnikov, eq. (7) and Figs 3-7; Blagojević et al. 2011 (model 2).
+    """
+    nan = xp.nan
+    e_star = STEEL_E_STAR_MPA
+    lam_R, lam_M = c["loss_ratio"][0], c["loss_ratio"][1]
+    err_R, err_M = c["err"][0], c["err"][1]
+    jam_R, jam_M = c["jammed"][0], c["jammed"][1]
+    ce = consistent_efficiencies(lam_R, lam_M, err_R, err_M, jam_R, jam_M, xp)
+    T_V, T_H = shaft_torques(torque, z1 / k, ce.eta_vh, ce.eta_hv, multiplier, torque_on_V, xp)
+    Ts = xp.where(consistent, satellite_torque(T_V, n_discs), torque_sat_first_order)   # first-order: its own
+    P = mu_eff * Ts * omega_V
+    F = Ts * c["force"]
+    lam = xp.where(multiplier, lam_M, lam_R)
+    return ConsistentPoint(
+        eta_vh=ce.eta_vh, eta_vh_err=ce.eta_vh_err, eta_hv=ce.eta_hv, eta_hv_err=ce.eta_hv_err,
+        efficiency=xp.where(multiplier, ce.eta_vh, ce.eta_hv),
+        efficiency_err=xp.where(multiplier, ce.eta_vh_err, ce.eta_hv_err),
+        self_locking=xp.where(multiplier, ce.locked_vh, ce.locked_hv),
+        loss_ratio=lam, loss_ratio_err=xp.where(multiplier, err_M, err_R),
+        T_V=T_V, T_H=T_H, torque_in=xp.where(multiplier, T_V, T_H), torque_out=xp.where(multiplier, T_H, T_V),
+        loss_mean=lam * T_V * omega_V,
+        converged=xp.where(multiplier, c["converged"][1] | jam_M, c["converged"][0] | jam_R),
+        n_crank=xp.maximum(c["n_crank"][0], c["n_crank"][1]),
+        force_max=F, force_phase=xp.degrees(c["force_phase"]),
+        loss_max=P * c["loss"], loss_peak=P * c["total"],
+        loss_phase=xp.where(xp.isnan(P), nan, xp.degrees(c["loss_phase"])),
+        loss_bound=pin_loss_bound(mu_eff, rolls, sliding_friction, F, omega_V * rel_abs, xp),
+        crank_torque_mean=xp.where(consistent, crank_torque(Ts, c["crank_mean"]), nan),
+        crank_torque_ripple=xp.where(consistent, crank_torque(Ts, c["crank_max"] - c["crank_min"]), nan),
+        bearing_force_max=Ts * c["bearing_max"], bearing_force_mean=Ts * c["bearing_mean"],
+        contact_stress_max=contact_stress(Ts, c["stress"], face_width, e_star),
+        axle_pressure_max=xp.where(rotating, axle_pressure(F, axle_radius, face_width), nan),
+        torque_scale=Ts / torque_sat_first_order)
+
+
+def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
+                       axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque,
+                       torque_on_V, tol: float = 1e-6):
+    """:func:`consistent_point` of n operating points of solved gears (pins.md §4.9, §8), the admissible ones.
+
+    Runs :func:`gearcalc.pins.consistent_cycles` for the points whose gear is admissible (``status`` 0) with
+    their mu_eff (0 for first-order points: friction-free forces) and mode, then :func:`consistent_point`.
+    One point (n = 1: scalars in, Python floats out, :data:`gearcalc.pins.SCALAR_OPS`) runs the same formulas
+    as many (arrays over the points, NaN where a gear is inadmissible): the same numbers, bit for bit.
+
+    Parameters
+    ----------
+    cyc : :class:`gearcalc.pins.IdealCycles`
+    gear : ndarray of int, shape (n,)
+        each point's gear in ``cyc``.
+    status : int or ndarray (n,)
+        each point's admissibility status (0: admissible).
+    consistent, multiplier, torque_on_V : ndarray of bool, shape (n,)
+    mu_eff, torque_sat_first_order, omega_V, axle_radius, rotating, rolls, z1, k, n_discs : scalar or (n,)
+    face_width, sliding_friction : ndarray, shape (n,)
+    torque : float or ndarray (n,)
+    tol : relative accuracy target of the cycle means.
+
+    Returns
+    -------
+    fields : ConsistentPoint or None
+        None when no point is admissible; else arrays over the n points (NaN where inadmissible), or the one
+        point's Python values.
+    consistent : ndarray of bool, shape (n,)
+        the admissible consistent points.
+
+    Examples
+    --------
+    >>> from gearcalc import pins
+    >>> g = pins._as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> cyc = pins.ideal_cycles(g, np.array([1]))
+    >>> one = np.array([True])
+    >>> p, cons = consistent_outputs(cyc, np.array([0]), 0, one, ~one, 0.1, 1.0, 10.0, np.nan, False, False,
+    ...                              20, 2, 1, np.array([np.nan]), np.array([0.1]), 100.0, ~one)
+    >>> round(p.efficiency, 5), round(p.crank_torque_mean, 4), p.contact_stress_max
+    (0.86061, 100.0, nan)
+
+    References
+    ----------
+    pins.md §4.9, §6 (the error estimate), §8.
+    """
+    n = len(consistent)
+    one = n == 1
+    nd_a = np.zeros(n, dtype=np.int64) + np.asarray(n_discs)
+    good = (np.zeros(n, dtype=np.int64) + np.asarray(status)) == 0
+    cons = np.asarray(consistent) & good
+    if not good.any():
+        return None, cons
+    sel = np.flatnonzero(good)
+    mult = np.asarray(multiplier)[sel]
+    mu_a = np.zeros(n) + np.asarray(mu_eff, dtype=float)
+    mu_c = np.where(cons[sel], mu_a[sel], 0.0)           # first-order points: friction-free forces
+    cc = consistent_cycles(cyc, gear[sel], mu_c, nd_a[sel], tol, mode=np.where(mult, MULTIPLIER, REDUCER))
+    b, f_sl = np.asarray(face_width)[sel], np.asarray(sliding_friction)[sel]
+    rel_abs = np.asarray(cyc.rel_abs)[gear[sel]]
+    if one:                                             # Python floats from here on
+        c = {f: (getattr(cc, f)[..., 0].tolist()) for f in cc.__dataclass_fields__}
+        p = consistent_point(c, bool(cons[0]), bool(mult[0]), float(mu_a[0]), float(torque_sat_first_order),
+                             float(omega_V), float(axle_radius), bool(rotating), bool(rolls), int(z1), int(k),
+                             int(nd_a[0]), float(b[0]), float(f_sl[0]), float(rel_abs[0]), float(torque),
+                             bool(np.asarray(torque_on_V)[0]), SCALAR_OPS)
+        return ConsistentPoint(**{key: (v.item() if hasattr(v, "item") else v)
+                                  for key, v in p.__dict__.items()}), cons
+    c = {f: getattr(cc, f) for f in cc.__dataclass_fields__}
+
+    def at(x, dtype=float):
+        return (np.zeros(n, dtype=dtype) + np.asarray(x, dtype=dtype))[sel]
+
+    p = consistent_point(c, cons[sel], mult, mu_a[sel], at(torque_sat_first_order), at(omega_V), at(axle_radius),
+                         at(rotating, bool), at(rolls, bool), at(z1, np.int64), at(k, np.int64), nd_a[sel], b, f_sl,
+                         rel_abs, at(torque), np.asarray(torque_on_V)[sel], ARRAY_OPS)
+    full = {}
+    for key, v in p.__dict__.items():
+        v = np.asarray(v)
+        arr = np.full(n, np.nan) if v.dtype.kind == "f" else np.zeros(n, dtype=v.dtype)
+        arr[sel] = v
+        full[key] = arr
+    return ConsistentPoint(**full), cons
+
+
+# ------------------------------------------------------------------ the crank table of pins.md §8
+
+@dataclass(frozen=True)
+class CrankDetail:
+    """The crank torque and crank-bearing force over a cycle grid, ordered by crank angle (:func:`crank_detail`).
+
+    crank_torque [N·m] (all discs, along the power flow); bearing_force, bearing_radial (along the crank arm,
+    outward), bearing_tangential [N] (one disc); bearing_angle [deg] (from the crank arm)."""
+
+    crank_torque: np.ndarray
+    bearing_force: np.ndarray
+    bearing_radial: np.ndarray
+    bearing_tangential: np.ndarray
+    bearing_angle: np.ndarray
+
+
+def crank_detail(history, t, sigma: int, z2: int, torque_sat: float, n_discs: int = 1) -> CrankDetail:
+    r"""Crank torque and crank-bearing force at the nodes of a cycle grid, ordered by crank angle (pins.md §8).
+
+    .. math::
+
+        T_H(\theta) = \sum_{discs} T_{sat} \hat T_H(\theta + \Delta_d),\quad B = T_{sat} \hat B,\quad
+        |B| = \sqrt{B_x^2 + B_y^2},\quad \angle B = \operatorname{atan2}(B_y, B_x)
+
+    Parameters
+    ----------
+    history : mapping
+        :func:`gearcalc.pins.crank_history` at the nodes (crank = T_H/T_sat along the power flow, Bx, By per
+        N·mm of T_sat).
+    t : ndarray
+        the nodes in the cycle variable (multiplier theta = T_p t, reducer theta = T_p (1 - t)).
+    sigma : int
+        +1 reducer, -1 multiplier.
+    z2 : int
+        pins.
+    torque_sat : float
+        T_sat [N·mm per disc].
+    n_discs : int
+        n_d: the crank torques of the discs, offset by 360/n_d degrees of crank, are summed (pins.md §12.7).
+
+    Returns
+    -------
+    CrankDetail
+
+    Examples
+    --------
+    >>> from gearcalc import pins
+    >>> g = pins.Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> h = pins.crank_history(g, np.pi, np.array([0.2]), np.array([0.5]), 0.0, pins.REDUCER)
+    >>> d = crank_detail(h, np.array([0.2]), pins.REDUCER, 22, 21000.0)
+    >>> round(float(d.crank_torque[0]), 12)      # friction-free: T_H = T_sat/u = 1 N·m
+    1.0
+
+    References
+    ----------
+    pins.md §4.9 (crank-bearing force, crank torque), §8 (the detail table), §12.7 (several discs).
+    """
+    theta = t * 360.0 / z2 if sigma == MULTIPLIER else (1.0 - t) * 360.0 / z2
+    order = np.argsort(theta, kind="stable")                # as gearcalc.pins.cycle_detail orders the nodes
+    T_H = history["crank"] * torque_sat / units.NMM_PER_NM
+    if n_discs > 1:
+        T_H = sum_over_discs(t, T_H, disc_offsets(n_discs, z2), 1.0)
+    Bx, By = history["Bx"] * torque_sat, history["By"] * torque_sat
+    return CrankDetail(crank_torque=T_H[order], bearing_force=np.hypot(Bx, By)[order], bearing_radial=Bx[order],
+                       bearing_tangential=By[order], bearing_angle=np.degrees(np.arctan2(By, Bx))[order])
