@@ -16,13 +16,17 @@ erratically (kinks) or only to first order (jumps), so:
   within it;
 * doubling stops when ``E <= max(tol |Q|, atol)`` on two successive doublings, or at ``n_max``.
 
+Two drivers apply this rule: :func:`integrate_adaptive` (one integral; a piece is doubled only while it
+needs it) and :func:`integrate_pieces` (many integrals at once, all pieces of an integral doubled
+together; its docstring says why both remain).
+
 Boundary layers (a feature of width ``w`` at a breakpoint) are resolved by geometric grading,
 :func:`geometric_breakpoints`, which adds breakpoints at ``x0 + L q^m``.  Breakpoints that are not
 known in closed form (the sign changes of a contact penetration at a compliant contact level) are
 located by :func:`sign_change_breakpoints` with the shared bracketed root finder.
 
-Everything is vectorised: the integrand receives arrays of nodes (in chunks) and may return
-several components at once, each accepted on its own relative tolerance.
+Everything is vectorised: the integrand receives arrays of nodes (in chunks, for
+:func:`integrate_pieces`).
 """
 from __future__ import annotations
 
@@ -37,14 +41,14 @@ from .roots import bisect
 
 @dataclass
 class QuadResult:
-    """The result of :func:`integrate_piecewise`.
+    """The result of :func:`integrate_adaptive`.
 
-    value : Richardson value(s), shape (m,) for m components [unit of f x unit of x].
-    err : conservative error estimate(s) |Q_2N - Q_N|, shape (m,).
-    trapezoid : the finest plain trapezoid value(s) Q_2N, shape (m,).
+    value : Richardson value, shape (1,) [unit of f x unit of x].
+    err : conservative error estimate |Q_2N - Q_N|, shape (1,).
+    trapezoid : the finest plain trapezoid value Q_2N, shape (1,).
     n : total number of intervals of the finest level.
     converged : whether the tolerance was met on two successive doublings.
-    levels : number of doublings done.
+    levels : the most doublings of a piece.
     edges : piece ends, shape (p + 1,).
     n_piece : intervals per piece at the finest level, shape (p,).
     """
@@ -159,123 +163,109 @@ def sign_change_breakpoints(g, a: float, b: float, n_scan: int, xtol: float) -> 
     return np.sort(res.root)
 
 
-def _evaluate(f, x, mid, m_expected, chunk):
-    out = []
-    for s in range(0, x.size, chunk):
-        v = np.asarray(f(x[s:s + chunk], mid[s:s + chunk]), dtype=float)
-        out.append(np.atleast_2d(v) if v.ndim <= 1 else v)
-    vals = np.concatenate(out, axis=1) if out else np.zeros((m_expected or 1, 0))
-    return vals
+def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n_start: int = 128,
+                       n_max: int = 2 ** 12, min_levels: int = 2, n_initial=None) -> QuadResult:
+    r"""Piecewise composite trapezoid with Richardson extrapolation, refined piece by piece (pins.md §6, §12.6).
 
+    The rule of the module docstring (first level ``n_start`` intervals shared out in proportion to the
+    piece lengths, at least 2 per piece; node counts then doubled exactly, only the new nodes evaluated;
+    one-sided piece ends; the integrand ``f(x, mid)`` told the piece midpoint), but a piece is doubled only
+    while it needs it.  Every piece is doubled ``min_levels`` times; then, with the piece
+    estimates e_p = T_2N,p - T_N,p of each piece's last doubling and e'_p of the one before,
 
-def integrate_piecewise(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n_start: int = 16,
-                        n_max: int = 2 ** 20, accept_levels: int = 2, chunk: int = 2 ** 15,
-                        min_levels: int = 2, n_initial=None) -> QuadResult:
-    """Integrate ``f`` over [min(breakpoints), max(breakpoints)], smooth between the breakpoints.
+    .. math::
 
-    Composite trapezoid on every piece, node doubling, Richardson value and conservative error
-    (module docstring).  The first level has ``n_start`` intervals over the whole range, shared
-    out in proportion to the piece lengths with at least 2 per piece.
+        Q = \sum_p T_{2N,p} + e_p/3,\qquad E = \Big|\sum_p e_p\Big|
 
-    Parameters
-    ----------
-    f : callable ``f(x, mid)`` -> array (n,) or (m, n): the integrand at nodes ``x`` of pieces
-        whose midpoints are ``mid`` (decide set membership from ``mid``, never from ``x``, so that
-        piece ends are one-sided limits).
-    breakpoints : the range ends and every point where f may jump or kink [unit of x].
-    tol : relative tolerance on each component, > 0.
-    atol : absolute floor of the tolerance [unit of the integral].
-    n_start : intervals of the first level.
-    n_max : cap on the total number of intervals.
-    accept_levels : successive doublings that must meet the tolerance.
-    chunk : largest number of nodes passed to f at once (memory bound).
-    min_levels : least number of doublings done.
-    n_initial : intervals per piece of the first level (overrides ``n_start``), e.g. 10 x the
-        ``n_piece`` of an earlier run on the same breakpoints for a uniformly 10x finer check.
+    is accepted when E <= max(tol |Q|, atol) and |sum_p e'_p| <= max(tol |Q|, atol): the rule of two
+    successive doublings, with each piece's own last two (the same estimate and rule as uniform
+    doubling, |Q_2N - Q_N|, when every piece has been doubled equally often).  Otherwise the pieces
+    with the largest max(|e_p|, |e'_p|) are doubled, largest first, until the others hold at most half
+    of the tolerance (the tiny pieces of a geometric grading, whose estimates are far below it, stop
+    after ``min_levels`` doublings), as many of them as ``n_max`` intervals in all allow.  Stops
+    unconverged when not even the first of them can be doubled.
 
-    Returns
-    -------
-    QuadResult
+    ``n_initial`` (one count per piece, optional) replaces the first level's counts, e.g. a quarter of
+    the final counts of a run on nearly the same integrand (the next pass of the torque fixed point).
+
+    Returns a :class:`QuadResult` (value and err of one component; ``levels`` the most doublings of a
+    piece, ``n_piece`` the intervals per piece).  With a ``tol`` that is never met, every piece whose
+    estimate is not 0 is doubled at every level, as ``n_max`` allows: the uniform doubling of pins.md §6.
 
     Examples
     --------
-    A jump at x = 1 and a kink at x = 2: exact with the breakpoints given.
+    A jump at x = 1 and a kink at x = 2 (exact on the pieces), and a smooth piece refined alone:
 
-    >>> g = lambda x, mid: np.where(mid < 1.0, 0.0, 1.0) + np.abs(x - 2.0)
-    >>> r = integrate_piecewise(g, [0.0, 1.0, 2.0, 3.0], tol=1e-10)
-    >>> float(abs(r.value[0] - 4.5)) < 1e-12, bool(r.converged)
-    (True, True)
+    >>> g = lambda x, mid: np.where(mid < 1.0, 0.0, 1.0) + np.abs(x - 2.0) + np.where(mid > 3.0, np.exp(x), 0.0)
+    >>> r = integrate_adaptive(g, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-6)
+    >>> bool(abs(r.value[0] - (7.0 + math.e ** 4 - math.e ** 3)) <= 1e-3 * r.err[0]), r.converged, r.n_piece.tolist()
+    (True, True, [128, 128, 128, 1024])
 
     References
     ----------
-    pins.md §6 and §12.6 (rule, error estimate, adaptivity).
+    pins.md §6 (rule, error estimate), §12.6 (per-piece doubling at the contact level).
     """
     edges = unique_sorted(np.asarray(breakpoints, dtype=float))
-    if edges.size < 2:
-        raise ValueError("integrate_piecewise needs at least two distinct breakpoints")
-    length = edges[1:] - edges[:-1]
-    keep = length > 0
-    a, b = edges[:-1][keep], edges[1:][keep]
+    a, b = edges[:-1], edges[1:]
+    keep = b > a
+    a, b = a[keep], b[keep]
     edges = np.concatenate((a, b[-1:]))
-    total = b[-1] - a[0]
-    if n_initial is None:
-        n0 = np.maximum(2, np.rint(n_start * (b - a) / total)).astype(np.int64)
+    p = a.size
+    if n_initial is not None and np.size(n_initial) == p:
+        n_piece = np.maximum(2, np.asarray(n_initial)).astype(np.int64)
     else:
-        n0 = np.asarray(n_initial, dtype=np.int64)
-        if n0.shape != a.shape or np.any(n0 < 1):
-            raise ValueError(f"n_initial needs {a.size} positive interval counts, one per piece")
+        n_piece = np.maximum(2, np.rint(n_start * (b - a) / (b[-1] - a[0]))).astype(np.int64)
     mid_p = 0.5 * (a + b)
-
-    # level 0: every node of every piece
-    x, mid, piece = piece_nodes(edges, n0)
-    vals = _evaluate(f, x, mid, None, chunk)
-    m = vals.shape[0]
-    h = (b - a) / n0
-    w = np.ones(x.size)
-    counts = n0 + 1
-    start = np.concatenate(([0], np.cumsum(counts)[:-1]))
-    w[start] = 0.5
-    w[start + n0] = 0.5
-    sums = np.zeros((m, a.size))
-    np.add.at(sums.T, piece, (vals * w).T)
-    trap_p = sums * h                       # (m, p) trapezoid per piece
-    q_old = trap_p.sum(axis=1)
-    n_piece = n0.copy()
-    errs = []
+    x, mid, piece = piece_nodes(edges, n_piece)
+    w = np.where(np.concatenate(([True], piece[1:] != piece[:-1])) | np.concatenate((piece[1:] != piece[:-1], [True])),
+                 0.5, 1.0)
+    v = np.asarray(f(x, mid), dtype=float).ravel()
+    trap = np.bincount(piece, weights=v * w, minlength=p) * (b - a) / n_piece
+    e_last = np.full(p, np.nan)
+    e_prev = np.full(p, np.nan)
+    lev = np.zeros(p, dtype=np.int64)
+    act = np.arange(p)
     converged = False
-    level = 0
-    q_new = q_old
     while True:
-        if int(n_piece.sum()) * 2 > n_max and level >= min_levels:
+        if act.size == 0 or int(n_piece.sum() + n_piece[act].sum()) > n_max:
             break
-        level += 1
-        h_new = (b - a) / (2 * n_piece)
-        # new nodes: odd positions of the doubled grid, piece by piece
-        cnt = n_piece
-        pc = np.repeat(np.arange(a.size), cnt)
+        # the new (odd) nodes of the active pieces
+        cnt = n_piece[act]
+        pc = np.repeat(act, cnt)
         st = np.concatenate(([0], np.cumsum(cnt)[:-1]))
         j = np.arange(int(cnt.sum())) - np.repeat(st, cnt)
+        h_new = (b - a) / (2 * n_piece)
         xn = a[pc] + h_new[pc] * (2 * j + 1)
-        v = _evaluate(f, xn, mid_p[pc], m, chunk)
-        s = np.zeros((m, a.size))
-        np.add.at(s.T, pc, v.T)
-        trap_p = 0.5 * trap_p + h_new * s
-        n_piece = 2 * n_piece
-        q_new = trap_p.sum(axis=1)
-        e = np.abs(q_new - q_old)
-        errs.append(bool(np.all(e <= np.maximum(tol * np.abs(q_new), atol))))
-        if level >= min_levels and len(errs) >= accept_levels and all(errs[-accept_levels:]):
+        vn = np.asarray(f(xn, mid_p[pc]), dtype=float).ravel()
+        s = np.bincount(pc, weights=vn, minlength=p)[act]
+        new = 0.5 * trap[act] + h_new[act] * s
+        e_prev[act], e_last[act] = e_last[act], new - trap[act]
+        trap[act] = new
+        n_piece[act] *= 2
+        lev[act] += 1
+        if np.any(lev < min_levels):
+            act = np.nonzero(lev < min_levels)[0]
+            continue
+        Q = float(np.sum(trap + e_last / 3.0))
+        budget = max(tol * abs(Q), atol)
+        if abs(np.sum(e_last)) <= budget and abs(np.sum(e_prev)) <= budget:
             converged = True
-            q_old_final = q_old
             break
-        q_old_final = q_old
-        q_old = q_new
-        if int(n_piece.sum()) * 2 > n_max:
-            break
-    value = q_new + (q_new - q_old_final) / 3.0
-    err = np.abs(q_new - q_old_final)
-    return QuadResult(value=value, err=err, trapezoid=q_new, n=int(n_piece.sum()), converged=converged,
-                      levels=level, edges=edges, n_piece=n_piece)
+        est = np.maximum(np.abs(e_last), np.abs(e_prev))
+        order = np.argsort(-est, kind="stable")
+        rest = est.sum() - np.cumsum(est[order])          # what the unrefined pieces hold
+        k = int(np.searchsorted(-rest, -0.5 * budget)) + 1  # first count whose rest is <= budget/2
+        # within the cap on intervals: the largest estimates first
+        room = n_max - int(n_piece.sum())
+        k = min(k, int(np.searchsorted(np.cumsum(n_piece[order]), room, side="right")))
+        act = np.sort(order[:k])
+    done = np.isfinite(e_last)
+    e = np.where(done, e_last, 0.0)
+    value = float(np.sum(trap + e / 3.0))
+    err = float(abs(np.sum(e))) if np.all(done) else float("inf")
+    return QuadResult(value=np.array([value]), err=np.array([err]), trapezoid=np.array([float(trap.sum())]),
+                      n=int(n_piece.sum()), converged=converged, levels=int(lev.max()), edges=edges,
+                      n_piece=n_piece)
 
 
 # ------------------------------------------------------------------ many integrals at once
@@ -415,13 +405,22 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
                      n_start: int = 16, n_max: int = 2 ** 20, accept_levels: int = 2, min_levels: int = 2,
                      first_levels=None, n_initial=None, chunk: int = 2 ** 16,
                      max_nodes: int = 2 ** 22) -> PiecewiseBatch:
-    """Many piecewise integrals at once (one per owner), each with the rule of :func:`integrate_piecewise`.
+    """Many piecewise integrals at once (one per owner), each with uniform doubling (pins.md §6, §12.6).
 
-    Every owner's integral is the one :func:`integrate_piecewise` computes on its pieces, with the same
-    node counts, the same doubling, the same acceptance (``E <= max(tol |Q|, atol)`` on
-    ``accept_levels`` successive doublings, at least ``min_levels`` doublings, at most ``n_max``
-    intervals) and the same Richardson value and conservative error ``E = |Q_2N - Q_N|`` (pins.md §6,
-    §12.6).  Three things differ, none of which changes a result beyond round-off:
+    Every owner's pieces get the first level's node counts (``n_start`` intervals shared out in proportion
+    to the piece lengths, at least 2 per piece), and then all of an owner's pieces are doubled together;
+    an owner is accepted when ``E <= max(tol |Q|, atol)`` on ``accept_levels`` successive doublings (at
+    least ``min_levels`` doublings, at most ``n_max`` intervals), with the Richardson value
+    ``Q_2N + (Q_2N - Q_N)/3`` and the conservative error ``E = |Q_2N - Q_N|``.
+
+    Why two entry points.  :func:`integrate_adaptive` integrates one function and doubles piece by piece
+    (the contact level: a few costly integrands, pieces of very different difficulty).  This one integrates
+    the cycles of many gears in one vectorised solve (the ideal level of a batch or a sweep, and a ≤ 1 ms
+    design alone through the one-owner fast path, :func:`_one_owner`); its uniform doubling per owner keeps
+    an owner's result independent of the owners solved with it, bit for bit, which per-piece refinement
+    across a batch would not without the same bookkeeping.  Both use the same nodes
+    (:func:`piece_nodes`, :func:`nodes_of_pieces`), one-sided piece ends and Richardson step.  How the work is
+    organised, none of which changes a result beyond round-off:
 
     * the integrand is evaluated for all owners together (numpy over owners);
     * several levels are evaluated per round (``first_levels``, then a prediction from the observed
@@ -444,7 +443,9 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
     a, b : piece ends, shape (p,), a < b; the pieces of an owner are contiguous and ordered.
     owner : owner (integral) of each piece, non-decreasing, shape (p,).
     n_owner : number of owners (default: max(owner) + 1).
-    tol, atol, n_start, n_max, accept_levels, min_levels : as :func:`integrate_piecewise`.
+    tol : relative tolerance, > 0; atol : absolute floor of the tolerance [unit of the integral].
+    n_start : intervals of an owner's first level; n_max : cap on an owner's intervals.
+    accept_levels : successive doublings that must meet the tolerance; min_levels : least doublings done.
     first_levels : levels evaluated in the first round (scalar or per owner); speed only.
     n_initial : intervals per piece of the first level (overrides ``n_start``), shape (p,).
     chunk : largest number of nodes passed to f at once.

@@ -68,7 +68,7 @@ def brute(z1, z2, e, K1, Rb, f, sigma, n=100_000):
 
 def solve(z1, z2, e, K1, Rb, f, tol=1e-9, n_d=1):
     """(eta_HV, eta_VH, first-order eta_HV, eta_VH, ConsistentCycles) of one gear."""
-    g = pins._as_arrays(pins.Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb))
+    g = pins.geometry._as_arrays(pins.Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb))
     cyc = pins.ideal_cycles(g, n_d, tol=tol)
     cc = pins.consistent_cycles(cyc, np.array([0]), np.array([f]), n_d, tol=tol)
     lam = f * cyc.loss_ratio[0]
@@ -295,7 +295,7 @@ def test_reducer_torque_on_H_mean_crank_torque_and_stresses(tmp_path):
 
 
 def test_contact_stress_reduced_radius_by_finite_differences():
-    """R_eff = R_b (1 - R_b/rho_c) of :func:`gearcalc.pins._node_sums` equals the reduced radius of the pin and
+    """R_eff = R_b (1 - R_b/rho_c) of :func:`gearcalc.pins.ideal._node_sums` equals the reduced radius of the pin and
     the tooth profile whose curvature is measured by finite differences of :func:`gearcalc.pins.tooth_profile`."""
     g = pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     for psi in (0.3, 1.0, 1.9):
@@ -391,21 +391,21 @@ def test_two_discs_warn_that_their_peaks_are_first_order(tmp_path):
     assert "with several discs follow the friction-free force distribution" in r.stderr
 
 
-# ---------------------------------------------------------------- the pure output functions (gearcalc.pins_outputs)
+# ---------------------------------------------------------------- the pure output functions (gearcalc.pins.outputs)
 
 def _cycles(geometry, n_d=1):
-    g = pins._as_arrays(pins.Cycloid.from_curtate_ratio(*geometry))
+    g = pins.geometry._as_arrays(pins.Cycloid.from_curtate_ratio(*geometry))
     return pins.ideal_cycles(g, np.array([n_d]))
 
 
 @pytest.mark.parametrize("multiplier", [False, True])
 @pytest.mark.parametrize("on_V", [False, True])
 def test_consistent_outputs_crank_torque_power_identity_and_scalars_equal_arrays(multiplier, on_V):
-    """:func:`gearcalc.pins_outputs.consistent_outputs`: the cycle mean of the crank torque is the torque on H
+    """:func:`gearcalc.pins.outputs.consistent_outputs`: the cycle mean of the crank torque is the torque on H
     (its definition T_H = O1 x B, pins.md §4.9, against the shaft torque from the efficiency: 1e-7, the
     quadrature error), the mean loss is input power - output power (an exact identity of §4.7: 1e-12),
     and one point on Python floats equals the same point in an array of points bit for bit."""
-    from gearcalc import pins_outputs as po
+    from gearcalc.pins import outputs as po
 
     cyc = _cycles(PAPER_U10)
     n, f, T, n_H = 3, np.array([0.1, 0.05, 0.2]), 100.0, 1000.0
@@ -438,10 +438,10 @@ def test_consistent_outputs_crank_torque_power_identity_and_scalars_equal_arrays
 
 
 def test_consistent_efficiencies_reproduce_the_reference_model():
-    """:func:`gearcalc.pins_outputs.consistent_efficiencies` from :func:`gearcalc.pins.consistent_cycles`: the
+    """:func:`gearcalc.pins.outputs.consistent_efficiencies` from :func:`gearcalc.pins.consistent_cycles`: the
     printed values of the independent friction-consistent model (pins.md §4.9: k = 1, z1/z2 = 10/11, K1 = 0.75,
     f = 0.1: eta_HV 0.83078, eta_VH 0.84594) and, from the loss ratios alone, 1/(1 + lambda) and 1 - lambda."""
-    from gearcalc import pins_outputs as po
+    from gearcalc.pins import outputs as po
 
     *_, cc = solve(10, 11, 1.95, 0.75, 1.755, 0.1)
     ce = po.consistent_efficiencies(cc.loss_ratio[0], cc.loss_ratio[1], cc.err[0], cc.err[1], cc.jammed[0],
@@ -460,11 +460,11 @@ def test_consistent_efficiencies_reproduce_the_reference_model():
 
 
 def test_contact_stress_and_axle_pressure_against_hertz_and_closed_forms():
-    """p0 = sqrt(F E*/(pi b R)) of a steel line contact: :func:`gearcalc.pins_outputs.contact_stress` equals
+    """p0 = sqrt(F E*/(pi b R)) of a steel line contact: :func:`gearcalc.pins.outputs.contact_stress` equals
     :func:`gearcalc.hertz.peak_pressure` with E* = E/(2(1 - nu^2)) written out (Johnson 1985, eq. 4.45), and
     the axle pressure is F/(2 r b) (pins.md §8)."""
     from gearcalc import hertz
-    from gearcalc import pins_outputs as po
+    from gearcalc.pins import outputs as po
 
     e_star = 2.1e5 / (2 * (1 - 0.3 ** 2))             # steel on steel, by hand
     assert hertz.contact_modulus(po.STEEL_E_MPA, po.STEEL_NU, po.STEEL_E_MPA, po.STEEL_NU) == \
@@ -488,10 +488,10 @@ def test_contact_stress_and_axle_pressure_against_hertz_and_closed_forms():
 
 @pytest.mark.parametrize("sigma", [pins.REDUCER, pins.MULTIPLIER])
 def test_crank_detail_against_the_explicit_vector_model(sigma):
-    """:func:`gearcalc.pins_outputs.crank_detail`: the crank torque and the bearing force magnitude at the nodes
+    """:func:`gearcalc.pins.outputs.crank_detail`: the crank torque and the bearing force magnitude at the nodes
     equal the explicit vectors of :func:`brute_at` (T_H = O1 x B, |B|; 1e-12), ordered by crank angle; two
     discs give the sum of the two shifted histories, friction-free T_H = n_d T_sat/u exactly (pins.md §12.7)."""
-    from gearcalc import pins_outputs as po
+    from gearcalc.pins import outputs as po
 
     z1, z2, e, K1, Rb = PAPER_U10
     f = 0.2

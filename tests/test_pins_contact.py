@@ -1,4 +1,4 @@
-"""Tests of the pins contact level (gearcalc.pins_contact; pins.md §5, §6, §9, §12).
+"""Tests of the pins contact level (gearcalc.pins.contact; pins.md §5, §6, §9, §12).
 
 Independent references used: the ISO/TS 16281 roller constant and Palmgren's formula (pins.md §5.4);
 brute-force minimum distances by dense sampling; the ideal level's closed-form lever arms, forces,
@@ -20,8 +20,9 @@ import tomli_w
 
 from gearcalc import pins
 from gearcalc import hertz
-from gearcalc import pins_contact as pc
+from gearcalc.pins import contact as pc
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
+from gearcalc.quadrature import integrate_adaptive
 from test_pins_cli import design, run, summary  # the pins CLI helpers, shared
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -283,8 +284,6 @@ def test_dtau_dtheta_matches_the_derivative_of_the_solved_tau():
 def test_cycle_power_balance_with_friction_in_equilibrium():
     # pins.md §5.5: with the friction forces in the balance, the cycle work of the coupling and of the crank
     # bearing equals the cycle loss; the elastic energy stored in the contacts returns over a period
-    from gearcalc.quadrature import integrate_piecewise
-
     m = circular_model(friction=(0.1, 0.1, False))
     g = m.g
 
@@ -298,9 +297,11 @@ def test_cycle_power_balance_with_friction_in_equilibrium():
         loss, _, _ = pc.contact_losses(s, g.R_b, 0.1, 0.1, False)
         return np.stack([work, loss.sum(axis=(0, 1))])
 
-    q = integrate_piecewise(f, pc.cycle_breakpoints(m, tol=1e-5), tol=1e-5, n_max=2 ** 11)
-    assert abs(q.value[0] - q.value[1]) <= q.err[0] + q.err[1]
-    assert abs(q.value[0] - q.value[1]) <= 1e-5 * q.value[1]
+    bp = pc.cycle_breakpoints(m, tol=1e-5)
+    work, loss = (integrate_adaptive(lambda th, mid, i=i: f(th, mid)[i], bp, tol=1e-5, n_max=2 ** 11)
+                  for i in (0, 1))
+    assert abs(work.value[0] - loss.value[0]) <= work.err[0] + loss.err[0]
+    assert abs(work.value[0] - loss.value[0]) <= 1e-5 * loss.value[0]
 
 
 def test_reducer_and_multiplier_are_time_reverses_without_friction_in_the_balance():
@@ -648,8 +649,6 @@ def test_first_order_contact_keeps_one_loss_ratio_for_both_modes(tmp_path):
 def test_consistent_power_balance_and_mode_efficiencies_from_the_crank_torque():
     # the cycle power balance with friction in the equilibrium (pins.md §5.5): <P_H> + <P_W> = <sum P_j>; the
     # reducer's efficiency from the shaft powers <-P_W>/<P_H> equals 1/(1 + lambda_bar) within the error
-    from gearcalc.quadrature import integrate_piecewise
-
     m = circular_model(sigma=REDUCER, friction=(0.1, 0.1, False))
     g = m.g
 
@@ -661,11 +660,13 @@ def test_consistent_power_balance_and_mode_efficiencies_from_the_crank_torque():
         loss, _, _ = pc.contact_losses(s, g.R_b, 0.1, 0.1, False)
         return np.stack([T_H, loss.sum(axis=(0, 1))])
 
-    q = integrate_piecewise(f, pc.cycle_breakpoints(m, tol=1e-6), tol=1e-6, n_max=2 ** 12)
+    bp = pc.cycle_breakpoints(m, tol=1e-6)
+    P_H, loss = (integrate_adaptive(lambda th, mid, i=i: f(th, mid)[i], bp, tol=1e-6, n_max=2 ** 12).value[0]
+                 for i in (0, 1))
     P_W = -m.torque_sat * g.k / g.z1 * g.period                  # T_W omega_V over a period, T_W = +T_sat
-    assert q.value[0] + P_W == pytest.approx(q.value[1], rel=1e-6)
+    assert P_H + P_W == pytest.approx(loss, rel=1e-6)
     lam = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-7).loss_ratio
-    assert -P_W / q.value[0] == pytest.approx(1.0 / (1.0 + lam), abs=1e-7)
+    assert -P_W / P_H == pytest.approx(1.0 / (1.0 + lam), abs=1e-7)
 
 
 def test_residual_above_the_tolerance_is_an_error(tmp_path, monkeypatch):
@@ -715,6 +716,16 @@ def test_the_other_mode_seeded_by_the_mirror_gives_the_same_result():
     assert seeded.model.window is not None
 
 
+def _uniform(f, edges, tol):
+    """The uniform rule on the same pieces (gearcalc.quadrature.integrate_pieces, one integral, 128 intervals
+    first): every piece doubled at every level."""
+    from gearcalc.quadrature import integrate_pieces
+
+    edges = np.asarray(edges, dtype=float)
+    return integrate_pieces(lambda x, mid, piece: f(x, mid), edges[:-1], edges[1:], np.zeros(edges.size - 1, int),
+                            tol=tol, n_start=128, n_max=2 ** 20)
+
+
 def test_adaptive_quadrature_refines_only_the_pieces_that_need_it():
     # pins.md §12.6 (contact level): a piece is doubled only while its own estimate needs it.  Exact values:
     # int_0^1 1 dx + int_1^2 |x - 2| dx + int_2^3 x dx = 1 + 0.5 + 2.5 (trapezoid-exact pieces), and
@@ -723,16 +734,16 @@ def test_adaptive_quadrature_refines_only_the_pieces_that_need_it():
         return np.where(mid < 1.0, 1.0, np.where(mid < 2.0, np.abs(x - 2.0), np.where(mid < 3.0, x, np.exp(x))))
 
     exact = 4.0 + math.e ** 4 - math.e ** 3
-    q = pc.integrate_adaptive(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-7, n_max=2 ** 14)
+    q = integrate_adaptive(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-7, n_max=2 ** 14)
     assert q.converged and abs(q.value[0] - exact) <= q.err[0] <= 1e-7 * exact
     assert q.n_piece[:3].tolist() == [128, 128, 128]            # n_start/4 = 32 per piece, doubled twice only
     assert q.n_piece[3] > 128
-    # the uniform rule of gearcalc.quadrature spends its doublings on every piece
-    from gearcalc.quadrature import integrate_piecewise
-    u = integrate_piecewise(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-7, n_start=128, n_max=2 ** 20)
-    assert abs(u.value[0] - q.value[0]) <= u.err[0] + q.err[0] and u.n > q.n
+    # the uniform rule (integrate_pieces: every piece of an integral doubled together) spends its doublings on
+    # every piece
+    u = _uniform(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-7)
+    assert abs(u.value[0] - q.value[0]) <= u.err[0] + q.err[0] and u.n[0] > q.n
     # the cap on intervals: the largest estimates are doubled first, and the result says it is unconverged
-    capped = pc.integrate_adaptive(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-14, n_max=1024)
+    capped = integrate_adaptive(f, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-14, n_max=1024)
     assert not capped.converged and capped.n <= 1024 and abs(capped.value[0] - exact) <= capped.err[0]
 
 
@@ -742,11 +753,10 @@ def test_adaptive_quadrature_grades_a_boundary_layer_cheaply():
     from gearcalc.quadrature import geometric_breakpoints
 
     edges = np.sort(np.concatenate(([0.0, 1.0], geometric_breakpoints(0.0, 1.0, 1e-8, ratio=0.25))))
-    q = pc.integrate_adaptive(lambda x, mid: x ** (1.0 / 9.0), edges, tol=1e-6)
+    q = integrate_adaptive(lambda x, mid: x ** (1.0 / 9.0), edges, tol=1e-6)
     assert q.converged and abs(q.value[0] - 0.9) <= q.err[0] <= 1e-6 * 0.9
-    from gearcalc.quadrature import integrate_piecewise
-    u = integrate_piecewise(lambda x, mid: x ** (1.0 / 9.0), edges, tol=1e-6, n_start=128, n_max=2 ** 20)
-    assert q.n_piece.min() == 8 and q.n < u.n
+    u = _uniform(lambda x, mid: x ** (1.0 / 9.0), edges, tol=1e-6)
+    assert q.n_piece.min() == 8 and q.n < u.n[0]
 
 
 @pytest.mark.parametrize("fname,model,changes", [

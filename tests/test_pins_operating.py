@@ -1,6 +1,6 @@
 """Tests of the operating-point physics moved out of the adapter (issue 14): gearcalc.pins
 formula_losses over arrays, friction_regime, efficiency_torques, scale_unit_cycle, state_loss_ratio,
-geometry_violations; gearcalc.pins_contact cycle_at_torque, fixed_point_settled, backlash, cycle_peaks.
+geometry_violations; gearcalc.pins.contact cycle_at_torque, fixed_point_settled, backlash, cycle_peaks.
 
 Every expected value names its source on its line: the paper (seed 000, eqs. (3)-(7)), pins.md
 sections, or the scalar form of the same function (arrays and scalars must agree bit for bit).
@@ -10,8 +10,8 @@ import math
 import numpy as np
 import pytest
 
-from gearcalc import pins
-from gearcalc import pins_contact as pc
+from gearcalc import pins, units
+from gearcalc.pins import contact as pc
 from gearcalc.pins import ARRAY_OPS, MULTIPLIER, REDUCER, SCALAR_OPS, Cycloid
 
 
@@ -101,7 +101,7 @@ def test_scale_unit_cycle_scalars_equal_arrays():
         for name in pins.ScaledCycle.__dataclass_fields__:
             a, b = getattr(arr, name)[i], getattr(one, name)
             assert (a == b) or (math.isnan(a) and math.isnan(b)), name
-    assert arr.force_max[0] == pins.units.nm_to_nmm(800.0) * 0.01          # F = T_sat F_unit (pins.md §4.8 id. 8)
+    assert arr.force_max[0] == units.nm_to_nmm(800.0) * 0.01          # F = T_sat F_unit (pins.md §4.8 id. 8)
     assert arr.spin_reversals.tolist() == [1, 0]                           # psi_0 < psi* on a rolling pin only
     assert arr.sliding_speed_max[0] == 0.0 and arr.spin_abs_max[1] == 0.0   # rolling pins do not slide
     nan = pins.scale_unit_cycle(SimpleNamespace(**vals), *args[:6], np.array([np.nan, np.nan]), *args[7:])

@@ -10,11 +10,10 @@ the same numbers, bit for bit.
 
 References
 ----------
-.. [1] A. P. Prudnikov, "Power losses in pins and teeth contact area of KHV-type planetary gearing",
-   *Mashinostroenie* (seed 000), eqs. (3)-(7) and Figs 3-7 (the crank torque over the cycle).
-.. [2] M. Blagojević, N. Marjanović, Ž. Đorđević, B. Stojanović, A. Disić, "A new design of a two-stage
-   cycloidal speed reducer", *J. Mech. Des.* 133 (2011) (model 2: friction forces in the satellite's balance).
-.. [3] K. L. Johnson, *Contact Mechanics*, Cambridge 1985, eq. (4.45) (Hertz line contact).
+.. [1] Prudnikov (seed 000), cited in full in :mod:`gearcalc.pins`, eqs. (3)-(7) and Figs 3-7 (the crank
+   torque over the cycle).
+.. [2] Blagojević et al. (friction forces in the satellite's balance) and [3] Johnson 1985, eq. (4.45) (Hertz
+   line contact), cited in full in :mod:`gearcalc.pins`.
 """
 from __future__ import annotations
 
@@ -22,9 +21,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import hertz, units
-from .pins import (ARRAY_OPS, MULTIPLIER, REDUCER, SCALAR_OPS, consistent_cycles, disc_offsets,
-                   efficiency_multiplier, efficiency_reducer, efficiency_reducer_err, shaft_torques, sum_over_discs)
+from .. import hertz, units
+from .consistent import consistent_cycles
+from .cycle import disc_offsets, sum_over_discs
+from .efficiency import efficiency_multiplier, efficiency_reducer
+from .geometry import MULTIPLIER, REDUCER
+from .operating import ARRAY_OPS, SCALAR_OPS, efficiency_reducer_err, shaft_torques
+
+__all__ = ["STEEL_E_MPA", "STEEL_NU", "STEEL_E_STAR_MPA", "ConsistentEfficiencies", "consistent_efficiencies",
+           "satellite_torque", "crank_torque", "contact_stress", "axle_pressure", "pin_loss_bound", "ConsistentPoint",
+           "consistent_point", "consistent_outputs", "CrankDetail", "crank_detail"]
 
 STEEL_E_MPA, STEEL_NU = 2.1e5, 0.3
 """Steel pins and satellite: Young's modulus [MPa] and Poisson's ratio (the Hertz contact stress of pins.md §8;
@@ -314,7 +320,7 @@ def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, 
     Examples
     --------
     >>> from gearcalc import pins
-    >>> g = pins._as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> g = pins.geometry._as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> cyc = pins.ideal_cycles(g, 1)
     >>> cc = pins.consistent_cycles(cyc, np.array([0]), np.array([0.1]), mode=pins.REDUCER)
     >>> c = {f: getattr(cc, f)[..., 0].tolist() for f in cc.__dataclass_fields__}
@@ -394,7 +400,7 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
     Examples
     --------
     >>> from gearcalc import pins
-    >>> g = pins._as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> g = pins.geometry._as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> cyc = pins.ideal_cycles(g, np.array([1]))
     >>> one = np.array([True])
     >>> p, cons = consistent_outputs(cyc, np.array([0]), 0, one, ~one, 0.1, 1.0, 10.0, np.nan, False, False,

@@ -24,18 +24,19 @@ error, phi_nom = -k theta/z1) is the one unknown:
 * the satellite's angular speed d tau/d theta = -G_theta/G_tau analytically, the contact-point
   velocities, the pin spin and the per-contact losses (§5.6), reusing the loss functions of
   :mod:`gearcalc.pins`;
-* the cycle mean of the loss ratio with :func:`integrate_adaptive` (pieces doubled only where needed), the
-  breakpoints (contact entry/exit, spin reversals, crest passages) scanned and refined by Newton
-  (penetrations, with their slope along the solution) or secant steps (§6);
+* the cycle mean of the loss ratio with :func:`gearcalc.quadrature.integrate_adaptive` (pieces doubled only
+  where needed), the breakpoints (contact entry/exit, spin reversals, crest passages) scanned and refined
+  by Newton (penetrations, with their slope along the solution) or secant steps (§6);
 * the torque fixed point (§7): a coarse loss ratio from the window's scan, then full passes until the
   contraction estimated from the last two passes says the remaining change is below tol/10.
 
-Why a separate module: the formula and ideal levels (:mod:`gearcalc.pins`) are closed-form
-geometry evaluated pointwise; this level carries its own state (profiles, a contact law, a solved
-pose per crank angle, a cycle cache) and is only imported when a design needs it.  It reuses
-:class:`gearcalc.pins.Cycloid`, :func:`~gearcalc.pins.pin_centre_curve`,
-:func:`~gearcalc.pins.crest_cutoff`, :func:`~gearcalc.pins.tooth_profile`,
-:func:`~gearcalc.pins.pin_phase` and the loss/efficiency functions there.
+Why a module of its own: the formula and ideal levels (the other modules of :mod:`gearcalc.pins`) are
+closed-form geometry evaluated pointwise; this level carries its own state (profiles, a contact law, a
+solved pose per crank angle, a cycle cache) and is only imported when a design needs it.  It reuses
+:class:`~gearcalc.pins.geometry.Cycloid`, :func:`~gearcalc.pins.geometry.pin_centre_curve`,
+:func:`~gearcalc.pins.geometry.crest_cutoff`, :func:`~gearcalc.pins.geometry.tooth_profile`,
+:func:`~gearcalc.pins.forces.pin_phase`, the loss functions of :mod:`gearcalc.pins.efficiency` and the
+adaptive driver of :mod:`gearcalc.quadrature`.
 
 Frames.  The satellite frame has its origin at O1 and turns with the satellite (pins.md §5.1):
 pin j at X_j = Rot(-phi)(A_j - O1).  A contact has the unit normal n pointing from the pin centre
@@ -49,12 +50,25 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from . import pins
-from . import hertz
-from .arrays import unique_sorted
-from .pins import MULTIPLIER, REDUCER, Cycloid
-from .quadrature import QuadResult, geometric_breakpoints, piece_nodes
-from .roots import bisect, find_root, minimize_golden
+from .. import hertz
+from ..arrays import unique_sorted
+from ..quadrature import QuadResult, geometric_breakpoints, integrate_adaptive
+from ..roots import bisect, find_root, minimize_golden
+from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
+from .efficiency import contact_loss_power
+from .forces import pin_phase
+from .geometry import MULTIPLIER, REDUCER, Cycloid, crest_cutoff, min_curvature_radius, pin_centre_curve, tooth_profile
+
+__all__ = [
+    "ContactLaw", "contact_law", "palmgren_line_constant",
+    "tooth_centre_distance", "zero_backlash_tooth_circle", "full_tooth",
+    "CircularProfile", "CycloidProfile", "InadmissibleProfile", "PROFILE_RULES", "circular_profile",
+    "cycloid_profile", "ContactModel", "NoEquilibrium", "Jam", "Solution",
+    "contact_losses", "mean_loss_ratio", "cycle_breakpoints", "engagement_metrics", "free_play",
+    "backlash", "CyclePeaks", "cycle_peaks", "Unresolvable", "fixed_point_settled", "TorqueCycle", "cycle_at_torque",
+    "ModeCycles", "solve_modes", "mode_efficiencies", "equilibrium_residual", "ContactOperating", "operating_values",
+    "MULTIPLIER", "REDUCER",
+]
 
 # ============================================================ contact laws (pins.md §5.4)
 
@@ -187,7 +201,7 @@ def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64, with_slope: bool = 
     best_b = np.zeros(R_t.shape, dtype=np.int64)
     best_i = np.zeros(R_t.shape, dtype=np.int64)
     for b in range(g.k):  # a handful of families; vectorised over beta and R_t
-        cx, cy = pins.pin_centre_curve(beta, b, g)
+        cx, cy = pin_centre_curve(beta, b, g)
         d2 = (cx[None, :] - tx[:, None]) ** 2 + (cy[None, :] - ty[:, None]) ** 2
         i = np.argmin(d2, axis=1)
         v = d2[np.arange(R_t.size), i]
@@ -444,7 +458,7 @@ class CycloidProfile:
         Rp = g.R_p + radial_mod
         k = g.k
         self.design = Cycloid(g.z1, g.z2, g.e, Rp, g.R_b + equidistant_mod, (k * Rp - g.e * g.z2) / (k * Rp))
-        self.psi_star = pins.crest_cutoff(self.design)
+        self.psi_star = crest_cutoff(self.design)
         self.crests = g.k >= 2
 
     def _curve(self, beta, fam):
@@ -513,7 +527,7 @@ class CycloidProfile:
             zd = self.g.z1 / self.g.k
             ends = np.stack([pose.beta0 - (self.psi_star - pose.psi) / zd,    # psi = +psi*
                              pose.beta0 + (pose.psi + self.psi_star) / zd])   # psi = -psi*
-            gx, gy = pins.tooth_profile(ends, fam[None], self.design)
+            gx, gy = tooth_profile(ends, fam[None], self.design)
             pose.aux["crest_x"], pose.aux["crest_y"] = gx, gy
 
     def contacts(self, pose: Pose, x, y, branch=None) -> Contacts:
@@ -568,6 +582,133 @@ class CycloidProfile:
                       wx=wx[None], wy=wy[None])
         ct.branch = side[None] if self.crests else None
         return ct
+
+
+class InadmissibleProfile(ValueError):
+    """A satellite profile the contact level cannot run (pins.md §5.2-5.3, §9): ``reason`` names the rule
+    (one of :data:`PROFILE_RULES`), ``values`` the numbers a message needs."""
+
+    def __init__(self, reason: str, **values):
+        super().__init__(reason)
+        self.reason, self.values = reason, values
+
+
+PROFILE_RULES = ("no_full_tooth", "tooth_too_large", "no_zero_backlash", "interference", "design_curve",
+                 "modification", "too_few_teeth", "undercut")
+"""The rules of :func:`circular_profile` and :func:`cycloid_profile`, in the order they are tried."""
+
+
+def circular_profile(g: Cycloid, tooth_radius=None, tooth_circle_radius=None):
+    r"""The circular-arc satellite of the contact level with its admissibility rules (pins.md §5.3, §9).
+
+    rho_t = ``tooth_radius`` (None: the full tooth, adjacent teeth tangent at the root: rho_t = R_t sin(pi/z1),
+    or :func:`full_tooth` when R_t is not given either); R_t = ``tooth_circle_radius`` (None: the zero-backlash
+    circle of :func:`zero_backlash_tooth_circle`).  A tooth must fit, :math:`R_b + \rho_t < R_p - e`, and a given
+    R_t must not make the teeth interfere with the pins' nominal paths.
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear (its R_p, e, R_b, z1) [mm].
+    tooth_radius, tooth_circle_radius : float or None
+        rho_t, R_t [mm].
+
+    Returns
+    -------
+    profile : CircularProfile
+    overlap : bool
+        Whether rho_t exceeds the full tooth R_t sin(pi/z1), so adjacent tooth circles overlap.
+
+    Raises
+    ------
+    InadmissibleProfile
+        ``no_full_tooth``, ``tooth_too_large``, ``no_zero_backlash``, ``interference``.
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> prof, overlap = circular_profile(g, 5.0)      # zero backlash: the teeth just touch the pins' paths
+    >>> round(prof.R_t, 2), round(float(tooth_centre_distance(prof.R_t, g)), 9), overlap   # R_b + rho_t = 6.95
+    (111.35, 6.95, False)
+
+    References
+    ----------
+    .. [1] pins.md §5.3 (circular-arc teeth), §9 (hard cases).
+    """
+    Rp, Rb, e, z1 = g.R_p, g.R_b, g.e, g.z1
+    rho_t, R_t = tooth_radius, tooth_circle_radius
+    explicit_R_t = R_t is not None
+    if rho_t is None:
+        if R_t is not None:
+            s = math.sin(math.pi / z1)
+            rho_t = R_t * s        # adjacent teeth tangent at the root on the given circle
+        else:
+            full = full_tooth(g)
+            if full is None:
+                raise InadmissibleProfile("no_full_tooth", R_b=Rb, limit=Rp - e)
+            rho_t, R_t = full
+    if Rb + rho_t >= Rp - e:
+        raise InadmissibleProfile("tooth_too_large", rho_t=rho_t, sum=Rb + rho_t, limit=Rp - e)
+    if not explicit_R_t and R_t is None:
+        R_t = zero_backlash_tooth_circle(g, rho_t)
+        if R_t is None:
+            raise InadmissibleProfile("no_zero_backlash", rho_t=rho_t, sum=Rb + rho_t)
+    elif explicit_R_t:
+        D = float(tooth_centre_distance(R_t, g))
+        if D < Rb + rho_t - 1e-12 * Rp:
+            raise InadmissibleProfile("interference", R_t=R_t, depth=Rb + rho_t - D, distance=D, sum=Rb + rho_t)
+    overlap = rho_t > R_t * math.sin(math.pi / z1) * (1.0 + 1e-12)
+    return CircularProfile(g, rho_t, R_t), overlap
+
+
+def cycloid_profile(g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float = 0.0) -> CycloidProfile:
+    r"""The (modified) cycloidal satellite of the contact level with its admissibility rules (pins.md §5.2, §9).
+
+    The design curve is the pin-centre curve of pin circle R_p + Delta R_p and pin radius R_b + Delta R_b: its
+    curtate ratio :math:`K_1 = e z_2/(k (R_p + \Delta R_p))` must be < 1, :math:`R_b + \Delta R_b > 0`, the
+    loaded arc psi* must exceed the pin pitch 2 pi/z2, and R_b + Delta R_b must stay below the least radius of
+    curvature of the design curve over the loaded arc (no undercut).
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear [mm].
+    radial_mod, equidistant_mod : float
+        Delta R_p, Delta R_b [mm].
+
+    Returns
+    -------
+    CycloidProfile
+
+    Raises
+    ------
+    InadmissibleProfile
+        ``design_curve``, ``modification``, ``too_few_teeth``, ``undercut``.
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    >>> round(cycloid_profile(g, 0.0, 0.01).design.R_b, 2)
+    1.96
+
+    References
+    ----------
+    .. [1] pins.md §5.2 (cycloidal profile, modifications), §4.2 (undercut), §9.
+    """
+    Rp, Rb, e, z2, k = g.R_p, g.R_b, g.e, g.z2, g.k
+    dRp, dRb = radial_mod, equidistant_mod
+    Rpd = Rp + dRp
+    if Rpd <= 0.0 or e * z2 >= k * Rpd:
+        raise InadmissibleProfile("design_curve", K1=e * z2 / (k * Rpd) if Rpd > 0 else math.inf)
+    if Rb + dRb <= 0.0:
+        raise InadmissibleProfile("modification", R_b=Rb + dRb)
+    prof = CycloidProfile(g, dRp, dRb)
+    if prof.psi_star <= g.period:
+        raise InadmissibleProfile("too_few_teeth", psi_star=prof.psi_star)
+    rho_c = min_curvature_radius(prof.design, prof.psi_star)
+    if prof.design.R_b >= rho_c:
+        raise InadmissibleProfile("undercut", R_b=prof.design.R_b, rho_c=rho_c)
+    return prof
 
 
 # ============================================================ equilibrium (pins.md §5.1, §5.5)
@@ -666,7 +807,7 @@ class ContactModel:
         a = (g.z2 / g.z1) * theta[None, :]
         x0 = g.R_p * np.cos(beta0) - g.e * np.cos(a)
         y0 = g.R_p * np.sin(beta0) - g.e * np.sin(a)
-        psi = pins.pin_phase(sel, theta[None, :], g.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
+        psi = pin_phase(sel, theta[None, :], g.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
         psi = np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
         p = Pose(theta, x0, y0, np.broadcast_to(beta0, x0.shape), psi)
         p.aux["idx"] = np.broadcast_to(sel, x0.shape)
@@ -871,7 +1012,8 @@ class ContactModel:
         if guess is None:
             return self._bracketed(pose, traction, xtol)
         tau = np.array(guess, dtype=float)
-        lo, hi = (np.full(n, -np.inf), np.full(n, np.inf)) if bracket is None else (bracket[0].copy(), bracket[1].copy())
+        lo, hi = ((np.full(n, -np.inf), np.full(n, np.inf)) if bracket is None
+                  else (bracket[0].copy(), bracket[1].copy()))
         done = np.zeros(n, dtype=bool)
         failed = np.zeros(n, dtype=bool)
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -994,9 +1136,9 @@ class ContactModel:
         and the time phase theta - phi_j wrapped to [-pi, pi) [rad]."""
         g = self.g
         th = np.atleast_1d(np.asarray(theta, dtype=float))[None, :]
-        psi = pins.pin_phase(self.pins, th, g.z2, REDUCER)
+        psi = pin_phase(self.pins, th, g.z2, REDUCER)
         zeta = -np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
-        return pins.pin_phase(self.pins, th, g.z2, self.sigma), zeta
+        return pin_phase(self.pins, th, g.z2, self.sigma), zeta
 
     def _remember(self, key, sol: Solution) -> None:
         old = self._memo[key]
@@ -1085,7 +1227,8 @@ class ContactModel:
         g = self.g
         th = pose.theta
         G, G_tau, ct, F, Fp, A, q, x, y = self._balance(pose, tau, traction)
-        if ref is not None and np.array_equal(ref[0], F > 0.0) and (ref[1] is None or np.array_equal(ref[1], ct.branch)):
+        if (ref is not None and np.array_equal(ref[0], F > 0.0)
+                and (ref[1] is None or np.array_equal(ref[1], ct.branch))):
             ref = None                  # the piece's sets are the solution's own: the same derivatives
         if ref is not None:
             _, G_tau, cr, F_r, Fp_r, A_r, _, _, _ = self._balance(pose, tau, traction, ref)
@@ -1142,7 +1285,7 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
     F, v = sol.force, sol.v_t
     if not rolls:
         slide = np.abs(v)
-        return pins.contact_loss_power(F, slide, mu_eff) * 1e3, np.zeros(F.shape[1:]), slide
+        return contact_loss_power(F, slide, mu_eff) * 1e3, np.zeros(F.shape[1:]), slide
     lead = np.argmax(F, axis=0)
     v_lead = np.take_along_axis(v, lead[None], axis=0)[0]
     loaded = np.any(F > 0.0, axis=0)
@@ -1306,23 +1449,23 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
             break
         xa = x[act]
         f, slope = h(xa, act)
-        l, hh, fl, fh = lo[act], hi[act], flo[act], fhi[act]
+        lb, hh, fl, fh = lo[act], hi[act], flo[act], fhi[act]
         left = np.sign(f) == np.sign(fl)
-        l, fl = np.where(left, xa, l), np.where(left, f, fl)
+        lb, fl = np.where(left, xa, lb), np.where(left, f, fl)
         hh, fh = np.where(~left, xa, hh), np.where(~left, f, fh)
         with np.errstate(divide="ignore", invalid="ignore"):
             d = np.where(np.isfinite(slope) & (slope != 0.0), slope, (f - fp[act]) / (xa - xp[act]))
             new = xa - f / d
-        bad = ~np.isfinite(new) | (new <= l) | (new >= hh)
-        new = np.where(bad, 0.5 * (l + hh), new)
-        width = hh - l
+        bad = ~np.isfinite(new) | (new <= lb) | (new >= hh)
+        new = np.where(bad, 0.5 * (lb + hh), new)
+        width = hh - lb
         jump = (width <= 1e-3 * w0[act]) & (np.minimum(np.abs(fl), np.abs(fh)) > 100.0 * slope0[act] * width)
         conv = ((f == 0.0) | (~bad & (np.abs(new - xa) <= xtol)) | (width <= 2.0 * xtol)
                 | (jump & (width <= 2.0 * jtol)))
         closed = conv & ((width <= 2.0 * xtol) | (jump & (width <= 2.0 * jtol)))
-        lo[act], hi[act], flo[act], fhi[act] = l, hh, fl, fh
+        lo[act], hi[act], flo[act], fhi[act] = lb, hh, fl, fh
         xp[act], fp[act] = xa, f
-        x[act] = np.where(f == 0.0, xa, np.where(closed, 0.5 * (l + hh), new))
+        x[act] = np.where(f == 0.0, xa, np.where(closed, 0.5 * (lb + hh), new))
         act = act[~conv]
     return x
 
@@ -1337,110 +1480,6 @@ def _merge(points, gap):
     if out[-1] != x[-1]:
         out[-1] = x[-1]
     return out
-
-
-def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n_start: int = 128,
-                       n_max: int = 2 ** 12, min_levels: int = 2, n_initial=None) -> QuadResult:
-    r"""Piecewise composite trapezoid with Richardson extrapolation, refined piece by piece (pins.md §6, §12.6).
-
-    Like :func:`gearcalc.quadrature.integrate_piecewise` (first level ``n_start`` intervals shared out in
-    proportion to the piece lengths, at least 2 per piece; node counts then doubled exactly, only the new
-    nodes evaluated; one-sided piece ends; the integrand ``f(x, mid)`` told the piece midpoint), but a piece
-    is doubled only while it needs it.  Every piece is doubled ``min_levels`` times; then, with the piece
-    estimates e_p = T_2N,p - T_N,p of each piece's last doubling and e'_p of the one before,
-
-    .. math::
-
-        Q = \sum_p T_{2N,p} + e_p/3,\qquad E = \Big|\sum_p e_p\Big|
-
-    is accepted when E <= max(tol |Q|, atol) and |sum_p e'_p| <= max(tol |Q|, atol): the rule of two
-    successive doublings, with each piece's own last two (the same estimate and rule as uniform
-    doubling, |Q_2N - Q_N|, when every piece has been doubled equally often).  Otherwise the pieces
-    with the largest max(|e_p|, |e'_p|) are doubled, largest first, until the others hold at most half
-    of the tolerance (the tiny pieces of a geometric grading, whose estimates are far below it, stop
-    after ``min_levels`` doublings), as many of them as ``n_max`` intervals in all allow.  Stops
-    unconverged when not even the first of them can be doubled.
-
-    ``n_initial`` (one count per piece, optional) replaces the first level's counts, e.g. a quarter of
-    the final counts of a run on nearly the same integrand (the next pass of the torque fixed point).
-
-    Returns a :class:`~gearcalc.quadrature.QuadResult` (value and err of one component; ``levels`` the
-    most doublings of a piece, ``n_piece`` the intervals per piece).
-
-    Examples
-    --------
-    A jump at x = 1 and a kink at x = 2 (exact on the pieces), and a smooth piece refined alone:
-
-    >>> g = lambda x, mid: np.where(mid < 1.0, 0.0, 1.0) + np.abs(x - 2.0) + np.where(mid > 3.0, np.exp(x), 0.0)
-    >>> r = integrate_adaptive(g, [0.0, 1.0, 2.0, 3.0, 4.0], tol=1e-6)
-    >>> bool(abs(r.value[0] - (7.0 + math.e ** 4 - math.e ** 3)) <= 1e-3 * r.err[0]), r.converged, r.n_piece.tolist()
-    (True, True, [128, 128, 128, 1024])
-
-    References
-    ----------
-    pins.md §6 (rule, error estimate), §12.6 (per-piece doubling at the contact level).
-    """
-    edges = unique_sorted(np.asarray(breakpoints, dtype=float))
-    a, b = edges[:-1], edges[1:]
-    keep = b > a
-    a, b = a[keep], b[keep]
-    edges = np.concatenate((a, b[-1:]))
-    p = a.size
-    if n_initial is not None and np.size(n_initial) == p:
-        n_piece = np.maximum(2, np.asarray(n_initial)).astype(np.int64)
-    else:
-        n_piece = np.maximum(2, np.rint(n_start * (b - a) / (b[-1] - a[0]))).astype(np.int64)
-    mid_p = 0.5 * (a + b)
-    x, mid, piece = piece_nodes(edges, n_piece)
-    w = np.where(np.concatenate(([True], piece[1:] != piece[:-1])) | np.concatenate((piece[1:] != piece[:-1], [True])),
-                 0.5, 1.0)
-    v = np.asarray(f(x, mid), dtype=float).ravel()
-    trap = np.bincount(piece, weights=v * w, minlength=p) * (b - a) / n_piece
-    e_last = np.full(p, np.nan)
-    e_prev = np.full(p, np.nan)
-    lev = np.zeros(p, dtype=np.int64)
-    act = np.arange(p)
-    converged = False
-    while True:
-        if act.size == 0 or int(n_piece.sum() + n_piece[act].sum()) > n_max:
-            break
-        # the new (odd) nodes of the active pieces
-        cnt = n_piece[act]
-        pc = np.repeat(act, cnt)
-        st = np.concatenate(([0], np.cumsum(cnt)[:-1]))
-        j = np.arange(int(cnt.sum())) - np.repeat(st, cnt)
-        h_new = (b - a) / (2 * n_piece)
-        xn = a[pc] + h_new[pc] * (2 * j + 1)
-        vn = np.asarray(f(xn, mid_p[pc]), dtype=float).ravel()
-        s = np.bincount(pc, weights=vn, minlength=p)[act]
-        new = 0.5 * trap[act] + h_new[act] * s
-        e_prev[act], e_last[act] = e_last[act], new - trap[act]
-        trap[act] = new
-        n_piece[act] *= 2
-        lev[act] += 1
-        if np.any(lev < min_levels):
-            act = np.nonzero(lev < min_levels)[0]
-            continue
-        Q = float(np.sum(trap + e_last / 3.0))
-        budget = max(tol * abs(Q), atol)
-        if abs(np.sum(e_last)) <= budget and abs(np.sum(e_prev)) <= budget:
-            converged = True
-            break
-        est = np.maximum(np.abs(e_last), np.abs(e_prev))
-        order = np.argsort(-est, kind="stable")
-        rest = est.sum() - np.cumsum(est[order])          # what the unrefined pieces hold
-        k = int(np.searchsorted(-rest, -0.5 * budget)) + 1  # first count whose rest is <= budget/2
-        # within the cap on intervals: the largest estimates first
-        room = n_max - int(n_piece.sum())
-        k = min(k, int(np.searchsorted(np.cumsum(n_piece[order]), room, side="right")))
-        act = np.sort(order[:k])
-    done = np.isfinite(e_last)
-    e = np.where(done, e_last, 0.0)
-    value = float(np.sum(trap + e / 3.0))
-    err = float(abs(np.sum(e))) if np.all(done) else float("inf")
-    return QuadResult(value=np.array([value]), err=np.array([err]), trapezoid=np.array([float(trap.sum())]),
-                      n=int(n_piece.sum()), converged=converged, levels=int(lev.max()), edges=edges,
-                      n_piece=n_piece)
 
 
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
@@ -1629,10 +1668,10 @@ def cycle_peaks(cyc: ContactCycle, g: Cycloid, n_discs: int, rolls: bool) -> Cyc
         P1, phP = float(loss_pin[i]), float(sol.phase[i])
         tot = float(loss_pin.sum(axis=0).max())
     else:
-        F1, phF = pins.disc_sum_peak(sol.phase[loaded], F_pin[loaded], n_discs)
-        P1, phP = pins.disc_sum_peak(sol.phase[loaded], loss_pin[loaded], n_discs)
+        F1, phF = disc_sum_peak(sol.phase[loaded], F_pin[loaded], n_discs)
+        P1, phP = disc_sum_peak(sol.phase[loaded], loss_pin[loaded], n_discs)
         t = sol.theta / g.period
-        tot = float(pins.sum_over_discs(t, loss_pin.sum(axis=0), pins.disc_offsets(n_discs, g.z2), 1.0).max())
+        tot = float(sum_over_discs(t, loss_pin.sum(axis=0), disc_offsets(n_discs, g.z2), 1.0).max())
     vt_load = np.abs(sol.v_t[loaded_c]) if loaded_c.any() else np.zeros(1)
     spin_load = cyc.spin[loaded] if rolls else np.zeros(1)
     slide_load = cyc.slide[loaded_c] if loaded_c.any() else np.zeros(1)
@@ -1852,7 +1891,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     ----------
     .. [1] pins.md §4.7, §5.5, §7 (torque_shaft).
     """
-    from . import units
+    from .. import units
 
     sigma = MULTIPLIER if multiplier else REDUCER
     friction = (mu_eff, sliding_friction, rolls) if friction_in_equilibrium else None
@@ -1933,11 +1972,160 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     return TorqueCycle(cyc, model, T_V, lam, E, history, settled)
 
 
-__all__ = [
-    "ContactLaw", "contact_law", "palmgren_line_constant",
-    "tooth_centre_distance", "zero_backlash_tooth_circle", "full_tooth",
-    "CircularProfile", "CycloidProfile", "ContactModel", "NoEquilibrium", "Solution",
-    "contact_losses", "mean_loss_ratio", "cycle_breakpoints", "engagement_metrics", "free_play",
-    "backlash", "CyclePeaks", "cycle_peaks", "Unresolvable", "fixed_point_settled", "TorqueCycle", "cycle_at_torque",
-    "MULTIPLIER", "REDUCER",
-]
+
+
+# ============================================================ modes, residual, speeds, powers (pins.md §4.9, §5.5, §8)
+
+@dataclass
+class ModeCycles:
+    """The torque cycles of the modes a design needs (:func:`solve_modes`).
+
+    runs : {multiplier (bool): :class:`TorqueCycle`}; jams : {multiplier: the :class:`Jam` of a mode that jams
+    with the friction forces in the balance}; requested : the requested mode's cycle (its frictionless
+    balance when it jams).
+    """
+
+    runs: dict
+    jams: dict
+    requested: TorqueCycle
+
+
+def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
+                n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool, consistent: bool,
+                tol: float = 1e-6) -> ModeCycles:
+    """The contact cycle of each mode with its own forces (friction-consistent model), or of the requested
+    mode with frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
+
+    With ``consistent`` both modes are solved with the friction forces in the moment balance, the other mode
+    starting from the requested one's solution; a mode that jams (:class:`Jam`) is recorded in ``jams``, and
+    when it is the requested mode, its cycle is the frictionless balance's (forces, speeds and peaks).
+    :class:`NoEquilibrium` (other than a jam) and :class:`Unresolvable` propagate.
+
+    Parameters are those of :func:`cycle_at_torque`; ``multiplier``: the requested mode.
+
+    Returns
+    -------
+    ModeCycles
+
+    References
+    ----------
+    .. [1] pins.md §4.9 (each mode solved on its own, jams), §5.5, §7 (the torque fixed point).
+    """
+    def run(mult: bool, in_equilibrium: bool, seed=None):
+        return cycle_at_torque(g, profile, law, torque, torque_on_V, mult, n_discs, mu_eff, sliding_friction, rolls,
+                               in_equilibrium, tol=tol, seed=seed)
+
+    jams, runs = {}, {}
+    for mult in ((multiplier, not multiplier) if consistent else (multiplier,)):
+        seed = runs[multiplier].model if mult != multiplier and multiplier in runs else None
+        try:
+            runs[mult] = run(mult, consistent, seed)       # the other mode starts from the first one, mirrored
+        except Jam as exc:
+            jams[mult] = exc
+    if multiplier in jams:
+        runs[multiplier] = run(multiplier, False)
+    return ModeCycles(runs, jams, runs[multiplier])
+
+
+def equilibrium_residual(runs, tol: float) -> tuple[float, float]:
+    """The largest equilibrium residual of the cycles' moment balances relative to the torque, and its largest
+    ratio to the limit: 1/100 of ``tol`` (inner tolerances 100x tighter, pins.md §6), or 100x the round-off floor
+    of the penetrations (stiff contacts: deflections of 1e-7 mm on R_p); above 1 the balance is not met
+    (pins.md §5.5).  ``runs``: :class:`TorqueCycle` objects."""
+    residual, excess = 0.0, 0.0
+    for t in runs:
+        r = np.abs(t.cycle.sol.residual) / t.model.torque_sat
+        limit = np.maximum(0.01 * tol, 100.0 * t.cycle.sol.noise / t.model.torque_sat)
+        residual, excess = max(residual, float(r.max())), max(excess, float(np.max(r / limit)))
+    return residual, excess
+
+
+@dataclass
+class ContactOperating:
+    """Losses and speeds of a contact cycle at a crank speed (:func:`operating_values`): loss_mean, loss_peak,
+    loss_max, loss_bound [W]; loss_phase [deg]; spin_abs_max, spin_min, spin_max [rpm]; sliding_speed_max
+    [m/s]."""
+
+    loss_mean: float
+    loss_peak: float
+    loss_max: float
+    loss_phase: float
+    loss_bound: float
+    spin_abs_max: float
+    spin_min: float
+    spin_max: float
+    sliding_speed_max: float
+
+
+def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: float, omega_H: float,
+                     mu_eff: float, sliding_friction: float, rolls: bool) -> ContactOperating:
+    r"""The mean and peak losses and the pin and sliding speeds of a contact cycle at crank speed omega_H
+    (pins.md §4.6, §5.6, §8): the cycle's quantities are per unit crank speed, so they scale with omega_H.
+
+    .. math:: P_{mean} = \bar\lambda\,T_V\,\omega_H k/z_1, \qquad
+              P_{bound} = \mu\,F_{max}\,v_{max}\,\omega_H
+
+    Parameters
+    ----------
+    pk : CyclePeaks
+        :func:`cycle_peaks` of the cycle.
+    g : Cycloid
+    loss_ratio : float
+        lambda_bar [-].
+    torque_V : float
+        T_V [N·m].
+    omega_H : float
+        Crank speed [rad/s].
+    mu_eff, sliding_friction : float
+        mu_rot (rolling pins) and f [-]; the bound uses mu_eff where the pins roll, else f.
+    rolls : bool
+
+    Returns
+    -------
+    ContactOperating
+
+    References
+    ----------
+    .. [1] pins.md §4.6 (losses), §5.6, §8 (loss_mean_W, loss_peak_W, pin_loss_bound_W, speeds).
+    """
+    from .. import units
+
+    Pw = omega_H * 1e-3                                                   # W per (N·mm/s per rad/s)
+    rpm = units.rad_s_to_rpm(omega_H)
+    coeff = mu_eff if rolls else sliding_friction
+    return ContactOperating(
+        loss_mean=loss_ratio * torque_V * (omega_H * g.k / g.z1), loss_peak=pk.total * Pw, loss_max=pk.loss * Pw,
+        loss_phase=math.degrees(pk.loss_phase), loss_bound=coeff * pk.force * pk.contact_speed * Pw,
+        spin_abs_max=pk.spin_abs * rpm if rolls else 0.0, spin_min=pk.spin_min * rpm if rolls else 0.0,
+        spin_max=pk.spin_max * rpm if rolls else 0.0,
+        sliding_speed_max=(pk.slide if rolls else pk.contact_speed) * omega_H / units.MM_PER_M)
+
+
+def mode_efficiencies(modes: ModeCycles, consistent: bool, torque, ratio: float, multiplier, torque_on_V):
+    """The efficiencies and shaft torques of both modes from the contact cycles (pins.md §4.7, §4.9).
+
+    Friction-consistent: each mode from its own loss ratio (a jammed mode self-locks); first-order: both from
+    the requested mode's.  ``torque``, ``multiplier``, ``torque_on_V``: arrays of one operating point, as
+    :func:`~gearcalc.pins.operating.efficiency_torques` takes them.
+
+    Returns
+    -------
+    et_multiplier, et_reducer : EfficiencyTorques
+        Of the multiplier's and the reducer's loss ratio.
+    locked : dict
+        {multiplier (bool): whether that mode self-locks}.
+    """
+    from .operating import efficiency_torques
+
+    runs, jams, tc = modes.runs, modes.jams, modes.requested
+    lam, E = tc.loss_ratio, tc.loss_ratio_err
+    lam_mode = {m: (runs[m].loss_ratio, runs[m].loss_ratio_err) for m in runs if m not in jams}
+    if not consistent:
+        lam_mode = {True: (lam, E), False: (lam, E)}
+    et_m = efficiency_torques(np.array([lam_mode.get(True, (np.inf, np.nan))[0]]),
+                              np.array([lam_mode.get(True, (np.inf, np.nan))[1]]), torque, ratio, multiplier,
+                              torque_on_V)
+    et_r = efficiency_torques(np.array([lam_mode.get(False, (0.0, np.nan))[0]]),
+                              np.array([lam_mode.get(False, (0.0, np.nan))[1]]), torque, ratio, multiplier,
+                              torque_on_V)
+    return et_m, et_r, {True: bool(et_m.locked[0]) or True in jams, False: False in jams}

@@ -1,0 +1,435 @@
+"""KHV pin gearing, level ``ideal``: the friction-consistent cycles (pins.md §4.9).
+
+Friction in the satellite's balance, each mode (reducer, multiplier) solved with its own forces on the
+nodes of :func:`gearcalc.pins.ideal_cycles`, refined to the tolerance; jams; the crank torque and the
+crank-bearing force over the cycle.  Units N, mm, rad.
+
+References
+----------
+.. [1] The paper (Prudnikov, seed 000), cited in full in :mod:`gearcalc.pins`; docs/spec/pins.md §4.9.
+.. [2] Blagojević et al. (friction forces in the satellite's balance), cited in full in :mod:`gearcalc.pins`.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .cycle import disc_offsets, sum_over_discs
+from .geometry import _as_arrays, Cycloid, MULTIPLIER, REDUCER
+from .ideal import _colsum, _contacts_geo, _GearTable, IdealCycles, _node_sums
+
+__all__ = ["consistent_node_values", "ConsistentCycles", "CONSISTENT_CHUNK_NODES", "REFINE_BLOCK", "CONSISTENT_N_MAX",
+           "consistent_cycles", "crank_history"]
+
+
+def consistent_node_values(sums, mu, sigma: int):
+    r"""Friction-consistent forces, loss ratio and crank-bearing load at cycle nodes (pins.md §4.9), unit torque.
+
+    From the friction-free node sums of :func:`_node_sums` (rows :data:`NODE_ROWS`) and mu = mu_eff.  The
+    friction forces mu F_i act against the sliding; the moment balance of the satellite about O1 with
+    F_i = c |l_i| gives
+
+    .. math::
+
+        c = \frac{T_{sat}}{D_\sigma},\quad D_{reducer} = S - \mu Q,\quad D_{multiplier} = S + \mu Q,\quad
+        Q = N - r_{p1} U_x,\quad \lambda = \frac{P_{loss}}{T_{sat} |\omega_V|} = \frac{\mu N}{D_\sigma}
+
+    and the crank-bearing force on the satellite B = -sum of the pin forces, in the crank frame (x along
+    the crank arm O1):
+
+    .. math::
+
+        B_x = c (S_x \mp \mu U_y),\quad B_y = c (\pm S + \mu r_{p1} U_x)/r_{p1}\quad (\text{upper sign: reducer})
+
+    and the crank torque T_H = O1 x B = e B_y (the torque the crank's shaft applies).  ``crank`` is the
+    crank torque along the power flow, sigma T_H (the input torque of a reducer, the output torque of a
+    multiplier).  A node with D <= 0 jams (no positive normal-force solution).
+
+    Parameters
+    ----------
+    sums : ndarray, shape (len(NODE_ROWS), n)
+        node sums of :func:`_node_sums` [mm^2, mm] (N, S, r_p1 U_x, S_x, U_y, ...).
+    mu : float or ndarray, shape (n,)
+        mu_eff [-].
+    sigma : int
+        +1 reducer, -1 multiplier.
+
+    Returns
+    -------
+    dict of arrays (n,): D [mm^2], lam [-], c = F/(T_sat |l|) [1/mm^2], Bx, By = B/T_sat [1/mm], and
+    jam (D <= 0).
+
+    Examples
+    --------
+    >>> sums = np.array([[1.0], [4.0], [0.5], [0.1], [-0.2]] + [[0.0]] * 5)   # N, S, r_p1 U_x, S_x, U_y
+    >>> v = consistent_node_values(sums, 0.1, REDUCER)
+    >>> float(v["D"][0]), float(v["lam"][0])     # S - mu Q, Q = N - r_p1 U_x = 0.5
+    (3.95, 0.02531645569620253)
+
+    References
+    ----------
+    pins.md §4.9 [derived; checked against an independent model]; Blagojević et al. 2012 (model 2).
+    """
+    N, S, Q = sums[0], sums[1], sums[0] - sums[2]
+    D = S - sigma * mu * Q
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lam = mu * N / D
+        c = 1.0 / D
+    return {"D": D, "lam": lam, "c": c, "jam": ~(D > 0.0)}
+
+
+@dataclass
+class ConsistentCycles:
+    """The friction-consistent model (pins.md §4.9) per operating point and mode, in unit scalings.
+
+    Arrays of shape (2, P) (row 0 the reducer, row 1 the multiplier): loss_ratio, err, converged, jammed,
+    n_crank; the others, of shape (P,), are those of each point's own mode (``mode``).
+
+    loss_ratio, err, converged : cycle mean of lambda_sigma = P_loss/(T_sat |omega_V|), its error
+        |Q_2N - Q_N| and the acceptance (pins.md §6); NaN where the mode jams;
+    jammed : some crank angle has no positive normal-force solution (D <= 0);
+    n_crank : crank-angle intervals of the grid the value comes from;
+    force, force_phase : largest F/T_sat of a contact [1/mm] and its load-side phase [rad];
+    loss, loss_phase : largest P/(mu T_sat |omega_V|) of a contact and its phase [rad]; total : largest summed
+        one over the cycle;
+    stress : largest F/(T_sat R_eff) [1/mm^2] (the Hertz peak pressure is sqrt(E* T_sat stress/(pi b)));
+    bearing_max, bearing_mean : largest and mean |B|/T_sat of one disc's crank bearing [1/mm];
+    crank_mean, crank_min, crank_max : crank torque along the power flow over T_sat, summed over the discs [-].
+    The peaks are the largest values at the nodes of the final grid (error O(h^2)).
+    """
+
+    loss_ratio: np.ndarray
+    err: np.ndarray
+    converged: np.ndarray
+    jammed: np.ndarray
+    n_crank: np.ndarray
+    force: np.ndarray
+    force_phase: np.ndarray
+    loss: np.ndarray
+    loss_phase: np.ndarray
+    total: np.ndarray
+    stress: np.ndarray
+    bearing_max: np.ndarray
+    bearing_mean: np.ndarray
+    crank_mean: np.ndarray
+    crank_min: np.ndarray
+    crank_max: np.ndarray
+
+
+CONSISTENT_CHUNK_NODES = 2 ** 18
+"""Points x final-grid nodes of the friction-consistent evaluation done at once (~20 arrays of 8 bytes a node:
+~40 MB); a larger sweep is evaluated a chunk of points at a time (the same numbers: points are independent)."""
+REFINE_BLOCK = 2 ** 20
+"""(friction, mode) pairs x new nodes of the refining doublings evaluated at once (memory)."""
+CONSISTENT_N_MAX = 2 ** 16
+"""Cap of the refining quadrature of the friction-consistent model (intervals per period): near the jam limit
+lambda has a pole beside the cycle and converges slowly; the value is then reported with its error."""
+
+
+def _point_nodes(cyc: IdealCycles, gear):
+    """Flat indices of the final-grid nodes of each point's gear, the point of each, and the counts."""
+    gg = cyc.grid_gear
+    if gear.size == 1 and cyc.solved.size == 1 and gg.size and gear[0] == cyc.solved[0]:   # one design
+        return np.arange(gg.size), np.zeros(gg.size, dtype=np.int64), np.array([gg.size])
+    order_start = np.flatnonzero(np.diff(gg, prepend=-1) != 0) if gg.size else np.zeros(0, dtype=np.int64)
+    first = np.full(cyc.status.size, -1, dtype=np.int64)
+    cnt = np.zeros(cyc.status.size, dtype=np.int64)
+    if gg.size:
+        runs = np.diff(np.append(order_start, gg.size))
+        first[gg[order_start]] = order_start
+        cnt[gg[order_start]] = runs
+    counts = cnt[gear]
+    pt = np.repeat(np.arange(gear.size), counts)
+    starts = np.cumsum(counts) - counts
+    idx = np.arange(int(counts.sum())) - starts[pt] + first[gear][pt]
+    return idx, pt, counts
+
+
+def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, mode=None,
+                      chunk_nodes: int = CONSISTENT_CHUNK_NODES) -> ConsistentCycles:
+    """The friction-consistent efficiency model (pins.md §4.9) of operating points, both modes.
+
+    Every point has a solved gear (``gear``: its index in the gears of ``cyc``, which must be admissible)
+    and an effective friction mu_eff.  The friction-free node sums that :func:`ideal_cycles` keeps on its
+    final grid give, at any friction, the friction-consistent loss ratio at every node
+    (:func:`consistent_node_values`); its cycle mean follows from the same trapezoid rule on the same
+    pieces, at the final level L and at L-1 and L-2 (every 2nd and 4th node): Richardson value
+    Q_L + (Q_L - Q_{L-1})/3, error E = |Q_L - Q_{L-1}|, accepted when E <= max(tol |Q|, 1e-14) on the two
+    last doublings (pins.md §6).  Where that is not accepted (friction near the jam limit), the doubling
+    continues from the final grid, evaluating only the new nodes (:func:`_refine_consistent`), up to
+    :data:`CONSISTENT_N_MAX`.  A mode jams where D <= 0 at some node.
+
+    Parameters
+    ----------
+    cyc : IdealCycles
+    gear : ndarray of int, shape (P,)
+    mu : ndarray, shape (P,)
+    n_discs : int or ndarray (P,)
+    tol : relative accuracy target.
+    mode : int or ndarray (P,), optional
+        sigma of each point (+1 reducer, -1 multiplier; default multiplier): the mode whose forces, peaks,
+        crank-bearing force and crank torque are computed (the cycle means are computed for both).
+    chunk_nodes : int
+        points x nodes evaluated at once (memory); more are evaluated a chunk of points at a time.
+
+    Returns
+    -------
+    ConsistentCycles
+
+    Examples
+    --------
+    >>> from gearcalc.pins import ideal_cycles
+    >>> g = _as_arrays(Cycloid.from_curtate_ratio(10, 11, 1.95, 0.75, 1.755))   # pins.md §4.9 reference
+    >>> cc = consistent_cycles(ideal_cycles(g, 1), np.array([0]), np.array([0.1]))
+    >>> round(1.0 / (1.0 + float(cc.loss_ratio[0, 0])), 5), round(1.0 - float(cc.loss_ratio[1, 0]), 5)
+    (0.83078, 0.84594)
+
+    References
+    ----------
+    pins.md §4.9, §6.
+    """
+    gear = np.atleast_1d(np.asarray(gear, dtype=np.int64))
+    P = gear.size
+    mu = np.zeros(P) + mu
+    n_d = np.zeros(P, dtype=np.int64) + n_discs
+    sig = np.zeros(P, dtype=np.int64) + (MULTIPLIER if mode is None else mode)
+    per_gear = np.bincount(cyc.grid_gear, minlength=cyc.status.size) if cyc.grid_gear.size else \
+        np.zeros(cyc.status.size, dtype=np.int64)
+    nodes = per_gear[gear]
+    if P > 1 and int(nodes.sum()) > chunk_nodes:   # many points (a sweep): a chunk of points at a time
+        chunk = np.cumsum(nodes) // chunk_nodes        # non-decreasing chunk number per point
+        cuts = [0, *(np.flatnonzero(np.diff(chunk)) + 1).tolist(), P]
+        parts = [consistent_cycles(cyc, gear[a:b], mu[a:b], n_d[a:b], tol, sig[a:b], chunk_nodes=1 << 62)
+                 for a, b in zip(cuts[:-1], cuts[1:])]
+        return ConsistentCycles(**{f: np.concatenate([getattr(q, f) for q in parts], axis=-1)
+                                   for f in ConsistentCycles.__dataclass_fields__})
+    idx, pt, counts = _point_nodes(cyc, gear)
+    if P == 1 and idx.size == cyc.grid_t.size:           # one point on the whole grid: no gathers
+        idx = slice(None)
+        sums, w, t = cyc.grid_sums, cyc.grid_weights, cyc.grid_t
+    else:
+        sums, w, t = cyc.grid_sums[:, idx], cyc.grid_weights[:, idx], cyc.grid_t[idx]
+    G = cyc.table
+    if cyc.solved.size == 1:
+        slot = np.zeros(P, dtype=np.int64)
+    else:
+        where = np.zeros(cyc.status.size, dtype=np.int64)
+        where[cyc.solved] = np.arange(cyc.solved.size)  # a gear's row of the table (solved in z2 order)
+        slot = where[gear]
+    r_p1 = G.r_p1[slot]
+    z2 = G.z2[slot]
+    mu_n = mu[pt]
+    block = np.full((15, P), np.nan)                    # one allocation for every field (rows as views)
+    names = ("force", "force_phase", "loss", "loss_phase", "total", "stress", "bearing_max", "bearing_mean",
+             "crank_mean", "crank_min", "crank_max")
+    res = {"loss_ratio": block[0:2], "err": block[2:4]}
+    res.update({k: block[4 + r] for r, k in enumerate(names)})
+    conv = np.zeros((2, P), dtype=bool)
+    jam = np.zeros((2, P), dtype=bool)
+    n_crank = np.zeros((2, P), dtype=np.int64) + cyc.n_crank[gear]
+    seg = np.cumsum(counts) - counts
+    nonempty = counts > 0
+    segs = seg[nonempty]
+    cols = np.flatnonzero(nonempty)
+    N, S, Q = sums[0], sums[1], sums[0] - sums[2]
+    # the cycle means of both modes at once: rows 0 reducer (sigma = +1), 1 multiplier (sigma = -1)
+    muQ = mu_n * Q
+    D2 = np.stack((S - muQ, S + muQ))
+    bad = ~(D2 > 0.0)
+    any_bad = bool(bad.any())
+    if any_bad:
+        jam[:] = np.bincount(np.concatenate((pt, pt + P)), bad.ravel(), minlength=2 * P).reshape(2, P) > 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lam2 = np.where(bad, 0.0, (mu_n * N) / D2)
+    else:
+        lam2 = (mu_n * N) / D2
+    lam_m = (lam2[0], lam2[1])
+    # the three levels' trapezoid sums of both modes in one (sequential, per bin) bincount
+    pt6 = np.concatenate([pt + r * P for r in range(6)])
+    q = np.bincount(pt6, (w[None, :, :] * lam2[:, None, :]).ravel(), minlength=6 * P).reshape(2, 3, P)
+    E1, E0 = np.abs(q[:, 0] - q[:, 1]), np.abs(q[:, 1] - q[:, 2])
+    ok = (E1 <= np.maximum(tol * np.abs(q[:, 0]), 1e-14)) & (E0 <= np.maximum(tol * np.abs(q[:, 1]), 1e-14))
+    res["loss_ratio"][:] = np.where(jam, np.nan, q[:, 0] + (q[:, 0] - q[:, 1]) / 3.0)
+    res["err"][:] = np.where(jam, np.nan, E1)
+    conv[:] = ok & ~jam
+    # forces, peaks, crank bearing and crank torque of each point's own mode
+    sg = sig[pt]
+    D = S - (sg * mu_n) * Q
+    with np.errstate(divide="ignore", invalid="ignore"):
+        c = np.where(D > 0.0, 1.0 / D, np.nan)
+    F = sums[5] * c
+    Bx = c * (sums[3] - sg * mu_n * sums[4])
+    By = c * (sg * S + mu_n * sums[2]) / r_p1[pt]
+    Bm = np.hypot(Bx, By)
+    crank = sg * (r_p1[pt] / _ratio_of(G, slot)[pt]) * By   # sigma e B_y, e = r_p1/u
+    Pl = sums[7] * c * 1e-3
+    if segs.size:
+        stacked = np.stack((F, Pl, N * c * 1e-3, sums[9] * c, Bm, crank))
+        # the maxima are exact (no rounding): one point reduces its whole grid
+        peak = np.fmax.reduce(stacked, axis=1)[:, None] if P == 1 else np.fmax.reduceat(stacked, segs, axis=1)
+        for r, key in enumerate(("force", "loss", "total", "stress", "bearing_max", "crank_max")):
+            res[key][cols] = peak[r]
+        res["crank_min"][cols] = np.fmin.reduce(crank) if P == 1 else np.fmin.reduceat(crank, segs)
+        for key, arr, row in (("force", F, 6), ("loss", Pl, 8)):     # the load-side phase of the peak's contact
+            hit = np.flatnonzero(arr == res[key][pt])                 # (the first node holding the maximum)
+            if hit.size:
+                ph = pt[hit]
+                first = np.ones(hit.size, dtype=bool)
+                first[1:] = ph[1:] != ph[:-1]
+                h, pts = hit[first], ph[first]
+                res[key + "_phase"][pts] = 2.0 * math.pi * ((sums[row, h] + t[h]) / z2[pts])
+    finite = np.isfinite(c)
+    if not finite.all():
+        Bm, crank_m = np.where(finite, Bm, 0.0), np.where(finite, crank, 0.0)
+    else:
+        crank_m = crank
+    means = np.bincount(np.concatenate((pt, pt + P)), np.concatenate((w[0] * Bm, w[0] * crank_m)), minlength=2 * P)
+    res["bearing_mean"], res["crank_mean"] = means[:P], means[P:] * n_d
+    for i in np.flatnonzero(n_d > 1):          # the discs' torques summed (pins.md §12.7): a handful of points
+        sl = slice(seg[i], seg[i] + counts[i])
+        tot_c = sum_over_discs(t[sl], crank[sl], disc_offsets(int(n_d[i]), int(z2[i])), 1.0)
+        if np.isnan(tot_c).all():              # the mode jams at every node: no crank torque (and no warning)
+            res["crank_max"][i] = res["crank_min"][i] = np.nan
+        else:
+            res["crank_max"][i], res["crank_min"][i] = np.nanmax(tot_c), np.nanmin(tot_c)
+    own_jam = np.where(sig == REDUCER, jam[0], jam[1])
+    if own_jam.any():
+        for key in ("force", "force_phase", "loss", "loss_phase", "total", "stress", "bearing_max", "bearing_mean",
+                    "crank_mean", "crank_min", "crank_max"):
+            res[key] = np.where(own_jam, np.nan, res[key])
+    # continue the doubling where the final grid does not meet the tolerance (friction near the jam limit)
+    redo_m, redo_p = np.nonzero(~conv & ~jam & (mu > 0.0)[None, :])
+    mids = cyc.grid_mid[idx]
+    us = slot[redo_p]
+    for gs in (() if not us.size else [us[0]] if (us == us[0]).all() else np.unique(us)):   # per gear: its points
+        # and modes together
+        pick = np.flatnonzero(slot[redo_p] == gs)
+        mm, pp = redo_m[pick], redo_p[pick]
+        i0 = pp[0]
+        sl = slice(seg[i0], seg[i0] + counts[i0])       # the gear's final grid (the same for all its points)
+        lam0 = np.stack([lam_m[m][seg[i]:seg[i] + counts[i]] for m, i in zip(mm.tolist(), pp.tolist())])
+        val, err, cv, nn, jm = _refine_consistent(cyc, int(gs), t[sl], mids[sl], w[:, sl], mu[pp],
+                                                  np.where(mm == 0, REDUCER, MULTIPLIER), lam0, tol)
+        res["loss_ratio"][mm, pp] = np.where(jm, np.nan, val)
+        res["err"][mm, pp] = np.where(jm, np.nan, err)
+        conv[mm, pp], n_crank[mm, pp] = cv, nn
+        jam[mm, pp] |= jm
+    zero = mu == 0.0                                   # f = f_k = f_c = 0: lambda = 0 exactly (pins.md §9)
+    res["loss_ratio"][:, zero], res["err"][:, zero] = 0.0, 0.0
+    conv[:, zero] = True
+    return ConsistentCycles(converged=conv, jammed=jam, n_crank=n_crank, **res)
+
+
+def _ratio_of(G: _GearTable, slot):
+    """u = z1/k of the gears at ``slot`` of the table (Z_e - 1 = z1/k)."""
+    return G.Ze[slot] - 1.0
+
+
+def _refine_consistent(cyc: IdealCycles, slot: int, t, t_mid, w, mu, sigma, lam, tol: float):
+    """Continue the doubling of the cycle quadrature (pins.md §6) of the friction-consistent lambda beyond the
+    final grid of the first-order solve, for several (friction, mode) pairs of one gear at once, evaluating
+    only the new nodes (their friction-free sums once for all pairs), until the rule accepts each pair
+    (E <= max(tol |Q|, 1e-14) on two successive doublings) or :data:`CONSISTENT_N_MAX`.
+
+    ``t, t_mid, w``: the gear's final grid (nodes piece by piece) and its trapezoid weights at levels L, L-1;
+    ``mu, sigma``: per pair, shape (K,); ``lam``: lambda at the grid's nodes, shape (K, nodes).  Returns
+    arrays over the pairs: Richardson value, E, accepted, intervals, jammed (D <= 0 at a new node)."""
+    G = cyc.table
+    z2 = int(G.z2[slot])
+    new_piece = np.empty(t.size, dtype=bool)
+    new_piece[0] = True
+    np.not_equal(t_mid[1:], t_mid[:-1], out=new_piece[1:])
+    start = np.flatnonzero(new_piece)
+    count = np.concatenate((start[1:], [t.size])) - start
+    a, b, n = t[start], t[start + count - 1], count - 1
+    q_prev, q = (lam * w[1]).sum(axis=1), (lam * w[0]).sum(axis=1)
+    ok_prev = np.abs(q - q_prev) <= np.maximum(tol * np.abs(q), 1e-14)   # the final grid's last doubling
+    K = q.size
+    value, err = np.full(K, np.nan), np.full(K, np.nan)
+    conv, jam = np.zeros(K, dtype=bool), np.zeros(K, dtype=bool)
+    n_out = np.zeros(K, dtype=np.int64)
+    active = np.ones(K, dtype=bool)
+    if G.z2.size == 1:               # one gear (a design alone): its table, with the rows' sines already cached
+        G1 = G
+    else:
+        G1 = _GearTable(G.z2[slot:slot + 1], G.K1[slot:slot + 1], G.omk[slot:slot + 1], G.R_p[slot:slot + 1],
+                        G.R_b[slot:slot + 1], G.r_p1[slot:slot + 1], G.c[slot:slot + 1], Ze=G.Ze[slot:slot + 1])
+    mids = 0.5 * (a + b)
+    while active.any():
+        if 2 * int(n.sum()) > CONSISTENT_N_MAX:        # the cap: the best value and its error
+            value[active] = q[active] + (q[active] - q_prev[active]) / 3.0
+            err[active] = np.abs(q[active] - q_prev[active])
+            n_out[active] = int(n.sum())
+            break
+        piece = np.repeat(np.arange(a.size), n)
+        j = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
+        x = a[piece] + (b - a)[piece] * ((2 * j + 1) / (2 * n[piece]))
+        J, lev, rho, sh, s = _contacts_geo(x, mids[piece], None, G1, z2)
+        rel = rho - G1.R_b[0]
+        nx = (G1.omk[0] - 2.0 * (sh * sh)) / s
+        Nn = _colsum(lev * np.abs(rel))
+        Sn = _colsum(lev * lev)
+        Qn = Nn + G1.r_p1[0] * _colsum(np.sign(rel) * lev * nx)
+        hp = ((b - a) / (2 * n))[piece]
+        q_new = 0.5 * q
+        act = np.flatnonzero(active)
+        step = max(1, REFINE_BLOCK // max(x.size, 1))
+        for c0 in range(0, act.size, step):             # (pairs, new nodes) blocks of bounded size
+            kk = act[c0:c0 + step]
+            D = Sn[None, :] - (sigma[kk] * mu[kk])[:, None] * Qn[None, :]
+            bad = ~(D > 0.0).all(axis=1)
+            jam[kk[bad]] = True
+            n_out[kk[bad]] = 2 * int(n.sum())
+            active[kk[bad]] = False
+            with np.errstate(divide="ignore", invalid="ignore"):
+                f = mu[kk][:, None] * Nn[None, :] / D
+            q_new[kk] += (f * hp).sum(axis=1)             # row by row: a pair's sum does not depend on the others
+        n = 2 * n
+        ok = np.abs(q_new - q) <= np.maximum(tol * np.abs(q_new), 1e-14)
+        done = active & ok & ok_prev
+        value[done] = q_new[done] + (q_new[done] - q[done]) / 3.0
+        err[done] = np.abs(q_new[done] - q[done])
+        conv |= done
+        n_out[done] = int(n.sum())
+        active &= ~done
+        q_prev, q, ok_prev = q, q_new, ok
+    return value, err, conv, n_out, jam
+
+
+def crank_history(g: Cycloid, psi_star: float, t, t_mid, mu_eff: float, sigma: int, consistent: bool = True):
+    r"""Per node of a cycle grid: the force denominator D, the crank-bearing force and the crank torque, unit T_sat.
+
+    The friction-consistent model of pins.md §4.9 (:func:`consistent_node_values`); with ``consistent``
+    false the forces are the friction-free ones of §4.4 (D = S; the bearing force then has no friction
+    part either).  t = theta/T_p in the cycle variable of :func:`cycle_state` (multiplier theta = T_p t,
+    reducer theta = T_p (1 - t)).
+
+    Returns
+    -------
+    dict of arrays over the nodes: D [mm^2] (F_i = T_sat |l_i|/D), lam [-], Bx, By (crank frame, x along
+    the crank arm; per N·mm of T_sat) [1/mm], crank (the crank torque along the power flow over T_sat,
+    sigma e B_y) [-], jam (D <= 0).
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> h = crank_history(g, np.pi, np.array([0.2]), np.array([0.5]), 0.0, REDUCER)
+    >>> round(float(h["crank"][0]) * 21, 12)           # friction-free: T_H = T_sat/u
+    1.0
+
+    References
+    ----------
+    pins.md §4.9 (crank-bearing force, crank torque), §8 (the detail table).
+    """
+    G = _GearTable.of(_as_arrays(g), np.array([psi_star]))
+    t = np.asarray(t, dtype=float)
+    J, lev, rho, sh, s = _contacts_geo(t, np.asarray(t_mid, dtype=float), None, G, int(g.z2))
+    sums = _node_sums(J, lev, rho, sh, s, G, None)
+    v = consistent_node_values(sums, mu_eff if consistent else 0.0, sigma)
+    mu = mu_eff if consistent else 0.0
+    Bx = v["c"] * (sums[3] - sigma * mu * sums[4])
+    By = v["c"] * (sigma * sums[1] + mu * sums[2]) / g.r_p1
+    lam = mu_eff * sums[0] / v["D"]
+    return {"D": v["D"], "lam": lam, "Bx": Bx, "By": By, "crank": sigma * g.e * By, "jam": v["jam"]}

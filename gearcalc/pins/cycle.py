@@ -1,0 +1,344 @@
+"""KHV pin gearing, level ``ideal``: the cycle model of one gear (pins.md §4.6, §6, §12.7).
+
+The breakpoints of the loss ratio over one crank-angle period, the state of the loaded pins at crank
+angles, the loss ratio and the per-pin detail of a cycle, and the sums over the discs of a multi-disc
+gear.  Pure functions over floats and numpy arrays; units N, mm, rad.
+
+References
+----------
+.. [1] The paper (Prudnikov, seed 000), cited in full in :mod:`gearcalc.pins`; docs/spec/pins.md §4.6, §6.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import units
+from ..arrays import unique_sorted
+from ..quadrature import geometric_breakpoints
+from .efficiency import contact_loss_power, pin_spin, sliding_speed
+from .geometry import Cycloid, lever_arm, MULTIPLIER, pitch_distance
+
+__all__ = ["cycle_breakpoints", "CycleState", "cycle_state", "cycle_loss_ratio", "state_loss_ratio", "CycleDetail",
+           "cycle_detail", "disc_offsets", "sum_over_discs", "disc_sum_peak"]
+
+
+# Over one period the load-side phases of the pins are psi_j(t) = 2 pi (j + t)/z2, j = 0 .. z2-1,
+# t in [0, 1] (t = theta/T_p in the multiplier; t = 1 - theta/T_p in the reducer, by the mirror
+# relation of §4.8 identity 5).  The loaded pins are a prefix j < J(t) with J = ceil(c - t),
+# c = psi* z2/(2 pi); membership is decided at the piece midpoint.
+
+def _loaded_count(t_mid, c):
+    return np.ceil(c - np.asarray(t_mid, dtype=float)).astype(np.int64)
+
+
+def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.ndarray:
+    """Breakpoints of the cycle integrand in t = theta/T_p in [0, 1]  (pins.md §6, §12.12).
+
+    0 and 1 (entry at psi~ = 0), the exit frac(psi* z2/2 pi), the spin reversal
+    frac(psi_0 z2/2 pi) when psi_0 < psi*, and two geometric gradings:
+
+    * K1 > 0.99: toward the entry t = 0 over the whole period, down to a quarter of the boundary
+      layer width (1 - K1) z2/(2 pi); the layer's tail (1 - K1)^2/psi^2 is algebraic, so the grading
+      must not stop at the first breakpoint;
+    * a piece where a single pin carries the load (psi* barely above 2 pi/z2): lambda ~ 1/psi there,
+      so toward that piece's start, down to its own distance from the entry.
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)   # k = 1, z2 even: exit at t = 0
+    >>> cycle_breakpoints(g, np.pi, None).tolist()
+    [0.0, 1.0]
+    """
+    c = _exit_count(g, psi_star)
+    pts = [0.0, 1.0, c - math.floor(c)]
+    if psi_0 is not None and psi_0 < psi_star:
+        c0 = psi_0 * g.z2 / (2.0 * math.pi)
+        pts.append(c0 - math.floor(c0))
+    pts = unique_sorted(np.array(pts))
+    extra = []
+    if g.one_minus_K1 < 0.01:
+        extra.append(geometric_breakpoints(0.0, 1.0, g.one_minus_K1 * g.z2 / (2.0 * math.pi)))
+    a, b = pts[:-1], pts[1:]
+    for lo, hi in zip(a[_loaded_count(0.5 * (a + b), c) == 1], b[_loaded_count(0.5 * (a + b), c) == 1]):
+        if lo > 0.0:
+            extra.append(geometric_breakpoints(lo, hi, lo))
+    return unique_sorted(np.concatenate([pts, *extra]))
+
+
+def _exit_count(g, psi_star):
+    """c = psi* z2/(2 pi), exact for k = 1."""
+    return g.z2 / 2.0 if g.k == 1 else psi_star * g.z2 / (2.0 * math.pi)
+
+
+@dataclass
+class CycleState:
+    """The loaded contacts at nodes t (one disc): rows j = 0 .. J_max-1 (load-side order).
+
+    phase [rad], loaded (bool), lever |l| [mm], rho [mm], S = sum l^2 [mm^2] per node.
+    """
+
+    t: np.ndarray
+    phase: np.ndarray
+    loaded: np.ndarray
+    lever: np.ndarray
+    rho: np.ndarray
+    S: np.ndarray
+
+
+def cycle_state(t, t_mid, g: Cycloid, psi_star: float) -> CycleState:
+    """Loaded-pin geometry at nodes t of pieces with midpoints t_mid (one-sided at piece ends).
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> st = cycle_state(np.array([0.0, 1.0]), np.array([0.5, 0.5]), g, np.pi)
+    >>> st.loaded.sum(axis=0).tolist()    # k = 1: half the pins
+    [11, 11]
+    """
+    t = np.asarray(t, dtype=float)
+    c = _exit_count(g, psi_star)
+    J = _loaded_count(t_mid, c)
+    jmax = math.ceil(c) + 1
+    j = np.arange(jmax)[:, None]
+    phase = math.pi * ((2.0 * j + 2.0 * t[None, :]) / g.z2)
+    loaded = j < J[None, :]
+    lev = np.where(loaded, np.abs(lever_arm(phase, g)), 0.0)
+    rho = pitch_distance(phase, g)
+    S = np.sum(lev * lev, axis=0)
+    return CycleState(t, phase, loaded, lev, rho, S)
+
+
+def cycle_loss_ratio(t, t_mid, g: Cycloid, psi_star: float, mu_eff: float):
+    """lambda at nodes t of the cycle (one-sided at piece ends)  (pins.md §4.6).
+
+    Examples
+    --------
+    >>> from gearcalc.pins import loss_ratio
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> a = cycle_loss_ratio(np.array([0.3]), np.array([0.5]), g, np.pi, 0.1)
+    >>> b = loss_ratio([0.3 * 2 * np.pi / 22], g, np.pi, 0.1, MULTIPLIER)
+    >>> bool(abs(a[0] - b[0]) < 1e-13)
+    True
+    """
+    return state_loss_ratio(cycle_state(t, t_mid, g, psi_star), g, mu_eff)
+
+
+def state_loss_ratio(st: CycleState, g: Cycloid, mu_eff, n_discs: int = 1):
+    r"""lambda at the nodes of a :class:`CycleState`, averaged over n_d discs (pins.md §4.6, §12.7).
+
+    .. math::
+
+        \lambda(t) = \mu_{eff} \frac{\sum_i |l_i| |\rho_i - R_b|}{\sum_i l_i^2},\qquad
+        \lambda_{n_d}(t) = \frac{1}{n_d} \sum_{d=0}^{n_d-1} \lambda(t + \Delta_d)
+
+    with the disc offsets Delta_d of :func:`disc_offsets` (one period = 1 in t).
+
+    Parameters
+    ----------
+    st : CycleState
+        the loaded contacts at nodes t (one disc).
+    g : Cycloid
+    mu_eff : float
+        effective friction coefficient [-].
+    n_discs : int
+        n_d, discs in phase-shifted sets.
+
+    Returns
+    -------
+    ndarray
+        lambda at the nodes [-].
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> st = cycle_state(np.array([0.3]), np.array([0.5]), g, np.pi)
+    >>> bool(state_loss_ratio(st, g, 0.1)[0] == cycle_loss_ratio(np.array([0.3]), np.array([0.5]), g, np.pi, 0.1)[0])
+    True
+
+    References
+    ----------
+    .. [1] Prudnikov (seed 000), cited in full in :mod:`gearcalc.pins`; pins.md §4.6, §12.7.
+    """
+    lam = mu_eff * np.sum(st.lever * np.abs(st.rho - g.R_b), axis=0) / st.S
+    if n_discs > 1:   # all discs: the mean of the discs' shifted histories (pins.md §12.7)
+        lam = sum_over_discs(st.t, lam, disc_offsets(n_discs, g.z2), 1.0) / n_discs
+    return lam
+
+
+@dataclass(frozen=True)
+class CycleDetail:
+    """The ideal level's cycle at the nodes of its final grid (:func:`cycle_detail`), crank angle ascending.
+
+    Per node: theta [deg], loss_ratio (all discs) [-], loss (all discs) [W] or None, loaded (pins of the
+    first disc).  Per loaded contact of the first disc (row-major by node, then pin): contact_theta [deg],
+    pin (index of the fixed ring), phase [deg], force [N] or None, sliding_speed [m/s] or None,
+    pin_speed [rpm] or None, contact_loss [W] or None.  None: the torque or the crank speed is not known."""
+
+    theta: np.ndarray
+    loss_ratio: np.ndarray
+    loss: np.ndarray | None
+    loaded: np.ndarray
+    contact_theta: np.ndarray
+    pin: np.ndarray
+    phase: np.ndarray
+    force: np.ndarray | None
+    sliding_speed: np.ndarray | None
+    pin_speed: np.ndarray | None
+    contact_loss: np.ndarray | None
+
+
+def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_sat, omega_V, rolls: bool,
+                 n_discs: int = 1, denominator=None) -> CycleDetail:
+    r"""Loss ratio, forces, speeds and losses at the nodes of the ideal level's cycle (pins.md §4.4-4.6, §8).
+
+    The cycle variable t maps to crank angle theta = T_p t (multiplier; pin i = -j mod z2) or
+    theta = T_p (1 - t) (reducer; pin i = j + 1 mod z2), by the mirror relation of pins.md §4.8.
+
+    .. math::
+
+        F_j = T_{sat} \frac{|l_j|}{\sum_i l_i^2},\quad v_j = |\omega_V| |\rho_j - R_b|,\quad
+        \omega_{pin} = -\omega_V \frac{\rho_j - R_b}{R_b},\quad P_j = \mu_{eff} F_j v_j 10^{-3}
+
+    Parameters
+    ----------
+    g : Cycloid
+    sigma : int
+        +1 reducer, -1 multiplier.
+    st : CycleState
+        the loaded contacts at the nodes t (:func:`cycle_state`).
+    mu_eff : float
+        [-].
+    torque_sat : float or None
+        T_sat per disc [N·mm] (None: unknown, e.g. self-locking with the torque on H).
+    omega_V : float or None
+        signed satellite speed [rad/s] (None: no crank speed).
+    rolls : bool
+        the pins roll.
+    n_discs : int
+        n_d.
+    denominator : ndarray, optional
+        D per node, F_j = T_sat |l_j|/D (the friction-consistent model, pins.md §4.9, :func:`crank_history`);
+        default S = sum l^2 (friction-free forces, §4.4).
+
+    Returns
+    -------
+    CycleDetail
+
+    Examples
+    --------
+    >>> from gearcalc.pins import REDUCER
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> st = cycle_state(np.array([0.0, 0.5, 1.0]), np.array([0.5, 0.5, 0.5]), g, np.pi)
+    >>> d = cycle_detail(g, REDUCER, st, 0.1, 1000.0, -1.0, False)
+    >>> d.theta.tolist() == sorted(d.theta.tolist()), bool(np.all(d.force >= 0)), d.loaded.tolist()  # k = 1: half
+    (True, True, [11, 11, 11])
+
+    References
+    ----------
+    .. [1] Prudnikov (seed 000), cited in full in :mod:`gearcalc.pins`; pins.md §4.4-4.6, §8.
+    """
+    t = st.t
+    Tp_deg = 360.0 / g.z2
+    if denominator is not None:     # friction-consistent forces (pins.md §4.9)
+        st = CycleState(st.t, st.phase, st.loaded, st.lever, st.rho, np.asarray(denominator, dtype=float))
+    lam = state_loss_ratio(st, g, mu_eff, n_discs)
+    if sigma == MULTIPLIER:      # theta = T_p t, pin i = -j mod z2
+        theta, pin_shift, pin_sign = t * Tp_deg, 0, -1
+    else:                        # theta = T_p (1 - t), pin i = j + 1 mod z2
+        theta, pin_shift, pin_sign = (1.0 - t) * Tp_deg, 1, 1
+    order = np.argsort(theta, kind="stable")
+    have_P = torque_sat is not None and omega_V is not None
+    loaded = st.loaded[:, order]
+    jj, nn = np.nonzero(loaded.T)[1], order[np.nonzero(loaded.T)[0]]      # row-major by node, then pin
+    F = torque_sat * st.lever[jj, nn] / st.S[nn] if torque_sat is not None else None
+    v = sliding_speed(st.rho[jj, nn], g.R_b, omega_V) if omega_V is not None else None
+    if omega_V is not None:
+        spin = units.rad_s_to_rpm(pin_spin(st.rho[jj, nn], g.R_b, omega_V)) if rolls else np.zeros(jj.size)
+        slide = np.zeros(jj.size) if rolls else v / units.MM_PER_M
+    else:
+        spin = slide = None
+    return CycleDetail(
+        theta=theta[order], loss_ratio=lam[order],
+        loss=(lam * (n_discs * torque_sat * abs(omega_V) * 1e-3))[order] if have_P else None,
+        loaded=st.loaded.sum(axis=0)[order], contact_theta=theta[nn], pin=(pin_sign * jj + pin_shift) % g.z2,
+        phase=np.degrees(st.phase[jj, nn]), force=F, sliding_speed=slide, pin_speed=spin,
+        contact_loss=contact_loss_power(F, v, mu_eff) if have_P else None)
+
+
+def disc_offsets(n_discs: int, z2: int) -> np.ndarray:
+    """Shifts in t = theta/T_p of the discs' cycles, frac(d z2/n_d), d = 0 .. n_d-1  (pins.md §12.7).
+
+    Examples
+    --------
+    >>> disc_offsets(2, 22).tolist()
+    [0.0, 0.0]
+    """
+    d = np.arange(n_discs)
+    return np.mod(d * z2, n_discs) / n_discs
+
+
+def sum_over_discs(x, values, shifts, period, origin: float = 0.0, zero_outside: bool = False):
+    """Sum over discs of a sampled periodic history, sum_d v(x + shift_d), by linear interpolation.
+
+    Parameters
+    ----------
+    x : sample points, non-decreasing (repeated points hold one-sided limits).
+    values : samples at x.
+    shifts : the discs' shifts (0 for the first) [unit of x].
+    period : the period of v [unit of x]; points are wrapped into [origin, origin + period).
+    origin : start of the wrapped range.
+    zero_outside : v = 0 outside [x[0], x[-1]] (a pin's history off its loaded arc).
+
+    Returns
+    -------
+    The summed history at x.  Linear interpolation: error O(h^2) in the sample spacing h.
+
+    Examples
+    --------
+    >>> sum_over_discs(np.array([0.0, 0.5, 1.0]), np.array([0.0, 1.0, 0.0]), [0.0, 0.5], 1.0).tolist()
+    [1.0, 1.0, 1.0]
+    """
+    x = np.asarray(x, dtype=float)
+    values = np.asarray(values, dtype=float)
+    total = np.zeros_like(values)
+    fill = 0.0 if zero_outside else None
+    for s in shifts:  # a handful of discs: loop over discs, vectorised over samples
+        y = np.mod(x + s - origin, period) + origin
+        total += np.interp(y, x, values, left=fill, right=fill)
+    return total
+
+
+def disc_sum_peak(phase, values, n_d: int):
+    """Peak over the cycle and the pins of a per-contact quantity summed over n_d discs, and its phase.
+
+    The discs are 2 pi/n_d apart: a pin's history at phase psi is sum_d v(psi - 2 pi d/n_d) (pins.md
+    §12.7), interpolated linearly between the samples (error O(h^2)).
+
+    Parameters
+    ----------
+    phase : load-side phases of the loaded contacts of the first disc [rad], shape (n,).
+    values : the quantity at those contacts, shape (n,).
+    n_d : number of discs.
+
+    Returns
+    -------
+    (peak, phase of the peak [rad]).
+
+    Examples
+    --------
+    >>> disc_sum_peak(np.array([0.0, 1.0, 2.0]), np.array([0.0, 1.0, 0.0]), 1)
+    (1.0, 1.0)
+    """
+    x, val = np.asarray(phase, dtype=float), np.asarray(values, dtype=float)
+    order = np.argsort(x, kind="stable")
+    x, val = x[order], val[order]
+    shifts = -2.0 * np.pi * np.arange(n_d) / n_d
+    pts = unique_sorted(np.concatenate([np.mod(x - s, 2.0 * np.pi) for s in shifts]))
+    tot = np.zeros_like(pts)
+    for s in shifts:  # a handful of discs; vectorised over the samples
+        tot += np.interp(np.mod(pts + s, 2.0 * np.pi), x, val, left=0.0, right=0.0)
+    i = int(np.argmax(tot))
+    return float(tot[i]), float(pts[i])

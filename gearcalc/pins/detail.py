@@ -1,0 +1,106 @@
+"""KHV pin gearing: the per-element detail tables of a cycle (pins.md §8).
+
+Rows (dicts of plain values) over the final crank-angle grid: ``crank`` (one per crank angle) and
+``contacts`` (one per loaded contact of the first disc), of the ideal level (:func:`detail_tables`, from
+:func:`~gearcalc.pins.cycle.cycle_detail` and :func:`~gearcalc.pins.outputs.crank_detail`) and of the
+contact level (:func:`contact_detail`, from its solved cycle).  Units: N, µm, m/s, rpm, W, N·m, degrees.
+
+Example: rows from equal-length columns (a None column stays None in every row):
+
+>>> rows({"theta_deg": [0.0, 1.5], "force_N": None})
+[{'theta_deg': 0.0, 'force_N': None}, {'theta_deg': 1.5, 'force_N': None}]
+
+References
+----------
+.. [1] The paper (Prudnikov, seed 000), cited in full in :mod:`gearcalc.pins`; docs/spec/pins.md §8.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import units
+from .cycle import cycle_detail
+from .outputs import crank_detail
+
+__all__ = ["rows", "detail_tables", "contact_detail"]
+
+
+def contact_detail(g, sol, cyc, T_V, w_H, n_d):
+    """Detail tables of the contact level (pins.md §8): ``crank`` and ``contacts`` rows of the final grid
+    (first disc; piece ends appear twice, the one-sided limits)."""
+    theta_deg = np.degrees(sol.theta)
+    have_P = w_H is not None
+    lam = cyc.lam
+    loaded_c = sol.force > 0.0
+    crank = rows({
+        "theta_deg": theta_deg, "TE_arcsec": np.degrees(sol.tau) * 3600.0, "loss_ratio": lam,
+        "loss_W": lam * n_d * units.nm_to_nmm(T_V) / n_d * (w_H * g.k / g.z1) * 1e-3 if have_P else None,
+        "loaded_pins": loaded_c.any(axis=0).sum(axis=0),
+    })
+    n_idx, j_idx, c_idx = np.nonzero(np.transpose(loaded_c, (2, 1, 0)))    # row-major: node, pin, contact
+    rpm = units.rad_s_to_rpm(w_H) if have_P else None
+    contacts = rows({
+        "theta_deg": theta_deg[n_idx], "pin": j_idx, "contact": c_idx,
+        "phase_deg": np.degrees(sol.phase[j_idx, n_idx]), "force_N": sol.force[c_idx, j_idx, n_idx],
+        "penetration_um": sol.delta[c_idx, j_idx, n_idx] * units.UM_PER_MM,
+        "sliding_speed_m_s": cyc.slide[c_idx, j_idx, n_idx] * w_H / units.MM_PER_M if have_P else None,
+        "pin_speed_rpm": cyc.spin[j_idx, n_idx] * rpm if have_P else None,
+        "loss_W": cyc.loss[c_idx, j_idx, n_idx] * w_H * 1e-3 if have_P else None,
+    })
+    return {"crank": crank, "contacts": contacts}
+
+
+def rows(columns: dict) -> list[dict]:
+    """Rows (dicts) from equal-length columns; a None column stays None in every row."""
+    n = max(len(v) for v in columns.values() if v is not None)
+    cols = {k: (v.tolist() if hasattr(v, "tolist") else v) if v is not None else [None] * n
+            for k, v in columns.items()}
+    keys = list(cols)
+    return [dict(zip(keys, vals)) for vals in zip(*cols.values())]
+
+
+def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist=None, consistent=False):
+    """Rows of the final grid (pins.md §8, :func:`~gearcalc.pins.cycle.cycle_detail`): ``crank`` (one per crank
+    angle: the loss ratio and loss of all discs, the loaded pins of the first, the crank torque of all discs
+    along the power flow and the crank-bearing force of the first disc: magnitude, radial (along the crank
+    arm, outward) and tangential components, direction from the crank arm) and ``contacts`` (one per
+    loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides).
+    ``hist``: :func:`~gearcalc.pins.consistent.crank_history` at the nodes; with ``consistent`` the forces are the
+    friction-consistent ones (pins.md §4.9)."""
+    d = cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d,
+                          denominator=hist["D"] if consistent else None)
+    cols = {"theta_deg": d.theta, "TE_arcsec": np.zeros(d.theta.size), "loss_ratio": d.loss_ratio,
+            "loss_W": d.loss, "loaded_pins": d.loaded}
+    if hist is not None:
+        have = T_sat is not None
+        cd = crank_detail(hist, t, sigma, g.z2, T_sat, n_d) if have else None
+        cols.update({
+            "crank_torque_Nm": cd.crank_torque if have and consistent else None,
+            "bearing_force_N": cd.bearing_force if have else None,
+            "bearing_radial_N": cd.bearing_radial if have else None,
+            "bearing_tangential_N": cd.bearing_tangential if have else None,
+            "bearing_angle_deg": cd.bearing_angle if have else None,
+        })
+    crank = rows(cols)
+    contacts = rows({"theta_deg": d.contact_theta, "pin": d.pin, "phase_deg": d.phase, "force_N": d.force,
+                      "sliding_speed_m_s": d.sliding_speed, "pin_speed_rpm": d.pin_speed, "loss_W": d.contact_loss})
+    return {"crank": crank, "contacts": contacts}
+
+
+def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, omega_V, rolls, n_discs,
+                 torque_V=None):
+    """The ideal level's detail tables of one gear (pins.md §8) on its final grid ``t`` (piece midpoints
+    ``t_mid``): :func:`detail_tables` with the crank history of :func:`~gearcalc.pins.consistent.crank_history`.
+
+    With ``consistent`` the forces are the friction-consistent ones, and the satellite torque follows from
+    ``torque_V`` [N·m], the torque on V of the friction-consistent efficiency (pins.md §4.9; None: self-locking);
+    else ``torque_sat`` [N·mm] (None without a torque).  omega_V [rad/s] or None (no crank speed)."""
+    from .consistent import crank_history
+    from .cycle import cycle_state
+    from .outputs import satellite_torque
+
+    st = cycle_state(t, t_mid, g, psi_star)
+    hist = crank_history(g, psi_star, t, t_mid, mu_eff, sigma, consistent)
+    if consistent and torque_sat is not None:
+        torque_sat = None if torque_V is None else satellite_torque(torque_V, n_discs)
+    return detail_tables(g, sigma, st, t, mu_eff, torque_sat, omega_V, rolls, n_discs, hist, consistent)
