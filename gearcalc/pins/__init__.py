@@ -52,7 +52,7 @@ References
 """
 from __future__ import annotations
 
-import importlib
+from ..lazy import lazy_names
 
 _MODULES = ("formula", "geometry", "forces", "efficiency", "operating", "cycle", "ideal", "consistent", "points",
             "outputs", "detail", "contact", "schema", "report", "plot")
@@ -80,21 +80,4 @@ _NAMES = {
                 "satellite_torque", "crank_torque", "contact_stress", "axle_pressure", "pin_loss_bound",
                 "ConsistentPoint", "consistent_point", "consistent_outputs", "CrankDetail", "crank_detail"),
 }
-_WHERE = {name: module for module, names in _NAMES.items() for name in names}
-__all__ = sorted(_WHERE)
-
-
-def __getattr__(name: str):
-    """The public names of the modules, imported on first use (PEP 562)."""
-    module = _WHERE.get(name)
-    if module is None:
-        if name in _MODULES:
-            return importlib.import_module(f"{__name__}.{name}")
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__all__, __getattr__, __dir__ = lazy_names(__name__, globals(), _MODULES, _NAMES)

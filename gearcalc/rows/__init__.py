@@ -34,7 +34,7 @@ References
 """
 from __future__ import annotations
 
-import importlib
+from ..lazy import lazy_names
 
 _MODULES = ("geometry", "sharing", "bridges", "mass")
 _NAMES = {
@@ -55,21 +55,4 @@ _NAMES = {
                 "verify_carrier", "bridges_fit", "largest_feasible_width"),
     "mass": ("Mass", "mass_bracket", "relative_mass", "mass_optimum_closed_form", "mass_and_optimum"),
 }
-_WHERE = {name: module for module, names in _NAMES.items() for name in names}
-__all__ = sorted(_WHERE)
-
-
-def __getattr__(name: str):
-    """The public names of the modules, imported on first use (PEP 562)."""
-    module = _WHERE.get(name)
-    if module is None:
-        if name in _MODULES:
-            return importlib.import_module(f"{__name__}.{name}")
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__all__, __getattr__, __dir__ = lazy_names(__name__, globals(), _MODULES, _NAMES)
