@@ -763,6 +763,7 @@ def _contact(design, options: Options, summary, warnings, failed, detail) -> Non
     summary.update(R.contact_fields(design, g, law, geo, tc, pk, metrics, _backlash(tc.model, profile, design),
                                     residual, rolling_ok))
     summary.update(R.efficiency_fields(et_m, et_r, locked, multiplier, R.plain))
+    summary["friction_model"] = friction_model(design)
     if w_H is not None:
         summary.update(R.operating_fields(pc.operating_values(pk, g, lam, tc.torque_V, w_H, mu, f, rolls)))
     if consistent and locked[multiplier]:

@@ -27,8 +27,8 @@ error, phi_nom = -k theta/z1) is the one unknown:
 * the cycle mean of the loss ratio with :func:`gearcalc.quadrature.integrate_adaptive` (pieces doubled only
   where needed), the breakpoints (contact entry/exit, spin reversals, crest passages) scanned and refined
   by Newton (penetrations, with their slope along the solution) or secant steps (§6);
-* the torque fixed point (§7): a coarse loss ratio from the window's scan, then full passes until the
-  contraction estimated from the last two passes says the remaining change is below tol/10.
+* the torque fixed point (§7): a coarse loss ratio from the window's scan, then full passes (secant-Newton
+  steps after the second) until the linearised remaining change of the loss ratio is below tol/10.
 
 Why a module of its own: the formula and ideal levels (the other modules of :mod:`gearcalc.pins`) are
 closed-form geometry evaluated pointwise; this level carries its own state (profiles, a contact law, a
@@ -856,7 +856,21 @@ class ContactModel:
         lo, hi = float(tau.min()), float(tau.max())
         t_lo = 2.0 * lo if lo < 0.0 else 0.5 * lo                   # twice as far from 0, or half as near
         t_hi = 2.0 * hi if hi > 0.0 else 0.5 * hi
-        ct = self.contacts(pose, np.zeros(theta.size))
+        self._window_for(t_lo, t_hi, n_scan, pose)
+        return self.state(theta)      # and the warm-start memory for the cycle
+
+    def _window_for(self, t_lo: float, t_hi: float, n_scan: int = 64, pose: "Pose | None" = None) -> None:
+        """Set the candidate window to the pins that can touch for tau in [t_lo, t_hi] (see :meth:`set_window`;
+        None when every pin can).  The pin set depends on the tau range: a window taken over from another
+        torque or mode (:meth:`inherit`, :meth:`mirror`) with its tau range scaled must be recomputed for the
+        scaled range, else pins that touch only at the larger |tau| are left out (and the range check of
+        :func:`mean_loss_ratio` still passes)."""
+        g = self.g
+        self.window = None
+        if pose is None:
+            pose = self.pose(np.arange(n_scan) * (g.period / n_scan))
+        R = g.R_p + g.e
+        ct = self.contacts(pose, np.zeros(pose.theta.size))
         # delta(tau) <= delta(0) - (X x n) tau + (R_p + e) tau^2/2: convex in tau, largest at an end
         reach = np.maximum(-ct.arm * t_lo + 0.5 * R * t_lo * t_lo, -ct.arm * t_hi + 0.5 * R * t_hi * t_hi)
         touch = np.any(ct.delta + reach + 0.01 * np.abs(reach) + 1e-12 * g.R_p > 0.0, axis=0)
@@ -869,7 +883,6 @@ class ContactModel:
             m = int(math.floor((z_hi - z_lo) / g.period)) + 2
             if m < g.z2:
                 self.window = (float(z_lo), float(z_hi), m, (t_lo, t_hi))
-        return self.state(theta)      # and the warm-start memory for the cycle
 
     def window_holds(self, tau) -> bool:
         """Whether the solved tau stay in the range the candidate window allows (or there is no window)."""
@@ -889,6 +902,9 @@ class ContactModel:
         if other.window is not None:
             z_lo, z_hi, m, (t_lo, t_hi) = other.window
             self.window = (-z_hi, -z_lo, m, (-t_hi * r, -t_lo * r))
+            if r > 1.0:                   # a wider tau range: its pins recomputed (:meth:`_window_for`)
+                with np.errstate(all="ignore"):
+                    self._window_for(-t_hi * r, -t_lo * r)
         Tp = self.g.period
         for key, memo in other._memo.items():
             if memo is not None:
@@ -908,6 +924,9 @@ class ContactModel:
         if prev.window is not None:
             z_lo, z_hi, m, (t_lo, t_hi) = prev.window
             self.window = (z_lo, z_hi, m, (t_lo * r, t_hi * r))
+            if r > 1.0:                   # a wider tau range: its pins recomputed (:meth:`_window_for`)
+                with np.errstate(all="ignore"):
+                    self._window_for(t_lo * r, t_hi * r)
         for key, memo in prev._memo.items():
             if memo is not None:
                 self._memo[key] = (memo[0], memo[1] * r, memo[2] * r)
@@ -1813,7 +1832,8 @@ class TorqueCycle:
     cycle : the last :class:`ContactCycle`; model : its :class:`ContactModel`; torque_V : T_V [N·m];
     loss_ratio, loss_ratio_err : lambda_bar and its error, the quadrature's plus the fixed point's remaining change
         (exactly 0 without friction);
-    history : the loss ratios of the passes; settled : False when the passes ran out unsettled.
+    history : the loss ratios of the passes; settled : False when the passes ran out unsettled;
+    locked : a multiplier whose loss ratio reached 1 on the way (no T_V balances T_H).
     """
 
     cycle: ContactCycle
@@ -1823,6 +1843,39 @@ class TorqueCycle:
     loss_ratio_err: float
     history: list
     settled: bool
+    locked: bool = False
+
+
+def _fixed_point_step(history, torques, uT: float, a: float):
+    r"""The remaining change of the loss ratio to the torque fixed point, and the next T_V (pins.md §6(6), §7).
+
+    The fixed point is phi(T) = T (1 + a lambda(T)) - u T_H = 0 (a = -1 multiplier, +1 reducer).  With the slope
+    s = d lambda/d T from the last two passes (a secant), phi'(T) = 1 + a lambda + a s T, and the linearised
+    remaining change of lambda is :math:`|s\,\phi(T_n)/\phi'(T_n)|` (never negative); the next T is the
+    secant-Newton step T_n - phi/phi' (within a factor 2 of the plain step u T_H/(1 + a lambda_n)).  Without
+    a slope (one pass, or equal torques), or where phi' <= 0 (no contraction: the plain iteration moves away
+    from the fixed point, or there is none), the remainder is unknown (inf) and the next T is the plain step
+    (None).  Near a fixed point the plain iteration's contraction is c = |s T/(1 + a lambda)| < 1 and
+    phi' = (1 + a lambda)(1 - c sign) > 0.
+
+    Examples
+    --------
+    >>> r, T = _fixed_point_step([0.1, 0.11], [10.0, 11.0], 10.0, 1.0)     # lambda = 0.1 + 0.01 (T - 10)
+    >>> T_star = (-1.0 + math.sqrt(1.0 + 0.04 * 10.0)) / 0.02              # T (1.0 + 0.01 T) = 10
+    >>> bool(abs(T - T_star) < 0.05), bool(r >= 0.0)
+    (True, True)
+    """
+    lam, T_n = history[-1], torques[-1]
+    plain = uT / (1.0 + a * lam)
+    if len(history) < 2 or torques[-1] == torques[-2] or not (1.0 + a * lam > 0.0):
+        return math.inf, None
+    s = (history[-1] - history[-2]) / (torques[-1] - torques[-2])
+    phi = T_n * (1.0 + a * lam) - uT
+    dphi = 1.0 + a * lam + a * s * T_n
+    if not (dphi > 0.0 and math.isfinite(s)):
+        return math.inf, None
+    step = T_n - phi / dphi
+    return abs(s * phi / dphi), min(max(step, 0.5 * plain), 2.0 * plain)
 
 
 def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
@@ -1840,11 +1893,13 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         T_V = \frac{u T_H}{1 + \bar\lambda(T_V)}\ \text{(reducer)}
 
     (at most ``passes``; one pass when the torque is on V).  The iteration starts from a coarse loss ratio
-    of the candidate window's scan (64 uniform crank angles at T_V = u T_H), so that two full passes
-    usually settle it: it stops when :func:`fixed_point_settled`, or when the contraction estimated from
-    the last two passes, c = |d lambda/d T_V| |d T_V/d lambda|, bounds the remaining change,
-    c |lambda_n - lambda_(n-1)|/(1 - c), below tol/10 of lambda.  A multiplier that self-locks
-    (lambda_bar >= 1) keeps the last solution.
+    of the candidate window's scan (64 uniform crank angles at T_V = u T_H); the second pass is the plain
+    step, the later ones secant-Newton steps on phi(T_V) = T_V (1 -+ lambda) - u T_H with the slope of the
+    last two passes (:func:`_fixed_point_step`).  It stops when the linearised remaining change of lambda,
+    |s phi/phi'| (never negative), is below tol/10 of lambda, or lambda did not change
+    (:func:`fixed_point_settled`); that remaining change is added to the error.  When the passes run out
+    (``settled`` False) or a multiplier self-locks on the way (lambda_bar >= 1: it keeps the last solution,
+    ``locked``), the error holds at least the last change.
 
     Parameters
     ----------
@@ -1924,19 +1979,22 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     prev = None
     if not torque_on_V and not frictionless:
         # a coarse loss ratio from the candidate-window scan (uniform angles, no breakpoints) starts the
-        # fixed point close to it: two full passes then settle it
+        # fixed point close to it: two or three full passes then settle it
         prev, lam = run(g.ratio * T, None, window_only=True)
         if not (np.isfinite(lam) and lam < 1.0):
             lam = 0.0
+    a = -1.0 if multiplier else 1.0          # the fixed point phi(T_V) = T_V (1 + a lambda(T_V)) - u T_H = 0
+    uT = g.ratio * T
+    locked = False
+    T_next = None
     for _ in range(passes):
         if torque_on_V:
             T_V = T
-        elif multiplier:
-            if lam >= 1.0:
-                break                      # self-locking: no T_V balances T_H; keep the last solution
-            T_V = g.ratio * T / (1.0 - lam)
+        elif multiplier and lam >= 1.0:
+            locked = True                  # self-locking: no T_V balances T_H; keep the last solution
+            break
         else:
-            T_V = g.ratio * T / (1.0 + lam)
+            T_V = T_next if T_next is not None else uT / (1.0 + a * lam)
         # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
         # changes little between passes: two doublings then usually suffice)
         model, cyc = run(T_V, prev, n_initial=None if cyc is None else cyc.quad.n_piece // 4)
@@ -1949,27 +2007,21 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         if torque_on_V or frictionless:
             remainder = 0.0
             break
-        remainder = abs(history[-1] - history[-2]) if len(history) >= 2 else math.inf
-        if fixed_point_settled(history, tol):
-            if len(history) >= 3:
-                c = remainder / max(abs(history[-2] - history[-3]), 1e-300)
-                remainder = min(remainder, c * remainder / (1.0 - c)) if c < 1.0 else remainder
+        remainder, T_next = _fixed_point_step(history, torques, uT, a)
+        if remainder <= max(0.1 * tol * abs(lam), 1e-15) or fixed_point_settled(history[-2:], tol):
             break
-        if len(history) >= 2 and torques[-1] != torques[-2]:
-            # the contraction of the fixed point from the last two passes: c = |d lambda/d T_V| |d T_V/d lambda|
-            c = abs((history[-1] - history[-2]) / (torques[-1] - torques[-2])) * T_V / (1.0 - lam if multiplier
-                                                                                         else 1.0 + lam)
-            if c < 0.5 and c * abs(history[-1] - history[-2]) / (1.0 - c) <= 0.1 * tol * abs(lam):
-                remainder = c * abs(history[-1] - history[-2]) / (1.0 - c)
-                break
     else:
         settled = False
-    # the error: the quadrature's plus the fixed point's remaining change (the contraction bound, or the last
-    # change when the passes ran out)
+    if locked or not settled:
+        # the passes ran out, or the multiplier locked on the way: the remainder is not known to be small;
+        # the last change is in the error (never less)
+        remainder = max(remainder if math.isfinite(remainder) else 0.0,
+                        abs(history[-1] - history[-2]) if len(history) >= 2 else 0.0)
+    # the error: the quadrature's plus the fixed point's remaining change
     E = cyc.loss_ratio_err + (remainder if math.isfinite(remainder) else 0.0)
     if frictionless:
         lam, E = 0.0, 0.0
-    return TorqueCycle(cyc, model, T_V, lam, E, history, settled)
+    return TorqueCycle(cyc, model, T_V, lam, E, history, settled, locked)
 
 
 

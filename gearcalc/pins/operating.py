@@ -244,8 +244,12 @@ def shaft_torques(torque, ratio, eta_vh, eta_hv, multiplier, torque_on_V, xp=ARR
        friction-consistent efficiencies).
     """
     T = torque
-    T_V = xp.where(torque_on_V, T, xp.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))
-    T_H = xp.where(torque_on_V, xp.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
+    # both branches of where are evaluated and may divide by an efficiency 0 (a jammed mode's lambda_bar = inf
+    # gives eta_HV = 0): an inf discarded, or the torques of a self-locked mode (not reported); never a numpy
+    # warning (the product shows none, --debug aside)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        T_V = xp.where(torque_on_V, T, xp.where(multiplier, ratio * T / eta_vh, eta_hv * ratio * T))
+        T_H = xp.where(torque_on_V, xp.where(multiplier, eta_vh * T / ratio, T / (eta_hv * ratio)), T)
     return T_V, T_H
 
 

@@ -179,18 +179,18 @@ def mode_warnings(modes, mode: str) -> list[str]:
                    "frictionless balance (friction.model = \"first-order\")")
     for t in modes.runs.values():
         if not t.settled:
-            out.append(f"the torque fixed point T_V = u T_H/eta did not settle in 8 passes (loss ratios "
+            out.append(f"the torque fixed point T_V = u T_H/eta did not settle in {len(t.history)} passes (loss ratios "
                        f"{t.history[-2]:.10g}, {t.history[-1]:.10g})")
     return out
 
 
 def contact_self_locking(mode: str, jammed: bool, loss_ratio: float) -> str:
     """The failed check of a self-locking mode of the contact level's friction-consistent model (pins.md §4.9)."""
-    cause = ("jams: no positive contact force balances the torque with the friction forces at some crank angle"
+    cause = ("it jams: no positive contact force balances the torque with the friction forces at some crank angle"
              if jammed else f"the loss ratio {loss_ratio:.6g} >= 1 (the losses exceed the power the V shaft "
                             "delivers)")
     return (f"self-locking in the {mode} mode (friction-consistent model, pins.md §4.9): "
-            f"it {cause}; no efficiency. A lower friction.sliding lowers the friction moments")
+            f"{cause}; no efficiency. A lower friction.sliding lowers the friction moments")
 
 
 def other_mode_jams(multiplier: bool) -> str:
@@ -209,7 +209,7 @@ def contact_fields(design, g, law, geo, tc, pk, metrics, backlash, residual, rol
         "mode": design["load.mode"], "ratio": g.ratio, "curtate_ratio": g.K1,
         "rolling_ok": None if rolling_ok is None else bool(rolling_ok[0]),
         "loss_ratio": tc.loss_ratio, "loss_ratio_err": tc.loss_ratio_err, "n_crank": cyc.n_crank,
-        "tolerance_met": bool(cyc.converged),
+        "tolerance_met": bool(cyc.converged) and bool(tc.settled),     # the quadrature and the torque fixed point
         "pin_force_max_N": pk.force if math.isfinite(tc.torque_V) else None,
         "pin_force_max_phase_deg": math.degrees(pk.force_phase), "loaded_pins_min": pk.loaded_min,
         "loaded_pins_max": pk.loaded_max,

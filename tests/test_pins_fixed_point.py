@@ -1,0 +1,163 @@
+"""Tests of the contact level's torque fixed point and its error (pins.md §6(6), §7), the candidate window carried
+from one torque to another (pins.md §5.5), and the contact level's self-locking text, friction_model field and
+numpy warnings (issue: an independent measurement of the k = 1 circular designs).
+
+The designs are shipped configs with changed keys: K1 = e z2/(k R_p) = 1.95 x 21/57.2 = 0.716 (u10) and
+1.95 x 61/161.2 = 0.738 (u30), both admissible cycloid-wise too.  Independent references used: the same
+operating point computed with the torque given on V (one pass, no fixed point) at the T_V the fixed point
+reports; the fixed point of the code before the contact speed-up (eta_VH = 0.1905224); a fresh solve (no warm
+start, its own window) at the same torque.
+"""
+import math
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from gearcalc import api
+from gearcalc.pins import MULTIPLIER, Cycloid
+from gearcalc.pins import contact as pc
+from gearcalc.pins import report as R
+from gearcalc.pins.operating import efficiency_torques, shaft_torques
+
+CONFIGS = Path(__file__).resolve().parent.parent / "configs"
+U10 = str(CONFIGS / "pins_paper_circ_u10_fixed.toml")
+U30 = str(CONFIGS / "pins_paper_circ_u30_fixed.toml")
+K1_U10 = {"gearing.pins": 21, "gearing.eccentricity_mm": 1.95, "friction.sliding": 1.0, "friction.model": "first-order"}
+K1_U30 = {"gearing.pins": 61, "gearing.eccentricity_mm": 1.95, "friction.sliding": 1.0, "friction.model": "first-order"}
+
+
+def _summary(path, overrides, tol=1e-6):
+    return api.compute(path, overrides=overrides, model="contact", tol=tol).summary
+
+
+# ------------------------------------------------------------------ the fixed point's step and remainder
+
+def test_fixed_point_step_remainder_is_never_negative_and_refuses_a_locked_multiplier():
+    # a multiplier whose loss ratio passed 1 has no T_V = u T_H/(1 - lambda): no contraction, no step (before the
+    # fix the contraction was computed with 1 - lambda < 0: a negative c, a negative remainder, a false exit)
+    assert pc._fixed_point_step([0.92, 1.07], [11648.0, 25413.0], 2000.0, -1.0) == (math.inf, None)
+    rng = np.random.default_rng(7)
+    for _ in range(200):
+        lam = rng.uniform(0.0, 0.99, 2)
+        T = rng.uniform(1.0, 1e4, 2)
+        for a in (-1.0, 1.0):
+            r, step = pc._fixed_point_step(list(lam), list(T), 100.0, a)
+            assert r >= 0.0
+            assert step is None or step > 0.0
+
+
+def test_fixed_point_step_on_a_linear_loss_ratio_lands_on_the_fixed_point():
+    # lambda(T) = 0.1 + 0.01 (T - 10), reducer: T (1 + lambda) = 10 -> T (1 + 0.01 T) = 10 (closed form); lambda
+    # linear, so the secant slope is exact and one Newton step of the quadratic is within (T - T*)^2 0.01/phi'
+    T_star = (-1.0 + math.sqrt(1.4)) / 0.02
+    lam = lambda t: 0.1 + 0.01 * (t - 10.0)                      # noqa: E731
+    T = [10.0, 11.0]
+    for _ in range(4):
+        r, step = pc._fixed_point_step([lam(t) for t in T], T, 10.0, 1.0)
+        T.append(step)
+    assert T[-1] == pytest.approx(T_star, rel=1e-12)
+    assert r == pytest.approx(abs(lam(T[-2]) - lam(T_star)), rel=1e-3, abs=1e-15)
+
+
+def test_locked_multiplier_has_a_nonnegative_error_that_holds_the_last_change():
+    # k1_circ_z20_21_e195, f = 1, first-order: before the fix efficiency_reducer_err = -0.0211 and
+    # loss_ratio_err = -0.0907 ("loss ratio 1.074749188 +- -0.0907" at a tighter tol)
+    s = _summary(U10, K1_U10)
+    assert s["curtate_ratio"] == pytest.approx(1.95 * 21 / 57.2)
+    assert s["self_locking"] is True and s["loss_ratio"] >= 1.0
+    assert s["loss_ratio_err"] >= 0.0 and s["efficiency_reducer_err"] >= 0.0
+    # the fixed point's passes: T_V grows with lambda and lambda with T_V (0.921 at 11648 N m, 1.003 at 25413)
+    assert s["loss_ratio_err"] > 0.01
+
+
+# ------------------------------------------------------------------ the fixed point is the fixed point
+
+def test_torque_on_H_and_the_same_point_with_the_torque_on_V_agree_within_their_errors():
+    # k1_circ_z60_61_e195, f = 1, first-order, multiplier: before the fix eta_VH = 0.1918566518 +- 2.6e-7 (the
+    # window carried to a higher torque left out pins that touch there); the code before the contact speed-up
+    # gave 0.1905224; with the torque on V at T_V = u T_H/eta (one pass, no fixed point) 0.19052178
+    on_H = _summary(U30, K1_U30)
+    assert on_H["tolerance_met"] is True
+    T_V = 60.0 * 100.0 / on_H["efficiency"]
+    on_V = _summary(U30, {**K1_U30, "load.torque_shaft": "V", "load.torque_Nm": T_V})
+    assert abs(on_H["efficiency"] - on_V["efficiency"]) <= on_H["efficiency_err"] + on_V["efficiency_err"]
+    assert on_V["torque_out_Nm"] == pytest.approx(100.0, rel=10.0 * on_H["efficiency_err"] / on_H["efficiency"])
+    assert on_H["efficiency"] == pytest.approx(0.1905224, abs=1e-6)
+    assert on_H["efficiency_err"] < 1e-6
+
+
+def _u30_k1():
+    g = Cycloid.from_pin_circle(60, 61, 1.95, 161.2, 2.5)
+    rho, R_t = pc.full_tooth(g)
+    return g, pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0)
+
+
+def test_window_inherited_from_a_lower_torque_holds_the_pins_that_touch_at_the_higher_one():
+    # the candidate window depends on the tau range; carried to a 5x higher torque its range is scaled, and its
+    # pins must be recomputed for that range: the cycle then equals a fresh solve at that torque
+    g, prof, law = _u30_k1()
+    low = pc.ContactModel(g, prof, law, 6.0e6, MULTIPLIER)
+    low.set_window()
+    high = pc.ContactModel(g, prof, law, 3.0e7, MULTIPLIER)
+    high.inherit(low)
+    fresh = pc.ContactModel(g, prof, law, 3.0e7, MULTIPLIER)
+    a = pc.mean_loss_ratio(high, 1.0, 1.0, False, tol=1e-6)
+    b = pc.mean_loss_ratio(fresh, 1.0, 1.0, False, tol=1e-6)
+    assert abs(a.loss_ratio - b.loss_ratio) <= a.loss_ratio_err + b.loss_ratio_err
+    assert high.window is None or high.window[2] >= low.window[2]
+
+
+# ------------------------------------------------------------------ passes that run out
+
+def test_a_fixed_point_that_does_not_settle_is_not_a_met_tolerance(monkeypatch):
+    # two passes are not enough for k1_circ_z60_61_e195 (the loss ratio changes by 5.7e-3 between them): the
+    # warning, tolerance_met false, and the error holds the last change
+    orig = pc.cycle_at_torque
+    runs = []
+
+    def two_passes(*args, **kw):
+        kw["passes"] = 2
+        runs.append(orig(*args, **kw))
+        return runs[-1]
+
+    monkeypatch.setattr(pc, "cycle_at_torque", two_passes)
+    res = api.compute(U30, overrides=K1_U30, model="contact", tol=1e-6)
+    s = res.summary
+    tc = runs[0]
+    assert not tc.settled and len(tc.history) == 2
+    assert s["tolerance_met"] is False
+    assert s["loss_ratio_err"] >= abs(tc.history[-1] - tc.history[-2]) > 1e-3
+    assert any("did not settle in 2 passes" in w for w in res.warnings)
+    assert any("tolerance 1e-06 not met" in w for w in res.warnings)
+
+
+# ------------------------------------------------------------------ texts, fields, warnings
+
+def test_contact_self_locking_text_reads():
+    # before: "...§4.9): it the loss ratio 1.23881 >= 1" (k = 1 circular u10, pins = 21, f = 0.6, consistent)
+    text = R.contact_self_locking("multiplier", False, 1.2388051276)
+    assert "§4.9): the loss ratio 1.23881 >= 1 (the losses" in text and "it the" not in text
+    assert "§4.9): it jams: no positive contact force" in R.contact_self_locking("reducer", True, math.inf)
+
+
+@pytest.mark.parametrize("model", [None, "first-order"])
+def test_contact_summary_names_the_friction_model(model):
+    s = _summary(U10, {} if model is None else {"friction.model": model})
+    assert s["friction_model"] == (model or "consistent")
+
+
+def test_no_numpy_warning_when_a_mode_jams_at_K1_above_1():
+    # the circular u10 config with pins = 21: K1 = 3.9 x 21/57.2 = 1.43 (a circular profile has no curtate-ratio
+    # rule, pins.md §9 names it for the cycloid); at f = 1 the multiplier jams (lambda_bar = inf, eta_HV = 0):
+    # before the fix shaft_torques divided by it and numpy warned "divide by zero"
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = _summary(U10, {"gearing.pins": 21, "friction.sliding": 1.0})
+        T_V, T_H = shaft_torques(np.array([100.0]), 10.0, np.array([np.nan]), np.array([0.0]), np.array([False]),
+                                 np.array([True]))
+        et = efficiency_torques(np.array([np.inf]), np.array([np.nan]), np.array([100.0]), 10.0, np.array([True]),
+                                np.array([False]))
+    assert s["self_locking"] is True and s["curtate_ratio"] > 1.0
+    assert math.isinf(T_H[0]) and bool(et.locked[0])
