@@ -57,7 +57,9 @@ def main() -> None:
     ap.add_argument("--kind", default="rows", choices=sorted(GRIDS))
     ap.add_argument("--jobs", type=int, default=1)
     args = ap.parse_args()
-    print(f"# python {sys.version.split()[0]}, {os.cpu_count()} cores, gearcalc: {' '.join(GEARCALC)}")
+    load = " ".join(f"{v:.2f}" for v in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
+    print(f"# python {sys.version.split()[0]}, {os.cpu_count()} cores, load average {load}, "
+          f"gearcalc: {' '.join(GEARCALC)}")
     print("kind,points,jobs,exit,wall_s,points_per_s,peak_MB,csv_MB")
     with tempfile.TemporaryDirectory() as tmp:
         for n in args.points.split(","):

@@ -340,7 +340,7 @@ def sweep_cmd(
             try:
                 with on_cluster(cluster):
                     chunks = sw.stream(raw, file, axes, Options(tol=tol, model=model), progress=bar.advance,
-                                       jobs=jobs, cluster=cluster, debug=debug)
+                                       jobs=jobs, cluster=cluster, debug=debug, arrays=f == "csv" and not plot)
                     if f == "table" or plot:  # a table and a figure show every point at once
                         result = _sweep_whole(chunks, f, output, chosen, axes, where, plot, calc)
                     else:  # CSV and JSON are written a chunk at a time: memory follows the chunk, not the grid
@@ -429,7 +429,7 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc):
                 total += part.n
                 shown = select_columns(part, fields, lead)
                 if fmt == "csv":
-                    for block in csv_blocks(shown, header=first):
+                    for block in csv_blocks(shown, header=first, binary=True):
                         out.write(block)
                 else:
                     out.write(json_array_piece(shown, first))

@@ -56,13 +56,25 @@ class Range(Sequence):
 
     def __getitem__(self, k):
         if isinstance(k, slice):
-            return [self[j] for j in range(*k.indices(self.count))]
+            start, stop, step = k.indices(self.count)
+            if self.ints:
+                return [self[j] for j in range(start, stop, step)]
+            import numpy as np
+
+            return self.take(np.arange(start, stop, step)).tolist()
         if k < 0:
             k += self.count
         if not 0 <= k < self.count:
             raise IndexError("range index out of range")
         v = float(f"{self.start + k * self.step:.12g}")
         return int(v) if self.ints else v
+
+    def take(self, k):
+        """Values ``k`` (an array of valid indices >= 0) as a float64 array, bit for bit ``[self[j] for j in k]``
+        (:func:`round12` of ``start + k*step``); for a range of floats only."""
+        import numpy as np
+
+        return round12(self.start + np.asarray(k, dtype=np.float64) * self.step)
 
     def __eq__(self, other) -> bool:
         return isinstance(other, Sequence) and len(other) == len(self) and all(a == b for a, b in zip(self, other))
@@ -72,6 +84,61 @@ class Range(Sequence):
 
     def __reduce__(self):
         return Range, (self.start, self.step, self.count, self.ints)
+
+
+_POW10 = [float(10 ** k) for k in range(23)]
+
+
+def round12(v):
+    """``float(f"{x:.12g}")`` of every value of a float64 array, vectorised and bit for bit the same: ``x`` rounded
+    to 12 significant digits (half to even, on the exact binary value) and read back (correctly rounded).
+
+    For ``1e-11 <= |x| < 1e12`` (every practical grid value): with ``E = floor(log10 |x|)`` and ``P = 10**(11-E)``
+    (an exact double, ``0 <= 11-E <= 22``), ``x*P = hi + lo`` exactly (Dekker's product), ``N`` the integer
+    nearest ``hi + lo`` (ties to even: ``lo`` decides a tie of ``hi``), and ``N / P`` is the correctly rounded
+    value of the decimal ``N * 10**(E-11)``, as the parser gives.  Zeros are kept (``-0.0`` too); other values
+    (and any whose ``E`` the logarithm misjudged) take the formatted path.
+
+    >>> import numpy as np
+    >>> round12(np.array([2.0 + 2 * 0.4, 0.1 + 0.2, -1/3, 0.0, 1e300])).tolist()
+    [2.8, 0.3, -0.333333333333, 0.0, 1e+300]
+    """
+    import numpy as np
+
+    global _POW10
+    if isinstance(_POW10, list):
+        _POW10 = np.array(_POW10)
+    v = np.asarray(v, dtype=np.float64)
+    a = np.abs(v)
+    out = np.empty_like(v)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        E = np.floor(np.log10(a))
+        fast = (a >= 1e-11) & (a < 1e12) & np.isfinite(E)
+        p = np.where(fast, 11.0 - E, 0.0)
+        fast &= (p >= 0) & (p <= 22)
+        P = _POW10[np.where(fast, p, 0.0).astype(np.intp)]  # exact doubles
+        x = np.where(fast, a, 1.0)
+        hi = x * P
+        # Dekker: lo = x*P - hi exactly, by Veltkamp halves (26 bits each) of both factors
+        cx = x * 134217729.0
+        xh = cx - (cx - x)
+        xl = x - xh
+        cp = P * 134217729.0
+        ph = cp - (cp - P)
+        pl = P - ph
+        lo = ((xh * ph - hi) + xh * pl + xl * ph) + xl * pl
+        r = np.rint(hi)  # ties to even: right when hi + lo is a tie (lo == 0)
+        d = hi - r  # exact
+        r = np.where((d == 0.5) & (lo > 0), r + 1.0, r)
+        r = np.where((d == -0.5) & (lo < 0), r - 1.0, r)
+        # E right: 1e11 <= hi + lo < 1e12 (N may round up to 1e12: then the value is 10**(E+1), as the text)
+        fast &= ((hi > 1e11) | ((hi == 1e11) & (lo >= 0))) & (hi < 1e12)
+        out[:] = np.copysign(r / P, v)
+    zero = v == 0
+    out[zero] = v[zero]
+    for k in np.flatnonzero(~(fast | zero)).tolist():
+        out[k] = float(f"{float(v[k]):.12g}")
+    return out
 
 
 def parse_spec(key: str, spec: str) -> list[Any]:
@@ -189,12 +256,18 @@ class Grid(Sequence):
         combos = itertools.product(*(self.axes[k] for k in self.keys))
         return (dict(zip(self.keys, c)) for c in itertools.islice(combos, self.start, self.stop))
 
-    def column(self, key: str) -> list[Any]:
+    def column(self, key: str, array: bool = False) -> list[Any]:
         """The values of one varied key over the points, in order (built for these points only: a chunk of a
-        huge grid costs the chunk, not the grid)."""
+        huge grid costs the chunk, not the grid).  ``array``: a float64 numpy array for an axis that is a
+        :class:`Range` of floats (computed at once, the same values), else the list."""
         j = self.keys.index(key)
         inner = math.prod(self.sizes[j + 1:])
         values, size = self.axes[key], self.sizes[j]
+        if isinstance(values, Range) and not values.ints:
+            import numpy as np
+
+            column = values.take((np.arange(self.start, self.stop) // inner) % size)
+            return column if array else column.tolist()
         out: list[Any] = []
         i = self.start
         if inner == 1:  # the fastest axis: whole slices of its values
@@ -329,8 +402,10 @@ widest kind), and a progress bar advances per chunk."""
 
 
 def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: list[dict], options,
-                    progress=None) -> list[dict]:
-    """Evaluate the given grid points: the calculator's vectorised sweep if it has one, else one by one."""
+                    progress=None, arrays: bool = False) -> list[dict]:
+    """Evaluate the given grid points: the calculator's vectorised sweep if it has one, else one by one.
+    ``arrays``: columns of floats may stay float64 numpy arrays (the CSV writer's fast path); else every
+    column of a :class:`Columns` is a list."""
     import copy
 
     from . import registry
@@ -350,9 +425,10 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
             if isinstance(summaries, dict):  # column-major: keep it so (fast CSV)
                 from .render import Columns
 
-                axis_columns = {k: points.column(k) if isinstance(points, Grid) else [p[k] for p in points]
+                axis_columns = {k: points.column(k, arrays) if isinstance(points, Grid) else [p[k] for p in points]
                                 for k in axes}
-                return Columns({**axis_columns, **summaries})
+                cols = Columns({**axis_columns, **summaries})
+                return cols if arrays else cols.lists()
             return [{**p, **s} for p, s in zip(points, summaries)]
     rows = []
     for p in points:
@@ -378,7 +454,15 @@ def join_parts(parts: list):
     if all(isinstance(p, Columns) for p in parts):
         names = list(parts[0].data)
         if all(list(p.data) == names for p in parts):
-            return Columns({k: [v for p in parts for v in p.data[k]] for k in names})
+            import numpy as np
+
+            def joined(k):
+                cols = [p.data[k] for p in parts]
+                if cols and all(isinstance(c, np.ndarray) for c in cols):
+                    return np.concatenate(cols)
+                return [v for c in cols for v in (c.tolist() if isinstance(c, np.ndarray) else c)]
+
+            return Columns({k: joined(k) for k in names})
     rows: list[dict] = []
     for p in parts:
         rows.extend(p.rows() if isinstance(p, Columns) else p)
@@ -393,11 +477,11 @@ def as_columns(part):
 
 
 def evaluate_range(raw: dict, source: str, axes: dict[str, list[Any]], start: int, stop: int, options,
-                   progress=None):
+                   progress=None, arrays: bool = False):
     """Grid points ``start`` to ``stop`` evaluated, as :class:`Columns`: a pure function of (design, axes,
     index range), the unit a worker process or a cluster computes.  The caller validates the design and the
-    axes once (:func:`prepare`)."""
-    return as_columns(evaluate_points(raw, source, axes, Grid(axes, start, stop), options, progress))
+    axes once (:func:`prepare`).  ``arrays``: as in :func:`evaluate_points`."""
+    return as_columns(evaluate_points(raw, source, axes, Grid(axes, start, stop), options, progress, arrays))
 
 
 def prepare(raw: dict, source: str, axes: dict[str, list[Any]]) -> int:
@@ -436,13 +520,14 @@ def columns_of(raw: dict, source: str, axes: dict[str, list[Any]], options) -> l
 
 
 def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: int | None = None,
-           progress=None, jobs: int = 1, cluster=None, debug: bool = False):
+           progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False):
     """The grid evaluated and yielded a chunk at a time (:class:`Columns`, grid order): memory follows the
     chunk, not the grid.  Every chunk has the same columns (those of the whole grid, missing values None),
     so a CSV header written from the first chunk holds for all; with ``jobs > 1`` chunks are evaluated in
     worker processes, a window of ``2 jobs`` in flight; with a ``cluster``
     (:class:`gearcalc.distributed.Cluster`) on its Dask workers, a window of twice its threads in flight.
-    The chunks' values are the same in every case."""
+    The chunks' values are the same in every case.  ``arrays``: columns of floats may be float64 numpy arrays
+    rather than lists (the same values; the CSV writer formats those fastest); else every column is a list."""
     from .render import Columns
 
     total = prepare(raw, source, axes)
@@ -484,7 +569,7 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
         with worker_pool(jobs) as pool:
             window: list = []
             for a, b in ranges:
-                window.append((b - a, pool.submit(evaluate_range, raw, source, axes, a, b, options)))
+                window.append((b - a, pool.submit(evaluate_range, raw, source, axes, a, b, options, None, arrays)))
                 if len(window) >= 2 * jobs:
                     n, fut = window.pop(0)
                     yield shaped(fut.result())
@@ -496,4 +581,4 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
                     progress(n)
         return
     for a, b in ranges:
-        yield shaped(evaluate_range(raw, source, axes, a, b, options, progress))
+        yield shaped(evaluate_range(raw, source, axes, a, b, options, progress, arrays))

@@ -568,11 +568,19 @@ def json_array_piece(cols: "Columns", first: bool) -> str:
 
 
 class Columns:
-    """Column-major rows (a sweep): ``data[name]`` is a list, every list as long as the others."""
+    """Column-major rows (a sweep): ``data[name]`` is a list, every list as long as the others.  Inside a
+    streamed sweep a column of floats may be a float64 numpy array (``grid.stream(arrays=True)``, for the CSV
+    writer); :meth:`lists` gives the columns as lists, :meth:`rows` plain Python values either way."""
 
     def __init__(self, data: dict[str, list]):
         self.data = data
         self.n = len(next(iter(data.values()))) if data else 0
+
+    def lists(self) -> "Columns":
+        """These columns with every numpy array as a list of Python values (self when there is none)."""
+        if not any(hasattr(v, "tolist") for v in self.data.values()):
+            return self
+        return Columns({k: v.tolist() if hasattr(v, "tolist") else v for k, v in self.data.items()})
 
     @classmethod
     def from_rows(cls, rows: list[dict]) -> "Columns":
@@ -581,7 +589,7 @@ class Columns:
 
     def rows(self) -> list[dict]:
         names = list(self.data)
-        return [dict(zip(names, vals)) for vals in zip(*self.data.values())]
+        return [dict(zip(names, vals)) for vals in zip(*self.lists().data.values())]
 
     def to_pandas(self):
         """A pandas DataFrame (pandas is not a dependency of gearcalc: install it to use this)."""
@@ -609,6 +617,8 @@ def _csv_column(col: list, formatted: dict | None = None, types: set | None = No
     """
     import math
 
+    if hasattr(col, "tolist"):  # a numpy array: its Python values
+        col = col.tolist()
     if types is None:
         types = set(map(type, col))
     undefined = type(None) in types
@@ -653,24 +663,29 @@ def write_csv_columns(cols: "Columns", header: bool = True) -> str:
     return "".join(csv_blocks(cols, header))
 
 
-def csv_blocks(cols: "Columns", header: bool = True):
+def csv_blocks(cols: "Columns", header: bool = True, binary: bool = False):
     """The CSV text of :func:`write_csv_columns` in blocks of :data:`CSV_CHUNK` rows (a streamed sweep writes
-    each block as it is formatted, so the text of a whole chunk is never held).
+    each block as it is formatted, so the text of a whole chunk is never held); ``binary``: as UTF-8 bytes
+    (the vectorised path makes bytes: no decoding and encoding again for a file).
 
     A block of at least :data:`CSV_VECTOR_ROWS` rows is written by :func:`_csv_block_vectorised` (floats by
-    :mod:`gearcalc.floatfmt`), a smaller one cell by cell (:func:`_csv_column`): the same text."""
+    :mod:`gearcalc.floatfmt`), a smaller one cell by cell (:func:`_csv_column`): the same text.  Columns may be
+    lists or float64 numpy arrays (:class:`Columns`)."""
     names = list(cols.data)
     if header:
-        yield ",".join(_quote(k) for k in names) + "\n"
+        text = ",".join(_quote(k) for k in names) + "\n"
+        yield text.encode() if binary else text
     fast = _floatfmt() if cols.n >= CSV_VECTOR_ROWS and names else None
     for start in range(0, cols.n, CSV_CHUNK):
         part = [cols.data[k][start:start + CSV_CHUNK] for k in names]
-        text = _csv_block_vectorised(part, fast) if fast and len(part[0]) >= CSV_VECTOR_ROWS else None
-        if text is None:
+        data = _csv_block_vectorised(part, fast) if fast and len(part[0]) >= CSV_VECTOR_ROWS else None
+        if data is None:
             formatted: dict = {}
             cells = [_csv_column(col, formatted) for col in part]
             text = "\n".join(map(",".join, zip(*cells))) + "\n"
-        yield text
+            yield text.encode() if binary else text
+        else:
+            yield data if binary else data.decode()
 
 
 CSV_VECTOR_ROWS = 512
@@ -687,10 +702,11 @@ def _floatfmt():
     return floatfmt if floatfmt.available() else None
 
 
-def _csv_block_vectorised(part: list, ff) -> str | None:
-    """The CSV rows of a block of columns (lists of equal length), the text of :func:`_csv_column`'s cells, built
-    as one matrix of bytes: a row per CSV row, each column's cells in a band of fixed width (zero bytes where a
-    cell is shorter, dropped at the end), a comma after each band, a newline after the last.  Float columns
+def _csv_block_vectorised(part: list, ff) -> bytes | None:
+    """The CSV rows of a block of columns (lists or float64 arrays of equal length) as UTF-8 bytes, the text of
+    :func:`_csv_column`'s cells, built as one matrix of bytes: a row per CSV row, each column's cells in a band of
+    fixed width (zero bytes where a cell is shorter, dropped at the end), a comma after each band, a newline after
+    the last.  Float columns
     (with None for undefined) are formatted by ``ff`` (:mod:`gearcalc.floatfmt`, the text of ``repr``), the
     others by :func:`_csv_column`.  None when a text cell holds a NUL character (it would be dropped with the
     zero bytes): the caller formats that block cell by cell."""
@@ -714,16 +730,21 @@ def _csv_block_vectorised(part: list, ff) -> str | None:
         out[:, at + w] = 44  # ","
         at += w + 1
     out[:, -1] = 10  # the end of the line instead of the last ","
-    return out.tobytes().translate(None, b"\0").decode()
+    return out.tobytes().translate(None, b"\0")
 
 
 def _csv_band(col: list, formatted: dict, ff):
     """A column's cells for :func:`_csv_block_vectorised`: (cells, rows of None), cells a uint8 matrix (n, w)
     with a row per cell (zero bytes where a cell is shorter) or (w,) for a column with one cell on every row;
     None for a cell with a NUL character.  The cells of :func:`_csv_column`, floats by ``ff``: a float column
-    equal bit for bit to an earlier one reuses its cells (``formatted``)."""
+    equal bit for bit to an earlier one reuses its cells (``formatted``); a float64 numpy array is a column of
+    floats with no None."""
     import numpy as np
 
+    if isinstance(col, np.ndarray):
+        if col.dtype != np.float64:
+            return _text_band(_csv_column(col.tolist()))
+        return _float_band(col, formatted, ff)
     types = set(map(type, col))
     if float not in types or not types <= {float, type(None)}:
         return _text_band(_csv_column(col, types=types))
@@ -749,6 +770,23 @@ def _csv_band(col: list, formatted: dict, ff):
             x = full
         cells = formatted[key] = ff.float_cells(x)
     return cells, none
+
+
+def _float_band(x, formatted: dict, ff):
+    """:func:`_csv_band` of a float64 array (no undefined values): the same cells as for its list."""
+    import numpy as np
+
+    if not np.isfinite(x).all():
+        raise NonFiniteOutput("non-finite value in CSV output")
+    x0 = float(x[0])
+    if x0 != 0 and (x == x0).all():  # constant (0.0 is not: 0.0 == -0.0, the text differs)
+        return _text_band([repr(x0)])
+    x = np.ascontiguousarray(x)
+    key = (x.tobytes(), ())  # as for a list: bit patterns (0.0 and -0.0 differ, as their text does)
+    cells = formatted.get(key)
+    if cells is None:
+        cells = formatted[key] = ff.float_cells(x)
+    return cells, []
 
 
 def _text_band(cells: list[str]):

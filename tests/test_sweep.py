@@ -178,3 +178,116 @@ def test_csv_sweep_with_undefined_stepwise_values():
     nulls = [r["K_stepwise"] is None for r in json.loads(as_json.out)]
     assert 0 < sum(nulls) < len(nulls)  # the case mixes defined and undefined values
     assert [r["K_stepwise"] == "" for r in rows] == nulls
+
+
+# ----------------------------------------------------------------------------- vectorised range axes (issue 14)
+def _scalar_values(r: sw.Range, ks) -> list[float]:
+    """Value k of a range as the per-point path computes it: start + k*step rounded through 12 digits."""
+    return [float(f"{r.start + k * r.step:.12g}") for k in ks]
+
+
+def _bits(values) -> bytes:
+    import numpy as np
+
+    return np.asarray(values, dtype=np.float64).tobytes()  # 0.0 and -0.0 differ
+
+
+AWKWARD_RANGES = [
+    (1.5, 1.5 / (1e6 - 1), 1_000_000), (0.0, 0.1, 200_000), (0.0, 1 / 3, 300_000), (5.0, -0.1, 200_000),
+    (-3.0, 1e-5, 600_001), (1e11, 0.37, 100_000), (9.99999, 1e-7, 200_000), (1e-12, 1e-13, 100_000),
+    (-1.0, 2e-6, 1_000_001), (123456.789, 0.001, 200_000), (2.2, 0.005, 1961), (0.999999999999, 1e-13, 50_000),
+    (-0.0, -0.1, 10), (0.0, -0.1, 10), (1e15, 1.0, 10_000), (99999999999.5, 0.25, 20_000), (1e300, -1e297, 100),
+    (3.0, -1.5 / (2.5e5 - 1), 250_000),
+]
+
+
+@pytest.mark.parametrize("start,step,count", AWKWARD_RANGES)
+def test_range_take_is_bit_identical_to_per_point_values(start, step, count):
+    import numpy as np
+
+    r = sw.Range(start, step, count)
+    assert _bits(r.take(np.arange(count))) == _bits(_scalar_values(r, range(count)))
+    assert r[count // 3:count // 3 + 7] == _scalar_values(r, range(count // 3, count // 3 + 7))
+    assert _bits(r[-5:]) == _bits([r[k] for k in range(count - 5, count)])
+
+
+@settings(max_examples=300, deadline=None)
+@given(st.floats(-1e13, 1e13, allow_nan=False), st.floats(1e-10, 1e4) | st.floats(-1e4, -1e-10),
+       st.integers(1, 3000), st.integers(0, 10**7))
+def test_range_take_random(start, step, count, offset):
+    import numpy as np
+
+    r = sw.Range(start, step, offset + count)
+    ks = np.arange(offset, offset + count)
+    assert _bits(r.take(ks)) == _bits(_scalar_values(r, ks.tolist()))
+
+
+def test_round12_exact_ties_and_random_doubles():
+    import numpy as np
+
+    rng = np.random.default_rng(14)
+    ties = np.arange(10**11, 10**11 + 20_000) + 0.5  # exactly half way at the 12th digit: half to even
+    spread = rng.uniform(-1, 1, 50_000) * 10.0 ** rng.uniform(-14, 14, 50_000)
+    bits = rng.integers(0, 2**63 - 1, 20_000).view(np.float64)
+    x = np.concatenate([ties, ties * 0.5, ties * 2.0 ** -10, spread, bits,
+                        [0.0, -0.0, 1e-11, 1e12, 999999999999.5]])
+    x = x[np.isfinite(x)]
+    assert _bits(sw.round12(x)) == _bits([float(f"{v:.12g}") for v in x.tolist()])
+
+
+def test_grid_column_array_of_a_lazy_range():
+    import numpy as np
+
+    r = sw.Range(1.5, 0.1 / 3, 200_001)
+    g = sw.Grid({"rows.count": [2, 3], "rows.relative_width": r, "x": [1, 2, 3]})
+    part = g[123_456:123_456 + 70_000]
+    for key in ("rows.count", "rows.relative_width", "x"):
+        listed = part.column(key)
+        assert listed == [p[key] for p in part] and type(listed) is list
+        arr = part.column(key, True)
+        if key == "rows.relative_width":
+            assert isinstance(arr, np.ndarray) and _bits(arr) == _bits(listed)
+        else:
+            assert arr == listed
+
+
+def test_stream_arrays_same_csv_and_json_as_lists():
+    """Chunks with float64 array columns (the CLI's CSV path) write the same bytes as chunks of lists, and the
+    public chunks (arrays=False) hold lists only."""
+    import numpy as np
+
+    from gearcalc.render import csv_blocks, json_array_piece
+
+    raw = tomllib.loads(FIG3.read_text())
+    axes = {"rows.count": [2, 3], "rows.relative_width": sw.Range(1.5, 1.5 / 4099, 4100)}
+    opts = Options(tol=1e-9)
+    with_arrays = list(sw.stream(raw, str(FIG3), axes, opts, chunk=3000, arrays=True))
+    plain = list(sw.stream(raw, str(FIG3), axes, opts, chunk=3000))
+    assert any(isinstance(v, np.ndarray) for p in with_arrays for v in p.data.values())
+    assert all(type(v) is list for p in plain for v in p.data.values())
+    for a, b in zip(with_arrays, plain, strict=True):
+        assert a.lists().data == b.data and a.rows() == b.rows()
+        first = a is with_arrays[0]
+        assert b"".join(csv_blocks(a, first, binary=True)) == "".join(csv_blocks(b, first)).encode()
+        assert json_array_piece(a, first) == json_array_piece(b, first)
+    joined = sw.join_parts(with_arrays)
+    assert joined.lists().data == sw.join_parts(plain).data
+
+
+def test_csv_of_float_arrays_equals_csv_of_lists():
+    import numpy as np
+
+    from gearcalc.render import Columns, NonFiniteOutput, write_csv_columns
+
+    rng = np.random.default_rng(3)
+    for n in (3, 600, 9000):
+        x = rng.normal(size=n) * 10.0 ** rng.integers(-8, 18, n)
+        x[:2] = [-0.0, 0.0]
+        cols = {"x": x, "same": x.copy(), "const": np.full(n, 2.5), "zeros": np.zeros(n), "mixed": [1.5] * n,
+                "word": ["a"] * n, "scaled": x * 3}
+        as_lists = {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in cols.items()}
+        assert write_csv_columns(Columns(cols)) == write_csv_columns(Columns(as_lists))
+        bad = x.copy()
+        bad[-1] = np.inf
+        with pytest.raises(NonFiniteOutput):
+            write_csv_columns(Columns({"x": bad}))

@@ -221,7 +221,7 @@ def sweep(base, raw, axes, points, options):
 
     def col(key):
         if key in axes:
-            vals = points.column(key) if hasattr(points, "column") else [p[key] for p in points]
+            vals = points.column(key, True) if hasattr(points, "column") else [p[key] for p in points]
             return vals if key == "sun.torsion_diameter" else np.array(vals, dtype=float)
         v = base.get(key)
         return v if isinstance(v, str) or v is None else np.full(P, float(v))

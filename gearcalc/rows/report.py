@@ -26,11 +26,16 @@ def one(value, defined=True):
 
 
 def columns(points: int):
-    """``plain`` for a sweep of that many points: a list per field, None where not defined."""
+    """``plain`` for a sweep of that many points: a list per field, None where not defined; a column of floats
+    defined everywhere is a float64 numpy array (its own copy) instead, which the CSV writer formats without
+    a list (:meth:`gearcalc.render.Columns.lists` gives the list)."""
     import numpy as np
 
     def column(values, defined=None):
-        out = np.broadcast_to(values, (points,)).tolist()
+        values = np.broadcast_to(values, (points,))
+        if values.dtype == np.float64 and (defined is None or np.all(defined)):
+            return np.array(values)
+        out = values.tolist()
         for k in [] if defined is None else np.flatnonzero(~defined).tolist():
             out[k] = None
         return out
