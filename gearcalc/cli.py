@@ -316,7 +316,7 @@ def sweep_cmd(
         from . import design as dmod
         from . import grid as sw
         from .engine import check_model
-        from .render import parse_fields
+        from .render import CsvRenderer, parse_fields
 
         f = pick_format(fmt, output)
         check_tol(tol)
@@ -339,8 +339,11 @@ def sweep_cmd(
             bar = Progress(math_prod(len(v) for v in axes.values()), "points")
             try:
                 with on_cluster(cluster):
+                    csv_out = f == "csv" and not plot and calc is not None
+                    # CSV: each chunk formatted where it is computed (in the --jobs workers too)
+                    post = CsvRenderer(kind, chosen, tuple(axes)) if csv_out else None
                     chunks = sw.stream(raw, file, axes, Options(tol=tol, model=model), progress=bar.advance,
-                                       jobs=jobs, cluster=cluster, debug=debug, arrays=f == "csv" and not plot)
+                                       jobs=jobs, cluster=cluster, debug=debug, arrays=csv_out, post=post)
                     if f == "table" or plot:  # a table and a figure show every point at once
                         result = _sweep_whole(chunks, f, output, chosen, axes, where, plot, calc)
                     else:  # CSV and JSON are written a chunk at a time: memory follows the chunk, not the grid
@@ -416,13 +419,23 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc):
     """Write a sweep's chunks as they come (CSV: the header once; JSON: one array); (failed points, points,
     exit status), or None after an internal-error message (a non-finite value)."""
     from .output import stream, to_file
-    from .render import NonFiniteOutput, csv_blocks, json_array_piece, select_columns
+    from .render import CsvPiece, NonFiniteOutput, csv_blocks, json_array_piece, select_columns
 
     failed = total = 0
     try:
         with stream(output if to_file(output) else None) as out:
             first = True
             for part in chunks:
+                if isinstance(part, CsvPiece):  # formatted where it was computed (CsvRenderer)
+                    if first:
+                        _fields_or_abort(fields, part.columns)
+                        out.write(part.header())
+                    failed += part.failed
+                    total += part.n
+                    out.write(part.text)
+                    first = False
+                    del part
+                    continue
                 if first:
                     _fields_or_abort(fields, part.data)
                 failed += calc.failed_points(part.data)

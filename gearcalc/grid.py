@@ -447,6 +447,13 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
     return rows
 
 
+def _finished(result, shaped):
+    """A worker's chunk: already shaped and post-processed (:func:`evaluate_post`), or Columns to shape."""
+    from .render import Columns
+
+    return shaped(result) if isinstance(result, Columns) else result
+
+
 def join_parts(parts: list):
     """Concatenate the results of chunks (lists of rows or Columns) in order."""
     from .render import Columns
@@ -519,15 +526,41 @@ def columns_of(raw: dict, source: str, axes: dict[str, list[Any]], options) -> l
     return list(probe.data)
 
 
+def shape(part, header: list[str], axes):
+    """A chunk's :class:`Columns` with the grid's columns ``header`` in order (a column a point lacks: None),
+    or the :class:`SweepError` of a column the header does not have (a CSV header is written once)."""
+    from .render import Columns
+
+    extra = [k for k in part.data if k not in header]
+    if extra:  # a column the probes did not show: keep the header (the CSV already has it), say so
+        raise SweepError("the grid's points do not all have the same output fields ("
+                         + ", ".join(extra[:5]) + " appear late); split the sweep by "
+                         + ", ".join(axes) + " or give fewer points per run")
+    if list(part.data) == header:
+        return part
+    return Columns({k: part.data.get(k, [None] * part.n) for k in header})
+
+
+def evaluate_post(raw: dict, source: str, axes: dict[str, list[Any]], start: int, stop: int, options, arrays: bool,
+                  header: list[str], post):
+    """:func:`evaluate_range` shaped to ``header`` and passed through ``post`` (a picklable callable, e.g.
+    :class:`gearcalc.render.CsvRenderer`): what a ``--jobs`` worker process returns, so that the formatting of
+    its chunk runs in the worker too."""
+    return post(shape(evaluate_range(raw, source, axes, start, stop, options, None, arrays), header, axes))
+
+
 def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: int | None = None,
-           progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False):
+           progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False, post=None):
     """The grid evaluated and yielded a chunk at a time (:class:`Columns`, grid order): memory follows the
     chunk, not the grid.  Every chunk has the same columns (those of the whole grid, missing values None),
     so a CSV header written from the first chunk holds for all; with ``jobs > 1`` chunks are evaluated in
     worker processes, a window of ``2 jobs`` in flight; with a ``cluster``
     (:class:`gearcalc.distributed.Cluster`) on its Dask workers, a window of twice its threads in flight.
     The chunks' values are the same in every case.  ``arrays``: columns of floats may be float64 numpy arrays
-    rather than lists (the same values; the CSV writer formats those fastest); else every column is a list."""
+    rather than lists (the same values; the CSV writer formats those fastest); else every column is a list.
+    ``post`` (a picklable callable of a shaped chunk, optional): each chunk is yielded as ``post(chunk)``,
+    computed in the worker processes with ``jobs > 1`` (e.g. its CSV text: formatting is most of a big sweep's
+    time), in this process otherwise."""
     from .render import Columns
 
     total = prepare(raw, source, axes)
@@ -541,18 +574,12 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     if len(ranges) > 1:
         header = columns_of(raw, source, axes, options)
 
-    def shaped(part: Columns) -> Columns:
+    def shaped(part: Columns):
         nonlocal header
         if header is None:
             header = list(part.data)
-        extra = [k for k in part.data if k not in header]
-        if extra:  # a column the probes did not show: keep the header (the CSV already has it), say so
-            raise SweepError("the grid's points do not all have the same output fields ("
-                             + ", ".join(extra[:5]) + " appear late); split the sweep by "
-                             + ", ".join(axes) + " or give fewer points per run")
-        if list(part.data) == header:
-            return part
-        return Columns({k: part.data.get(k, [None] * part.n) for k in header})
+        part = shape(part, header, axes)
+        return post(part) if post is not None else part
 
     if cluster is not None and ranges:
         from .distributed import sweep_chunk, sweep_data
@@ -569,14 +596,18 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
         with worker_pool(jobs) as pool:
             window: list = []
             for a, b in ranges:
-                window.append((b - a, pool.submit(evaluate_range, raw, source, axes, a, b, options, None, arrays)))
+                if header is not None and post is not None:  # the worker shapes and post-processes its chunk
+                    fut = pool.submit(evaluate_post, raw, source, axes, a, b, options, arrays, header, post)
+                else:
+                    fut = pool.submit(evaluate_range, raw, source, axes, a, b, options, None, arrays)
+                window.append((b - a, fut))
                 if len(window) >= 2 * jobs:
                     n, fut = window.pop(0)
-                    yield shaped(fut.result())
+                    yield _finished(fut.result(), shaped)
                     if progress:
                         progress(n)
             for n, fut in window:
-                yield shaped(fut.result())
+                yield _finished(fut.result(), shaped)
                 if progress:
                     progress(n)
         return

@@ -688,6 +688,42 @@ def csv_blocks(cols: "Columns", header: bool = True, binary: bool = False):
             yield data if binary else data.decode()
 
 
+@dataclass(frozen=True)
+class CsvPiece:
+    """A sweep chunk as CSV (:class:`CsvRenderer`): its points ``n``, how many fail a design check, the
+    columns it had (``columns``) and shows (``shown``), and the rows' text as UTF-8 bytes (no header)."""
+
+    n: int
+    failed: int
+    columns: list
+    shown: list
+    text: bytes
+
+    def header(self) -> bytes:
+        """The CSV header line of the columns shown (:func:`csv_blocks`' first block)."""
+        return (",".join(_quote(k) for k in self.shown) + "\n").encode()
+
+
+@dataclass(frozen=True)
+class CsvRenderer:
+    """A sweep chunk to its :class:`CsvPiece`: the failed points counted by the kind's calculator, the
+    columns chosen by ``--fields`` (``lead``: the varied keys first), the rows formatted by :func:`csv_blocks`.
+    Picklable, so that ``--jobs`` worker processes format their own chunks (:func:`gearcalc.grid.stream`'s
+    ``post``): the same bytes as formatting in this process."""
+
+    kind: str
+    fields: list | None = None
+    lead: tuple = ()
+
+    def __call__(self, part: "Columns") -> CsvPiece:
+        from . import registry
+
+        failed = registry.get(self.kind).failed_points(part.data)
+        shown = select_columns(part, self.fields, self.lead)
+        return CsvPiece(part.n, failed, list(part.data), list(shown.data),
+                        b"".join(csv_blocks(shown, header=False, binary=True)))
+
+
 CSV_VECTOR_ROWS = 512
 """Blocks of fewer rows are formatted cell by cell: the vectorised path makes about 100 numpy calls per float
 column, which cost more than ``repr`` below a few hundred values (measured: even at 256 to 512 rows)."""

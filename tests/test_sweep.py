@@ -291,3 +291,17 @@ def test_csv_of_float_arrays_equals_csv_of_lists():
         bad[-1] = np.inf
         with pytest.raises(NonFiniteOutput):
             write_csv_columns(Columns({"x": bad}))
+
+
+def test_csv_formatted_in_the_workers_is_the_same_output_exit_and_message():
+    # --jobs: each chunk is counted (failed points) and formatted as CSV in its worker (render.CsvRenderer);
+    # the bytes, the failed-point message and the exit status are those of the in-process sweep.  The paper
+    # bridge case fails its check above rows.relative_width = 2.973 (README), so some points fail (exit 1).
+    paper = CONFIGS.parent / "paper" / "rows_bridges_n3_B3_i4.toml"
+    args = ["sweep", paper, "--vary", "rows.relative_width=2.5:3.2:0.01", "--vary", "rows.count=3,4",
+            "--format", "csv", "--fields", "K,bridges_feasible"]
+    one, two = cli(*args), cli(*args, "--jobs", "2")
+    assert one.code == 1 and "check failed at" in one.err
+    assert (two.code, two.out, two.err) == (one.code, one.out, one.err)
+    assert one.out.splitlines()[0] == "rows.relative_width,rows.count,K,bridges_feasible"
+    assert len(one.out.splitlines()) == 1 + 71 * 2
