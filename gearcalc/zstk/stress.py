@@ -320,7 +320,8 @@ def summarise(state: State, load, clearance, symmetric, fixed_direction=False, s
     >>> m = Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
     >>> st = evaluate(ch, m, roller_angles(np.zeros(1), 8, ch.limiting_ratio), np.zeros(1), 1e4, symmetric=True)
     >>> s = summarise(st, np.array([1e4]), np.zeros(1), np.array([True]))
-    >>> round(float(s.sigma_max[0]), 6), int(s.roller[0]), int(s.contact[0]), bool(s.sigma_err[0] == 1e-12 * s.sigma_max[0])
+    >>> floor = bool(s.sigma_err[0] == 1e-12 * s.sigma_max[0])
+    >>> round(float(s.sigma_max[0]), 6), int(s.roller[0]), int(s.contact[0]), floor
     (748.935693, 0, 0, True)
 
     References
