@@ -324,6 +324,35 @@ def test_error_estimate_is_honest_against_a_finer_run():
     assert coarse.loss_ratio_err <= 1e-5 * coarse.loss_ratio
 
 
+@pytest.mark.parametrize("rule", ["gk7", "gk15"])
+@pytest.mark.parametrize("friction", [None, (0.1, 0.1, False)])
+def test_gauss_kronrod_option_is_honest_and_agrees_with_the_trapezoid(rule, friction):
+    # the opt-in Gauss-Kronrod rule of the cycle mean (mean_loss_ratio(rule=...)): honest against a run 1e4x
+    # tighter of the default trapezoid, and fewer crank angles than the trapezoid at the same tolerance
+    def lam(tol, **kw):
+        return pc.mean_loss_ratio(circular_model(friction=friction), 0.1, 0.1, False, tol=tol, **kw)
+
+    gk, trap, ref = lam(1e-6, rule=rule), lam(1e-6), lam(1e-10, n_start=1024)
+    assert gk.converged and gk.quad.rule == rule
+    assert abs(gk.loss_ratio - ref.loss_ratio) <= gk.loss_ratio_err + ref.loss_ratio_err
+    assert gk.loss_ratio_err <= 1e-6 * gk.loss_ratio
+    assert abs(gk.loss_ratio - trap.loss_ratio) <= gk.loss_ratio_err + trap.loss_ratio_err
+    assert gk.sol.theta.size == gk.n_crank < trap.n_crank
+    assert np.all(np.diff(gk.sol.theta) >= 0.0) and np.all(np.isfinite(gk.lam))
+
+
+def test_gauss_kronrod_option_through_the_torque_fixed_point_on_a_cycloid():
+    # cycle_at_torque(rule="gk7") on the paper's cycloid u10 (face width 10 mm), torque on H: the loss ratio
+    # agrees with the trapezoid's within the two errors (the quadrature's plus the fixed point's remainder)
+    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 2.75)
+    args = (g, pc.CycloidProfile(g, 0.0, 0.0), pc.contact_law("hertz", face_width=10.0), 100.0, False, True, 1,
+            0.1, 0.1, False, True)
+    gk, trap = pc.cycle_at_torque(*args, tol=1e-6, rule="gk7"), pc.cycle_at_torque(*args, tol=1e-6)
+    assert gk.settled and gk.cycle.converged
+    assert abs(gk.loss_ratio - trap.loss_ratio) <= gk.loss_ratio_err + trap.loss_ratio_err
+    assert gk.cycle.n_crank < trap.cycle.n_crank
+
+
 def test_free_play_of_a_clearance_cycloid_is_the_clearance_over_the_lever_arm():
     # first order: the play on one flank is min over the pins of Delta R_b/|l_i| (pins.md §4.4 lever arms)
     g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)

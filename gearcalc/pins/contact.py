@@ -1322,8 +1322,10 @@ class ContactCycle:
     """The contact level's cycle solution of one design at one torque.
 
     loss_ratio, loss_ratio_err : Richardson value and |Q_2N - Q_N| of the cycle mean of lambda;
-    converged, n_crank : the quadrature's; quad : the QuadResult;
-    sol : the solved states on the final grid, sorted by theta (piece ends twice);
+    converged, n_crank : the quadrature's (a Gauss-Kronrod rule: n_crank counts the evaluations); quad : the
+    QuadResult;
+    sol : the solved states on the final grid, sorted by theta (piece ends twice; a Gauss-Kronrod rule: at every
+    evaluated node, the bisected pieces' own included, and no piece ends);
     loss, spin, slide : per node (see :func:`contact_losses`); lam : lambda per node;
     breakpoints : the located breakpoints in theta [rad].
     """
@@ -1503,7 +1505,7 @@ def _merge(points, gap):
 
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
                     tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
-                    prefilter: bool = True, n_initial=None) -> ContactCycle:
+                    prefilter: bool = True, n_initial=None, rule: str = "trapezoid") -> ContactCycle:
     """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error.
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
@@ -1518,6 +1520,9 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     tol : relative accuracy target; n_max : cap on crank-angle intervals (2^12, pins.md §6).
     n_initial : first-level intervals per piece (:func:`integrate_adaptive`), used when the breakpoints
         give that many pieces.
+    rule : the quadrature rule of :func:`integrate_adaptive`: ``"trapezoid"`` (pins.md §6), or opt-in a
+        Gauss-Kronrod pair per piece (``"gk7"``, ``"gk15"``: gk7 2-4x fewer crank angles at tol 1e-6; the peaks
+        are then taken over its nodes, which hold no piece ends).
     """
     g = model.g
     scale = model.torque_sat * g.k / g.z1
@@ -1543,12 +1548,13 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     if model.window is None and prefilter:
         model.set_window()
     edges = cycle_breakpoints(model, n_scan, tol, rolls)
-    q = integrate_adaptive(integrand, edges, tol=tol, n_max=n_max, n_start=n_start, n_initial=n_initial)
+    q = integrate_adaptive(integrand, edges, tol=tol, n_max=n_max, n_start=n_start, n_initial=n_initial, rule=rule)
     sol = _concat(cache)
     sol.phase, sol.zeta = model.phases(sol.theta)
     if not model.window_holds(sol.tau):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
-        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial)
+        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial,
+                               rule)
     loss, spin, slide = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)
     lam = loss.sum(axis=(0, 1)) / scale
     return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, q.n, q, sol, loss, spin, slide, lam,
@@ -1881,7 +1887,7 @@ def _fixed_point_step(history, torques, uT: float, a: float):
 def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
                     n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool,
                     friction_in_equilibrium: bool = False, tol: float = 1e-6, passes: int = 8,
-                    seed: "ContactModel | None" = None) -> TorqueCycle:
+                    seed: "ContactModel | None" = None, rule: str = "trapezoid") -> TorqueCycle:
     r"""The contact cycle under the torque given on V, or on H through the torque fixed point (pins.md §4.7, §7).
 
     The loss ratio depends (weakly) on the torque, so with the torque given on H the torque on V is
@@ -1922,6 +1928,8 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         (:meth:`ContactModel.mirror`), replace the first bracketed solve.
     tol : float
         relative accuracy of the cycle mean and of the fixed point.
+    rule : str
+        the cycle mean's quadrature rule (:func:`mean_loss_ratio`; default the trapezoid of pins.md §6).
 
     Returns
     -------
@@ -1971,7 +1979,8 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
                 if window_only:
                     return model, coarse(model, model.set_window())
-                return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial)
+                return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial,
+                                              rule=rule)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise
@@ -1997,7 +2006,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             T_V = T_next if T_next is not None else uT / (1.0 + a * lam)
         # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
         # changes little between passes: two doublings then usually suffice)
-        model, cyc = run(T_V, prev, n_initial=None if cyc is None else cyc.quad.n_piece // 4)
+        model, cyc = run(T_V, prev, n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
         prev = model
         if not (np.isfinite(cyc.loss_ratio) and np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.lam))):
             raise Unresolvable("non-finite contact forces or losses")
@@ -2044,7 +2053,7 @@ class ModeCycles:
 
 def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
                 n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool, consistent: bool,
-                tol: float = 1e-6) -> ModeCycles:
+                tol: float = 1e-6, rule: str = "trapezoid") -> ModeCycles:
     """The contact cycle of each mode with its own forces (friction-consistent model), or of the requested
     mode with frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
 
@@ -2053,7 +2062,8 @@ def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V
     when it is the requested mode, its cycle is the frictionless balance's (forces, speeds and peaks).
     :class:`NoEquilibrium` (other than a jam) and :class:`Unresolvable` propagate.
 
-    Parameters are those of :func:`cycle_at_torque`; ``multiplier``: the requested mode.
+    Parameters are those of :func:`cycle_at_torque`; ``multiplier``: the requested mode; ``rule``: the cycle
+    mean's quadrature rule (:func:`mean_loss_ratio`).
 
     Returns
     -------
@@ -2065,7 +2075,7 @@ def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V
     """
     def run(mult: bool, in_equilibrium: bool, seed=None):
         return cycle_at_torque(g, profile, law, torque, torque_on_V, mult, n_discs, mu_eff, sliding_friction, rolls,
-                               in_equilibrium, tol=tol, seed=seed)
+                               in_equilibrium, tol=tol, seed=seed, rule=rule)
 
     jams, runs = {}, {}
     for mult in ((multiplier, not multiplier) if consistent else (multiplier,)):
