@@ -312,25 +312,29 @@ def _worker_setup(version: str, debug: bool):
     return None
 
 
-def sweep_data(raw: dict, source: str, axes: dict, options, debug: bool = False) -> tuple:
+def sweep_data(raw: dict, source: str, axes: dict, options, debug: bool = False, header=None, post=None) -> tuple:
     """The data a sweep's chunks share: the design as data (what the file holds), its name, the axes and the
-    options, and the client's gearcalc version."""
+    options, the client's gearcalc version, and optionally the grid's columns and the ``post`` step of
+    :func:`gearcalc.grid.stream` (a CSV chunk is then formatted on its worker)."""
     from . import __version__
 
-    return raw, source, axes, options, __version__, debug
+    return raw, source, axes, options, __version__, debug, header, post
 
 
 def sweep_chunk(data: tuple, start: int, stop: int):
     """Grid points ``start`` to ``stop`` evaluated on a worker (:func:`gearcalc.grid.evaluate_range`): their
-    :class:`~gearcalc.render.Columns`, or the ``SweepError`` the in-process sweep raises for them (a design
+    :class:`~gearcalc.render.Columns` (with ``post``: shaped to the grid's columns and post-processed, as
+    :func:`gearcalc.grid.evaluate_post`), or the ``SweepError`` the in-process sweep raises for them (a design
     error at a point), returned as a value so that the client raises it at that chunk's turn."""
-    from .grid import SweepError, evaluate_range
+    from .grid import SweepError, evaluate_post, evaluate_range
 
-    raw, source, axes, options, version, debug = data
+    raw, source, axes, options, version, debug, header, post = data
     skew = _worker_setup(version, debug)
     if skew is not None:
         return skew
     try:
+        if post is not None:
+            return evaluate_post(raw, source, axes, start, stop, options, True, header, post)
         return evaluate_range(raw, source, axes, start, stop, options)
     except SweepError as exc:
         return exc

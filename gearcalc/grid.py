@@ -584,11 +584,12 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     if cluster is not None and ranges:
         from .distributed import sweep_chunk, sweep_data
 
-        parts = cluster.ordered(sweep_chunk, ranges, sweep_data(raw, source, axes, options, debug),
-                                [b - a for a, b in ranges], progress)
+        on_worker = header is not None and post is not None  # the worker shapes and post-processes its chunk
+        data = sweep_data(raw, source, axes, options, debug, *((header, post) if on_worker else ()))
+        parts = cluster.ordered(sweep_chunk, ranges, data, [b - a for a, b in ranges], progress)
         try:
             for part in parts:
-                yield shaped(part)
+                yield _finished(part, shaped)
         finally:
             parts.close()  # the chunks in flight cancelled at once, not when the generator is collected
         return
