@@ -254,6 +254,11 @@ def test_force_equilibrium_from_the_detail_table(raw, model):
 
 @PROPS
 @given(designs())
+@example({"kind": "zstk", "name": "hyp",     # mirror rollers 1 ulp apart (found by CI's run of this test)
+          "geometry": {"outer_raceway_radius_mm": 20.0, "inner_raceway_radius_mm": 6.015625,
+                       "eccentricity_mm": 6.9921875, "roller_gap_mm": 0.0, "roller_length_mm": 1.0,
+                       "correct": "outer", "scheme": "B"},
+          "load": {"radial_N": 1.0, "direction_deg": 180.0, "clearance_mm": 0.0}, "material": {}})
 def test_hertz_stresses_and_summary_agree_with_the_detail(raw):
     res = run(raw)
     s = res.summary
@@ -286,9 +291,14 @@ def test_hertz_stresses_and_summary_agree_with_the_detail(raw):
         assert np.all(sb[loaded] > sh[loaded])
     # zstk.md §10: sigma_max and where it occurs are those of the detail table
     both = np.concatenate([sb, sh])
+    # (where mirror rollers agree within 1e-12, up to round-off, the lower index is named, inner first: its
+    # value can be the maximum's last bit below it; this hypothesis example: 78.42987502178308 against ...309)
     assert s["sigma_max_MPa"] == both.max()
     i, contact = s["sigma_max_roller"], s["sigma_max_contact"]
-    assert (sb if contact == "inner" else sh)[i] == s["sigma_max_MPa"]
+    at = (sb if contact == "inner" else sh)[i]
+    assert s["sigma_max_MPa"] * (1 - 1e-12) <= at <= s["sigma_max_MPa"]
+    order = np.stack([sb, sh], axis=1).ravel()       # roller-major, inner first (zstk.md §10)
+    assert np.flatnonzero(order >= s["sigma_max_MPa"] * (1 - 1e-12))[0] == 2 * i + (contact == "outer")
     assert s["sigma_max_roller_radius_mm"] == r[i]
     assert s["sigma_max_angle_deg"] == pytest.approx(res.detail["rollers"][i]["theta_deg"], abs=1e-9)
     # zstk.md §10: strength check; interface.md exit codes: a failed check is listed in `failed`
