@@ -98,7 +98,7 @@ def test_contact_cost_guard_names_pins():
 def test_zstk_sweep_cost_guard_names_rollers():
     # R_B = 99.6, e = 0.1, c = 0: N = 1619 rollers; "cycle" + "envelope" took 112 s with the nested sweep, ~3 s
     # with the joint search (zstk.md §8).  At --model reference its first grid is 3 x 1619 x 65 roller positions
-    # x 256 relative directions = 8.08e7 roller-configurations > SWEEP_WORK_MAX = 6e6 (kinds/zstk.py): refused
+    # x 256 relative directions = 8.08e7 roller-configurations > SWEEP_WORK_MAX = 6e6 (zstk/schema.py): refused
     # before it starts; at the default model (1.4e6) check accepts it
     sets = ["--set", "geometry.inner_raceway_radius_mm=99.6", "--set", "geometry.eccentricity_mm=0.1",
             "--set", "geometry.roller_gap_mm=0.0", "--set", 'geometry.scheme="cycle"',
@@ -226,7 +226,7 @@ def test_check_reports_the_compute_time_checks():
 def test_zstk_tiny_load_is_refused():
     # 5e-324 N returned solver_residual = 1.0 and pass = true; the schema now starts at MIN_FORCE_N = 1 uN,
     # where the worked example with 0.01 mm clearance balances Q to ~4e-8 (the error estimate includes it)
-    from gearcalc.kinds import zstk as kz
+    from gearcalc.zstk import schema as kz
 
     r = cli("zstk", ZSTK, "--set", "load.radial_N=5e-324")
     assert r.code == 2 and "load.radial_N" in r.err

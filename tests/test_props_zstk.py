@@ -156,7 +156,7 @@ def test_nested_sweep_meets_tolerance(monkeypatch):
     # MPa (measured at cap 128; the full cap 2^16 took ~300 s).  With the directions ranked by the model's
     # own loads it converges at M = 128 (estimate 7.7e-13 MPa); the cap is lowered to 128 so a regression
     # fails fast.
-    import gearcalc.kinds.zstk as kz
+    import gearcalc.zstk.envelope as kz
 
     monkeypatch.setattr(kz, "GRID_CAP", 128)
     raw = {"kind": "zstk", "name": "nested",

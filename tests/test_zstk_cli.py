@@ -219,7 +219,7 @@ def test_many_rollers_cli(tmp_path):
      "geometry.eccentricity_mm", "90°"),
     (["geometry.roller_gap_mm=-1"], "geometry.roller_gap_mm", ">= 0"),
     (["geometry.roller_gap_mm=100"], "geometry.roller_gap_mm", "< 2·inner_raceway_radius_mm = 100"),
-    (["load.radial_N=0"], "load.radial_N", ">= 1e-06"),      # kinds/zstk.MIN_FORCE_N (issue 13)
+    (["load.radial_N=0"], "load.radial_N", ">= 1e-06"),      # zstk/schema.MIN_FORCE_N (issue 13)
     (["material.roller_E_MPa=0"], "material.roller_E_MPa", ">= 1"),
     (["material.inner_ring_E_MPa=5e-324"], "material.inner_ring_E_MPa", ">= 1"),
     (["material.allowable_stress_MPa=-5"], "material.allowable_stress_MPa", "> 0"),

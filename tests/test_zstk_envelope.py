@@ -74,3 +74,14 @@ def test_evaluate_placement_at_the_critical_placement():
     assert float(z.critical(st)[0][0]) == pytest.approx(pl.value, rel=1e-12)
     assert res[0] < 1e-9 and theta.shape == (CHAIN.n,)
     assert np.max(rows[0]["sigma_inner"]) >= pl.value * (1 - 1e-12)
+
+
+def test_sweep_grid_reads_the_constants_at_call_time(monkeypatch):
+    # the grid of spec §8 (64 per pitch, 720 per turn, cap 2^16), 8x at the reference level; a patched cap
+    # reaches the next grid (test_props_zstk lowers it so a regression fails fast)
+    from gearcalc.zstk import envelope
+
+    assert z.sweep_grid() == z.SweepGrid() == z.SweepGrid(64, 720, 2 ** 16, 1_000_000, 200, 1)
+    assert z.sweep_grid(reference=True).factor == 8
+    monkeypatch.setattr(envelope, "GRID_CAP", 128)
+    assert z.sweep_grid().cap == 128

@@ -16,9 +16,15 @@ Modules (spec ``docs/spec/zstk.md``):
   bracketed 1-D root or Newton on the convex potential);
 * :mod:`.stress` §2 the Hertz stresses (through :mod:`gearcalc.hertz`) and the summary quantities;
 * :mod:`.envelope` §8 the sweeps over the chain phase ("cycle") and the load direction ("envelope");
-* :mod:`.capacity` §5.4 the allowable radial load (sigma_max = [sigma_H]).
+* :mod:`.capacity` §5.4 the allowable radial load (sigma_max = [sigma_H]);
+* :mod:`.outputs` §10 the outputs of solved designs (strength check, shear, separator force, roller detail).
 
-Every public name of the modules is re-exported here (``from gearcalc import zstk as z``).
+The calculator's design keys are in :mod:`.schema`, its field names and texts in :mod:`.report`, its figure
+in :mod:`.figure`; :mod:`.solve` prepares, stacks by N and sweeps the designs of a run, a batch or a sweep;
+the adapter :mod:`gearcalc.kinds.zstk` maps design keys to these functions and their results to output fields.
+
+Every public name of the physics modules above is available here (``from gearcalc import zstk as z``),
+imported on first use (PEP 562), so that the schema the calculator reads at start-up imports no numpy.
 
 References
 ----------
@@ -30,21 +36,30 @@ docs/spec/zstk.md.
 """
 from __future__ import annotations
 
-import numpy as np  # noqa: F401 (the examples' np, as in the modules)
+from ..lazy import lazy_names
 
-from . import capacity, chain, envelope, geometry, loads, stress, validity
-from .capacity import *  # noqa: F401,F403
-from .chain import *  # noqa: F401,F403
-from .envelope import *  # noqa: F401,F403
-from .geometry import *  # noqa: F401,F403
-from .loads import *  # noqa: F401,F403
-from .stress import *  # noqa: F401,F403
-from .validity import *  # noqa: F401,F403
-
-_MODULES = (geometry, chain, validity, loads, stress, envelope, capacity)
-__all__ = [name for m in _MODULES for name in m.__all__]
-
-# the examples of the modules' functions count as this package's own (doctest finds re-exported
-# functions only through __test__)
-__test__ = {name: obj for m in _MODULES for name in m.__all__
-            if getattr(obj := getattr(m, name), "__doc__", None) and callable(obj)}
+_MODULES = ("geometry", "chain", "validity", "loads", "stress", "envelope", "capacity", "outputs", "solve", "schema",
+            "report", "figure")
+_NAMES = {
+    "geometry": ("SCHEME_PARITY", "INTEGER_TOL", "broadcast", "take", "single", "wrap_angle", "remainder_360",
+                 "roller_radius", "extreme_roller_radii", "centre_distance", "normal_angle_offset", "reduced_radii"),
+    "chain": ("fractional_roller_number", "corrected_outer_radius", "corrected_inner_radius", "corrected_gap",
+              "roller_number_limit", "auto_roller_number", "auto_roller_numbers", "largest_admissible_n", "Chain",
+              "close_chains", "close_chain", "limiting_point_ratio", "limiting_ratios", "chain_phases", "theta_of_phi",
+              "phi_of_theta", "roller_angles", "scheme_phase", "centres", "neighbour_gaps", "step_chain"),
+    "validity": ("geometry_violations", "chain_violations", "Validity", "check_designs", "geometry_problems",
+                 "chain_problems"),
+    "loads": ("LOAD_EXPONENT", "E_STAR_REF", "roller_stiffness", "LoadSolution", "load_zero_clearance",
+              "load_along_direction", "load_with_clearance", "solve_loads"),
+    "stress": ("Materials", "State", "evaluate", "critical", "solve_placements", "Summary", "summarise",
+               "safety_factor", "Contacts", "roller_contacts", "roller_approach", "worst_width_ratio",
+               "separator_forces", "LOADED_RTOL", "ROUNDOFF_RTOL", "critical_shear", "roller_field"),
+    "envelope": ("GRID_PHASE", "GRID_DIRECTION", "GRID_CAP", "CHUNK_ELEMENTS", "REFINE_ROWS_MAX_N",
+                 "REFERENCE_GRID_FACTOR", "SweepResult", "maximise_periodic", "SweepGrid", "sweep_grid", "sweep_work",
+                 "Placement", "ROLLER_FIELDS", "sigma_max_at", "direction_maxima", "roller_sigma",
+                 "position_direction_max", "critical_placement", "evaluate_placement", "roller_envelope"),
+    "capacity": ("AllowableLoad", "allowable_load_closed_form", "allowable_load_root", "allowable_load",
+                 "allowable_load_sweeping"),
+    "outputs": ("Outputs", "stack_outputs", "RollerDetail", "roller_detail"),
+}
+__all__, __getattr__, __dir__ = lazy_names(__name__, globals(), _MODULES, _NAMES)

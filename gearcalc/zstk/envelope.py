@@ -6,9 +6,10 @@ The seed paper by Merko et al. (seed 003), cited in full in :mod:`gearcalc.zstk`
 """
 from __future__ import annotations
 
-__all__ = ['SweepResult', 'maximise_periodic', 'SweepGrid', 'sweep_work', 'Placement', 'ROLLER_FIELDS', 'sigma_max_at',
-           'direction_maxima', 'roller_sigma', 'position_direction_max', 'critical_placement', 'evaluate_placement',
-           'roller_envelope']
+__all__ = ['GRID_PHASE', 'GRID_DIRECTION', 'GRID_CAP', 'CHUNK_ELEMENTS', 'REFINE_ROWS_MAX_N', 'REFERENCE_GRID_FACTOR',
+           'SweepResult', 'maximise_periodic', 'SweepGrid', 'sweep_grid', 'sweep_work', 'Placement', 'ROLLER_FIELDS',
+           'sigma_max_at', 'direction_maxima', 'roller_sigma', 'position_direction_max', 'critical_placement',
+           'evaluate_placement', 'roller_envelope']
 
 import math
 from dataclasses import dataclass
@@ -21,6 +22,19 @@ from .. import hertz
 from .geometry import centre_distance, reduced_radii, roller_radius
 from .loads import solve_loads
 from .stress import Materials, critical, evaluate
+
+GRID_PHASE = 64
+"""First grid of the phase sweep ("cycle"), points per roller pitch (spec §8)."""
+GRID_DIRECTION = 720
+"""First grid of the direction sweep ("envelope"), points per turn (spec §8)."""
+GRID_CAP = 2 ** 16
+"""The largest grid a sweep doubles to (per pitch or per turn) before it stops with a warning."""
+CHUNK_ELEMENTS = 1_000_000
+"""Roller-configurations evaluated at once in the sweeps (bounds their memory)."""
+REFINE_ROWS_MAX_N = 200
+"""Above this N the per-roller envelope rows are grid maxima (their refinement is O(N²))."""
+REFERENCE_GRID_FACTOR = 8
+"""Grid multiplier of the ``reference`` level."""
 
 
 
@@ -68,7 +82,7 @@ def _refine(fun, xs, ys, period, start, rtol, top=8):
     return x_best, v_best, err_ref
 
 
-def maximise_periodic(fun, start, period, samples, tol, cap=2 ** 16, refine_rtol=None):
+def maximise_periodic(fun, start, period, samples, tol, cap=GRID_CAP, refine_rtol=None):
     """Maximum of a vectorised periodic function over one period (spec §8, sweeps).
 
     .. math:: \\max_{x \\in [x_0, x_0 + T)} f(x), \\quad \\text{error} = |v_M - v_{M/2}| + \\text{refinement error} \\le
@@ -140,14 +154,27 @@ class SweepGrid:
     load directions relative to the roller's normal over a turn.
     """
 
-    phase: int = 64
-    direction: int = 720
-    cap: int = 2 ** 16
-    chunk: int = 1_000_000
-    refine_rows_max_n: int = 200
+    phase: int = GRID_PHASE
+    direction: int = GRID_DIRECTION
+    cap: int = GRID_CAP
+    chunk: int = CHUNK_ELEMENTS
+    refine_rows_max_n: int = REFINE_ROWS_MAX_N
     factor: int = 1
     joint_position: int = 8
     joint_direction: int = 32
+
+
+def sweep_grid(reference=False) -> SweepGrid:
+    """The sweep grids of the default levels, or of the ``reference`` level (:data:`REFERENCE_GRID_FACTOR` times
+    finer), from the constants above read at call time (spec §8).
+
+    Examples
+    --------
+    >>> sweep_grid().phase, sweep_grid(reference=True).factor
+    (64, 8)
+    """
+    return SweepGrid(GRID_PHASE, GRID_DIRECTION, GRID_CAP, CHUNK_ELEMENTS, REFINE_ROWS_MAX_N,
+                     REFERENCE_GRID_FACTOR if reference else 1)
 
 
 JOINT_COST = 3
@@ -187,7 +214,7 @@ class Placement:
 
 
 def sigma_max_at(chain: Chain, mats: Materials, phase, gamma, load, clearance, fixed_direction=False,
-                 chunk=1_000_000):
+                 chunk=CHUNK_ELEMENTS):
     r"""The largest contact stress of the chain at each (phase, direction) configuration.
 
     .. math:: \sigma_{max}(\varphi_0, \gamma) = \max_i \max(\sigma_{iB}, \sigma_{iH}),
@@ -238,7 +265,7 @@ def sigma_max_at(chain: Chain, mats: Materials, phase, gamma, load, clearance, f
 
 
 def direction_maxima(chain: Chain, mats: Materials, phase, gamma_grid, load, clearance, refine_rtol,
-                     fixed_direction=False, chunk=1_000_000, candidates=3):
+                     fixed_direction=False, chunk=CHUNK_ELEMENTS, candidates=3):
     r"""The maximum over the load directions of sigma_max, for each phase (vectorised over phases).
 
     .. math:: \hat\sigma(\varphi_0) = \max_\gamma \sigma_{max}(\varphi_0, \gamma)
@@ -300,7 +327,7 @@ def direction_maxima(chain: Chain, mats: Materials, phase, gamma_grid, load, cle
 
 
 def roller_sigma(chain: Chain, mats: Materials, position, relative_direction, load, clearance, fixed_direction=False,
-                 chunk=1_000_000):
+                 chunk=CHUNK_ELEMENTS):
     r"""The larger contact stress of roller 0 placed at the uniformising angle ``position``, under a load whose
     direction is ``relative_direction`` from that roller's inner normal (spec §4.1, §8).
 

@@ -10,7 +10,7 @@ The seed paper by Merko et al. (seed 003), cited in full in :mod:`gearcalc.zstk`
 from __future__ import annotations
 
 __all__ = ['SCHEME_PARITY', 'INTEGER_TOL', 'broadcast', 'take', 'single', 'wrap_angle', 'remainder_360',
-           'roller_radius', 'centre_distance', 'normal_angle_offset', 'reduced_radii']
+           'roller_radius', 'extreme_roller_radii', 'centre_distance', 'normal_angle_offset', 'reduced_radii']
 
 import numpy as np
 
@@ -113,6 +113,34 @@ def roller_radius(theta, outer_radius, inner_radius, eccentricity):
     h2 = np.sin(0.5 * np.asarray(theta, dtype=float)) ** 2
     e = eccentricity
     return ((d - e) * (s - e) + 4.0 * outer_radius * e * h2) / (2.0 * ((s - e) + 2.0 * e * h2))
+
+
+def extreme_roller_radii(outer_radius, inner_radius, eccentricity):
+    """The smallest and the largest roller radius, at the narrowest and the widest point of the gap.
+
+    .. math:: r_{min} = r(0) = \\frac{R_H - R_B - e}{2}, \\qquad r_{max} = r(\\pi) = \\frac{R_H - R_B + e}{2}
+
+    Parameters
+    ----------
+    outer_radius, inner_radius : float or array_like
+        R_H, R_B [mm].
+    eccentricity : float or array_like
+        e [mm].
+
+    Returns
+    -------
+    (r_min, r_max) [mm]; r_min <= 0 when e >= R_H - R_B (no valid mechanism).
+
+    Examples
+    --------
+    >>> extreme_roller_radii(100.0, 50.0, 6.0) == (roller_radius(0.0, 100.0, 50.0, 6.0), 28.0)
+    True
+
+    References
+    ----------
+    docs/spec/zstk.md §3.1 (the extremes of r(theta)), §3.3 (e < R_H - R_B; |s| < r_min).
+    """
+    return (outer_radius - inner_radius - eccentricity) / 2, (outer_radius - inner_radius + eccentricity) / 2
 
 
 def centre_distance(theta, outer_radius, inner_radius, eccentricity):

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .chain import Chain, auto_roller_numbers, close_chain, close_chains, fractional_roller_number  # noqa: F401
-from .geometry import INTEGER_TOL
+from .geometry import INTEGER_TOL, extreme_roller_radii
 
 GEOMETRY_RULES = ("inner_positive", "inner_inside", "eccentricity_range", "eccentricity_normals", "gap_range")
 """The rules of one geometry, in the order their messages are given (spec §3.3, §11.2)."""
@@ -133,7 +133,7 @@ class Validity:
                             f"{'even' if parity == 0 else 'odd'} number of rollers (A, D even; B, C odd); "
                             "change geometry.rollers or geometry.scheme"))
             elif rule == "clearance":
-                r_min = (v["outer"] - v["inner"] - v["eccentricity"]) / 2
+                r_min = extreme_roller_radii(v["outer"], v["inner"], v["eccentricity"])[0]
                 out.append(("clearance", f"= {float(v['clearance']):g}: |clearance| must be < the smallest roller "
                             f"radius (R_H − R_B − e)/2 = {float(r_min):.6g} mm (the load model assumes small "
                             "displacements)"))
@@ -203,7 +203,7 @@ def check_designs(outer_radius, inner_radius, eccentricity, gap, rollers, parity
     first = geometry_violations(r_h, r_b, e, c)
     first["parity"] = ~auto & (parity >= 0) & (n_given % 2 != parity)
     with np.errstate(invalid="ignore"):
-        stages = (first, {"clearance": ~(np.abs(s) < (r_h - r_b - e) / 2)},
+        stages = (first, {"clearance": ~(np.abs(s) < extreme_roller_radii(r_h, r_b, e)[0])},
                   {"too_few": auto & (n_auto < 3)}, {"too_many": n > max_rollers})
     corrected = chain_violations(chain)
     stages += ({"range": corrected.pop("range")}, corrected)
