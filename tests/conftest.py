@@ -7,6 +7,13 @@ from pathlib import Path
 
 import pytest
 
+from gearcalc.console import one_blas_thread
+
+# The tests compute in this process: give numpy's BLAS one thread, as the command line does (before numpy is
+# first imported). A thread pool on the small linear systems of rows' bridges and stepwise active set costs
+# 3x on an idle two-core machine and up to 40x when other processes load it.
+one_blas_thread()
+
 ROOT = Path(__file__).resolve().parent.parent
 CONFIGS = ROOT / "configs"
 PAPER = ROOT / "paper"

@@ -606,15 +606,12 @@ def stepwise_active_set(kappa: float, cheek_ratio: float, rows: int, carrier=Non
     Y = np.zeros((n, n)) if carrier is None else np.asarray(carrier, float)
     # Row j (0-based) of the "implied load" map: u_j = c + sum_k M[j,k] u_k + const_j
     # twist term: g Σ_{m<j} (n - S_m) = g*j*n - g Σ_{m<j} S_m ; Σ_{m<j} S_m = Σ_k (j - k)_+ u_k
-    M = np.zeros((n, n))
-    const = np.zeros(n)
-    for j in range(n):
-        const[j] = -g * j * n
-        for k in range(j):
-            M[j, k] += g * (j - k)
-        M[j, 0] -= a8
-        M[j, j] += a8
-        M[j, :] += Y[0, :] - Y[j, :]
+    j = np.arange(n)
+    const = -g * j * n
+    M = g * np.maximum(j[:, None] - j[None, :], 0)
+    M[:, 0] -= a8
+    M[j, j] += a8
+    M += Y[:1, :] - Y
     active = np.ones(n, bool)
     u = np.zeros(n)
     residual = 0.0
