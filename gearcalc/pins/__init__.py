@@ -22,10 +22,14 @@ rad/s; a power F [N]·v [mm/s]·1e-3 is in W.
 * :mod:`~gearcalc.pins.detail`: the per-element detail tables of both cycle levels (§8).
 * :mod:`~gearcalc.pins.contact`: level ``contact``, the compliant contact model (§5); its names are not
   re-exported here (use ``from gearcalc.pins import contact``).
+* :mod:`~gearcalc.pins.contact_level`: the contact level of one design: profile, friction, modes, peaks (§5).
 
-The calculator's design keys are in :mod:`~gearcalc.pins.schema`, its texts and field lists in
-:mod:`~gearcalc.pins.report`, its figure in :mod:`~gearcalc.pins.plot`; the adapter
-:mod:`gearcalc.kinds.pins` maps design keys to these functions and their results to output fields.
+The calculator's design keys are in :mod:`~gearcalc.pins.schema`, its validity rules (each once, for
+``check``, compute, batch and sweep) in :mod:`~gearcalc.pins.checks`, the formula and ideal levels over many
+designs or points as summary columns in :mod:`~gearcalc.pins.columns`, a batch's groups in
+:mod:`~gearcalc.pins.batching`, its texts and field lists in :mod:`~gearcalc.pins.report`, its figure in
+:mod:`~gearcalc.pins.plot`; the adapter :mod:`gearcalc.kinds.pins` maps design keys to these functions and
+their results to output fields.
 
 Every public name of the physics modules above but :mod:`~gearcalc.pins.contact` and
 :mod:`~gearcalc.pins.detail` is available here, imported on first use (PEP 562), so that
@@ -55,7 +59,8 @@ from __future__ import annotations
 from ..lazy import lazy_names
 
 _MODULES = ("formula", "geometry", "forces", "efficiency", "operating", "cycle", "ideal", "consistent", "points",
-            "outputs", "detail", "contact", "schema", "report", "plot")
+            "outputs", "detail", "contact", "contact_level", "checks", "columns", "batching", "schema", "report",
+            "plot")
 _NAMES = {
     "formula": ("PAPER_PI", "pin_angular_speed", "rolling_friction_force", "axle_friction_force", "friction_power",
                 "FormulaLosses", "formula_losses", "fixed_pin_formula_loss"),

@@ -531,7 +531,7 @@ def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows, refine: bool = True) ->
 def admissibility(g: Cycloid):
     """(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)): status 0, TOO_FEW_TEETH
     (psi* <= 2 pi/z2, pins.md §12.10) or UNDERCUT (R_b >= min rho_c over the loaded arc, §4.2).  The ideal
-    level's checks, also run by ``gearcalc check`` (gearcalc.kinds.pins.admissibility_problem)."""
+    level's checks, also run by ``gearcalc check`` (:func:`gearcalc.pins.checks.ideal_admissibility`)."""
     z2 = np.atleast_1d(g.z2)
     psi_star = crest_cutoffs(g)
     status = np.where(psi_star <= 2.0 * math.pi / z2, TOO_FEW_TEETH, 0)

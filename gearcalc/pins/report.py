@@ -7,10 +7,12 @@ from __future__ import annotations
 
 import math
 
-from ..calculator import DesignError
+from ..calculator import DesignError, Result
 
 __all__ = ["PEAK_KEYS", "CONSISTENT_FIELDS", "OUTPUT_KEYS", "FORMULA_KEYS", "fmt", "cycle_notes",
-           "admissibility_error", "profile_error", "tooth_overlap", "column", "columns", "plain", "ideal_columns"]
+           "admissibility_error", "profile_error", "tooth_overlap", "column", "columns", "plain", "ideal_columns",
+           "problem", "warning", "friction_alias_error", "contact_notes", "contact_summary",
+           "cost_problem", "contact_error", "result", "report_problems"]
 
 PEAK_KEYS = ("pin_force_max_N", "pin_force_max_phase_deg", "pin_loss_max_W", "pin_loss_max_phase_deg", "loss_peak_W",
              "pin_loss_bound_W")
@@ -30,6 +32,10 @@ CONSISTENT_FIELDS = (   # summary field <- gearcalc.pins.outputs.ConsistentPoint
     ("pin_loss_max_W", "loss_max"), ("loss_peak_W", "loss_peak"), ("pin_loss_max_phase_deg", "loss_phase"),
     ("pin_loss_bound_W", "loss_bound"))
 OUTPUT_KEYS = CONSISTENT_FIELDS[:6]   # pins.md §8: every admissible point gets them (first-order ones too)
+
+SELF_LOCKING_EMPTY = ("efficiency", "efficiency_err", "efficiency_multiplier", "efficiency_multiplier_err",
+                      "torque_in_Nm", "torque_out_Nm")
+"""The fields a self-locking design may leave empty; a table labels them "self-locking" (pins.md §4.7)."""
 
 FORMULA_KEYS = ("F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W")
 
@@ -118,11 +124,10 @@ def profile_error(exc, design, g) -> DesignError:
     if exc.reason == "modification":
         return DesignError("gearing.equidistant_mod_mm", f"= {fmt(design['gearing.equidistant_mod_mm'])}: R_b + Delta "
                                                          f"R_b = {fmt(v['R_b'])} mm must be > 0")
-    if exc.reason == "too_few_teeth":
-        return DesignError("gearing.satellite_teeth",
-                           f"= {g.z1}: too few teeth for the tooth difference k = {g.k}: at some crank angles no pin "
-                           f"carries load (the loaded arc psi* = {fmt(math.degrees(v['psi_star']))} deg must exceed "
-                           f"the pin pitch 360/z2 = {fmt(360.0 / g.z2)} deg)")
+    if exc.reason == "too_few_teeth":         # the ideal level's text (pins.md §12.10)
+        from .ideal import TOO_FEW_TEETH
+
+        return admissibility_error(TOO_FEW_TEETH, g.z1, g.z2, v["psi_star"], Rb, math.nan, g.K1)
     key = "gearing.equidistant_mod_mm" if design["gearing.equidistant_mod_mm"] != 0.0 else "gearing.pin_radius_mm"
     return DesignError(key, f"= {fmt(design[key])}: undercut: R_b + Delta R_b = {fmt(v['R_b'])} mm must be < the "
                             f"least radius of curvature of the design curve over the loaded arc, min rho_c = "
@@ -144,6 +149,36 @@ def no_equilibrium_error(exc, design, z1: int) -> DesignError:
                             f"+-180/z1 = {fmt(180.0 / z1)} deg balances T_V = {fmt(exc.torque_V)} N*m (the "
                             "teeth do not mesh with the pins, or the torque crushes the contacts; pins.md "
                             "§5.5)")
+
+
+def contact_error(exc, design, g) -> DesignError:
+    """The DesignError of the contact level of ``design`` (gear ``g``) finding no equilibrium
+    (:class:`gearcalc.pins.contact.NoEquilibrium`) or a geometry below floating-point resolution
+    (:class:`~gearcalc.pins.contact.Unresolvable`)."""
+    from .contact import NoEquilibrium
+
+    if isinstance(exc, NoEquilibrium):
+        return no_equilibrium_error(exc, design, design["gearing.satellite_teeth"])
+    return unresolvable_error(design["gearing.eccentricity_mm"], g.R_p, design["gearing.pin_radius_mm"])
+
+
+def result(summary, detail, warnings, failed) -> Result:
+    """The Result of a design's summary; a table says why a value is missing: "self-locking" for the fields
+    a self-locking design leaves empty (pins.md §4.7)."""
+    out = Result(summary=summary, detail=detail, warnings=warnings, failed=failed, model=summary["model"])
+    if summary["self_locking"]:
+        out.labels.update({k: "self-locking" for k in SELF_LOCKING_EMPTY if summary[k] is None})
+    return out
+
+
+def report_problems(found, problems) -> None:
+    """Report the problems of :func:`gearcalc.pins.checks.design_problems` (errors: :func:`problem`, warnings:
+    :func:`warning`) to ``problems`` (:class:`gearcalc.calculator.Problems`)."""
+    for severity, rule, values in found:
+        if severity == "error":
+            problems.error(*problem(rule, **values))
+        else:
+            problems.warn(warning(rule, **values))
 
 
 def unresolvable_error(e, Rp, Rb) -> DesignError:
@@ -249,6 +284,35 @@ def operating_fields(ov) -> dict:
             "pin_speed_signed_max_rpm": ov.spin_max, "sliding_speed_max_m_s": ov.sliding_speed_max}
 
 
+def contact_summary(design, g, law, profile, cl, model: str) -> dict:
+    """The contact level's summary fields (pins.md §8) from :class:`gearcalc.pins.contact_level.ContactLevel`
+    ``cl`` of ``design`` with gear ``g``, contact ``law``, satellite ``profile`` and friction ``model``."""
+    geo = ({"tooth_radius_mm": profile.rho_t, "tooth_circle_radius_mm": profile.R_t}
+           if design["gearing.profile"] == "circular" else {})
+    s = contact_fields(design, g, law, geo, cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual,
+                       cl.rolling_ok)
+    s.update(efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, design["load.mode"] == "multiplier", plain))
+    s["friction_model"] = model
+    if cl.operating is not None:
+        s.update(operating_fields(cl.operating))
+    return s
+
+
+def cost_problem(level: str, z2: int, n_d: int, torque_on_V: bool):
+    """(key, message) of a design over its level's cost budget (:func:`gearcalc.pins.checks.ideal_over_budget`,
+    :func:`~gearcalc.pins.checks.contact_over_budget`; pins.md §9), else None."""
+    from .checks import contact_over_budget, contact_passes, ideal_over_budget
+    from .schema import CONTACT_NODES_MAX, CONTACT_WORK_MAX, IDEAL_WORK_MAX
+
+    if level == "ideal" and ideal_over_budget(z2, n_d):
+        key = "gearing.discs" if n_d > 1 else "gearing.pins"
+        return key, ideal_cost_text(n_d if n_d > 1 else z2, z2, n_d, IDEAL_WORK_MAX)
+    if level == "contact" and contact_over_budget(z2, torque_on_V):
+        return "gearing.pins", contact_cost_text(z2, CONTACT_NODES_MAX, contact_passes(torque_on_V), CONTACT_WORK_MAX,
+                                                 torque_on_V)
+    return None
+
+
 def ideal_cost_text(key_value, z2: int, n_d: int, budget: int) -> str:
     """A design over the ideal level's budget of pin-discs (pins.md §9)."""
     return (f"= {key_value}: gearing.pins x gearing.discs = {z2} x {n_d} = {z2 * n_d} exceeds the ideal "
@@ -286,8 +350,10 @@ CONTACT_TABLE_UNUSED = ("the [contact] table's contact law is not used by the id
                         "contact.face_width_mm gives the contact stress and the axle pressure)")
 
 
-def loss_ratio_overflow(key: str, value) -> DesignError:
-    """The loss ratio overflowing floating point (K1 ~ 1e-300 and below; pins.md §9)."""
+def loss_ratio_overflow(curtate_given: bool, value) -> DesignError:
+    """The loss ratio overflowing floating point (K1 ~ 1e-300 and below; pins.md §9): ``value`` of the curtate
+    ratio where it is given, else of the pin circle."""
+    key = "gearing.curtate_ratio" if curtate_given else "gearing.pin_circle_radius_mm"
     return DesignError(key, f"= {fmt(value)}: the loss ratio overflows floating point (it grows as 1/K1, "
                             "K1 = e*z2/(k*R_p): the curtate ratio is too small for this gear)")
 
@@ -423,6 +489,8 @@ PROBLEMS = {
                                          "circular profile needs the contact level"),
     "ideal_mods": ("gearing.equidistant_mod_mm", "the ideal level has no profile modifications (they need the "
                                                  "contact level); set them to 0"),
+    "friction_alias": ("contact.friction_in_equilibrium", "= {alias} contradicts friction.model = \"{model}\" (the "
+                                                          "key is its alias; give one of them)"),
 }
 """The cross-key problems: rule -> (key, message template)."""
 
@@ -435,6 +503,31 @@ def problem(rule: str, **values) -> tuple[str, str]:
     """(key, message) of a cross-key rule of :data:`PROBLEMS` with its numbers."""
     key, text = PROBLEMS[rule]
     return key, text.format(**values)
+
+
+def warning(rule: str, name: str = "") -> str:
+    """The text of a warning of :func:`gearcalc.pins.checks.design_problems`: "circular_only" (``name``: the
+    argument, tooth_radius or tooth_circle_radius) or "cycloid_mods_ignored"."""
+    return CIRCULAR_ONLY.format(key=name + "_mm") if rule == "circular_only" else CYCLOID_MODS_IGNORED
+
+
+def friction_alias_error(model, alias) -> DesignError:
+    """contact.friction_in_equilibrium contradicting friction.model (pins.md §7)."""
+    return DesignError(*problem("friction_alias", alias=str(alias).lower(), model=model))
+
+
+def contact_notes(design, s, tol: float, warnings, failed, modes, consistent: bool, multiplier: bool) -> None:
+    """The warnings and failed checks of the contact level's summary ``s`` (pins.md §4.9): :func:`cycle_notes`,
+    then the self-locking of the requested mode in the friction-consistent model and the other mode jamming."""
+    if consistent and s["self_locking"]:
+        # the shared notes word self-locking for the first-order multiplier; this level words it per mode
+        s["self_locking"] = False
+        cycle_notes(design, s, tol, warnings, failed)
+        s["self_locking"] = True
+        failed.append(contact_self_locking(design["load.mode"], multiplier in modes.jams, modes.requested.loss_ratio))
+    else:
+        cycle_notes(design, s, tol, warnings, failed)
+    warnings.extend(other_mode_jams(mult) for mult in modes.jams if mult != multiplier)
 
 
 def ideal_columns(arrays: dict, mode, rotating, rolls, models: list, n: int) -> dict:

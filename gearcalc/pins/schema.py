@@ -9,8 +9,8 @@ from ..calculator import REQUIRED, Field, Table
 from ..units import MAX_FORCE_N, MAX_FRICTION, MAX_LENGTH_MM, MAX_SPEED_RPM, MAX_TEETH, MAX_TORQUE_NM, MIN_LENGTH_MM
 
 __all__ = ["MODELS", "MAX_DISCS", "IDEAL_WORK_MAX", "IDEAL_SWEEP_WORK_MAX", "CONTACT_NODES_MAX", "CONTACT_WORK_MAX",
-           "MAX_STIFFNESS_N_PER_MM", "TABLES", "HEADER", "SUMMARY_KEYS", "OPERATING_KEYS", "GEOMETRY_KEYS",
-           "PIN_LOAD_KEYS", "FORMULA_SWEEP_KEYS", "IDEAL_SWEEP_KEYS"]
+           "GROUP_PINS_MAX", "GROUP_TOL_MIN", "MAX_STIFFNESS_N_PER_MM", "TABLES", "HEADER", "SUMMARY_KEYS",
+           "OPERATING_KEYS", "GEOMETRY_KEYS", "PIN_LOAD_KEYS", "FORMULA_SWEEP_KEYS", "IDEAL_SWEEP_KEYS"]
 
 MODELS = ("formula", "ideal", "contact")
 MAX_DISCS = 64
@@ -30,6 +30,11 @@ CONTACT_WORK_MAX = 1_500_000
 fixed point's passes (1 with the torque on V; 3, the usual count, with it on H).  A solve costs 3-17 us, so
 the budget is ~5-25 s at the node cap (most designs converge with a fifth of the nodes): z2 <= 114 with the
 torque on H, z2 <= 344 on V."""
+GROUP_PINS_MAX = 200
+"""An ideal-level design with more pins x discs than this is computed alone in a batch, as is any design at
+``--tol`` below :data:`GROUP_TOL_MIN`: a group's arrays hold every member at the finest grid any member needs
+(two 100-pin gears at 1e-15 took 2.9 GB together, 250 MB alone)."""
+GROUP_TOL_MIN = 1e-9
 MAX_STIFFNESS_N_PER_MM = 1e12
 """A linear contact stiffness far above steel's (~1e6 N/mm per mm of face); the accuracy reference uses 1e9."""
 

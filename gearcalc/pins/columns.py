@@ -1,0 +1,207 @@
+"""The formula and ideal levels over many designs or sweep points as summary columns (pins.md §3, §4, §8).
+
+The inputs are the points' values in the physics' names (``v[name]``: a list over the points, None where a
+value is absent, as designs and sweep grids give them; the adapter :mod:`gearcalc.kinds.pins` maps the design
+keys to these names); the outputs are plain Python columns (lists over the points, None: undefined) named as
+the summary fields, with per point the DesignError it raises and its warnings (texts of
+:mod:`gearcalc.pins.report`).  One design, a batch and a sweep run these same functions.
+
+Names: gear ``z1, z2, e, Rp, K1, Rb, r, rotating, n_d``; operating point ``sliding, rolling, axle, mode, shaft,
+torque, speed`` (:data:`OPERATING`); per-pin load ``force, pin_speed, load_pin_radius, load_axle_radius,
+paper_pi``; ``face_width``; the friction model ``model`` and its alias ``alias``.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from . import report as R
+from .checks import friction_model
+from .formula import formula_losses
+from .geometry import MULTIPLIER, REDUCER, Cycloid
+from .ideal import DISC_SAMPLES_MAX, DISC_WORK_MAX, TOO_COSTLY
+from .operating import ARRAY_OPS, SCALAR_OPS
+from .points import ideal_points
+from .schema import SUMMARY_KEYS
+
+__all__ = ["OPERATING", "floats", "float64", "words_equal", "operating", "friction_models", "formula_columns",
+           "IdealColumns", "ideal_columns", "level_columns"]
+
+OPERATING = ("sliding", "rolling", "axle", "mode", "shaft", "torque", "speed")
+"""The operating point's names: f, f_k [mm], f_c, the mode and the torque's shaft (words), T [N·m], n_H [rpm]."""
+_WORDS = ("mode", "shaft")
+
+
+def floats(vals):
+    """A float array from a list of numbers and None (NaN).
+
+    >>> floats([1, None]).tolist()
+    [1.0, nan]
+    """
+    return np.array([np.nan if v is None else v for v in vals], dtype=float)
+
+
+def float64(v):
+    """A value as a numpy float64 scalar (NaN where absent)."""
+    return np.float64(math.nan if v is None else v)
+
+
+def words_equal(words, word, one: bool):
+    """Whether each word of a column is ``word`` (one point: a bool; else an array)."""
+    return words == word if one else np.array([w == word for w in words])
+
+
+def operating(v, one: bool = False) -> dict:
+    """The operating point's values (:data:`OPERATING`) over points: float arrays (NaN: absent) and lists of
+    words; with ``one``, the single point's scalars (numpy float64, NaN where absent; the word)."""
+    out = {}
+    for name in OPERATING:
+        vals = v[name]
+        if one:
+            out[name] = vals[0] if name in _WORDS else float64(vals[0])
+        else:
+            out[name] = list(vals) if name in _WORDS else floats(vals)
+    return out
+
+
+def friction_models(models, aliases, default: str) -> tuple[list, list]:
+    """The friction model per point (:func:`gearcalc.pins.checks.friction_model`; "consistent" where the alias
+    contradicts it) and per point None or the DesignError of that contradiction."""
+    out, errors = [], []
+    for m, a in zip(models, aliases):
+        name, contradiction = friction_model(m, a, default)
+        out.append("consistent" if contradiction else name)
+        errors.append(R.friction_alias_error(m, a) if contradiction else None)
+    return out, errors
+
+
+def formula_columns(v) -> dict:
+    """The paper's eqs. (3)-(7) over designs or points (pins.md §3, :func:`~gearcalc.pins.formula.formula_losses`):
+    columns of :data:`~gearcalc.pins.report.FORMULA_KEYS` (None without a per-pin load; P_tr_fixed_W needs f)."""
+    res = formula_losses(floats(v["force"]), floats(v["pin_speed"]), floats(v["load_pin_radius"]),
+                         floats(v["load_axle_radius"]), floats(v["rolling"]), floats(v["axle"]),
+                         paper_pi=np.array([bool(x) for x in v["paper_pi"]]), sliding_friction=floats(v["sliding"]))
+    return {k: R.column(x) for k, x in zip(R.FORMULA_KEYS, (res.F_tr1, res.F_tr2, res.P_tr1, res.P_tr2, res.P_tr,
+                                                            res.P_tr_fixed))}
+
+
+class IdealColumns:
+    """The ideal level over designs or points (:func:`ideal_columns`).
+
+    columns : summary fields (plain Python lists over points; None: undefined);
+    errors : per point, None or the DesignError ``compute`` raises for it (inadmissible, over budget, a loss
+    ratio that overflows, a friction model contradicting its alias);
+    warnings : per point, the geometry's warnings;
+    detail(i) : the detail tables of point i (pins.md §8), built on demand.
+    """
+
+    def __init__(self, **kw):
+        self.__dict__.update(kw)
+
+    def detail(self, i: int) -> dict:
+        from .detail import ideal_detail
+
+        k, cyc = int(self.gi[i]), self.cyc
+        g = Cycloid(int(self.z1[i]), int(self.z2[i]), float(self.e[i]), float(self.Rp[i]), float(self.Rb[i]),
+                    float(self.omk[i]))
+        T_sat = float(self.T_sat[i]) if self.columns["pin_force_max_N"][i] is not None else None
+        w_V = float(self.w_V[i]) if not math.isnan(self.speed[i]) else None
+        sigma = MULTIPLIER if self.mode[i] == "multiplier" else REDUCER
+        T_V = self.columns["torque_in_Nm" if sigma == MULTIPLIER else "torque_out_Nm"][i]
+        return ideal_detail(g, float(cyc.psi_star[k]), *cyc.grid(k), float(self.mu[i]), sigma,
+                            self.models[i] == "consistent", T_sat, None if w_V is None else -w_V, bool(self.rolls[i]),
+                            int(self.n_d[i]), T_V)
+
+
+def _gear(v, one: bool):
+    """The gear of the points: z1, z2, n_d, e, Rb, K1, Rp, rotating, r (scalars for one point, else arrays)."""
+    if one:
+        z1, z2, n_d = v["z1"][0], v["z2"][0], v["n_d"][0]
+        e, Rb, K1, Rp, r = (float64(v[name][0]) for name in ("e", "Rb", "K1", "Rp", "r"))
+        return z1, z2, n_d, e, Rb, K1, Rp, bool(v["rotating"][0]), r
+    z1, z2, n_d = (np.array(v[name], dtype=np.int64) for name in ("z1", "z2", "n_d"))
+    e, Rb, K1, Rp = (floats(v[name]) for name in ("e", "Rb", "K1", "Rp"))
+    return z1, z2, n_d, e, Rb, K1, Rp, np.array([bool(x) for x in v["rotating"]]), floats(v["r"])
+
+
+def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> IdealColumns:
+    """The ideal level (pins.md §4) of n designs or sweep points, numpy over them.
+
+    The distinct geometries are solved once each, together (:func:`~gearcalc.pins.points.ideal_points`, unit
+    scalings); every point then scales its geometry's solution by its friction, torque, speed and mode.  One
+    point (a design computed alone) runs the same formulas on scalars (``SCALAR_OPS``): the same numbers, bit
+    for bit, without the cost of numpy calls on arrays of one element.  ``models``, ``model_errors``:
+    :func:`friction_models` of the points.
+    """
+    one = n == 1
+    z1, z2, n_d, e, Rb, K1g, Rpg, rot, r = _gear(v, one)
+    op = operating(v, one)
+    pts = ideal_points(
+        z1, z2, e, Rb, K1g, Rpg, n_d, rot, r, op["sliding"], op["rolling"], op["axle"],
+        words_equal(op["mode"], "multiplier", one), words_equal(op["shaft"], "V", one), op["torque"], op["speed"],
+        np.array([m == "consistent" for m in models]), floats(v["face_width"]), tol=tol,
+        xp=SCALAR_OPS if one else ARRAY_OPS,
+        # a consistent design alone needs no friction-free peaks
+        first_order_peaks=not (one and n_d == 1 and models[0] == "consistent" and model_errors[0] is None))
+    # admissibility (pins.md §4.2, §12.10) and the warning of §4.5, per point
+    errors: list = [None] * n
+    warnings: list[list[str]] = [[] for _ in range(n)]
+    status, psi_0, Rp, omk, cyc, gi = pts.status, pts.psi_0, pts.Rp, pts.omk, pts.cyc, pts.gi
+    at = (lambda arr, i: arr) if one else (lambda arr, i: arr[i])
+    bad = ([0] if status != 0 else []) if one else np.flatnonzero(status != 0)
+    for i in bad:                             # the messages of check() (gearcalc.pins.checks.ideal_admissibility)
+        if at(status, i) == TOO_COSTLY:       # known after the quadrature only: not in check()
+            errors[i] = R.too_costly_error(int(at(n_d, i)), int(at(pts.field("n_crank"), i)), tol,
+                                           DISC_SAMPLES_MAX, DISC_WORK_MAX)
+            continue
+        errors[i] = R.admissibility_error(int(at(status, i)), int(at(z1, i)), int(at(z2, i)),
+                                          float(at(pts.psi_star, i)), float(at(Rb, i)), float(cyc.rho_c_min[gi[i]]),
+                                          float(at(pts.K1, i)))
+    inside = (status == 0) & (Rb >= Rp * omk)
+    for i in ([0] if inside else []) if one else np.flatnonzero(inside):
+        p0 = None if np.isnan(at(psi_0, i)) else float(at(psi_0, i))
+        warnings[i].append(R.pitch_point_inside(at(Rb, i), at(Rp, i) * at(omk, i), p0))
+    errors = [err if err is not None else m_err for err, m_err in zip(errors, model_errors)]
+    arrays = R.ideal_fields(pts)
+    for i in np.flatnonzero(pts.multi_disc):
+        warnings[i].append(R.MULTI_DISC_PEAKS)
+    mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V
+    columns = R.ideal_columns(arrays, op["mode"], rot, rolls, models, n)
+    for i, (lam, locked) in enumerate(zip(columns["loss_ratio"], columns["self_locking"])):
+        if errors[i] is None and lam is None and not locked:   # overflowed (K1 ~ 1e-300 and below): refused, not
+            # exit 70 (a jammed mode of the friction-consistent model has no loss ratio)
+            given = v["K1"][i] is not None
+            errors[i] = R.loss_ratio_overflow(given, v["K1" if given else "Rp"][i])
+    speed, mode = op["speed"], op["mode"]
+    if one:
+        z1, z2, e, Rp, Rb, omk, n_d, mu, rolls, T_sat, w_V, speed, mode = (
+            [x] for x in (z1, z2, e, Rp, Rb, omk, n_d, mu, rolls, T_sat, w_V, speed, mode))
+    return IdealColumns(columns=columns, errors=errors, warnings=warnings, cyc=cyc, gi=gi, z1=z1, z2=z2, e=e, Rp=Rp,
+                        Rb=Rb, omk=omk, n_d=n_d, mu=mu, rolls=rolls, T_sat=T_sat, w_V=w_V, models=models, speed=speed,
+                        mode=mode)
+
+
+def level_columns(v, level: str, names: list, tol: float, pin_load: bool, default_model: str):
+    """Every summary field (:data:`~gearcalc.pins.schema.SUMMARY_KEYS`, in order) over the points of one level,
+    "formula" or "ideal", and the :class:`IdealColumns` (None at the other levels; at the contact level only
+    the names, the level and the formula's columns, which :mod:`gearcalc.pins.contact_level` completes).
+
+    ``v``: the points' values by name; ``names``: their names; ``pin_load``: some point has a per-pin load (the
+    formula's columns, :func:`formula_columns`); ``default_model``: the friction model of a point that names
+    none (:func:`friction_models`).  None where a field is not computed; the formula level is the paper's
+    rotating-pin loss.
+    """
+    n = len(names)
+    out = {key: [None] * n for key in SUMMARY_KEYS}
+    ideal = None
+    if level == "ideal":
+        models, errors = friction_models(v["model"], v["alias"], default_model)
+        ideal = ideal_columns(v, n, tol, models, errors)
+        out.update(ideal.columns)
+    out["name"], out["model"] = names, [level] * n
+    if level == "formula":
+        out["rotating_pins"] = [True] * n        # eqs. (3)-(7) are the paper's rotating-pin losses
+    if pin_load:
+        out.update(formula_columns(v))
+    return {key: out[key] for key in SUMMARY_KEYS}, ideal

@@ -1,0 +1,187 @@
+"""KHV pin gearing, level ``contact`` of one design: profile, friction, both modes, peaks, play (pins.md §5).
+
+The orchestration of :mod:`gearcalc.pins.contact` for one design: the satellite profile
+(:func:`satellite_profile`), the friction regime of its operating point (:func:`contact_friction`) and the
+solve of the modes with their efficiencies, peaks, engagement metrics, backlash, losses and detail
+(:func:`contact_level`).  Values in, in the units of :mod:`gearcalc.pins.contact`; no design keys: the adapter
+:mod:`gearcalc.kinds.pins` maps them, and the exceptions of :mod:`gearcalc.pins.contact` (an inadmissible
+profile, no equilibrium, a geometry below floating-point resolution) reach it unchanged for its messages.
+
+References
+----------
+.. [1] The paper (Prudnikov, seed 000), cited in full in :mod:`gearcalc.pins`; docs/spec/pins.md §5.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from .. import units
+from . import contact as pc
+from .checks import pin_circle_curtate
+from .detail import contact_detail
+from .geometry import Cycloid
+from .operating import ARRAY_OPS, friction_regime
+
+__all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "contact_level"]
+
+
+def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
+    """(the gear, R_p [mm]) from whichever of R_p and K1 is given (the other None; pins.md §4.1, §7):
+    :class:`~gearcalc.pins.geometry.Cycloid` with 1 - K1 from :func:`gearcalc.pins.checks.pin_circle_curtate`.
+
+    >>> g, Rp = gear(20, 22, 3.9, None, 0.75, 1.95)
+    >>> round(Rp, 9), g.R_b
+    (57.2, 1.95)
+    """
+    Rp, _, omk = pin_circle_curtate(z1, z2, e, Rp, K1)
+    return Cycloid(z1, z2, float(e), float(Rp), float(Rb), float(omk)), Rp
+
+
+def satellite_profile(g, circular: bool, tooth_radius, tooth_circle_radius, radial_mod: float,
+                      equidistant_mod: float):
+    """The satellite profile of the contact level (pins.md §5.2-5.3) and whether circular teeth overlap.
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    circular : bool
+        Circular-arc teeth (:func:`~gearcalc.pins.contact.circular_profile`), else the (modified) cycloid
+        (:func:`~gearcalc.pins.contact.cycloid_profile`).
+    tooth_radius : float or "full"
+        rho_t [mm]; "full": adjacent teeth tangent at the root.
+    tooth_circle_radius : float or "zero_backlash"
+        R_t [mm]; "zero_backlash": the teeth just touch the pins' nominal paths.
+    radial_mod, equidistant_mod : float
+        Delta R_p, Delta R_b of a cycloid [mm].
+
+    Returns
+    -------
+    (profile, overlap)
+
+    Raises
+    ------
+    gearcalc.pins.contact.InadmissibleProfile
+    """
+    if not circular:
+        return pc.cycloid_profile(g, radial_mod, equidistant_mod), False
+    return pc.circular_profile(g, None if tooth_radius == "full" else tooth_radius,
+                               None if tooth_circle_radius == "zero_backlash" else tooth_circle_radius)
+
+
+def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: float, axle: float):
+    r"""(mu_eff, rolls, rolling condition) of one operating point as arrays of one (pins.md §4.5-4.6):
+    :func:`~gearcalc.pins.operating.friction_regime`; the condition is None for fixed pins.
+
+    .. math:: \mu_{eff} = (f_c r + f_k)/R_b \text{ where } f R_b \ge f_c r + f_k, \text{ else } f
+
+    >>> mu, rolls, ok = contact_friction(True, 1.95, 0.95, 0.1, 0.01, 0.1)
+    >>> round(float(mu[0]), 12), bool(rolls[0]), bool(ok[0])
+    (0.053846153846, True, True)
+    """
+    f = np.array([sliding], dtype=float)
+    if not rotating:
+        return f, np.zeros(f.shape, dtype=bool), None
+    mu, ok = friction_regime(np.ones(1, dtype=bool), np.full(1, float(Rb)), np.full(1, float(r)), f,
+                             np.array([rolling], dtype=float), np.array([axle], dtype=float), ARRAY_OPS)
+    return mu, ok, ok
+
+
+def backlash_deg(model, play_free: bool) -> float:
+    """The satellite's play at no load [deg] (pins.md §5.3): 0 where the profile has none by construction
+    (an unmodified cycloid, the zero-backlash tooth circle), else :func:`gearcalc.pins.contact.backlash`."""
+    return 0.0 if play_free else math.degrees(pc.backlash(model))
+
+
+@dataclass
+class ContactLevel:
+    """The contact level of one design (:func:`contact_level`).
+
+    modes : :class:`~gearcalc.pins.contact.ModeCycles`; residual, balanced : the largest moment-balance
+    residual relative to the torque and whether it is within its limit (the rest is None when not);
+    consistent : whether the friction forces entered the balance; rolling_ok : the rolling condition (array of
+    one; None for fixed pins); et_multiplier, et_reducer, locked : :func:`~gearcalc.pins.contact.mode_efficiencies`;
+    peaks, metrics : :func:`~gearcalc.pins.contact.cycle_peaks`, :func:`~gearcalc.pins.contact.engagement_metrics`;
+    backlash [deg]; operating : :func:`~gearcalc.pins.contact.operating_values` (None without a crank speed);
+    detail : the detail tables (None unless asked).
+    """
+
+    modes: object
+    residual: float
+    balanced: bool
+    consistent: bool
+    rolling_ok: object
+    et_multiplier: object = None
+    et_reducer: object = None
+    locked: dict | None = None
+    peaks: object = None
+    metrics: dict | None = None
+    backlash: float | None = None
+    operating: object = None
+    detail: dict | None = None
+
+
+def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, axle_radius, friction_model: str,
+                  tol: float, play_free: bool, detail: bool = False) -> ContactLevel:
+    r"""The compliant contact level (pins.md §5) of one design at one operating point.
+
+    The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the
+    cycle mean of the loss ratio uses the shared quadrature with contact entry/exit and spin reversals as
+    breakpoints.  With the torque given on H the torque on V is iterated to the fixed point
+    T_V = u T_H/eta (multiplier) or eta u T_H (reducer) (pins.md §7).  The friction model "consistent"
+    (pins.md §4.9, §5.5) puts the friction forces into the moment balance and solves each mode with its own
+    forces (a mode that jams self-locks), unless there is no friction at all; "first-order" solves the
+    requested mode with frictionless forces and takes both efficiencies from its loss ratio (§4.7).
+
+    .. math:: \eta_{HV} = \frac{1}{1 + \bar\lambda}, \qquad \eta_{VH} = 1 - \bar\lambda
+
+    Parameters
+    ----------
+    g : Cycloid; profile : the satellite (:func:`satellite_profile`); law : ContactLaw
+    point : dict
+        The operating point (:data:`gearcalc.pins.columns.OPERATING`): sliding f, rolling f_k [mm], axle f_c,
+        mode ("multiplier" or "reducer"), shaft ("H" or "V") of torque T [N·m], speed n_H [rpm] (None: none).
+    n_discs : int
+    rotating : bool; axle_radius : float or None
+        Rotating pins on axles of radius r [mm].
+    friction_model : str
+        "consistent" or "first-order".
+    tol : float
+        Relative accuracy target.
+    play_free : bool
+        The profile has no play by construction (:func:`backlash_deg`).
+    detail : bool
+        Build the detail tables (pins.md §8).
+
+    Returns
+    -------
+    ContactLevel
+
+    Raises
+    ------
+    gearcalc.pins.contact.NoEquilibrium, gearcalc.pins.contact.Jam, gearcalc.pins.contact.Unresolvable
+    """
+    mu_a, rolls_a, rolling_ok = contact_friction(rotating, g.R_b, axle_radius, point["sliding"], point["rolling"],
+                                                 point["axle"])
+    mu, rolls, f = float(mu_a[0]), bool(rolls_a[0]), float(point["sliding"])
+    consistent = friction_model == "consistent" and not (mu == 0.0 and f == 0.0)
+    torque, multiplier, on_V = point["torque"], point["mode"] == "multiplier", point["shaft"] == "V"
+    modes = pc.solve_modes(g, profile, law, torque, on_V, multiplier, n_discs, mu, f, rolls, consistent, tol=tol)
+    residual, excess = pc.equilibrium_residual(modes.runs.values(), tol)
+    if not excess <= 1.0:
+        return ContactLevel(modes, residual, False, consistent, rolling_ok)
+    tc = modes.requested
+    et_m, et_r, locked = pc.mode_efficiencies(modes, consistent, np.array([torque], dtype=float), g.ratio,
+                                              np.array([multiplier]), np.array([on_V]))
+    w_H = units.rpm_to_rad_s(point["speed"]) if point["speed"] is not None else None
+    cyc = tc.cycle
+    pk = pc.cycle_peaks(cyc, g, n_discs, rolls)
+    metrics = pc.engagement_metrics(cyc.sol, cyc.spin if rolls else np.zeros(cyc.sol.force.shape[1:]))
+    play = backlash_deg(tc.model, play_free)
+    ov = pc.operating_values(pk, g, tc.loss_ratio, tc.torque_V, w_H, mu, f, rolls) if w_H is not None else None
+    tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs) if detail else None
+    return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, pk, metrics, play, ov,
+                        tables)
