@@ -268,7 +268,7 @@ def _gauss_kronrod(f, a, b, rule: str, tol: float, atol: float, n_max: int) -> Q
 
 def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n_start: int = 128,
                        n_max: int = 2 ** 12, min_levels: int = 2, n_initial=None,
-                       rule: str = "trapezoid") -> QuadResult:
+                       rule: str = "trapezoid", n_min: int = 2) -> QuadResult:
     r"""Piecewise composite trapezoid with Richardson extrapolation, refined piece by piece (pins.md §6, §12.6).
 
     The rule of the module docstring (first level ``n_start`` intervals shared out in proportion to the
@@ -291,6 +291,8 @@ def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n
 
     ``n_initial`` (one count per piece, optional) replaces the first level's counts, e.g. a quarter of
     the final counts of a run on nearly the same integrand (the next pass of the torque fixed point).
+    ``n_min`` is the least count of a piece at the first level (default 2; 1 lets the tiny pieces of a
+    geometric grading cost 4 intervals after the two doublings instead of 8).
 
     ``rule`` ``"gk7"`` or ``"gk15"`` (opt-in) replaces the composite trapezoid by a Gauss-Kronrod pair per piece,
     pieces bisected while needed (:func:`_gauss_kronrod`; ``n_start``, ``min_levels`` and ``n_initial`` unused,
@@ -324,9 +326,9 @@ def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n
     edges = np.concatenate((a, b[-1:]))
     p = a.size
     if n_initial is not None and np.size(n_initial) == p:
-        n_piece = np.maximum(2, np.asarray(n_initial)).astype(np.int64)
+        n_piece = np.maximum(n_min, np.asarray(n_initial)).astype(np.int64)
     else:
-        n_piece = np.maximum(2, np.rint(n_start * (b - a) / (b[-1] - a[0]))).astype(np.int64)
+        n_piece = np.maximum(n_min, np.rint(n_start * (b - a) / (b[-1] - a[0]))).astype(np.int64)
     mid_p = 0.5 * (a + b)
     x, mid, piece = piece_nodes(edges, n_piece)
     w = np.where(np.concatenate(([True], piece[1:] != piece[:-1])) | np.concatenate((piece[1:] != piece[:-1], [True])),

@@ -26,7 +26,9 @@ error, phi_nom = -k theta/z1) is the one unknown:
   :mod:`gearcalc.pins`;
 * the cycle mean of the loss ratio with :func:`gearcalc.quadrature.integrate_adaptive` (pieces doubled only
   where needed), the breakpoints (contact entry/exit, spin reversals, crest passages) scanned and refined
-  by Newton (penetrations, with their slope along the solution) or secant steps (§6);
+  by Newton (penetrations, with their slope along the solution) or secant steps (§6); a later pass of the
+  torque fixed point, and the other mode, move the last pass's breakpoints instead of scanning again, and
+  the quadrature's nodes confirm that no contact appeared or vanished (else the full scan);
 * the torque fixed point (§7): a coarse loss ratio from the window's scan, then full passes (secant-Newton
   steps after the second) until the linearised remaining change of the loss ratio is below tol/10.
 
@@ -439,6 +441,8 @@ class CircularProfile:
 
 _CURVE_KEYS = ("c1x", "c1y", "d1x", "d1y", "dd1x", "dd1y")
 """Pose keys of the design curve c_b, c_b', c_b'' at the last foot point (:meth:`CycloidProfile.contacts`)."""
+_TRIG_KEYS = ("cb1", "sb1", "ca1", "sa1")
+"""Pose keys of cos/sin of beta and of Z_e beta - 2 pi b/k at the last foot point."""
 
 
 class CycloidProfile:
@@ -460,30 +464,62 @@ class CycloidProfile:
         self.design = Cycloid(g.z1, g.z2, g.e, Rp, g.R_b + equidistant_mod, (k * Rp - g.e * g.z2) / (k * Rp))
         self.psi_star = crest_cutoff(self.design)
         self.crests = g.k >= 2
+        self._corner_table = None
 
-    def _curve(self, beta, fam):
-        """c_b, c_b', c_b'' of the design curve [mm, mm/rad, mm/rad^2]."""
+    def _trig(self, beta, fam):
+        """cos and sin of beta and of a = Z_e beta - 2 pi b/k."""
+        d = self.design
+        a = (d.z2 / d.k) * beta - 2.0 * math.pi * fam / d.k
+        return np.cos(beta), np.sin(beta), np.cos(a), np.sin(a)
+
+    def _turned(self, trig, s, beta, fam):
+        """:meth:`_trig` at beta (= the old beta + s) from its values at the old beta: the angle sums with cos and sin
+        of the small angles s and Z_e s by their Taylor series, exact to round-off while |Z_e s| <= 1e-3 (the terms
+        left out are below 1e-19 of the kept ones); otherwise evaluated anew."""
+        ze = self.design.z2 / self.design.k
+        t = ze * s
+        if not np.max(np.abs(t), initial=0.0) <= 1e-3:
+            return self._trig(beta, fam)
+        cb, sb, ca, sa = trig
+        s2, t2 = s * s, t * t
+        c1, s1 = 1.0 - 0.5 * s2 + s2 * s2 / 24.0, s * (1.0 - s2 / 6.0 + s2 * s2 / 120.0)
+        c2, s2_ = 1.0 - 0.5 * t2 + t2 * t2 / 24.0, t * (1.0 - t2 / 6.0 + t2 * t2 / 120.0)
+        return cb * c1 - sb * s1, sb * c1 + cb * s1, ca * c2 - sa * s2_, sa * c2 + ca * s2_
+
+    def _curve_of(self, trig):
+        """c_b, c_b', c_b'' of the design curve [mm, mm/rad, mm/rad^2] from :meth:`_trig`."""
         d = self.design
         ze = d.z2 / d.k
-        a = ze * beta - 2.0 * math.pi * fam / d.k
-        cb, sb, ca, sa = np.cos(beta), np.sin(beta), np.cos(a), np.sin(a)
+        cb, sb, ca, sa = trig
         return (d.R_p * cb - d.e * ca, d.R_p * sb - d.e * sa,
                 -d.R_p * sb + d.e * ze * sa, d.R_p * cb - d.e * ze * ca,
                 -d.R_p * cb + d.e * ze * ze * ca, -d.R_p * sb + d.e * ze * ze * sa)
 
+    def _curve(self, beta, fam):
+        """c_b, c_b', c_b'' of the design curve [mm, mm/rad, mm/rad^2]."""
+        return self._curve_of(self._trig(beta, fam))
+
     def _newton(self, beta, fam, x, y, steps, tol=None):
         """Newton steps on the foot point: ``steps`` of them, or with ``tol`` until the largest step is
         below it (at most ``steps``)."""
+        return self._newton_trig(beta, fam, x, y, steps, tol)[0]
+
+    def _newton_trig(self, beta, fam, x, y, steps, tol=None):
+        """:meth:`_newton`, also returning :meth:`_trig` at the beta before the last step and that step (signed, the
+        change of beta)."""
+        trig, change = None, None
         for _ in range(steps):
-            cx, cy, dx, dy, ddx, ddy = self._curve(beta, fam)
+            trig = self._trig(beta, fam)
+            cx, cy, dx, dy, ddx, ddy = self._curve_of(trig)
             rx, ry = cx - x, cy - y
             gval = rx * dx + ry * dy
             gder = dx * dx + dy * dy + rx * ddx + ry * ddy
             step = gval / gder
             beta = beta - step
+            change = -step
             if tol is not None and not np.max(np.abs(step), initial=0.0) > tol:
                 break
-        return beta
+        return beta, trig, change
 
     def foot_point(self, beta0, fam, x, y, tol: float = 1e-14, maxiter: int = 60):
         """Foot point beta* of X on c_b: root of g(beta) = (c_b - X).c_b' in beta0 +- pi k/(2 z1).
@@ -522,13 +558,35 @@ class CycloidProfile:
     def prepare(self, pose: Pose) -> None:
         fam = np.mod(pose.aux["idx"], self.g.k) * np.ones_like(pose.x0, dtype=np.int64)
         pose.aux["fam"] = fam
-        pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0)
+        # only the start of the Newton steps of :meth:`contacts` at the turned positions (which iterate until a step
+        # below 1e-7 rad has been applied): 1e-7 here too (quadratic convergence: the error is then ~1e-14 rad)
+        pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0, tol=1e-7)
         if self.crests:
-            zd = self.g.z1 / self.g.k
-            ends = np.stack([pose.beta0 - (self.psi_star - pose.psi) / zd,    # psi = +psi*
-                             pose.beta0 + (pose.psi + self.psi_star) / zd])   # psi = -psi*
-            gx, gy = tooth_profile(ends, fam[None], self.design)
-            pose.aux["crest_x"], pose.aux["crest_y"] = gx, gy
+            pose.aux["crest_x"], pose.aux["crest_y"] = self._crest_corners(pose)
+
+    def _crest_corners(self, pose: Pose):
+        """The crest corners of the tooth space pin j faces (psi = +psi*, -psi*), (2, m, n) x and y [mm].
+
+        On the tooth profile they lie at beta0 + psi/z_d -+ psi*/z_d = B_j - 2 pi k w/z1 -+ psi*/z_d, with
+        B_j = 2 pi j (1 + k/z1)/z2 and w the turns by which psi = phi_j - theta was wrapped (theta cancels); a shift
+        of beta by -2 pi k w/z1 turns the profile by that angle (z2 = z1 + k), so the corners are the pin's two
+        corners at w = 0 (a table over the pins), turned by -2 pi k w/z1 (a table over the teeth)."""
+        g = self.g
+        z1, z2, k = g.z1, g.z2, g.k
+        if self._corner_table is None:
+            j = np.arange(z2)
+            B = 2.0 * math.pi * j * (1.0 + k / z1) / z2
+            dz = self.psi_star * k / z1
+            cx, cy = tooth_profile(np.stack([B - dz, B + dz]), np.mod(j, k)[None], self.design)
+            r = 2.0 * math.pi * np.arange(z1) / z1
+            self._corner_table = (cx, cy, np.cos(r), np.sin(r))
+        cx, cy, cos_t, sin_t = self._corner_table
+        idx = pose.aux["idx"]
+        w = np.rint((2.0 * math.pi * idx / z2 - pose.theta[None, :] - pose.psi) / (2.0 * math.pi)).astype(np.int64)
+        r = np.mod(k * w, z1)
+        ca, sa = cos_t[r], -sin_t[r]             # the turn by -2 pi k w/z1
+        px, py = cx[:, idx], cy[:, idx]
+        return ca * px - sa * py, sa * px + ca * py
 
     def contacts(self, pose: Pose, x, y, branch=None) -> Contacts:
         """``branch`` (z2, n), optional, forces the flank (-1) or a crest corner (0: +psi*, 1: -psi*)."""
@@ -542,13 +600,18 @@ class CycloidProfile:
             rx, ry = cx - x, cy - y
             step = (rx * dx + ry * dy) / (dx * dx + dy * dy + rx * ddx + ry * ddy)
             beta = pose.aux["beta1"] - step
+            trig, change = tuple(pose.aux[k] for k in _TRIG_KEYS), -step
             if np.max(np.abs(step), initial=0.0) > 1e-7:
-                beta = self._newton(beta, fam, x, y, 7, 1e-7)
+                beta, trig, change = self._newton_trig(beta, fam, x, y, 7, 1e-7)
         else:
-            beta = self._newton(pose.aux["beta"], fam, x, y, 8, 1e-7)
-        cur = self._curve(beta, fam)
+            beta, trig, change = self._newton_trig(pose.aux["beta"], fam, x, y, 8, 1e-7)
+        # the curve at the foot point: the last step is below 1e-7 rad, so cos/sin follow from the last ones by
+        # the angle sums (:meth:`_turned`, no new cos/sin)
+        trig = self._turned(trig, change, beta, fam)
+        cur = self._curve_of(trig)
         pose.aux["beta1"] = beta
         pose.aux.update(zip(_CURVE_KEYS, cur))
+        pose.aux.update(zip(_TRIG_KEYS, trig))
         cx, cy, dx, dy, ddx, ddy = cur
         t2 = dx * dx + dy * dy
         t = np.sqrt(t2)
@@ -741,7 +804,9 @@ class Solution:
     (the Newton slope of the contact entries and exits, :func:`cycle_breakpoints`);
     noise: (n,) the round-off floor of the residual [N·mm]: eps (R_p + e) sum |F'(delta) X x n|, the moment
     change of a round-off of the pin positions at every contact (the penetrations are differences of
-    lengths ~R_p).
+    lengths ~R_p);
+    g_tau: (n,) dG/dtau of the moment balance at the solution [N·mm/rad] (the warm start of another torque,
+    :meth:`ContactModel.inherit`).
     """
 
     theta: np.ndarray
@@ -758,6 +823,7 @@ class Solution:
     cand: np.ndarray | None = None
     ddelta: np.ndarray | None = None
     noise: np.ndarray | None = None
+    g_tau: np.ndarray | None = None
 
 
 def _sub_pose(pose: Pose, sel) -> Pose:
@@ -795,6 +861,8 @@ class ContactModel:
         self.diff_step = 1e-6
         self.window = None            # (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all
         self._memo = {0: None, 1: None}   # solved (theta, tau, dtau) for warm starts: 0 frictionless, 1 final
+        self._gtau = {0: None, 1: None}   # dG/dtau at the memo's angles (None: unknown)
+        self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
 
     # -- geometry -------------------------------------------------------------------------------
     def pose(self, theta, idx=None) -> Pose:
@@ -913,6 +981,7 @@ class ContactModel:
                 self._memo[key] = (th[order], -memo[1][order] * r, memo[2][order] * r)
         if self.friction is not None and self._memo[1] is None:
             self._memo[1] = self._memo[0]
+        self._gtau = {0: None, 1: None}
         self._mirrored = True
 
     def inherit(self, prev: "ContactModel") -> None:
@@ -927,9 +996,19 @@ class ContactModel:
             if r > 1.0:                   # a wider tau range: its pins recomputed (:meth:`_window_for`)
                 with np.errstate(all="ignore"):
                     self._window_for(t_lo * r, t_hi * r)
+        dM = self.M_req - prev.M_req
         for key, memo in prev._memo.items():
             if memo is not None:
-                self._memo[key] = (memo[0], memo[1] * r, memo[2] * r)
+                tau = memo[1] * r
+                gt = prev._gtau[key]
+                if gt is not None and gt.shape == tau.shape:
+                    # the Newton step of the new torque from the solution of the old one: tau + dM/G_tau (its error
+                    # is second order in the torque change), where G_tau < 0 and the step within 10x the scaling's
+                    with np.errstate(divide="ignore", invalid="ignore"):
+                        newton = memo[1] + dM / gt
+                    ok = (gt < 0.0) & np.isfinite(newton) & (np.abs(newton - memo[1]) <= 10.0 * np.abs(tau - memo[1]))
+                    tau = np.where(ok, newton, tau)
+                self._memo[key] = (memo[0], tau, memo[2] * r)
 
     def contacts(self, pose: Pose, tau, branch=None) -> Contacts:
         """Penetrations and normals with the satellite turned by tau from nominal (tau shape (n,))."""
@@ -1035,26 +1114,38 @@ class ContactModel:
                   else (bracket[0].copy(), bracket[1].copy()))
         done = np.zeros(n, dtype=bool)
         failed = np.zeros(n, dtype=bool)
+        idx = np.arange(n)               # the angles still iterating: only these are evaluated
+        sub, tr = pose, traction
         with np.errstate(divide="ignore", invalid="ignore"):
             for _ in range(maxiter):
-                G, G_tau = self._balance(pose, tau, traction)[:2]
-                lo = np.where(G > 0.0, np.maximum(lo, tau), lo)
-                hi = np.where(G < 0.0, np.minimum(hi, tau), hi)
+                t = tau[idx]
+                G, G_tau = self._balance(sub, t, tr)[:2]
+                lb, hb = lo[idx], hi[idx]
+                lb = np.where(G > 0.0, np.maximum(lb, t), lb)
+                hb = np.where(G < 0.0, np.minimum(hb, t), hb)
+                lo[idx], hi[idx] = lb, hb
                 step = -G / G_tau
-                newton = tau + step
-                ok = np.isfinite(newton) & (G_tau < 0.0) & (newton > lo) & (newton < hi)
-                both = np.isfinite(lo) & np.isfinite(hi)
+                newton = t + step
+                ok = np.isfinite(newton) & (G_tau < 0.0) & (newton > lb) & (newton < hb)
+                both = np.isfinite(lb) & np.isfinite(hb)
                 # quadratic convergence: after a step |s| <= 1e-8 |tau| the error is ~ s^2/tau <= 1e-16 |tau|;
                 # a step below the spacing of floats (not inside the open bracket) leaves tau as it is
-                tiny = (G_tau < 0.0) & (np.abs(step) <= xtol)
-                small = ok & (np.abs(step) <= 1e-8 * np.abs(tau))
-                conv = (G == 0.0) | tiny | small | (both & (hi - lo <= xtol))
-                failed |= ~done & ~ok & ~both & ~conv
-                act = ~done & ~failed & (G != 0.0)
-                tau = np.where(act & ok, newton, np.where(act & ~conv & both, 0.5 * (lo + hi), tau))
-                done |= conv & ~failed
-                if np.all(done | failed):
+                xt = np.maximum(4.0 * np.spacing(np.abs(t)), 1e-3 * xtol)
+                tiny = (G_tau < 0.0) & (np.abs(step) <= xt)
+                small = ok & (np.abs(step) <= 1e-8 * np.abs(t))
+                conv = (G == 0.0) | tiny | small | (both & (hb - lb <= xt))
+                fail = ~ok & ~both & ~conv
+                act = ~fail & (G != 0.0)
+                tau[idx] = np.where(act & ok, newton, np.where(act & ~conv & both, 0.5 * (lb + hb), t))
+                failed[idx] = fail
+                done[idx] = conv & ~fail
+                keep = ~(conv | fail)
+                if not np.any(keep):
                     break
+                if not np.all(keep):     # go on with the angles not yet solved (a sub-pose keeps its foot points)
+                    sub = _sub_pose(sub, keep)
+                    tr = None if tr is None else tr[..., keep]
+                    idx = idx[keep]
         failed |= ~done
         if np.any(failed) and bracket is not None:
             sub = _sub_pose(pose, failed)
@@ -1160,12 +1251,14 @@ class ContactModel:
         return pin_phase(self.pins, th, g.z2, self.sigma), zeta
 
     def _remember(self, key, sol: Solution) -> None:
-        old = self._memo[key]
-        th, ta, dt = sol.theta, sol.tau, sol.dtau
+        old, old_g = self._memo[key], self._gtau[key]
+        th, ta, dt, gt = sol.theta, sol.tau, sol.dtau, sol.g_tau
         if old is not None:
             th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
+            gt = None if old_g is None or gt is None else np.concatenate((old_g, gt))
         order = np.argsort(th, kind="stable")
         self._memo[key] = (th[order], ta[order], dt[order])
+        self._gtau[key] = None if gt is None else gt[order]
 
     def _guess(self, theta, key):
         """tau at theta from the solved angles around it: the cubic Hermite interpolant of tau and
@@ -1209,7 +1302,7 @@ class ContactModel:
         return Solution(sol.theta, sol.tau, sol.dtau, sol.residual, scatter(sol.delta, -np.inf),
                         scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
                         scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
-                        sol.noise)
+                        sol.noise, sol.g_tau)
 
     def reference(self, theta):
         """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
@@ -1246,6 +1339,7 @@ class ContactModel:
         g = self.g
         th = pose.theta
         G, G_tau, ct, F, Fp, A, q, x, y = self._balance(pose, tau, traction)
+        G_tau0 = G_tau
         if (ref is not None and np.array_equal(ref[0], F > 0.0)
                 and (ref[1] is None or np.array_equal(ref[1], ct.branch))):
             ref = None                  # the piece's sets are the solution's own: the same derivatives
@@ -1271,7 +1365,8 @@ class ContactModel:
         v_t = o_n + w1 * (ct.xn + g.R_b)
         ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * np.sum(np.abs(Fp * ct.arm), axis=(0, 1))
-        return Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise)
+        return Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
+                        G_tau0)
 
     def bearing_force(self, sol: Solution, traction=None):
         """Force B of the crank bearing on the satellite (crank-frame axes turned by phi) [N], (2, n).
@@ -1327,7 +1422,8 @@ class ContactCycle:
     sol : the solved states on the final grid, sorted by theta (piece ends twice; a Gauss-Kronrod rule: at every
     evaluated node, the bisected pieces' own included, and no piece ends);
     loss, spin, slide : per node (see :func:`contact_losses`); lam : lambda per node;
-    breakpoints : the located breakpoints in theta [rad].
+    breakpoints : the located breakpoints in theta [rad]; roots : the located sign changes
+    (:class:`BreakpointRoots`), which a later pass of the same design starts from.
     """
 
     loss_ratio: float
@@ -1341,6 +1437,7 @@ class ContactCycle:
     slide: np.ndarray
     lam: np.ndarray
     breakpoints: np.ndarray
+    roots: "BreakpointRoots | None" = None
 
 
 def _concat(parts: list[Solution]) -> Solution:
@@ -1357,10 +1454,165 @@ def _concat(parts: list[Solution]) -> Solution:
                     None if parts[0].switch is None else cat("switch", 3),
                     None if parts[0].branch is None else cat("branch", 2),
                     None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
-                    cat("noise", 0))
+                    cat("noise", 0), cat("g_tau", 0))
 
 
-def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6, rolls: bool = False) -> np.ndarray:
+def _components(s: Solution, rolls: bool):
+    """The sign-change components of the cycle at the solved states ``s`` (pins.md §6): (values, slopes, n_delta),
+    values and slopes (c, n) over the crank angles of ``s``; the slope is known for the penetrations only (NaN
+    else), which come first (n_delta rows).  A component that is NaN at a crank angle has no sign there."""
+    n = s.theta.size
+    delta = s.delta if s.cand is None else np.where(s.cand, s.delta, np.nan)   # NaN: no sign change
+    parts = [delta.reshape(-1, n), np.where(s.force > 0.0, s.v_t, 0.0).reshape(-1, n)]
+    slopes = [s.ddelta.reshape(-1, n), np.full(parts[1].shape, np.nan)]
+    if s.switch is not None:      # not masked: a pin can reach the crest and leave it in one scan step
+        parts.append(s.switch.reshape(-1, n))
+        slopes.append(np.full(parts[-1].shape, np.nan))
+    if rolls and s.force.shape[0] == 2:
+        loaded = s.force > 0.0
+        lead = np.argmax(s.force, axis=0)
+        v_lead = np.take_along_axis(s.v_t, lead[None], axis=0)
+        other = loaded & (np.arange(2)[:, None, None] != lead[None])
+        parts.append(np.where(loaded.all(axis=0), s.force[0] - s.force[1], np.nan).reshape(-1, n))
+        parts.append(np.where(other, s.v_t - v_lead, np.nan).reshape(-1, n))
+        slopes.extend(np.full(p.shape, np.nan) for p in parts[-2:])
+    return np.concatenate(parts), np.concatenate(slopes), delta.reshape(-1, n).shape[0]
+
+
+@dataclass
+class BreakpointRoots:
+    """The located sign changes of one cycle (:func:`cycle_breakpoints`): roots [rad] and whether each is a contact
+    entry or exit (a penetration's), sorted by root; ``scanned``: located by the full scan and taken as it is (False:
+    a coarse scan or moved roots, which the quadrature's nodes must confirm, :func:`mean_loss_ratio`)."""
+
+    roots: np.ndarray
+    contact: np.ndarray
+    scanned: bool = True
+
+    def mirrored(self, period: float) -> "BreakpointRoots":
+        """The roots of the other mode of the same design: theta -> T_p - theta (pins.md §4.8(5), §5.7)."""
+        return BreakpointRoots((period - self.roots)[::-1].copy(), self.contact[::-1].copy(), self.scanned)
+
+
+def _breakpoint_state(model: ContactModel):
+    """A one-entry cache of the solved states of the last crank angles (the refinement evaluates the same ones
+    for the values and the slopes)."""
+    memo: dict = {}
+
+    def state(x):
+        key = (x.size, x.tobytes())
+        if key not in memo:
+            memo.clear()
+            memo[key] = model.state(x, phases=False)
+        return memo[key]
+
+    return state
+
+
+def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, checked: bool = False) -> BreakpointRoots:
+    """Every sign change of the components on an ``n_scan`` grid of one period, refined (:func:`cycle_breakpoints`);
+    ``checked``: a coarse scan whose result the quadrature's nodes must confirm (:func:`mean_loss_ratio`)."""
+    Tp = model.g.period
+    state = _breakpoint_state(model)
+    xtol = 1e-12 * Tp
+    x = np.linspace(0.0, Tp, n_scan + 1)
+    v, _, n_delta = _components(state(x), rolls)
+    sgn = np.sign(v)
+    comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
+    if comp.size:
+        def h(t, k):
+            val, slope, _ = _components(state(t), rolls)
+            i = np.arange(k.size)
+            return val[comp[k], i], slope[comp[k], i]
+
+        # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
+        # 1e-3 tol times the jump of lambda over lambda_bar
+        roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
+                                     jump_xtol=1e-3 * tol * Tp)
+    else:
+        roots = np.empty(0)
+    order = np.argsort(roots, kind="stable")
+    return BreakpointRoots(roots[order], (comp < n_delta)[order], not checked)
+
+
+def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float, tol: float,
+                       rolls: bool, max_width: float | None = None) -> BreakpointRoots | None:
+    """The roots of ``prior`` (the same design's cycle at a nearby torque, or its other mode mirrored) moved to this
+    model: each is bracketed by +-``width`` (widened 4x, up to ``max_width``, where its bracket holds no sign change),
+    and the components' sign changes between the bracket ends refined as in :func:`_scan_roots` (one root found in
+    two overlapping brackets counted once).  None (the full scan is needed) unless every bracket holds a sign change
+    and their number is the prior's: a root that left its widest bracket, or a pair that appeared or vanished in
+    it.  Changes elsewhere are caught on the quadrature's nodes (:func:`mean_loss_ratio`)."""
+    Tp = model.g.period
+    if prior.roots.size == 0:
+        return BreakpointRoots(np.empty(0), np.zeros(0, dtype=bool), False)
+    max_width = width if max_width is None else max(max_width, width)
+    state = _breakpoint_state(model)
+    r0 = prior.roots
+    w = np.full(r0.size, float(width))
+    todo = np.arange(r0.size)
+    comps, lo, hi, flo, fhi = [], [], [], [], []
+    n_delta = 0
+    while todo.size:
+        a = np.maximum(r0[todo] - w[todo], 0.0)
+        b = np.minimum(r0[todo] + w[todo], Tp)
+        v, _, n_delta = _components(state(np.concatenate((a, b))), rolls)
+        va, vb = v[:, :todo.size], v[:, todo.size:]
+        comp, idx = np.nonzero(np.sign(va) * np.sign(vb) < 0)
+        comps.append(comp)
+        lo.append(a[idx]), hi.append(b[idx]), flo.append(va[comp, idx]), fhi.append(vb[comp, idx])
+        missing = np.setdiff1d(np.arange(todo.size), idx)
+        todo = todo[missing]
+        if todo.size and np.any(w[todo] >= max_width):
+            return None
+        w[todo] = np.minimum(4.0 * w[todo], max_width)
+    comp = np.concatenate(comps)
+    if comp.size < r0.size:
+        return None
+    xtol = 1e-12 * Tp
+    jtol = 1e-3 * tol * Tp
+
+    def h(t, k):
+        val, slope, _ = _components(state(t), rolls)
+        i = np.arange(k.size)
+        return val[comp[k], i], slope[comp[k], i]
+
+    roots = _refine_sign_changes(h, np.concatenate(lo), np.concatenate(hi), np.concatenate(flo), np.concatenate(fhi),
+                                 xtol, jump_xtol=jtol)
+    # one root found from two overlapping brackets: the same component within the refinement's tolerance
+    order = np.lexsort((roots, comp))
+    comp, roots = comp[order], roots[order]
+    dup = np.concatenate(([False], (comp[1:] == comp[:-1]) & (np.diff(roots) <= 2.0 * jtol + 4.0 * xtol)))
+    comp, roots = comp[~dup], roots[~dup]
+    if roots.size != r0.size:
+        return None
+    order = np.argsort(roots, kind="stable")
+    return BreakpointRoots(roots[order], (comp < n_delta)[order], False)
+
+
+def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarray:
+    """The piece ends from the located roots: the period's ends, the roots, and the geometric gradings
+    (:func:`cycle_breakpoints`)."""
+    Tp = model.g.period
+    xtol = 1e-12 * Tp
+    contact_bp = found.roots[found.contact]      # the contact entries and exits (a penetration changes sign)
+    edges = _merge(np.concatenate(([0.0, Tp], found.roots)), 4.0 * xtol)
+    extra = []
+    if model.law.exponent != 1.0 and contact_bp.size:
+        width = 4.0 * Tp * (0.01 * tol) ** 0.9
+        for x0 in _merge(contact_bp, 4.0 * xtol):
+            i = int(np.argmin(np.abs(edges - x0)))
+            if i > 0:
+                extra.append(geometric_breakpoints(edges[i], edges[i - 1], width, ratio=0.25))
+            if i + 1 < edges.size:
+                extra.append(geometric_breakpoints(edges[i], edges[i + 1], width, ratio=0.25))
+    if model.g.one_minus_K1 < 0.01:
+        extra.append(geometric_breakpoints(0.0, Tp, model.g.one_minus_K1 * Tp * model.g.z2 / (2.0 * math.pi)))
+    return _merge(np.concatenate([edges, *extra]), 4.0 * xtol)
+
+
+def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6, rolls: bool = False,
+                      roots: bool = False):
     """Breakpoints in [0, T_p] of the contact level's cycle integrand (pins.md §6, §12.9, §12.12).
 
     * the ends 0 and T_p;
@@ -1379,69 +1631,12 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
       or kink there (pins.md §5.6).
 
     The scan's sign changes are refined by safeguarded Newton (the penetrations, with the slope
-    d delta/d theta of the solution) or secant steps (the others) to 1e-12 T_p.
+    d delta/d theta of the solution) or secant steps (the others) to 1e-12 T_p.  ``roots``: also return the
+    located sign changes (:class:`BreakpointRoots`, for the incremental location of a later pass).
     """
-    Tp = model.g.period
-    memo: dict = {}
-
-    def state(x):
-        key = (x.size, x.tobytes())
-        if key not in memo:
-            memo.clear()
-            memo[key] = model.state(x, phases=False)
-        return memo[key]
-
-    def components(x):
-        """(values, slopes) of the components; the slope is known for the penetrations only (NaN else)."""
-        s = state(x)
-        delta = s.delta if s.cand is None else np.where(s.cand, s.delta, np.nan)   # NaN: no sign change
-        parts = [delta.reshape(-1, x.size), np.where(s.force > 0.0, s.v_t, 0.0).reshape(-1, x.size)]
-        slopes = [s.ddelta.reshape(-1, x.size), np.full(parts[1].shape, np.nan)]
-        if s.switch is not None:      # not masked: a pin can reach the crest and leave it in one scan step
-            parts.append(s.switch.reshape(-1, x.size))
-            slopes.append(np.full(parts[-1].shape, np.nan))
-        if rolls and s.force.shape[0] == 2:
-            loaded = s.force > 0.0
-            lead = np.argmax(s.force, axis=0)
-            v_lead = np.take_along_axis(s.v_t, lead[None], axis=0)
-            other = loaded & (np.arange(2)[:, None, None] != lead[None])
-            parts.append(np.where(loaded.all(axis=0), s.force[0] - s.force[1], np.nan).reshape(-1, x.size))
-            parts.append(np.where(other, s.v_t - v_lead, np.nan).reshape(-1, x.size))
-            slopes.extend(np.full(p.shape, np.nan) for p in parts[-2:])
-        return np.concatenate(parts), np.concatenate(slopes), delta.reshape(-1, x.size).shape[0]
-
-    xtol = 1e-12 * Tp
-    x = np.linspace(0.0, Tp, n_scan + 1)
-    v, _, n_delta = components(x)
-    sgn = np.sign(v)
-    comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
-    if comp.size:
-        def h(t, k):
-            val, slope, _ = components(t)
-            i = np.arange(k.size)
-            return val[comp[k], i], slope[comp[k], i]
-
-        # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
-        # 1e-3 tol times the jump of lambda over lambda_bar
-        roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
-                                     jump_xtol=1e-3 * tol * Tp)
-    else:
-        roots = np.empty(0)
-    found = np.sort(roots)
-    contact_bp = np.sort(roots[comp < n_delta])      # the contact entries and exits (a penetration changes sign)
-    edges = _merge(np.concatenate(([0.0, Tp], found)), 4.0 * xtol)
-    extra = []
-    if model.law.exponent != 1.0 and contact_bp.size:
-        width = 4.0 * Tp * (0.01 * tol) ** 0.9
-        for x0 in _merge(contact_bp, 4.0 * xtol):
-            i = int(np.argmin(np.abs(edges - x0)))
-            if i > 0:
-                extra.append(geometric_breakpoints(edges[i], edges[i - 1], width, ratio=0.25))
-            if i + 1 < edges.size:
-                extra.append(geometric_breakpoints(edges[i], edges[i + 1], width, ratio=0.25))
-    if model.g.one_minus_K1 < 0.01:
-        extra.append(geometric_breakpoints(0.0, Tp, model.g.one_minus_K1 * Tp * model.g.z2 / (2.0 * math.pi)))
-    return _merge(np.concatenate([edges, *extra]), 4.0 * xtol)
+    found = _scan_roots(model, n_scan, tol, rolls)
+    edges = _edges(model, found, tol)
+    return (edges, found) if roots else edges
 
 
 def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None):
@@ -1505,7 +1700,9 @@ def _merge(points, gap):
 
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
                     tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
-                    prefilter: bool = True, n_initial=None, rule: str = "trapezoid") -> ContactCycle:
+                    prefilter: bool = True, n_initial=None, rule: str = "trapezoid",
+                    prior: "BreakpointRoots | None" = None, prior_width: float = 1e-2, n_min: int = 2,
+                    coarse_scan: int | None = None) -> ContactCycle:
     """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error.
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
@@ -1523,17 +1720,33 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     rule : the quadrature rule of :func:`integrate_adaptive`: ``"trapezoid"`` (pins.md §6), or opt-in a
         Gauss-Kronrod pair per piece (``"gk7"``, ``"gk15"``: gk7 2-4x fewer crank angles at tol 1e-6; the peaks
         are then taken over its nodes, which hold no piece ends).
+    prior : the located sign changes of the same design's cycle at a nearby torque, or of its other mode mirrored
+        (:attr:`ContactCycle.roots`): the breakpoints are then moved from them by Newton within +-``prior_width`` T_p
+        (:func:`_incremental_roots`) instead of the full scan, and every node of the quadrature is checked to lie
+        on its piece's side of every sign change (its components' signs those of the piece's midpoint, away from
+        the piece ends); when the roots cannot be moved, or a node fails that check (a contact appeared or
+        vanished between the passes), the cycle is recomputed with the full scan.
+    coarse_scan : without ``prior``, scan on this many intervals instead of ``n_scan``, with the same check of the
+        nodes (and the same recomputation with the full scan); the nodes must then be at least as dense as the full
+        scan (``n_start`` >= n_scan/4 with two doublings), so the check is at least as strict as the full scan.
+    n_min : the least intervals of a piece at the first level (:func:`integrate_adaptive`).
     """
     g = model.g
     scale = model.torque_sat * g.k / g.z1
     cache: list[Solution] = []
+    mids: list[np.ndarray] = []
     refs: dict = {}
+    ref_sols: list[Solution] = []
 
     def integrand(x, mid):
         um, inv = np.unique(mid, return_inverse=True)
         new = np.array([m for m in um if m not in refs])
         if new.size:
-            active, branch, traction = model.reference(new)
+            # the pieces' fixed sets (:meth:`ContactModel.reference`), the midpoints' states kept for the check below
+            rs = model.state(new, phases=False)
+            ref_sols.append(rs)
+            active, branch = rs.force > 0.0, rs.branch
+            traction = None if model.friction is None else model.traction(rs)
             for i, m in enumerate(new):
                 refs[m] = (active[..., i], None if branch is None else branch[..., i],
                            None if traction is None else traction[..., i])
@@ -1542,23 +1755,62 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         traction = None if refs[um[0]][2] is None else np.stack([refs[m][2] for m in um], axis=-1)[..., inv]
         s = model.state(x, (active, branch, traction), phases=False)
         cache.append(s)
+        mids.append(np.asarray(mid, dtype=float))
         loss, _, _ = contact_losses(s, g.R_b, mu_eff, sliding_friction, rolls)
         return loss.sum(axis=(0, 1)) / scale / g.period
 
     if model.window is None and prefilter:
         model.set_window()
-    edges = cycle_breakpoints(model, n_scan, tol, rolls)
-    q = integrate_adaptive(integrand, edges, tol=tol, n_max=n_max, n_start=n_start, n_initial=n_initial, rule=rule)
+    found = None
+    if prior is not None:
+        found = _incremental_roots(model, prior, prior_width * g.period, tol, rolls, PRIOR_WIDTH_MAX * g.period)
+    elif coarse_scan is not None and coarse_scan < n_scan:
+        found = _scan_roots(model, coarse_scan, tol, rolls, checked=True)
+    if found is None:
+        found = _scan_roots(model, n_scan, tol, rolls)
+    edges = _edges(model, found, tol)
+    q = integrate_adaptive(integrand, edges, tol=tol, n_max=n_max, n_start=n_start, n_initial=n_initial, rule=rule,
+                           n_min=n_min)
+    if not found.scanned and not _pieces_hold(cache, mids, ref_sols, edges, rolls, tol, g.period):
+        # a sign change the moved roots do not hold: the full scan (pins.md §6)
+        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
+                               n_initial, rule, n_min=n_min)
     sol = _concat(cache)
     sol.phase, sol.zeta = model.phases(sol.theta)
     if not model.window_holds(sol.tau):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial,
-                               rule)
+                               rule, None, prior_width, n_min)
     loss, spin, slide = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)
     lam = loss.sum(axis=(0, 1)) / scale
+    model.roots = found
     return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, q.n, q, sol, loss, spin, slide, lam,
-                        edges)
+                        edges, found)
+
+
+def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float) -> bool:
+    """Whether every evaluated node lies on its piece's side of every sign change: no component has the
+    opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's ends (where a
+    located jump may lie within 1e-3 tol T_p of its place, :func:`_scan_roots`).  A stricter test than the full
+    scan's (the nodes are denser than its 256 intervals), used for the incrementally moved breakpoints."""
+    rm = np.concatenate([r.theta for r in ref_sols])
+    rv = np.concatenate([_components(r, rolls)[0] for r in ref_sols], axis=1)
+    rpos, rneg = rv > 0.0, rv < 0.0             # NaN: neither (no sign)
+    order = np.argsort(rm)
+    excl = 2e-3 * tol * period + 8e-12 * period
+    for c, mid in zip(cache, mids):
+        x = c.theta
+        piece = np.clip(np.searchsorted(edges, mid) - 1, 0, edges.size - 2)
+        inner = (x - edges[piece] > excl) & (edges[piece + 1] - x > excl)
+        if not np.any(inner):
+            continue
+        v = _components(c, rolls)[0][:, inner]
+        if v.shape[0] != rv.shape[0]:
+            return False
+        col = order[np.searchsorted(rm[order], mid[inner])]
+        if np.any(((v > 0.0) & rneg[:, col]) | ((v < 0.0) & rpos[:, col])):
+            return False
+    return True
 
 
 # ============================================================ cycle metrics (pins.md §5.7, §8)
@@ -1884,6 +2136,26 @@ def _fixed_point_step(history, torques, uT: float, a: float):
     return abs(s * phi / dphi), min(max(step, 0.5 * plain), 2.0 * plain)
 
 
+CYCLE_N_START = 128
+"""First-level crank-angle intervals of the cycle mean per period (:func:`mean_loss_ratio` in :func:`cycle_at_torque`):
+with two doublings at least 256 per period, as dense as the full breakpoint scan."""
+CYCLE_N_MIN = 1
+"""First-level intervals of a piece at least (the tiny pieces of a geometric grading)."""
+CYCLE_MOVE_ROOTS = True
+"""Whether a later pass of the torque fixed point, and the other mode, move the last pass's breakpoints."""
+CYCLE_COARSE_SCAN = 64
+"""Intervals of the first breakpoint scan of a design, checked on the quadrature's nodes (:func:`mean_loss_ratio`)."""
+PRIOR_WIDTH_PASS = 1.0
+"""First half-width of the bracket that moves a breakpoint to the next pass of the torque fixed point, in periods per
+unit relative change of the torque (a grazing contact entry of the circular-arc paper designs moves by 0.2 T_p per
+unit relative torque change)."""
+PRIOR_WIDTH_MODE = 1e-2
+"""First half-width, in periods, that moves the other mode's breakpoints (mirrored) to a mode with its own friction
+forces (they move by up to 3 % of the period on the circular-arc paper designs)."""
+PRIOR_WIDTH_MAX = 0.125
+"""The widest bracket of a moved breakpoint, in periods."""
+
+
 def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
                     n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool,
                     friction_in_equilibrium: bool = False, tol: float = 1e-6, passes: int = 8,
@@ -1975,12 +2247,26 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             model.inherit(prev)
         elif seed is not None and seed.sigma != sigma:
             model.mirror(seed)
+        # the breakpoints moved from the last pass's (a nearby torque), or from the other mode's, mirrored
+        prior, width = None, PRIOR_WIDTH_MODE
+        if not CYCLE_MOVE_ROOTS:
+            pass
+        elif prev is not None and prev.roots is not None:
+            # a root moves up to 0.2 T_p per unit relative torque change (a grazing entry): a bracket of |dT/T| T_p,
+            # widened where it holds no sign change (:func:`_incremental_roots`)
+            prior = prev.roots
+            width = max(PRIOR_WIDTH_PASS * abs(model.torque_sat / prev.torque_sat - 1.0), 1e-10)
+        elif seed is not None and seed.roots is not None and seed.sigma != sigma:
+            prior, width = seed.roots.mirrored(g.period), PRIOR_WIDTH_MODE
         try:
             with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
                 if window_only:
-                    return model, coarse(model, model.set_window())
+                    out = coarse(model, model.set_window())
+                    model.roots = None        # the next pass starts from the seed's roots (above)
+                    return model, out
                 return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial,
-                                              rule=rule)
+                                              rule=rule, prior=prior, prior_width=width, n_start=CYCLE_N_START,
+                                              n_min=CYCLE_N_MIN, coarse_scan=CYCLE_COARSE_SCAN)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise

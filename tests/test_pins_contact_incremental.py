@@ -1,0 +1,117 @@
+"""Tests of the contact level's moved breakpoints and their check on the quadrature's nodes (pins.md §6, issue 15).
+
+A later pass of the torque fixed point, and the other mode of a design, move the last cycle's sign changes by Newton
+instead of scanning one period again; the quadrature's nodes then confirm that no contact appeared or vanished.
+Independent references: the full 256-interval scan of the same model (the located roots must agree to the
+refinement's 1e-12 T_p), and the cycle computed from that scan (the loss ratio must agree within its error).
+"""
+import numpy as np
+import pytest
+
+from gearcalc.pins import contact as pc
+from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
+
+
+def cycloid_model(T_sat, sigma=MULTIPLIER, friction=None):
+    # the paper's u = 10 cycloid (k = 2, K1 = 0.75), Hertz contacts of 10 mm
+    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    return pc.ContactModel(g, pc.CycloidProfile(g, 0.0, 0.0), pc.contact_law("hertz", face_width=10.0), T_sat,
+                           sigma, friction)
+
+
+def circular_model(T_sat, sigma=MULTIPLIER, friction=None):
+    g = Cycloid.from_pin_circle(20, 22, 3.9, 57.2, 2.75)
+    rho, R_t = pc.full_tooth(g)
+    return pc.ContactModel(g, pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0), T_sat,
+                           sigma, friction)
+
+
+@pytest.mark.parametrize("make", [cycloid_model, circular_model])
+def test_moved_roots_are_the_scanned_roots_of_the_new_torque(make):
+    tol = 1e-6
+    a = make(1.0e6)
+    a.set_window()
+    prior = pc._scan_roots(a, 256, tol, False)
+    b = make(1.0e6 * (1.0 + 3e-5))              # the next pass: a torque a few 1e-5 away
+    b.inherit(a)
+    moved = pc._incremental_roots(b, prior, 3e-5 * b.g.period, tol, False, 0.125 * b.g.period)
+    full = pc._scan_roots(b, 256, tol, False)
+    assert moved is not None and not moved.scanned
+    assert moved.roots.size == full.roots.size > 0
+    assert np.max(np.abs(moved.roots - full.roots)) <= 4e-12 * b.g.period
+    assert np.array_equal(moved.contact, full.contact)
+
+
+def test_mirrored_roots_of_the_other_mode_with_friction():
+    # the reducer with its own friction forces starts from the multiplier's roots, mirrored (theta -> T_p - theta)
+    tol = 1e-6
+    fr = (0.1, 0.1, False)
+    m = circular_model(1.0e6, MULTIPLIER, fr)
+    m.set_window()
+    prior = pc._scan_roots(m, 256, tol, False).mirrored(m.g.period)
+    r = circular_model(1.0e6, REDUCER, fr)
+    r.mirror(m)
+    r.set_window()
+    moved = pc._incremental_roots(r, prior, 1e-2 * r.g.period, tol, False, 0.125 * r.g.period)
+    full = pc._scan_roots(r, 256, tol, False)
+    assert moved is not None
+    assert np.max(np.abs(moved.roots - full.roots)) <= 4e-12 * r.g.period
+
+
+def test_a_root_that_cannot_be_moved_falls_back_to_the_scan():
+    tol = 1e-6
+    a = circular_model(1.0e6)
+    a.set_window()
+    prior = pc._scan_roots(a, 256, tol, False)
+    # one root too many (a contact that the new model does not have): the count does not match
+    extra = pc.BreakpointRoots(np.sort(np.append(prior.roots, 0.5 * (prior.roots[0] + prior.roots[1]))),
+                               np.append(prior.contact, True))
+    assert pc._incremental_roots(a, extra, 1e-6 * a.g.period, tol, False, 0.125 * a.g.period) is None
+
+
+def test_cycle_from_moved_roots_equals_the_scanned_cycle_within_its_error():
+    tol = 1e-6
+    a = cycloid_model(1.0e6)
+    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    b = cycloid_model(1.0e6 * (1.0 + 1e-5))
+    b.inherit(a)
+    moved = pc.mean_loss_ratio(b, 0.1, 0.1, False, tol=tol, prior=first.roots, prior_width=1e-5)
+    assert not moved.roots.scanned                  # the moved roots held on every node
+    c = cycloid_model(1.0e6 * (1.0 + 1e-5))
+    c.inherit(a)
+    scanned = pc.mean_loss_ratio(c, 0.1, 0.1, False, tol=tol)
+    assert scanned.roots.scanned
+    assert np.max(np.abs(moved.breakpoints - scanned.breakpoints)) <= 4e-12 * b.g.period
+    assert abs(moved.loss_ratio - scanned.loss_ratio) <= min(moved.loss_ratio_err, scanned.loss_ratio_err)
+
+
+def test_a_missed_contact_is_caught_on_the_nodes():
+    # a prior without the contact entries and exits (only the period's ends): the moved set is empty and the nodes
+    # of the quadrature show the penetrations changing sign inside the single piece, so the cycle is recomputed
+    # from the full scan (pins.md §6)
+    tol = 1e-5
+    a = circular_model(1.0e6)
+    empty = pc.BreakpointRoots(np.empty(0), np.zeros(0, dtype=bool))
+    cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol, prior=empty)
+    assert cyc.roots.scanned and cyc.roots.roots.size > 0
+    ref = pc.mean_loss_ratio(circular_model(1.0e6), 0.1, 0.1, False, tol=tol)
+    assert np.max(np.abs(cyc.breakpoints - ref.breakpoints)) <= 4e-12 * a.g.period
+    assert abs(cyc.loss_ratio - ref.loss_ratio) <= min(cyc.loss_ratio_err, ref.loss_ratio_err)
+
+
+def test_coarse_scan_is_confirmed_or_replaced():
+    tol = 1e-6
+    a = cycloid_model(1.0e6)
+    coarse = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol, coarse_scan=64, n_min=1)
+    b = cycloid_model(1.0e6)
+    full = pc.mean_loss_ratio(b, 0.1, 0.1, False, tol=tol, n_min=1)
+    assert np.max(np.abs(coarse.breakpoints - full.breakpoints)) <= 4e-12 * a.g.period
+    assert abs(coarse.loss_ratio - full.loss_ratio) <= min(coarse.loss_ratio_err, full.loss_ratio_err)
+
+
+def test_tiny_torque_balance_is_met_to_round_off():
+    # a torque whose deflection is ~1e-8 of the satellite's rotation from nominal: the Newton solve stops at the
+    # spacing of the floats, not at a fixed 1e-15 rad (pins.md §5.5), so the residual stays far below 1e-3
+    a = circular_model(1.0)
+    cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=1e-4)
+    assert np.max(np.abs(cyc.sol.residual)) / a.torque_sat < 1e-4
