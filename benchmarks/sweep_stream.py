@@ -4,7 +4,9 @@ Usage:  python benchmarks/sweep_stream.py [--points 1e6,1e7] [--kind rows] [--jo
 
 For each grid size it runs ``gearcalc sweep`` as a user would, in a subprocess writing CSV to a file in a
 temporary folder, and reports the wall time, the points per second and the subprocess's peak resident
-memory (``ru_maxrss`` of the child, in MB). The grid is one axis (rows: ``rows.relative_width``; zstk:
+memory (``ru_maxrss`` of the child, in MB) and its CPU time (user + system of the child and its worker
+processes, ``getrusage(RUSAGE_CHILDREN)``), in total and per point: on a shared machine the CPU time per
+point is the steadier figure. The grid is one axis (rows: ``rows.relative_width``; zstk:
 ``load.radial_N``; pins: ``friction.sliding``) of the requested number of points. Issue-14 targets:
 peak memory <= 300 MB at 1e7 rows points, >= 5e5 rows points/s.
 """
@@ -37,18 +39,21 @@ def run(kind: str, points: int, jobs: int, work: Path) -> dict:
     out = work / f"{kind}_{points}.csv"
     cmd = GEARCALC + ["sweep", str(CONFIGS / name), "--vary", f"{key}={lo!r}:{hi!r}:{step!r}", "--format", "csv",
                       "-o", str(out), "--jobs", str(jobs)]
-    before = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t0 = time.perf_counter()
     p = subprocess.run(cmd, capture_output=True, text=True, check=False)
     wall = time.perf_counter() - t0
-    peak = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    before, peak = r0.ru_maxrss, r1.ru_maxrss
+    cpu = (r1.ru_utime + r1.ru_stime) - (r0.ru_utime + r0.ru_stime)  # the child's (and its workers') CPU time
     with open(out, "rb") as fh:
         rows = sum(1 for _ in fh) - 1
     size = out.stat().st_size
     out.unlink()
     return {"kind": kind, "points": rows, "jobs": jobs, "exit": p.returncode, "wall_s": wall,
-            "points_per_s": rows / wall, "peak_MB": max(peak, before) / 1024.0, "csv_MB": size / 1e6,
-            "stderr": p.stderr.strip()[-200:]}
+            "points_per_s": rows / wall, "cpu_s": cpu, "cpu_us_per_point": 1e6 * cpu / max(rows, 1),
+            "wall_us_per_point": 1e6 * wall / max(rows, 1), "peak_MB": max(peak, before) / 1024.0,
+            "csv_MB": size / 1e6, "stderr": p.stderr.strip()[-200:]}
 
 
 def main() -> None:
@@ -60,11 +65,12 @@ def main() -> None:
     load = " ".join(f"{v:.2f}" for v in os.getloadavg()) if hasattr(os, "getloadavg") else "n/a"
     print(f"# python {sys.version.split()[0]}, {os.cpu_count()} cores, load average {load}, "
           f"gearcalc: {' '.join(GEARCALC)}")
-    print("kind,points,jobs,exit,wall_s,points_per_s,peak_MB,csv_MB")
+    print("kind,points,jobs,exit,wall_s,points_per_s,cpu_s,cpu_us_per_point,wall_us_per_point,peak_MB,csv_MB")
     with tempfile.TemporaryDirectory() as tmp:
         for n in args.points.split(","):
             r = run(args.kind, int(float(n)), args.jobs, Path(tmp))
             print(f"{r['kind']},{r['points']},{r['jobs']},{r['exit']},{r['wall_s']:.2f},{r['points_per_s']:.0f},"
+                  f"{r['cpu_s']:.2f},{r['cpu_us_per_point']:.2f},{r['wall_us_per_point']:.2f},"
                   f"{r['peak_MB']:.0f},{r['csv_MB']:.0f}", flush=True)
             if r["exit"] not in (0, 1):
                 print("  stderr:", r["stderr"])

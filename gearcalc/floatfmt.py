@@ -49,7 +49,7 @@ from __future__ import annotations
 import math
 import numpy as np
 
-__all__ = ["available", "float_cells", "repr_floats", "MARGIN", "WIDTH"]
+__all__ = ["available", "cells_width", "float_cells", "repr_floats", "MARGIN", "WIDTH"]
 
 EMIN, EMAX = -308, 308
 """Decimal exponents of normal doubles."""
@@ -151,9 +151,86 @@ def _tables() -> _Tables:
     return _T
 
 
+FAST_RANGE = (1e-250, 1e250)
+"""Magnitudes for which :func:`_digits_one_exponent` scales ``|x|`` directly (no underflow or overflow)."""
+
+
 def _digits(x: np.ndarray):
     """(D, E, fallback) of finite doubles: D the digits of ``repr(|x|)`` as a 17-digit integer (in [1e16, 1e17),
-    0 for a zero), E its decimal exponent, ``fallback`` the indices of the values given by ``repr``."""
+    0 for a zero), E its decimal exponent, ``fallback`` the indices of the values given by ``repr``.
+
+    Values of one decimal exponent (most blocks of a sweep's column) take :func:`_digits_one_exponent` (the same
+    numbers, fewer numpy passes); the others, and any block with a decision near its threshold, a power of two,
+    a zero or a subnormal, the general way (:func:`_digits_general`)."""
+    if len(x):
+        a = np.abs(x)
+        lo, hi = float(a.min()), float(a.max())
+        if FAST_RANGE[0] <= lo and hi < FAST_RANGE[1]:
+            e = _exponent(lo)
+            if e == _exponent(hi):
+                got = _digits_one_exponent(x, a, e)
+                if got is not None:
+                    return got
+    return _digits_general(x)
+
+
+def _exponent(v: float) -> int:
+    """``floor(log10(v))`` of a positive normal double, exactly (the tables of :func:`_digits`)."""
+    T = _tables()
+    b = math.frexp(v)[1] + 1022  # the biased exponent: v in [2**(b-1023), 2**(b-1022))
+    return int(T.K0[b]) + (v >= float(T.TK[b])) + EMIN
+
+
+def _digits_one_exponent(x, a, E: int):
+    """:func:`_digits` of doubles all of decimal exponent ``E`` with ``1e-250 <= |x| < 1e250``, or None for a
+    block the general way must take (a decision within :data:`MARGIN` of its threshold, a power of two).
+
+    The numbers of :func:`_digits_general`, bit for bit, with fewer passes: ``|x| = m 2**e`` and
+    ``10**(16-E) = (P1 + P2) 2**g`` scaled together, ``|x| * (P1 2**g)`` and its rounding error (Dekker's product
+    of the Veltkamp halves of ``|x|`` and of ``P1 2**g``) are ``m * P1`` and its error scaled by ``2**(e+g)``
+    exactly (a power of two, and no product underflows or overflows in this range), so ``Y = D17 + f`` and ``h``
+    come out the same without taking ``m`` and ``e`` apart."""
+    T = _tables()
+    i = E - EMIN
+    bits = x.view(np.int64)
+    frac = bits & ((1 << 52) - 1)
+    if frac.min() == 0:  # a power of two: its digits from the table, the general way
+        return None
+    g = int(T.S0[i]) + 1075
+    P1, P1h, P1l, P2 = (math.ldexp(float(v[i]), g) for v in (T.P1, T.P1h, T.P1l, T.P2))
+    c = a * 134217729.0  # Veltkamp halves of |x|
+    ah = c - (c - a)
+    al = a - ah
+    y = a * P1  # an integer: Y in [1e16, 1e17] and y within an ulp of it
+    err = ((ah * P1h - y) + ah * P1l + al * P1h) + al * P1l  # a * P1 = y + err exactly (Dekker)
+    r = err + a * P2
+    k = np.rint(r)
+    f = r - k  # exact
+    D17 = y.astype(np.int64) + k.astype(np.int64)
+    # half an ulp of x, scaled like Y: 2**(b-1023) (the exponent bits of x) * 2**-53 * P1 2**g
+    h = (bits & (0x7FF << 52)).view(np.float64) * math.ldexp(float(T.P1[i]), g - 53)
+    q = D17 // 100
+    r2 = D17 - 100 * q
+    r1 = T.mod10.take(r2)
+    u15 = r2 + f  # Y - 100 q
+    u16 = r1 + f  # Y - 10 s
+    a16 = np.abs(u16 - 5.0)
+    g15 = np.abs(u15 - 50.0) - (50.0 - h)
+    g16 = a16 - (5.0 - h)
+    if (min(float(np.abs(g15).min()), float(np.abs(g16).min()), float(a16.min())) < MARGIN
+            or float(np.abs(f).max()) > 0.5 - MARGIN):
+        return None  # a decision near its threshold: exactly or by repr, the general way
+    D = np.where(g15 > 0.0, (q + (u15 > 50.0)) * 100, np.where(g16 > 0.0, D17 - r1 + 10 * (u16 > 5.0), D17))
+    Es = np.full(len(x), E, dtype=np.int64)
+    if D.max() == 10**17:
+        carry = D == 10**17
+        D[carry] = 10**16
+        Es += carry
+    return D, Es, np.zeros(0, dtype=np.intp)
+
+
+def _digits_general(x: np.ndarray):
+    """:func:`_digits` of any finite doubles."""
     T = _tables()
     bits = x.view(np.int64)
     frac = bits & ((1 << 52) - 1)
@@ -242,9 +319,13 @@ def _resolve_exact(D17, f, q, r1, u15, u16, h, even):
     return D, tie16 & (t16 == h)
 
 
-def float_cells(x: np.ndarray) -> np.ndarray:
+def float_cells(x: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     """``repr`` of each finite double in ``x`` as a row of ASCII bytes (a uint8 matrix, a row per value), zero
     bytes where a text is shorter than the matrix is wide (they may fall inside a row: drop them all).
+
+    ``out`` (optional): a uint8 matrix (a view too) of ``len(x)`` rows and at least :func:`cells_width` ``(x)``
+    columns to write the cells into (the columns beyond the cells' width zeroed); it is returned.  (Into a band of
+    a matrix of wide rows, a matrix of its own and one copy are faster: the cells are written in a few passes.)
 
     >>> c = float_cells(np.array([0.1, -2.5e-07, 1e16, 123.0]))
     >>> [bytes(row[row != 0]).decode() for row in c]
@@ -252,19 +333,54 @@ def float_cells(x: np.ndarray) -> np.ndarray:
     """
     x = np.ascontiguousarray(x, dtype=np.float64)
     if not len(x):
-        return np.zeros((0, 0), dtype=np.uint8)
+        return np.zeros((0, 0), dtype=np.uint8) if out is None else out
     D, E, _ = _digits(x)
-    return _layout(D, E, np.signbit(x))
+    return _layout(D, E, np.signbit(x), out)
 
 
-def _layout(D, E, neg) -> np.ndarray:
+def cells_width(x: np.ndarray) -> int:
+    """A width of :func:`float_cells` ``(x, out)``'s ``out`` that holds every cell of ``x`` (finite doubles): at least
+    the width of the matrix :func:`float_cells` ``(x)`` makes, from the decimal exponents of the least and the
+    greatest ``|x|`` (two reductions, no formatting).
+
+    >>> cells_width(np.array([1.5, 2.25])), cells_width(np.array([0.001, -7.0])), cells_width(np.array([1e20]))
+    (19, 22, 24)
+    """
+    x = np.asarray(x, dtype=np.float64)
+    if not len(x):
+        return 0
+    a = np.abs(x)
+    lo, hi = float(a.min()), float(a.max())
+    zero = lo == 0.0
+    if zero:
+        if hi == 0.0:
+            return _width(0)
+        lo = float(a[a > 0.0].min())
+    if lo < 2.2250738585072014e-308:  # a subnormal: scientific notation
+        return WIDTH
+    T = _tables()
+    e_lo, e_hi = (int(T.K0[b]) + (v >= float(T.TK[b])) + EMIN
+                  for v, b in ((lo, math.frexp(lo)[1] + 1022), (hi, math.frexp(hi)[1] + 1022)))
+    if zero:  # zeros have exponent 0
+        e_lo, e_hi = min(e_lo, 0), max(e_hi, 0)
+    # the shortest text may round up to the next power of ten (1e+23 for 9.999999999999999e22): one more at the top
+    if e_lo < -4 or e_hi + 1 > 15:
+        return WIDTH
+    return _width(e_lo)
+
+
+def _layout(D, E, neg, dest=None) -> np.ndarray:
     """The text of (D, E, sign) as :func:`float_cells` writes it: values of one decimal exponent at a time
-    (their decimal point is in one place), all of them at once when they share it, as most columns do."""
+    (their decimal point is in one place), all of them at once when they share it, as most columns do.
+    ``dest``: the matrix to write into (at least as wide as the cells; the rest zeroed), else a new one."""
     sign = neg.view(np.uint8) * np.uint8(45)  # "-" or nothing
     lo, hi = int(E.min()), int(E.max())
     if lo == hi or lo > 15 or hi < -4 or (lo < -4 and hi > 15 and not ((E >= -4) & (E <= 15)).any()):
-        out = np.empty((len(D), _width(lo)), dtype=np.uint8)
-        _cells(out, D, E, lo, sign)
+        w = _width(lo)
+        out = np.empty((len(D), w), dtype=np.uint8) if dest is None else _check_dest(dest, len(D), w)
+        _cells(out[:, :w], D, E, lo, sign)
+        if out.shape[1] > w:
+            out[:, w:] = 0
         return out
     groups = []
     sci = (E < -4) | (E > 15)
@@ -274,12 +390,24 @@ def _layout(D, E, neg) -> np.ndarray:
         rows = np.flatnonzero(E == e)
         if len(rows):
             groups.append((rows, e))
-    out = np.zeros((len(D), max(_width(e) for _, e in groups)), dtype=np.uint8)
+    w = max(_width(e) for _, e in groups)
+    if dest is None:
+        out = np.zeros((len(D), w), dtype=np.uint8)
+    else:
+        out = _check_dest(dest, len(D), w)
+        out[:] = 0
     for rows, e in groups:
         block = np.empty((len(rows), _width(e)), dtype=np.uint8)
         _cells(block, D[rows], E[rows], e, sign[rows])
         out[rows, :block.shape[1]] = block
     return out
+
+
+def _check_dest(dest, n: int, w: int):
+    if dest.dtype != np.uint8 or dest.ndim != 2 or dest.shape[0] != n or dest.shape[1] < w:
+        raise ValueError(f"float_cells: out must be a uint8 matrix of {n} rows and at least {w} columns, "
+                         f"not {dest.dtype} {dest.shape}")
+    return dest
 
 
 def _width(e: int) -> int:

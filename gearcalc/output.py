@@ -301,14 +301,14 @@ def silence_stdout() -> None:
 def write_stdout(data) -> None:
     """Write to standard output and flush; an environmental error is an OutputError (EPIPE propagates)."""
     try:
-        if isinstance(data, bytes):
+        if isinstance(data, (bytes, bytearray, memoryview)):  # a streamed sweep's CSV is a bytearray
             buffer = getattr(sys.stdout, "buffer", None)
             if buffer is not None:
                 sys.stdout.flush()
                 buffer.write(data)
                 buffer.flush()
             else:
-                sys.stdout.write(data.decode("utf-8"))
+                sys.stdout.write(bytes(data).decode("utf-8"))
         else:
             sys.stdout.write(data)
         sys.stdout.flush()

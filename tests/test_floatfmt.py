@@ -133,7 +133,7 @@ def test_sweep_csv_is_the_row_by_row_csv(monkeypatch):
 
     calls = []
     real = F.float_cells
-    monkeypatch.setattr(F, "float_cells", lambda x: calls.append(len(x)) or real(x))
+    monkeypatch.setattr(F, "float_cells", lambda x, *out: calls.append(len(x)) or real(x, *out))
     base = {"kind": "rows", "gear": {"sun_teeth": 18, "module_mm": 5.0},
             "rows": {"count": 3, "planets_per_row": 3, "relative_width": 2.4}, "sun": {"torque_Nm": 1e3}}
     axes = {"rows.relative_width": [round(0.5 + 0.0025 * k, 6) for k in range(3000)]}
@@ -195,3 +195,105 @@ def test_a_failed_self_check_keeps_repr(monkeypatch):
     assert R._floatfmt() is None
     cols = R.Columns({"x": [k / 7 for k in range(1000)], "y": [-0.0] * 1000})
     assert R.write_csv_columns(cols) == R.write_csv(cols.rows())
+
+
+# ----------------------------------------------------------------------------- one decimal exponent; cells in place
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+def one_exponent_blocks(rng, count: int):
+    """Blocks of doubles of one decimal exponent each (the fast path's input): random, short decimals, their
+    neighbours, both signs, over every exponent of the fast path's range."""
+    for k in range(count):
+        e = int(rng.integers(-249, 249))
+        n = int(rng.integers(1, 2000))
+        x = (1.0 + 9.0 * rng.random(n)) * 10.0 ** e
+        if k % 3 == 1:  # short decimals
+            x = np.array([float(f"{v:.{int(rng.integers(1, 16))}g}") for v in x.tolist()])
+        elif k % 3 == 2:  # neighbours
+            x = np.nextafter(x, np.where(rng.random(n) < 0.5, np.inf, -np.inf))
+        x = x * np.where(rng.random(n) < 0.3, -1.0, 1.0)
+        yield x[np.floor(np.log10(np.abs(x))) == np.floor(np.log10(np.abs(x[0])))]
+
+
+def test_one_exponent_path_is_the_general_path_bit_for_bit():
+    rng = np.random.default_rng(14)
+    fast = 0
+    for x in one_exponent_blocks(rng, 1500):
+        a = np.abs(x)
+        e = F._exponent(float(a.min()))
+        if e != F._exponent(float(a.max())):
+            continue
+        got = F._digits_one_exponent(x, a, e)
+        if got is None:  # a power of two or a decision near its threshold: the general way
+            continue
+        fast += 1
+        D, E, bad = F._digits_general(x)
+        assert (got[0] == D).all() and (got[1] == E).all() and len(bad) == 0
+    assert fast > 1000
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(st.integers(-300, 300), st.lists(st.floats(1.0, 9.999999999999998), min_size=1, max_size=300),
+       st.booleans())
+def test_blocks_of_one_exponent_are_repr(e, mantissas, negative):
+    x = np.array(mantissas) * 10.0 ** e * (-1.0 if negative else 1.0)
+    x = x[np.isfinite(x) & (x != 0)]
+    if len(x):
+        assert mismatches(x) == []
+
+
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(st.lists(st.integers(0, 2**64 - 1), min_size=1, max_size=200), st.integers(0, 5), st.integers(0, 40))
+def test_cells_width_holds_every_cell_and_cells_write_in_place(patterns, lead, extra):
+    # random bit patterns (subnormals, zeros of both signs, huge and tiny exponents): cells_width is at least
+    # float_cells' own width, and cells written into a band of a wider matrix (its rest zeroed) are the same text
+    x = np.array(patterns, dtype=np.uint64).view(np.float64)
+    x = x[np.isfinite(x)]
+    if not len(x):
+        return
+    own = F.float_cells(x)
+    w = F.cells_width(x)
+    assert w >= own.shape[1] and w <= F.WIDTH
+    big = np.full((len(x), lead + w + extra + 1), 7, dtype=np.uint8)
+    F.float_cells(x, big[:, lead:lead + w + extra])
+    assert (big[:, :lead] == 7).all() and (big[:, lead + w + extra:] == 7).all()
+    band = big[:, lead:lead + w + extra]
+    assert [bytes(r[r != 0]) for r in band] == [repr(v).encode() for v in x.tolist()]
+
+
+def test_cells_width_at_the_switches_to_scientific_notation():
+    for v in (9.999999999999999e15, 1e16, 1e15, 9.999999999999999e-5, 1e-4, 1e-5, 1e23, 9.999999999999999e22,
+              0.0, -0.0, 5e-324, 1.7976931348623157e308):
+        x = np.array([v, 1.5])
+        assert F.cells_width(x) >= F.float_cells(x).shape[1], v
+
+
+def test_float_cells_refuses_a_band_too_narrow():
+    with pytest.raises(ValueError):
+        F.float_cells(np.array([1.5, 2.25]), np.zeros((2, 5), dtype=np.uint8))
+
+
+def test_many_blocks_equal_columns_constants_and_text_equal_row_by_row(monkeypatch):
+    # several matrices of rows (CSV_MATRIX_ROWS made small), columns equal bit for bit (copied cells), -0.0 and
+    # 0.0, None, constants merged with their neighbours, a first column of text and a NUL in one block only
+    monkeypatch.setattr(R, "CSV_MATRIX_ROWS", 1000)
+    monkeypatch.setattr(R, "CSV_CHUNK", 300)
+    rng = np.random.default_rng(8)
+    n = 3333
+    x = 1.5 + np.arange(n) * 7e-4
+    y = np.sqrt(x) * 38.57 * np.where(rng.random(n) < 0.5, -1, 1)
+    data = {
+        "name": ["Fig. 3, B = 2.4"] * n,
+        "x": x, "count": [3] * n, "x_again": x.copy(), "y": y, "const": np.full(n, 90.0),
+        "zeros": np.where(rng.random(n) < 0.5, 0.0, -0.0), "word": ["stepwise"] * n, "y_again": list(y),
+        "y_none": [None if k % 5 == 0 else v for k, v in enumerate(y.tolist())],
+        "flags": [bool(k % 3) for k in range(n)], "ints": list(range(n)), "empty": [[]] * n,
+        "big": x * 1e20, "small": x * 1e-7, "last": [None] * n,
+    }
+    cols = R.Columns(data)
+    assert R.write_csv_columns(cols) == R.write_csv(cols.lists().rows())
+    data["word"] = ["a\0b" if k == 1500 else "c" for k in range(n)]
+    cols = R.Columns(data)
+    assert R.write_csv_columns(cols) == R.write_csv(cols.lists().rows())

@@ -238,3 +238,12 @@ def test_process_substitution(tmp_path):
     p = subprocess.run(["bash", "-c", script], capture_output=True, text=True, timeout=120)
     assert p.returncode == 0, p.stderr
     assert out.read_text() == reference_csv()
+
+
+def test_stdout_takes_a_bytearray(capsysbinary):
+    # a streamed sweep's CSV piece is a bytearray (gearcalc.render._csv_rows_vectorised): written as bytes
+    from gearcalc.output import write_stdout
+
+    write_stdout(bytearray(b"a,b\n1,2\n"))
+    write_stdout(memoryview(b"3,4\n"))
+    assert capsysbinary.readouterr().out == b"a,b\n1,2\n3,4\n"

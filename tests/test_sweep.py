@@ -305,3 +305,21 @@ def test_csv_formatted_in_the_workers_is_the_same_output_exit_and_message():
     assert (two.code, two.out, two.err) == (one.code, one.out, one.err)
     assert one.out.splitlines()[0] == "rows.relative_width,rows.count,K,bridges_feasible"
     assert len(one.out.splitlines()) == 1 + 71 * 2
+
+
+def test_range_column_computed_once_per_grid_and_handed_out_as_copies():
+    from gearcalc.grid import Grid, Range
+
+    g = Grid({"a": Range(1.5, 0.1, 200_000), "b": [1, 2]}, 10, 5000)
+    first = g.column("a", True)
+    first[:] = -1.0  # a caller's changes stay its own
+    again = g.column("a", True)
+    assert again is not first and again.tolist() == g.column("a") == [p["a"] for p in g]
+
+
+def test_keep_freed_memory_is_idempotent():
+    import platform
+
+    from gearcalc.grid import keep_freed_memory
+
+    assert keep_freed_memory() == keep_freed_memory() == (platform.libc_ver()[0] == "glibc")
