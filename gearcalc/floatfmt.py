@@ -209,24 +209,34 @@ def _digits_one_exponent(x, a, E: int):
     D17 = y.astype(np.int64) + k.astype(np.int64)
     # half an ulp of x, scaled like Y: 2**(b-1023) (the exponent bits of x) * 2**-53 * P1 2**g
     h = (bits & (0x7FF << 52)).view(np.float64) * math.ldexp(float(T.P1[i]), g - 53)
-    q = D17 // 100
-    r2 = D17 - 100 * q
-    r1 = T.mod10.take(r2)
-    u15 = r2 + f  # Y - 100 q
-    u16 = r1 + f  # Y - 10 s
-    a16 = np.abs(u16 - 5.0)
-    g15 = np.abs(u15 - 50.0) - (50.0 - h)
-    g16 = a16 - (5.0 - h)
+    D, g15, g16, a16, _ = _shortest(D17, f, h, T.mod10)
     if (min(float(np.abs(g15).min()), float(np.abs(g16).min()), float(a16.min())) < MARGIN
             or float(np.abs(f).max()) > 0.5 - MARGIN):
         return None  # a decision near its threshold: exactly or by repr, the general way
-    D = np.where(g15 > 0.0, (q + (u15 > 50.0)) * 100, np.where(g16 > 0.0, D17 - r1 + 10 * (u16 > 5.0), D17))
     Es = np.full(len(x), E, dtype=np.int64)
     if D.max() == 10**17:
         carry = D == 10**17
         D[carry] = 10**16
         Es += carry
     return D, Es, np.zeros(0, dtype=np.intp)
+
+
+def _shortest(D17, f, h, mod10):
+    """The shortest of the 15-, 16- and 17-digit candidates that reads back, as a 17-digit integer D, and the
+    margins of the decisions: the nearest 15- and 16-digit numbers (D17 = 100 q + r2, r2 = 10 s + r1) read
+    back when g > 0 (their distance, 50 - |u - 50| for 15 digits, is below h, half an ulp of x scaled like
+    Y = D17 + f); a16 = |u16 - 5| is the distance of a 16-digit tie; and (q, r1, u15, u16) for the exact
+    resolution of the unsure ones."""
+    q = D17 // 100
+    r2 = D17 - 100 * q
+    r1 = mod10.take(r2)
+    u15 = r2 + f  # Y - 100 q
+    u16 = r1 + f  # Y - 10 s
+    a16 = np.abs(u16 - 5.0)
+    g15 = np.abs(u15 - 50.0) - (50.0 - h)
+    g16 = a16 - (5.0 - h)
+    D = np.where(g15 > 0.0, (q + (u15 > 50.0)) * 100, np.where(g16 > 0.0, D17 - r1 + 10 * (u16 > 5.0), D17))
+    return D, g15, g16, a16, (q, r1, u15, u16)
 
 
 def _digits_general(x: np.ndarray):
@@ -254,17 +264,7 @@ def _digits_general(x: np.ndarray):
     f = r - k  # exact
     D17 = np.ldexp(y, S).astype(np.int64) + k.astype(np.int64)  # ldexp(y, S) > 2**53: an integer
     h = np.ldexp(P1, S - 1)  # half an ulp of x, scaled like Y
-    # the nearest 15- and 16-digit numbers (D17 = 100 q + r2, r2 = 10 s + r1) and whether they read back:
-    # g > 0 when the distance (50 - |u - 50| for 15 digits) is below h
-    q = D17 // 100
-    r2 = D17 - 100 * q
-    r1 = T.mod10.take(r2)
-    u15 = r2 + f  # Y - 100 q
-    u16 = r1 + f  # Y - 10 s
-    a16 = np.abs(u16 - 5.0)
-    g15 = np.abs(u15 - 50.0) - (50.0 - h)
-    g16 = a16 - (5.0 - h)
-    D = np.where(g15 > 0.0, (q + (u15 > 50.0)) * 100, np.where(g16 > 0.0, D17 - r1 + 10 * (u16 > 5.0), D17))
+    D, g15, g16, a16, (q, r1, u15, u16) = _shortest(D17, f, h, T.mod10)
     # a decision within MARGIN of its threshold (or a tie of two 16- or 17-digit candidates)
     unsure = (np.abs(g15) < MARGIN) | (np.abs(g16) < MARGIN) | (a16 < MARGIN) | (np.abs(f) > 0.5 - MARGIN)
     pow2 = frac == 0 if frac.min() == 0 else None  # zeros and powers of two: from the table
