@@ -62,7 +62,7 @@ def test_the_largest_accepted_tooth_count_computes():
 
 
 def test_ideal_cost_guard_names_pins_and_discs():
-    # 10 000 pins x 64 discs = 640 000 pin-discs > IDEAL_WORK_MAX = 200 000 (kinds/pins.py: ~35 us each)
+    # 10 000 pins x 64 discs = 640 000 pin-discs > IDEAL_WORK_MAX = 200 000 (pins/schema.py: ~35 us each)
     sets = ["--set", "gearing.satellite_teeth=9998", "--set", "gearing.pins=10000", "--set", "gearing.discs=64"]
     for cmd in ("check", "pins"):
         r = cli(cmd, PINS, *sets)
@@ -175,7 +175,7 @@ def _random_pins_design(rng: random.Random) -> dict:
 
 
 SOLVE_TIME = ("no contact can carry the torque", "cannot resolve this geometry in floating point")
-"""The two bad-input findings of the contact level that only its solve can make (kinds/pins.CHECK_LIMITS)."""
+"""The two bad-input findings of the contact level that only its solve can make (pins.md §5.5)."""
 
 
 def test_check_agrees_with_run_on_random_pins_designs(tmp_path):
@@ -194,7 +194,7 @@ def test_check_agrees_with_run_on_random_pins_designs(tmp_path):
         r = cli("pins", path, "--tol", "1e-3", "-o", tmp_path / f"d{i}.csv")
         assert r.code != 70, r
         if r.code == 2 and any(m in r.err for m in SOLVE_TIME):
-            continue                        # found by the contact solve itself (kinds/pins.CHECK_LIMITS)
+            continue                        # found by the contact solve itself (pins.md §5.5)
         assert (r.code == 2) == (c.code == 2), (raw, c, r)
     assert refused > 0                      # the sample holds some bad designs
 
