@@ -72,6 +72,42 @@ def test_locked_multiplier_has_a_nonnegative_error_that_holds_the_last_change():
     assert s["loss_ratio_err"] > 0.01
 
 
+@pytest.mark.parametrize("c, lam0, expect", [
+    # a preload loss L(T) = c + lam0 T (linear: the secant is exact): the reducer's fixed point T + L(T) = u T_H
+    # has the root T* = (u T_H - c)/(1 + lam0), positive iff c < u T_H (closed form; u T_H = 10 here)
+    (70.0, 0.0, True), (10.0, 0.5, True), (12.0, 3.0, True),
+    (9.0, 0.5, False),            # L >= u T_H at both passes (T = 3, 2.5), but T* = 0.67 > 0: no stall
+    (0.0, 0.1, False),            # an ordinary reducer: L << u T_H
+])
+def test_reducer_stalls_exactly_when_the_preload_fixed_point_has_no_positive_torque(c, lam0, expect):
+    T = [3.0, 2.5]
+    history = [(c + lam0 * t) / t for t in T]
+    L_ok = all(h * t >= 10.0 for h, t in zip(history, T))
+    assert pc.reducer_stalls(history, T, 10.0) is (expect and L_ok)
+    assert (10.0 - c) / (1.0 + lam0) > 0.0 or not L_ok or expect
+
+
+def test_reducer_with_interfering_teeth_self_locks_in_two_passes_not_eight(monkeypatch):
+    # equidistant modification -1.9 mm of the paper's u = 10 cycloid: the teeth interfere with the pins, the loss
+    # stays ~7e7 N mm per crank radian at any torque, so lambda ~ 1/T_V; before the stall rule the reducer's fixed
+    # point halved T_V for 8 passes (lambda 129 -> 8e16, 26 s) and reported efficiency_reducer = 1.2e-17
+    cyc = str(CONFIGS / "pins_paper_cyc_u10_fixed.toml")
+    ov = {"gearing.equidistant_mod_mm": -1.9, "contact.face_width_mm": 10.0, "load.mode": "reducer",
+          "friction.model": "first-order"}
+    torques, run = [], pc.mean_loss_ratio
+
+    def counted(model, *a, **k):
+        torques.append(model.torque_sat)
+        return run(model, *a, **k)
+
+    monkeypatch.setattr(pc, "mean_loss_ratio", counted)
+    r = api.compute(cyc, overrides=ov, model="contact", tol=1e-6)
+    assert r.summary["self_locking"] is True and r.summary["efficiency_reducer"] is None
+    assert any("losses alone exceed the input power" in f for f in r.failed)
+    assert len(set(torques)) == 2                             # two passes of the fixed point, then the stall
+    assert r.summary["loss_ratio"] > 1.0 / 1e-3               # the losses dwarf the output at the last pass
+
+
 # ------------------------------------------------------------------ the fixed point is the fixed point
 
 def test_torque_on_H_and_the_same_point_with_the_torque_on_V_agree_within_their_errors():

@@ -2091,7 +2091,8 @@ class TorqueCycle:
     loss_ratio, loss_ratio_err : lambda_bar and its error, the quadrature's plus the fixed point's remaining change
         (exactly 0 without friction);
     history : the loss ratios of the passes; settled : False when the passes ran out unsettled;
-    locked : a multiplier whose loss ratio reached 1 on the way (no T_V balances T_H).
+    locked : the mode self-locks on the way (no T_V balances T_H): a multiplier whose loss ratio reached 1, or a
+        reducer that stalls (:func:`reducer_stalls`; ``stalled``).
     """
 
     cycle: ContactCycle
@@ -2102,6 +2103,35 @@ class TorqueCycle:
     history: list
     settled: bool
     locked: bool = False
+    stalled: bool = False
+
+
+def reducer_stalls(history, torques, uT: float) -> bool:
+    r"""Whether a reducer's torque fixed point has no positive T_V: the losses alone exceed the input (pins.md §7).
+
+    With the loss L(T) = lambda(T) T of the last two passes (T_(n-1), T_n, in the units of ``uT`` = u T_H), the
+    reducer's fixed point is T + L(T) = u T_H.  It stalls when L(T_n) >= u T_H at both passes and the straight line
+    through the two (T, T + L) reaches u T_H at no positive T: a loss that does not vanish with the load (a
+    preload: teeth that interfere with the pins), so the input cannot turn the drive.  For a loss convex in the
+    torque (a preload plus a loss proportional to the load is linear) the line lies below T + L(T) for T below
+    both passes, so no positive root is missed; the plain iteration would only halve T_V pass after pass.
+
+    Examples
+    --------
+    >>> reducer_stalls([70.0, 7000.0], [1.0, 0.01], 10.0)      # L = 70 at both torques: 70 > u T_H = 10
+    True
+    >>> reducer_stalls([0.1, 0.1001], [9.0, 9.09], 10.0)       # an ordinary reducer, L ~ 0.9 << 10
+    False
+    """
+    if len(history) < 2 or torques[-1] == torques[-2]:
+        return False
+    L1, L0 = history[-1] * torques[-1], history[-2] * torques[-2]
+    if not (L1 >= uT and L0 >= uT):
+        return False
+    s = (L1 - L0) / (torques[-1] - torques[-2])
+    if not (1.0 + s > 0.0):
+        return False
+    return (uT - L1 + s * torques[-1]) / (1.0 + s) <= 0.0
 
 
 def _fixed_point_step(history, torques, uT: float, a: float):
@@ -2177,7 +2207,9 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     |s phi/phi'| (never negative), is below tol/10 of lambda, or lambda did not change
     (:func:`fixed_point_settled`); that remaining change is added to the error.  When the passes run out
     (``settled`` False) or a multiplier self-locks on the way (lambda_bar >= 1: it keeps the last solution,
-    ``locked``), the error holds at least the last change.
+    ``locked``), the error holds at least the last change.  A reducer whose losses alone exceed the input at two
+    passes, with no positive T_V on the line through them (:func:`reducer_stalls`: a preload), self-locks too
+    (``locked`` and ``stalled``) instead of halving T_V pass after pass.
 
     Parameters
     ----------
@@ -2280,7 +2312,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             lam = 0.0
     a = -1.0 if multiplier else 1.0          # the fixed point phi(T_V) = T_V (1 + a lambda(T_V)) - u T_H = 0
     uT = g.ratio * T
-    locked = False
+    locked = stalled = False
     T_next = None
     for _ in range(passes):
         if torque_on_V:
@@ -2302,13 +2334,17 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         if torque_on_V or frictionless:
             remainder = 0.0
             break
+        if not multiplier and reducer_stalls(history, torques, uT):
+            locked = stalled = True        # the losses at no load exceed the input: keep the last solution
+            break
         remainder, T_next = _fixed_point_step(history, torques, uT, a)
         if remainder <= max(0.1 * tol * abs(lam), 1e-15) or fixed_point_settled(history[-2:], tol):
             break
     else:
         settled = False
-    if locked or not settled:
-        # the passes ran out, or the multiplier locked on the way: the remainder is not known to be small;
+    if (locked and not stalled) or not settled:
+        # the passes ran out, or the multiplier locked on the way (a stalled reducer has no fixed point: its loss
+        # ratio is the last pass's, with that pass's quadrature error): the remainder is not known to be small;
         # the last change is in the error (never less)
         remainder = max(remainder if math.isfinite(remainder) else 0.0,
                         abs(history[-1] - history[-2]) if len(history) >= 2 else 0.0)
@@ -2316,7 +2352,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     E = cyc.loss_ratio_err + (remainder if math.isfinite(remainder) else 0.0)
     if frictionless:
         lam, E = 0.0, 0.0
-    return TorqueCycle(cyc, model, T_V, lam, E, history, settled, locked)
+    return TorqueCycle(cyc, model, T_V, lam, E, history, settled, locked, stalled)
 
 
 
@@ -2476,4 +2512,5 @@ def mode_efficiencies(modes: ModeCycles, consistent: bool, torque, ratio: float,
     et_r = efficiency_torques(np.array([lam_mode.get(False, (0.0, np.nan))[0]]),
                               np.array([lam_mode.get(False, (0.0, np.nan))[1]]), torque, ratio, multiplier,
                               torque_on_V)
-    return et_m, et_r, {True: bool(et_m.locked[0]) or True in jams, False: False in jams}
+    stalled = runs[False].stalled if False in runs and False not in jams else False
+    return et_m, et_r, {True: bool(et_m.locked[0]) or True in jams, False: False in jams or stalled}

@@ -219,13 +219,21 @@ def mode_warnings(modes, mode: str) -> list[str]:
     return out
 
 
-def contact_self_locking(mode: str, jammed: bool, loss_ratio: float) -> str:
-    """The failed check of a self-locking mode of the contact level's friction-consistent model (pins.md §4.9)."""
-    cause = ("it jams: no positive contact force balances the torque with the friction forces at some crank angle"
-             if jammed else f"the loss ratio {loss_ratio:.6g} >= 1 (the losses exceed the power the V shaft "
-                            "delivers)")
-    return (f"self-locking in the {mode} mode (friction-consistent model, pins.md §4.9): "
-            f"{cause}; no efficiency. A lower friction.sliding lowers the friction moments")
+def contact_self_locking(mode: str, jammed: bool, loss_ratio: float, stalled: bool = False,
+                         consistent: bool = True) -> str:
+    """The failed check of a self-locking mode of the contact level (pins.md §4.9, §7): a jam, a multiplier's loss
+    ratio >= 1, or a reducer that stalls (its losses alone exceed the input)."""
+    if stalled:
+        cause = ("the losses alone exceed the input power: the torque fixed point T_V = eta u T_H has no positive "
+                 "T_V (a loss that stays at no load, e.g. a preload from teeth that interfere with the pins: "
+                 "check gearing.equidistant_mod_mm and gearing.radial_mod_mm)")
+    elif jammed:
+        cause = "it jams: no positive contact force balances the torque with the friction forces at some crank angle"
+    else:
+        cause = f"the loss ratio {loss_ratio:.6g} >= 1 (the losses exceed the power the V shaft delivers)"
+    model = "friction-consistent model, pins.md §4.9" if consistent else "first-order model, pins.md §7"
+    return f"self-locking in the {mode} mode ({model}): {cause}; no efficiency. A lower friction.sliding lowers " \
+           "the friction moments"
 
 
 def other_mode_jams(multiplier: bool) -> str:
@@ -519,12 +527,14 @@ def friction_alias_error(model, alias) -> DesignError:
 def contact_notes(design, s, tol: float, warnings, failed, modes, consistent: bool, multiplier: bool) -> None:
     """The warnings and failed checks of the contact level's summary ``s`` (pins.md §4.9): :func:`cycle_notes`,
     then the self-locking of the requested mode in the friction-consistent model and the other mode jamming."""
-    if consistent and s["self_locking"]:
+    stalled = modes.requested.stalled and multiplier not in modes.jams
+    if (consistent or stalled) and s["self_locking"]:
         # the shared notes word self-locking for the first-order multiplier; this level words it per mode
         s["self_locking"] = False
         cycle_notes(design, s, tol, warnings, failed)
         s["self_locking"] = True
-        failed.append(contact_self_locking(design["load.mode"], multiplier in modes.jams, modes.requested.loss_ratio))
+        failed.append(contact_self_locking(design["load.mode"], multiplier in modes.jams, modes.requested.loss_ratio,
+                                           stalled, consistent))
     else:
         cycle_notes(design, s, tol, warnings, failed)
     warnings.extend(other_mode_jams(mult) for mult in modes.jams if mult != multiplier)
