@@ -1,10 +1,9 @@
 """The ``pins`` calculator: design keys → :mod:`gearcalc.pins` → named summary and detail fields (pins.md).
 
-Mapping only: the validity rules are :mod:`gearcalc.pins.checks` (the same functions for ``check``, ``compute``,
-``batch`` and the vectorised ``sweep``), the formula and ideal levels over many designs or points
-:mod:`gearcalc.pins.columns`, the contact level :mod:`gearcalc.pins.contact_level`, a batch's groups
-:mod:`gearcalc.pins.batching`; the keys are in :mod:`gearcalc.pins.schema`, the texts and field lists in
-:mod:`gearcalc.pins.report`.  No numpy at module level: ``gearcalc check``/``new``/``--help`` stay light.
+Mapping only: validity rules in :mod:`gearcalc.pins.checks` (one set for check, compute, batch and sweep), the
+formula and ideal levels over many designs :mod:`~gearcalc.pins.columns`, the contact level
+:mod:`~gearcalc.pins.contact_level`, batch groups :mod:`~gearcalc.pins.batching`, keys :mod:`~gearcalc.pins.schema`,
+texts :mod:`~gearcalc.pins.report`.  No numpy at module level: ``check``/``new``/``--help`` stay light.
 """
 from __future__ import annotations
 
@@ -34,8 +33,7 @@ VIOLATION_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile",
 GEAR_ARGS = VIOLATION_ARGS[:9] + ("tooth_radius", "tooth_circle_radius", "load_pin_radius", "load_axle_radius")
 
 DEFAULT_FRICTION_MODEL = "consistent"
-"""The friction model of a design that names none (pins.md §4.9, §7); tests that pin first-order numbers set
-it to "first-order", which is the same as giving ``friction.model = "first-order"`` in every design."""
+"""The friction model of a design that names none (pins.md §4.9, §7; tests of first-order numbers patch it)."""
 
 
 def _args(values) -> dict:
@@ -151,22 +149,7 @@ def _group(designs, level: str, options: Options, t0: float) -> list:
 
     cols, ideal = level_columns(_args(lambda key: [d.get(key) for d in designs]), level, [d.name for d in designs],
                                 options.tol, any(d.has("pin_load") for d in designs), DEFAULT_FRICTION_MODEL)
-    out = []
-    for i, d in enumerate(designs):
-        summary, warnings, failed, detail = {k: col[i] for k, col in cols.items()}, [], [], {}
-        if ideal is not None:
-            if ideal.errors[i] is not None:
-                out.append(ideal.errors[i])
-                continue
-            warnings = ([R.CONTACT_TABLE_UNUSED] if d.has("contact") else []) + ideal.warnings[i]
-            R.cycle_notes(d, summary, options.tol, warnings, failed)
-            detail = ideal.detail(i) if options.detail else {}
-        out.append(R.result(summary, detail, warnings, failed))
-    per_design = (time.perf_counter() - t0) * 1e3 / len(designs)
-    for r in out:
-        if isinstance(r, Result):
-            r.summary["model_time_ms"] = per_design
-    return out
+    return R.group_results(designs, cols, ideal, options.tol, options.detail, t0)
 
 
 def sweep(base, raw, axes, points, options):
@@ -197,8 +180,7 @@ def sweep(base, raw, axes, points, options):
 
 
 def _points_pass_checks(base, values, n: int, level: str) -> bool:
-    """Whether every point passes the checks its varied keys can break (:func:`gearcalc.pins.checks.points_pass`);
-    one that fails makes the sweep evaluate point by point, which reports it with the loader's message."""
+    """Whether every point passes the checks its varied keys can break (else: point by point, as the loader)."""
     return C.points_pass(_violations(values), level == "formula", base.has("pin_load"),
                          *(values(KEYS[name]) for name in ("z1", "z2", "n_d", "e", "Rb", "K1", "Rp")))
 
@@ -242,8 +224,6 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     try:
         cl = contact_level(g, profile, law, {n: a[n] for n in OPERATING}, a["n_d"], a["rotating"], a["r"],
                            model, options.tol, play_free, options.detail)
-    except pc.Jam:
-        raise
     except (pc.NoEquilibrium, pc.Unresolvable) as exc:
         raise R.contact_error(exc, design, g) from None
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))

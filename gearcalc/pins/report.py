@@ -162,6 +162,30 @@ def contact_error(exc, design, g) -> DesignError:
     return unresolvable_error(design["gearing.eccentricity_mm"], g.R_p, design["gearing.pin_radius_mm"])
 
 
+def group_results(designs, cols, ideal, tol: float, detail: bool, t0: float) -> list:
+    """Per design of a group computed together (:func:`gearcalc.pins.columns.level_columns`: its columns ``cols``
+    and the ideal level's :class:`~gearcalc.pins.columns.IdealColumns` or None) its Result or DesignError, with
+    the notes of :func:`cycle_notes`; ``model_time_ms`` is the group's time since ``t0`` per design."""
+    import time
+
+    out = []
+    for i, d in enumerate(designs):
+        summary, warnings, failed, tables = {k: col[i] for k, col in cols.items()}, [], [], {}
+        if ideal is not None:
+            if ideal.errors[i] is not None:
+                out.append(ideal.errors[i])
+                continue
+            warnings = ([CONTACT_TABLE_UNUSED] if d.has("contact") else []) + ideal.warnings[i]
+            cycle_notes(d, summary, tol, warnings, failed)
+            tables = ideal.detail(i) if detail else {}
+        out.append(result(summary, tables, warnings, failed))
+    per_design = (time.perf_counter() - t0) * 1e3 / len(designs)
+    for r in out:
+        if isinstance(r, Result):
+            r.summary["model_time_ms"] = per_design
+    return out
+
+
 def result(summary, detail, warnings, failed) -> Result:
     """The Result of a design's summary; a table says why a value is missing: "self-locking" for the fields
     a self-locking design leaves empty (pins.md §4.7)."""
