@@ -337,8 +337,11 @@ def test_gauss_kronrod_option_is_honest_and_agrees_with_the_trapezoid(rule, fric
     assert abs(gk.loss_ratio - ref.loss_ratio) <= gk.loss_ratio_err + ref.loss_ratio_err
     assert gk.loss_ratio_err <= 1e-6 * gk.loss_ratio
     assert abs(gk.loss_ratio - trap.loss_ratio) <= gk.loss_ratio_err + trap.loss_ratio_err
-    assert gk.sol.theta.size == gk.n_crank < trap.n_crank
+    # the final grid: the quadrature's nodes and both one-sided ends of every piece of the breakpoints
+    pieces = np.unique(gk.breakpoints).size - 1
+    assert gk.sol.theta.size == gk.n_crank == gk.quad.n + 2 * pieces < trap.n_crank
     assert np.all(np.diff(gk.sol.theta) >= 0.0) and np.all(np.isfinite(gk.lam))
+    assert np.all(np.isin(np.unique(gk.breakpoints), gk.sol.theta))
 
 
 def test_gauss_kronrod_option_through_the_torque_fixed_point_on_a_cycloid():

@@ -826,6 +826,18 @@ class Solution:
     g_tau: np.ndarray | None = None
 
 
+_CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
+
+
+def _with_cols(full, part, cols):
+    """``full`` (..., n) with its columns ``cols`` replaced by ``part`` (a copy; None stays None)."""
+    if full is None or part is None:
+        return full
+    out = np.array(full, dtype=np.result_type(full, part), copy=True)
+    out[..., cols] = part
+    return out
+
+
 def _sub_pose(pose: Pose, sel) -> Pose:
     """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis)."""
     return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.psi[:, sel],
@@ -910,7 +922,13 @@ class ContactModel:
         g = self.g
         theta = np.arange(n_scan) * (g.period / n_scan)
         if getattr(self, "_mirrored", False) and self.window is not None:
-            return self.state(theta)      # the other mode's window, mirrored: the scan only
+            sol = self.state(theta)       # the other mode's window, mirrored: the scan only
+            if self.friction is not None:
+                # the mirrored warm starts hold the other mode's friction forces (tau off by O(f)): the scan's own
+                # solutions replace them
+                self._memo[1], self._gtau[1] = None, None
+                self._remember(1, sol)
+            return sol
         self.window = None
         pose = self.pose(theta)
         # the doubling starts near the rotation at which one pin at R_p would carry the torque, /64
@@ -1008,6 +1026,8 @@ class ContactModel:
                         newton = memo[1] + dM / gt
                     ok = (gt < 0.0) & np.isfinite(newton) & (np.abs(newton - memo[1]) <= 10.0 * np.abs(tau - memo[1]))
                     tau = np.where(ok, newton, tau)
+                    # G_tau at the new torque differs by O(dM): good for the next pass's Newton step
+                    self._gtau[key] = gt
                 self._memo[key] = (memo[0], tau, memo[2] * r)
 
     def contacts(self, pose: Pose, tau, branch=None) -> Contacts:
@@ -1255,6 +1275,8 @@ class ContactModel:
         th, ta, dt, gt = sol.theta, sol.tau, sol.dtau, sol.g_tau
         if old is not None:
             th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
+            if gt is not None and old_g is None:
+                old_g = np.full(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
             gt = None if old_g is None or gt is None else np.concatenate((old_g, gt))
         order = np.argsort(th, kind="stable")
         self._memo[key] = (th[order], ta[order], dt[order])
@@ -1340,13 +1362,22 @@ class ContactModel:
         th = pose.theta
         G, G_tau, ct, F, Fp, A, q, x, y = self._balance(pose, tau, traction)
         G_tau0 = G_tau
-        if (ref is not None and np.array_equal(ref[0], F > 0.0)
-                and (ref[1] is None or np.array_equal(ref[1], ct.branch))):
-            ref = None                  # the piece's sets are the solution's own: the same derivatives
+        cr, F_r, Fp_r, A_r = ct, F, Fp, A
         if ref is not None:
-            _, G_tau, cr, F_r, Fp_r, A_r, _, _, _ = self._balance(pose, tau, traction, ref)
-        else:
-            cr, F_r, Fp_r, A_r = ct, F, Fp, A
+            # the piece's sets differ from the solution's own only at some angles (a piece end, a contact at
+            # delta = 0): the one-sided derivatives are evaluated there alone, the others are the same
+            other = np.any(ref[0] != (F > 0.0), axis=(0, 1))
+            if ref[1] is not None:
+                other |= np.any(ref[1] != ct.branch, axis=(0, 1))
+            if np.any(other):
+                cols = np.flatnonzero(other)
+                sub_ref = (ref[0][..., cols], None if ref[1] is None else ref[1][..., cols])
+                sub_q = traction[..., cols] if isinstance(traction, np.ndarray) else traction
+                _, gt, cs, fs, fps, As, _, _, _ = self._balance(_sub_pose(pose, cols), tau[cols], sub_q, sub_ref)
+                G_tau = G_tau.copy()
+                G_tau[cols] = gt
+                cr = Contacts(*(_with_cols(getattr(ct, k), getattr(cs, k), cols) for k in _CONTACT_FIELDS))
+                F_r, Fp_r, A_r = (_with_cols(a, b, cols) for a, b in ((F, fs), (Fp, fps), (A, As)))
         kz = g.k / g.z1
         ang = (g.z2 / g.z1) * th - tau
         ca, sa = np.cos(ang), np.sin(ang)
@@ -1416,11 +1447,11 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
 class ContactCycle:
     """The contact level's cycle solution of one design at one torque.
 
-    loss_ratio, loss_ratio_err : Richardson value and |Q_2N - Q_N| of the cycle mean of lambda;
-    converged, n_crank : the quadrature's (a Gauss-Kronrod rule: n_crank counts the evaluations); quad : the
-    QuadResult;
-    sol : the solved states on the final grid, sorted by theta (piece ends twice; a Gauss-Kronrod rule: at every
-    evaluated node, the bisected pieces' own included, and no piece ends);
+    loss_ratio, loss_ratio_err : the cycle mean of lambda and its error (trapezoid: Richardson value and
+    |Q_2N - Q_N|; Gauss-Kronrod: K and |K - G|); converged : the quadrature's; n_crank : crank angles of the final
+    grid (``sol``); quad : the QuadResult;
+    sol : the solved states on the final grid, sorted by theta (piece ends twice, one-sided; a Gauss-Kronrod rule:
+    every evaluated node, the bisected pieces' own included, and both ends of every piece of the breakpoints);
     loss, spin, slide : per node (see :func:`contact_losses`); lam : lambda per node;
     breakpoints : the located breakpoints in theta [rad]; roots : the located sign changes
     (:class:`BreakpointRoots`), which a later pass of the same design starts from.
@@ -1771,6 +1802,14 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     edges = _edges(model, found, tol)
     q = integrate_adaptive(integrand, edges, tol=tol, n_max=n_max, n_start=n_start, n_initial=n_initial, rule=rule,
                            n_min=n_min)
+    if rule != "trapezoid":
+        # a Gauss-Kronrod rule evaluates no piece end: the one-sided states at both ends of every piece join the
+        # final grid for the peaks, the loaded interval and the detail (they do not enter the mean; pins.md §6)
+        u = unique_sorted(np.asarray(edges, dtype=float))
+        lo, hi = u[:-1], u[1:]
+        lo, hi = lo[hi > lo], hi[hi > lo]
+        mid = 0.5 * (lo + hi)                    # the pieces' midpoints, as the quadrature tells them
+        integrand(np.column_stack((lo, hi)).ravel(), np.repeat(mid, 2))     # in time order: ..., b_p, a_(p+1), ...
     if not found.scanned and not _pieces_hold(cache, mids, ref_sols, edges, rolls, tol, g.period):
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
@@ -1784,7 +1823,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     loss, spin, slide = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)
     lam = loss.sum(axis=(0, 1)) / scale
     model.roots = found
-    return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, q.n, q, sol, loss, spin, slide, lam,
+    return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, sol.theta.size, q, sol, loss, spin, slide, lam,
                         edges, found)
 
 
