@@ -80,3 +80,100 @@ def test_the_contact_level_equals_the_calculators_contact_run():
     cl = contact_level(g, prof, LAW, _point(), 1, True, 1.75, "consistent", 1e-4, True, detail=True)
     assert s["loss_ratio"] == cl.modes.requested.loss_ratio and s["efficiency"] == float(cl.et_multiplier.eta_vh[0])
     assert s["equilibrium_residual"] == cl.residual and set(cl.detail) == {"crank", "contacts"}
+
+
+# ------------------------------------------------------------------ crank torque, bearing force, contact stress
+# (issue 15 item 3 at the contact level: the paper's driving-link torque of Figs 3-7, the crank-bearing force and
+# the pin-tooth Hertz stress; pins.md §8)
+
+from pathlib import Path  # noqa: E402
+
+import numpy as np  # noqa: E402
+
+from gearcalc import api  # noqa: E402
+from gearcalc.pins import contact as pc  # noqa: E402
+from gearcalc.pins.outputs import STEEL_E_STAR_MPA  # noqa: E402
+
+CONFIGS = Path(__file__).resolve().parent.parent / "configs"
+
+
+def _contact(name, **over):
+    return api.compute(str(CONFIGS / name), model="contact", detail=True,
+                       overrides={"contact.face_width_mm": 10.0, **over})
+
+
+@pytest.mark.parametrize("name, over", [
+    ("pins_paper_circ_u10_fixed.toml", {}),
+    ("pins_paper_circ_u10_rotating.toml", {"load.mode": "reducer"}),
+    ("pins_paper_cyc_u10_fixed.toml", {}),
+    ("pins_paper_cyc_u10_fixed.toml", {"load.mode": "reducer", "gearing.discs": 2}),
+    ("pins_circ_band_u10.toml", {"load.torque_shaft": "V"}),
+])
+def test_the_mean_crank_torque_is_the_torque_on_H(name, over):
+    # the crank torque is sigma e B_t from the pin forces (geometry of the contacts); the torque on H comes from
+    # the power balance with the loss ratio (T_H = T_V/(u eta) reducer input, u... multiplier output): two
+    # different paths that must agree to the quadrature error of the trapezoid mean over the final grid, O(h^2)
+    r = _contact(name, **over)
+    s = r.summary
+    T_H = s["torque_out_Nm"] if s["mode"] == "multiplier" else s["torque_in_Nm"]
+    assert s["crank_torque_mean_Nm"] == pytest.approx(T_H, rel=1e-6)
+    assert 0.0 < s["crank_torque_ripple_Nm"] < 0.2 * T_H
+    rows = r.detail["crank"]
+    T = np.array([row["crank_torque_Nm"] for row in rows])
+    assert T.max() - T.min() == pytest.approx(s["crank_torque_ripple_Nm"], rel=1e-12)
+    B = np.array([row["bearing_force_N"] for row in rows])
+    Br = np.array([row["bearing_radial_N"] for row in rows])
+    Bt = np.array([row["bearing_tangential_N"] for row in rows])
+    assert np.allclose(np.hypot(Br, Bt), B, rtol=1e-14) and B.max() == s["bearing_force_max_N"]
+    # one disc's tangential bearing force carries its crank torque, T_H = sigma e B_t (pins.md §4.9)
+    if over.get("gearing.discs", 1) == 1:
+        sigma = -1.0 if s["mode"] == "multiplier" else 1.0
+        e = api.load(str(CONFIGS / name))["gearing.eccentricity_mm"]
+        assert np.allclose(sigma * e * Bt / 1e3, T, rtol=1e-12, atol=0.0)
+
+
+def test_first_order_has_no_crank_torque_history_but_a_bearing_force():
+    # pins.md §8: the first-order model's forces are friction-free: its crank torque is the constant T_V/u
+    s = _contact("pins_paper_cyc_u10_fixed.toml", **{"friction.model": "first-order"}).summary
+    assert s["crank_torque_mean_Nm"] is None and s["crank_torque_ripple_Nm"] is None
+    assert s["bearing_force_max_N"] >= s["bearing_force_mean_N"] > 0.0
+
+
+def test_circular_contact_stress_is_hertz_of_the_peak_force_on_the_tooth_circle():
+    # circular teeth: R_eff = R_b rho_t/(R_b + rho_t) exactly (two convex cylinders; pins.md §8), so the peak stress
+    # is p0 = sqrt(F_max E*/(pi b R_eff)) of the peak pin force (one disc): Johnson 1985, eq. (4.45), by hand
+    r = _contact("pins_paper_circ_u10_rotating.toml")
+    s = r.summary
+    d = api.load(str(CONFIGS / "pins_paper_circ_u10_rotating.toml"))
+    Rb, rho = d["gearing.pin_radius_mm"], s["tooth_radius_mm"]
+    R_eff = Rb * rho / (Rb + rho)
+    p0 = math.sqrt(s["pin_force_max_N"] * STEEL_E_STAR_MPA / (math.pi * 10.0 * R_eff))
+    assert s["contact_stress_max_MPa"] == pytest.approx(p0, rel=1e-12)
+    r_ax = d["gearing.axle_radius_mm"]
+    assert s["axle_pressure_max_MPa"] == pytest.approx(s["pin_force_max_N"] / (2.0 * r_ax * 10.0), rel=1e-15)
+
+
+def test_effective_radius_of_a_flat_a_convex_and_a_concave_tooth():
+    # 1/R_eff = 1/R_b + 1/rho with rho = D - R_b + delta (pins.md §8): a flat tooth (D infinite) gives R_b; a
+    # convex tooth of radius 6 against a pin of 2: 1.5; a concave one (rho = -10): 2*(-10)/(2 - 10) = 2.5
+    assert pc.effective_radius(2.0, 0.0, 0.0) == 2.0
+    assert pc.effective_radius(2.0, 0.0, 1.0 / 8.0) == pytest.approx(1.5, rel=1e-15)
+    assert pc.effective_radius(2.0, 0.0, 1.0 / (-10.0 + 2.0)) == pytest.approx(2.5, rel=1e-15)
+    # the penetration does not change it when D moves with it (a tooth circle: D = R_b + rho - delta)
+    assert pc.effective_radius(2.0, 1e-3, 1.0 / (8.0 - 1e-3)) == pytest.approx(1.5, rel=1e-14)
+
+
+def test_stiff_linear_contact_outputs_approach_the_ideal_level_on_a_k1_cycloid():
+    # the rigid conjugate (ideal) level is the stiff limit of the contact level (pins.md §5.7): with a linear law
+    # of 1e9 N/mm on a k = 1 cycloid (no crest corners) the crank-torque mean, bearing force and contact stress of
+    # the two levels (independent codes: closed-form loaded set and forces against solved penetrations) agree
+    over = {"gearing.satellite_teeth": 21, "gearing.pins": 22, "gearing.eccentricity_mm": 1.95,
+            "friction.sliding": 0.1, "contact.face_width_mm": 10.0}
+    path = str(CONFIGS / "pins_paper_cyc_u10_fixed.toml")
+    ideal = api.compute(path, model="ideal", overrides=over).summary
+    cont = api.compute(path, model="contact", overrides={**over, "contact.law": "linear",
+                                                         "contact.stiffness_N_per_mm": 1e9}).summary
+    # measured 2026-11-27: 4e-12, 1.2e-5, 2.1e-6, 1.9e-6, 2.7e-6, 7.9e-7 (stiffness 1e9: deflections ~1e-5 mm)
+    for key, rel in (("crank_torque_mean_Nm", 1e-9), ("crank_torque_ripple_Nm", 1e-4), ("bearing_force_mean_N", 1e-5),
+                     ("bearing_force_max_N", 1e-5), ("contact_stress_max_MPa", 1e-5), ("efficiency", 1e-5)):
+        assert cont[key] == pytest.approx(ideal[key], rel=rel), key

@@ -230,7 +230,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     if not cl.balanced:
         raise R.stiffness_error(design, law, cl.residual, options.tol)
     summary.update(R.contact_summary(design, g, law, profile, cl, model))
-    R.contact_notes(design, summary, options.tol, warnings, failed, cl.modes, cl.consistent, a["mode"] == "multiplier")
+    R.contact_notes(design, summary, options.tol, warnings, failed, cl, a["mode"] == "multiplier")
     detail.update(cl.detail or {})
     return summary
 

@@ -2463,6 +2463,137 @@ def equilibrium_residual(runs, tol: float) -> tuple[float, float]:
     return residual, excess
 
 
+@dataclass(frozen=True)
+class CrankBearing:
+    """The crank torque, the crank-bearing force and the contact stress of a contact cycle (:func:`crank_bearing`).
+
+    crank_torque : T_H over the final grid, all discs summed, along the power flow [N·m] (n,);
+    bearing_radial, bearing_tangential : B along the crank arm (outward) and across it, one disc [N] (n,);
+    bearing_force, bearing_angle : |B| [N] and its direction from the crank arm [deg] (n,);
+    crank_torque_mean, crank_torque_ripple : cycle mean and peak-to-peak of ``crank_torque`` [N·m];
+    bearing_force_max, bearing_force_mean : peak and cycle mean of |B| [N];
+    stress_factor : the largest F/R_eff over the loaded flank contacts [N/mm] (NaN: none);
+    crest_loaded : a loaded contact sits on a crest corner (a sharp edge: no Hertz stress there).
+    """
+
+    crank_torque: np.ndarray
+    bearing_radial: np.ndarray
+    bearing_tangential: np.ndarray
+    bearing_force: np.ndarray
+    bearing_angle: np.ndarray
+    crank_torque_mean: float
+    crank_torque_ripple: float
+    bearing_force_max: float
+    bearing_force_mean: float
+    stress_factor: float
+    crest_loaded: bool
+
+
+def effective_radius(R_b, delta, inv_D):
+    r"""Reduced radius of the pin-tooth contact, R_eff [mm], from the normal's turning rate (pins.md §8).
+
+    The normal at a contact turns about the tooth's centre of curvature, at the signed distance D = 1/inv_D from
+    the pin centre (inv_D = w x n of :class:`Contacts`; D > 0 when the tooth is convex there); the tooth's radius
+    of curvature is rho = D - R_b + delta (circular teeth: rho_t; a cycloid cut with the equidistant R_b + Delta
+    R_b on a curve of curvature radius rho_c: rho_c - R_b - Delta R_b; a crest corner: 0), and
+
+    .. math::
+
+        rac{1}{R_{eff}} = rac{1}{R_b} + rac{1}{ho},\qquad
+        R_{eff} = R_b\,rac{1 - (R_b - \delta)\,inv_D}{1 + \delta\,inv_D}
+
+    (the ideal level's R_b (1 - R_b/rho_c) when delta = Delta R_b = 0; a flat tooth, inv_D = 0: R_b).
+
+    Parameters
+    ----------
+    R_b : float
+        pin radius [mm].
+    delta : array_like
+        penetration [mm].
+    inv_D : array_like
+        1/D [1/mm].
+
+    Examples
+    --------
+    >>> float(effective_radius(2.0, 0.0, 1.0 / (2.0 + 6.0)))    # pin 2 mm on a convex 6 mm tooth: 2*6/8
+    1.5
+
+    References
+    ----------
+    pins.md §8 (contact_stress_max_MPa); Johnson 1985, eq. (4.45).
+    """
+    return R_b * (1.0 - (R_b - delta) * inv_D) / (1.0 + delta * inv_D)
+
+
+def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) -> CrankBearing:
+    r"""Crank torque, crank-bearing force and Hertz stress factor over a solved contact cycle (pins.md §4.9, §8).
+
+    The crank bearing holds the satellite against the pins: B = -sum_i F_i (n_i + q_i z x n_i) (the friction
+    forces q_i F_i with friction in the balance, ``traction``; None: friction-free forces), in the axes of the
+    crank arm u = (cos(z2 theta/z1 - tau), sin(...)) of the satellite frame.  The crank torque along the power
+    flow is T_H = sigma e B_t (sigma +1 reducer, -1 multiplier; the ideal level's sigma e B_y), summed over the
+    discs (histories 2 pi/n_d of crank apart, :func:`gearcalc.pins.sum_over_discs`); its cycle mean equals the
+    torque on H to the quadrature error.  Means are trapezoids over the final grid, O(h^2) in its spacing.
+
+    Parameters
+    ----------
+    model : ContactModel
+        the cycle's model (its torque, mode, candidate window).
+    sol : Solution
+        the solved cycle over one period, sorted by theta, piece ends included.
+    traction : ndarray or None
+        friction forces per unit normal force (:meth:`ContactModel.traction`), or None.
+    n_discs : int
+        n_d.
+
+    Returns
+    -------
+    CrankBearing
+
+    References
+    ----------
+    pins.md §4.9 (B = -sum pin forces, T_H = O1 x B), §8 (crank_torque_*, bearing_force_*, contact_stress_max_MPa,
+    the detail's bearing columns), §12.7 (discs); Prudnikov, Figs 3-7 (the driving torque over time).
+    """
+    g = model.g
+    theta, tau = sol.theta, sol.tau
+    n = theta.size
+    idx = model.candidates(theta)
+    cols = np.arange(n)[None, :]
+
+    def pick(a):
+        return a if idx is None or a is None else a[:, idx, cols]
+
+    pose = model.pose(theta, idx)
+    branch = pick(sol.branch)
+    ct = model.contacts(pose, tau, branch)
+    F, delta = pick(sol.force), pick(sol.delta)
+    q = 0.0 if traction is None else pick(traction)
+    Bx = -np.sum(F * (ct.nx - q * ct.ny), axis=(0, 1))
+    By = -np.sum(F * (ct.ny + q * ct.nx), axis=(0, 1))
+    ang = (g.z2 / g.z1) * theta - tau
+    ca, sa = np.cos(ang), np.sin(ang)
+    B_r, B_t = Bx * ca + By * sa, -Bx * sa + By * ca
+    T_H = model.sigma * g.e * B_t / 1e3                 # N·mm -> N·m, one disc
+    if n_discs > 1:
+        T_H = sum_over_discs(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
+    B = np.hypot(B_r, B_t)
+    span = theta[-1] - theta[0]
+
+    def mean(v):
+        return float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(theta)) / span) if span > 0.0 else float(v[0])
+
+    loaded = F > 0.0
+    crest = np.zeros(F.shape, dtype=bool) if branch is None else branch >= 0
+    flank = loaded & ~crest
+    inv_D = ct.wx * ct.ny - ct.wy * ct.nx
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = np.where(flank, F / effective_radius(g.R_b, np.where(flank, delta, 0.0), inv_D), np.nan)
+    stress = float(np.nanmax(ratio)) if np.any(flank) else math.nan
+    return CrankBearing(T_H, B_r, B_t, B, np.degrees(np.arctan2(B_t, B_r)), mean(T_H), float(T_H.max() - T_H.min()),
+                        float(B.max()), mean(B), stress, bool(np.any(loaded & crest)))
+
+
 @dataclass
 class ContactOperating:
     """Losses and speeds of a contact cycle at a crank speed (:func:`operating_values`): loss_mean, loss_peak,

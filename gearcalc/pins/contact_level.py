@@ -112,7 +112,8 @@ class ContactLevel:
     one; None for fixed pins); et_multiplier, et_reducer, locked : :func:`~gearcalc.pins.contact.mode_efficiencies`;
     peaks, metrics : :func:`~gearcalc.pins.contact.cycle_peaks`, :func:`~gearcalc.pins.contact.engagement_metrics`;
     backlash [deg]; operating : :func:`~gearcalc.pins.contact.operating_values` (None without a crank speed);
-    detail : the detail tables (None unless asked).
+    detail : the detail tables (None unless asked); crank : :class:`~gearcalc.pins.contact.CrankBearing` (crank
+    torque, crank-bearing force, contact stress factor of the requested mode).
     """
 
     modes: object
@@ -128,6 +129,7 @@ class ContactLevel:
     backlash: float | None = None
     operating: object = None
     detail: dict | None = None
+    crank: object = None
 
 
 def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, axle_radius, friction_model: str,
@@ -189,6 +191,10 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
     metrics = pc.engagement_metrics(cyc.sol, cyc.spin if rolls else np.zeros(cyc.sol.force.shape[1:]))
     play = backlash_deg(tc.model, play_free)
     ov = pc.operating_values(pk, g, tc.loss_ratio, tc.torque_V, w_H, mu, f, rolls) if w_H is not None else None
-    tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs) if detail else None
+    # the crank torque, bearing force and contact stress from the requested mode's own forces (friction in the
+    # balance unless first-order or jammed: then the friction-free forces, and no crank-torque history, pins.md §8)
+    own = consistent and multiplier not in modes.jams
+    crank = pc.crank_bearing(tc.model, cyc.sol, tc.model.traction(cyc.sol) if own else None, n_discs)
+    tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs, crank, own) if detail else None
     return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, pk, metrics, play, ov,
-                        tables)
+                        tables, crank)

@@ -25,9 +25,11 @@ from .outputs import crank_detail
 __all__ = ["rows", "detail_tables", "contact_detail"]
 
 
-def contact_detail(g, sol, cyc, T_V, w_H, n_d):
+def contact_detail(g, sol, cyc, T_V, w_H, n_d, crank=None, consistent: bool = False):
     """Detail tables of the contact level (pins.md §8): ``crank`` and ``contacts`` rows of the final grid
-    (first disc; piece ends appear twice, the one-sided limits)."""
+    (first disc; piece ends appear twice, the one-sided limits).  ``crank``: the
+    :class:`~gearcalc.pins.contact.CrankBearing` of the cycle (the crank torque of all discs, friction-consistent
+    forces only (``consistent``), and one disc's bearing force), or None."""
     theta_deg = np.degrees(sol.theta)
     have_P = w_H is not None
     lam = cyc.lam
@@ -36,6 +38,11 @@ def contact_detail(g, sol, cyc, T_V, w_H, n_d):
         "theta_deg": theta_deg, "TE_arcsec": np.degrees(sol.tau) * 3600.0, "loss_ratio": lam,
         "loss_W": lam * n_d * units.nm_to_nmm(T_V) / n_d * (w_H * g.k / g.z1) * 1e-3 if have_P else None,
         "loaded_pins": loaded_c.any(axis=0).sum(axis=0),
+        "crank_torque_Nm": crank.crank_torque if crank is not None and consistent else None,
+        "bearing_force_N": crank.bearing_force if crank is not None else None,
+        "bearing_radial_N": crank.bearing_radial if crank is not None else None,
+        "bearing_tangential_N": crank.bearing_tangential if crank is not None else None,
+        "bearing_angle_deg": crank.bearing_angle if crank is not None else None,
     })
     n_idx, j_idx, c_idx = np.nonzero(np.transpose(loaded_c, (2, 1, 0)))    # row-major: node, pin, contact
     rpm = units.rad_s_to_rpm(w_H) if have_P else None

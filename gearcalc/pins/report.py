@@ -308,6 +308,35 @@ def efficiency_fields(et_m, et_r, locked: dict, multiplier: bool, plain) -> dict
     return s
 
 
+def crank_fields(cl, design, force_max) -> dict:
+    """The crank torque, crank-bearing force, contact stress and axle pressure of the contact level (pins.md §8)
+    from its :class:`~gearcalc.pins.contact.CrankBearing` ``cl.crank``: the crank torque only with the requested
+    mode's friction-consistent forces (null first-order or jammed), the stress with ``contact.face_width_mm``
+    over the flank contacts, the axle pressure for rotating pins (F_max/(2 r b))."""
+    from .outputs import STEEL_E_STAR_MPA, axle_pressure, contact_stress
+
+    cb, b = cl.crank, design.get("contact.face_width_mm")
+    own = cl.consistent and (design["load.mode"] == "multiplier") not in cl.modes.jams
+    stress = (plain(contact_stress(1.0, cb.stress_factor, b, STEEL_E_STAR_MPA))
+              if b is not None and math.isfinite(cb.stress_factor) else None)
+    rotating, r = design["gearing.rotating_pins"], design.get("gearing.axle_radius_mm")
+    return {"crank_torque_mean_Nm": cb.crank_torque_mean if own else None,
+            "crank_torque_ripple_Nm": cb.crank_torque_ripple if own else None,
+            "bearing_force_max_N": cb.bearing_force_max, "bearing_force_mean_N": cb.bearing_force_mean,
+            "contact_stress_max_MPa": stress,
+            "axle_pressure_max_MPa": (plain(axle_pressure(force_max, r, b))
+                                      if rotating and b is not None and force_max is not None else None)}
+
+
+def crest_warning(crank) -> list[str]:
+    """The warning of loaded contacts on the crest corners of the teeth (k >= 2, pins.md §5.2, §8), or none."""
+    if crank is None or not crank.crest_loaded:
+        return []
+    return ["a loaded pin touches the crest corner of a tooth (k >= 2: the cycloid cut off at psi*, a sharp edge) "
+            "in the compliant contact: the Hertz stress there is unbounded; contact_stress_max_MPa covers the flank "
+            "contacts only (a rounded crest would carry it)"]
+
+
 def operating_fields(ov) -> dict:
     """The loss and speed fields of :class:`~gearcalc.pins.contact.ContactOperating` (pins.md §8)."""
     return {"loss_mean_W": ov.loss_mean, "loss_peak_W": ov.loss_peak, "pin_loss_max_W": ov.loss_max,
@@ -324,6 +353,7 @@ def contact_summary(design, g, law, profile, cl, model: str) -> dict:
     s = contact_fields(design, g, law, geo, cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual,
                        cl.rolling_ok)
     s.update(efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, design["load.mode"] == "multiplier", plain))
+    s.update(crank_fields(cl, design, s["pin_force_max_N"]))
     s["friction_model"] = model
     if cl.operating is not None:
         s.update(operating_fields(cl.operating))
@@ -548,9 +578,11 @@ def friction_alias_error(model, alias) -> DesignError:
     return DesignError(*problem("friction_alias", alias=str(alias).lower(), model=model))
 
 
-def contact_notes(design, s, tol: float, warnings, failed, modes, consistent: bool, multiplier: bool) -> None:
-    """The warnings and failed checks of the contact level's summary ``s`` (pins.md §4.9): :func:`cycle_notes`,
-    then the self-locking of the requested mode in the friction-consistent model and the other mode jamming."""
+def contact_notes(design, s, tol: float, warnings, failed, cl, multiplier: bool) -> None:
+    """The warnings and failed checks of the contact level's summary ``s`` (pins.md §4.9, §8) from its
+    :class:`~gearcalc.pins.contact_level.ContactLevel` ``cl``: :func:`cycle_notes`, then the self-locking of the
+    requested mode in the friction-consistent model, the other mode jamming, contacts on crest corners."""
+    modes, consistent, crank = cl.modes, cl.consistent, cl.crank
     stalled = modes.requested.stalled and multiplier not in modes.jams
     if (consistent or stalled) and s["self_locking"]:
         # the shared notes word self-locking for the first-order multiplier; this level words it per mode
@@ -562,6 +594,7 @@ def contact_notes(design, s, tol: float, warnings, failed, modes, consistent: bo
     else:
         cycle_notes(design, s, tol, warnings, failed)
     warnings.extend(other_mode_jams(mult) for mult in modes.jams if mult != multiplier)
+    warnings.extend(crest_warning(crank))
 
 
 def ideal_columns(arrays: dict, mode, rotating, rolls, models: list, n: int) -> dict:
