@@ -337,11 +337,30 @@ def test_gauss_kronrod_option_is_honest_and_agrees_with_the_trapezoid(rule, fric
     assert abs(gk.loss_ratio - ref.loss_ratio) <= gk.loss_ratio_err + ref.loss_ratio_err
     assert gk.loss_ratio_err <= 1e-6 * gk.loss_ratio
     assert abs(gk.loss_ratio - trap.loss_ratio) <= gk.loss_ratio_err + trap.loss_ratio_err
-    # the final grid: the quadrature's nodes and both one-sided ends of every piece of the breakpoints
+    # the solved crank angles: the quadrature's nodes and both one-sided ends of every piece of the breakpoints;
+    # the final grid adds the pieces' interpolated states (pc.gk_interpolated, ~DENSE_PER_PERIOD of them)
     pieces = np.unique(gk.breakpoints).size - 1
-    assert gk.sol.theta.size == gk.n_crank == gk.quad.n + 2 * pieces < trap.n_crank
+    assert gk.n_crank == gk.quad.n + 2 * pieces < trap.n_crank
+    assert gk.n_crank + 0.9 * pc.DENSE_PER_PERIOD < gk.sol.theta.size
     assert np.all(np.diff(gk.sol.theta) >= 0.0) and np.all(np.isfinite(gk.lam))
     assert np.all(np.isin(np.unique(gk.breakpoints), gk.sol.theta))
+
+
+@pytest.mark.parametrize("friction", [None, (0.1, 0.1, False)])
+def test_interpolated_states_of_a_gauss_kronrod_cycle_agree_with_solved_ones(friction):
+    # the interpolating polynomial of each piece's 7 Kronrod nodes (pins.md §6, §8) against the equilibrium solved
+    # at the same crank angles with the piece's own sets (an independent evaluation: Newton on the moment balance)
+    model = circular_model(friction=friction)
+    cyc = pc.mean_loss_ratio(model, 0.1, 0.1, False, tol=1e-6, rule="gk7")
+    dense = cyc.sol.theta[cyc.sol.residual == 0.0][::5]        # interpolated rows carry residual 0 (not solved)
+    direct = model.state(dense, model.reference(dense), phases=False)
+    i = np.searchsorted(cyc.sol.theta, dense)
+    assert dense.size > 150
+    # measured 2026-11-27 (213 angles): force 1.2e-7, tau 1.0e-7, bearing force 2.3e-8 of their peaks
+    F_scale = cyc.sol.force.max()
+    assert np.max(np.abs(cyc.sol.force[..., i] - direct.force)) <= 1e-6 * F_scale
+    assert np.max(np.abs(cyc.sol.tau[i] - direct.tau)) <= 1e-6 * np.max(np.abs(cyc.sol.tau))
+    assert np.max(np.abs(cyc.sol.bearing[:, i] - direct.bearing)) <= 1e-6 * np.max(np.abs(cyc.sol.bearing))
 
 
 def test_gauss_kronrod_option_through_the_torque_fixed_point_on_a_cycloid():

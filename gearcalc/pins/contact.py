@@ -54,7 +54,7 @@ import numpy as np
 
 from .. import hertz
 from ..arrays import unique_sorted
-from ..quadrature import QuadResult, geometric_breakpoints, integrate_adaptive
+from ..quadrature import _KRONROD, QuadResult, geometric_breakpoints, integrate_adaptive
 from ..roots import bisect, find_root, minimize_golden
 from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
 from .efficiency import contact_loss_power
@@ -806,7 +806,11 @@ class Solution:
     change of a round-off of the pin positions at every contact (the penetrations are differences of
     lengths ~R_p);
     g_tau: (n,) dG/dtau of the moment balance at the solution [N·mm/rad] (the warm start of another torque,
-    :meth:`ContactModel.inherit`).
+    :meth:`ContactModel.inherit`);
+    bearing: (2, n) the crank-bearing force on the satellite along the crank arm (outward) and across it [N], from
+    the forces of the balance (friction forces included when they are in it; :func:`crank_bearing`);
+    stress: (n,) the largest F/R_eff of a loaded flank contact [N/mm] (NaN: none; :func:`effective_radius`);
+    crest: (n,) bool, a loaded contact sits on a crest corner.
     """
 
     theta: np.ndarray
@@ -824,6 +828,9 @@ class Solution:
     ddelta: np.ndarray | None = None
     noise: np.ndarray | None = None
     g_tau: np.ndarray | None = None
+    bearing: np.ndarray | None = None
+    stress: np.ndarray | None = None
+    crest: np.ndarray | None = None
 
 
 _CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
@@ -1324,7 +1331,7 @@ class ContactModel:
         return Solution(sol.theta, sol.tau, sol.dtau, sol.residual, scatter(sol.delta, -np.inf),
                         scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
                         scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
-                        sol.noise, sol.g_tau)
+                        sol.noise, sol.g_tau, sol.bearing, sol.stress, sol.crest)
 
     def reference(self, theta):
         """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
@@ -1396,8 +1403,18 @@ class ContactModel:
         v_t = o_n + w1 * (ct.xn + g.R_b)
         ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * np.sum(np.abs(Fp * ct.arm), axis=(0, 1))
+        # the crank bearing holds the satellite: B = -sum F (n + q z x n), in the crank arm's axes (pins.md §4.9)
+        Bx = -np.sum(F * (ct.nx - q * ct.ny), axis=(0, 1))
+        By = -np.sum(F * (ct.ny + q * ct.nx), axis=(0, 1))
+        bearing = np.stack((Bx * ca + By * sa, -Bx * sa + By * ca))
+        loaded = F > 0.0
+        crest = np.zeros(F.shape, dtype=bool) if ct.branch is None else (ct.branch >= 0) & loaded
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = F / effective_radius(g.R_b, ct.delta, ct.wx * ct.ny - ct.wy * ct.nx)
+        stress = np.max(np.where(loaded & ~crest, ratio, -np.inf), axis=(0, 1))
+        stress = np.where(np.isfinite(stress), stress, np.nan)
         return Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
-                        G_tau0)
+                        G_tau0, bearing, stress, np.any(crest, axis=(0, 1)))
 
     def bearing_force(self, sol: Solution, traction=None):
         """Force B of the crank bearing on the satellite (crank-frame axes turned by phi) [N], (2, n).
@@ -1485,7 +1502,7 @@ def _concat(parts: list[Solution]) -> Solution:
                     None if parts[0].switch is None else cat("switch", 3),
                     None if parts[0].branch is None else cat("branch", 2),
                     None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
-                    cat("noise", 0), cat("g_tau", 0))
+                    cat("noise", 0), cat("g_tau", 0), cat("bearing", 1), cat("stress", 0), cat("crest", 0))
 
 
 def _components(s: Solution, rolls: bool):
@@ -1729,6 +1746,105 @@ def _merge(points, gap):
     return out
 
 
+DENSE_PER_PERIOD = 1024
+"""Interpolated crank angles per period on the contact level's final grid with a Gauss-Kronrod rule
+(:func:`gk_interpolated`), shared out over the bisected pieces in proportion to their length (at least 2 each): as
+dense as the composite trapezoid's final grid at tol 1e-6 (pins.md §6)."""
+
+
+def _lagrange_matrix(nodes, points):
+    """The Lagrange basis of ``nodes`` at ``points``: L (len(points), len(nodes)), sum_k L[j, k] f(nodes[k]) is the
+    interpolating polynomial at points[j] (barycentric weights; exact for polynomials of degree < len(nodes)).
+
+    >>> t = np.array([-1.0, 0.0, 1.0]); bool(np.allclose(_lagrange_matrix(t, np.array([0.5])) @ t**2, 0.25))
+    True
+    """
+    d = nodes[:, None] - nodes[None, :]
+    np.fill_diagonal(d, 1.0)
+    w = 1.0 / np.prod(d, axis=1)
+    diff = points[:, None] - nodes[None, :]
+    exact = diff == 0.0
+    diff[exact] = 1.0
+    L = w[None, :] / diff
+    L /= L.sum(axis=1, keepdims=True)
+    rows = exact.any(axis=1)
+    L[rows] = exact[rows].astype(float)
+    return L
+
+
+def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
+    r"""States between the nodes of a Gauss-Kronrod cycle, by the interpolating polynomial of each bisected piece.
+
+    A piece of the final grid [a, b] holds m Kronrod nodes x_k = c + h t_k (c, h its centre and half-width; 7 for
+    ``"gk7"``, 15 for ``"gk15"``) on which the state is analytic (no contact enters, leaves or changes branch
+    inside a piece, pins.md §5.6); its smooth fields (tau, d tau/d theta, forces, penetrations, speeds, the crank
+    bearing force, the stress factor) at J points c + h s_j, s_j = -1 + (2j + 1)/J inside [t_0, t_(m-1)], J in
+    proportion to the piece's length (``per_period`` per period, at least 2), are
+
+    .. math::  f(c + h s_j) \approx \sum_k L_k(s_j) f(x_k)
+
+    (degree m - 1; forces clipped at 0, a penetration -inf where a pin is not a candidate at some node; the
+    active set, branch and candidates those of the piece; residual 0: not solved).  They serve the peaks, the
+    loaded interval, the detail and the check of the breakpoints (:func:`_pieces_hold`), never the mean (pins.md
+    §6, §8).  Returns (the interpolated :class:`Solution`, sorted by theta; each point's piece midpoint), or None
+    when the nodes are not found on ``sol``.
+    """
+    t = _KRONROD[rule][0]
+    m = t.size
+    a, b = q.edges[:-1], q.edges[1:]
+    c, h = 0.5 * (a + b), 0.5 * (b - a)
+    x = c[:, None] + h[:, None] * t[None, :]                    # as the quadrature evaluated them
+    k_all = np.clip(np.searchsorted(sol.theta, x.ravel()), 0, sol.theta.size - 1)
+    if not np.array_equal(sol.theta[k_all], x.ravel()):
+        return None
+    k_all = k_all.reshape(a.size, m)
+    mid_all = q.mid if q.mid is not None else c
+    span = float(q.edges[-1] - q.edges[0])
+    counts = np.maximum(2, np.ceil(per_period * (b - a) / span).astype(np.int64)) if span > 0 else np.full(a.size, 2)
+    parts, mids = [], []
+    for J in np.unique(counts):
+        sel = np.flatnonzero(counts == J)
+        s = -1.0 + (2.0 * np.arange(J) + 1.0) / J
+        s = s[(s > t[0]) & (s < t[-1])]
+        if s.size:
+            parts.append(_interpolate_pieces(sol, k_all[sel], c[sel], h[sel], s, _lagrange_matrix(t, s)))
+            mids.append(np.repeat(mid_all[sel], s.size))
+    if not parts:
+        return None
+    mid = np.concatenate(mids)
+    out = _concat(parts)
+    return out, mid[np.argsort(np.concatenate([p.theta for p in parts]), kind="stable")]
+
+
+def _interpolate_pieces(sol: Solution, k, c, h, s, L) -> Solution:
+    """:func:`gk_interpolated` on pieces with centres ``c``, half-widths ``h``, node indices ``k`` (P, m) into
+    ``sol``, at the points s (J,) with the Lagrange matrix L (J, m)."""
+    P, m = k.shape
+    J = s.size
+    kf = k.ravel()
+    theta = (c[:, None] + h[:, None] * s[None, :]).ravel()
+
+    def interp(arr):
+        if arr is None:
+            return None
+        v = arr[..., kf].reshape(arr.shape[:-1] + (P, m))
+        return np.einsum("...pm,jm->...pj", v, L).reshape(arr.shape[:-1] + (P * J,))
+
+    def per_piece(arr, how):                                      # one value per piece, repeated
+        if arr is None:
+            return None
+        v = arr[..., kf].reshape(arr.shape[:-1] + (P, m))
+        return np.repeat(how(v), J, axis=-1)
+
+    finite = per_piece(np.isfinite(sol.delta), lambda v: v.all(axis=-1))
+    delta = np.where(finite, interp(np.where(np.isfinite(sol.delta), sol.delta, 0.0)), -np.inf)
+    return Solution(theta, interp(sol.tau), interp(sol.dtau), np.zeros(theta.size), delta,
+                    np.maximum(interp(sol.force), 0.0), interp(sol.v_t), None, None, interp(sol.switch),
+                    per_piece(sol.branch, lambda v: v[..., 0]), per_piece(sol.cand, lambda v: v.any(axis=-1)),
+                    interp(sol.ddelta), per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau),
+                    interp(sol.bearing), interp(sol.stress), per_piece(sol.crest, lambda v: v.any(axis=-1)))
+
+
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
                     tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
                     prefilter: bool = True, n_initial=None, rule: str = "trapezoid",
@@ -1810,11 +1926,16 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         lo, hi = lo[hi > lo], hi[hi > lo]
         mid = 0.5 * (lo + hi)                    # the pieces' midpoints, as the quadrature tells them
         integrand(np.column_stack((lo, hi)).ravel(), np.repeat(mid, 2))     # in time order: ..., b_p, a_(p+1), ...
-    if not found.scanned and not _pieces_hold(cache, mids, ref_sols, edges, rolls, tol, g.period):
+    solved = _concat(cache)
+    dense = gk_interpolated(solved, q, rule, DENSE_PER_PERIOD) if rule != "trapezoid" else None
+    # the check of the moved or coarse roots covers the interpolated states too: as dense as the trapezoid's nodes
+    checked = (cache, mids) if dense is None else (cache + [dense[0]], mids + [dense[1]])
+    if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period):
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
-    sol = _concat(cache)
+    n_solved = solved.theta.size
+    sol = solved if dense is None else _concat([solved, dense[0]])
     sol.phase, sol.zeta = model.phases(sol.theta)
     if not model.window_holds(sol.tau):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
@@ -1823,7 +1944,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     loss, spin, slide = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)
     lam = loss.sum(axis=(0, 1)) / scale
     model.roots = found
-    return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, sol.theta.size, q, sol, loss, spin, slide, lam,
+    return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, n_solved, q, sol, loss, spin, slide, lam,
                         edges, found)
 
 
@@ -2499,7 +2620,8 @@ def effective_radius(R_b, delta, inv_D):
 
     .. math::
 
-        rac{1}{R_{eff}} = rac{1}{R_b} + rac{1}{ho},\qquad
+        rac{1}{R_{eff}} = rac{1}{R_b} + rac{1}{
+ho},\qquad
         R_{eff} = R_b\,rac{1 - (R_b - \delta)\,inv_D}{1 + \delta\,inv_D}
 
     (the ideal level's R_b (1 - R_b/rho_c) when delta = Delta R_b = 0; a flat tooth, inv_D = 0: R_b).
@@ -2525,24 +2647,23 @@ def effective_radius(R_b, delta, inv_D):
     return R_b * (1.0 - (R_b - delta) * inv_D) / (1.0 + delta * inv_D)
 
 
-def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) -> CrankBearing:
+def crank_bearing(model: "ContactModel", sol: Solution, n_discs: int) -> CrankBearing:
     r"""Crank torque, crank-bearing force and Hertz stress factor over a solved contact cycle (pins.md §4.9, §8).
 
     The crank bearing holds the satellite against the pins: B = -sum_i F_i (n_i + q_i z x n_i) (the friction
-    forces q_i F_i with friction in the balance, ``traction``; None: friction-free forces), in the axes of the
-    crank arm u = (cos(z2 theta/z1 - tau), sin(...)) of the satellite frame.  The crank torque along the power
-    flow is T_H = sigma e B_t (sigma +1 reducer, -1 multiplier; the ideal level's sigma e B_y), summed over the
-    discs (histories 2 pi/n_d of crank apart, :func:`gearcalc.pins.sum_over_discs`); its cycle mean equals the
-    torque on H to the quadrature error.  Means are trapezoids over the final grid, O(h^2) in its spacing.
+    forces q_i F_i when they are in the moment balance), along the crank arm u = (cos(z2 theta/z1 - tau),
+    sin(...)) of the satellite frame and across it (:attr:`Solution.bearing`, set where each state is solved).
+    The crank torque along the power flow is T_H = sigma e B_t (sigma +1 reducer, -1 multiplier; the ideal level's
+    sigma e B_y), summed over the discs (histories 2 pi/n_d of crank apart, :func:`gearcalc.pins.sum_over_discs`);
+    its cycle mean equals the torque on H to the quadrature error.  Means are trapezoids over the final grid,
+    O(h^2) in its spacing.
 
     Parameters
     ----------
     model : ContactModel
-        the cycle's model (its torque, mode, candidate window).
+        the cycle's model (its mode and gear).
     sol : Solution
         the solved cycle over one period, sorted by theta, piece ends included.
-    traction : ndarray or None
-        friction forces per unit normal force (:meth:`ContactModel.traction`), or None.
     n_discs : int
         n_d.
 
@@ -2556,24 +2677,8 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) 
     the detail's bearing columns), §12.7 (discs); Prudnikov, Figs 3-7 (the driving torque over time).
     """
     g = model.g
-    theta, tau = sol.theta, sol.tau
-    n = theta.size
-    idx = model.candidates(theta)
-    cols = np.arange(n)[None, :]
-
-    def pick(a):
-        return a if idx is None or a is None else a[:, idx, cols]
-
-    pose = model.pose(theta, idx)
-    branch = pick(sol.branch)
-    ct = model.contacts(pose, tau, branch)
-    F, delta = pick(sol.force), pick(sol.delta)
-    q = 0.0 if traction is None else pick(traction)
-    Bx = -np.sum(F * (ct.nx - q * ct.ny), axis=(0, 1))
-    By = -np.sum(F * (ct.ny + q * ct.nx), axis=(0, 1))
-    ang = (g.z2 / g.z1) * theta - tau
-    ca, sa = np.cos(ang), np.sin(ang)
-    B_r, B_t = Bx * ca + By * sa, -Bx * sa + By * ca
+    theta = sol.theta
+    B_r, B_t = sol.bearing
     T_H = model.sigma * g.e * B_t / 1e3                 # N·mm -> N·m, one disc
     if n_discs > 1:
         T_H = sum_over_discs(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
@@ -2583,15 +2688,9 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) 
     def mean(v):
         return float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(theta)) / span) if span > 0.0 else float(v[0])
 
-    loaded = F > 0.0
-    crest = np.zeros(F.shape, dtype=bool) if branch is None else branch >= 0
-    flank = loaded & ~crest
-    inv_D = ct.wx * ct.ny - ct.wy * ct.nx
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = np.where(flank, F / effective_radius(g.R_b, np.where(flank, delta, 0.0), inv_D), np.nan)
-    stress = float(np.nanmax(ratio)) if np.any(flank) else math.nan
+    stress = float(np.nanmax(sol.stress)) if np.any(np.isfinite(sol.stress)) else math.nan
     return CrankBearing(T_H, B_r, B_t, B, np.degrees(np.arctan2(B_t, B_r)), mean(T_H), float(T_H.max() - T_H.min()),
-                        float(B.max()), mean(B), stress, bool(np.any(loaded & crest)))
+                        float(B.max()), mean(B), stress, bool(np.any(sol.crest)))
 
 
 @dataclass

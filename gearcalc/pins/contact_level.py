@@ -28,10 +28,11 @@ from .operating import ARRAY_OPS, friction_regime
 __all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "contact_level"]
 
 
-CONTACT_RULE = "trapezoid"
-"""The cycle mean's quadrature rule at the contact level (pins.md §6): a Gauss-Kronrod pair (7/15 points) per smooth
-piece between the breakpoints, pieces bisected while |K - G| exceeds the tolerance; the piece ends are evaluated
-besides for the peaks and the detail.  3x fewer crank angles than the composite trapezoid at tol 1e-6."""
+CONTACT_RULE = "gk7"
+"""The cycle mean's quadrature rule at the contact level (pins.md §6): a Gauss-Kronrod pair (3-point Gauss, 7-point
+Kronrod) per smooth piece between the breakpoints, pieces bisected while sum |K - G| exceeds tol lambda; the piece
+ends are solved besides, and the final grid gets each piece's interpolated states for the peaks and the detail
+(:func:`~gearcalc.pins.contact.gk_interpolated`).  2-3x fewer solved crank angles than the composite trapezoid."""
 
 
 def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
@@ -194,7 +195,7 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
     # the crank torque, bearing force and contact stress from the requested mode's own forces (friction in the
     # balance unless first-order or jammed: then the friction-free forces, and no crank-torque history, pins.md §8)
     own = consistent and multiplier not in modes.jams
-    crank = pc.crank_bearing(tc.model, cyc.sol, tc.model.traction(cyc.sol) if own else None, n_discs)
+    crank = pc.crank_bearing(tc.model, cyc.sol, n_discs)
     tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs, crank, own) if detail else None
     return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, pk, metrics, play, ov,
                         tables, crank)
