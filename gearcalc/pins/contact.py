@@ -938,9 +938,9 @@ class ContactModel:
             return sol
         self.window = None
         pose = self.pose(theta)
-        # the doubling starts near the rotation at which one pin at R_p would carry the torque, /64
+        # the doubling starts near the rotation at which one pin at R_p would carry the torque, /8 (5-10 pins share it)
         R = g.R_p + g.e
-        h0 = float(self.law.deflection(self.torque_sat / R)) / R / 64.0
+        h0 = float(self.law.deflection(self.torque_sat / R)) / R / 8.0
         tau = self._bracketed(pose, None, 1e-15, h0 if math.isfinite(h0) and h0 > 1e-9 else 1e-9, newton=True)
         with np.errstate(divide="ignore", invalid="ignore"):
             first = self._kinematics(pose, tau, None)
