@@ -1801,48 +1801,32 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     mid_all = q.mid if q.mid is not None else c
     span = float(q.edges[-1] - q.edges[0])
     counts = np.maximum(2, np.ceil(per_period * (b - a) / span).astype(np.int64)) if span > 0 else np.full(a.size, 2)
-    parts, mids = [], []
-    for J in np.unique(counts):
-        sel = np.flatnonzero(counts == J)
-        s = -1.0 + (2.0 * np.arange(J) + 1.0) / J
-        s = s[(s > t[0]) & (s < t[-1])]
-        if s.size:
-            parts.append(_interpolate_pieces(sol, k_all[sel], c[sel], h[sel], s, _lagrange_matrix(t, s)))
-            mids.append(np.repeat(mid_all[sel], s.size))
-    if not parts:
+    # every point: its piece p and its s = -1 + (2j + 1)/J_p, the pieces in order (theta sorted)
+    piece = np.repeat(np.arange(a.size), counts)
+    j = np.arange(piece.size) - np.repeat(np.cumsum(counts) - counts, counts)
+    s = -1.0 + (2.0 * j + 1.0) / counts[piece]
+    keep = (s > t[0]) & (s < t[-1])
+    piece, s = piece[keep], s[keep]
+    if not piece.size:
         return None
-    mid = np.concatenate(mids)
-    out = _concat(parts)
-    return out, mid[np.argsort(np.concatenate([p.theta for p in parts]), kind="stable")]
-
-
-def _interpolate_pieces(sol: Solution, k, c, h, s, L) -> Solution:
-    """:func:`gk_interpolated` on pieces with centres ``c``, half-widths ``h``, node indices ``k`` (P, m) into
-    ``sol``, at the points s (J,) with the Lagrange matrix L (J, m)."""
-    P, m = k.shape
-    J = s.size
-    kf = k.ravel()
-    theta = (c[:, None] + h[:, None] * s[None, :]).ravel()
+    W = _lagrange_matrix(t, s)                                   # (n, m), one row per point
+    K = k_all[piece]                                             # (n, m) node indices into sol
+    theta = c[piece] + h[piece] * s
 
     def interp(arr):
-        if arr is None:
-            return None
-        v = arr[..., kf].reshape(arr.shape[:-1] + (P, m))
-        return np.einsum("...pm,jm->...pj", v, L).reshape(arr.shape[:-1] + (P * J,))
+        return None if arr is None else np.einsum("...nm,nm->...n", arr[..., K], W)
 
-    def per_piece(arr, how):                                      # one value per piece, repeated
-        if arr is None:
-            return None
-        v = arr[..., kf].reshape(arr.shape[:-1] + (P, m))
-        return np.repeat(how(v), J, axis=-1)
+    def per_piece(arr, how):                                     # one value per piece (its nodes'), per point
+        return None if arr is None else how(arr[..., K])
 
-    finite = per_piece(np.isfinite(sol.delta), lambda v: v.all(axis=-1))
-    delta = np.where(finite, interp(np.where(np.isfinite(sol.delta), sol.delta, 0.0)), -np.inf)
-    return Solution(theta, interp(sol.tau), interp(sol.dtau), np.zeros(theta.size), delta,
-                    np.maximum(interp(sol.force), 0.0), interp(sol.v_t), None, None, interp(sol.switch),
-                    per_piece(sol.branch, lambda v: v[..., 0]), per_piece(sol.cand, lambda v: v.any(axis=-1)),
-                    interp(sol.ddelta), per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau),
-                    interp(sol.bearing), interp(sol.stress), per_piece(sol.crest, lambda v: v.any(axis=-1)))
+    finite = np.isfinite(sol.delta)
+    delta = np.where(per_piece(finite, lambda v: v.all(axis=-1)), interp(np.where(finite, sol.delta, 0.0)), -np.inf)
+    out = Solution(theta, interp(sol.tau), interp(sol.dtau), np.zeros(theta.size), delta,
+                   np.maximum(interp(sol.force), 0.0), interp(sol.v_t), None, None, interp(sol.switch),
+                   per_piece(sol.branch, lambda v: v[..., 0]), per_piece(sol.cand, lambda v: v.any(axis=-1)),
+                   interp(sol.ddelta), per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau),
+                   interp(sol.bearing), interp(sol.stress), per_piece(sol.crest, lambda v: v.any(axis=-1)))
+    return out, mid_all[piece]
 
 
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
