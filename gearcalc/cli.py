@@ -432,7 +432,8 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc):
                         out.write(part.header())
                     failed += part.failed
                     total += part.n
-                    out.write(part.text)
+                    for block in part.blocks():
+                        out.write(block)
                     first = False
                     del part
                     continue

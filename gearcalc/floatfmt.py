@@ -338,19 +338,27 @@ def float_cells(x: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
     return _layout(D, E, np.signbit(x), out)
 
 
-def cells_width(x: np.ndarray) -> int:
+def cells_width(x: np.ndarray, bounds: tuple[float, float] | None = None) -> int:
     """A width of :func:`float_cells` ``(x, out)``'s ``out`` that holds every cell of ``x`` (finite doubles): at least
     the width of the matrix :func:`float_cells` ``(x)`` makes, from the decimal exponents of the least and the
-    greatest ``|x|`` (two reductions, no formatting).
+    greatest ``|x|`` (two reductions, no formatting).  ``bounds``: ``(x.min(), x.max())`` when the caller has them
+    (then no pass over ``x`` at all unless its values have both signs).
 
     >>> cells_width(np.array([1.5, 2.25])), cells_width(np.array([0.001, -7.0])), cells_width(np.array([1e20]))
     (19, 22, 24)
+    >>> cells_width(np.array([-3.0, -0.5]), (-3.0, -0.5))
+    20
     """
     x = np.asarray(x, dtype=np.float64)
     if not len(x):
         return 0
-    a = np.abs(x)
-    lo, hi = float(a.min()), float(a.max())
+    if bounds is not None and bounds[0] > 0.0:  # all positive: |x| has the same least and greatest
+        lo, hi = float(bounds[0]), float(bounds[1])
+    elif bounds is not None and bounds[1] < 0.0:  # all negative
+        lo, hi = -float(bounds[1]), -float(bounds[0])
+    else:
+        a = np.abs(x)
+        lo, hi = float(a.min()), float(a.max())
     zero = lo == 0.0
     if zero:
         if hi == 0.0:

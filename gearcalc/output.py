@@ -22,7 +22,12 @@ folder that does not exist, a directory, an input file named as output, an unkno
 :class:`UsageError` (exit status 2). ``EPIPE`` (the reader left) is left to propagate as
 :class:`BrokenPipeError`: the CLI ends quietly, as on standard output.
 
-This module imports only the standard library's ``os``, ``re``, ``stat`` and ``sys``.
+While a regular file is written piece by piece (a streamed sweep), the system is asked to start writing the
+pieces out to the disk as they come (Linux's ``sync_file_range``, :func:`start_writeback`): the ``fsync`` at the
+end then has little left to wait for.
+
+This module imports only the standard library's ``os``, ``re``, ``stat`` and ``sys`` (and ``ctypes`` on Linux, to
+call ``sync_file_range`` when a large file is written).
 """
 from __future__ import annotations
 
@@ -182,6 +187,7 @@ class Sink:
     def __init__(self, path: str | None):
         self.path = path
         self.fd = self.tmp = self.target = self.old = None
+        self.written = self.flushed = 0  # bytes written to the temporary file; bytes whose writeback was started
         if path is None or is_stdout(path):
             return
         path = os.fspath(path)
@@ -211,6 +217,11 @@ class Sink:
             raise
         except OSError as exc:
             raise OutputError(self.path, exc) from None
+        if self.tmp is not None:
+            self.written += len(data)
+            if self.written - self.flushed >= WRITEBACK_BYTES:
+                start_writeback(self.fd, self.flushed, self.written - self.flushed)
+                self.flushed = self.written
 
     def commit(self) -> None:
         if self.fd is None:
@@ -240,6 +251,39 @@ class Sink:
             except OSError:
                 pass
             self.tmp = None
+
+
+WRITEBACK_BYTES = 8 << 20
+"""A regular file's writeback is started (:func:`start_writeback`) each time this much more has been written."""
+
+_SYNC_FILE_RANGE = None  # the C library's sync_file_range (False: none here), looked up on first use
+
+
+def start_writeback(fd: int, offset: int, size: int) -> bool:
+    """Ask the system to start writing ``size`` bytes of the file ``fd`` from ``offset`` to the disk, and return at
+    once (Linux's ``sync_file_range`` with ``SYNC_FILE_RANGE_WRITE``; False where there is none, or it failed).
+
+    Without it the pages of a file written quickly stay dirty until the ``fsync`` of :meth:`Sink.commit`, which then
+    writes them all while the program waits (measured for 330 MB written in pieces of 21 MB on ext4: 0.15-0.2 s
+    at the end of a sweep); the writes themselves also took less CPU time with it (0.12 s instead of 0.45 s).
+    Durability is unchanged: the ``fsync`` still comes before the rename."""
+    global _SYNC_FILE_RANGE
+    if _SYNC_FILE_RANGE is None:
+        _SYNC_FILE_RANGE = False
+        if sys.platform.startswith("linux"):
+            try:
+                import ctypes
+
+                fn = ctypes.CDLL(None, use_errno=True).sync_file_range
+                fn.argtypes = [ctypes.c_int, ctypes.c_int64, ctypes.c_int64, ctypes.c_uint]
+                fn.restype = ctypes.c_int
+                _SYNC_FILE_RANGE = fn
+            except (OSError, AttributeError):  # pragma: no cover - a C library without it
+                pass
+    if not _SYNC_FILE_RANGE:
+        return False
+    SYNC_FILE_RANGE_WRITE = 2
+    return _SYNC_FILE_RANGE(fd, offset, size, SYNC_FILE_RANGE_WRITE) == 0
 
 
 class stream:  # noqa: N801 - used as a context manager, like open()

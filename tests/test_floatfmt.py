@@ -263,6 +263,17 @@ def test_cells_width_holds_every_cell_and_cells_write_in_place(patterns, lead, e
     assert [bytes(r[r != 0]) for r in band] == [repr(v).encode() for v in x.tolist()]
 
 
+@settings(max_examples=300, deadline=None, derandomize=True)
+@given(st.lists(st.integers(0, 2**64 - 1), min_size=1, max_size=50))
+def test_cells_width_from_the_bounds_is_the_same(patterns):
+    # the CSV writer passes (min, max) it has: the width is the one cells_width finds alone, signs mixed or not
+    x = np.array(patterns, dtype=np.uint64).view(np.float64)
+    x = x[np.isfinite(x)]
+    for y in (x, np.abs(x), -np.abs(x)):
+        if len(y):
+            assert F.cells_width(y, (float(y.min()), float(y.max()))) == F.cells_width(y)
+
+
 def test_cells_width_at_the_switches_to_scientific_notation():
     for v in (9.999999999999999e15, 1e16, 1e15, 9.999999999999999e-5, 1e-4, 1e-5, 1e23, 9.999999999999999e22,
               0.0, -0.0, 5e-324, 1.7976931348623157e308):

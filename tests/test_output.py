@@ -247,3 +247,35 @@ def test_stdout_takes_a_bytearray(capsysbinary):
     write_stdout(bytearray(b"a,b\n1,2\n"))
     write_stdout(memoryview(b"3,4\n"))
     assert capsysbinary.readouterr().out == b"a,b\n1,2\n3,4\n"
+
+
+def test_a_file_written_in_pieces_has_its_writeback_started_as_it_grows(tmp_path, monkeypatch):
+    # a streamed sweep's file: the system is asked to start writing each WRITEBACK_BYTES to disk (the fsync at the
+    # end then waits for little); the content and the atomic replacement are unchanged
+    from gearcalc import output
+
+    monkeypatch.setattr(output, "WRITEBACK_BYTES", 1000)
+    calls = []
+    start = output.start_writeback
+    monkeypatch.setattr(output, "start_writeback", lambda fd, at, n: calls.append((at, n)) or start(fd, at, n))
+    path = tmp_path / "big.csv"
+    path.write_bytes(b"old")
+    pieces = [bytes([65 + k]) * 700 for k in range(5)]
+    with output.stream(str(path)) as out:
+        for piece in pieces:
+            out.write(piece)
+        assert path.read_bytes() == b"old"
+    assert path.read_bytes() == b"".join(pieces)
+    assert calls == [(0, 1400), (1400, 1400)]
+    assert files_in(tmp_path) == ["big.csv"]
+
+
+def test_start_writeback_where_the_system_has_it(tmp_path):
+    from gearcalc import output
+
+    fd = os.open(tmp_path / "f", os.O_WRONLY | os.O_CREAT, 0o644)
+    try:
+        os.write(fd, b"x" * 10000)
+        assert output.start_writeback(fd, 0, 10000) == sys.platform.startswith("linux")
+    finally:
+        os.close(fd)

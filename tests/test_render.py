@@ -176,3 +176,19 @@ def test_templates_run_as_printed_and_with_the_alternative_key(tmp_path):
     path.write_text(swapped)
     r = cli("pins", path, "--format", "csv")
     assert r.code in (0, 1), r.err
+
+
+def test_csv_of_int_and_flag_arrays_and_constant_lists_is_the_row_csv():
+    # the CSV writer's fast paths: numpy arrays of counts and flags (one value: a constant), lists of one word, of
+    # empty lists, of equal numbers of other types (1 == 1.0 == True: not a constant) give the row-by-row cells
+    import numpy as np
+
+    n = 3000
+    cols = {"n": np.full(n, 3), "k": np.arange(n) % 4, "ok": np.ones(n, bool), "flag": np.arange(n) % 3 == 0,
+            "u8": np.full(n, 7, np.uint8), "empty": [[]] * n, "some": [[]] * (n - 1) + [[2, 3]],
+            "num": [1] * (n - 1) + [1.0], "t": [True] * (n - 1) + [1], "w": ["stepwise"] * n,
+            "x": np.linspace(1.0, 2.0, n), "neg": -np.linspace(1.0, 2.0, n), "z": [None] * n, "f": ["=1"] * n}
+    as_lists = {k: v.tolist() if isinstance(v, np.ndarray) else v for k, v in cols.items()}
+    rows = [dict(zip(as_lists, values)) for values in zip(*as_lists.values())]
+    text = R.write_csv_columns(R.Columns(cols))
+    assert text == R.write_csv_columns(R.Columns(as_lists)) == R.write_csv(rows)

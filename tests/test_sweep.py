@@ -323,3 +323,39 @@ def test_keep_freed_memory_is_idempotent():
     from gearcalc.grid import keep_freed_memory
 
     assert keep_freed_memory() == keep_freed_memory() == (platform.libc_ver()[0] == "glibc")
+
+
+def test_jobs_csv_through_shared_slots_or_the_pipe_is_the_same_file(tmp_path, monkeypatch):
+    # --jobs: a chunk's CSV text comes back through a shared slot (grid.Slots) where the workers are forked, and
+    # through the pool's pipe when it does not fit a slot; the file is the same either way, and as with --jobs 1
+    import multiprocessing
+
+    args = ["sweep", FIG3, "--vary", "rows.relative_width=1.5:3.0:0.0001", "--format", "csv"]
+    assert cli(*args, "-o", tmp_path / "one.csv").code == 0
+    seen = []
+    finished = sw._finished
+    monkeypatch.setattr(sw, "_finished", lambda result, *a: seen.append(type(result).__name__) or finished(result, *a))
+    assert cli(*args, "-o", tmp_path / "slots.csv", "--jobs", "2").code == 0
+    forked = multiprocessing.get_context().get_start_method() == "fork"
+    assert seen and set(seen) == ({"_InSlot"} if forked else {"CsvPiece"})
+    seen.clear()
+    monkeypatch.setattr(sw, "SLOT_BYTES", 4096)  # no chunk fits: every text through the pipe
+    assert cli(*args, "-o", tmp_path / "pipe.csv", "--jobs", "2").code == 0
+    assert seen and set(seen) == {"CsvPiece"}
+    one = (tmp_path / "one.csv").read_bytes()
+    assert len(one.splitlines()) == 1 + 15001
+    assert (tmp_path / "slots.csv").read_bytes() == one == (tmp_path / "pipe.csv").read_bytes()
+
+
+def test_slots_only_where_workers_are_forked():
+    import multiprocessing
+
+    assert sw.Slots.make(4, multiprocessing.get_context("spawn")) is None
+    if "fork" in multiprocessing.get_all_start_methods():
+        slots = sw.Slots.make(2, multiprocessing.get_context("fork"))
+        slot = slots.take()
+        assert slots.store(slot, [b"ab", bytearray(b"c"), memoryview(b"de")]) == 5
+        assert bytes(slots.view(slot, 5)) == b"abcde"
+        assert slots.store(slot, [b"x" * (slots.size + 1)]) is None  # too large: the caller uses the pipe
+        slots.give(slot)
+        slots.close()

@@ -26,15 +26,19 @@ def one(value, defined=True):
 
 
 def columns(points: int):
-    """``plain`` for a sweep of that many points: a list per field, None where not defined; a column of floats
-    defined everywhere is a float64 numpy array (its own copy) instead, which the CSV writer formats without
-    a list (:meth:`gearcalc.render.Columns.lists` gives the list)."""
+    """``plain`` for a sweep of that many points: a list per field, None where not defined; a column of floats,
+    ints or flags defined everywhere is a numpy array (its own copy) instead, which the CSV writer formats
+    without a list (:meth:`gearcalc.render.Columns.lists` gives the list), and a column of one word is a list of
+    one str object (the CSV writer sees a constant at once: ``list.count`` compares identical objects first)."""
     import numpy as np
 
     def column(values, defined=None):
         values = np.broadcast_to(values, (points,))
-        if values.dtype == np.float64 and (defined is None or np.all(defined)):
-            return np.array(values)
+        if defined is None or np.all(defined):
+            if values.dtype == np.float64 or values.dtype.kind in "iub":
+                return np.array(values)
+            if values.dtype.kind == "U" and points and bool((values == values[0]).all()):
+                return [str(values[0])] * points
         out = values.tolist()
         for k in [] if defined is None else np.flatnonzero(~defined).tolist():
             out[k] = None

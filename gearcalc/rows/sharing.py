@@ -519,9 +519,18 @@ def row_sharing_mixed(kappa, cheek_ratio, rows, level: str = "stepwise") -> Shar
     from ..arrays import unique_sorted
 
     P = len(rows)
+    groups = unique_sorted(rows)
+    if len(groups) == 1:  # one number of rows (most sweeps): that group is the batch, no gathering nor scattering
+        # contiguous, as the gathered copies below are: numpy's SIMD loops (exp, tanh) follow the memory layout
+        part = row_sharing(np.ascontiguousarray(kappa), np.ascontiguousarray(cheek_ratio), int(groups[0]), level)
+        unloaded = [[]] * P
+        for k in np.flatnonzero(np.any(part.unloaded, axis=-1)):  # rows.md §13.4
+            unloaded[k] = (np.flatnonzero(part.unloaded[k]) + 1).tolist()
+        return SharingBatch(part.stepwise_valid, part.K_stepwise, part.K_exact, part.K_continuous, part.K,
+                            part.K_row, part.level, part.peak_factor, unloaded)
     out = SharingBatch(np.ones(P, bool), np.ones(P), np.ones(P), np.ones(P), np.ones(P), np.ones(P, int),
                        np.empty(P, "<U10"), np.ones(P), [[]] * P)
-    for n in unique_sorted(rows):
+    for n in groups:
         idx = np.flatnonzero(rows == n)
         part = row_sharing(kappa[idx], cheek_ratio[idx], int(n), level)
         for name in ("stepwise_valid", "K_stepwise", "K_exact", "K_continuous", "K", "K_row", "level", "peak_factor"):
