@@ -1,8 +1,7 @@
-"""The ``rows`` kind: design keys → :mod:`gearcalc.rows` → named summary and detail fields, warning texts.
+"""The ``rows`` kind: design keys → :mod:`gearcalc.rows` → named summary and detail fields (rows.md).
 
-Mapping only: the physics, the geometry and the validity rules are functions of :mod:`gearcalc.rows`, called
-alike by ``check``, ``compute`` and the vectorised ``sweep``.  ``check`` imports no numpy (the geometry module
-needs none); the other physics modules are imported inside :func:`compute` and :func:`sweep`.
+Mapping only: physics, geometry and validity rules are :mod:`gearcalc.rows` functions (the same for ``check``,
+``compute`` and the vectorised ``sweep``), texts :mod:`gearcalc.rows.report`.  ``check`` imports no numpy.
 """
 from __future__ import annotations
 
@@ -11,7 +10,7 @@ import math
 from ..calculator import Calculator, DesignError, Options, Problems, Result
 from ..rows import geometry as G
 from ..rows import report as W
-from ..rows.schema import TABLES
+from ..rows.schema import FAST_SWEEP_KEYS, TABLES
 from ..units import MRAD_PER_RAD, deg_to_rad, nm_to_nmm
 
 
@@ -36,8 +35,7 @@ def diameter(reading, f):
 def check(design, problems: Problems) -> None:
     given = design.is_given
     if given("rows.relative_width") == given("rows.rim_width_mm"):
-        problems.error("rows.relative_width", "give exactly one of rows.relative_width (B) and rows.rim_width_mm "
-                       "(b_w)" + (", not both" if given("rows.relative_width") else ""))
+        problems.error("rows.relative_width", W.width_choice(given("rows.relative_width")))
         return
     if given("rows.cheek_ratio") and given("rows.cheek_mm"):
         problems.error("rows.cheek_ratio", "give one of rows.cheek_ratio and rows.cheek_mm, not both")
@@ -48,27 +46,22 @@ def check(design, problems: Problems) -> None:
     if given("gear.ratio") and given("gear.planet_teeth"):
         i_teeth = G.ratio_from_planet_teeth(design["gear.planet_teeth"], za)
         if abs(i_teeth - design["gear.ratio"]) > 1e-9 * i_teeth:
-            problems.error("gear.ratio", f"= {design['gear.ratio']!r} disagrees with gear.planet_teeth = "
-                           f"{design['gear.planet_teeth']} (2 + 2 z_g/z_a = {i_teeth:.6g}); give one of them")
+            problems.error("gear.ratio", W.ratio_disagrees(design["gear.ratio"], design["gear.planet_teeth"], i_teeth))
     f = face(design.get)
     if given("rows.cheek_mm") and not given("rows.rim_width_mm") and not G.rims_fit(f.rim_width):
-        problems.error("rows.cheek_mm", f"= {design['rows.cheek_mm']!r}: the cheeks leave no room for the rims "
-                       f"in b_a = B d_a = {f.relative_width * f.sun_diameter:.6g} mm")
+        problems.error("rows.cheek_mm", W.no_room_for_rims(design["rows.cheek_mm"], f.relative_width * f.sun_diameter))
         return
     if design["material.mesh_stiffness_MPa"] is None:
         design.values["material"]["mesh_stiffness_MPa"] = G.mesh_stiffness(design["material.E_MPa"])
     d_i, d_f, bore = diameter(design["sun.torsion_diameter"], f), f.root_diameter, design["sun.bore_mm"]
     if not G.bore_fits(bore, d_f, d_i):
-        problems.error("sun.bore_mm", f"= {bore!r}: must be < min(root diameter d_f = {d_f:.6g}, torsion diameter "
-                       f"d_I = {d_i:.6g}) = {min(d_f, d_i):.6g} mm (a bore cannot cut the tooth roots)")
+        problems.error("sun.bore_mm", W.bore_too_large(bore, d_f, d_i))
     elif G.rim_too_thin(d_f, bore, m):
-        problems.warn(f"the rim under the sun's tooth roots, (d_f - d_0)/2 = {G.rim_under_roots(d_f, bore):.4g} mm, "
-                      f"is thinner than 1.2 tooth depths (2.7 m = {G.RIM_MIN_MODULES * m:.4g} mm) "
-                      "[ISO 6336-3]: the teeth and rim may not carry as modelled")
+        problems.warn(W.rim_too_thin(G.rim_under_roots(d_f, bore), G.RIM_MIN_MODULES * m))
     i = ratio(design.get)
     if design.has("bridges"):
         if i is None:
-            problems.error("gear.ratio", "missing; [bridges] needs the ratio (give gear.ratio or gear.planet_teeth)")
+            problems.error("gear.ratio", W.BRIDGES_NEED_RATIO)
         for key in ("axle_diameter_mm", "bridge_thickness_mm"):
             if design[f"bridges.{key}"] is None:
                 design.values["bridges"][key] = G.DEFAULT_SECTION_PER_RIM * f.rim_width
@@ -81,17 +74,15 @@ def check(design, problems: Problems) -> None:
             problems.error("mass.ratio_range", f"= [{lo!r}, {hi!r}]: the lower bound must be below the upper")
     nw = design["rows.planets_per_row"]
     if nw == 1:
-        problems.warn("one planet per row: sun bending and the unbalanced radial load are not modelled")
+        problems.warn(W.ONE_PLANET)
     if f.relative_width > G.PAPER_MAX_RELATIVE_WIDTH:
-        problems.warn(f"relative width B = {f.relative_width:.4g} is far outside the paper's range (B <= 10)")
+        problems.warn(W.WIDE.format(B=f.relative_width))
     if i is not None:
         z_g = G.planet_teeth(i, za)
         if given("gear.ratio") and abs(z_g - round(z_g)) > 1e-9:
-            problems.warn(f"gear.ratio = {i!r} gives z_g = z_a (i - 2)/2 = {z_g:.6g} planet teeth, not an "
-                          "integer: not a realisable gear (the formulas stay continuous in i)")
+            problems.warn(W.not_integer_planets(i, z_g))
         if G.planets_collide(za, z_g, nw):
-            problems.warn(f"the planets collide: z_g + 2 = {z_g + 2:.6g} >= (z_a + z_g) sin(pi/n_w) = "
-                          f"{(za + z_g) * math.sin(math.pi / nw):.6g} (adjacency condition)")
+            problems.warn(W.planets_collide(z_g, (za + z_g) * math.sin(math.pi / nw)))
 
 
 def mass_params(get, n, nw, f, E, nu, unevenness, alpha) -> dict:
@@ -118,10 +109,8 @@ def compute(design, options: Options) -> Result:
     d_i = diameter(design["sun.torsion_diameter"], f)
     kappa = kappa_for(d_i)
     sh = R.row_sharing(kappa, f.cheek_ratio, n, options.model or "stepwise")
-    warnings: list[str] = []
-    failed: list[str] = []
-    valid = bool(sh.stepwise_valid)
-    if (options.model or "stepwise") == "stepwise" and not valid:
+    warnings, failed = [], []
+    if (options.model or "stepwise") == "stepwise" and not bool(sh.stepwise_valid):
         warnings.append(W.STEPWISE_UNAVAILABLE.format(kappa=kappa))
     s = W.sharing_fields(design.name, n, nw, f, d_i, kappa, sh, W.one)
     if s["K_stepwise_vs_exact_pct"] is not None and abs(s["K_stepwise_vs_exact_pct"]) > 2.0:
@@ -133,17 +122,12 @@ def compute(design, options: Options) -> Result:
     w_mean = s.get("w_mean_N_per_mm")
     twist = None if w_mean is None else R.twist_from_shares(sh.u, w_mean, C, f.base_radius) * MRAD_PER_RAD
     detail = {"rows": W.detail_rows(sh, n, w_mean, twist, unloaded)}
-    K_for_mass = s["K"]
-    if design.has("bridges"):
-        K_bal = bridges(design, f, s, detail, warnings, failed, kappa_for, C, E, nu)
-        if K_bal is not None:
-            K_for_mass = K_bal
+    K_bal = bridges(design, f, s, detail, warnings, failed, kappa_for, C, E, nu) if design.has("bridges") else None
+    K_for_mass = s["K"] if K_bal is None else K_bal
     if design.has("mass"):
-        unev = design["mass.unevenness"]
-        K_m = K_for_mass if unev == "computed" else unev
+        K_m = K_for_mass if design["mass.unevenness"] == "computed" else design["mass.unevenness"]
         if K_m is None:
-            raise DesignError("mass.unevenness", "= \"computed\": K is not available for this design "
-                              "(K_balanced is undefined at kappa >= 8); give a number")
+            raise DesignError("mass.unevenness", W.UNEVENNESS_UNAVAILABLE)
         alpha = deg_to_rad(design["gear.pressure_angle_deg"])
         m = R.mass_and_optimum(ratio(design.get), design["mass.ratio_range"], options.tol,
                                **mass_params(design.get, n, nw, f, E, nu, K_m, alpha))
@@ -167,8 +151,7 @@ def bridges(design, f, s, detail, warnings, failed, kappa_for, C, E, nu):
     res = R.size_bridges(n, nw, f.sun_diameter, m, f.rim_width, f.cheek, alpha, i, design["bridges.axle_diameter_mm"],
                          design["bridges.bridge_thickness_mm"], E, nu, Ip, first_span=first_mm)
     if first_mm is not None and res["H_max"] > 0 and first_mm > res["H_max"]:
-        raise DesignError("bridges.first_span", f"= {first_mm!r}: must be <= H_max = {res['H_max']:.6g} mm, the "
-                          "widest bridge that fits between neighbouring planets")
+        raise DesignError("bridges.first_span", W.first_span_too_wide(first_mm, res["H_max"]))
     if not res["feasible"]:
         B_ok = None
         if design.get("rows.rim_width_mm") is None:
@@ -189,15 +172,6 @@ def bridges(design, f, s, detail, warnings, failed, kappa_for, C, E, nu):
     fields, detail["bridges"] = W.bridge_fields(res, d_size, verified)
     s.update(fields)
     return s["K_balanced"]
-
-
-FAST_SWEEP_KEYS = {
-    "gear.sun_teeth", "gear.module_mm", "gear.pressure_angle_deg", "gear.ratio", "rows.count",
-    "rows.planets_per_row", "rows.relative_width", "rows.rim_width_mm", "rows.cheek_ratio", "rows.cheek_mm",
-    "sun.torque_Nm", "sun.torsion_diameter", "sun.bore_mm", "material.E_MPa", "material.poisson",
-    "material.mesh_stiffness_MPa", "mass.wall_ratio", "mass.sun_fill", "mass.planet_fill",
-    "mass.allowable_contact_MPa", "mass.density_kg_m3", "mass.efficiency", "mass.unevenness",
-}
 
 
 def sweep(base, raw, axes, points, options):
@@ -251,8 +225,7 @@ def sweep(base, raw, axes, points, options):
     if T_a is not None:
         cols.update(W.load_fields(R.mean_line_load(nm_to_nmm(T_a), n, f.base_radius, f.rim_width, nw), sh, column))
     if base.has("mass"):
-        lo, hi = base["mass.ratio_range"]
-        unev = col("mass.unevenness")
+        (lo, hi), unev = base["mass.ratio_range"], col("mass.unevenness")
         m = R.mass_and_optimum(ratio(col), (np.full(P, lo), np.full(P, hi)), options.tol,
                                **mass_params(col, n, nw, f, E, nu, unev, deg_to_rad(col("gear.pressure_angle_deg"))))
         cols.update(W.mass_fields(m, unev, column))
@@ -267,16 +240,9 @@ def plot(records, path: str) -> None:
 
 
 CALCULATOR = Calculator(
-    kind="rows",
-    title="multi-row planetary gear: row load sharing, equalising carrier bridges, relative mass",
-    tables=TABLES,
-    compute=compute,
-    check=check,
-    models=("stepwise", "exact", "continuous"),
+    kind="rows", title="multi-row planetary gear: row load sharing, equalising carrier bridges, relative mass",
+    tables=TABLES, compute=compute, check=check, models=("stepwise", "exact", "continuous"),
     header="Seed paper 004_971077b94d8d4426.txt; physics in rows.md. Lengths in mm, torque in N*m, stresses in MPa.",
-    sweep=sweep,
-    table_fields=("K", "K_exact", "bridges_feasible", "K_balanced", "relative_mass_min_kg_per_kNm"),
-    sweep_plot=("relative_mass_kg_per_kNm", "K"),
-    failure=(("bridges_feasible", False),),
-    plot=plot,
+    sweep=sweep, table_fields=("K", "K_exact", "bridges_feasible", "K_balanced", "relative_mass_min_kg_per_kNm"),
+    sweep_plot=("relative_mass_kg_per_kNm", "K"), failure=(("bridges_feasible", False),), plot=plot,
 )

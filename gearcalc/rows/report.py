@@ -20,6 +20,50 @@ K_BALANCED_UNAVAILABLE = ("K_balanced is not available: the stepwise verificatio
                           "sizing diameter; the bridge widths are still reported")
 
 
+# ------------------------------------------------------------------ the texts of check() (rows.md §7, §8)
+
+def width_choice(both: bool) -> str:
+    return "give exactly one of rows.relative_width (B) and rows.rim_width_mm (b_w)" + (", not both" if both else "")
+
+
+def ratio_disagrees(i, z_g, i_teeth: float) -> str:
+    return f"= {i!r} disagrees with gear.planet_teeth = {z_g} (2 + 2 z_g/z_a = {i_teeth:.6g}); give one of them"
+
+
+def no_room_for_rims(cheek, b_a: float) -> str:
+    return f"= {cheek!r}: the cheeks leave no room for the rims in b_a = B d_a = {b_a:.6g} mm"
+
+
+def bore_too_large(bore, d_f: float, d_i: float) -> str:
+    return (f"= {bore!r}: must be < min(root diameter d_f = {d_f:.6g}, torsion diameter d_I = {d_i:.6g}) = "
+            f"{min(d_f, d_i):.6g} mm (a bore cannot cut the tooth roots)")
+
+
+def rim_too_thin(rim: float, min_rim: float) -> str:
+    return (f"the rim under the sun's tooth roots, (d_f - d_0)/2 = {rim:.4g} mm, is thinner than 1.2 tooth depths "
+            f"(2.7 m = {min_rim:.4g} mm) [ISO 6336-3]: the teeth and rim may not carry as modelled")
+
+
+def not_integer_planets(i, z_g: float) -> str:
+    return (f"gear.ratio = {i!r} gives z_g = z_a (i - 2)/2 = {z_g:.6g} planet teeth, not an integer: not a "
+            "realisable gear (the formulas stay continuous in i)")
+
+
+def planets_collide(z_g: float, room: float) -> str:
+    return f"the planets collide: z_g + 2 = {z_g + 2:.6g} >= (z_a + z_g) sin(pi/n_w) = {room:.6g} (adjacency condition)"
+
+
+def first_span_too_wide(first: float, H_max: float) -> str:
+    return f"= {first!r}: must be <= H_max = {H_max:.6g} mm, the widest bridge that fits between neighbouring planets"
+
+
+BRIDGES_NEED_RATIO = "missing; [bridges] needs the ratio (give gear.ratio or gear.planet_teeth)"
+ONE_PLANET = "one planet per row: sun bending and the unbalanced radial load are not modelled"
+WIDE = "relative width B = {B:.4g} is far outside the paper's range (B <= 10)"
+UNEVENNESS_UNAVAILABLE = ("= \"computed\": K is not available for this design (K_balanced is undefined at kappa >= 8); "
+                          "give a number")
+
+
 def one(value, defined=True):
     """A 0-d value of one design as a plain Python scalar (None where not defined)."""
     return (value.tolist() if hasattr(value, "tolist") else value) if defined else None

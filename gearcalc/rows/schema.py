@@ -69,3 +69,13 @@ TABLES = (
               length=2),
     )),
 )
+
+
+FAST_SWEEP_KEYS = frozenset({
+    "gear.sun_teeth", "gear.module_mm", "gear.pressure_angle_deg", "gear.ratio", "rows.count",
+    "rows.planets_per_row", "rows.relative_width", "rows.rim_width_mm", "rows.cheek_ratio", "rows.cheek_mm",
+    "sun.torque_Nm", "sun.torsion_diameter", "sun.bore_mm", "material.E_MPa", "material.poisson",
+    "material.mesh_stiffness_MPa", "mass.wall_ratio", "mass.sun_fill", "mass.planet_fill",
+    "mass.allowable_contact_MPa", "mass.density_kg_m3", "mass.efficiency", "mass.unevenness",
+})
+"""The keys a vectorised rows sweep may vary (:func:`gearcalc.kinds.rows.sweep`); others run point by point."""
