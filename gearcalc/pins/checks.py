@@ -194,7 +194,8 @@ def tooth_too_large(Rb, tooth_radius, Rp, e):
 
     .. math:: R_b + \rho_t \ge R_p - e
 
-    (the rule :func:`gearcalc.pins.contact.circular_profile` applies when it builds the profile).
+    (the one rule: :func:`gearcalc.pins.contact.circular_profile` and
+    :func:`gearcalc.pins.contact.zero_backlash_tooth_circle` call it).
 
     >>> tooth_too_large(2.75, 37.4, 44.227, 3.9), tooth_too_large(2.75, 37.6, 44.227, 3.9)
     (False, True)

@@ -56,6 +56,7 @@ from .. import hertz
 from ..arrays import unique_sorted
 from ..quadrature import _KRONROD, QuadResult, geometric_breakpoints, integrate_adaptive
 from ..roots import bisect, find_root, minimize_golden
+from .checks import tooth_too_large
 from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
 from .efficiency import contact_loss_power
 from .forces import pin_phase
@@ -298,7 +299,7 @@ def zero_backlash_tooth_circle(g: Cycloid, tooth_radius: float, grid=None) -> fl
     7.75
     """
     target = g.R_b + tooth_radius
-    if target >= g.R_p - g.e:
+    if tooth_too_large(g.R_b, tooth_radius, g.R_p, g.e):
         return None
     if grid is None or grid[0][1] - grid[0][0] > target / 4.0:
         grid = _distance_grid(g, target / 4.0)
@@ -710,7 +711,7 @@ def circular_profile(g: Cycloid, tooth_radius=None, tooth_circle_radius=None):
             if full is None:
                 raise InadmissibleProfile("no_full_tooth", R_b=Rb, limit=Rp - e)
             rho_t, R_t = full
-    if Rb + rho_t >= Rp - e:
+    if tooth_too_large(Rb, rho_t, Rp, e):
         raise InadmissibleProfile("tooth_too_large", rho_t=rho_t, sum=Rb + rho_t, limit=Rp - e)
     if not explicit_R_t and R_t is None:
         R_t = zero_backlash_tooth_circle(g, rho_t)
