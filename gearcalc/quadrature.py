@@ -14,7 +14,9 @@ erratically (kinks) or only to first order (jumps), so:
 * the reported value is the Richardson value ``Q_2N + (Q_2N - Q_N)/3`` and the reported error the
   conservative ``E = |Q_2N - Q_N|`` (pins.md §6 and §12.6): an independent finer computation lies
   within it;
-* doubling stops when ``E <= max(tol |Q|, atol)`` on two successive doublings, or at ``n_max``.
+* doubling stops when ``E <= max(tol |Q|, atol)`` on two successive doublings, or at ``n_max``
+  (:func:`integrate_pieces` also stops an integral at once where its sum is not finite: it would stay so
+  at every finer level; value and error NaN, not converged).
 
 Two drivers apply this rule: :func:`integrate_adaptive` (one integral; a piece is doubled only while it
 needs it) and :func:`integrate_pieces` (many integrals at once, all pieces of an integral doubled
@@ -525,7 +527,9 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
     to the piece lengths, at least 2 per piece), and then all of an owner's pieces are doubled together;
     an owner is accepted when ``E <= max(tol |Q|, atol)`` on ``accept_levels`` successive doublings (at
     least ``min_levels`` doublings, at most ``n_max`` intervals), with the Richardson value
-    ``Q_2N + (Q_2N - Q_N)/3`` and the conservative error ``E = |Q_2N - Q_N|``.
+    ``Q_2N + (Q_2N - Q_N)/3`` and the conservative error ``E = |Q_2N - Q_N|``.  An owner whose sum is not
+    finite at a level (an integrand that overflows) stops there, not converged, with value and error NaN:
+    a non-finite sum stays so at every finer level, so doubling on to ``n_max`` would only cost time.
 
     Why two entry points.  :func:`integrate_adaptive` integrates one function and doubles piece by piece
     (the contact level: a few costly integrands, pieces of very different difficulty).  This one integrates
@@ -659,21 +663,26 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
             T = np.where(ONp[i], 0.5 * T + hS[i], T)
             Qs[i] = np.bincount(owner, T, minlength=n_owner)
         Qprev = np.vstack([Q[None, :], Qs[:-1]])
-        E = np.abs(Qs - Qprev)
+        with np.errstate(invalid="ignore"):          # inf - inf of a non-finite sum (it stops below)
+            E = np.abs(Qs - Qprev)
         OK = E <= np.maximum(tol * np.abs(Qs), atol)
         ST = np.empty((L, n_owner), dtype=np.int64)
         for i in range(L):
             streak = np.where(ON[i], (streak + 1) * OK[i], streak)
             ST[i] = streak
-        CONV = ON & (ells[:, None] >= min_levels) & (ST >= accept_levels)
-        STOP = CONV | (ON & (ells[:, None] >= cap))
+        # a non-finite sum stays non-finite at every finer level: the owner stops at once (value and error NaN)
+        NONFIN = ON & ~np.isfinite(Qs)
+        CONV = ON & (ells[:, None] >= min_levels) & (ST >= accept_levels) & ~NONFIN
+        STOP = CONV | (ON & (ells[:, None] >= cap)) | NONFIN
         stopped = STOP.any(axis=0)
         cols = np.arange(n_owner)
         if np.any(stopped):
             first = np.argmax(STOP, axis=0)                      # an owner stops at its first accepted level
             Qf, Qp = Qs[first, cols], Qprev[first, cols]
-            out_value = np.where(stopped, Qf + (Qf - Qp) / 3.0, out_value)
-            out_err = np.where(stopped, E[first, cols], out_err)
+            bad = NONFIN[first, cols]
+            with np.errstate(invalid="ignore"):
+                out_value = np.where(stopped, np.where(bad, np.nan, Qf + (Qf - Qp) / 3.0), out_value)
+                out_err = np.where(stopped, np.where(bad, np.nan, E[first, cols]), out_err)
             out_trap = np.where(stopped, Qf, out_trap)
             out_conv = np.where(stopped, CONV[first, cols], out_conv)
             out_level = np.where(stopped, ells[first], out_level)
@@ -761,6 +770,9 @@ def _one_owner(evaluate, a, b, length, mid_p, owner, n0, N0: int, cap: int, tol,
         for i in range(L):       # the doubling recursion and the acceptance, level by level
             T = [0.5 * t + s for t, s in zip(T, hS[i])]
             q = _sum_in_order(T)
+            if not math.isfinite(q):   # stays non-finite at every finer level: stop at once (value and error NaN)
+                stop = (math.nan, math.nan, q, False, lo + i)
+                break
             e = abs(q - Q)
             streak = (streak + 1) if e <= max(tol * abs(q), atol) else 0
             conv = lo + i >= min_levels and streak >= accept_levels

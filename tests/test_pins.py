@@ -571,6 +571,26 @@ def test_the_first_rounds_levels_change_no_result(g, monkeypatch):
     assert np.array_equal(capped.grid_t, one_round.grid_t)
 
 
+@pytest.mark.parametrize("tol", [1e-6, 1e-9])
+def test_the_first_rounds_guess_by_pin_count_changes_no_result(tol, monkeypatch):
+    # issue 15: the first round guesses one level less per doubling of z2 beyond 28 (the u = 30 paper gear,
+    # z2 = 62, is accepted at 128 intervals at --tol 1e-6, where the guess of z2 = 22 evaluated 256); speed only
+    assert pins.first_levels(1e-6, 22) == 4 and pins.first_levels(1e-6, 62) == 3
+    assert pins.first_levels(1e-6, np.array([22, 62, 112, 10_000])).tolist() == [4, 3, 2, 2]
+    gs = [gear(20, 22), gear(60, 62), gear(99, 100, K1=0.9)]
+    both = Cycloid(*(np.array([getattr(x, f) for x in gs]) for f in ("z1", "z2", "e", "R_p", "R_b", "one_minus_K1")))
+    guessed = [pins.ideal_cycles(pins.geometry._as_arrays(g), 1, tol=tol) for g in gs] + [
+        pins.ideal_cycles(both, 1, tol=tol)]
+    plain = pins.ideal.first_levels
+    monkeypatch.setattr(pins.ideal, "first_levels", lambda t, z2=None: plain(t))
+    fixed = [pins.ideal_cycles(pins.geometry._as_arrays(g), 1, tol=tol) for g in gs] + [
+        pins.ideal_cycles(both, 1, tol=tol)]
+    for a, b in zip(guessed, fixed):
+        for f in ("loss_ratio", "loss_ratio_err", "n_crank", "force", "force_phase", "loss", "total", "rel_abs",
+                  "grid_t", "grid_sums"):
+            assert np.array_equal(getattr(a, f), getattr(b, f)), f
+
+
 @pytest.mark.parametrize("g", HONESTY[:4] + HONESTY[5:6], ids=lambda g: f"z{g.z1}-{g.z2}-K{g.K1:.9g}")
 def test_ideal_cycles_peaks_against_a_dense_sweep(g):
     # the refined peaks (pins.md §12.1) against 200001 crank angles of one period, pointwise (pin_forces)

@@ -535,3 +535,18 @@ def test_jammed_mode_with_two_discs_raises_no_numpy_warning():
     # the reducer jams (f = 0.75 > 0.68, pins.md §4.9): self-locking, no efficiency and no crank torque
     assert r.summary["self_locking"] is True and r.summary["efficiency"] is None
     assert r.summary["crank_torque_mean_Nm"] is None and r.summary["efficiency_multiplier"] is not None
+
+
+@pytest.mark.parametrize("geometry", [PAPER_U10, (10, 11, 1.95, 0.75, 1.755), (60, 62, 3.9, 0.75, 1.95)])
+@pytest.mark.parametrize("f", [0.0, 0.1, 0.67, 0.7, 1.0])   # 0.67: the u = 10 reducer refines near its jam limit
+@pytest.mark.parametrize("sigma", [pins.REDUCER, pins.MULTIPLIER])
+def test_one_point_equals_the_same_point_among_several_bit_for_bit(geometry, f, sigma):
+    # issue 15: one point on its gear's whole grid (a design computed alone) takes a shorter path
+    # (consistent._one_point); two points (the general path) must give it the same numbers, bit for bit
+    cyc = _cycles(geometry)
+    one = pins.consistent_cycles(cyc, np.array([0]), np.array([f]), mode=sigma)
+    two = pins.consistent_cycles(cyc, np.array([0, 0]), np.array([f, 0.05]), mode=np.array([sigma, -sigma]))
+    for name in pins.ConsistentCycles.__dataclass_fields__:
+        a, b = getattr(one, name), getattr(two, name)[..., :1]
+        assert a.shape == b.shape and a.dtype == b.dtype, name
+        assert np.array_equal(a, b, equal_nan=a.dtype.kind == "f"), (name, a, b)

@@ -305,3 +305,20 @@ def test_gauss_kronrod_cap_and_unknown_rule():
     assert not r.converged and r.n <= 100 and abs(r.value[0] - 2.0 / 3.0) <= r.err[0]
     with pytest.raises(ValueError, match="rule"):
         integrate_adaptive(lambda x, m: x, [0.0, 1.0], rule="simpson")
+
+
+def test_a_non_finite_sum_stops_its_owner_at_once():
+    # an integrand that overflows (a pins sweep point with curtate_ratio 1e-306) stayed non-finite at every
+    # level and was doubled to n_max (2^20 intervals, seconds); its owner now stops at the first level whose sum
+    # is not finite, value and error NaN, not converged; the other owners are untouched
+    def f(x, mid, piece):
+        with np.errstate(over="ignore"):
+            return np.where(piece == 1, np.exp(800.0 + x), np.exp(x))
+
+    r = integrate_pieces(f, [0.0, 0.0], [1.0, 1.0], [0, 1], tol=1e-10, n_max=2 ** 20)
+    ok = integrate_pieces(lambda x, m, p: np.exp(x), [0.0], [1.0], [0], tol=1e-10, n_max=2 ** 20)
+    assert r.value[0] == ok.value[0] and r.err[0] == ok.err[0] and r.n[0] == ok.n[0] and r.converged[0]
+    assert math.isnan(r.value[1]) and math.isnan(r.err[1]) and not r.converged[1] and r.n[1] <= 64
+    alone = integrate_pieces(lambda x, m, p: f(x, m, p + 1), [0.0], [1.0], [0], tol=1e-10, n_max=2 ** 20)
+    assert math.isnan(alone.value[0]) and math.isnan(alone.err[0]) and not alone.converged[0]   # one-owner path
+    assert alone.n[0] <= 64

@@ -97,7 +97,9 @@ class ConsistentCycles:
     stress : largest F/(T_sat R_eff) [1/mm^2] (the Hertz peak pressure is sqrt(E* T_sat stress/(pi b)));
     bearing_max, bearing_mean : largest and mean |B|/T_sat of one disc's crank bearing [1/mm];
     crank_mean, crank_min, crank_max : crank torque along the power flow over T_sat, summed over the discs [-].
-    The peaks are the largest values at the nodes of the final grid (error O(h^2)).
+    The peaks are the largest values at the nodes of the final grid (error O(h^2)).  The result of one point
+    with one disc on a gear solved alone (a design computed alone) also has ``scalars``: the same values as
+    Python scalars (each field's ``[..., 0].tolist()``).
     """
 
     loss_ratio: np.ndarray
@@ -159,7 +161,8 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     Q_L + (Q_L - Q_{L-1})/3, error E = |Q_L - Q_{L-1}|, accepted when E <= max(tol |Q|, 1e-14) on the two
     last doublings (pins.md §6).  Where that is not accepted (friction near the jam limit), the doubling
     continues from the final grid, evaluating only the new nodes (:func:`_refine_consistent`), up to
-    :data:`CONSISTENT_N_MAX`.  A mode jams where D <= 0 at some node.
+    :data:`CONSISTENT_N_MAX`.  A mode jams where D <= 0 at some node.  One point with one disc on the whole grid
+    of a gear solved alone takes a shorter path to the same numbers, bit for bit (:func:`_one_point`).
 
     Parameters
     ----------
@@ -195,6 +198,9 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     mu = np.zeros(P) + mu
     n_d = np.zeros(P, dtype=np.int64) + n_discs
     sig = np.zeros(P, dtype=np.int64) + (MULTIPLIER if mode is None else mode)
+    if P == 1 and n_d[0] == 1 and cyc.solved is not None and cyc.solved.size == 1 and gear[0] == cyc.solved[0] \
+            and cyc.grid_t.size:
+        return _one_point(cyc, float(mu[0]), int(sig[0]), tol)
     per_gear = np.bincount(cyc.grid_gear, minlength=cyc.status.size) if cyc.grid_gear.size else \
         np.zeros(cyc.status.size, dtype=np.int64)
     nodes = per_gear[gear]
@@ -322,6 +328,167 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     return ConsistentCycles(converged=conv, jammed=jam, n_crank=n_crank, **res)
 
 
+def _seq_sums(rows):
+    """Sums of each row of a 2-D array from 0.0 in node order (as ``np.bincount`` accumulates; a cumulative sum is
+    sequential, unlike numpy's pairwise ``sum``)."""
+    return np.cumsum(rows, axis=1)[:, -1]
+
+
+def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> ConsistentCycles:
+    """:func:`consistent_cycles` of one point with one disc on the whole grid of a gear solved alone.
+
+    The same formulas, sums (in node order) and acceptance, operation for operation, so the same numbers bit for
+    bit; the bookkeeping runs on Python scalars and the per-node values are computed once for both modes (a
+    design computed alone: a few hundred nodes, where numpy's cost per call dominates)."""
+    sums, w, t = cyc.grid_sums, cyc.grid_weights, cyc.grid_t
+    G = cyc.table
+    r_p1, z2, n0 = float(G.r_p1[0]), int(G.z2[0]), int(cyc.n_crank[0])
+    N, S = sums[0], sums[1]
+    Q = N - sums[2]
+    nan = math.nan
+    muQ = mu * Q
+    D2 = np.empty((2, Q.size))
+    np.subtract(S, muQ, out=D2[0])
+    np.add(S, muQ, out=D2[1])
+    good = D2 > 0.0
+    jam = [not g for g in good.all(axis=1).tolist()]
+    if jam[0] or jam[1]:
+        with np.errstate(divide="ignore", invalid="ignore"):
+            lam2 = np.where(good, (mu * N) / D2, 0.0)
+    else:
+        lam2 = (mu * N) / D2
+    loss_ratio, err, conv = [nan, nan], [nan, nan], [False, False]
+    q = _seq_sums((w[None, :, :] * lam2[:, None, :]).reshape(6, -1)).reshape(2, 3).tolist() if mu != 0.0 else \
+        [[0.0] * 3] * 2              # mu = 0: lambda = 0 exactly (set below)
+    for m in range(2):
+        q0, q1, q2 = q[m]
+        E1, E0 = abs(q0 - q1), abs(q1 - q2)
+        if not jam[m]:
+            loss_ratio[m], err[m] = q0 + (q0 - q1) / 3.0, E1
+            conv[m] = E1 <= max(tol * abs(q0), 1e-14) and E0 <= max(tol * abs(q1), 1e-14)
+    n_crank = [n0, n0]
+    # forces, peaks, crank bearing and crank torque of the point's own mode
+    own = 0 if sigma == REDUCER else 1
+    res = dict.fromkeys(("force", "force_phase", "loss", "loss_phase", "total", "stress", "bearing_max",
+                         "bearing_mean", "crank_mean", "crank_min", "crank_max"), nan)
+    if not jam[own]:                 # c = 1/D > 0 at every node (else every field of the mode stays NaN)
+        smu = sigma * mu
+        c = 1.0 / D2[own]
+        stacked = np.empty((6, c.size))      # F, P_loss, the total, F/R_eff, |B|, the crank torque (rows as views)
+        np.multiply(sums[5], c, out=stacked[0])
+        Bx = c * (sums[3] - smu * sums[4])
+        By = c * (sigma * S + mu * sums[2]) / r_p1
+        np.hypot(Bx, By, out=stacked[4])
+        crank = np.multiply(sigma * (r_p1 / float(G.Ze[0] - 1.0)), By, out=stacked[5])   # sigma e B_y, e = r_p1/u
+        np.multiply(sums[7] * c, 1e-3, out=stacked[1])
+        np.multiply(N * c, 1e-3, out=stacked[2])
+        np.multiply(sums[9], c, out=stacked[3])
+        peak = np.fmax.reduce(stacked, axis=1).tolist()
+        for r, key in enumerate(("force", "loss", "total", "stress", "bearing_max", "crank_max")):
+            res[key] = peak[r]
+        res["crank_min"] = float(np.fmin.reduce(crank))
+        for key, r, row in (("force", 0, 6), ("loss", 1, 8)):     # the load-side phase of the peak's contact
+            h = int(stacked[r].argmax())                              # (the first node holding the maximum;
+            if not stacked[r, h] == peak[r]:                          # argmax stops at a NaN, fmax skips it)
+                hit = np.flatnonzero(stacked[r] == peak[r])
+                h = int(hit[0]) if hit.size else -1
+            if h >= 0:
+                res[key + "_phase"] = 2.0 * math.pi * ((float(sums[row, h]) + float(t[h])) / z2)
+        both = stacked[4:6]                                    # |B| and the crank torque
+        if not np.isfinite(c).all():   # 1/D overflows where D is subnormal: those nodes count 0 in the means
+            both = np.where(np.isfinite(c), both, 0.0)
+        res["bearing_mean"], res["crank_mean"] = _seq_sums(w[0] * both).tolist()
+    if mu > 0.0:
+        redo = [m for m in range(2) if not conv[m] and not jam[m]]
+        if redo:   # continue the doubling where the final grid does not meet the tolerance (near the jam limit)
+            sig = [REDUCER if m == 0 else MULTIPLIER for m in redo]
+            if cyc.n_piece is not None:
+                val, e, cv, nn, jm = _refine_one(G, cyc.pieces, cyc.n_piece, w, mu, sig, lam2[redo], tol)
+            else:
+                val, e, cv, nn, jm = _refine_consistent(cyc, 0, t, cyc.grid_mid, w, np.full(len(redo), mu),
+                                                        np.array(sig), lam2[redo], tol)
+            for i, m in enumerate(redo):
+                if jm[i]:
+                    jam[m] = True
+                    loss_ratio[m] = err[m] = nan
+                else:
+                    loss_ratio[m], err[m] = float(val[i]), float(e[i])
+                conv[m], n_crank[m] = bool(cv[i]), int(nn[i])
+    else:                                              # f = f_k = f_c = 0: lambda = 0 exactly (pins.md §9)
+        loss_ratio, err, conv = [0.0, 0.0], [0.0, 0.0], [True, True]
+    vals = np.array(list(res.values()))
+    out = {k: vals[i:i + 1] for i, k in enumerate(res)}
+    cc = ConsistentCycles(loss_ratio=np.array(loss_ratio)[:, None], err=np.array(err)[:, None],
+                          converged=np.array(conv)[:, None], jammed=np.array(jam)[:, None],
+                          n_crank=np.array(n_crank, dtype=np.int64)[:, None], **out)
+    # the same values as Python scalars (what ``field[..., 0].tolist()`` gives), for the one point's outputs
+    cc.scalars = dict(loss_ratio=loss_ratio, err=err, converged=conv, jammed=jam, n_crank=n_crank, **res)
+    return cc
+
+
+def _refine_one(G: _GearTable, pieces, n_piece, w, mu: float, sigma: list, lam, tol: float):
+    """:func:`_refine_consistent` of one gear solved alone (its table ``G``, its ``pieces`` (a, b, owner) and their
+    intervals ``n_piece`` on the final grid, weights ``w``) for one friction ``mu`` and the modes ``sigma`` (a
+    list; ``lam``: their lambda at the grid's nodes, shape (K, nodes)): the same nodes, sums and acceptance,
+    operation for operation (the same numbers, bit for bit), with the bookkeeping on Python scalars.  Returns
+    lists over the modes: value, E, accepted, intervals, jammed."""
+    z2 = int(G.z2[0])
+    rb, omk, r_p1 = G.R_b[0], G.omk[0], G.r_p1[0]
+    a, b = pieces[0].tolist(), pieces[1].tolist()
+    n = np.asarray(n_piece).tolist()
+    mids = [0.5 * (ap + bp) for ap, bp in zip(a, b)]
+    q, q_prev = (lam[:, None, :] * w[None, :2, :]).sum(axis=2).T.tolist()   # each row as (lam * w[l]).sum(axis=1)
+    K = len(q)
+    ok_prev = [abs(q[k] - q_prev[k]) <= max(tol * abs(q[k]), 1e-14) for k in range(K)]
+    value, err, conv, jam, n_out = [math.nan] * K, [math.nan] * K, [False] * K, [False] * K, [0] * K
+    active = list(range(K))
+    smu = np.array([[s * mu] for s in sigma])                    # sigma mu per mode, as a column
+    while active:
+        total = sum(n)
+        if 2 * total > CONSISTENT_N_MAX:               # the cap: the best value and its error
+            for k in active:
+                value[k], err[k], n_out[k] = q[k] + (q[k] - q_prev[k]) / 3.0, abs(q[k] - q_prev[k]), total
+            break
+        xs, ms, hs = [], [], []                        # the new nodes, their pieces' midpoints and half-widths
+        for ap, bp, n_p, mp in zip(a, b, n, mids):
+            xs.append(ap + (bp - ap) * (np.arange(1, 2 * n_p, 2) / (2 * n_p)))
+            ms.append(np.full(n_p, mp))
+            hs.append(np.full(n_p, (bp - ap) / (2 * n_p)))
+        x = np.concatenate(xs)
+        J, lev, rho, sh2, s = _contacts_geo(x, np.concatenate(ms), None, G, z2)
+        rel = rho - rb
+        nx = (omk - 2.0 * sh2) / s
+        Nn = _colsum(lev * np.abs(rel))
+        Sn = _colsum(lev * lev)
+        Qn = Nn + r_p1 * _colsum(np.sign(rel) * lev * nx)
+        hp = np.concatenate(hs)
+        q_new = [0.5 * v for v in q]
+        D = Sn[None, :] - smu[active] * Qn[None, :]
+        good = (D > 0.0).all(axis=1).tolist()
+        if all(good):
+            f = mu * Nn[None, :] / D
+        else:                                          # a jammed mode's values are not used
+            with np.errstate(divide="ignore", invalid="ignore"):
+                f = mu * Nn[None, :] / D
+        sums = (f * hp).sum(axis=1).tolist()             # row by row: a mode's sum does not depend on the other
+        n = [2 * n_p for n_p in n]
+        still = []
+        for i, k in enumerate(active):
+            q_new[k] += sums[i]
+            ok = abs(q_new[k] - q[k]) <= max(tol * abs(q_new[k]), 1e-14)
+            if not good[i]:
+                jam[k], n_out[k] = True, 2 * total
+            elif ok and ok_prev[k]:
+                value[k], err[k] = q_new[k] + (q_new[k] - q[k]) / 3.0, abs(q_new[k] - q[k])
+                conv[k], n_out[k] = True, sum(n)
+            else:
+                still.append(k)
+            ok_prev[k] = ok
+        active = still
+        q_prev, q = q, q_new
+    return value, err, conv, n_out, jam
+
+
 def _ratio_of(G: _GearTable, slot):
     """u = z1/k of the gears at ``slot`` of the table (Z_e - 1 = z1/k)."""
     return G.Ze[slot] - 1.0
@@ -366,9 +533,9 @@ def _refine_consistent(cyc: IdealCycles, slot: int, t, t_mid, w, mu, sigma, lam,
         piece = np.repeat(np.arange(a.size), n)
         j = np.arange(int(n.sum())) - np.repeat(np.cumsum(n) - n, n)
         x = a[piece] + (b - a)[piece] * ((2 * j + 1) / (2 * n[piece]))
-        J, lev, rho, sh, s = _contacts_geo(x, mids[piece], None, G1, z2)
+        J, lev, rho, sh2, s = _contacts_geo(x, mids[piece], None, G1, z2)
         rel = rho - G1.R_b[0]
-        nx = (G1.omk[0] - 2.0 * (sh * sh)) / s
+        nx = (G1.omk[0] - 2.0 * sh2) / s
         Nn = _colsum(lev * np.abs(rel))
         Sn = _colsum(lev * lev)
         Qn = Nn + G1.r_p1[0] * _colsum(np.sign(rel) * lev * nx)
@@ -425,8 +592,8 @@ def crank_history(g: Cycloid, psi_star: float, t, t_mid, mu_eff: float, sigma: i
     """
     G = _GearTable.of(_as_arrays(g), np.array([psi_star]))
     t = np.asarray(t, dtype=float)
-    J, lev, rho, sh, s = _contacts_geo(t, np.asarray(t_mid, dtype=float), None, G, int(g.z2))
-    sums = _node_sums(J, lev, rho, sh, s, G, None)
+    J, lev, rho, sh2, s = _contacts_geo(t, np.asarray(t_mid, dtype=float), None, G, int(g.z2))
+    sums = _node_sums(J, lev, rho, sh2, s, G, None)
     v = consistent_node_values(sums, mu_eff if consistent else 0.0, sigma)
     mu = mu_eff if consistent else 0.0
     Bx = v["c"] * (sums[3] - sigma * mu * sums[4])

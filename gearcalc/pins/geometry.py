@@ -294,7 +294,8 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
     evaluation over all the gears (h in the half-angle form of :func:`contact_angle_offset`, two
     sines per point); this costs 3 evaluations where the bracketed root finder of
     :mod:`gearcalc.roots` needs 5-8 iterations of about 40 array operations each, which dominated
-    the ideal level's time per design.
+    the ideal level's time per design.  The first scan's points (0, pi] and their trigonometry are the
+    same for every gear and are computed once (:func:`_first_scan`; the same numbers).
 
     Parameters
     ----------
@@ -332,14 +333,17 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
     A, B = omk * omk, 4.0 * (e * z2 / ((z2 - z1) * R_p))      # (1 - K1)^2 and 4 K1 (K1 as Cycloid.K1)
     q0, e0, zr, offset = R_b / R_p, e / R_p, z2 / z1, math.pi / z1
 
-    def h(psi):
-        """epsilon(psi) + pi/z1 in half-angle form (contact_angle_offset scaled by 1/R_p; two sines)."""
-        half = 0.5 * psi
-        sh, ch = np.sin(half), np.cos(half)
-        u = 2.0 * sh * sh                                        # 1 - cos psi
-        q = q0 / np.sqrt(A + B * (0.5 * u))                      # R_b/rho
-        cx = (1.0 - u) - q * (omk - u) - e0                      # (C_x - e)/R_p
-        cy = (2.0 * sh * ch) * (1.0 - q)                          # C_y/R_p
+    def h(psi, trig=None):
+        """epsilon(psi) + pi/z1 in half-angle form (contact_angle_offset scaled by 1/R_p; two sines); ``trig``:
+        the gear-independent u = 1 - cos psi, sin psi, u/2 and 1 - u when known (:func:`_first_scan`)."""
+        if trig is None:
+            u, w = _half_angle_terms(psi)                        # 1 - cos psi, sin psi
+            hu, cu = 0.5 * u, 1.0 - u
+        else:
+            u, w, hu, cu = trig
+        q = q0 / np.sqrt(A + B * hu)                             # R_b/rho
+        cx = cu - q * (omk - u) - e0                             # (C_x - e)/R_p
+        cy = w * (1.0 - q)                                       # C_y/R_p
         return np.arctan2(cy, cx) - zr * psi + offset
 
     if one:
@@ -352,8 +356,13 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
     found = np.ones(m, dtype=bool)
     n = n_scan
     for stage in range(stages + 1):
-        x = lo[:, None] + (hi - lo)[:, None] * (np.arange(1, n + 1) / n)
-        hx = h(x)
+        if stage == 0:              # the first scan's points and their trigonometry are those of every gear
+            x0, *trig = _first_scan(n)
+            x = np.broadcast_to(x0, (m, n))
+            hx = h(x, trig)
+        else:
+            x = lo[:, None] + (hi - lo)[:, None] * (np.arange(1, n + 1) / n)
+            hx = h(x)
         neg = hx <= 0.0
         first = np.argmax(neg, axis=1)
         if stage == 0:
@@ -373,6 +382,32 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
     root = np.where(h_hi == 0.0, hi, np.where((iqi >= lo) & (iqi <= hi), iqi, sec))
     out[rows] = np.where(found, np.clip(root, lo, hi), math.pi)
     return out
+
+
+def _half_angle_terms(psi):
+    """(1 - cos psi, sin psi) = (2 sin^2(psi/2), 2 sin(psi/2) cos(psi/2)), the cancellation-free half-angle forms."""
+    half = 0.5 * psi
+    sh, ch = np.sin(half), np.cos(half)
+    t2 = 2.0 * sh
+    return t2 * sh, t2 * ch
+
+
+_FIRST_SCANS: dict[int, tuple] = {}
+
+
+def _first_scan(n: int):
+    """The first scan of :func:`crest_cutoffs` on (0, pi], the same for every gear: its points
+    lo + (hi - lo) (k/n) with lo = 0, hi = pi, their :func:`_half_angle_terms` u = 1 - cos psi and sin psi, and
+    u/2 and 1 - u (cached: read-only)."""
+    have = _FIRST_SCANS.get(n)
+    if have is None:
+        x = 0.0 + (math.pi - 0.0) * _scan_fractions(n)
+        u, w = _half_angle_terms(x)
+        have = (x, u, w, 0.5 * u, 1.0 - u)
+        for a in have:
+            a.setflags(write=False)
+        _FIRST_SCANS[n] = have
+    return have
 
 
 _SCAN_FRACTIONS: dict[int, np.ndarray] = {}
@@ -400,8 +435,12 @@ def _first_root_of_scan(h, h0: float, n_scan: int, n_refine: int, stages: int) -
     lo, hi, h_lo = 0.0, math.pi, h0
     n = n_scan
     for stage in range(stages + 1):
-        x = lo + (hi - lo) * _scan_fractions(n)
-        hx = h(x)
+        if stage == 0:              # lo = 0, hi = pi: the points and trigonometry of every gear (cached)
+            x, *trig = _first_scan(n)
+            hx = h(x, trig)
+        else:
+            x = lo + (hi - lo) * _scan_fractions(n)
+            hx = h(x)
         first = int(np.argmax(hx <= 0.0))
         if stage == 0 and not hx[first] <= 0.0:
             return math.pi                  # no sign change on (0, pi]: psi* = pi (not for an admissible k >= 2)

@@ -57,6 +57,15 @@ class _GearTable:
 
     @classmethod
     def of(cls, g: Cycloid, psi_star):
+        if np.size(g.z2) == 1 and np.ndim(g.z2) == 1:       # one gear: the same values from Python scalars
+            z1, z2 = int(g.z1[0]), int(g.z2[0])
+            e, R_p, omk, R_b = (float(np.asarray(v, dtype=float)[0]) for v in (g.e, g.R_p, g.one_minus_K1, g.R_b))
+            k = z2 - z1
+            if k != 0 and k * R_p != 0.0:
+                c = z2 / 2.0 if k == 1 else float(np.asarray(psi_star).reshape(-1)[0]) * z2 / (2.0 * math.pi)
+                return cls(np.array([z2]), np.array([e * z2 / (k * R_p)]), np.array([omk]), np.array([R_p]),
+                           np.array([R_b]), np.array([e * z1 / k]), np.array([c]), omk2=np.array([omk * omk]),
+                           Ze=np.array([z2 / k]))
         z1, z2 = np.asarray(g.z1), np.asarray(g.z2)
         k = z2 - z1
         e, R_p = np.asarray(g.e, dtype=float), np.asarray(g.R_p, dtype=float)
@@ -140,7 +149,7 @@ def _contacts(x, mid, gi, G: _GearTable, z2: int, with_phase: bool = False):
 
 
 def _contact_rows(x, mid, gi, G: _GearTable, z2: int):
-    """The computation of :func:`_contacts`: J, row index j, loaded, lever |l| [mm], rho [mm], sin(psi~/2), s."""
+    """The computation of :func:`_contacts`: J, row index j, loaded, lever |l| [mm], rho [mm], sin^2(psi~/2), s."""
     J = np.ceil(G.take("c", gi) - mid).astype(np.int64)
     j, sa, ca = G.rows(z2, int(J.max()))
     b = math.pi * (x / z2)
@@ -148,26 +157,27 @@ def _contact_rows(x, mid, gi, G: _GearTable, z2: int):
     sh = sa * cb + ca * sb                       # sin(psi/2)
     ch = ca * cb - sa * sb                       # cos(psi/2)
     loaded = j < J
-    s = np.sqrt(G.take("omk2", gi) + 4.0 * G.take("K1", gi) * (sh * sh))
+    sh2 = sh * sh
+    s = np.sqrt(G.take("omk2", gi) + 4.0 * G.take("K1", gi) * sh2)
     lev = np.where(loaded, np.abs(G.take("r_p1", gi) * (2.0 * sh * ch) / s), 0.0)
     rho = G.take("R_p", gi) * s
-    return J, j, loaded, lev, rho, sh, s
+    return J, j, loaded, lev, rho, sh2, s
 
 
 def _contacts_geo(x, mid, gi, G: _GearTable, z2: int):
-    """:func:`_contacts` with the half-phase sine and s(psi) that the friction-consistent sums need.
+    """:func:`_contacts` with the squared half-phase sine and s(psi) that the friction-consistent sums need.
 
-    Returns J, lever |l| [mm], rho [mm], sin(psi~/2) and s (rows j, nodes); lever and rho by the very
+    Returns J, lever |l| [mm], rho [mm], sin^2(psi~/2) and s (rows j, nodes); lever and rho by the very
     operations of :func:`_contacts` (the same numbers, bit for bit)."""
-    J, _, _, lev, rho, sh, s = _contact_rows(x, mid, gi, G, z2)
-    return J, lev, rho, sh, s
+    J, _, _, lev, rho, sh2, s = _contact_rows(x, mid, gi, G, z2)
+    return J, lev, rho, sh2, s
 
 
 NODE_ROWS = ("N", "S", "rUx", "Sx", "Uy", "lever_max", "lever_row", "loss_max", "loss_row", "stress_max")
 """The rows of :func:`_node_sums`: what the friction-consistent model (pins.md §4.9) needs per node."""
 
 
-def _node_sums(J, lev, rho, sh, s, G: _GearTable, gi):
+def _node_sums(J, lev, rho, sh2, s, G: _GearTable, gi):
     r"""Sums over a node's loaded contacts that do not depend on the friction (pins.md §4.9), rows :data:`NODE_ROWS`.
 
     In the crank frame (O1 = (e, 0), P = (r_p2, 0)) contact i has the unit normal
@@ -189,10 +199,11 @@ def _node_sums(J, lev, rho, sh, s, G: _GearTable, gi):
     r_p1 = G.take("r_p1", gi)
     rel = rho - rb
     sg = np.sign(rel)
-    nx = (G.take("omk", gi) - 2.0 * (sh * sh)) / s
+    u2 = 2.0 * sh2                                  # 2 sin^2(psi/2) = 1 - cos(psi)
+    nx = (G.take("omk", gi) - u2) / s
     lev2 = lev * lev
     K1, Ze = G.take("K1", gi), G.take("Ze", gi)
-    Dc = 1.0 + K1 * K1 * Ze - K1 * (1.0 + Ze) * (1.0 - 2.0 * (sh * sh))
+    Dc = 1.0 + K1 * K1 * Ze - K1 * (1.0 + Ze) * (1.0 - u2)
     r_eff = rb * (1.0 - rb * Dc / (G.take("R_p", gi) * (s * s * s)))
     out = np.empty((len(NODE_ROWS), J.size))
     out[0] = _colsum(lev * np.abs(rel))
@@ -234,17 +245,62 @@ def _grid_rows(J, lev, rel):
     return out
 
 
-def _unit_loss_ratio(G: _GearTable, piece_owner, grid_rows: bool = False):
+def _alone_rows(J, lev, rho, sh2, s, G: _GearTable, peaks: bool = True):
+    """The rows of :func:`_grid_rows` and then of :func:`_node_sums` of one gear, by the very operations of those
+    two (the same numbers, bit for bit), with the products and sums they share computed once.
+
+    Without ``peaks`` the rows of the friction-free peaks (force, loss, total: :data:`GRID_ROWS` 1-3) are NaN
+    (the friction-consistent model has its own peaks, pins.md §4.9)."""
+    rb, r_p1 = G.R_b[0], G.r_p1[0]
+    n = J.size
+    rel = rho - rb
+    arel = np.abs(rel)
+    lev2 = lev * lev
+    la = lev * arel
+    out = np.empty((len(GRID_ROWS) + len(NODE_ROWS), n))
+    g = len(GRID_ROWS)
+    S = out[g + 1] = _colsum(lev2)
+    N = out[g] = _colsum(la)
+    out[0] = N / S
+    if peaks:
+        force = lev / S
+        loss = force * arel * 1e-3                 # contact_loss_power(force, |rho - R_b|, 1)
+        force.max(axis=0, out=out[1])
+        loss.max(axis=0, out=out[2])
+        out[3] = _colsum(loss)
+    else:
+        out[1:4] = np.nan
+    cols = np.arange(n)
+    out[4], out[5], out[6] = rel[0], rel[J - 1, cols], J
+    sg = np.sign(rel)
+    u2 = 2.0 * sh2                                  # 2 sin^2(psi/2) = 1 - cos(psi)
+    nx = (G.omk[0] - u2) / s
+    K1, Ze = G.K1[0], G.Ze[0]
+    Dc = 1.0 + K1 * K1 * Ze - K1 * (1.0 + Ze) * (1.0 - u2)
+    r_eff = rb * (1.0 - rb * Dc / (G.R_p[0] * (s * s * s)))
+    out[g + 2] = -r_p1 * _colsum(sg * lev * nx)
+    out[g + 3] = _colsum(lev * nx)
+    out[g + 4] = -_colsum(sg * lev2) / r_p1
+    out[g + 6] = lev.argmax(axis=0)
+    lev.max(axis=0, out=out[g + 5])
+    out[g + 8] = la.argmax(axis=0)
+    la.max(axis=0, out=out[g + 7])
+    out[g + 9] = (lev / r_eff).max(axis=0)
+    return out
+
+
+def _unit_loss_ratio(G: _GearTable, piece_owner, grid_rows: bool = False, peaks: bool = True):
     """The integrand lambda(t)/mu_eff of the cycle mean, for :func:`~gearcalc.quadrature.integrate_pieces`.
 
-    With ``grid_rows`` (one gear), the rows of :func:`_grid_rows` follow it, which the quadrature carries
-    to its final grid (the peaks need them there)."""
+    With ``grid_rows`` (one gear), the rows of :func:`_grid_rows` and :func:`_node_sums` follow it
+    (:func:`_alone_rows`; without ``peaks`` those of the friction-free peaks are NaN), which the quadrature
+    carries to its final grid (the peaks need them there)."""
     if grid_rows:
-        z2, R_b = int(G.z2[0]), G.R_b[0]
+        z2 = int(G.z2[0])
 
         def f_rows(x, mid, piece):
-            J, lev, rho, sh, s = _contacts_geo(x, mid, None, G, z2)
-            return np.concatenate((_grid_rows(J, lev, rho - R_b), _node_sums(J, lev, rho, sh, s, G, None)))
+            J, lev, rho, sh2, s = _contacts_geo(x, mid, None, G, z2)
+            return _alone_rows(J, lev, rho, sh2, s, G, peaks)
         return f_rows
 
     def f(x, mid, piece):
@@ -262,7 +318,7 @@ FIRST_LEVELS_MAX = 6
 """Most doublings of the first round (1024 intervals at n_start = 16): see :func:`first_levels`."""
 
 
-def first_levels(tol: float) -> int:
+def first_levels(tol: float, z2=None):
     """Doublings evaluated in the first round of the cycle quadrature (speed only, never a result).
 
     A typical gear needs E ~ 3e-5 4^-L at level L, so L = 1 + ceil(log_4(3e-5/tol)), at least 2, and at
@@ -270,13 +326,25 @@ def first_levels(tol: float) -> int:
     small levels are best guessed in one round, while beyond it a wrong guess costs a whole level (twice
     the nodes before it) and the next round's prediction from the observed rate of convergence
     (:func:`~gearcalc.quadrature.integrate_pieces`) is the better guess (the paper designs at tol = 1e-9
-    need 8 or 9 levels).
+    need 8 or 9 levels).  With ``z2`` (pins per gear, a scalar or an array): one level less per doubling
+    of z2 beyond 28, since the intervals a gear needs fall about as 1/z2 (the loss ratio of many loaded
+    pins varies less within a period: z2 = 56-80 needs one level less than z2 = 24-40, z2 = 100 two).
 
     Examples
     --------
     >>> [first_levels(t) for t in (1e-3, 1e-6, 1e-9)]
     [2, 4, 6]
+    >>> first_levels(1e-6, np.array([22, 62, 120])).tolist()
+    [4, 3, 2]
     """
+    base = 1 + math.ceil(math.log(3e-5 / tol, 4))
+    if isinstance(z2, (int, np.integer)):
+        return min(FIRST_LEVELS_MAX, max(2, base - max(0, math.floor(math.log2(max(int(z2), 28) / 28.0)))))
+    if z2 is not None:
+        z = np.asarray(z2, dtype=float)
+        less = np.floor(np.log2(np.maximum(z, 28.0) / 28.0)).astype(np.int64)
+        out = np.minimum(FIRST_LEVELS_MAX, np.maximum(2, base - less))
+        return int(out) if out.ndim == 0 else out
     return min(FIRST_LEVELS_MAX, max(2, 1 + math.ceil(math.log(3e-5 / tol, 4))))
 
 
@@ -424,6 +492,8 @@ class IdealCycles:
     """The admissible gears' constants (:class:`_GearTable`, in their solve order ``solved``) and their pieces."""
     solved: np.ndarray | None = None
     pieces: tuple | None = None
+    n_piece: np.ndarray | None = None
+    """Intervals of each of ``pieces`` on the final grid (set for a gear solved alone; else None)."""
 
     def grid(self, i: int):
         """(t, t_mid) of gear i's final grid (piece ends twice: the one-sided limits)."""
@@ -500,7 +570,7 @@ def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows, refine: bool = True) ->
     vals = (F[row_f, :n], P[row_p, n:2 * n], _colsum(P)[2 * n:3 * n])
     best = [force[nds[0]], loss[nds[1]], tot[nds[2]]]
     at = [t[nd] for nd in nds]                      # crank angle of the best value met so far
-    xv = []
+    xv, interior = [], False
     for k in range(3):
         v, uk = vals[k], u[k]
         bi = int(np.argmax(v))
@@ -510,22 +580,74 @@ def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows, refine: bool = True) ->
         if 0 < bi < M and den < 0.0:
             xk = uk[bm] - 0.5 * (uk[bm + 1] - uk[bm]) * (fp - fm) / den
             xv.append(min(max(xk, uk[bm - 1]), uk[bm + 1]))
+            interior = True
         else:
             xv.append(uk[bi])
         if v[bi] > best[k]:
             best[k], at[k] = v[bi], uk[bi]
-    # the parabolas' vertices
-    _, _, _, lev, rho = _contacts(np.array(xv), tmid[nds], None, G, z2)
-    F = lev / _colsum(lev * lev)
-    P = F * np.abs(rho - G.R_b[0]) * 1e-3
-    vv = (F[row_f, 0], P[row_p, 1], _colsum(P)[2])
+    # the parabolas' vertices (where none is interior, each "vertex" is its best sample, whose value is known
+    # and already taken: the evaluation would change nothing)
+    if interior:
+        _, _, _, lev, rho = _contacts(np.array(xv), tmid[nds], None, G, z2)
+        F = lev / _colsum(lev * lev)
+        P = F * np.abs(rho - G.R_b[0]) * 1e-3
+        vv = (F[row_f, 0], P[row_p, 1], _colsum(P)[2])
+        for k in range(3):
+            if vv[k] > best[k]:
+                best[k], at[k] = vv[k], xv[k]
     for k, key in enumerate(("force", "loss", "total")):
-        if vv[k] > best[k]:
-            best[k], at[k] = vv[k], xv[k]
         res[key] = best[k]
         if key != "total":       # the load-side phase of the peak's contact, as _contacts computes it
             res[key + "_phase"] = 2.0 * math.pi * ((contact[k] + at[k]) / z2)
     return res
+
+
+def _min_curvature_radius_one(g: Cycloid, psi_star: float):
+    """:func:`min_curvature_radius` of one gear (fields of one element) on Python floats, operation for operation
+    (the transcendental functions as the same numpy ufuncs, which round as they do on arrays), or None where a
+    value is not finite (the array code then decides, with its NaN rules)."""
+    z1, z2 = int(np.asarray(g.z1).flat[0]), int(np.asarray(g.z2).flat[0])
+    e, R_p, omk = (float(np.asarray(v).flat[0]) for v in (g.e, g.R_p, g.one_minus_K1))
+    k = z2 - z1
+    if k * R_p == 0.0 or k == 0:
+        return None
+    K1 = e * z2 / (k * R_p)
+    Ze = z2 / k
+    A = 1.0 + K1 * K1
+    p, q = 1.0 + K1 * K1 * Ze, K1 * (1.0 + Ze)
+    if not (math.isfinite(K1) and K1 > 0.0 and q > 0.0 and math.isfinite(psi_star)):
+        return None
+    c_lo, pq = float(np.cos(psi_star)), p / q
+    c_hi = pq if pq < 1.0 else 1.0
+    c_star = 3.0 * p / q - A / K1
+    if not (math.isfinite(c_star) and math.isfinite(pq)):
+        return None
+    c = min(max(c_star, c_lo), c_hi)                     # np.clip
+    psi = psi_star if c_star <= c_lo else 0.0 if (c_star >= 1.0 and c_hi >= 1.0) else \
+        float(np.arccos(min(max(c, -1.0), 1.0)))
+    # curvature_radius(psi, g): R_p s^3/D
+    D = 1.0 + K1 * K1 * Ze - K1 * (1.0 + Ze) * float(np.cos(psi))
+    sh = float(np.sin(0.5 * psi))
+    s = math.sqrt(omk * omk + 4.0 * K1 * sh * sh)
+    if D == 0.0:
+        return None
+    rc = R_p * float(np.power(s, 3)) / D
+    return rc if (c_lo < pq and rc > 0) else math.inf
+
+
+def _spin_reversal_one(g: Cycloid):
+    """:func:`spin_reversal_phases` of one gear (fields of one element) on Python floats, operation for operation."""
+    z1, z2 = int(np.asarray(g.z1).flat[0]), int(np.asarray(g.z2).flat[0])
+    e, R_p, R_b, omk = (float(np.asarray(v).flat[0]) for v in (g.e, g.R_p, g.R_b, g.one_minus_K1))
+    if (z2 - z1) * R_p == 0.0:
+        return spin_reversal_phases(g)
+    q = R_b / R_p
+    den = 4.0 * (e * z2 / ((z2 - z1) * R_p))
+    if den == 0.0 or not math.isfinite(den):
+        return spin_reversal_phases(g)
+    arg = (q * q - omk * omk) / den                      # omk ** 2 of an array is the square omk * omk
+    ok = 0.0 < arg < 1.0
+    return np.array([2.0 * float(np.arcsin(math.sqrt(arg))) if ok else math.nan])
 
 
 def admissibility(g: Cycloid):
@@ -534,6 +656,13 @@ def admissibility(g: Cycloid):
     level's checks, also run by ``gearcalc check`` (:func:`gearcalc.pins.checks.ideal_admissibility`)."""
     z2 = np.atleast_1d(g.z2)
     psi_star = crest_cutoffs(g)
+    if z2.size == 1:
+        rho_c = _min_curvature_radius_one(g, float(psi_star[0]))
+        if rho_c is not None:           # one gear on Python floats: the same operations as the arrays below
+            status = TOO_FEW_TEETH if psi_star[0] <= 2.0 * math.pi / int(z2[0]) else 0
+            if status == 0 and float(np.asarray(g.R_b).flat[0]) >= rho_c:
+                status = UNDERCUT
+            return np.array([status], dtype=np.int64), psi_star, np.array([rho_c])
     status = np.where(psi_star <= 2.0 * math.pi / z2, TOO_FEW_TEETH, 0)
     rho_c = np.atleast_1d(min_curvature_radius(g, psi_star))
     status = np.where((status == 0) & (np.asarray(g.R_b) >= rho_c), UNDERCUT, status)
@@ -558,9 +687,11 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     equal z2 as (contact, node) arrays whose sums over contacts run in contact order (:func:`_colsum`),
     and the quadrature accumulates per gear (:func:`~gearcalc.quadrature.integrate_pieces`); so a batch
     gives, bit for bit, what each design gives alone.  One gear with one disc (a design computed alone)
-    takes a shorter path to the same numbers: the integrand also returns what the peaks need per node
-    (:func:`_grid_rows`), which the quadrature carries to its final grid, so the grid is not evaluated
-    again, and :func:`_one_gear_peaks` refines the peaks with scalar bookkeeping.
+    takes a shorter path to the same numbers (:func:`_ideal_alone`): the integrand also returns what the peaks
+    and the friction-consistent model need per node (:func:`_alone_rows`), which the quadrature carries to its
+    final grid, so the grid is not evaluated again, and :func:`_one_gear_peaks` refines the peaks with scalar
+    bookkeeping.  The quadrature's first round guesses its levels from tol and z2 (:func:`first_levels`; speed
+    only).
 
     Parameters
     ----------
@@ -591,7 +722,9 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     m = z2.size
     n_discs = np.zeros(m, dtype=np.int64) + n_discs
     status, psi_star, rho_c = admissibility(g)
-    psi_0 = spin_reversal_phases(g)
+    psi_0 = _spin_reversal_one(g) if m == 1 else spin_reversal_phases(g)
+    if m == 1 and status[0] == 0 and n_discs[0] == 1:
+        return _ideal_alone(g, status, psi_star, rho_c, psi_0, tol, n_max, n_start, first_order_peaks)
     nan = np.full(m, np.nan)
     out = {k: nan.copy() for k in ("loss_ratio", "loss_ratio_err", "force", "force_phase", "loss", "loss_phase",
                                    "total", "rel_min", "rel_max", "rel_abs")}
@@ -614,8 +747,10 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     alone = n_ok == 1 and n_discs[ok[0]] == 1      # one design: the same numbers, fewer array operations
     # chunks of about 2^14 contacts (at least 1024 nodes): the integrand's (contact, node) arrays then stay
     # in the cache; twice as fast per node as arrays of 2^20 at tol = 1e-9 (speed only: nodes are independent)
-    q = integrate_pieces(_unit_loss_ratio(G, owner, grid_rows=alone), a, b, owner, n_ok, tol=tol, n_max=n_max,
-                         n_start=n_start, first_levels=first_levels(tol), chunk=max(1024, 2 ** 14 // jmax))
+    q = integrate_pieces(_unit_loss_ratio(G, owner, grid_rows=alone, peaks=first_order_peaks), a, b, owner, n_ok,
+                         tol=tol, n_max=n_max,
+                         n_start=n_start, first_levels=first_levels(tol, G.z2[0] if alone else G.z2),
+                         chunk=max(1024, 2 ** 14 // jmax))
     out["loss_ratio"][ok], out["loss_ratio_err"][ok] = q.value, q.err
     out["converged"][ok], out["n_crank"][ok] = q.converged, q.n
 
@@ -627,7 +762,8 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
             out[key][ok[0]] = value
         return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=t, grid_mid=tmid,
                            grid_gear=np.zeros(t.size, dtype=np.int64) + ok[0],
-                           grid_sums=q.carried[len(GRID_ROWS) - 1:], grid_weights=_grid_weights(t, piece),
+                           grid_sums=q.carried[len(GRID_ROWS) - 1:], grid_weights=_grid_weights(t, piece, q.n_piece),
+                           n_piece=q.n_piece,
                            **extra, **out)
     gi = owner[piece]
     multi = n_discs[ok] > 1
@@ -647,9 +783,8 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     for sl, zz in (_bounded_blocks(G.blocks(gi), gi, starts, jmax) if gi.size else ()):
         lo = sl.start or 0
         gb = gi[sl]
-        J, loaded, _, lev, rho = _contacts(t[sl], tmid[sl], gb, G, zz)
-        _, _, _, sh_, s_ = _contacts_geo(t[sl], tmid[sl], gb, G, zz)
-        sums[:, sl] = _node_sums(J, lev, rho, sh_, s_, G, gb)
+        J, _, loaded, lev, rho, sh2, s_ = _contact_rows(t[sl], tmid[sl], gb, G, zz)    # as _contacts, _contacts_geo
+        sums[:, sl] = _node_sums(J, lev, rho, sh2, s_, G, gb)
         force = lev / _colsum(lev * lev)
         rel = rho - G.take("R_b", gb)
         loss = force * np.abs(rel) * 1e-3              # contact_loss_power(force, |rho - R_b|, 1)
@@ -738,12 +873,54 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
                        grid_weights=_grid_weights(t, piece), **extra, **out)
 
 
-def _grid_weights(t, piece):
+def _ideal_alone(g: Cycloid, status, psi_star, rho_c, psi_0, tol: float, n_max: int, n_start: int,
+                 first_order_peaks: bool) -> IdealCycles:
+    """:func:`ideal_cycles` of one admissible gear with one disc (a design computed alone): the same steps and
+    numbers as there, without the bookkeeping of many gears (fields of one element)."""
+    fields = (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)
+    gk = g if all(isinstance(v, np.ndarray) and v.ndim == 1 for v in fields) else Cycloid(*map(np.atleast_1d, fields))
+    G = _GearTable.of(gk, psi_star)
+    a, b, owner = cycle_pieces(gk, psi_star, psi_0)
+    jmax = int(np.ceil(G.c.max())) + 1
+    q = integrate_pieces(_unit_loss_ratio(G, owner, grid_rows=True, peaks=first_order_peaks), a, b, owner, 1,
+                         tol=tol, n_max=n_max, n_start=n_start, first_levels=first_levels(tol, int(G.z2[0])),
+                         chunk=max(1024, 2 ** 14 // jmax))
+    t, tmid, piece = q.grid()
+    peaks = _one_gear_peaks(t, tmid, piece, G, q.carried, first_order_peaks)
+    nan = math.nan
+    f = np.array([[peaks.get(k, nan)] for k in ("force", "force_phase", "loss", "loss_phase", "total", "rel_min",
+                                                 "rel_max", "rel_abs")])
+    solved = np.zeros(1, dtype=np.int64)
+    return IdealCycles(psi_star, psi_0, rho_c, status, loss_ratio=q.value, loss_ratio_err=q.err,
+                       converged=np.asarray(q.converged, dtype=bool), n_crank=np.asarray(q.n, dtype=np.int64),
+                       force=f[0], force_phase=f[1], loss=f[2], loss_phase=f[3], total=f[4], rel_min=f[5], rel_max=f[6],
+                       rel_abs=f[7], loaded_min=np.array([peaks["loaded_min"]]).astype(np.int64),
+                       loaded_max=np.array([peaks["loaded_max"]]).astype(np.int64), grid_t=t, grid_mid=tmid,
+                       grid_gear=np.zeros(t.size, dtype=np.int64), grid_sums=q.carried[len(GRID_ROWS) - 1:],
+                       grid_weights=_grid_weights(t, piece, q.n_piece), table=G, solved=solved, pieces=(a, b, owner),
+                       n_piece=q.n_piece)
+
+
+def _grid_weights(t, piece, n_piece=None):
     """Trapezoid weights of a final grid's nodes (piece by piece, ends on every piece) at its level L and at
     L-1 and L-2 (every 2nd and 4th node of each piece; a final level has at least 4 intervals a piece,
-    pins.md §6, §12.6), shape (3, nodes)."""
+    pins.md §6, §12.6), shape (3, nodes).  ``n_piece``: the intervals of each piece when they are known (one
+    gear: the pieces are filled one by one, the same numbers)."""
     w = np.zeros((3, t.size))
     if t.size == 0:
+        return w
+    if n_piece is not None and len(n_piece) <= 8:
+        s = 0
+        for n in np.asarray(n_piece).tolist():
+            e = s + n
+            h = (float(t[e]) - float(t[s])) / n          # as below: (last - first)/(count - 1)
+            for r, (f, step) in enumerate(((1.0, 1), (2.0, 2), (4.0, 4))):
+                fh = f * h
+                w[r, s:e + 1:step] = fh
+                w[r, s] = fh * 0.5
+                if n % step == 0:
+                    w[r, e] = fh * 0.5
+            s = e + 1
         return w
     new_piece = np.empty(t.size, dtype=bool)
     new_piece[0] = True

@@ -414,6 +414,10 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
     """
     n = len(consistent)
     one = n == 1
+    if one:
+        return _consistent_output(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
+                                  axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque,
+                                  torque_on_V, tol)
     nd_a = np.zeros(n, dtype=np.int64) + np.asarray(n_discs)
     good = (np.zeros(n, dtype=np.int64) + np.asarray(status)) == 0
     cons = np.asarray(consistent) & good
@@ -449,6 +453,29 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
         arr[sel] = v
         full[key] = arr
     return ConsistentPoint(**full), cons
+
+
+def _consistent_output(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
+                       axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque, torque_on_V,
+                       tol: float):
+    """:func:`consistent_outputs` of one point (n = 1): the same values, with Python scalars in between."""
+    good = int(np.asarray(status).reshape(-1)[0]) == 0
+    cons = np.asarray(consistent) & good
+    if not good:
+        return None, cons
+    cons0, mult = bool(cons[0]), bool(np.asarray(multiplier).reshape(-1)[0])
+    mu = float(np.asarray(mu_eff, dtype=float).reshape(-1)[0])
+    n_d = int(np.asarray(n_discs).reshape(-1)[0])
+    cc = consistent_cycles(cyc, gear, mu if cons0 else 0.0, n_d, tol, mode=MULTIPLIER if mult else REDUCER)
+    c = getattr(cc, "scalars", None)
+    if c is None:
+        c = {f: (getattr(cc, f)[..., 0].tolist()) for f in cc.__dataclass_fields__}
+    first = [float(np.asarray(x).reshape(-1)[0]) for x in (face_width, sliding_friction)]
+    p = consistent_point(c, cons0, mult, mu, float(torque_sat_first_order), float(omega_V), float(axle_radius),
+                         bool(rotating), bool(rolls), int(z1), int(k), n_d, *first,
+                         float(np.asarray(cyc.rel_abs)[int(np.asarray(gear).reshape(-1)[0])]), float(torque),
+                         bool(np.asarray(torque_on_V).reshape(-1)[0]), SCALAR_OPS)
+    return ConsistentPoint(**{key: (v.item() if hasattr(v, "item") else v) for key, v in p.__dict__.items()}), cons
 
 
 # ------------------------------------------------------------------ the crank table of pins.md §8
