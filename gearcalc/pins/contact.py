@@ -47,6 +47,8 @@ about O1 is F (X_j x n).
 """
 from __future__ import annotations
 
+import dataclasses
+import functools
 import math
 from dataclasses import dataclass, field
 
@@ -1466,13 +1468,16 @@ class ContactCycle:
     """The contact level's cycle solution of one design at one torque.
 
     loss_ratio, loss_ratio_err : the cycle mean of lambda and its error (trapezoid: Richardson value and
-    |Q_2N - Q_N|; Gauss-Kronrod: K and |K - G|); converged : the quadrature's; n_crank : crank angles of the final
-    grid (``sol``); quad : the QuadResult;
-    sol : the solved states on the final grid, sorted by theta (piece ends twice, one-sided; a Gauss-Kronrod rule:
-    every evaluated node, the bisected pieces' own included, and both ends of every piece of the breakpoints);
-    loss, spin, slide : per node (see :func:`contact_losses`); lam : lambda per node;
+    |Q_2N - Q_N|; Gauss-Kronrod: K and |K - G|); converged : the quadrature's; n_crank : the solved crank angles;
+    quad : the QuadResult;
+    sol : the states on the final grid, sorted by theta (piece ends twice, one-sided; a Gauss-Kronrod rule: every
+    evaluated node, the bisected pieces' own included, both ends of every piece of the breakpoints, and the
+    interpolated states of :func:`gk_interpolated`);
     breakpoints : the located breakpoints in theta [rad]; roots : the located sign changes
-    (:class:`BreakpointRoots`), which a later pass of the same design starts from.
+    (:class:`BreakpointRoots`), which a later pass of the same design starts from;
+    friction : (R_b, mu_eff, f, rolls, scale) of :func:`contact_losses` and the loss ratio's scale.
+    loss, spin, slide : per node (:func:`contact_losses`); lam : lambda per node: computed on first use (only the
+    cycle the outputs come from needs them).
     """
 
     loss_ratio: float
@@ -1481,12 +1486,27 @@ class ContactCycle:
     n_crank: int
     quad: QuadResult
     sol: Solution
-    loss: np.ndarray
-    spin: np.ndarray
-    slide: np.ndarray
-    lam: np.ndarray
     breakpoints: np.ndarray
     roots: "BreakpointRoots | None" = None
+    friction: tuple = ()
+
+    @functools.cached_property
+    def _losses(self):
+        R_b, mu_eff, f, rolls, scale = self.friction
+        loss, spin, slide = contact_losses(self.sol, R_b, mu_eff, f, rolls)
+        return loss, spin, slide, loss.sum(axis=(0, 1)) / scale
+
+    loss = property(lambda self: self._losses[0])
+    spin = property(lambda self: self._losses[1])
+    slide = property(lambda self: self._losses[2])
+    lam = property(lambda self: self._losses[3])
+
+
+def _take(sol: Solution, sel) -> Solution:
+    """The states of ``sol`` at the crank angles ``sel`` (an index or slice over the last axis)."""
+    n = sol.theta.size
+    return Solution(**{f.name: (v[..., sel] if isinstance(v, np.ndarray) and v.shape[-1:] == (n,) else v)
+                       for f in dataclasses.fields(sol) for v in (getattr(sol, f.name),)})
 
 
 def _concat(parts: list[Solution]) -> Solution:
@@ -1814,19 +1834,35 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     K = k_all[piece]                                             # (n, m) node indices into sol
     theta = c[piece] + h[piece] * s
 
-    def interp(arr):
+    z2, n = sol.force.shape[-2], theta.size
+    # the pins that are candidates at some node of a point's piece (all pins without a window): the others cannot
+    # touch there and keep the values of a pin out of reach (-inf, 0, NaN), as the solved states do
+    cand = np.ones((z2, n), dtype=bool) if sol.cand is None else sol.cand[:, K].any(axis=-1)
+    pj, pi = np.nonzero(cand)
+    Kp, Wp = K[pi], W[pi]                                        # (pairs, m)
+
+    def interp(arr):                                             # fields per crank angle only
         return None if arr is None else np.einsum("...nm,nm->...n", arr[..., K], W)
+
+    def interp_pins(arr, fill):                                  # fields per pin (..., z2, n_solved)
+        if arr is None:
+            return None
+        out = np.full(arr.shape[:-2] + (z2, n), fill, dtype=float)
+        out[..., pj, pi] = np.einsum("...pm,pm->...p", arr[..., pj[:, None], Kp], Wp)
+        return out
 
     def per_piece(arr, how):                                     # one value per piece (its nodes'), per point
         return None if arr is None else how(arr[..., K])
 
     finite = np.isfinite(sol.delta)
-    delta = np.where(per_piece(finite, lambda v: v.all(axis=-1)), interp(np.where(finite, sol.delta, 0.0)), -np.inf)
-    out = Solution(theta, interp(sol.tau), interp(sol.dtau), np.zeros(theta.size), delta,
-                   np.maximum(interp(sol.force), 0.0), interp(sol.v_t), None, None, interp(sol.switch),
-                   per_piece(sol.branch, lambda v: v[..., 0]), per_piece(sol.cand, lambda v: v.any(axis=-1)),
-                   interp(sol.ddelta), per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau),
-                   interp(sol.bearing), interp(sol.stress), per_piece(sol.crest, lambda v: v.any(axis=-1)))
+    delta = np.where(per_piece(finite, lambda v: v.all(axis=-1)), interp_pins(np.where(finite, sol.delta, 0.0), 0.0),
+                     -np.inf)
+    out = Solution(theta, interp(sol.tau), interp(sol.dtau), np.zeros(n), delta,
+                   np.maximum(interp_pins(sol.force, 0.0), 0.0), interp_pins(sol.v_t, 0.0), None, None,
+                   interp_pins(sol.switch, np.nan), per_piece(sol.branch, lambda v: v[..., 0]),
+                   None if sol.cand is None else cand, interp_pins(sol.ddelta, 0.0),
+                   per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau), interp(sol.bearing),
+                   interp(sol.stress), per_piece(sol.crest, lambda v: v.any(axis=-1)))
     return out, mid_all[piece]
 
 
@@ -1914,7 +1950,9 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     solved = _concat(cache)
     dense = gk_interpolated(solved, q, rule, DENSE_PER_PERIOD) if rule != "trapezoid" else None
     # the check of the moved or coarse roots covers the interpolated states too: as dense as the trapezoid's nodes
-    checked = (cache, mids) if dense is None else (cache + [dense[0]], mids + [dense[1]])
+    # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
+    checked = (cache, mids) if dense is None else (cache + [_take(dense[0], slice(None, None, 3))],
+                                                   mids + [dense[1][::3]])
     if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period):
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
@@ -1926,11 +1964,9 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         model.window = None        # the window's tau bound does not hold: every pin, every angle
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial,
                                rule, None, prior_width, n_min)
-    loss, spin, slide = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)
-    lam = loss.sum(axis=(0, 1)) / scale
     model.roots = found
-    return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, n_solved, q, sol, loss, spin, slide, lam,
-                        edges, found)
+    return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, n_solved, q, sol, edges, found,
+                        (g.R_b, mu_eff, sliding_friction, rolls, scale))
 
 
 def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float) -> bool:
@@ -2471,7 +2507,8 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         # changes little between passes: two doublings then usually suffice)
         model, cyc = run(T_V, prev, n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
         prev = model
-        if not (np.isfinite(cyc.loss_ratio) and np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.lam))):
+        finite = np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.sol.v_t))   # forces and speeds
+        if not (np.isfinite(cyc.loss_ratio) and finite):
             raise Unresolvable("non-finite contact forces or losses")
         history.append(cyc.loss_ratio)
         torques.append(T_V)
