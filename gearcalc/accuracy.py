@@ -43,7 +43,7 @@ HIGH_TOL = 1e-12
 HIGH_TOL_CONTACT = 1e-9
 """The pins contact level is capped at 2^12 crank angles (pins.md §6): its high-resolution run."""
 EPS = 2.220446049250313e-16
-TIME_BUDGET = 0.1
+TIME_BUDGET = 0.05
 """Seconds of repeated calls per (design, level, tol) after the warm-up (at least one call)."""
 
 

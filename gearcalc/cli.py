@@ -572,7 +572,7 @@ def accuracy_cmd(
                                               help="Calculators to report (default: all): pins, zstk, rows."),
     tols: str = typer.Option("1e-3,1e-6,1e-9", "--tols",
                              help="Comma-separated tolerances to run every level at (what each --tol costs)."),
-    budget: float = typer.Option(0.1, "--time-budget", min=0.0,
+    budget: float = typer.Option(0.05, "--time-budget", min=0.0,
                                  help="Seconds of repeated calls per design, level and tolerance for the median "
                                       "time (after one warm-up call, which alone is the timing when it takes "
                                       "longer)."),
