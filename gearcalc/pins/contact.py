@@ -2347,6 +2347,22 @@ def _fixed_point_step(history, torques, uT: float, a: float):
     return abs(s * phi / dphi), min(max(step, 0.5 * plain), 2.0 * plain)
 
 
+def fixed_point_stalls(history) -> bool:
+    """Whether the torque fixed point's passes stopped contracting: after four passes, the last change is not below
+    half of the change two passes before (a converging secant iteration shrinks its changes far faster; a loss ratio
+    that jumps with the torque, a contact that comes and goes, makes the passes wander; pins.md §7).
+
+    Examples
+    --------
+    >>> fixed_point_stalls([0.1303, 0.1295, 0.1193, 0.1224]), fixed_point_stalls([0.2, 0.21, 0.2101, 0.21010001])
+    (True, False)
+    """
+    if len(history) < 4:
+        return False
+    d = [abs(b - a) for a, b in zip(history[:-1], history[1:])]
+    return d[-1] >= 0.5 * d[-3] > 0.0
+
+
 CYCLE_N_START = 128
 """First-level crank-angle intervals of the cycle mean per period (:func:`mean_loss_ratio` in :func:`cycle_at_torque`):
 with two doublings at least 256 per period, as dense as the full breakpoint scan."""
@@ -2522,13 +2538,18 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         remainder, T_next = _fixed_point_step(history, torques, uT, a)
         if remainder <= max(0.1 * tol * abs(lam), 1e-15) or fixed_point_settled(history[-2:], tol):
             break
+        if fixed_point_stalls(history):
+            settled = False            # lambda(T_V) jumps (a contact comes and goes with the torque): no contraction
+            break
     else:
         settled = False
     if (locked and not stalled) or not settled:
-        # the passes ran out, or the multiplier locked on the way (a stalled reducer has no fixed point: its loss
-        # ratio is the last pass's, with that pass's quadrature error): the remainder is not known to be small;
-        # the last change is in the error (never less)
-        remainder = max(remainder if math.isfinite(remainder) else 0.0,
+        # the passes ran out or stalled, or the multiplier locked on the way (a stalled reducer has no fixed point:
+        # its loss ratio is the last pass's, with that pass's quadrature error): the remainder is not known to be
+        # small; the spread of all passes (the last change at least) is in the error (never less): a loss ratio that
+        # jumps with the torque takes any of those values near the torques the passes tried
+        spread = max(history) - min(history) if len(history) >= 3 else 0.0
+        remainder = max(remainder if math.isfinite(remainder) else 0.0, spread,
                         abs(history[-1] - history[-2]) if len(history) >= 2 else 0.0)
     # the error: the quadrature's plus the fixed point's remaining change
     E = cyc.loss_ratio_err + (remainder if math.isfinite(remainder) else 0.0)
