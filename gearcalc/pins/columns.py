@@ -168,15 +168,19 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
         warnings[i].append(R.MULTI_DISC_PEAKS)
     mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V
     columns = R.ideal_columns(arrays, op["mode"], rot, rolls, models, n)
-    # an output that overflowed floating point (the speeds and losses grow as 1/K1): the point is refused
-    overflow = np.zeros(n, dtype=bool)
-    for a in arrays.values():
-        x = np.asarray(a)
-        if x.dtype.kind == "f" and x.shape in ((), (n,)):
-            overflow |= np.isinf(x)
+    overflow = None
     for i, (lam, locked) in enumerate(zip(columns["loss_ratio"], columns["self_locking"])):
-        if errors[i] is None and (lam is None and not locked or overflow[i]):   # K1 ~ 1e-300 and below: refused,
-            # not exit 70 (a jammed mode of the friction-consistent model has no loss ratio, but its speeds overflow)
+        if errors[i] is not None or lam is not None:
+            continue
+        if locked and overflow is None:
+            # a jammed mode of the friction-consistent model has no loss ratio, but its speeds and losses (they grow
+            # as 1/K1) may have overflowed floating point: found only for such points (it costs a pass over the fields)
+            overflow = np.zeros(n, dtype=bool)
+            for a in arrays.values():
+                x = np.asarray(a)
+                if x.dtype.kind == "f" and x.shape in ((), (n,)):
+                    overflow |= np.isinf(x)
+        if not locked or overflow[i]:      # K1 ~ 1e-300 and below: refused, not exit 70
             given = v["K1"][i] is not None
             errors[i] = R.loss_ratio_overflow(given, v["K1" if given else "Rp"][i])
     speed, mode = op["speed"], op["mode"]
