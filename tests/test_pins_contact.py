@@ -356,11 +356,14 @@ def test_interpolated_states_of_a_gauss_kronrod_cycle_agree_with_solved_ones(fri
     direct = model.state(dense, model.reference(dense), phases=False)
     i = np.searchsorted(cyc.sol.theta, dense)
     assert dense.size > 150
-    # measured 2026-11-27 (213 angles): force 1.2e-7, tau 1.0e-7, bearing force 2.3e-8 of their peaks
+    # measured 2026-11-27 (213 angles): force 1.2e-7, tau 1.0e-7 of their peaks
     F_scale = cyc.sol.force.max()
     assert np.max(np.abs(cyc.sol.force[..., i] - direct.force)) <= 1e-6 * F_scale
     assert np.max(np.abs(cyc.sol.tau[i] - direct.tau)) <= 1e-6 * np.max(np.abs(cyc.sol.tau))
-    assert np.max(np.abs(cyc.sol.bearing[:, i] - direct.bearing)) <= 1e-6 * np.max(np.abs(cyc.sol.bearing))
+    # the speeds of loaded contacts (others: of no use, 0 off the window) carry d tau/d theta, whose Hertz-law
+    # singularity (theta - theta_0)^(1/9) at a contact entry the polynomial resolves less well: 5.9e-5 measured
+    loaded = direct.force > 0.0
+    assert np.max(np.abs(cyc.sol.v_t[..., i] - direct.v_t)[loaded]) <= 1e-4 * np.max(np.abs(cyc.sol.v_t))
 
 
 def test_gauss_kronrod_option_through_the_torque_fixed_point_on_a_cycloid():

@@ -810,10 +810,8 @@ class Solution:
     lengths ~R_p);
     g_tau: (n,) dG/dtau of the moment balance at the solution [N·mm/rad] (the warm start of another torque,
     :meth:`ContactModel.inherit`);
-    bearing: (2, n) the crank-bearing force on the satellite along the crank arm (outward) and across it [N], from
-    the forces of the balance (friction forces included when they are in it; :func:`crank_bearing`);
-    stress: (n,) the largest F/R_eff of a loaded flank contact [N/mm] (NaN: none; :func:`effective_radius`);
-    crest: (n,) bool, a loaded contact sits on a crest corner.
+    bearing, stress, crest: unused (None; :func:`crank_bearing` computes the crank-bearing force and the stress
+    factor over the final grid).
     """
 
     theta: np.ndarray
@@ -1406,18 +1404,8 @@ class ContactModel:
         v_t = o_n + w1 * (ct.xn + g.R_b)
         ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * np.sum(np.abs(Fp * ct.arm), axis=(0, 1))
-        # the crank bearing holds the satellite: B = -sum F (n + q z x n), in the crank arm's axes (pins.md §4.9)
-        Bx = -np.sum(F * (ct.nx - q * ct.ny), axis=(0, 1))
-        By = -np.sum(F * (ct.ny + q * ct.nx), axis=(0, 1))
-        bearing = np.stack((Bx * ca + By * sa, -Bx * sa + By * ca))
-        loaded = F > 0.0
-        crest = np.zeros(F.shape, dtype=bool) if ct.branch is None else (ct.branch >= 0) & loaded
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = F / effective_radius(g.R_b, ct.delta, ct.wx * ct.ny - ct.wy * ct.nx)
-        stress = np.max(np.where(loaded & ~crest, ratio, -np.inf), axis=(0, 1))
-        stress = np.where(np.isfinite(stress), stress, np.nan)
         return Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
-                        G_tau0, bearing, stress, np.any(crest, axis=(0, 1)))
+                        G_tau0)
 
     def bearing_force(self, sol: Solution, traction=None):
         """Force B of the crank bearing on the satellite (crank-frame axes turned by phi) [N], (2, n).
@@ -2690,23 +2678,26 @@ ho},\qquad
     return R_b * (1.0 - (R_b - delta) * inv_D) / (1.0 + delta * inv_D)
 
 
-def crank_bearing(model: "ContactModel", sol: Solution, n_discs: int) -> CrankBearing:
+def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) -> CrankBearing:
     r"""Crank torque, crank-bearing force and Hertz stress factor over a solved contact cycle (pins.md §4.9, §8).
 
     The crank bearing holds the satellite against the pins: B = -sum_i F_i (n_i + q_i z x n_i) (the friction
-    forces q_i F_i when they are in the moment balance), along the crank arm u = (cos(z2 theta/z1 - tau),
-    sin(...)) of the satellite frame and across it (:attr:`Solution.bearing`, set where each state is solved).
-    The crank torque along the power flow is T_H = sigma e B_t (sigma +1 reducer, -1 multiplier; the ideal level's
-    sigma e B_y), summed over the discs (histories 2 pi/n_d of crank apart, :func:`gearcalc.pins.sum_over_discs`);
-    its cycle mean equals the torque on H to the quadrature error.  Means are trapezoids over the final grid,
-    O(h^2) in its spacing.
+    forces q_i F_i, ``traction``, when they are in the moment balance; None: friction-free forces), in the axes of
+    the crank arm u = (cos(z2 theta/z1 - tau), sin(...)) of the satellite frame, from the contacts evaluated once
+    over the final grid.  The crank torque along the power flow is T_H = sigma e B_t (sigma +1 reducer, -1
+    multiplier; the ideal level's sigma e B_y), summed over the discs (histories 2 pi/n_d of crank apart,
+    :func:`gearcalc.pins.sum_over_discs`); its cycle mean equals the torque on H to the quadrature error.  Means are
+    trapezoids over the final grid, O(h^2) in its spacing.  The stress factor is the largest F/R_eff
+    (:func:`effective_radius`) of a loaded flank contact; a loaded contact on a crest corner is flagged instead.
 
     Parameters
     ----------
     model : ContactModel
-        the cycle's model (its mode and gear).
+        the cycle's model (its mode, gear and candidate window).
     sol : Solution
         the solved cycle over one period, sorted by theta, piece ends included.
+    traction : ndarray or None
+        friction forces per unit normal force (:meth:`ContactModel.traction`), or None.
     n_discs : int
         n_d.
 
@@ -2720,8 +2711,21 @@ def crank_bearing(model: "ContactModel", sol: Solution, n_discs: int) -> CrankBe
     the detail's bearing columns), §12.7 (discs); Prudnikov, Figs 3-7 (the driving torque over time).
     """
     g = model.g
-    theta = sol.theta
-    B_r, B_t = sol.bearing
+    theta, tau = sol.theta, sol.tau
+    n = theta.size
+    idx = model.candidates(theta)
+    cols = np.arange(n)[None, :]
+
+    def pick(a):
+        return a if idx is None or a is None or np.ndim(a) == 0 else a[:, idx, cols]
+
+    ct = model.contacts(model.pose(theta, idx), tau, pick(sol.branch))
+    F, q = pick(sol.force), 0.0 if traction is None else pick(traction)
+    Bx = -np.sum(F * (ct.nx - q * ct.ny), axis=(0, 1))
+    By = -np.sum(F * (ct.ny + q * ct.nx), axis=(0, 1))
+    ang = (g.z2 / g.z1) * theta - tau
+    ca, sa = np.cos(ang), np.sin(ang)
+    B_r, B_t = Bx * ca + By * sa, -Bx * sa + By * ca
     T_H = model.sigma * g.e * B_t / 1e3                 # N·mm -> N·m, one disc
     if n_discs > 1:
         T_H = sum_over_discs(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
@@ -2731,9 +2735,14 @@ def crank_bearing(model: "ContactModel", sol: Solution, n_discs: int) -> CrankBe
     def mean(v):
         return float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(theta)) / span) if span > 0.0 else float(v[0])
 
-    stress = float(np.nanmax(sol.stress)) if np.any(np.isfinite(sol.stress)) else math.nan
+    loaded = F > 0.0
+    crest = np.zeros(F.shape, dtype=bool) if ct.branch is None else (ct.branch >= 0) & loaded
+    flank = loaded & ~crest
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = F / effective_radius(g.R_b, pick(sol.delta), ct.wx * ct.ny - ct.wy * ct.nx)
+    stress = float(np.max(ratio[flank])) if np.any(flank) else math.nan
     return CrankBearing(T_H, B_r, B_t, B, np.degrees(np.arctan2(B_t, B_r)), mean(T_H), float(T_H.max() - T_H.min()),
-                        float(B.max()), mean(B), stress, bool(np.any(sol.crest)))
+                        float(B.max()), mean(B), stress, bool(np.any(crest)))
 
 
 @dataclass
