@@ -809,9 +809,7 @@ class Solution:
     change of a round-off of the pin positions at every contact (the penetrations are differences of
     lengths ~R_p);
     g_tau: (n,) dG/dtau of the moment balance at the solution [N·mm/rad] (the warm start of another torque,
-    :meth:`ContactModel.inherit`);
-    bearing, stress, crest: unused (None; :func:`crank_bearing` computes the crank-bearing force and the stress
-    factor over the final grid).
+    :meth:`ContactModel.inherit`).
     """
 
     theta: np.ndarray
@@ -829,9 +827,6 @@ class Solution:
     ddelta: np.ndarray | None = None
     noise: np.ndarray | None = None
     g_tau: np.ndarray | None = None
-    bearing: np.ndarray | None = None
-    stress: np.ndarray | None = None
-    crest: np.ndarray | None = None
 
 
 _CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
@@ -1332,7 +1327,7 @@ class ContactModel:
         return Solution(sol.theta, sol.tau, sol.dtau, sol.residual, scatter(sol.delta, -np.inf),
                         scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
                         scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
-                        sol.noise, sol.g_tau, sol.bearing, sol.stress, sol.crest)
+                        sol.noise, sol.g_tau)
 
     def reference(self, theta):
         """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
@@ -1407,17 +1402,26 @@ class ContactModel:
         return Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
                         G_tau0)
 
-    def bearing_force(self, sol: Solution, traction=None):
+    def solved_contacts(self, sol: Solution):
+        """The contacts of a solved state (theta, tau, branches) over the candidate pins, and ``pick``: the
+        candidates' columns of an array over all pins (c, z2, n) -> (c, m, n) (scalars and None unchanged)."""
+        idx = self.candidates(sol.theta)
+        cols = np.arange(sol.theta.size)[None, :]
+
+        def pick(a):
+            return a if idx is None or a is None or np.ndim(a) == 0 else a[:, idx, cols]
+
+        return self.contacts(self.pose(sol.theta, idx), sol.tau, pick(sol.branch)), pick
+
+    def bearing_force(self, sol: Solution, traction=None, ct=None, pick=None):
         """Force B of the crank bearing on the satellite (crank-frame axes turned by phi) [N], (2, n).
 
-        Satellite equilibrium: B = -sum (F n + q F (z x n)) (the coupling gives a pure torque).
-        """
-        pose = self.pose(sol.theta)
-        ct = self.contacts(pose, sol.tau)
-        q = 0.0 if traction is None else traction
-        fx = sol.force * (ct.nx - q * ct.ny)
-        fy = sol.force * (ct.ny + q * ct.nx)
-        return -np.sum(fx, axis=(0, 1)), -np.sum(fy, axis=(0, 1))
+        Satellite equilibrium: B = -sum (F n + q F (z x n)) (the coupling gives a pure torque); ``ct``, ``pick``: the
+        state's :meth:`solved_contacts`, when known."""
+        if ct is None:
+            ct, pick = self.solved_contacts(sol)
+        F, q = pick(sol.force), 0.0 if traction is None else pick(traction)
+        return -np.sum(F * (ct.nx - q * ct.ny), axis=(0, 1)), -np.sum(F * (ct.ny + q * ct.nx), axis=(0, 1))
 
 
 # ============================================================ losses (pins.md §5.6)
@@ -1511,7 +1515,7 @@ def _concat(parts: list[Solution]) -> Solution:
                     None if parts[0].switch is None else cat("switch", 3),
                     None if parts[0].branch is None else cat("branch", 2),
                     None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
-                    cat("noise", 0), cat("g_tau", 0), cat("bearing", 1), cat("stress", 0), cat("crest", 0))
+                    cat("noise", 0), cat("g_tau", 0))
 
 
 def _components(s: Solution, rolls: bool):
@@ -1786,9 +1790,9 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
 
     A piece of the final grid [a, b] holds m Kronrod nodes x_k = c + h t_k (c, h its centre and half-width; 7 for
     ``"gk7"``, 15 for ``"gk15"``) on which the state is analytic (no contact enters, leaves or changes branch
-    inside a piece, pins.md §5.6); its smooth fields (tau, d tau/d theta, forces, penetrations, speeds, the crank
-    bearing force, the stress factor) at J points c + h s_j, s_j = -1 + (2j + 1)/J inside [t_0, t_(m-1)], J in
-    proportion to the piece's length (``per_period`` per period, at least 2), are
+    inside a piece, pins.md §5.6); its smooth fields (tau, d tau/d theta, forces, penetrations, speeds) at J
+    points c + h s_j, s_j = -1 + (2j + 1)/J inside [t_0, t_(m-1)], J in proportion to the piece's length
+    (``per_period`` per period, at least 2), are
 
     .. math::  f(c + h s_j) \approx \sum_k L_k(s_j) f(x_k)
 
@@ -1849,8 +1853,7 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
                    np.maximum(interp_pins(sol.force, 0.0), 0.0), interp_pins(sol.v_t, 0.0), None, None,
                    interp_pins(sol.switch, np.nan), per_piece(sol.branch, lambda v: v[..., 0]),
                    None if sol.cand is None else cand, interp_pins(sol.ddelta, 0.0),
-                   per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau), interp(sol.bearing),
-                   interp(sol.stress), per_piece(sol.crest, lambda v: v.any(axis=-1)))
+                   per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau))
     return out, mid_all[piece]
 
 
@@ -2712,17 +2715,9 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) 
     """
     g = model.g
     theta, tau = sol.theta, sol.tau
-    n = theta.size
-    idx = model.candidates(theta)
-    cols = np.arange(n)[None, :]
-
-    def pick(a):
-        return a if idx is None or a is None or np.ndim(a) == 0 else a[:, idx, cols]
-
-    ct = model.contacts(model.pose(theta, idx), tau, pick(sol.branch))
-    F, q = pick(sol.force), 0.0 if traction is None else pick(traction)
-    Bx = -np.sum(F * (ct.nx - q * ct.ny), axis=(0, 1))
-    By = -np.sum(F * (ct.ny + q * ct.nx), axis=(0, 1))
+    ct, pick = model.solved_contacts(sol)
+    Bx, By = model.bearing_force(sol, traction, ct, pick)
+    F = pick(sol.force)
     ang = (g.z2 / g.z1) * theta - tau
     ca, sa = np.cos(ang), np.sin(ang)
     B_r, B_t = Bx * ca + By * sa, -Bx * sa + By * ca
