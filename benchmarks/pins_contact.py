@@ -11,17 +11,11 @@ timings vary by up to +-50 % between runs, so compare runs made one after the ot
 """
 from __future__ import annotations
 
-import argparse
-import glob
-import json
 import os
 import sys
 
 import gearcalc
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-CONFIGS = os.path.join(HERE, "..", "configs")
-MODELS = ("consistent", "first-order")
+from pins_timing import MODELS, run
 
 
 def time_design(path: str, friction: str, tol: float, repeat: int) -> dict:
@@ -41,24 +35,10 @@ def time_design(path: str, friction: str, tol: float, repeat: int) -> dict:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("configs", nargs="*")
-    ap.add_argument("--tol", type=float, default=1e-6)
-    ap.add_argument("--repeat", type=int, default=5)
-    ap.add_argument("--json")
-    a = ap.parse_args(argv)
-    paths = a.configs or sorted(glob.glob(os.path.join(CONFIGS, "pins_paper_c*.toml")))
-    rows = []
-    for path in paths:
-        for friction in MODELS:
-            row = time_design(path, friction, a.tol, a.repeat)
-            rows.append(row)
-            print(f"{row['design']:32s} {friction:12s} {row['time_ms']:7.1f} ms  n_crank {row['n_crank']:5d}  "
-                  f"eta {row['efficiency']:.9f} +- {row['efficiency_err']:.1e}", flush=True)
-    if a.json:
-        with open(a.json, "w") as fh:
-            json.dump(rows, fh, indent=1)
-    return 0
+    return run(__doc__, argv, "pins_paper_c*.toml", 5,
+               lambda path, tol, repeat: [time_design(path, f, tol, repeat) for f in MODELS],
+               lambda row: f"{row['design']:32s} {row['friction']:12s} {row['time_ms']:7.1f} ms  n_crank "
+                           f"{row['n_crank']:5d}  eta {row['efficiency']:.9f} +- {row['efficiency_err']:.1e}")
 
 
 if __name__ == "__main__":

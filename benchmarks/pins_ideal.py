@@ -14,18 +14,12 @@ between runs: compare runs made one after the other (e.g. with ``PYTHONPATH`` po
 """
 from __future__ import annotations
 
-import argparse
-import glob
-import json
 import os
 import sys
 import time
 
 import gearcalc
-
-HERE = os.path.dirname(os.path.abspath(__file__))
-CONFIGS = os.path.join(HERE, "..", "configs")
-MODELS = ("consistent", "first-order")
+from pins_timing import MODELS, run
 
 
 def time_design(path: str, tol: float, repeat: int) -> list[dict]:
@@ -50,27 +44,15 @@ def time_design(path: str, tol: float, repeat: int) -> list[dict]:
     return rows
 
 
+def line(row) -> str:
+    eta = "self-locking" if row["efficiency"] is None else f"{row['efficiency']:.9f} +- {row['efficiency_err']:.1e}"
+    return (f"{row['design']:30s} {row['friction']:12s} {row['model_time_ms']:13.3f} {row['cpu_ms']:7.3f}  "
+            f"{row['n_crank']:7d}  {eta}")
+
+
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("configs", nargs="*")
-    ap.add_argument("--tol", type=float, default=1e-6)
-    ap.add_argument("--repeat", type=int, default=30)
-    ap.add_argument("--json")
-    a = ap.parse_args(argv)
-    paths = a.configs or sorted(glob.glob(os.path.join(CONFIGS, "pins_paper_cyc_*.toml")))
-    rows = []
-    print(f"{'design':30s} {'friction':12s} {'model_time_ms':>13s} {'cpu_ms':>7s}  n_crank  efficiency", flush=True)
-    for path in paths:
-        for row in time_design(path, a.tol, a.repeat):
-            rows.append(row)
-            eta = "self-locking" if row["efficiency"] is None else \
-                f"{row['efficiency']:.9f} +- {row['efficiency_err']:.1e}"
-            print(f"{row['design']:30s} {row['friction']:12s} {row['model_time_ms']:13.3f} {row['cpu_ms']:7.3f}  "
-                  f"{row['n_crank']:7d}  {eta}", flush=True)
-    if a.json:
-        with open(a.json, "w") as fh:
-            json.dump(rows, fh, indent=1)
-    return 0
+    return run(__doc__, argv, "pins_paper_cyc_*.toml", 30, time_design, line,
+               f"{'design':30s} {'friction':12s} {'model_time_ms':>13s} {'cpu_ms':>7s}  n_crank  efficiency")
 
 
 if __name__ == "__main__":
