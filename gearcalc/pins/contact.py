@@ -847,6 +847,11 @@ def _sub_pose(pose: Pose, sel) -> Pose:
                 {k: v[..., sel] for k, v in pose.aux.items()})
 
 
+NEWTON_SMALL = 1e-8
+"""The satellite rotation's Newton iteration stops after a step |s| <= 1e-8 |tau| (quadratic convergence: the error is
+then ~s^2/tau <= 1e-16 |tau|; :meth:`ContactModel._solve`, :meth:`ContactModel._kinematics`)."""
+
+
 class ContactModel:
     """The satellite of one design under one torque: pose, penetrations, moment, equilibrium, speeds.
 
@@ -973,6 +978,17 @@ class ContactModel:
             if m < g.z2:
                 self.window = (float(z_lo), float(z_hi), m, (t_lo, t_hi))
 
+    def period_pins(self):
+        """The pins the candidate window can hold at crank angles in [0, T_p] (sorted), or None (every pin): the
+        rows where a cycle's states can differ from no contact (:func:`_components`, :func:`mean_loss_ratio`).
+
+        The window's first pin j0(theta) does not decrease with theta and grows by one over a period, so the
+        pins of its two ends hold every one in between."""
+        if self.window is None:
+            return None
+        rows = np.union1d(*self.candidates(np.array([0.0, self.g.period])).T)
+        return None if rows.size >= self.g.z2 else rows
+
     def window_holds(self, tau) -> bool:
         """Whether the solved tau stay in the range the candidate window allows (or there is no window)."""
         if self.window is None:
@@ -1080,10 +1096,16 @@ class ContactModel:
             F, Fp = self.law.force_on(ct.delta, ref[0]), self.law.stiffness_on(ct.delta, ref[0])
         q = 0.0 if traction is None else traction
         A = ct.arm if traction is None else ct.arm + q * (ct.xn + self.g.R_b)
+        G, G_tau, _ = self._moment_slope(ct, F, Fp, A, q, x, y)
+        return G, G_tau, ct, F, Fp, A, q, x, y
+
+    def _moment_slope(self, ct: Contacts, F, Fp, A, q, x, y):
+        """(G, G_tau, G_geo) of :meth:`_balance` from the contact data; G_geo: the part of G_tau from the turning
+        geometry at fixed deflections, sum F (1 + w.X_tau)(X.n - q X x n)."""
         G = np.sum(F * A, axis=(0, 1)) - self.M_req
         one = 1.0 + (ct.wx * y - ct.wy * x)
-        G_tau = np.sum(-Fp * ct.arm * A + F * one * (ct.xn - q * ct.arm), axis=(0, 1))
-        return G, G_tau, ct, F, Fp, A, q, x, y
+        G_geo = np.sum(F * one * (ct.xn - q * ct.arm), axis=(0, 1))
+        return G, np.sum(-Fp * ct.arm * A, axis=(0, 1)) + G_geo, G_geo
 
     # -- equilibrium ------------------------------------------------------------------------------
     def solve(self, theta, xtol: float = 1e-15, traction=None, pose=None):
@@ -1155,7 +1177,7 @@ class ContactModel:
                 # a step below the spacing of floats (not inside the open bracket) leaves tau as it is
                 xt = np.maximum(4.0 * np.spacing(np.abs(t)), 1e-3 * xtol)
                 tiny = (G_tau < 0.0) & (np.abs(step) <= xt)
-                small = ok & (np.abs(step) <= 1e-8 * np.abs(t))
+                small = ok & (np.abs(step) <= NEWTON_SMALL * np.abs(t))
                 conv = (G == 0.0) | tiny | small | (both & (hb - lb <= xt))
                 fail = ~ok & ~both & ~conv
                 act = ~fail & (G != 0.0)
@@ -1180,7 +1202,7 @@ class ContactModel:
                                           None if traction is None else traction[..., failed], xtol)
         return tau
 
-    def state(self, theta, ref=None, phases: bool = True) -> Solution:
+    def state(self, theta, ref=None, phases: bool = True, guess=None) -> Solution:
         """The solved state at crank angles theta: tau, d tau/d theta, forces, tangential speeds.
 
         ``ref`` = (active, branch) (c, z2, n), optional: the active set and contact branches of the
@@ -1191,6 +1213,8 @@ class ContactModel:
         the equilibrium is re-solved until the directions no longer change (a fixed point, at most 8
         passes; pins.md §5.5); when no rotation balances the torque with them, :class:`Jam`.
         ``phases = False`` leaves phase and zeta None (the cycle adds them once, :meth:`phases`).
+        ``guess`` (n,), optional: warm starts of tau (NaN: none), e.g. from the solved neighbours in the same piece
+        (:func:`piece_guess`); the others from the solved angles around (:meth:`_guess`).
         """
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         idx = self.candidates(theta)
@@ -1202,22 +1226,84 @@ class ContactModel:
             fixed = None if fixed is None else fixed[:, idx, cols]
         elif ref is not None:
             ref = ref[:2]
+        given = guess
+
+        def start(key):
+            memo = self._guess(theta, key)
+            if given is None:
+                return memo
+            return given if memo is None else np.where(np.isfinite(given), given, memo)
+
         if self.friction is None:
-            tau = self._solve(pose, None, self._guess(theta, 0))
-            sol = self._kinematics(pose, tau, None, ref)
+            guess = start(0)
+            sol = self._warm(pose, guess, None, ref) if ref is not None else None
+            if sol is None:
+                sol = self._kinematics(pose, self._solve(pose, None, guess), None, ref)
         elif fixed is not None:
             # the piece's own sliding directions (set at its midpoint, like its active set): the friction
             # forces jump only at the piece ends
-            tau = self._guess(theta, 1)
+            tau = start(1)
+            sol = None
             if tau is None:
                 tau = self._solve(pose, None, self._guess(theta, 0))
-            sol = self._friction_solve(pose, fixed, tau, ref)
+            else:
+                sol = self._warm(pose, tau, fixed, ref)
+            if sol is None:
+                sol = self._friction_solve(pose, fixed, tau, ref)
         else:
             sol = self._friction_fixed_point(theta, pose, ref)
         self._remember(1 if self.friction is not None else 0, sol)
         sol = self._full(sol, idx)
         if phases:
             sol.phase, sol.zeta = self.phases(theta)
+        return sol
+
+    def _warm(self, pose: Pose, guess, traction, ref, rounds: int = 2) -> "Solution | None":
+        """The state from the warm start ``guess`` by Newton steps, each with one balance (:meth:`_kinematics` with
+        ``step``: the last step, one :meth:`_solve` would stop after, moves the state without a new balance); an angle
+        whose start is farther takes a full Newton step (G_tau < 0, |s| <= |tau|/2) and is evaluated again, at most
+        ``rounds`` times; the others are solved by :meth:`_solve` from there.  None without a guess.  At the
+        quadrature's nodes the cubic Hermite warm start between solved neighbours (:func:`piece_guess`) is usually
+        that close: one balance per node instead of two or more (pins.md §5.5)."""
+        if guess is None:
+            return None
+        with np.errstate(divide="ignore", invalid="ignore"):
+            sol, need = self._kinematics(pose, guess, traction, ref, step=True)
+        n = sol.theta.size
+        cols = np.arange(n)
+
+        def sub(arr, c):
+            return arr[..., c] if isinstance(arr, np.ndarray) else arr
+
+        def put(part, c):
+            for f in dataclasses.fields(sol):
+                a = getattr(sol, f.name)
+                if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name != "theta":
+                    a[..., c] = getattr(part, f.name)
+
+        part, pose_c = sol, pose
+        for r in range(rounds + 1):
+            if not np.any(need):
+                return sol
+            keep = np.flatnonzero(need)
+            cols = cols[keep]
+            pose_c = _sub_pose(pose_c, keep)
+            tr, ref_c = sub(traction, cols), None if ref is None else (sub(ref[0], cols), sub(ref[1], cols))
+            tau, G, G_tau = part.tau[keep], part.residual[keep], part.g_tau[keep]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                step = -G / G_tau
+            if r == rounds or not np.all((G_tau < 0.0) & (np.abs(step) <= 0.5 * np.abs(tau))):
+                break
+            with np.errstate(divide="ignore", invalid="ignore"):
+                part, need = self._kinematics(pose_c, tau + step, tr, ref_c, step=True)
+            put(part, cols)
+        try:
+            tau = self._solve(pose_c, tr, tau)
+        except NoEquilibrium as exc:
+            if traction is None:
+                raise
+            raise Jam(exc.theta) from None
+        put(self._kinematics(pose_c, tau, tr, ref_c), cols)
         return sol
 
     def _friction_solve(self, pose: Pose, traction, tau, ref) -> Solution:
@@ -1350,7 +1436,7 @@ class ContactModel:
         is_lead = np.arange(v.shape[0])[:, None, None] == lead[None]
         return np.where(is_lead, -mu_eff * np.sign(v), -f * np.sign(v - v_lead))
 
-    def _kinematics(self, pose: Pose, tau, traction, ref=None) -> Solution:
+    def _kinematics(self, pose: Pose, tau, traction, ref=None, step: bool = False):
         r"""Forces, d tau/d theta and the contact speeds at the solved tau (pins.md §5.6).
 
         d tau/d theta = -G_theta/G_tau, both analytic (on the piece's active set and branches ``ref``);
@@ -1360,10 +1446,33 @@ class ContactModel:
 
             G_\theta = \sum F'(\delta)(n\cdot V) A + F\left[V\times n + (w\cdot V)(X\cdot n)
                        + q\,(n\cdot V - (w\cdot V)(X\times n))\right]
+
+        ``step``: ``tau`` is a warm start; where its Newton step s = -G/G_tau is one that :meth:`_solve` would take
+        and stop after (G_tau < 0, |s| <= 1e-8 |tau|) and the arms' turn moves the moment by |G_geo s| <= 1e-11
+        |M_req| at most, the state is moved by it: tau + s, delta - (X x n) s (exact to O((R_p + e) s^2) ~ 1e-22 mm,
+        d delta/d tau = -(X x n)), the forces and slopes anew from those deflections, the residual with the arms'
+        turn G_geo s added; the geometry (normals, arms, positions) stays at ``tau`` (its change, (R_p + e) s ~ 1e-10
+        mm, is far below the deflections' resolution).  Returns (Solution, need): ``need`` marks the angles whose warm start was farther
+        (they need :meth:`_solve`).
         """
         g = self.g
         th = pose.theta
         G, G_tau, ct, F, Fp, A, q, x, y = self._balance(pose, tau, traction)
+        need = None
+        if step:
+            _, _, G_geo = self._moment_slope(ct, F, Fp, A, q, x, y)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                s = -G / G_tau
+                take = ((G_tau < 0.0) & np.isfinite(s) & (np.abs(s) <= NEWTON_SMALL * np.abs(tau))
+                        & (np.abs(G_geo * s) <= 1e-3 * NEWTON_SMALL * abs(self.M_req)))
+            need = ~take
+            if np.any(take):
+                s = np.where(take, s, 0.0)
+                tau = tau + s
+                ct.delta = ct.delta - ct.arm * s
+                F, Fp = self.law.force(ct.delta), self.law.stiffness(ct.delta)
+                G, G_tau, _ = self._moment_slope(ct, F, Fp, A, q, x, y)
+                G = G + G_geo * s       # the moment at tau + s to first order in s: the arms' turn added
         G_tau0 = G_tau
         cr, F_r, Fp_r, A_r = ct, F, Fp, A
         if ref is not None:
@@ -1399,8 +1508,8 @@ class ContactModel:
         v_t = o_n + w1 * (ct.xn + g.R_b)
         ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * np.sum(np.abs(Fp * ct.arm), axis=(0, 1))
-        return Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
-                        G_tau0)
+        sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise, G_tau0)
+        return (sol, need) if step else sol
 
     def solved_contacts(self, sol: Solution):
         """The contacts of a solved state (theta, tau, branches) over the candidate pins, and ``pick``: the
@@ -1426,7 +1535,7 @@ class ContactModel:
 
 # ============================================================ losses (pins.md §5.6)
 
-def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool):
+def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool, rows=None):
     """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
 
     Fixed pins: every loaded contact slides at |v_t| with mu_eff = f.  Rolling pins: the contact with
@@ -1438,8 +1547,11 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
     loss : mu F |v| per contact [N·mm/s per rad/s] (c, z2, n) (times 1e-3 omega_H gives W);
     spin : omega_pin per unit crank speed [-] (z2, n) (0 for fixed pins and unloaded pins);
     slide : sliding speed per contact [mm/s per rad/s] (c, z2, n).
+
+    ``rows`` (optional, :meth:`ContactModel.period_pins`): these pins only (z2 -> their count in the shapes); the
+    others carry no force.
     """
-    F, v = sol.force, sol.v_t
+    F, v = (sol.force, sol.v_t) if rows is None else (sol.force[:, rows], sol.v_t[:, rows])
     if not rolls:
         slide = np.abs(v)
         return contact_loss_power(F, slide, mu_eff) * 1e3, np.zeros(F.shape[1:]), slide
@@ -1518,26 +1630,35 @@ def _concat(parts: list[Solution]) -> Solution:
                     cat("noise", 0), cat("g_tau", 0))
 
 
-def _components(s: Solution, rolls: bool):
+def _components(s: Solution, rolls: bool, rows=None):
     """The sign-change components of the cycle at the solved states ``s`` (pins.md §6): (values, slopes, n_delta),
     values and slopes (c, n) over the crank angles of ``s``; the slope is known for the penetrations only (NaN
-    else), which come first (n_delta rows).  A component that is NaN at a crank angle has no sign there."""
+    else), which come first (n_delta rows).  A component that is NaN at a crank angle has no sign there.
+
+    ``rows`` (optional, :meth:`ContactModel.period_pins`): only these pins' components (the others are never
+    candidates over the period: no contact, no sign); the same rows for every call on one cycle."""
     n = s.theta.size
-    delta = s.delta if s.cand is None else np.where(s.cand, s.delta, np.nan)   # NaN: no sign change
-    parts = [delta.reshape(-1, n), np.where(s.force > 0.0, s.v_t, 0.0).reshape(-1, n)]
-    slopes = [s.ddelta.reshape(-1, n), np.full(parts[1].shape, np.nan)]
+
+    def pick(a, axis=-2):
+        return a if rows is None or a is None else np.take(a, rows, axis=axis)
+
+    force, v_t, cand = pick(s.force), pick(s.v_t), pick(s.cand, 0)
+    delta = pick(s.delta)
+    delta = delta if cand is None else np.where(cand, delta, np.nan)   # NaN: no sign change
+    loaded = force > 0.0
+    parts = [delta.reshape(-1, n), np.where(loaded, v_t, 0.0).reshape(-1, n)]
+    slopes = [pick(s.ddelta).reshape(-1, n)]
     if s.switch is not None:      # not masked: a pin can reach the crest and leave it in one scan step
-        parts.append(s.switch.reshape(-1, n))
-        slopes.append(np.full(parts[-1].shape, np.nan))
-    if rolls and s.force.shape[0] == 2:
-        loaded = s.force > 0.0
-        lead = np.argmax(s.force, axis=0)
-        v_lead = np.take_along_axis(s.v_t, lead[None], axis=0)
+        parts.append(pick(s.switch).reshape(-1, n))
+    if rolls and force.shape[0] == 2:
+        lead = (force[1] > force[0]).astype(np.intp)          # np.argmax over the two contacts (ties: the first)
+        v_lead = np.where(lead == 1, v_t[1], v_t[0])[None]
         other = loaded & (np.arange(2)[:, None, None] != lead[None])
-        parts.append(np.where(loaded.all(axis=0), s.force[0] - s.force[1], np.nan).reshape(-1, n))
-        parts.append(np.where(other, s.v_t - v_lead, np.nan).reshape(-1, n))
-        slopes.extend(np.full(p.shape, np.nan) for p in parts[-2:])
-    return np.concatenate(parts), np.concatenate(slopes), delta.reshape(-1, n).shape[0]
+        parts.append(np.where(loaded.all(axis=0), force[0] - force[1], np.nan).reshape(-1, n))
+        parts.append(np.where(other, v_t - v_lead, np.nan).reshape(-1, n))
+    values = np.concatenate(parts)
+    slopes.append(np.full((values.shape[0] - slopes[0].shape[0], n), np.nan))
+    return values, np.concatenate(slopes), slopes[0].shape[0]
 
 
 @dataclass
@@ -1577,12 +1698,13 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
     state = _breakpoint_state(model)
     xtol = 1e-12 * Tp
     x = np.linspace(0.0, Tp, n_scan + 1)
-    v, _, n_delta = _components(state(x), rolls)
+    rows = model.period_pins()
+    v, _, n_delta = _components(state(x), rolls, rows)
     sgn = np.sign(v)
     comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
     if comp.size:
         def h(t, k):
-            val, slope, _ = _components(state(t), rolls)
+            val, slope, _ = _components(state(t), rolls, rows)
             i = np.arange(k.size)
             return val[comp[k], i], slope[comp[k], i]
 
@@ -1609,6 +1731,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
         return BreakpointRoots(np.empty(0), np.zeros(0, dtype=bool), False)
     max_width = width if max_width is None else max(max_width, width)
     state = _breakpoint_state(model)
+    rows = model.period_pins()
     r0 = prior.roots
     w = np.full(r0.size, float(width))
     todo = np.arange(r0.size)
@@ -1617,7 +1740,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     while todo.size:
         a = np.maximum(r0[todo] - w[todo], 0.0)
         b = np.minimum(r0[todo] + w[todo], Tp)
-        v, _, n_delta = _components(state(np.concatenate((a, b))), rolls)
+        v, _, n_delta = _components(state(np.concatenate((a, b))), rolls, rows)
         va, vb = v[:, :todo.size], v[:, todo.size:]
         comp, idx = np.nonzero(np.sign(va) * np.sign(vb) < 0)
         comps.append(comp)
@@ -1634,7 +1757,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     jtol = 1e-3 * tol * Tp
 
     def h(t, k):
-        val, slope, _ = _components(state(t), rolls)
+        val, slope, _ = _components(state(t), rolls, rows)
         i = np.arange(k.size)
         return val[comp[k], i], slope[comp[k], i]
 
@@ -1897,6 +2020,8 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     refs: dict = {}
     ref_sols: list[Solution] = []
 
+    solved = [np.empty(0), np.empty(0), np.empty(0)]     # piece keys, tau, d tau/d theta of the nodes solved so far
+
     def integrand(x, mid):
         um, inv = np.unique(mid, return_inverse=True)
         new = np.array([m for m in um if m not in refs])
@@ -1912,10 +2037,13 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         active = np.stack([refs[m][0] for m in um], axis=-1)[..., inv]
         branch = None if refs[um[0]][1] is None else np.stack([refs[m][1] for m in um], axis=-1)[..., inv]
         traction = None if refs[um[0]][2] is None else np.stack([refs[m][2] for m in um], axis=-1)[..., inv]
-        s = model.state(x, (active, branch, traction), phases=False)
+        key = piece_keys(edges, x, mid)
+        s = model.state(x, (active, branch, traction), phases=False, guess=piece_guess(*solved, key, x, edges))
+        order = np.argsort(k_all := np.concatenate((solved[0], key)), kind="stable")
+        solved[:] = [k_all[order], np.concatenate((solved[1], s.tau))[order], np.concatenate((solved[2], s.dtau))[order]]
         cache.append(s)
         mids.append(np.asarray(mid, dtype=float))
-        loss, _, _ = contact_losses(s, g.R_b, mu_eff, sliding_friction, rolls)
+        loss, _, _ = contact_losses(s, g.R_b, mu_eff, sliding_friction, rolls, model.period_pins())
         return loss.sum(axis=(0, 1)) / scale / g.period
 
     if model.window is None and prefilter:
@@ -1944,7 +2072,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
     checked = (cache, mids) if dense is None else (cache + [_take(dense[0], slice(None, None, 3))],
                                                    mids + [dense[1][::3]])
-    if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period):
+    if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period, model.period_pins()):
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
@@ -1960,13 +2088,46 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
                         (g.R_b, mu_eff, sliding_friction, rolls, scale))
 
 
-def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float) -> bool:
+def piece_keys(edges, x, mid):
+    """The nodes' places 2 p + (x - a_p)/(b_p - a_p) in [2 p, 2 p + 1], p the piece of the midpoint ``mid`` (edges
+    sorted): the keys of two pieces never meet, so the piece ends are told apart from their neighbours'."""
+    p = np.clip(np.searchsorted(edges, mid) - 1, 0, edges.size - 2)
+    a, b = edges[p], edges[p + 1]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(b > a, (x - a) / (b - a), 0.5)
+    return 2.0 * p + np.clip(t, 0.0, 1.0)
+
+
+def piece_guess(keys, tau, dtau, key, x, edges):
+    """Warm starts of tau at the nodes ``key`` (:func:`piece_keys`) from the solved nodes of the same piece around
+    each (keys sorted): the cubic Hermite interpolant of tau and d tau/d theta (one-sided at the piece's ends, from
+    inside it), error O(h^4) in their spacing h; NaN where the piece has no solved node on either side (then the
+    model's own warm start, :meth:`ContactModel.state`).  None when nothing is solved yet."""
+    if keys.size < 2:
+        return None
+    j = np.clip(np.searchsorted(keys, key), 1, keys.size - 1)
+    a, b = j - 1, j
+    p = np.floor(key * 0.5)
+    same = (np.floor(keys[a] * 0.5) == p) & (np.floor(keys[b] * 0.5) == p)
+    p = np.clip(p.astype(np.int64), 0, edges.size - 2)
+    L = edges[p + 1] - edges[p]
+    xa, xb = edges[p] + (keys[a] - 2.0 * p) * L, edges[p] + (keys[b] - 2.0 * p) * L
+    h = xb - xa
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = (x - xa) / h
+        t2, t3 = t * t, t * t * t
+        herm = ((2 * t3 - 3 * t2 + 1) * tau[a] + (t3 - 2 * t2 + t) * h * dtau[a]
+                + (-2 * t3 + 3 * t2) * tau[b] + (t3 - t2) * h * dtau[b])
+    return np.where(same & (h > 0.0) & np.isfinite(herm), herm, np.nan)
+
+
+def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float, rows=None) -> bool:
     """Whether every evaluated node lies on its piece's side of every sign change: no component has the
     opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's ends (where a
     located jump may lie within 1e-3 tol T_p of its place, :func:`_scan_roots`).  A stricter test than the full
     scan's (the nodes are denser than its 256 intervals), used for the incrementally moved breakpoints."""
     rm = np.concatenate([r.theta for r in ref_sols])
-    rv = np.concatenate([_components(r, rolls)[0] for r in ref_sols], axis=1)
+    rv = np.concatenate([_components(r, rolls, rows)[0] for r in ref_sols], axis=1)
     rpos, rneg = rv > 0.0, rv < 0.0             # NaN: neither (no sign)
     order = np.argsort(rm)
     excl = 2e-3 * tol * period + 8e-12 * period
@@ -1976,7 +2137,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
         inner = (x - edges[piece] > excl) & (edges[piece + 1] - x > excl)
         if not np.any(inner):
             continue
-        v = _components(c, rolls)[0][:, inner]
+        v = _components(c, rolls, rows)[0][:, inner]
         if v.shape[0] != rv.shape[0]:
             return False
         col = order[np.searchsorted(rm[order], mid[inner])]
