@@ -270,7 +270,7 @@ def _gauss_kronrod(f, a, b, rule: str, tol: float, atol: float, n_max: int) -> Q
 
 def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n_start: int = 128,
                        n_max: int = 2 ** 12, min_levels: int = 2, n_initial=None,
-                       rule: str = "trapezoid", n_min: int = 2) -> QuadResult:
+                       rule: str = "trapezoid", n_min: int = 2, at_once: int = 0) -> QuadResult:
     r"""Piecewise composite trapezoid with Richardson extrapolation, refined piece by piece (pins.md §6, §12.6).
 
     The rule of the module docstring (first level ``n_start`` intervals shared out in proportion to the
@@ -295,6 +295,10 @@ def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n
     the final counts of a run on nearly the same integrand (the next pass of the torque fixed point).
     ``n_min`` is the least count of a piece at the first level (default 2; 1 lets the tiny pieces of a
     geometric grading cost 4 intervals after the two doublings instead of 8).
+
+    ``at_once`` (at most ``min_levels``): the first level and that many doublings in one call of ``f`` (the finest
+    grid's nodes; the coarser levels' sums from its nested subsets), for an integrand whose calls cost more than its
+    nodes; the doublings are then accepted as above.
 
     ``rule`` ``"gk7"`` or ``"gk15"`` (opt-in) replaces the composite trapezoid by a Gauss-Kronrod pair per piece,
     pieces bisected while needed (:func:`_gauss_kronrod`; ``n_start``, ``min_levels`` and ``n_initial`` unused,
@@ -332,33 +336,41 @@ def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n
     else:
         n_piece = np.maximum(n_min, np.rint(n_start * (b - a) / (b[-1] - a[0]))).astype(np.int64)
     mid_p = 0.5 * (a + b)
-    x, mid, piece = piece_nodes(edges, n_piece)
+    L = max(0, min(int(at_once), min_levels))
+    if L and int(n_piece.sum()) << L > n_max:
+        L = 0
+    x, mid, piece = piece_nodes(edges, n_piece << L)
     w = np.where(np.concatenate(([True], piece[1:] != piece[:-1])) | np.concatenate((piece[1:] != piece[:-1], [True])),
                  0.5, 1.0)
     v = np.asarray(f(x, mid), dtype=float).ravel()
-    trap = np.bincount(piece, weights=v * w, minlength=p) * (b - a) / n_piece
     e_last = np.full(p, np.nan)
     e_prev = np.full(p, np.nan)
     lev = np.zeros(p, dtype=np.int64)
+    if L:
+        # the nested levels of the finest grid: every 2^(L - l)-th node of a piece is level l's
+        k = np.arange(x.size) - np.repeat(np.concatenate(([0], np.cumsum((n_piece << L) + 1)[:-1])), (n_piece << L) + 1)
+        traps = []
+        for ell in range(L + 1):
+            on = (k % (1 << (L - ell))) == 0
+            traps.append(np.bincount(piece[on], weights=(v * w)[on], minlength=p) * (b - a) / (n_piece << ell))
+        trap = traps[-1]
+        e_last = traps[-1] - traps[-2]
+        if L >= 2:
+            e_prev = traps[-2] - traps[-3]
+        n_piece = n_piece << L
+        lev[:] = L
+    else:
+        trap = np.bincount(piece, weights=v * w, minlength=p) * (b - a) / n_piece
     act = np.arange(p)
     converged = False
+    first = L > 0
     while True:
-        if act.size == 0 or int(n_piece.sum() + n_piece[act].sum()) > n_max:
+        if first:
+            first = False        # the levels evaluated at once: to the acceptance below
+        elif act.size == 0 or int(n_piece.sum() + n_piece[act].sum()) > n_max:
             break
-        # the new (odd) nodes of the active pieces
-        cnt = n_piece[act]
-        pc = np.repeat(act, cnt)
-        st = np.concatenate(([0], np.cumsum(cnt)[:-1]))
-        j = np.arange(int(cnt.sum())) - np.repeat(st, cnt)
-        h_new = (b - a) / (2 * n_piece)
-        xn = a[pc] + h_new[pc] * (2 * j + 1)
-        vn = np.asarray(f(xn, mid_p[pc]), dtype=float).ravel()
-        s = np.bincount(pc, weights=vn, minlength=p)[act]
-        new = 0.5 * trap[act] + h_new[act] * s
-        e_prev[act], e_last[act] = e_last[act], new - trap[act]
-        trap[act] = new
-        n_piece[act] *= 2
-        lev[act] += 1
+        else:
+            act = _double(f, act, a, b, n_piece, mid_p, trap, e_last, e_prev, lev, p)
         if np.any(lev < min_levels):
             act = np.nonzero(lev < min_levels)[0]
             continue
@@ -382,6 +394,25 @@ def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n
     return QuadResult(value=np.array([value]), err=np.array([err]), trapezoid=np.array([float(trap.sum())]),
                       n=int(n_piece.sum()), converged=converged, levels=int(lev.max()), edges=edges,
                       n_piece=n_piece)
+
+
+def _double(f, act, a, b, n_piece, mid_p, trap, e_last, e_prev, lev, p):
+    """One doubling of the pieces ``act`` of :func:`integrate_adaptive` (its arrays updated in place): the new (odd)
+    nodes evaluated, the trapezoid sums, the last two differences and the levels."""
+    cnt = n_piece[act]
+    pc = np.repeat(act, cnt)
+    st = np.concatenate(([0], np.cumsum(cnt)[:-1]))
+    j = np.arange(int(cnt.sum())) - np.repeat(st, cnt)
+    h_new = (b - a) / (2 * n_piece)
+    xn = a[pc] + h_new[pc] * (2 * j + 1)
+    vn = np.asarray(f(xn, mid_p[pc]), dtype=float).ravel()
+    s = np.bincount(pc, weights=vn, minlength=p)[act]
+    new = 0.5 * trap[act] + h_new[act] * s
+    e_prev[act], e_last[act] = e_last[act], new - trap[act]
+    trap[act] = new
+    n_piece[act] *= 2
+    lev[act] += 1
+    return act
 
 
 # ------------------------------------------------------------------ many integrals at once

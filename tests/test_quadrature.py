@@ -144,6 +144,29 @@ def test_explicit_initial_counts_per_piece():
     assert r.n_piece.tolist() == [64] and r.value[0] == 0.5
 
 
+@pytest.mark.parametrize("at_once", [1, 2])
+@pytest.mark.parametrize("tol,n_initial", [(1e-6, None), (1e-10, None), (1e-8, [3, 1, 2, 5])])
+def test_levels_at_once_are_the_doublings_one_after_the_other(at_once, tol, n_initial):
+    # at_once evaluates the first level and its doublings in one call (the coarser levels' sums from the nested nodes
+    # of the finest grid): the same pieces, counts, value and error as doubling one level per call (to round-off of
+    # the node positions), in fewer calls; integrand: a jump at 1/pi, a kink at 0.7, 1/(x + 1e-3) on the last piece
+    calls = {True: 0, False: 0}
+
+    def f(x, mid, tag):
+        calls[tag] += 1
+        return np.where(mid > 1 / math.pi, 1.0, 0.0) + np.abs(x - 0.7) + np.where(mid > 0.8, 1.0 / (x - 0.8 + 1e-3), 0.0)
+
+    edges = [0.0, 1 / math.pi, 0.7, 0.8, 1.0]
+    one = integrate_adaptive(lambda x, m: f(x, m, False), edges, tol=tol, n_initial=n_initial)
+    many = integrate_adaptive(lambda x, m: f(x, m, True), edges, tol=tol, n_initial=n_initial, at_once=at_once)
+    assert many.n_piece.tolist() == one.n_piece.tolist() and many.converged == one.converged
+    assert many.value[0] == pytest.approx(one.value[0], rel=1e-14)
+    assert many.err[0] == pytest.approx(one.err[0], rel=1e-6, abs=1e-15)
+    assert calls[True] == calls[False] - at_once
+    exact = (1 - 1 / math.pi) + (0.7 ** 2 + 0.3 ** 2) / 2 + math.log(0.2 / 1e-3 + 1.0)
+    assert abs(many.value[0] - exact) <= many.err[0]
+
+
 # ------------------------------------------------------------------ many integrals at once (integrate_pieces)
 
 def _three(x, mid, piece):

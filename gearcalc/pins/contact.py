@@ -1084,7 +1084,7 @@ class ContactModel:
 
             G_\tau = \sum -F'(\delta)\,(X\times n)\,A + F\,(1 + w\cdot X_\tau)(X\cdot n - q\,X\times n)
 
-        Returns (G, G_tau, ct, F, Fp, A, q, x, y)."""
+        Returns (G, G_tau, ct, F, Fp, A, q, x, y, G_geo), G_geo the part of G_tau at fixed deflections."""
         c, s = np.cos(tau), np.sin(tau)
         x = c * pose.x0 + s * pose.y0
         y = -s * pose.x0 + c * pose.y0
@@ -1096,8 +1096,8 @@ class ContactModel:
             F, Fp = self.law.force_on(ct.delta, ref[0]), self.law.stiffness_on(ct.delta, ref[0])
         q = 0.0 if traction is None else traction
         A = ct.arm if traction is None else ct.arm + q * (ct.xn + self.g.R_b)
-        G, G_tau, _ = self._moment_slope(ct, F, Fp, A, q, x, y)
-        return G, G_tau, ct, F, Fp, A, q, x, y
+        G, G_tau, G_geo = self._moment_slope(ct, F, Fp, A, q, x, y)
+        return G, G_tau, ct, F, Fp, A, q, x, y, G_geo
 
     def _moment_slope(self, ct: Contacts, F, Fp, A, q, x, y):
         """(G, G_tau, G_geo) of :meth:`_balance` from the contact data; G_geo: the part of G_tau from the turning
@@ -1457,10 +1457,9 @@ class ContactModel:
         """
         g = self.g
         th = pose.theta
-        G, G_tau, ct, F, Fp, A, q, x, y = self._balance(pose, tau, traction)
+        G, G_tau, ct, F, Fp, A, q, x, y, G_geo = self._balance(pose, tau, traction)
         need = None
         if step:
-            _, _, G_geo = self._moment_slope(ct, F, Fp, A, q, x, y)
             with np.errstate(divide="ignore", invalid="ignore"):
                 s = -G / G_tau
                 take = ((G_tau < 0.0) & np.isfinite(s) & (np.abs(s) <= NEWTON_SMALL * np.abs(tau))
@@ -1485,7 +1484,7 @@ class ContactModel:
                 cols = np.flatnonzero(other)
                 sub_ref = (ref[0][..., cols], None if ref[1] is None else ref[1][..., cols])
                 sub_q = traction[..., cols] if isinstance(traction, np.ndarray) else traction
-                _, gt, cs, fs, fps, As, _, _, _ = self._balance(_sub_pose(pose, cols), tau[cols], sub_q, sub_ref)
+                _, gt, cs, fs, fps, As, _, _, _, _ = self._balance(_sub_pose(pose, cols), tau[cols], sub_q, sub_ref)
                 G_tau = G_tau.copy()
                 G_tau[cols] = gt
                 cr = Contacts(*(_with_cols(getattr(ct, k), getattr(cs, k), cols) for k in _CONTACT_FIELDS))
@@ -1711,7 +1710,7 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
         # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
         # 1e-3 tol times the jump of lambda over lambda_bar
         roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
-                                     jump_xtol=1e-3 * tol * Tp)
+                                     jump_xtol=1e-3 * tol * Tp, step_tol=ROOT_STEP * Tp)
     else:
         roots = np.empty(0)
     order = np.argsort(roots, kind="stable")
@@ -1762,7 +1761,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
         return val[comp[k], i], slope[comp[k], i]
 
     roots = _refine_sign_changes(h, np.concatenate(lo), np.concatenate(hi), np.concatenate(flo), np.concatenate(fhi),
-                                 xtol, jump_xtol=jtol)
+                                 xtol, jump_xtol=jtol, step_tol=ROOT_STEP * Tp)
     # one root found from two overlapping brackets: the same component within the refinement's tolerance
     order = np.lexsort((roots, comp))
     comp, roots = comp[order], roots[order]
@@ -1823,7 +1822,8 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
     return (edges, found) if roots else edges
 
 
-def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None):
+def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None,
+                         step_tol: float | None = None):
     """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
     slope, secant otherwise, bisection when a step leaves the bracket (pins.md §6: breakpoints to
     1e-12 T_p).  ``h(x, k)`` returns (values, slopes) of the brackets ``k`` (indices) at x, a slope NaN
@@ -1833,7 +1833,12 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     A bracket whose end values stay 100x above what the scan's slope |fb - fa|/(b - a) allows over the
     shrunken bracket (after shrinking it 1000x) holds a jump, not a root (e.g. the tangential speed
     where the friction forces flip): it is bisected only to ``jump_xtol`` (default ``xtol``).
+
+    ``step_tol`` (default ``xtol``): a bracket also stops after a Newton or secant step below it, at the stepped
+    point: Newton's error after a step s is ~(h''/2h') s^2, the secant's ~s^1.6, so a step of 1e-9 T_p leaves
+    ~1e-15 T_p, below ``xtol`` = 1e-12 T_p, one evaluation sooner than a step below ``xtol`` would.
     """
+    step_tol = xtol if step_tol is None else max(step_tol, xtol)
     lo, hi = np.array(a, dtype=float), np.array(b, dtype=float)
     flo, fhi = np.array(fa, dtype=float), np.array(fb, dtype=float)
     w0 = hi - lo
@@ -1860,7 +1865,7 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
         new = np.where(bad, 0.5 * (lb + hh), new)
         width = hh - lb
         jump = (width <= 1e-3 * w0[act]) & (np.minimum(np.abs(fl), np.abs(fh)) > 100.0 * slope0[act] * width)
-        conv = ((f == 0.0) | (~bad & (np.abs(new - xa) <= xtol)) | (width <= 2.0 * xtol)
+        conv = ((f == 0.0) | (~bad & (np.abs(new - xa) <= step_tol)) | (width <= 2.0 * xtol)
                 | (jump & (width <= 2.0 * jtol)))
         closed = conv & ((width <= 2.0 * xtol) | (jump & (width <= 2.0 * jtol)))
         lo[act], hi[act], flo[act], fhi[act] = lb, hh, fl, fh
@@ -1868,6 +1873,11 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
         x[act] = np.where(f == 0.0, xa, np.where(closed, 0.5 * (lb + hh), new))
         act = act[~conv]
     return x
+
+
+ROOT_STEP = 1e-9
+"""A breakpoint's refinement stops after a Newton or secant step below ROOT_STEP T_p, at the stepped point (its error
+then ~1e-15 T_p, :func:`_refine_sign_changes`; pins.md §6)."""
 
 
 def _merge(points, gap):
@@ -1984,7 +1994,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
                     tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
                     prefilter: bool = True, n_initial=None, rule: str = "trapezoid",
                     prior: "BreakpointRoots | None" = None, prior_width: float = 1e-2, n_min: int = 2,
-                    coarse_scan: int | None = None) -> ContactCycle:
+                    coarse_scan: int | None = None, at_once: int = 0) -> ContactCycle:
     """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error.
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
@@ -2012,6 +2022,8 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         nodes (and the same recomputation with the full scan); the nodes must then be at least as dense as the full
         scan (``n_start`` >= n_scan/4 with two doublings), so the check is at least as strict as the full scan.
     n_min : the least intervals of a piece at the first level (:func:`integrate_adaptive`).
+    at_once : the first level's doublings solved with it in one call (:func:`integrate_adaptive`), as with
+        ``n_initial`` from the last pass, whose final grid the first call then solves at once.
     """
     g = model.g
     scale = model.torque_sat * g.k / g.z1
@@ -2057,7 +2069,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         found = _scan_roots(model, n_scan, tol, rolls)
     edges = _edges(model, found, tol)
     q = integrate_adaptive(integrand, edges, tol=tol, n_max=n_max, n_start=n_start, n_initial=n_initial, rule=rule,
-                           n_min=n_min)
+                           n_min=n_min, at_once=at_once)
     if rule != "trapezoid":
         # a Gauss-Kronrod rule evaluates no piece end: the one-sided states at both ends of every piece join the
         # final grid for the peaks, the loaded interval and the detail (they do not enter the mean; pins.md §6)
@@ -2522,6 +2534,8 @@ CYCLE_N_MIN = 1
 """First-level intervals of a piece at least (the tiny pieces of a geometric grading)."""
 CYCLE_MOVE_ROOTS = True
 """Whether a later pass of the torque fixed point, and the other mode, move the last pass's breakpoints."""
+CYCLE_AT_ONCE = 2
+CYCLE_AT_ONCE_FIRST = 2
 CYCLE_COARSE_SCAN = 64
 """Intervals of the first breakpoint scan of a design, checked on the quadrature's nodes (:func:`mean_loss_ratio`)."""
 PRIOR_WIDTH_PASS = 1.0
@@ -2647,7 +2661,8 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
                     return model, out
                 return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial,
                                               rule=rule, prior=prior, prior_width=width, n_start=CYCLE_N_START,
-                                              n_min=CYCLE_N_MIN, coarse_scan=CYCLE_COARSE_SCAN)
+                                              n_min=CYCLE_N_MIN, coarse_scan=CYCLE_COARSE_SCAN,
+                                              at_once=CYCLE_AT_ONCE if n_initial is not None else CYCLE_AT_ONCE_FIRST)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise
