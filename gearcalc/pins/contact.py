@@ -1669,6 +1669,7 @@ class BreakpointRoots:
     roots: np.ndarray
     contact: np.ndarray
     scanned: bool = True
+    seen: list = field(default_factory=list, repr=False, compare=False)   # the states solved to find them
 
     def mirrored(self, period: float) -> "BreakpointRoots":
         """The roots of the other mode of the same design: theta -> T_p - theta (pins.md §4.8(5), §5.7)."""
@@ -1685,8 +1686,10 @@ def _breakpoint_state(model: ContactModel):
         if key not in memo:
             memo.clear()
             memo[key] = model.state(x, phases=False)
+            state.seen.append(memo[key])
         return memo[key]
 
+    state.seen = []          # every state solved, for the pieces' sets (:func:`_interior_states`)
     return state
 
 
@@ -1714,7 +1717,7 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
     else:
         roots = np.empty(0)
     order = np.argsort(roots, kind="stable")
-    return BreakpointRoots(roots[order], (comp < n_delta)[order], not checked)
+    return BreakpointRoots(roots[order], (comp < n_delta)[order], not checked, state.seen)
 
 
 def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float, tol: float,
@@ -1770,7 +1773,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     if roots.size != r0.size:
         return None
     order = np.argsort(roots, kind="stable")
-    return BreakpointRoots(roots[order], (comp < n_delta)[order], False)
+    return BreakpointRoots(roots[order], (comp < n_delta)[order], False, state.seen)
 
 
 def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarray:
@@ -2038,14 +2041,23 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         um, inv = np.unique(mid, return_inverse=True)
         new = np.array([m for m in um if m not in refs])
         if new.size:
-            # the pieces' fixed sets (:meth:`ContactModel.reference`), the midpoints' states kept for the check below
-            rs = model.state(new, phases=False)
-            ref_sols.append(rs)
-            active, branch = rs.force > 0.0, rs.branch
-            traction = None if model.friction is None else model.traction(rs)
-            for i, m in enumerate(new):
-                refs[m] = (active[..., i], None if branch is None else branch[..., i],
-                           None if traction is None else traction[..., i])
+            # the pieces' fixed sets (:meth:`ContactModel.reference`), from a state solved in the stretch between the
+            # sign changes around the piece while they were located, else at the midpoint; kept for the check below
+            col, known = _interior_states(found, new, g.period)
+            parts = []
+            if np.any(col >= 0):
+                rs = _take(known, col[col >= 0])
+                rs.theta = new[col >= 0]            # the piece's reference, told by its midpoint
+                parts.append(rs)
+            if np.any(col < 0):
+                parts.append(model.state(new[col < 0], phases=False))
+            for rs in parts:
+                ref_sols.append(rs)
+                active, branch = rs.force > 0.0, rs.branch
+                traction = None if model.friction is None else model.traction(rs)
+                for i, m in enumerate(rs.theta):
+                    refs[m] = (active[..., i], None if branch is None else branch[..., i],
+                               None if traction is None else traction[..., i])
         active = np.stack([refs[m][0] for m in um], axis=-1)[..., inv]
         branch = None if refs[um[0]][1] is None else np.stack([refs[m][1] for m in um], axis=-1)[..., inv]
         traction = None if refs[um[0]][2] is None else np.stack([refs[m][2] for m in um], axis=-1)[..., inv]
@@ -2098,6 +2110,34 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     model.roots = found
     return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, n_solved, q, sol, edges, found,
                         (g.R_b, mu_eff, sliding_friction, rolls, scale))
+
+
+INTERIOR_MARGIN = 1e-6
+"""A state stands for a piece's sets when it lies farther than INTERIOR_MARGIN T_p from every located sign change
+(1000x a jump's location tolerance at --tol 1e-6, :func:`_interior_states`)."""
+
+
+def _interior_states(found: BreakpointRoots, mids, period: float):
+    """For the pieces with midpoints ``mids``: the column of a state solved while the sign changes ``found`` were
+    located (``found.seen``) that lies in the same stretch between two of them as the midpoint, farther than
+    ``INTERIOR_MARGIN`` T_p from both (the nearest such to the midpoint), else -1; and those states concatenated.
+    The components keep their signs over the stretch, so that state has the piece's active set, branches and
+    friction directions, as its midpoint's would (pins.md §6; a sign change the located ones missed is caught on the
+    nodes, :func:`_pieces_hold`)."""
+    seen = [s for s in found.seen if s.theta.size]
+    if not seen:
+        return np.full(mids.size, -1), None
+    known = _concat(seen)
+    th = known.theta
+    r = found.roots
+    margin = INTERIOR_MARGIN * period
+    k = np.searchsorted(r, mids)
+    lo = np.where(k > 0, r[np.maximum(k - 1, 0)], -np.inf)[:, None]
+    hi = np.where(k < r.size, r[np.minimum(k, r.size - 1)], np.inf)[:, None]
+    inside = (th[None, :] > lo + margin) & (th[None, :] < hi - margin)
+    dist = np.where(inside, np.abs(th[None, :] - mids[:, None]), np.inf)
+    col = np.argmin(dist, axis=1)
+    return np.where(np.isfinite(dist[np.arange(mids.size), col]), col, -1), known
 
 
 def piece_keys(edges, x, mid):
@@ -2535,7 +2575,10 @@ CYCLE_N_MIN = 1
 CYCLE_MOVE_ROOTS = True
 """Whether a later pass of the torque fixed point, and the other mode, move the last pass's breakpoints."""
 CYCLE_AT_ONCE = 2
+"""Doublings solved with the first level in one call by a later pass of the torque fixed point (its first level is a
+quarter of the last pass's final counts: that grid at once; :func:`integrate_adaptive`)."""
 CYCLE_AT_ONCE_FIRST = 2
+"""The same for the first pass (its first level and both doublings every piece gets, at once)."""
 CYCLE_COARSE_SCAN = 64
 """Intervals of the first breakpoint scan of a design, checked on the quadrature's nodes (:func:`mean_loss_ratio`)."""
 PRIOR_WIDTH_PASS = 1.0
