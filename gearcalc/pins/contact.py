@@ -847,6 +847,12 @@ def _sub_pose(pose: Pose, sel) -> Pose:
                 {k: v[..., sel] for k, v in pose.aux.items()})
 
 
+def _hermite(t, h, fa, da, fb, db):
+    """The cubic Hermite interpolant at t = (x - x_a)/h in [0, 1] of values f and slopes d at x_a and x_a + h."""
+    t2, t3 = t * t, t * t * t
+    return ((2 * t3 - 3 * t2 + 1) * fa + (t3 - 2 * t2 + t) * h * da + (-2 * t3 + 3 * t2) * fb + (t3 - t2) * h * db)
+
+
 NEWTON_SMALL = 1e-8
 """The satellite rotation's Newton iteration stops after a step |s| <= 1e-8 |tau| (quadratic convergence: the error is
 then ~s^2/tau <= 1e-16 |tau|; :meth:`ContactModel._solve`, :meth:`ContactModel._kinematics`)."""
@@ -1269,17 +1275,10 @@ class ContactModel:
             return None
         with np.errstate(divide="ignore", invalid="ignore"):
             sol, need = self._kinematics(pose, guess, traction, ref, step=True)
-        n = sol.theta.size
-        cols = np.arange(n)
+        cols = np.arange(sol.theta.size)
 
         def sub(arr, c):
             return arr[..., c] if isinstance(arr, np.ndarray) else arr
-
-        def put(part, c):
-            for f in dataclasses.fields(sol):
-                a = getattr(sol, f.name)
-                if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name != "theta":
-                    a[..., c] = getattr(part, f.name)
 
         part, pose_c = sol, pose
         for r in range(rounds + 1):
@@ -1296,14 +1295,14 @@ class ContactModel:
                 break
             with np.errstate(divide="ignore", invalid="ignore"):
                 part, need = self._kinematics(pose_c, tau + step, tr, ref_c, step=True)
-            put(part, cols)
+            _put(sol, part, cols)
         try:
             tau = self._solve(pose_c, tr, tau)
         except NoEquilibrium as exc:
             if traction is None:
                 raise
             raise Jam(exc.theta) from None
-        put(self._kinematics(pose_c, tau, tr, ref_c), cols)
+        _put(sol, self._kinematics(pose_c, tau, tr, ref_c), cols)
         return sol
 
     def _friction_solve(self, pose: Pose, traction, tau, ref) -> Solution:
@@ -1388,10 +1387,7 @@ class ContactModel:
         h = th[b] - th[a]
         inside = (h > 0.0) & (theta >= th[a]) & (theta <= th[b])
         with np.errstate(divide="ignore", invalid="ignore"):
-            t = np.where(inside, (theta - th[a]) / h, 0.0)
-            t2, t3 = t * t, t * t * t
-            herm = ((2 * t3 - 3 * t2 + 1) * ta[a] + (t3 - 2 * t2 + t) * h * dt[a]
-                    + (-2 * t3 + 3 * t2) * ta[b] + (t3 - t2) * h * dt[b])
+            herm = _hermite(np.where(inside, (theta - th[a]) / h, 0.0), h, ta[a], dt[a], ta[b], dt[b])
         return np.where(inside, herm, line)
 
     def _full(self, sol: Solution, idx) -> Solution:
@@ -1610,6 +1606,15 @@ def _take(sol: Solution, sel) -> Solution:
     n = sol.theta.size
     return Solution(**{f.name: (v[..., sel] if isinstance(v, np.ndarray) and v.shape[-1:] == (n,) else v)
                        for f in dataclasses.fields(sol) for v in (getattr(sol, f.name),)})
+
+
+def _put(sol: Solution, part: Solution, sel) -> None:
+    """The states of ``part`` written into ``sol`` at the crank angles ``sel`` (in place; theta is not written)."""
+    n = sol.theta.size
+    for f in dataclasses.fields(sol):
+        a = getattr(sol, f.name)
+        if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name != "theta":
+            a[..., sel] = getattr(part, f.name)
 
 
 def _concat(parts: list[Solution]) -> Solution:
@@ -2067,11 +2072,12 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         solved[:] = [k_all[order], np.concatenate((solved[1], s.tau))[order], np.concatenate((solved[2], s.dtau))[order]]
         cache.append(s)
         mids.append(np.asarray(mid, dtype=float))
-        loss, _, _ = contact_losses(s, g.R_b, mu_eff, sliding_friction, rolls, model.period_pins())
+        loss, _, _ = contact_losses(s, g.R_b, mu_eff, sliding_friction, rolls, rows)
         return loss.sum(axis=(0, 1)) / scale / g.period
 
     if model.window is None and prefilter:
         model.set_window()
+    rows = model.period_pins()           # the window is fixed for this cycle (a failing one recomputes it)
     found = None
     if prior is not None:
         found = _incremental_roots(model, prior, prior_width * g.period, tol, rolls, PRIOR_WIDTH_MAX * g.period)
@@ -2096,7 +2102,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
     checked = (cache, mids) if dense is None else (cache + [_take(dense[0], slice(None, None, 3))],
                                                    mids + [dense[1][::3]])
-    if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period, model.period_pins()):
+    if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period, rows):
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
@@ -2166,10 +2172,7 @@ def piece_guess(keys, tau, dtau, key, x, edges):
     xa, xb = edges[p] + (keys[a] - 2.0 * p) * L, edges[p] + (keys[b] - 2.0 * p) * L
     h = xb - xa
     with np.errstate(divide="ignore", invalid="ignore"):
-        t = (x - xa) / h
-        t2, t3 = t * t, t * t * t
-        herm = ((2 * t3 - 3 * t2 + 1) * tau[a] + (t3 - 2 * t2 + t) * h * dtau[a]
-                + (-2 * t3 + 3 * t2) * tau[b] + (t3 - t2) * h * dtau[b])
+        herm = _hermite((x - xa) / h, h, tau[a], dtau[a], tau[b], dtau[b])
     return np.where(same & (h > 0.0) & np.isfinite(herm), herm, np.nan)
 
 
@@ -2575,10 +2578,9 @@ CYCLE_N_MIN = 1
 CYCLE_MOVE_ROOTS = True
 """Whether a later pass of the torque fixed point, and the other mode, move the last pass's breakpoints."""
 CYCLE_AT_ONCE = 2
-"""Doublings solved with the first level in one call by a later pass of the torque fixed point (its first level is a
-quarter of the last pass's final counts: that grid at once; :func:`integrate_adaptive`)."""
-CYCLE_AT_ONCE_FIRST = 2
-"""The same for the first pass (its first level and both doublings every piece gets, at once)."""
+"""Doublings solved with the first level in one call (:func:`integrate_adaptive`): the first pass's first level and
+both doublings every piece gets; a later pass's first level is a quarter of the last pass's final counts, so that
+grid at once."""
 CYCLE_COARSE_SCAN = 64
 """Intervals of the first breakpoint scan of a design, checked on the quadrature's nodes (:func:`mean_loss_ratio`)."""
 PRIOR_WIDTH_PASS = 1.0
@@ -2705,7 +2707,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
                 return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial,
                                               rule=rule, prior=prior, prior_width=width, n_start=CYCLE_N_START,
                                               n_min=CYCLE_N_MIN, coarse_scan=CYCLE_COARSE_SCAN,
-                                              at_once=CYCLE_AT_ONCE if n_initial is not None else CYCLE_AT_ONCE_FIRST)
+                                              at_once=CYCLE_AT_ONCE)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise
