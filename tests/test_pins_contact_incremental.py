@@ -115,3 +115,54 @@ def test_tiny_torque_balance_is_met_to_round_off():
     a = circular_model(1.0)
     cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=1e-4)
     assert np.max(np.abs(cyc.sol.residual)) / a.torque_sat < 1e-4
+
+
+@pytest.mark.parametrize("make, friction", [(cycloid_model, None), (circular_model, None),
+                                            (circular_model, (0.1, 0.1, False))])
+def test_pass_from_the_last_nodes_equals_the_full_pass_within_its_error(make, friction):
+    # the next torque pass from the first pass's nodes (breakpoints not moved, pins.md §6(6)) against the full pass
+    # at the same torque (moved roots, new nodes): the same loss ratio within the stated error, which holds the
+    # first pass's quadrature error and the strips' bound
+    tol = 1e-6
+    a = make(1.0e6, MULTIPLIER, friction)
+    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    T2 = 1.0e6 * (1.0 + 5e-6)                   # the paper designs' second passes: 1e-6 to 2e-5 away
+    b = make(T2, MULTIPLIER, friction)
+    b.inherit(a)
+    lite = pc.relinearised_cycle(b, first, a, tol)
+    assert lite is not None
+    c = make(T2, MULTIPLIER, friction)
+    c.inherit(a)
+    full = pc.mean_loss_ratio(c, 0.1, 0.1, False, tol=tol, prior=first.roots, prior_width=5e-6)
+    assert abs(lite.loss_ratio - full.loss_ratio) <= lite.loss_ratio_err + full.loss_ratio_err
+    assert lite.loss_ratio_err >= first.loss_ratio_err * first.friction[4] / lite.friction[4]
+    assert lite.loss_ratio != first.loss_ratio                  # the torque's own change, not the old value
+    assert np.max(np.abs(lite.sol.residual)) / b.torque_sat < 0.01 * tol
+    assert np.array_equal(lite.sol.theta, first.sol.theta)
+
+
+def test_pass_from_the_last_nodes_refuses_a_far_torque():
+    # 2 % more torque moves the contact entries by ~1e-3 T_p, across the nodes of their graded pieces: the strips'
+    # bound exceeds the tolerance, or a node's penetration changes sign against its piece; a full pass is needed
+    tol = 1e-6
+    a = circular_model(1.0e6)
+    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    b = circular_model(1.02e6)
+    b.inherit(a)
+    assert pc.relinearised_cycle(b, first, a, tol) is None
+
+
+def test_torque_fixed_point_with_and_without_the_pass_from_the_last_nodes(monkeypatch):
+    # the paper's u = 10 circular-arc design (fixed pins, first-order and friction-consistent): the fixed point's
+    # loss ratio with the second pass from the first one's nodes agrees with the full passes' within both errors
+    g = Cycloid.from_pin_circle(20, 22, 3.9, 57.2, 2.75)
+    rho, R_t = pc.full_tooth(g)
+    prof, law = pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0)
+    for consistent in (False, True):
+        out = {}
+        for flag in (True, False):
+            monkeypatch.setattr(pc, "CYCLE_RELINEARISE", flag)
+            out[flag] = pc.cycle_at_torque(g, prof, law, 100.0, False, True, 1, 0.1, 0.1, False, consistent, tol=1e-6)
+        assert out[True].settled and out[False].settled
+        assert abs(out[True].loss_ratio - out[False].loss_ratio) <= out[True].loss_ratio_err + out[False].loss_ratio_err
+        assert len(out[True].history) <= len(out[False].history)
