@@ -512,7 +512,9 @@ class CycloidProfile:
         change of beta)."""
         trig, change = None, None
         for _ in range(steps):
-            trig = self._trig(beta, fam)
+            # after the first step, cos/sin by the angle sums from the last ones (:meth:`_turned`: exact to round-off
+            # for a step |Z_e s| <= 1e-3, else evaluated anew)
+            trig = self._trig(beta, fam) if trig is None else self._turned(trig, change, beta, fam)
             cx, cy, dx, dy, ddx, ddy = self._curve_of(trig)
             rx, ry = cx - x, cy - y
             gval = rx * dx + ry * dy
@@ -536,9 +538,18 @@ class CycloidProfile:
         fam_all, x_all, y_all = (np.broadcast_to(a, shape).ravel() for a in (fam, x, y))
         beta, lo, hi = b0.copy(), b0 - half, b0 + half
         act = np.arange(b0.size)                       # iterate only the elements not yet converged
+        trig, last = None, None                        # cos/sin at each element's last beta (:meth:`_turned`)
         for _ in range(maxiter):
             bt, fa = beta[act], fam_all[act]
-            cx, cy, dx, dy, ddx, ddy = self._curve(bt, fa)
+            if trig is None:
+                tr = self._trig(bt, fa)
+                trig, last = [t.copy() for t in tr], b0.copy()
+            else:
+                tr = self._turned(tuple(t[act] for t in trig), bt - last[act], bt, fa)
+                for t, v in zip(trig, tr):
+                    t[act] = v
+                last[act] = bt
+            cx, cy, dx, dy, ddx, ddy = self._curve_of(tr)
             rx, ry = cx - x_all[act], cy - y_all[act]
             gval = rx * dx + ry * dy
             gder = dx * dx + dy * dy + rx * ddx + ry * ddy
@@ -634,9 +645,9 @@ class CycloidProfile:
                 side = np.asarray(branch)[0]
             crest = side >= 0
             if np.any(crest):
-                s = np.maximum(side, 0)
-                gx = np.take_along_axis(pose.aux["crest_x"], s[None], axis=0)[0]
-                gy = np.take_along_axis(pose.aux["crest_y"], s[None], axis=0)[0]
+                plus = side <= 0                      # the +psi* corner (0), else the -psi* one (1)
+                gx = np.where(plus, pose.aux["crest_x"][0], pose.aux["crest_x"][1])
+                gy = np.where(plus, pose.aux["crest_y"][0], pose.aux["crest_y"][1])
                 ex, ey = gx - x, gy - y
                 r = np.hypot(ex, ey)
                 delta = np.where(crest, self.g.R_b - r, delta)
