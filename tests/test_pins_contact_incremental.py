@@ -166,3 +166,24 @@ def test_torque_fixed_point_with_and_without_the_pass_from_the_last_nodes(monkey
         assert out[True].settled and out[False].settled
         assert abs(out[True].loss_ratio - out[False].loss_ratio) <= out[True].loss_ratio_err + out[False].loss_ratio_err
         assert len(out[True].history) <= len(out[False].history)
+
+
+def test_angles_solved_again_replace_their_inherited_warm_starts():
+    # a pass at a torque 10 % away inherits the window scan's states (scaled and moved by a Newton step: off by
+    # ~1e-3 of tau); solving the same angles again replaces them, so that the warm starts between them are the
+    # cubic Hermite of this torque's states (pins.md §5.5): the memory keeps one state per angle
+    a = circular_model(1.0e6)
+    scan = a.set_window()
+    b = circular_model(1.1e6)
+    b.inherit(a)
+    n = b._memo[0][0].size
+    s = b.state(scan.theta, phases=False)
+    th, tau, _ = b._memo[0]
+    assert th.size == n
+    assert np.array_equal(tau[np.searchsorted(th, s.theta)], s.tau)
+    mid = scan.theta[:-1] + 0.5 * np.diff(scan.theta)
+    c = circular_model(1.1e6)
+    c.inherit(a)                                   # the inherited starts only
+    new, inherited = b._guess(mid, 0), c._guess(mid, 0)
+    exact = c.state(mid, phases=False).tau
+    assert np.max(np.abs(new - exact)) < 0.1 * np.max(np.abs(inherited - exact))

@@ -1373,6 +1373,16 @@ class ContactModel:
         old, old_g = self._memo[key], self._gtau[key]
         th, ta, dt, gt = sol.theta, sol.tau, sol.dtau, sol.g_tau
         if old is not None:
+            # an angle solved again replaces its older state (one inherited from another torque, or from a solve
+            # with other sets): a warm start between a new state and an old one at the next angle would carry the old
+            # one's error (~1e-3 of tau after a torque pass of lambda_bar ~ 0.1)
+            if th.size:
+                new = np.sort(th)
+                k = np.clip(np.searchsorted(new, old[0]), 1, max(new.size - 1, 1))
+                near = np.minimum(np.abs(old[0] - new[k - 1]), np.abs(old[0] - new[np.minimum(k, new.size - 1)]))
+                keep = near > 1e-12 * self.g.period
+                old = tuple(o[keep] for o in old)
+                old_g = None if old_g is None else old_g[keep]
             th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
             if gt is not None and old_g is None:
                 old_g = np.full(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
@@ -2876,6 +2886,12 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             prior, width = seed.roots.mirrored(g.period), PRIOR_WIDTH_MODE
         try:
             with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
+                if prior is not None and prev is not None and prev.roots is None and not window_only:
+                    # the first full pass of a mode that moves the other mode's roots (no scan of its own): its
+                    # window scan's angles solved at this torque first, so that the nodes start from states of
+                    # this torque, not from the window scan's (a torque lambda_bar away: one or two Newton rounds
+                    # more per node)
+                    model.state(np.arange(CYCLE_COARSE_SCAN) * (g.period / CYCLE_COARSE_SCAN), phases=False)
                 if window_only:
                     out = coarse(model, model.set_window())
                     model.roots = None        # the next pass starts from the seed's roots (above)
