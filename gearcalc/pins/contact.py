@@ -858,6 +858,16 @@ def _sub_pose(pose: Pose, sel) -> Pose:
                 {k: v[..., sel] for k, v in pose.aux.items()})
 
 
+def _distance_to(points, x):
+    """The distance from each of ``x`` to the nearest of ``points`` (sorted, not empty).
+
+    >>> _distance_to(np.array([0.0, 1.0]), np.array([-1.0, 0.25, 0.5, 3.0])).tolist()
+    [1.0, 0.25, 0.5, 2.0]
+    """
+    k = np.clip(np.searchsorted(points, x), 1, points.size)
+    return np.minimum(np.abs(x - points[k - 1]), np.abs(x - points[np.minimum(k, points.size - 1)]))
+
+
 def _hermite(t, h, fa, da, fb, db):
     """The cubic Hermite interpolant at t = (x - x_a)/h in [0, 1] of values f and slopes d at x_a and x_a + h."""
     t2, t3 = t * t, t * t * t
@@ -1377,10 +1387,7 @@ class ContactModel:
             # with other sets): a warm start between a new state and an old one at the next angle would carry the old
             # one's error (~1e-3 of tau after a torque pass of lambda_bar ~ 0.1)
             if th.size:
-                new = np.sort(th)
-                k = np.clip(np.searchsorted(new, old[0]), 1, max(new.size - 1, 1))
-                near = np.minimum(np.abs(old[0] - new[k - 1]), np.abs(old[0] - new[np.minimum(k, new.size - 1)]))
-                keep = near > 1e-12 * self.g.period
+                keep = _distance_to(np.sort(th), old[0]) > 1e-12 * self.g.period
                 old = tuple(o[keep] for o in old)
                 old_g = None if old_g is None else old_g[keep]
             th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
@@ -2370,9 +2377,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
         piece = np.clip(np.searchsorted(edges, mid) - 1, 0, edges.size - 2)
         inner = (x - edges[piece] > excl) & (edges[piece + 1] - x > excl)
         if away is not None and away[0].size:
-            k = np.clip(np.searchsorted(away[0], x), 1, away[0].size)
-            near = np.minimum(np.abs(x - away[0][k - 1]), np.abs(x - away[0][np.minimum(k, away[0].size - 1)]))
-            inner &= near > away[1]
+            inner &= _distance_to(away[0], x) > away[1]
         if not np.any(inner):
             continue
         v = _components(c, rolls, rows)[0][:, inner]
