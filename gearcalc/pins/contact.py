@@ -2201,7 +2201,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     stated error of it; E_s 0.4-1.1 of tol lambda_bar at the torque steps of their second passes (3e-6 to 2e-5).
 
     None (a full pass is needed) when ``cyc`` has no final-grid record (a Gauss-Kronrod rule), a node has no
-    equilibrium with its sets or non-finite values, a node farther than 2d from every breakpoint has a component
+    equilibrium with its sets or non-finite values, a node farther than D from every breakpoint has a component
     with the other sign than its piece (:func:`_pieces_hold`: a contact appears or leaves), the window's tau range
     does not hold, a breakpoint's component is not found, or the quadrature's error and E_s exceed
     ``RELINEARISE_SHARE`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling pins'
@@ -2872,8 +2872,15 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         loss = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)[0]
         return float(np.mean(loss.sum(axis=(0, 1)))) / (model.torque_sat * g.k / g.z1)
 
+    def make(T_V):
+        return ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
+
+    def settles(remainder, history):
+        """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing."""
+        return remainder <= max(0.1 * tol * abs(history[-1]), 1e-15) or fixed_point_settled(history[-2:], tol)
+
     def run(T_V, prev, window_only=False, n_initial=None):
-        model = ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
+        model = make(T_V)
         if prev is not None:
             model.inherit(prev)
         elif seed is not None and seed.sigma != sigma:
@@ -2945,7 +2952,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             locked = stalled = True        # the losses at no load exceed the input: keep the last solution
             break
         remainder, T_next = _fixed_point_step(history, torques, uT, a)
-        if remainder <= max(0.1 * tol * abs(lam), 1e-15) or fixed_point_settled(history[-2:], tol):
+        if settles(remainder, history):
             break
         if fixed_point_stalls(history):
             settled = False            # lambda(T_V) jumps (a contact comes and goes with the torque): no contraction
@@ -2954,14 +2961,13 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             # the second pass from the first one's nodes, its breakpoints not moved (:func:`relinearised_cycle`);
             # taken only when it settles the fixed point, else the full passes go on as without it
             T2 = uT / (1.0 + a * lam)
-            model2 = ContactModel(g, profile, law, units.nm_to_nmm(T2) / n_discs, sigma, friction)
+            model2 = make(T2)
             model2.inherit(model)
             cyc2 = relinearised_cycle(model2, cyc, model, tol)
             if cyc2 is not None:
                 h2, t2 = history + [cyc2.loss_ratio], torques + [T2]
                 rem2, _ = _fixed_point_step(h2, t2, uT, a)
-                if ((rem2 <= max(0.1 * tol * abs(cyc2.loss_ratio), 1e-15) or fixed_point_settled(h2, tol))
-                        and not (not multiplier and reducer_stalls(h2, t2, uT))):
+                if settles(rem2, h2) and not (not multiplier and reducer_stalls(h2, t2, uT)):
                     history, torques, remainder = h2, t2, rem2
                     model, cyc, T_V, lam = model2, cyc2, T2, cyc2.loss_ratio
                     break
