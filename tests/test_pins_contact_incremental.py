@@ -187,3 +187,80 @@ def test_angles_solved_again_replace_their_inherited_warm_starts():
     new, inherited = b._guess(mid, 0), c._guess(mid, 0)
     exact = c.state(mid, phases=False).tau
     assert np.max(np.abs(new - exact)) < 0.1 * np.max(np.abs(inherited - exact))
+
+
+def test_strided_nodes_keep_both_ends_and_every_stride_th():
+    # pieces of 32, 8, 4 and 1 intervals at stride 8: strides 8, 2, 1, 1 (each leaves a piece at least 4 intervals,
+    # the graded pieces at a Hertz entry keep all their nodes)
+    counts = [33, 9, 5, 2]
+    ps = np.repeat(np.arange(4), counts)
+    xs = np.concatenate([p + np.linspace(0.0, 1.0, c) for p, c in enumerate(counts)])
+    keep, lo, hi, t = pc._strided(xs, ps, 8)
+    kept = [np.flatnonzero(keep[ps == p]) for p in range(4)]
+    assert [k.tolist() for k in kept] == [list(range(0, 33, 8)), list(range(0, 9, 2)), list(range(5)), [0, 1]]
+    # every node lies between its two kept neighbours of the same piece, at the place t
+    assert np.all(ps[lo] == ps) and np.all(ps[hi] == ps) and np.all(keep[lo]) and np.all(keep[hi])
+    inner = ~keep
+    assert np.allclose(xs[lo] + t * (xs[hi] - xs[lo]), xs) and np.all((t[inner] > 0.0) & (t[inner] < 1.0))
+    # exact identity: the trapezoid integrates a linear function exactly, piece by piece
+    w = pc._trapezoid_weights(xs[keep], ps[keep])
+    assert np.isclose(np.dot(w, 3.0 * xs[keep] + 1.0), sum(3.0 * (p + 0.5) + 1.0 for p in range(4)), rtol=1e-14)
+
+
+def test_moved_states_are_exact_for_a_change_linear_in_theta():
+    # _moved interpolates the change linearly between the kept nodes: a change linear in theta is reproduced to
+    # round-off, values out of reach (-inf) stay, forces are clipped at 0 and the residual is the old one
+    a = circular_model(1.0e6)
+    a.set_window()                               # the pins out of the window: delta = -inf
+    sol = a.state(np.linspace(0.0, a.g.period, 9), phases=False)
+    kept = np.array([0, 4, 8])
+    lo, hi = np.repeat([0, 1, 2], [4, 4, 1]), np.repeat([1, 2, 2], [4, 4, 1])
+    t = np.array([0, 0.25, 0.5, 0.75, 0, 0.25, 0.5, 0.75, 0])
+    change = 1e-3 * (1.0 + sol.theta)
+    part = pc._take(sol, kept)
+    part.tau = part.tau + change[kept]
+    on = sol.cand                                # the candidates change; the other pins keep their fill values
+    part.force = part.force + np.where(on[:, kept], change[kept], 0.0)
+    part.residual = part.residual + 1.0
+    moved = pc._moved(sol, part, kept, lo, hi, t)
+    assert np.allclose(moved.tau, sol.tau + change, rtol=0.0, atol=1e-15)
+    both = on & on[:, kept[lo]] & on[:, kept[hi]]    # a candidate at the node and at the kept nodes around it
+    assert np.allclose(moved.force[:, both], (sol.force + change)[:, both], rtol=0.0, atol=1e-15 * sol.force.max())
+    assert np.array_equal(moved.force[:, ~on], sol.force[:, ~on]) and np.any(both) and not np.all(on)
+    assert np.array_equal(np.isinf(moved.delta), np.isinf(sol.delta)) and np.any(np.isinf(sol.delta))
+    part.force = part.force - 2.0 * change[kept] - 1e9        # an interpolated fall below 0 is clipped
+    assert np.all(np.delete(pc._moved(sol, part, kept, lo, hi, t).force, kept, axis=-1) >= 0.0)
+    assert np.array_equal(moved.residual[kept], part.residual)
+    assert np.array_equal(np.delete(moved.residual, kept), np.delete(sol.residual, kept))
+
+
+@pytest.mark.parametrize("make, friction", [(cycloid_model, None), (circular_model, (0.1, 0.1, False))])
+def test_strided_pass_agrees_with_every_node_solved(make, friction):
+    # the pass from the last nodes solving every 8th node of each piece (interpolating the change between them)
+    # against the same pass solving every node (stride 1): the loss ratio within the strided pass's error, which
+    # holds the difference's trapezoid error against every other solved node; the interpolated states within 5 %
+    # of the torque's change of them of the solved ones
+    tol = 1e-6
+    a = make(1.0e6, MULTIPLIER, friction)
+    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    T2 = 1.0e6 * (1.0 + 5e-6)
+    runs = {}
+    for stride in (1, 8):
+        b = make(T2, MULTIPLIER, friction)
+        b.inherit(a)
+        runs[stride] = pc.relinearised_cycle(b, first, a, tol, stride=stride)
+        assert runs[stride] is not None
+    one, eight = runs[1], runs[8]
+    assert abs(one.loss_ratio - eight.loss_ratio) <= eight.loss_ratio_err
+    assert eight.loss_ratio_err >= one.loss_ratio_err * 0.999
+    assert one.loss_ratio != eight.loss_ratio                 # the interpolation is not the solve
+    assert np.array_equal(one.sol.theta, eight.sol.theta)
+    # farther than 1e-3 T_p from the breakpoints (closer, a contact entry's speeds change like (theta - theta_0)^(1/9)
+    # with its place: within the strips E_s bounds, and at most as far off as the unmoved state)
+    far = pc._distance_to(first.roots.roots, one.sol.theta) > 1e-3 * a.g.period
+    for field in ("tau", "force", "v_t"):
+        solved, strided, old = (getattr(c.sol, field) for c in (one, eight, first))
+        fin = np.isfinite(old)
+        err, change = np.where(fin, np.abs(strided - solved), 0.0), np.where(fin, np.abs(solved - old), 0.0)
+        assert np.max(err[..., far]) <= 0.05 * np.max(change[..., far])
+        assert np.max(err) <= np.max(change)

@@ -426,7 +426,7 @@ class CircularProfile:
     def __init__(self, g: Cycloid, tooth_radius: float, tooth_circle_radius: float):
         self.g, self.rho_t, self.R_t = g, float(tooth_radius), float(tooth_circle_radius)
 
-    def prepare(self, pose: Pose) -> None:
+    def prepare(self, pose: Pose, trig=None) -> None:
         z1 = self.g.z1
         gam = np.arctan2(pose.y0, pose.x0)
         m = np.floor((gam * z1 / math.pi - 1.0) / 2.0)          # tooth with chi_m just below gamma
@@ -446,6 +446,9 @@ _CURVE_KEYS = ("c1x", "c1y", "d1x", "d1y", "dd1x", "dd1y")
 """Pose keys of the design curve c_b, c_b', c_b'' at the last foot point (:meth:`CycloidProfile.contacts`)."""
 _TRIG_KEYS = ("cb1", "sb1", "ca1", "sa1")
 """Pose keys of cos/sin of beta and of Z_e beta - 2 pi b/k at the last foot point."""
+_START_KEYS = ("cb0", "sb0", "ca0", "sa0")
+"""Pose keys of cos/sin of beta and of Z_e beta - 2 pi b/k at the nominal foot point beta0, when it is one
+(:meth:`CycloidProfile.prepare`)."""
 
 
 class CycloidProfile:
@@ -507,14 +510,17 @@ class CycloidProfile:
         below it (at most ``steps``)."""
         return self._newton_trig(beta, fam, x, y, steps, tol)[0]
 
-    def _newton_trig(self, beta, fam, x, y, steps, tol=None):
+    def _newton_trig(self, beta, fam, x, y, steps, tol=None, start=None):
         """:meth:`_newton`, also returning :meth:`_trig` at the beta before the last step and that step (signed, the
-        change of beta)."""
+        change of beta).  ``start``: :meth:`_trig` at the first beta, when known."""
         trig, change = None, None
-        for _ in range(steps):
+        for i in range(steps):
             # after the first step, cos/sin by the angle sums from the last ones (:meth:`_turned`: exact to round-off
             # for a step |Z_e s| <= 1e-3, else evaluated anew)
-            trig = self._trig(beta, fam) if trig is None else self._turned(trig, change, beta, fam)
+            if i == 0:
+                trig = self._trig(beta, fam) if start is None else start
+            else:
+                trig = self._turned(trig, change, beta, fam)
             cx, cy, dx, dy, ddx, ddy = self._curve_of(trig)
             rx, ry = cx - x, cy - y
             gval = rx * dx + ry * dy
@@ -569,12 +575,22 @@ class CycloidProfile:
                 break
         return beta.reshape(shape)
 
-    def prepare(self, pose: Pose) -> None:
+    def prepare(self, pose: Pose, trig=None) -> None:
+        """The pins' families, their foot points on the design curve at the nominal pose (and the crest corners).
+
+        ``trig``, optional: cos and sin of beta0 and of the crank-arm angle a = z2 theta/z1 of the pose, which are
+        those of :meth:`_trig` at beta0 (Z_e beta0 - 2 pi b/k = a + 2 pi floor(j/k)).  Without a radial
+        modification the nominal pin centre lies on the design curve, so its foot point is beta0 itself, and the
+        Newton steps of :meth:`contacts` start from these values (no new cos/sin)."""
         fam = np.mod(pose.aux["idx"], self.g.k) * np.ones_like(pose.x0, dtype=np.int64)
         pose.aux["fam"] = fam
-        # only the start of the Newton steps of :meth:`contacts` at the turned positions (which iterate until a step
-        # below 1e-7 rad has been applied): 1e-7 here too (quadratic convergence: the error is then ~1e-14 rad)
-        pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0, tol=1e-7)
+        if trig is not None and self.design.R_p == self.g.R_p:
+            pose.aux["beta"] = pose.beta0
+            pose.aux.update(zip(_START_KEYS, (np.broadcast_to(t, pose.x0.shape) for t in trig)))
+        else:
+            # only the start of the Newton steps of :meth:`contacts` at the turned positions (which iterate until a
+            # step below 1e-7 rad has been applied): 1e-7 here too (quadratic convergence: the error is then ~1e-14 rad)
+            pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0, tol=1e-7)
         if self.crests:
             pose.aux["crest_x"], pose.aux["crest_y"] = self._crest_corners(pose)
 
@@ -618,7 +634,8 @@ class CycloidProfile:
             if np.max(np.abs(step), initial=0.0) > 1e-7:
                 beta, trig, change = self._newton_trig(beta, fam, x, y, 7, 1e-7)
         else:
-            beta, trig, change = self._newton_trig(pose.aux["beta"], fam, x, y, 8, 1e-7)
+            start = tuple(pose.aux[k] for k in _START_KEYS) if _START_KEYS[0] in pose.aux else None
+            beta, trig, change = self._newton_trig(pose.aux["beta"], fam, x, y, 8, 1e-7, start)
         # the curve at the foot point: the last step is below 1e-7 rad, so cos/sin follow from the last ones by
         # the angle sums (:meth:`_turned`, no new cos/sin)
         trig = self._turned(trig, change, beta, fam)
@@ -920,13 +937,14 @@ class ContactModel:
         sel = self.pins if idx is None else idx
         beta0 = 2.0 * math.pi * sel / g.z2 + (g.k / g.z1) * theta[None, :]
         a = (g.z2 / g.z1) * theta[None, :]
-        x0 = g.R_p * np.cos(beta0) - g.e * np.cos(a)
-        y0 = g.R_p * np.sin(beta0) - g.e * np.sin(a)
+        trig = (np.cos(beta0), np.sin(beta0), np.cos(a), np.sin(a))
+        x0 = g.R_p * trig[0] - g.e * trig[2]
+        y0 = g.R_p * trig[1] - g.e * trig[3]
         psi = pin_phase(sel, theta[None, :], g.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
         psi = np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
         p = Pose(theta, x0, y0, np.broadcast_to(beta0, x0.shape), psi)
         p.aux["idx"] = np.broadcast_to(sel, x0.shape)
-        self.profile.prepare(p)
+        self.profile.prepare(p, trig)
         return p
 
     def candidates(self, theta):
@@ -2166,13 +2184,17 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
 RELINEARISE_MARGIN = 1.25
 """A breakpoint's move to the next torque, taken as this many times its Newton step (:func:`relinearised_cycle`; the
 step's own error is second order in a move of ~1e-6 T_p)."""
+RELINEARISE_STRIDE = 8
+"""The pass from the last pass's nodes solves every RELINEARISE_STRIDE-th node of each piece and its ends
+(:func:`relinearised_cycle`, :func:`_strided`); the nodes between are interpolated."""
 RELINEARISE_SHARE = 0.9
 """The largest share of the tolerance (tol lambda_bar) that the quadrature's error and the strips the breakpoints move
 through may hold together in a torque pass from the last pass's nodes (:func:`relinearised_cycle`); more: a full
 pass."""
 
 
-def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactModel, tol: float) -> "ContactCycle | None":
+def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactModel, tol: float,
+                       stride: int | None = None) -> "ContactCycle | None":
     r"""The cycle at the torque of ``model`` from the final grid of ``cyc`` (solved with ``prev``, a torque a few 1e-5
     away): the next pass of the torque fixed point without locating the breakpoints again (pins.md §6(6), §7).
 
@@ -2230,31 +2252,46 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     g, sol1 = model.g, cyc.sol
     Tp, x = g.period, cyc.sol.theta
     scale2 = model.torque_sat * g.k / g.z1
-    with np.errstate(divide="ignore", invalid="ignore"):
-        step = (model.M_req - prev.M_req) / sol1.g_tau
-        guess = np.where((sol1.g_tau < 0.0) & np.isfinite(step), sol1.tau + step, np.nan)
-        try:
-            s2 = model.state(x, sets, phases=False, guess=guess)
-        except NoEquilibrium:
-            return None
-        L1 = contact_losses(sol1, R_b, mu_eff, f, rolls, rows)[0].sum(axis=(0, 1))
-        L2 = contact_losses(s2, R_b, mu_eff, f, rolls, rows)[0].sum(axis=(0, 1))
-    if not (np.all(np.isfinite(L2)) and np.all(np.isfinite(s2.force)) and np.all(np.isfinite(s2.v_t))
-            and model.window_holds(s2.tau)):
-        return None
-    # the final grid's trapezoid weights, piece by piece (a piece end is a node of each of its two pieces); pieces
-    # follow each other in theta, so the order by (piece, theta) is sorted in theta too
+    # the final grid piece by piece (a piece end is a node of each of its two pieces); pieces follow each other in
+    # theta, so the order by (piece, theta) is sorted in theta too
     edges = cyc.breakpoints
     p = np.clip(np.searchsorted(edges, node_mid) - 1, 0, edges.size - 2)
     order = np.lexsort((x, p))
-    xs, ps, l1 = x[order], p[order], L1[order]
-    same = ps[1:] == ps[:-1]
-    h = np.where(same, np.diff(xs), 0.0)
-    w = np.zeros(x.size)
-    w[:-1] += 0.5 * h
-    w[1:] += 0.5 * h
-    lam2 = (cyc.loss_ratio * scale1 + float(np.dot(w, (L2 - L1)[order])) / Tp) / scale2
-    E_q = cyc.loss_ratio_err * scale1 / scale2
+    xs, ps = x[order], p[order]
+    keep, lo_s, hi_s, t_s = _strided(xs, ps, RELINEARISE_STRIDE if stride is None else stride)
+    kept = order[keep]                        # the nodes solved at the new torque (both ends of every piece)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        step = (model.M_req - prev.M_req) / sol1.g_tau[kept]
+        guess = np.where((sol1.g_tau[kept] < 0.0) & np.isfinite(step), sol1.tau[kept] + step, np.nan)
+        try:
+            s2k = model.state(x[kept], tuple(None if a is None else a[..., kept] for a in sets), phases=False,
+                              guess=guess)
+        except NoEquilibrium:
+            return None
+        L1 = contact_losses(sol1, R_b, mu_eff, f, rolls, rows)[0].sum(axis=(0, 1))
+        L2 = contact_losses(s2k, R_b, mu_eff, f, rolls, rows)[0].sum(axis=(0, 1))
+    if not (np.all(np.isfinite(L2)) and np.all(np.isfinite(s2k.force)) and np.all(np.isfinite(s2k.v_t))):
+        return None
+    # the change's trapezoid over the solved nodes of each piece, and over every other one of them (its error)
+    dL, pk = L2 - L1[kept], ps[keep]
+    w, w2 = _trapezoid_weights(xs[keep], pk), np.zeros(kept.size)
+    first = np.concatenate(([True], pk[1:] != pk[:-1]))
+    last = np.concatenate((pk[1:] != pk[:-1], [True]))
+    jk = np.arange(kept.size) - np.flatnonzero(first)[np.cumsum(first) - 1]
+    half = (jk % 2 == 0) | last
+    w2[half] = _trapezoid_weights(xs[keep][half], pk[half])
+    change = np.bincount(pk, weights=w * dL, minlength=edges.size)
+    E_d = float(np.sum(np.abs(change - np.bincount(pk, weights=w2 * dL, minlength=edges.size)))) / Tp / scale2
+    lam2 = (cyc.loss_ratio * scale1 + float(change.sum()) / Tp) / scale2
+    E_q = cyc.loss_ratio_err * scale1 / scale2 + E_d
+    # the nodes between: the first pass's states moved by the change, linear between the solved nodes around
+    place = np.cumsum(keep) - 1                   # each kept node's place in ``kept`` (xs order)
+    lo_n, hi_n, t_n = (np.empty_like(a) for a in (lo_s, hi_s, t_s))
+    lo_n[order], hi_n[order], t_n[order] = place[lo_s], place[hi_s], t_s
+    s2 = _moved(sol1, s2k, kept, lo_n, hi_n, t_n, rows)
+    if not model.window_holds(s2.tau):
+        return None
+    l1 = L1[order]
     r = cyc.roots.roots
     E_s, width = 0.0, 0.0
     if r.size:
@@ -2299,6 +2336,95 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     model.roots = cyc.roots
     return ContactCycle(float(lam2), E_q + E_s, cyc.converged, cyc.n_crank, cyc.quad, s2, edges, cyc.roots,
                         (R_b, mu_eff, f, rolls, scale2), (sets, node_mid, ref_sols, rows))
+
+
+def _strided(xs, ps, stride: int):
+    """Every ``stride``-th node of each piece and both its ends (nodes sorted by piece, then theta; ``ps`` their
+    pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves it
+    at least 2 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it in
+    its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node)."""
+    n = ps.size
+    start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
+    count = np.diff(np.append(start, n))
+    k = np.ones(start.size, dtype=np.int64)
+    s = 2
+    while s <= stride:
+        k = np.where(count - 1 >= 4 * s, s, k)
+        s *= 2
+    piece = np.repeat(np.arange(start.size), count)
+    j = np.arange(n) - start[piece]
+    kk, M = k[piece], (count - 1)[piece]
+    keep = (j % kk == 0) | (j == M)
+    left = j - j % kk
+    lo = start[piece] + left
+    hi = start[piece] + np.minimum(left + kk, M)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(keep | (xs[hi] == xs[lo]), 0.0, (xs - xs[lo]) / (xs[hi] - xs[lo]))
+    return keep, lo, np.where(keep, lo, hi), t
+
+
+def _trapezoid_weights(xs, ps):
+    """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by
+    piece."""
+    h = np.where(ps[1:] == ps[:-1], np.diff(xs), 0.0)
+    w = np.zeros(xs.size)
+    w[:-1] += 0.5 * h
+    w[1:] += 0.5 * h
+    return w
+
+
+def _moved(sol: Solution, part: Solution, kept, lo, hi, t, rows=None) -> Solution:
+    """``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change
+    part - sol interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``;
+    weight ``t`` on ``hi``); the sets (branch, candidates), the phases and the residual stay those of ``sol`` there
+    (not solved at the new torque), forces are clipped at 0, a value that is not finite (a pin out of reach) is left
+    as it is, and only the pins ``rows`` (the window's over the period, None: all) can change
+    (:func:`relinearised_cycle`)."""
+    n = sol.theta.size
+    rest = np.ones(n, dtype=bool)
+    rest[kept] = False
+    rest = np.flatnonzero(rest)
+    lo, hi, t = lo[rest], hi[rest], t[rest]
+    # a pin that is not a candidate at a node keeps its fill values there (0 force and speed, -inf penetration)
+    cand = None
+    if sol.cand is not None:
+        cand = (sol.cand if rows is None else sol.cand[rows])[:, rest]
+    out = {}
+    for fl in dataclasses.fields(sol):
+        a = getattr(sol, fl.name)
+        if (fl.name in ("theta", "phase", "zeta", "branch", "cand") or not isinstance(a, np.ndarray)
+                or a.shape[-1:] != (n,)):
+            out[fl.name] = a
+            continue
+        b = np.asarray(getattr(part, fl.name))
+        if fl.name == "residual" or not rest.size:
+            new = a.copy()
+            new[..., kept] = b
+            out[fl.name] = new
+            continue
+        per_pin = a.ndim >= 2 and rows is not None
+        ai = a[..., rows, :] if per_pin else a.copy()        # the rows that can change (a copy)
+        bi = b[..., rows, :] if per_pin else b
+        with np.errstate(invalid="ignore"):
+            d = bi - ai[..., kept]
+        d = np.where(np.isfinite(d), d, 0.0)
+        old = ai[..., rest]
+        dl = d[..., lo]
+        v = old + dl + t * (d[..., hi] - dl)
+        if fl.name == "force":
+            v = np.maximum(v, 0.0)
+        ok = np.isfinite(old)
+        if a.ndim >= 2 and cand is not None:
+            ok &= cand
+        ai[..., rest] = np.where(ok, v, old)
+        ai[..., kept] = bi
+        if per_pin:
+            new = a.copy()
+            new[..., rows, :] = ai
+        else:
+            new = ai
+        out[fl.name] = new
+    return Solution(**out)
 
 
 INTERIOR_MARGIN = 1e-6
