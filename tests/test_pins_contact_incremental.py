@@ -264,3 +264,20 @@ def test_strided_pass_agrees_with_every_node_solved(make, friction):
         err, change = np.where(fin, np.abs(strided - solved), 0.0), np.where(fin, np.abs(solved - old), 0.0)
         assert np.max(err[..., far]) <= 0.05 * np.max(change[..., far])
         assert np.max(err) <= np.max(change)
+
+
+def test_merged_parts_equal_the_sorted_concatenation():
+    # exact identity: writing each part at its sorted places equals concatenating and sorting (stable, so equal angles
+    # keep the parts' order, as the one-sided piece ends need); with ``rows`` the other pins' fill values are kept
+    rng = np.random.default_rng(1)
+    thetas = [rng.random(5), np.array([0.5, 0.25, 0.5]), rng.random(4)]
+    arrays = [rng.random((2, 6, t.size)) for t in thetas]
+    rows = np.array([1, 4])
+    for a in arrays:
+        a[:, [0, 2, 3, 5], :] = -np.inf                         # pins out of reach: one fill value
+    order = np.argsort(np.concatenate(thetas), kind="stable")
+    expected = np.concatenate(arrays, axis=-1)[..., order]
+    places = pc._sorted_places(thetas)
+    assert np.array_equal(pc._merged(thetas, places, 0), np.concatenate(thetas)[order])
+    assert np.array_equal(pc._merged(arrays, places, 2), expected)
+    assert np.array_equal(pc._merged(arrays, places, 2, rows), expected)

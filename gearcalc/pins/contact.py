@@ -996,6 +996,10 @@ class ContactModel:
         t_lo = 2.0 * lo if lo < 0.0 else 0.5 * lo                   # twice as far from 0, or half as near
         t_hi = 2.0 * hi if hi > 0.0 else 0.5 * hi
         self._window_for(t_lo, t_hi, n_scan, pose)
+        if self.friction is None and np.all(np.isfinite(first.dtau)):
+            # the frictionless scan is the state over all pins (the window's pins the same, the others untouched)
+            first.phase, first.zeta = self.phases(theta)
+            return first
         return self.state(theta)      # and the warm-start memory for the cycle
 
     def _window_for(self, t_lo: float, t_hi: float, n_scan: int = 64, pose: "Pose | None" = None) -> None:
@@ -1667,16 +1671,46 @@ def _put(sol: Solution, part: Solution, sel) -> None:
             a[..., sel] = getattr(part, f.name)
 
 
-def _concat(parts: list[Solution]) -> Solution:
-    theta = np.concatenate([p.theta for p in parts])
-    order = np.argsort(theta, kind="stable")
+def _sorted_places(thetas: list) -> list:
+    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order)."""
+    theta = np.concatenate(thetas)
+    place = np.empty(theta.size, dtype=np.int64)
+    place[np.argsort(theta, kind="stable")] = np.arange(theta.size)
+    bounds = np.cumsum([0] + [t.size for t in thetas])
+    return [place[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
+
+
+def _merged(arrays: list, places: list, axis: int, rows=None):
+    """The arrays written at their ``places`` (:func:`_sorted_places`) along ``axis``, the last one: the sorted
+    concatenation in one pass.  ``rows`` (arrays with a pin axis just before it): only these pins differ from column
+    to column (the window's over the period, :meth:`ContactModel.period_pins`); the others hold one fill value per pin
+    (a pin out of reach), copied from the first column."""
+    a0 = arrays[0]
+    shape = list(a0.shape)
+    shape[axis] = sum(a.shape[axis] for a in arrays)
+    out = np.empty(shape, dtype=np.result_type(*arrays))
+    if rows is not None and a0.ndim >= 2:
+        out[...] = a0[..., :1]
+        out[..., rows, :] = _merged([a[..., rows, :] for a in arrays], places, axis)
+        return out
+    lead = (slice(None),) * axis
+    for a, p in zip(arrays, places):
+        out[lead + (p,)] = a
+    return out
+
+
+def _concat(parts: list[Solution], rows=None) -> Solution:
+    """The states of ``parts`` together, sorted by theta (stable); ``rows``: the pins that can differ from their fill
+    values (:func:`_merged`)."""
+    places = _sorted_places([p.theta for p in parts])
+    theta = _merged([p.theta for p in parts], places, 0)
 
     def cat(name, axis):
         if any(getattr(p, name) is None for p in parts):
             return None
-        return np.take(np.concatenate([getattr(p, name) for p in parts], axis=axis), order, axis=axis)
+        return _merged([getattr(p, name) for p in parts], places, axis, None if name in ("phase", "zeta") else rows)
 
-    return Solution(theta[order], cat("tau", 0), cat("dtau", 0), cat("residual", 0), cat("delta", 2),
+    return Solution(theta, cat("tau", 0), cat("dtau", 0), cat("residual", 0), cat("delta", 2),
                     cat("force", 2), cat("v_t", 2), cat("phase", 1), cat("zeta", 1),
                     None if parts[0].switch is None else cat("switch", 3),
                     None if parts[0].branch is None else cat("branch", 2),
@@ -2148,7 +2182,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         lo, hi = lo[hi > lo], hi[hi > lo]
         mid = 0.5 * (lo + hi)                    # the pieces' midpoints, as the quadrature tells them
         integrand(np.column_stack((lo, hi)).ravel(), np.repeat(mid, 2))     # in time order: ..., b_p, a_(p+1), ...
-    solved = _concat(cache)
+    solved = _concat(cache, rows)
     dense = gk_interpolated(solved, q, rule, DENSE_PER_PERIOD) if rule != "trapezoid" else None
     # the check of the moved or coarse roots covers the interpolated states too: as dense as the trapezoid's nodes
     # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
@@ -2170,10 +2204,10 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     if dense is None:
         # the nodes' piece sets and midpoints in the final grid's order (:func:`_concat`), for the next torque pass
         # from these nodes (:func:`relinearised_cycle`)
-        order = np.argsort(np.concatenate([c.theta for c in cache]), kind="stable")
+        places = _sorted_places([c.theta for c in cache])
 
-        def cat(parts, axis=-1):
-            return None if parts[0] is None else np.take(np.concatenate(parts, axis=axis), order, axis=axis)
+        def cat(parts):
+            return None if parts[0] is None else _merged(parts, places, parts[0].ndim - 1, rows)
 
         nodes = ((cat([t[0] for t in sets]), cat([t[1] for t in sets]), cat([t[2] for t in sets])),
                  cat(mids), ref_sols, rows)
