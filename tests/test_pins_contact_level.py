@@ -177,3 +177,38 @@ def test_stiff_linear_contact_outputs_approach_the_ideal_level_on_a_k1_cycloid()
     for key, rel in (("crank_torque_mean_Nm", 1e-9), ("crank_torque_ripple_Nm", 1e-4), ("bearing_force_mean_N", 1e-5),
                      ("bearing_force_max_N", 1e-5), ("contact_stress_max_MPa", 1e-5), ("efficiency", 1e-5)):
         assert cont[key] == pytest.approx(ideal[key], rel=rel), key
+
+
+@pytest.mark.parametrize("name, friction", [
+    ("pins_paper_cyc_u30_fixed.toml", "first-order"),        # k = 2: crest corners, piece ends where the foot jumps
+    ("pins_paper_cyc_u10_rotating.toml", "consistent"),
+    ("pins_paper_circ_u10_fixed.toml", "consistent"),
+])
+def test_kept_contact_geometry_is_the_solved_states_own(name, friction, monkeypatch):
+    # the crank bearing reads the normals the solves kept (Solution.nx, ny, wx, wy) instead of evaluating the
+    # contacts of the final grid again; against evaluating them anew at the solved rotations (the reference): the
+    # normals agree to the rotation's last Newton step or, between the solved nodes of the pass from the last nodes,
+    # its change (~1e-7), and the outputs they make (bearing force, Hertz stress) to the same order
+    seen = []
+    original = pc.crank_bearing
+
+    def spy(model, sol, traction, n_discs):
+        seen.append((model, sol, traction, n_discs))
+        return original(model, sol, traction, n_discs)
+
+    monkeypatch.setattr(pc, "crank_bearing", spy)
+    _contact(name, **{"friction.model": friction})
+    model, sol, traction, n_discs = seen[0]
+    kept, pick = model.kept_contacts(sol)
+    anew, _ = model.solved_contacts(sol)
+    on = pick(sol.force) > 0.0
+    assert sol.nx is not None and np.any(on)
+    for k in ("nx", "ny"):
+        assert np.max(np.abs(getattr(kept, k) - getattr(anew, k))[on]) < 1e-6
+    turn = [c.wx * c.ny - c.wy * c.nx for c in (kept, anew)]
+    assert np.max(np.abs(turn[0] - turn[1])[on]) <= 1e-6 * np.max(np.abs(turn[1])[on])
+    a = original(model, sol, traction, n_discs)
+    monkeypatch.setattr(model, "kept_contacts", model.solved_contacts)
+    b = original(model, sol, traction, n_discs)
+    assert a.bearing_force_max == pytest.approx(b.bearing_force_max, rel=1e-6)
+    assert a.stress_factor == pytest.approx(b.stress_factor, rel=1e-6)

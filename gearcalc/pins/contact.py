@@ -837,7 +837,10 @@ class Solution:
     change of a round-off of the pin positions at every contact (the penetrations are differences of
     lengths ~R_p);
     g_tau: (n,) dG/dtau of the moment balance at the solution [N·mm/rad] (the warm start of another torque,
-    :meth:`ContactModel.inherit`).
+    :meth:`ContactModel.inherit`);
+    nx, ny, wx, wy: (c, m, n) the contacts' normals and their turning rates (:class:`Contacts`) over the pins
+    ``pins`` (m, n) the state was solved on (the candidate window, or all pins), at the solved rotation (within a
+    last Newton step of it): kept for the crank bearing (:func:`crank_bearing`), None where not known.
     """
 
     theta: np.ndarray
@@ -855,7 +858,15 @@ class Solution:
     ddelta: np.ndarray | None = None
     noise: np.ndarray | None = None
     g_tau: np.ndarray | None = None
+    nx: np.ndarray | None = None
+    ny: np.ndarray | None = None
+    wx: np.ndarray | None = None
+    wy: np.ndarray | None = None
+    pins: np.ndarray | None = None
 
+
+_GEOMETRY_FIELDS = ("nx", "ny", "wx", "wy", "pins")
+"""The :class:`Solution` fields over the pins it was solved on (m, not z2 rows): never scattered to all pins."""
 
 _CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
 
@@ -1459,7 +1470,7 @@ class ContactModel:
         return Solution(sol.theta, sol.tau, sol.dtau, sol.residual, scatter(sol.delta, -np.inf),
                         scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
                         scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
-                        sol.noise, sol.g_tau)
+                        sol.noise, sol.g_tau, sol.nx, sol.ny, sol.wx, sol.wy, sol.pins)
 
     def reference(self, theta):
         """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
@@ -1553,7 +1564,8 @@ class ContactModel:
         v_t = o_n + w1 * (ct.xn + g.R_b)
         ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * np.sum(np.abs(Fp * ct.arm), axis=(0, 1))
-        sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise, G_tau0)
+        sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise, G_tau0,
+                       ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
         return (sol, need) if step else sol
 
     def solved_contacts(self, sol: Solution):
@@ -1566,6 +1578,38 @@ class ContactModel:
             return a if idx is None or a is None or np.ndim(a) == 0 else a[:, idx, cols]
 
         return self.contacts(self.pose(sol.theta, idx), sol.tau, pick(sol.branch)), pick
+
+    def kept_contacts(self, sol: Solution):
+        """:meth:`solved_contacts` from the normals the solution kept (:class:`Solution`: nx, ny, wx, wy over its
+        ``pins``) when they are over this model's candidate pins at every angle; else evaluated anew.
+
+        At a piece end (a crank angle held twice, one-sided) they are evaluated anew all the same: where a
+        cycloidal pin passes to a crest corner its foot point on the design curve jumps there, and the kept one
+        may be the other side's (the profile's corner, whose curvature radius is 0); anew, from the nominal foot
+        point, with the state's branch."""
+        if sol.pins is None or sol.nx is None:
+            return self.solved_contacts(sol)
+        theta = sol.theta
+        idx = self.candidates(theta)
+        if idx is None:
+            idx = np.broadcast_to(self.pins, (self.g.z2, theta.size))
+        if sol.pins.shape != idx.shape or not np.array_equal(sol.pins, idx):
+            return self.solved_contacts(sol)
+        cols = np.arange(theta.size)[None, :]
+
+        def pick(a):
+            return a if a is None or np.ndim(a) == 0 else a[:, idx, cols]
+
+        nx, ny, wx, wy = sol.nx, sol.ny, sol.wx, sol.wy
+        twice = np.concatenate(([False], theta[1:] == theta[:-1]))
+        ends = np.flatnonzero(twice | np.concatenate((twice[1:], [False])))
+        if ends.size:
+            anew = self.solved_contacts(_take(sol, ends))[0]
+            nx, ny, wx, wy = (_with_cols(a, getattr(anew, k), ends) for a, k in ((nx, "nx"), (ny, "ny"),
+                                                                                   (wx, "wx"), (wy, "wy")))
+        ct = Contacts(pick(sol.delta), nx, ny, None, None, wx=wx, wy=wy)
+        ct.branch = pick(sol.branch)
+        return ct, pick
 
     def bearing_force(self, sol: Solution, traction=None, ct=None, pick=None):
         """Force B of the crank bearing on the satellite (crank-frame axes turned by phi) [N], (2, n).
@@ -1667,7 +1711,7 @@ def _put(sol: Solution, part: Solution, sel) -> None:
     n = sol.theta.size
     for f in dataclasses.fields(sol):
         a = getattr(sol, f.name)
-        if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name != "theta":
+        if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name not in ("theta", "pins"):
             a[..., sel] = getattr(part, f.name)
 
 
@@ -1708,14 +1752,19 @@ def _concat(parts: list[Solution], rows=None) -> Solution:
     def cat(name, axis):
         if any(getattr(p, name) is None for p in parts):
             return None
-        return _merged([getattr(p, name) for p in parts], places, axis, None if name in ("phase", "zeta") else rows)
+        return _merged([getattr(p, name) for p in parts], places, axis,
+                       None if name in ("phase", "zeta") + _GEOMETRY_FIELDS else rows)
+
+    geometry = [None] * len(_GEOMETRY_FIELDS)
+    if all(p.pins is not None for p in parts) and len({p.pins.shape[0] for p in parts}) == 1:
+        geometry = [cat(name, getattr(parts[0], name).ndim - 1) for name in _GEOMETRY_FIELDS]
 
     return Solution(theta, cat("tau", 0), cat("dtau", 0), cat("residual", 0), cat("delta", 2),
                     cat("force", 2), cat("v_t", 2), cat("phase", 1), cat("zeta", 1),
                     None if parts[0].switch is None else cat("switch", 3),
                     None if parts[0].branch is None else cat("branch", 2),
                     None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
-                    cat("noise", 0), cat("g_tau", 0))
+                    cat("noise", 0), cat("g_tau", 0), *geometry)
 
 
 def _components(s: Solution, rolls: bool, rows=None):
@@ -2410,10 +2459,10 @@ def _trapezoid_weights(xs, ps):
 def _moved(sol: Solution, part: Solution, kept, lo, hi, t, rows=None) -> Solution:
     """``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change
     part - sol interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``;
-    weight ``t`` on ``hi``); the sets (branch, candidates), the phases and the residual stay those of ``sol`` there
-    (not solved at the new torque), forces are clipped at 0, a value that is not finite (a pin out of reach) is left
-    as it is, and only the pins ``rows`` (the window's over the period, None: all) can change
-    (:func:`relinearised_cycle`)."""
+    weight ``t`` on ``hi``); the sets (branch, candidates), the phases, the residual and the contact geometry (nx, ny,
+    wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are clipped at 0, a value that is not
+    finite (a pin out of reach) is left as it is, and only the pins ``rows`` (the window's over the period, None:
+    all) can change (:func:`relinearised_cycle`)."""
     n = sol.theta.size
     rest = np.ones(n, dtype=bool)
     rest[kept] = False
@@ -2424,14 +2473,24 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t, rows=None) -> Solutio
     if sol.cand is not None:
         cand = (sol.cand if rows is None else sol.cand[rows])[:, rest]
     out = {}
+    # the contact geometry (over the pins each state was solved on, not all pins): the solved nodes' own, the first
+    # pass's between (the normals turn with the rotation's change: ~1e-7 relative in the crank-bearing force; not
+    # interpolated: a piece end's kept geometry may be the other side's where a cycloidal pin passes to a crest
+    # corner, :meth:`ContactModel.kept_contacts`); dropped when the two passes were solved on different pins
+    same = (sol.pins is not None and part.pins is not None and sol.pins.shape[0] == part.pins.shape[0]
+            and np.array_equal(sol.pins[:, kept], part.pins))
     for fl in dataclasses.fields(sol):
         a = getattr(sol, fl.name)
+        geometry = fl.name in _GEOMETRY_FIELDS
+        if geometry and not same:
+            out[fl.name] = None
+            continue
         if (fl.name in ("theta", "phase", "zeta", "branch", "cand") or not isinstance(a, np.ndarray)
                 or a.shape[-1:] != (n,)):
             out[fl.name] = a
             continue
         b = np.asarray(getattr(part, fl.name))
-        if fl.name == "residual" or not rest.size:
+        if fl.name == "residual" or geometry or not rest.size:
             new = a.copy()
             new[..., kept] = b
             out[fl.name] = new
@@ -3314,7 +3373,7 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) 
     """
     g = model.g
     theta, tau = sol.theta, sol.tau
-    ct, pick = model.solved_contacts(sol)
+    ct, pick = model.kept_contacts(sol)
     Bx, By = model.bearing_force(sol, traction, ct, pick)
     F = pick(sol.force)
     ang = (g.z2 / g.z1) * theta - tau
