@@ -392,6 +392,29 @@ def test_free_play_of_a_clearance_cycloid_is_the_clearance_over_the_lever_arm():
     assert -lo[0] == pytest.approx(dRb / -lev.min(), rel=1e-3)
 
 
+@pytest.mark.parametrize("z1, z2", [(21, 22), (20, 22), (60, 62)])
+def test_backlash_of_a_small_clearance_is_its_first_order_limit(z1, z2):
+    # closed-form limit: each flank's least play is Delta R_b over the largest lever arm of the ideal level (pins.md
+    # §4.4) over the cycle, to first order in Delta R_b (second order: ~1e-9 relative at 1e-4 mm)
+    g = Cycloid.from_curtate_ratio(z1, z2, 3.9, 0.75, 1.95)
+    dRb = 1e-4
+    m = pc.ContactModel(g, pc.CycloidProfile(g, equidistant_mod=dRb), pc.contact_law("linear", stiffness=1e6), 1.0,
+                        REDUCER)
+    lev = pins.lever_arm(np.linspace(1e-9, 2.0 * np.pi - 1e-9, 200001), g)
+    assert pc.backlash(m) == pytest.approx(dRb / lev.max() + dRb / -lev.min(), rel=1e-6)
+
+
+def test_backlash_is_the_least_play_of_a_dense_scan():
+    # independent reference: the free play on 4097 crank angles of one period, its least value per flank; the zoomed
+    # search may only find a smaller one (between the samples), by at most the scan's O(h^2) at a smooth minimum
+    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    m = pc.ContactModel(g, pc.CycloidProfile(g, -0.01, 0.01), pc.contact_law("linear", stiffness=1e6), 1.0, REDUCER)
+    lo, hi = pc.free_play(m, np.linspace(0.0, g.period, 4097))
+    dense = np.abs(lo).min() + hi.min()
+    j = pc.backlash(m)
+    assert dense * (1.0 - 1e-6) <= j <= dense * (1.0 + 1e-13)
+
+
 # ------------------------------------------------------------------ the paper's observations (§5.7(b), §10)
 
 def test_circular_profile_loses_less_than_the_cycloid_with_rotating_pins():

@@ -2757,47 +2757,75 @@ def cycle_peaks(cyc: ContactCycle, g: Cycloid, n_discs: int, rolls: bool) -> Cyc
         loaded_max=int(counts.max()), psi_star=float(observed.max()) if observed.size else None)
 
 
-def free_play(model: ContactModel, theta, limit: float | None = None):
-    """Angular free play of the unloaded satellite at crank angles theta: (tau_minus, tau_plus) [rad].
+def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.0, 1.0)):
+    """Angular free play of the unloaded satellite at crank angles theta: (tau_minus, tau_plus) [rad] (``sides``:
+    only these of the two directions, in this order, -1.0 for tau_minus and 1.0 for tau_plus).
 
-    tau_plus > 0 (tau_minus < 0) is the rotation from nominal at which the first pair touches, the
-    root of max_j delta_j(tau) = 0 bracketed by doubling from 1e-12 rad; 0 where a pair already touches
-    or interferes at nominal.  The backlash is min over theta of tau_plus - tau_minus.
+    tau_plus > 0 (tau_minus < 0) is the rotation from nominal at which the first pair touches, the root of
+    max_j delta_j(tau) = 0; 0 where a pair already touches or interferes at nominal; +-``limit`` (default pi/z1)
+    where none touches within it.  Each side starts from a rotation no pair can touch before: |d^2 delta/d tau^2| <=
+    |X| <= R_p + e, so delta_j(tau) <= delta_j(0) - (X x n)_j tau + (R_p + e) tau^2/2, whose first zero bounds pair
+    j's touch from below (the bound of :meth:`ContactModel.set_window`); doubled from there until a pair touches
+    (once or twice: the bound is close), then the root to 1e-15 rad (:func:`gearcalc.roots.find_root`).  The
+    backlash is min over theta of tau_plus - tau_minus (:func:`backlash`).
     """
     pose = model.pose(theta)
     n = pose.theta.size
     limit = limit or math.pi / model.g.z1
+    R = model.g.R_p + model.g.e
 
-    def hmax(t):
-        return np.max(model.contacts(pose, t).delta, axis=(0, 1))
+    def hmax(t, p=pose):
+        return np.max(model.contacts(p, t).delta, axis=(0, 1))
 
-    h0 = hmax(np.zeros(n))
+    ct0 = model.contacts(pose, np.zeros(n))
+    h0 = np.max(ct0.delta, axis=(0, 1))
     out = []
-    for direction in (-1.0, 1.0):
+    for direction in sides:
+        # pair j's bound delta0 - a t + R t^2/2 (a = direction (X x n), t = |tau|) first reaches 0 at
+        # t_j = (a + S)/R = -2 delta0/(S - a), S = sqrt(a^2 - 2 R delta0) > |a| (delta0 < 0), the form without
+        # cancellation for the sign of a
+        a = direction * ct0.arm
+        with np.errstate(invalid="ignore", divide="ignore"):
+            S = np.sqrt(a * a - 2.0 * R * ct0.delta)
+            t_j = np.where(ct0.delta < 0.0, np.where(a >= 0.0, (a + S) / R, -2.0 * ct0.delta / (S - a)), 0.0)
+        start = np.clip(np.min(np.where(np.isfinite(t_j), t_j, limit), axis=(0, 1)), 1e-15, limit)
         lo, hi = np.zeros(n), np.zeros(n)
         open_ = h0 < 0.0
-        prev = np.zeros(n)
-        h = 1e-12
-        while np.any(open_) and h <= 2 * limit:
-            step = direction * min(h, limit)
-            v = hmax(np.full(n, step))
-            found = open_ & (v >= 0.0)
-            lo, hi = np.where(found, prev, lo), np.where(found, step, hi)
-            open_ &= ~found
-            prev = np.where(open_, step, prev)
-            h *= 2.0
-        hi = np.where(open_, direction * limit, hi)
-        good = (h0 < 0.0) & ~open_
+        prev = np.where(open_, start, 0.0)
+        t = start.copy()
+        first = True
+        while np.any(open_):
+            idx = np.flatnonzero(open_)
+            sub = _sub_pose(pose, idx)
+            v = hmax(direction * t[idx], sub)
+            found = v >= 0.0
+            if first:
+                # the bound's zero lies before the first touch (v < 0 there) but for round-off
+                prev[idx] = np.where(found, 0.0, t[idx])
+                first = False
+            lo[idx] = np.where(found, prev[idx], lo[idx])
+            hi[idx] = np.where(found, t[idx], hi[idx])
+            done = found | (t[idx] >= limit)
+            prev[idx] = np.where(found, prev[idx], t[idx])
+            open_[idx[done]] = False
+            t[idx] = np.where(done, t[idx], np.minimum(2.0 * t[idx], limit))
+            if first is False and not np.any(open_):
+                break
+        miss = (h0 < 0.0) & (hi == 0.0)                  # no pair touches within the limit
+        good = (h0 < 0.0) & ~miss
         root = np.zeros(n)
         if np.any(good):
-            a, b = np.minimum(lo, hi)[good], np.maximum(lo, hi)[good]
-            sub = Pose(pose.theta[good], pose.x0[:, good], pose.y0[:, good], pose.beta0[:, good],
-                       pose.psi[:, good], {k: v[..., good] for k, v in pose.aux.items()})
-            res = find_root(lambda t, sub=sub: np.max(model.contacts(sub, t).delta, axis=(0, 1)), a, b, xtol=1e-15)
-            root[good] = res.root
-        root = np.where(open_, direction * limit, root)
-        out.append(root)
-    return out[0], out[1]
+            idx = np.flatnonzero(good)
+            sub = _sub_pose(pose, idx)
+            res = find_root(lambda x, sub=sub: hmax(direction * x, sub), lo[idx], hi[idx], xtol=1e-15)
+            root[idx] = res.root
+        root = np.where(miss, limit, root)
+        out.append(direction * root)
+    return tuple(out)
+
+
+BACKLASH_ZOOM = 33
+"""Crank angles of each zoom of :func:`backlash`'s search for the least play (each shrinks the bracket 16x)."""
 
 
 def backlash(model: ContactModel, n_scan: int = 129) -> float:
@@ -2810,8 +2838,11 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
     For each flank, the least rotation over the cycle from the nominal position to the first contact
     (:func:`free_play`), summed over the two flanks: 0 for an unmodified cycloid and for the
     zero-backlash tooth circle (it touches the pins' paths), positive with clearance.  Sampled on
-    ``n_scan`` crank angles of one period, each least value refined by golden-section search
-    (:func:`gearcalc.roots.minimize_golden`) between the neighbouring angles.
+    ``n_scan`` crank angles of one period; each least value is then refined by zooming: ``BACKLASH_ZOOM`` angles
+    across the two scan intervals around the least sample, the two intervals around the least of those next (each
+    zoom one vectorised :func:`free_play` of that flank), until the least sample's neighbours exceed it by at most
+    1e-12 of it (the play is a minimum over the pins of smooth functions of theta: the least value in the bracket
+    then lies within that of the sample) or the bracket is below 1e-9 T_p.
 
     Parameters
     ----------
@@ -2838,17 +2869,20 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
     """
     Tp = model.g.period
     theta = np.linspace(0.0, Tp, n_scan)
+    scan = free_play(model, theta)
     total = 0.0
-    for side in (0, 1):
-        def play(x, side=side):
-            pair = free_play(model, np.atleast_1d(x))
-            return np.reshape(np.abs(pair[side]), np.shape(x))
-
-        p = play(theta)
-        i = int(np.argmin(p))
-        a, b = theta[max(i - 1, 0)], theta[min(i + 1, theta.size - 1)]
-        res = minimize_golden(play, a, b, rtol=1e-9)
-        total += min(float(res.fun), float(p[i]))
+    for side, direction in ((0, -1.0), (1, 1.0)):
+        x, p = theta, np.abs(scan[side])
+        best = float(p.min())
+        while True:
+            i = int(np.argmin(p))
+            j, k = max(i - 1, 0), min(i + 1, x.size - 1)
+            if not (x[k] - x[j] > 1e-9 * Tp and max(p[j], p[k]) - p[i] > 1e-12 * p[i] + 1e-18):
+                break
+            x = np.linspace(x[j], x[k], BACKLASH_ZOOM)
+            p = np.abs(free_play(model, x, sides=(direction,))[0])
+            best = min(best, float(p.min()))
+        total += best
     return total
 
 
