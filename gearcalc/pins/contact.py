@@ -57,7 +57,7 @@ import numpy as np
 from .. import hertz
 from ..arrays import unique_sorted
 from ..quadrature import _KRONROD, QuadResult, geometric_breakpoints, integrate_adaptive
-from ..roots import bisect, find_root, minimize_golden
+from ..roots import bisect, find_root
 from .checks import tooth_too_large
 from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
 from .efficiency import contact_loss_power
@@ -2817,7 +2817,7 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
         if np.any(good):
             idx = np.flatnonzero(good)
             sub = _sub_pose(pose, idx)
-            res = find_root(lambda x, sub=sub: hmax(direction * x, sub), lo[idx], hi[idx], xtol=1e-15)
+            res = find_root(lambda x, sub=sub, d=direction: hmax(d * x, sub), lo[idx], hi[idx], xtol=1e-15)
             root[idx] = res.root
         root = np.where(miss, limit, root)
         out.append(direction * root)
