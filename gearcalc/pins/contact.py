@@ -1568,15 +1568,23 @@ class ContactModel:
                        ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
         return (sol, need) if step else sol
 
+    def _picker(self, theta):
+        """(idx, pick): the candidate pins (m, n) at crank angles theta (all pins when there is no window) and the
+        candidates' columns of an array over all pins, (c, z2, n) -> (c, m, n) (scalars and None unchanged)."""
+        idx = self.candidates(theta)
+        if idx is None:
+            idx = np.broadcast_to(self.pins, (self.g.z2, np.size(theta)))
+        cols = np.arange(np.size(theta))[None, :]
+
+        def pick(a):
+            return a if a is None or np.ndim(a) == 0 else a[:, idx, cols]
+
+        return idx, pick
+
     def solved_contacts(self, sol: Solution):
         """The contacts of a solved state (theta, tau, branches) over the candidate pins, and ``pick``: the
         candidates' columns of an array over all pins (c, z2, n) -> (c, m, n) (scalars and None unchanged)."""
-        idx = self.candidates(sol.theta)
-        cols = np.arange(sol.theta.size)[None, :]
-
-        def pick(a):
-            return a if idx is None or a is None or np.ndim(a) == 0 else a[:, idx, cols]
-
+        idx, pick = self._picker(sol.theta)
         return self.contacts(self.pose(sol.theta, idx), sol.tau, pick(sol.branch)), pick
 
     def kept_contacts(self, sol: Solution):
@@ -1590,16 +1598,9 @@ class ContactModel:
         if sol.pins is None or sol.nx is None:
             return self.solved_contacts(sol)
         theta = sol.theta
-        idx = self.candidates(theta)
-        if idx is None:
-            idx = np.broadcast_to(self.pins, (self.g.z2, theta.size))
+        idx, pick = self._picker(theta)
         if sol.pins.shape != idx.shape or not np.array_equal(sol.pins, idx):
             return self.solved_contacts(sol)
-        cols = np.arange(theta.size)[None, :]
-
-        def pick(a):
-            return a if a is None or np.ndim(a) == 0 else a[:, idx, cols]
-
         nx, ny, wx, wy = sol.nx, sol.ny, sol.wx, sol.wy
         twice = np.concatenate(([False], theta[1:] == theta[:-1]))
         ends = np.flatnonzero(twice | np.concatenate((twice[1:], [False])))
@@ -2358,10 +2359,8 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     # the change's trapezoid over the solved nodes of each piece, and over every other one of them (its error)
     dL, pk = L2 - L1[kept], ps[keep]
     w, w2 = _trapezoid_weights(xs[keep], pk), np.zeros(kept.size)
-    first = np.concatenate(([True], pk[1:] != pk[:-1]))
-    last = np.concatenate((pk[1:] != pk[:-1], [True]))
-    jk = np.arange(kept.size) - np.flatnonzero(first)[np.cumsum(first) - 1]
-    half = (jk % 2 == 0) | last
+    _, count, piece, jk = _piece_places(pk)
+    half = (jk % 2 == 0) | (jk == count[piece] - 1)
     w2[half] = _trapezoid_weights(xs[keep][half], pk[half])
     change = np.bincount(pk, weights=w * dL, minlength=edges.size)
     E_d = float(np.sum(np.abs(change - np.bincount(pk, weights=w2 * dL, minlength=edges.size)))) / Tp / scale2
@@ -2421,21 +2420,26 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
                         (R_b, mu_eff, f, rolls, scale2), (sets, node_mid, ref_sols, rows))
 
 
+def _piece_places(ps):
+    """Of nodes sorted by piece (``ps`` their pieces): each run's first position ``start`` and node count ``count``,
+    and per node its run ``piece`` and its place ``j`` in it (0 at the piece's first node)."""
+    start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
+    count = np.diff(np.append(start, ps.size))
+    piece = np.repeat(np.arange(start.size), count)
+    return start, count, piece, np.arange(ps.size) - start[piece]
+
+
 def _strided(xs, ps, stride: int):
     """Every ``stride``-th node of each piece and both its ends (nodes sorted by piece, then theta; ``ps`` their
     pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves it
-    at least 2 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it in
+    at least 4 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it in
     its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node)."""
-    n = ps.size
-    start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
-    count = np.diff(np.append(start, n))
+    start, count, piece, j = _piece_places(ps)
     k = np.ones(start.size, dtype=np.int64)
     s = 2
     while s <= stride:
         k = np.where(count - 1 >= 4 * s, s, k)
         s *= 2
-    piece = np.repeat(np.arange(start.size), count)
-    j = np.arange(n) - start[piece]
     kk, M = k[piece], (count - 1)[piece]
     keep = (j % kk == 0) | (j == M)
     left = j - j % kk
@@ -2793,17 +2797,11 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
         start = np.clip(np.min(np.where(np.isfinite(t_j), t_j, limit), axis=(0, 1)), 1e-15, limit)
         lo, hi = np.zeros(n), np.zeros(n)
         open_ = h0 < 0.0
-        prev = np.where(open_, start, 0.0)
+        prev = np.zeros(n)                     # a touch at the start: the root lies in [0, start]
         t = start.copy()
-        first = True
         while np.any(open_):
             idx = np.flatnonzero(open_)
-            v = hmax(direction * t[idx], _sub_pose(pose, idx))
-            found = v >= 0.0
-            if first:
-                # a touch at the start: the root lies in [0, start]
-                prev[idx] = np.where(found, 0.0, t[idx])
-                first = False
+            found = hmax(direction * t[idx], _sub_pose(pose, idx)) >= 0.0
             lo[idx] = np.where(found, prev[idx], lo[idx])
             hi[idx] = np.where(found, t[idx], hi[idx])
             done = found | (t[idx] >= limit)
