@@ -281,3 +281,48 @@ def test_merged_parts_equal_the_sorted_concatenation():
     assert np.array_equal(pc._merged(thetas, places, 0), np.concatenate(thetas)[order])
     assert np.array_equal(pc._merged(arrays, places, 2), expected)
     assert np.array_equal(pc._merged(arrays, places, 2, rows), expected)
+
+
+@pytest.mark.parametrize("make", [cycloid_model, circular_model])
+@pytest.mark.parametrize("sigma", [MULTIPLIER, REDUCER])
+def test_window_scan_from_the_linearised_balance_is_the_all_pin_solve(make, sigma):
+    # set_window solves its scan on the window's pins from the linearised balance's tau (pins.md §5.5); the
+    # independent reference is the all-pin solve bracketed by doubling (no window, no linearisation)
+    m = make(1.0e6, sigma)
+    scan = m.set_window()
+    assert m.window is not None and m.window[2] < m.g.z2
+    ref = make(1.0e6, sigma)
+    pose = ref.pose(scan.theta)
+    tau = ref._bracketed(pose, None, 1e-15, 1e-9, newton=True)
+    # both stop after a Newton step below 1e-8 |tau| (pins.md §5.5): quadratic convergence leaves ~1e-16 of tau,
+    # superlinear only next to a Hertz contact entry (1.6e-12 seen); the residuals stay far below tol/100
+    assert np.max(np.abs(scan.tau - tau)) <= 1e-11 * np.max(np.abs(tau))
+    assert np.max(np.abs(ref.moment(pose, scan.tau) - ref.M_req)) <= 1e-11 * abs(ref.M_req)
+    assert np.allclose(scan.force, ref._kinematics(pose, tau, None).force, rtol=1e-9, atol=1e-9 * scan.force.max())
+    # the linearisation's error, <= (R_p + e) tau^2/2 in the penetrations, is a few % of tau at most: far inside
+    # the window's factor of 2
+    est = m._linearised_tau(m.pose(scan.theta), 1e-9)
+    assert np.max(np.abs(est - tau)) <= 0.05 * np.max(np.abs(tau))
+
+
+def test_doubling_bracket_holds_the_root_or_reports_none():
+    # G(t) = 3e-4 - t (root 3e-4), and one without a root within the limit
+    a, b, open_ = pc._doubling_bracket(lambda t: np.array([3e-4, 5.0]) - t, 2, 1e-9, 1.0)
+    assert a[0] <= 3e-4 <= b[0] and b[0] <= 2.0 * 3e-4 + 1e-9 and a[0] >= 0.5 * 3e-4 - 1e-9
+    assert open_.tolist() == [False, True]
+    # a root below 0: the steps go the other way (G decreasing, G(0) < 0)
+    a, b, open_ = pc._doubling_bracket(lambda t: -2e-3 - t, 1, 1e-9, 1.0)
+    assert a[0] <= -2e-3 <= b[0] and not open_[0]
+
+
+def test_window_scan_without_a_linearised_root_solves_every_pin(monkeypatch):
+    # where the linearised balance has no root (or its window's range does not hold), the scan is solved over all
+    # pins by doubling and Newton and the window taken from that range (pins.md §5.5): the same scan and window
+    a = circular_model(1.0e6)
+    scan = a.set_window()
+    monkeypatch.setattr(pc.ContactModel, "_linearised_tau", lambda self, pose, h0: None)
+    b = circular_model(1.0e6)
+    full = b.set_window()
+    assert b.window[2] == a.window[2] and b.window[:2] == pytest.approx(a.window[:2], rel=1e-12)
+    assert np.max(np.abs(full.tau - scan.tau)) <= 1e-11 * np.max(np.abs(scan.tau))
+    assert full.cand is None and scan.cand is not None           # every pin solved, against the window's

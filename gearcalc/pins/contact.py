@@ -902,6 +902,36 @@ def _hermite(t, h, fa, da, fb, db):
     return ((2 * t3 - 3 * t2 + 1) * fa + (t3 - 2 * t2 + t) * h * da + (-2 * t3 + 3 * t2) * fb + (t3 - t2) * h * db)
 
 
+def _doubling_bracket(G, n: int, h0: float, limit: float):
+    """Brackets of the roots of a decreasing G(tau) (n,) about tau = 0, by doubling a step from h0 on the side of
+    sign(G(0)) up to ``limit``: (a, b, open), open where no sign change lies within +-limit."""
+    G0 = G(np.zeros(n))
+    direction = np.where(G0 > 0.0, 1.0, -1.0)            # G decreasing: root on the side of sign(G0)
+    lo, hi = np.zeros(n), np.zeros(n)
+    h = h0
+    open_ = G0 != 0.0
+    prev = np.zeros(n)
+    while np.any(open_):
+        step = min(h, limit)
+        Gs = G(direction * step)
+        found = open_ & (np.sign(Gs) != np.sign(G0))
+        lo = np.where(found, prev, lo)
+        hi = np.where(found, direction * step, hi)
+        open_ &= ~found
+        prev = np.where(open_, direction * step, prev)
+        if step >= limit:
+            break
+        h *= 2.0
+    return np.minimum(lo, hi), np.maximum(lo, hi), open_
+
+
+def _window_range(tau) -> tuple[float, float]:
+    """The candidate window's range of tau from a scan's: each end twice as far from 0, or half as near when the
+    range does not reach 0 (:meth:`ContactModel.set_window`)."""
+    lo, hi = float(np.min(tau)), float(np.max(tau))
+    return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
+
+
 NEWTON_SMALL = 1e-8
 """The satellite rotation's Newton iteration stops after a step |s| <= 1e-8 |tau| (quadratic convergence: the error is
 then ~s^2/tau <= 1e-16 |tau|; :meth:`ContactModel._solve`, :meth:`ContactModel._kinematics`)."""
@@ -972,9 +1002,12 @@ class ContactModel:
     def set_window(self, n_scan: int = 64):
         """The candidate window: the time phases zeta of the pins that can touch (pins.md §5.5, speed).
 
-        A first solve over all pins on ``n_scan`` crank angles of one period gives tau; the window
-        allows tau in [tau_lo, tau_hi], each end of the solved range twice as far from 0 (or half as
-        near when the range does not reach 0).  Since d delta/d tau = -(X x n) and
+        The balance with the penetrations linearised about the nominal pose (:meth:`_linearised_tau`, all pins,
+        ``n_scan`` crank angles of one period) gives tau; the window allows tau in [tau_lo, tau_hi], each end of
+        that range twice as far from 0 (or half as near when the range does not reach 0); the scan is then solved
+        on the window's pins from those starts, and kept when its tau stay in [tau_lo, tau_hi] (else, or where the
+        linearised balance has no root, the scan is solved over all pins by doubling and Newton, and the window
+        taken from its range).  Since d delta/d tau = -(X x n) and
         |d^2 delta/d tau^2| <= |X| <= R_p + e, a pair with
 
             max over tau in {tau_lo, tau_hi} of delta(0) - (X x n) tau + (R_p + e) tau^2/2 <= 0
@@ -998,15 +1031,31 @@ class ContactModel:
         # the doubling starts near the rotation at which one pin at R_p would carry the torque, /8 (5-10 pins share it)
         R = g.R_p + g.e
         h0 = float(self.law.deflection(self.torque_sat / R)) / R / 8.0
-        tau = self._bracketed(pose, None, 1e-15, h0 if math.isfinite(h0) and h0 > 1e-9 else 1e-9, newton=True)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            first = self._kinematics(pose, tau, None)
+        h0 = h0 if math.isfinite(h0) and h0 > 1e-9 else 1e-9
+        with np.errstate(all="ignore"):
+            est = self._linearised_tau(pose, h0)
+        first = None
+        if est is not None and np.all(np.isfinite(est)):
+            # the window from the linearised balance's range; the scan solved on its pins only, kept when its tau
+            # stay in the window's range (else every pin, below)
+            self._window_for(*_window_range(est), n_scan, pose)
+            idx = self.candidates(theta)
+            sub = pose if idx is None else self.pose(theta, idx)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                try:
+                    part = self._kinematics(sub, self._solve(sub, None, est), None)
+                except NoEquilibrium:
+                    part = None
+            if part is not None and self.window_holds(part.tau) and np.all(np.isfinite(part.dtau)):
+                first = self._full(part, idx)
+        if first is None:
+            self.window = None
+            tau = self._bracketed(pose, None, 1e-15, h0, newton=True)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                first = self._kinematics(pose, tau, None)
+            self._window_for(*_window_range(tau), n_scan, pose)
         if np.all(np.isfinite(first.dtau)):
             self._remember(0, first)   # the frictionless solution warm-starts the scan below
-        lo, hi = float(tau.min()), float(tau.max())
-        t_lo = 2.0 * lo if lo < 0.0 else 0.5 * lo                   # twice as far from 0, or half as near
-        t_hi = 2.0 * hi if hi > 0.0 else 0.5 * hi
-        self._window_for(t_lo, t_hi, n_scan, pose)
         if self.friction is None and np.all(np.isfinite(first.dtau)):
             # the frictionless scan is the state over all pins (the window's pins the same, the others untouched)
             first.phase, first.zeta = self.phases(theta)
@@ -1180,29 +1229,33 @@ class ContactModel:
         return pose, tau, self.moment(pose, tau, traction) - self.M_req
 
     def _bracketed(self, pose: Pose, traction=None, xtol: float = 1e-15, h0: float = 1e-9, newton: bool = False):
-        n = pose.theta.size
-        G0 = self.moment(pose, np.zeros(n), traction) - self.M_req
-        direction = np.where(G0 > 0.0, 1.0, -1.0)            # G decreasing: root on the side of sign(G0)
-        lo, hi = np.zeros(n), np.zeros(n)
-        h = h0
-        open_ = G0 != 0.0
-        limit = math.pi / self.g.z1
-        prev = np.zeros(n)
-        while np.any(open_):
-            step = min(h, limit)
-            Gs = self.moment(pose, direction * step, traction) - self.M_req
-            found = open_ & (np.sign(Gs) != np.sign(G0))
-            lo = np.where(found, prev, lo)
-            hi = np.where(found, direction * step, hi)
-            open_ &= ~found
-            prev = np.where(open_, direction * step, prev)
-            if step >= limit and np.any(open_):
-                raise NoEquilibrium(pose.theta[open_])
-            h *= 2.0
-        a, b = np.minimum(lo, hi), np.maximum(lo, hi)
+        a, b, open_ = _doubling_bracket(lambda t: self.moment(pose, t, traction) - self.M_req, pose.theta.size, h0,
+                                        math.pi / self.g.z1)
+        if np.any(open_):
+            raise NoEquilibrium(pose.theta[open_])
         if not newton:
             return find_root(lambda t: self.moment(pose, t, traction) - self.M_req, a, b, xtol=xtol, rtol=0.0).root
         return self._solve(pose, traction, 0.5 * (a + b), xtol, bracket=(a, b))
+
+    def _linearised_tau(self, pose: Pose, h0: float):
+        r"""tau balancing the torque with the penetrations linearised about the nominal pose (no friction), or None
+        where that balance has no root within +-pi/z1: a start for the first scan's Newton (:meth:`set_window`).
+
+        With d delta/d tau = -(X x n) (:meth:`set_window`), the balance sum F(delta_0 - (X x n) tau) (X x n) = M_req
+        needs only the contacts at tau = 0: bracketed by doubling from h0 and narrowed to 1e-6 of the bracket.
+        Its error is that of the linearisation, |d^2 delta/d tau^2| tau^2/2 <= (R_p + e) tau^2/2, ~1e-3 of tau at
+        deflection-sized rotations: Newton on the true balance then needs about three rounds."""
+        n = pose.theta.size
+        ct = self.contacts(pose, np.zeros(n))
+        d0, arm = ct.delta, ct.arm
+
+        def G(t):
+            return np.sum(self.law.force(d0 - arm * t) * arm, axis=(0, 1)) - self.M_req
+
+        a, b, open_ = _doubling_bracket(G, n, h0, math.pi / self.g.z1)
+        if np.any(open_):
+            return None
+        return find_root(G, a, b, xtol=1e-3 * float(np.max(np.abs(np.concatenate((a, b))))), rtol=0.0).root
 
     def _solve(self, pose: Pose, traction=None, guess=None, xtol: float = 1e-15, maxiter: int = 40, bracket=None):
         """tau from G(tau) = 0 at every crank angle of ``pose``: safeguarded Newton from ``guess``.
