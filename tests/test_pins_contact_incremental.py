@@ -268,19 +268,40 @@ def test_strided_pass_agrees_with_every_node_solved(make, friction):
 
 def test_merged_parts_equal_the_sorted_concatenation():
     # exact identity: writing each part at its sorted places equals concatenating and sorting (stable, so equal angles
-    # keep the parts' order, as the one-sided piece ends need); with ``rows`` the other pins' fill values are kept
+    # keep the parts' order, as the one-sided piece ends need)
     rng = np.random.default_rng(1)
     thetas = [rng.random(5), np.array([0.5, 0.25, 0.5]), rng.random(4)]
     arrays = [rng.random((2, 6, t.size)) for t in thetas]
-    rows = np.array([1, 4])
-    for a in arrays:
-        a[:, [0, 2, 3, 5], :] = -np.inf                         # pins out of reach: one fill value
     order = np.argsort(np.concatenate(thetas), kind="stable")
     expected = np.concatenate(arrays, axis=-1)[..., order]
     places = pc._sorted_places(thetas)
     assert np.array_equal(pc._merged(thetas, places, 0), np.concatenate(thetas)[order])
     assert np.array_equal(pc._merged(arrays, places, 2), expected)
-    assert np.array_equal(pc._merged(arrays, places, 2, rows), expected)
+
+
+def test_states_over_the_windows_pins_are_the_states_over_all_pins():
+    # Solution.rows: a state holds the pins the window can hold over the period; over all pins (over_pins) it equals
+    # the same state solved without a window (every pin; the others carry no force), and states over other rows are
+    # concatenated over the union of them
+    a = circular_model(1.0e6)
+    a.set_window()
+    rows = a.layout()[0]
+    assert rows is not None and rows.size < a.g.z2
+    theta = np.linspace(0.0, a.g.period, 11)
+    s = a.state(theta)
+    assert np.array_equal(s.rows, rows) and s.force.shape[1] == s.phase.shape[0] == rows.size
+    b = circular_model(1.0e6)                     # no window: every pin
+    r = b.state(theta)
+    full = s.over_pins(a.g.z2)
+    assert r.rows is None and np.max(np.abs(full.force - r.force)) <= 1e-9 * r.force.max()
+    assert np.array_equal(full.force > 0.0, r.force > 0.0)
+    assert np.array_equal(a.phases(theta, rows)[0], b.phases(theta)[0][rows])       # same pins, same phases
+    # back to the window's rows: the identity
+    back = pc._relayout(full, rows)
+    assert all(np.array_equal(getattr(back, k), getattr(s, k)) for k in ("delta", "force", "v_t", "cand"))
+    # parts over different rows: over the union (here all pins), in theta order
+    both = pc._concat([s, pc._take(r, slice(0, 3))])
+    assert both.rows is None and both.force.shape[1] == a.g.z2 and np.all(np.diff(both.theta) >= 0.0)
 
 
 @pytest.mark.parametrize("make", [cycloid_model, circular_model])
@@ -298,7 +319,8 @@ def test_window_scan_from_the_linearised_balance_is_the_all_pin_solve(make, sigm
     # superlinear only next to a Hertz contact entry (1.6e-12 seen); the residuals stay far below tol/100
     assert np.max(np.abs(scan.tau - tau)) <= 1e-11 * np.max(np.abs(tau))
     assert np.max(np.abs(ref.moment(pose, scan.tau) - ref.M_req)) <= 1e-11 * abs(ref.M_req)
-    assert np.allclose(scan.force, ref._kinematics(pose, tau, None).force, rtol=1e-9, atol=1e-9 * scan.force.max())
+    assert np.allclose(scan.over_pins(ref.g.z2).force, ref._kinematics(pose, tau, None).force, rtol=1e-9,
+                       atol=1e-9 * scan.force.max())
     # the linearisation's error, <= (R_p + e) tau^2/2 in the penetrations, is a few % of tau at most: far inside
     # the window's factor of 2
     est = m._linearised_tau(m.pose(scan.theta), 1e-9)

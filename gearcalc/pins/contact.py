@@ -840,7 +840,11 @@ class Solution:
     :meth:`ContactModel.inherit`);
     nx, ny, wx, wy: (c, m, n) the contacts' normals and their turning rates (:class:`Contacts`) over the pins
     ``pins`` (m, n) the state was solved on (the candidate window, or all pins), at the solved rotation (within a
-    last Newton step of it): kept for the crank bearing (:func:`crank_bearing`), None where not known.
+    last Newton step of it): kept for the crank bearing (:func:`crank_bearing`), None where not known;
+    rows: (R,) the pins (sorted) that the per-pin arrays (delta, force, v_t, phase, zeta, switch, branch, cand,
+    ddelta) hold, in that order: the pins the candidate window can hold over the period
+    (:meth:`ContactModel.layout`); every other pin cannot touch anywhere on the cycle (R of z2 rows: the arrays
+    of a u = 30 paper design are 6x smaller).  None: all z2 pins, in order.
     """
 
     theta: np.ndarray
@@ -863,10 +867,22 @@ class Solution:
     wx: np.ndarray | None = None
     wy: np.ndarray | None = None
     pins: np.ndarray | None = None
+    rows: np.ndarray | None = None
+
+    def over_pins(self, z2: int) -> "Solution":
+        """This state over all ``z2`` pins in order, to index its per-pin arrays by pin number: the rows scattered,
+        every other pin out of reach (no contact; phases None where not held: :meth:`ContactModel.phases`)."""
+        return _relayout(self, None, z2)
 
 
 _GEOMETRY_FIELDS = ("nx", "ny", "wx", "wy", "pins")
-"""The :class:`Solution` fields over the pins it was solved on (m, not z2 rows): never scattered to all pins."""
+"""The :class:`Solution` fields over the pins it was solved on (m, not its rows): never scattered to its rows."""
+
+_PIN_FIELDS = ("delta", "force", "v_t", "phase", "zeta", "switch", "branch", "cand", "ddelta")
+"""The :class:`Solution` fields over its ``rows`` (the pin axis second to last), with the values of a pin that is not
+a candidate (out of reach: no contact)."""
+
+_PIN_FILL = {"delta": -np.inf, "force": 0.0, "v_t": 0.0, "switch": np.nan, "branch": -1, "cand": False, "ddelta": 0.0}
 
 _CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
 
@@ -968,6 +984,7 @@ class ContactModel:
         self._memo = {0: None, 1: None}   # solved (theta, tau, dtau) for warm starts: 0 frictionless, 1 final
         self._gtau = {0: None, 1: None}   # dG/dtau at the memo's angles (None: unknown)
         self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
+        self._layout = None           # (window, rows, pos) of :meth:`layout`
 
     # -- geometry -------------------------------------------------------------------------------
     def pose(self, theta, idx=None) -> Pose:
@@ -1054,11 +1071,12 @@ class ContactModel:
             with np.errstate(divide="ignore", invalid="ignore"):
                 first = self._kinematics(pose, tau, None)
             self._window_for(*_window_range(tau), n_scan, pose)
+            first = _relayout(first, self.layout()[0])
         if np.all(np.isfinite(first.dtau)):
             self._remember(0, first)   # the frictionless solution warm-starts the scan below
         if self.friction is None and np.all(np.isfinite(first.dtau)):
             # the frictionless scan is the state over all pins (the window's pins the same, the others untouched)
-            first.phase, first.zeta = self.phases(theta)
+            first.phase, first.zeta = self.phases(theta, first.rows)
             return first
         return self.state(theta)      # and the warm-start memory for the cycle
 
@@ -1089,7 +1107,7 @@ class ContactModel:
 
     def period_pins(self):
         """The pins the candidate window can hold at crank angles in [0, T_p] (sorted), or None (every pin): the
-        rows where a cycle's states can differ from no contact (:func:`_components`, :func:`mean_loss_ratio`).
+        rows of the states' per-pin arrays (:meth:`layout`).
 
         The window's first pin j0(theta) does not decrease with theta and grows by one over a period, so the
         pins of its two ends hold every one in between."""
@@ -1097,6 +1115,19 @@ class ContactModel:
             return None
         rows = np.union1d(*self.candidates(np.array([0.0, self.g.period])).T)
         return None if rows.size >= self.g.z2 else rows
+
+    def layout(self):
+        """(rows, pos): the pins the per-pin arrays of this model's states hold (:attr:`Solution.rows`: the candidate
+        window's over one period, :meth:`period_pins`; None: all z2), and each pin's row there (z2,), -1 for a pin
+        they do not hold.  Fixed while the window is (a cycle's states share it)."""
+        if self._layout is None or self._layout[0] != self.window:
+            rows = self.period_pins()
+            pos = np.arange(self.g.z2)
+            if rows is not None:
+                pos = np.full(self.g.z2, -1)
+                pos[rows] = np.arange(rows.size)
+            self._layout = (self.window, rows, pos)
+        return self._layout[1], self._layout[2]
 
     def window_holds(self, tau) -> bool:
         """Whether the solved tau stay in the range the candidate window allows (or there is no window)."""
@@ -1334,9 +1365,12 @@ class ContactModel:
         pose = self.pose(theta, idx)
         fixed = None if ref is None or len(ref) < 3 else ref[2]
         if ref is not None and idx is not None:
-            cols = np.arange(theta.size)[None, :]
-            ref = (ref[0][:, idx, cols], None if ref[1] is None else ref[1][:, idx, cols])
-            fixed = None if fixed is None else fixed[:, idx, cols]
+            # the sets are over the rows of this model's layout (a cycle's states): the candidates' rows there
+            at, cols = self.layout()[1][idx], np.arange(theta.size)[None, :]
+            if np.any(at < 0):
+                raise ValueError("piece sets over the layout's rows hold no pins outside one period's window")
+            ref = (ref[0][:, at, cols], None if ref[1] is None else ref[1][:, at, cols])
+            fixed = None if fixed is None else fixed[:, at, cols]
         elif ref is not None:
             ref = ref[:2]
         given = guess
@@ -1368,7 +1402,7 @@ class ContactModel:
         self._remember(1 if self.friction is not None else 0, sol)
         sol = self._full(sol, idx)
         if phases:
-            sol.phase, sol.zeta = self.phases(theta)
+            sol.phase, sol.zeta = self.phases(theta, sol.rows)
         return sol
 
     def _warm(self, pose: Pose, guess, traction, ref, rounds: int = 2) -> "Solution | None":
@@ -1456,14 +1490,15 @@ class ContactModel:
             sol = self._friction_solve(pose, traction, sol.tau, ref)
         return sol
 
-    def phases(self, theta):
-        """(phase, zeta) of all pins at crank angles theta (z2, n): the load-side phase of the mode
-        and the time phase theta - phi_j wrapped to [-pi, pi) [rad]."""
+    def phases(self, theta, rows=None):
+        """(phase, zeta) of the pins ``rows`` (None: all) at crank angles theta (R, n): the load-side phase of the
+        mode and the time phase theta - phi_j wrapped to [-pi, pi) [rad]."""
         g = self.g
         th = np.atleast_1d(np.asarray(theta, dtype=float))[None, :]
-        psi = pin_phase(self.pins, th, g.z2, REDUCER)
+        pins = self.pins if rows is None else rows[:, None]
+        psi = pin_phase(pins, th, g.z2, REDUCER)
         zeta = -np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
-        return pin_phase(self.pins, th, g.z2, self.sigma), zeta
+        return pin_phase(pins, th, g.z2, self.sigma), zeta
 
     def _remember(self, key, sol: Solution) -> None:
         old, old_g = self._memo[key], self._gtau[key]
@@ -1505,25 +1540,33 @@ class ContactModel:
         return np.where(inside, herm, line)
 
     def _full(self, sol: Solution, idx) -> Solution:
-        """The solution over all pins: the candidates' values scattered, the others untouched by contact."""
+        """The solution over the rows of :meth:`layout`: the candidates' values scattered, the others untouched by
+        contact (a state at crank angles outside [0, T_p] whose candidates the layout does not hold: over the union
+        of both)."""
         if idx is None:
             return sol
-        g, n = self.g, sol.theta.size
-        cols = np.arange(n)[None, :]
+        rows, pos = self.layout()
+        if rows is not None and np.any(pos[idx] < 0):
+            rows = np.union1d(rows, idx)
+            pos = np.full(self.g.z2, -1)
+            pos[rows] = np.arange(rows.size)
+        n = sol.theta.size
+        R = self.g.z2 if rows is None else rows.size
+        at, cols = pos[idx], np.arange(n)[None, :]
 
         def scatter(a, fill):
             if a is None:
                 return None
-            out = np.full(a.shape[:-2] + (g.z2, n), fill, dtype=a.dtype)
-            out[..., idx, cols] = a
+            out = np.full(a.shape[:-2] + (R, n), fill, dtype=a.dtype)
+            out[..., at, cols] = a
             return out
 
-        cand = np.zeros((g.z2, n), dtype=bool)
-        cand[idx, cols] = True
+        cand = np.zeros((R, n), dtype=bool)
+        cand[at, cols] = True
         return Solution(sol.theta, sol.tau, sol.dtau, sol.residual, scatter(sol.delta, -np.inf),
                         scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
                         scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
-                        sol.noise, sol.g_tau, sol.nx, sol.ny, sol.wx, sol.wy, sol.pins)
+                        sol.noise, sol.g_tau, sol.nx, sol.ny, sol.wx, sol.wy, sol.pins, rows)
 
     def reference(self, theta):
         """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
@@ -1621,23 +1664,29 @@ class ContactModel:
                        ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
         return (sol, need) if step else sol
 
-    def _picker(self, theta):
+    def _picker(self, theta, rows=None):
         """(idx, pick): the candidate pins (m, n) at crank angles theta (all pins when there is no window) and the
-        candidates' columns of an array over all pins, (c, z2, n) -> (c, m, n) (scalars and None unchanged)."""
+        candidates' columns of an array over the pins ``rows`` (a state's :attr:`Solution.rows`; None: all z2),
+        (c, R, n) -> (c, m, n) (scalars and None unchanged)."""
         idx = self.candidates(theta)
         if idx is None:
             idx = np.broadcast_to(self.pins, (self.g.z2, np.size(theta)))
         cols = np.arange(np.size(theta))[None, :]
+        at = idx
+        if rows is not None:
+            at = np.clip(np.searchsorted(rows, idx), 0, rows.size - 1)
+            if not np.array_equal(rows[at], idx):
+                raise ValueError("the state's rows do not hold every candidate pin")
 
         def pick(a):
-            return a if a is None or np.ndim(a) == 0 else a[:, idx, cols]
+            return a if a is None or np.ndim(a) == 0 else a[:, at, cols]
 
         return idx, pick
 
     def solved_contacts(self, sol: Solution):
         """The contacts of a solved state (theta, tau, branches) over the candidate pins, and ``pick``: the
-        candidates' columns of an array over all pins (c, z2, n) -> (c, m, n) (scalars and None unchanged)."""
-        idx, pick = self._picker(sol.theta)
+        candidates' columns of an array over its rows (c, R, n) -> (c, m, n) (scalars and None unchanged)."""
+        idx, pick = self._picker(sol.theta, sol.rows)
         return self.contacts(self.pose(sol.theta, idx), sol.tau, pick(sol.branch)), pick
 
     def kept_contacts(self, sol: Solution):
@@ -1651,7 +1700,7 @@ class ContactModel:
         if sol.pins is None or sol.nx is None:
             return self.solved_contacts(sol)
         theta = sol.theta
-        idx, pick = self._picker(theta)
+        idx, pick = self._picker(theta, sol.rows)
         if sol.pins.shape != idx.shape or not np.array_equal(sol.pins, idx):
             return self.solved_contacts(sol)
         nx, ny, wx, wy = sol.nx, sol.ny, sol.wx, sol.wy
@@ -1678,7 +1727,7 @@ class ContactModel:
 
 # ============================================================ losses (pins.md §5.6)
 
-def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool, rows=None):
+def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool):
     """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
 
     Fixed pins: every loaded contact slides at |v_t| with mu_eff = f.  Rolling pins: the contact with
@@ -1687,14 +1736,12 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
 
     Returns
     -------
-    loss : mu F |v| per contact [N·mm/s per rad/s] (c, z2, n) (times 1e-3 omega_H gives W);
-    spin : omega_pin per unit crank speed [-] (z2, n) (0 for fixed pins and unloaded pins);
-    slide : sliding speed per contact [mm/s per rad/s] (c, z2, n).
-
-    ``rows`` (optional, :meth:`ContactModel.period_pins`): these pins only (z2 -> their count in the shapes); the
-    others carry no force.
+    loss : mu F |v| per contact [N·mm/s per rad/s] (c, R, n) (times 1e-3 omega_H gives W);
+    spin : omega_pin per unit crank speed [-] (R, n) (0 for fixed pins and unloaded pins);
+    slide : sliding speed per contact [mm/s per rad/s] (c, R, n);
+    over the state's rows (:attr:`Solution.rows`: R pins; every other pin carries no force).
     """
-    F, v = (sol.force, sol.v_t) if rows is None else (sol.force[:, rows], sol.v_t[:, rows])
+    F, v = sol.force, sol.v_t
     if not rolls:
         slide = np.abs(v)
         return contact_loss_power(F, slide, mu_eff) * 1e3, np.zeros(F.shape[1:]), slide
@@ -1725,7 +1772,7 @@ class ContactCycle:
     friction : (R_b, mu_eff, f, rolls, scale) of :func:`contact_losses` and the loss ratio's scale;
     nodes : (sets, mids, ref_sols, rows) of the trapezoid's final grid, for the next torque pass from the same nodes
     (:func:`relinearised_cycle`): each node's piece sets (active, branch, traction), its piece's midpoint, the states
-    that fixed the pieces' sets and the window's pins (None: a Gauss-Kronrod rule).
+    that fixed the pieces' sets and the pins the sets are over (:attr:`Solution.rows`; None: a Gauss-Kronrod rule).
     loss, spin, slide : per node (:func:`contact_losses`); lam : lambda per node: computed on first use (only the
     cycle the outputs come from needs them).
     """
@@ -1756,7 +1803,8 @@ class ContactCycle:
 def _take(sol: Solution, sel) -> Solution:
     """The states of ``sol`` at the crank angles ``sel`` (an index or slice over the last axis)."""
     n = sol.theta.size
-    return Solution(**{f.name: (v[..., sel] if isinstance(v, np.ndarray) and v.shape[-1:] == (n,) else v)
+    return Solution(**{f.name: (v[..., sel] if isinstance(v, np.ndarray) and v.shape[-1:] == (n,) and f.name != "rows"
+                                else v)
                        for f in dataclasses.fields(sol) for v in (getattr(sol, f.name),)})
 
 
@@ -1765,7 +1813,7 @@ def _put(sol: Solution, part: Solution, sel) -> None:
     n = sol.theta.size
     for f in dataclasses.fields(sol):
         a = getattr(sol, f.name)
-        if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name not in ("theta", "pins"):
+        if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name not in ("theta", "pins", "rows"):
             a[..., sel] = getattr(part, f.name)
 
 
@@ -1778,36 +1826,35 @@ def _sorted_places(thetas: list) -> list:
     return [place[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
-def _merged(arrays: list, places: list, axis: int, rows=None):
+def _merged(arrays: list, places: list, axis: int):
     """The arrays written at their ``places`` (:func:`_sorted_places`) along ``axis``, the last one: the sorted
-    concatenation in one pass.  ``rows`` (arrays with a pin axis just before it): only these pins differ from column
-    to column (the window's over the period, :meth:`ContactModel.period_pins`); the others hold one fill value per pin
-    (a pin out of reach), copied from the first column."""
+    concatenation in one pass."""
     a0 = arrays[0]
     shape = list(a0.shape)
     shape[axis] = sum(a.shape[axis] for a in arrays)
     out = np.empty(shape, dtype=np.result_type(*arrays))
-    if rows is not None and a0.ndim >= 2:
-        out[...] = a0[..., :1]
-        out[..., rows, :] = _merged([a[..., rows, :] for a in arrays], places, axis)
-        return out
     lead = (slice(None),) * axis
     for a, p in zip(arrays, places):
         out[lead + (p,)] = a
     return out
 
 
-def _concat(parts: list[Solution], rows=None) -> Solution:
-    """The states of ``parts`` together, sorted by theta (stable); ``rows``: the pins that can differ from their fill
-    values (:func:`_merged`)."""
+def _concat(parts: list[Solution]) -> Solution:
+    """The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
+    parts' rows differ, :func:`_relayout`)."""
+    rows = parts[0].rows
+    if not all(_same_rows(p.rows, rows) for p in parts):
+        full = [p for p in parts if p.rows is None]
+        rows = None if full else functools.reduce(np.union1d, [p.rows for p in parts])
+        z2 = full[0].force.shape[-2] if full else None
+        parts = [_relayout(p, rows, z2) for p in parts]
     places = _sorted_places([p.theta for p in parts])
     theta = _merged([p.theta for p in parts], places, 0)
 
     def cat(name, axis):
         if any(getattr(p, name) is None for p in parts):
             return None
-        return _merged([getattr(p, name) for p in parts], places, axis,
-                       None if name in ("phase", "zeta") + _GEOMETRY_FIELDS else rows)
+        return _merged([getattr(p, name) for p in parts], places, axis)
 
     geometry = [None] * len(_GEOMETRY_FIELDS)
     if all(p.pins is not None for p in parts) and len({p.pins.shape[0] for p in parts}) == 1:
@@ -1818,29 +1865,63 @@ def _concat(parts: list[Solution], rows=None) -> Solution:
                     None if parts[0].switch is None else cat("switch", 3),
                     None if parts[0].branch is None else cat("branch", 2),
                     None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
-                    cat("noise", 0), cat("g_tau", 0), *geometry)
+                    cat("noise", 0), cat("g_tau", 0), *geometry, rows)
 
 
-def _components(s: Solution, rolls: bool, rows=None):
+def _same_rows(a, b) -> bool:
+    """Whether two :attr:`Solution.rows` are the same pins."""
+    return (a is None and b is None) or (a is not None and b is not None and np.array_equal(a, b))
+
+
+def _relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
+    """``sol`` over the pins ``rows`` (sorted; None: all ``z2``): each per-pin array's rows of these pins, a pin that
+    ``sol`` does not hold with the values of a pin out of reach (no contact; :data:`_PIN_FILL`; phases then None, to
+    be computed, :meth:`ContactModel.phases`)."""
+    if _same_rows(sol.rows, rows):
+        return sol
+    n_src = sol.force.shape[-2]
+    src = np.arange(n_src) if sol.rows is None else sol.rows
+    dst = np.arange(z2) if rows is None else rows
+    held = np.isin(dst, src).all()
+    out = {}
+    for name in _PIN_FIELDS:
+        a = getattr(sol, name)
+        if name == "cand" and a is None and not held:
+            a = np.ones((n_src, sol.theta.size), dtype=bool)
+        if a is None or (name in ("phase", "zeta") and not held):
+            out[name] = None
+        else:
+            out[name] = _over_rows(a, src, dst, _PIN_FILL.get(name))
+    return dataclasses.replace(sol, rows=rows, **out)
+
+
+def _over_rows(a, src, dst, fill):
+    """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted): a
+    pin that ``a`` does not hold gets ``fill``."""
+    at = np.clip(np.searchsorted(src, dst), 0, src.size - 1)
+    have = src[at] == dst
+    if np.all(have):
+        return a[..., at, :]
+    b = np.full(a.shape[:-2] + (dst.size, a.shape[-1]), fill, dtype=a.dtype)
+    b[..., have, :] = a[..., at[have], :]
+    return b
+
+
+def _components(s: Solution, rolls: bool):
     """The sign-change components of the cycle at the solved states ``s`` (pins.md §6): (values, slopes, n_delta),
     values and slopes (c, n) over the crank angles of ``s``; the slope is known for the penetrations only (NaN
-    else), which come first (n_delta rows).  A component that is NaN at a crank angle has no sign there.
-
-    ``rows`` (optional, :meth:`ContactModel.period_pins`): only these pins' components (the others are never
-    candidates over the period: no contact, no sign); the same rows for every call on one cycle."""
+    else), which come first (n_delta rows).  A component that is NaN at a crank angle has no sign there.  Over the
+    state's rows (:attr:`Solution.rows`; the other pins are never candidates over the period: no contact, no sign):
+    the states of one cycle share them."""
     n = s.theta.size
-
-    def pick(a, axis=-2):
-        return a if rows is None or a is None else np.take(a, rows, axis=axis)
-
-    force, v_t, cand = pick(s.force), pick(s.v_t), pick(s.cand, 0)
-    delta = pick(s.delta)
+    force, v_t, cand = s.force, s.v_t, s.cand
+    delta = s.delta
     delta = delta if cand is None else np.where(cand, delta, np.nan)   # NaN: no sign change
     loaded = force > 0.0
     parts = [delta.reshape(-1, n), np.where(loaded, v_t, 0.0).reshape(-1, n)]
-    slopes = [pick(s.ddelta).reshape(-1, n)]
+    slopes = [s.ddelta.reshape(-1, n)]
     if s.switch is not None:      # not masked: a pin can reach the crest and leave it in one scan step
-        parts.append(pick(s.switch).reshape(-1, n))
+        parts.append(s.switch.reshape(-1, n))
     if rolls and force.shape[0] == 2:
         lead = (force[1] > force[0]).astype(np.intp)          # np.argmax over the two contacts (ties: the first)
         v_lead = np.where(lead == 1, v_t[1], v_t[0])[None]
@@ -1892,13 +1973,12 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
     state = _breakpoint_state(model)
     xtol = 1e-12 * Tp
     x = np.linspace(0.0, Tp, n_scan + 1)
-    rows = model.period_pins()
-    v, _, n_delta = _components(state(x), rolls, rows)
+    v, _, n_delta = _components(state(x), rolls)
     sgn = np.sign(v)
     comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
     if comp.size:
         def h(t, k):
-            val, slope, _ = _components(state(t), rolls, rows)
+            val, slope, _ = _components(state(t), rolls)
             i = np.arange(k.size)
             return val[comp[k], i], slope[comp[k], i]
 
@@ -1925,7 +2005,6 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
         return BreakpointRoots(np.empty(0), np.zeros(0, dtype=bool), False)
     max_width = width if max_width is None else max(max_width, width)
     state = _breakpoint_state(model)
-    rows = model.period_pins()
     r0 = prior.roots
     w = np.full(r0.size, float(width))
     todo = np.arange(r0.size)
@@ -1934,7 +2013,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     while todo.size:
         a = np.maximum(r0[todo] - w[todo], 0.0)
         b = np.minimum(r0[todo] + w[todo], Tp)
-        v, _, n_delta = _components(state(np.concatenate((a, b))), rolls, rows)
+        v, _, n_delta = _components(state(np.concatenate((a, b))), rolls)
         va, vb = v[:, :todo.size], v[:, todo.size:]
         comp, idx = np.nonzero(np.sign(va) * np.sign(vb) < 0)
         comps.append(comp)
@@ -1951,7 +2030,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     jtol = 1e-3 * tol * Tp
 
     def h(t, k):
-        val, slope, _ = _components(state(t), rolls, rows)
+        val, slope, _ = _components(state(t), rolls)
         i = np.arange(k.size)
         return val[comp[k], i], slope[comp[k], i]
 
@@ -2154,7 +2233,7 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     K = k_all[piece]                                             # (n, m) node indices into sol
     theta = c[piece] + h[piece] * s
 
-    z2, n = sol.force.shape[-2], theta.size
+    z2, n = sol.force.shape[-2], theta.size                     # z2: the state's rows
     # the pins that are candidates at some node of a point's piece (all pins without a window): the others cannot
     # touch there and keep the values of a pin out of reach (-inf, 0, NaN), as the solved states do
     cand = np.ones((z2, n), dtype=bool) if sol.cand is None else sol.cand[:, K].any(axis=-1)
@@ -2181,7 +2260,7 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
                    np.maximum(interp_pins(sol.force, 0.0), 0.0), interp_pins(sol.v_t, 0.0), None, None,
                    interp_pins(sol.switch, np.nan), per_piece(sol.branch, lambda v: v[..., 0]),
                    None if sol.cand is None else cand, interp_pins(sol.ddelta, 0.0),
-                   per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau))
+                   per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau), rows=sol.rows)
     return out, mid_all[piece]
 
 
@@ -2261,12 +2340,12 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         cache.append(s)
         mids.append(np.asarray(mid, dtype=float))
         sets.append((active, branch, traction))
-        loss, _, _ = contact_losses(s, g.R_b, mu_eff, sliding_friction, rolls, rows)
+        loss, _, _ = contact_losses(s, g.R_b, mu_eff, sliding_friction, rolls)
         return loss.sum(axis=(0, 1)) / scale / g.period
 
     if model.window is None and prefilter:
         model.set_window()
-    rows = model.period_pins()           # the window is fixed for this cycle (a failing one recomputes it)
+    rows = model.layout()[0]             # the window is fixed for this cycle (a failing one recomputes it)
     found = None
     if prior is not None:
         found = _incremental_roots(model, prior, prior_width * g.period, tol, rolls, PRIOR_WIDTH_MAX * g.period)
@@ -2285,19 +2364,19 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         lo, hi = lo[hi > lo], hi[hi > lo]
         mid = 0.5 * (lo + hi)                    # the pieces' midpoints, as the quadrature tells them
         integrand(np.column_stack((lo, hi)).ravel(), np.repeat(mid, 2))     # in time order: ..., b_p, a_(p+1), ...
-    solved = _concat(cache, rows)
+    solved = _concat(cache)
     dense = gk_interpolated(solved, q, rule, DENSE_PER_PERIOD) if rule != "trapezoid" else None
     # the check of the moved or coarse roots covers the interpolated states too: as dense as the trapezoid's nodes
     # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
     checked = (cache, mids) if dense is None else (cache + [_take(dense[0], slice(None, None, 3))],
                                                    mids + [dense[1][::3]])
-    if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period, rows):
+    if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period):
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
     n_solved = solved.theta.size
     sol = solved if dense is None else _concat([solved, dense[0]])
-    sol.phase, sol.zeta = model.phases(sol.theta)
+    sol.phase, sol.zeta = model.phases(sol.theta, sol.rows)
     if not model.window_holds(sol.tau):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial,
@@ -2310,7 +2389,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         places = _sorted_places([c.theta for c in cache])
 
         def cat(parts):
-            return None if parts[0] is None else _merged(parts, places, parts[0].ndim - 1, rows)
+            return None if parts[0] is None else _merged(parts, places, parts[0].ndim - 1)
 
         nodes = ((cat([t[0] for t in sets]), cat([t[1] for t in sets]), cat([t[2] for t in sets])),
                  cat(mids), ref_sols, rows)
@@ -2362,7 +2441,8 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     None (a full pass is needed) when ``cyc`` has no final-grid record (a Gauss-Kronrod rule), a node has no
     equilibrium with its sets or non-finite values, a node farther than D from every breakpoint has a component
     with the other sign than its piece (:func:`_pieces_hold`: a contact appears or leaves), the window's tau range
-    does not hold, a breakpoint's component is not found, or the quadrature's error and E_s exceed
+    does not hold or its pins are not the last pass's (:meth:`ContactModel.layout`: a window recomputed for a wider
+    tau range), a breakpoint's component is not found, or the quadrature's error and E_s exceed
     ``RELINEARISE_SHARE`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling pins'
     lead switch, flipping friction forces).
 
@@ -2387,6 +2467,17 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     sets, node_mid, ref_sols, rows = cyc.nodes
     R_b, mu_eff, f, rolls, scale1 = cyc.friction
     g, sol1 = model.g, cyc.sol
+    rows2 = model.layout()[0]
+    if not _same_rows(rows2, rows):
+        # the window recomputed for a wider tau range (:meth:`ContactModel.inherit`): the last pass's states and sets
+        # over this model's rows (a pin they do not hold: out of reach at every node, inactive); a pin left out must
+        # carry no force in them (the window's bound: it cannot touch at this torque either)
+        src, dst = (np.arange(g.z2) if r is None else r for r in (rows, rows2))
+        if np.any(sol1.force[:, ~np.isin(src, dst)] > 0.0):
+            return None
+        sets = tuple(None if a is None else _over_rows(a, src, dst, fill) for a, fill in zip(sets, (False, -1, 0.0)))
+        ref_sols = [_relayout(r, rows2, g.z2) for r in ref_sols]
+        sol1, rows = _relayout(sol1, rows2, g.z2), rows2
     Tp, x = g.period, cyc.sol.theta
     scale2 = model.torque_sat * g.k / g.z1
     # the final grid piece by piece (a piece end is a node of each of its two pieces); pieces follow each other in
@@ -2405,8 +2496,8 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
                               guess=guess)
         except NoEquilibrium:
             return None
-        L1 = contact_losses(sol1, R_b, mu_eff, f, rolls, rows)[0].sum(axis=(0, 1))
-        L2 = contact_losses(s2k, R_b, mu_eff, f, rolls, rows)[0].sum(axis=(0, 1))
+        L1 = contact_losses(sol1, R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
+        L2 = contact_losses(s2k, R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
     if not (np.all(np.isfinite(L2)) and np.all(np.isfinite(s2k.force)) and np.all(np.isfinite(s2k.v_t))):
         return None
     # the change's trapezoid over the solved nodes of each piece, and over every other one of them (its error)
@@ -2423,7 +2514,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     place = np.cumsum(keep) - 1                   # each kept node's place in ``kept`` (xs order)
     lo_n, hi_n, t_n = (np.empty_like(a) for a in (lo_s, hi_s, t_s))
     lo_n[order], hi_n[order], t_n[order] = place[lo_s], place[hi_s], t_s
-    s2 = _moved(sol1, s2k, kept, lo_n, hi_n, t_n, rows)
+    s2 = _moved(sol1, s2k, kept, lo_n, hi_n, t_n)
     if not model.window_holds(s2.tau):
         return None
     l1 = L1[order]
@@ -2439,9 +2530,9 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         # how far their zero moved: a Newton step from the one-sided nodes at the new torque (secant: no slope)
         nb = order[np.clip(np.concatenate((a_end - 1, b_end + 1)), 0, n - 1)]
         ends = order[np.concatenate((a_end, b_end))]
-        v1 = _components(_take(sol1, nb), rolls, rows)[0]
-        v2n = _components(_take(s2, nb), rolls, rows)[0]
-        v2, dv2, _ = _components(_take(s2, ends), rolls, rows)
+        v1 = _components(_take(sol1, nb), rolls)[0]
+        v2n = _components(_take(s2, nb), rolls)[0]
+        v2, dv2, _ = _components(_take(s2, ends), rolls)
         m = r.size
         flips = (np.sign(v1[:, :m]) * np.sign(v1[:, m:]) < 0.0)
         flips = np.concatenate((flips, flips), axis=1)
@@ -2465,9 +2556,10 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
             return None
         E_s = float(np.sum(strip)) / Tp / scale2
     if not (E_q + E_s <= RELINEARISE_SHARE * tol * abs(lam2)
-            and _pieces_hold([s2], [node_mid], ref_sols, edges, rolls, tol, Tp, rows, away=(r, width))):
+            and _pieces_hold([s2], [node_mid], ref_sols, edges, rolls, tol, Tp, away=(r, width))):
         return None
-    s2.phase, s2.zeta = sol1.phase, sol1.zeta           # functions of theta and the mode only
+    # functions of theta and the mode only
+    s2.phase, s2.zeta = (sol1.phase, sol1.zeta) if sol1.phase is not None else model.phases(s2.theta, s2.rows)
     model.roots = cyc.roots
     return ContactCycle(float(lam2), E_q + E_s, cyc.converged, cyc.n_crank, cyc.quad, s2, edges, cyc.roots,
                         (R_b, mu_eff, f, rolls, scale2), (sets, node_mid, ref_sols, rows))
@@ -2513,22 +2605,19 @@ def _trapezoid_weights(xs, ps):
     return w
 
 
-def _moved(sol: Solution, part: Solution, kept, lo, hi, t, rows=None) -> Solution:
+def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     """``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change
     part - sol interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``;
     weight ``t`` on ``hi``); the sets (branch, candidates), the phases, the residual and the contact geometry (nx, ny,
     wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are clipped at 0, a value that is not
-    finite (a pin out of reach) is left as it is, and only the pins ``rows`` (the window's over the period, None:
-    all) can change (:func:`relinearised_cycle`)."""
+    finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both over the same rows)."""
     n = sol.theta.size
     rest = np.ones(n, dtype=bool)
     rest[kept] = False
     rest = np.flatnonzero(rest)
     lo, hi, t = lo[rest], hi[rest], t[rest]
     # a pin that is not a candidate at a node keeps its fill values there (0 force and speed, -inf penetration)
-    cand = None
-    if sol.cand is not None:
-        cand = (sol.cand if rows is None else sol.cand[rows])[:, rest]
+    cand = None if sol.cand is None else sol.cand[:, rest]
     out = {}
     # the contact geometry (over the pins each state was solved on, not all pins): the solved nodes' own, the first
     # pass's between (the normals turn with the rotation's change: ~1e-7 relative in the crank-bearing force; not
@@ -2542,7 +2631,7 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t, rows=None) -> Solutio
         if geometry and not same:
             out[fl.name] = None
             continue
-        if (fl.name in ("theta", "phase", "zeta", "branch", "cand") or not isinstance(a, np.ndarray)
+        if (fl.name in ("theta", "phase", "zeta", "branch", "cand", "rows") or not isinstance(a, np.ndarray)
                 or a.shape[-1:] != (n,)):
             out[fl.name] = a
             continue
@@ -2552,9 +2641,7 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t, rows=None) -> Solutio
             new[..., kept] = b
             out[fl.name] = new
             continue
-        per_pin = a.ndim >= 2 and rows is not None
-        ai = a[..., rows, :] if per_pin else a.copy()        # the rows that can change (a copy)
-        bi = b[..., rows, :] if per_pin else b
+        ai, bi = a.copy(), b
         with np.errstate(invalid="ignore"):
             d = bi - ai[..., kept]
         d = np.where(np.isfinite(d), d, 0.0)
@@ -2568,12 +2655,7 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t, rows=None) -> Solutio
             ok &= cand
         ai[..., rest] = np.where(ok, v, old)
         ai[..., kept] = bi
-        if per_pin:
-            new = a.copy()
-            new[..., rows, :] = ai
-        else:
-            new = ai
-        out[fl.name] = new
+        out[fl.name] = ai
     return Solution(**out)
 
 
@@ -2635,8 +2717,7 @@ def piece_guess(keys, tau, dtau, key, x, edges):
     return np.where(same & (h > 0.0) & np.isfinite(herm), herm, np.nan)
 
 
-def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float, rows=None,
-                 away=None) -> bool:
+def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float, away=None) -> bool:
     """Whether every evaluated node lies on its piece's side of every sign change: no component has the
     opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's ends (where a
     located jump may lie within 1e-3 tol T_p of its place, :func:`_scan_roots`).  A stricter test than the full
@@ -2644,7 +2725,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
     ``away`` = (points, width): nor at a node within ``width`` of a point (sorted; the strips a breakpoint may have
     moved through since the nodes were placed, :func:`relinearised_cycle`)."""
     rm = np.concatenate([r.theta for r in ref_sols])
-    rv = np.concatenate([_components(r, rolls, rows)[0] for r in ref_sols], axis=1)
+    rv = np.concatenate([_components(r, rolls)[0] for r in ref_sols], axis=1)
     rpos, rneg = rv > 0.0, rv < 0.0             # NaN: neither (no sign)
     order = np.argsort(rm)
     excl = 2e-3 * tol * period + 8e-12 * period
@@ -2656,7 +2737,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
             inner &= _distance_to(away[0], x) > away[1]
         if not np.any(inner):
             continue
-        v = _components(c, rolls, rows)[0][:, inner]
+        v = _components(c, rolls)[0][:, inner]
         if v.shape[0] != rv.shape[0]:
             return False
         col = order[np.searchsorted(rm[order], mid[inner])]

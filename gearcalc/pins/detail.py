@@ -45,9 +45,10 @@ def contact_detail(g, sol, cyc, T_V, w_H, n_d, crank=None, consistent: bool = Fa
         "bearing_angle_deg": crank.bearing_angle if crank is not None else None,
     })
     n_idx, j_idx, c_idx = np.nonzero(np.transpose(loaded_c, (2, 1, 0)))    # row-major: node, pin, contact
+    pins = j_idx if sol.rows is None else sol.rows[j_idx]                   # the state's rows: the pins (sorted)
     rpm = units.rad_s_to_rpm(w_H) if have_P else None
     contacts = rows({
-        "theta_deg": theta_deg[n_idx], "pin": j_idx, "contact": c_idx,
+        "theta_deg": theta_deg[n_idx], "pin": pins, "contact": c_idx,
         "phase_deg": np.degrees(sol.phase[j_idx, n_idx]), "force_N": sol.force[c_idx, j_idx, n_idx],
         "penetration_um": sol.delta[c_idx, j_idx, n_idx] * units.UM_PER_MM,
         "sliding_speed_m_s": cyc.slide[c_idx, j_idx, n_idx] * w_H / units.MM_PER_M if have_P else None,
