@@ -348,3 +348,34 @@ def test_window_scan_without_a_linearised_root_solves_every_pin(monkeypatch):
     assert b.window[2] == a.window[2] and b.window[:2] == pytest.approx(a.window[:2], rel=1e-12)
     assert np.max(np.abs(full.tau - scan.tau)) <= 1e-11 * np.max(np.abs(scan.tau))
     assert full.cand is None and scan.cand is not None           # every pin solved, against the window's
+
+
+def test_pass_with_a_wider_window_takes_the_last_states_over_its_rows():
+    # a second pass whose window was recomputed for a wider tau range holds more pins (ContactModel.layout): the last
+    # pass's states and sets are taken over its rows (the added pins out of reach: no force), so the pass agrees with
+    # the same pass on the last window's rows to round-off (pins.md §5.5)
+    tol = 1e-6
+    a = circular_model(1.0e6)
+    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    T2 = 1.0e6 * (1.0 + 5e-6)
+    same = circular_model(T2)
+    same.inherit(a)
+    wide = circular_model(T2)
+    wide.inherit(a)
+    t_lo, t_hi = wide.window[3]                               # the multiplier's: both negative
+    wide._window_for(4.0 * t_lo, t_hi)                        # a wider range: more pins
+    assert wide.layout()[0].size > same.layout()[0].size
+    assert np.isin(same.layout()[0], wide.layout()[0]).all()
+    r_same, r_wide = (pc.relinearised_cycle(m, first, a, tol) for m in (same, wide))
+    assert r_same is not None and r_wide is not None
+    assert np.array_equal(r_wide.sol.rows, wide.layout()[0])
+    assert abs(r_wide.loss_ratio - r_same.loss_ratio) <= 1e-12 * r_same.loss_ratio
+    extra = ~np.isin(r_wide.sol.rows, r_same.sol.rows)
+    assert np.all(r_wide.sol.force[:, extra] == 0.0)
+    # a window that leaves out a pin carrying force in the last pass: a full pass instead
+    narrow = circular_model(T2)
+    narrow.inherit(a)
+    narrow._window_for(0.5 * t_lo, t_hi)                      # pin 3 left out
+    dropped = np.setdiff1d(first.sol.rows, narrow.layout()[0])
+    assert dropped.size and first.sol.force[:, np.isin(first.sol.rows, dropped)].max() > 0.0
+    assert pc.relinearised_cycle(narrow, first, a, tol) is None
