@@ -381,3 +381,26 @@ def test_pass_with_a_wider_window_takes_the_last_states_over_its_rows():
     pos[rows] = np.arange(rows.size)
     narrow._layout = (narrow.window, rows, pos)
     assert pc.relinearised_cycle(narrow, first, a, tol) is None
+
+
+def test_refinement_cuts_a_jump_into_sections_and_keeps_newton_for_a_root():
+    # a smooth root (Newton: a few calls, to 1e-12) and a jump (steps leave the bracket: cut into SECTIONS parts
+    # per call, 8x narrower instead of bisection's 2x): exact places known (pins.md §6)
+    calls = []
+
+    def h(x, k):
+        calls.append(x.size)
+        return (np.where(k == 0, np.sin(x - 0.3), np.where(x < 0.7123456789, -2.0, 1.0)),
+                np.where(k == 0, np.cos(x - 0.3), np.nan))
+
+    jtol = 1e-9
+    r = pc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
+                                jump_xtol=jtol)
+    assert abs(r[0] - 0.3) <= 1e-12 and abs(r[1] - 0.7123456789) <= jtol
+    # bisection alone would take log2(1/2e-9) ~ 29 calls for the jump; sections of 8: ~ log8 of it plus a few
+    assert len(calls) <= 14
+    assert max(calls) <= pc.SECTIONS            # one bracket cut (SECTIONS - 1 points) and the other one's point
+    n_cut, calls[:] = len(calls), []
+    r2 = pc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
+                                 jump_xtol=jtol, sections=2)                           # bisection
+    assert abs(r2[1] - 0.7123456789) <= jtol and len(calls) >= 2 * n_cut

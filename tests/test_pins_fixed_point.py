@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 
 from gearcalc import api
-from gearcalc.pins import MULTIPLIER, Cycloid
+from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from gearcalc.pins import contact as pc
 from gearcalc.pins import report as R
 from gearcalc.pins.operating import efficiency_torques, shaft_torques
@@ -139,10 +139,31 @@ def test_a_wandering_fixed_point_stops_after_four_passes_with_its_spread_as_erro
     history = wandering[0].history
     assert len(history) == 4
     assert s["loss_ratio_err"] >= max(history) - min(history) > 1e-3
-    # the loss ratio at the reported torque on V (one pass, no fixed point) lies within the stated error
-    on_V = {**WANDERING, "load": {**WANDERING["load"], "torque_shaft": "V", "torque_Nm": s["torque_out_Nm"]}}
-    lam_V = api.compute(on_V, model="contact", tol=1e-3).summary["loss_ratio"]
-    assert abs(lam_V - s["loss_ratio"]) <= s["loss_ratio_err"]
+
+
+@pytest.mark.xfail(strict=True, reason="known defect, pins.md §7 'Several equilibria': the satellite turns by up to "
+                                       "0.44 rad under this load and the pieces' sets hold another equilibrium than "
+                                       "the angles solved one by one (0.1210 against 0.1109)")
+def test_the_wandering_designs_cycle_is_the_mean_of_its_states_solved_angle_by_angle(monkeypatch):
+    # an independent reference: the uniform mean of lambda over 8192 crank angles, each solved on its own (its own
+    # active set and friction directions; O(1/N) at the jumps, ~1e-4 here); the cycle at the same torque on V
+    on_V = {**WANDERING, "load": {**WANDERING["load"], "torque_shaft": "V", "torque_Nm": 133.5}}
+    runs, orig = [], pc.cycle_at_torque
+
+    def recorded(*a, **k):
+        runs.append(orig(*a, **k))
+        return runs[-1]
+
+    monkeypatch.setattr(pc, "cycle_at_torque", recorded)
+    s = api.compute(on_V, model="contact", tol=1e-3).summary
+    t = next(r for r in runs if r.model.sigma == REDUCER)
+    m = t.model
+    R_b, mu, f, rolls, scale = t.cycle.friction
+    theta = (np.arange(8192) + 0.5) * (m.g.period / 8192)
+    ref = pc.ContactModel(m.g, m.profile, m.law, m.torque_sat, m.sigma, m.friction)
+    ref.set_window()
+    lam = float(np.mean(pc.contact_losses(ref.state(theta, phases=False), R_b, mu, f, rolls)[0].sum(axis=(0, 1))))
+    assert abs(s["loss_ratio"] - lam / scale) <= s["loss_ratio_err"] + 1e-3 * lam / scale
 
 
 # ------------------------------------------------------------------ the fixed point is the fixed point
