@@ -323,7 +323,7 @@ def test_window_scan_from_the_linearised_balance_is_the_all_pin_solve(make, sigm
                        atol=1e-9 * scan.force.max())
     # the linearisation's error, <= (R_p + e) tau^2/2 in the penetrations, is a few % of tau at most: far inside
     # the window's factor of 2
-    est = m._linearised_tau(m.pose(scan.theta), 1e-9)
+    est = m._linearised_tau(scan.theta.size, 1e-9)
     assert np.max(np.abs(est - tau)) <= 0.05 * np.max(np.abs(tau))
 
 
@@ -342,7 +342,7 @@ def test_window_scan_without_a_linearised_root_solves_every_pin(monkeypatch):
     # pins by doubling and Newton and the window taken from that range (pins.md §5.5): the same scan and window
     a = circular_model(1.0e6)
     scan = a.set_window()
-    monkeypatch.setattr(pc.ContactModel, "_linearised_tau", lambda self, pose, h0: None)
+    monkeypatch.setattr(pc.ContactModel, "_linearised_tau", lambda self, n_scan, h0: None)
     b = circular_model(1.0e6)
     full = b.set_window()
     assert b.window[2] == a.window[2] and b.window[:2] == pytest.approx(a.window[:2], rel=1e-12)

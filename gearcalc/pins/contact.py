@@ -985,6 +985,7 @@ class ContactModel:
         self._gtau = {0: None, 1: None}   # dG/dtau at the memo's angles (None: unknown)
         self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
         self._layout = None           # (window, rows, pos) of :meth:`layout`
+        self._nominal_cache = {}      # n_scan -> :meth:`_nominal` (shared with the models that inherit or mirror)
 
     # -- geometry -------------------------------------------------------------------------------
     def pose(self, theta, idx=None) -> Pose:
@@ -1044,20 +1045,19 @@ class ContactModel:
                 self._remember(1, sol)
             return sol
         self.window = None
-        pose = self.pose(theta)
         # the doubling starts near the rotation at which one pin at R_p would carry the torque, /8 (5-10 pins share it)
         R = g.R_p + g.e
         h0 = float(self.law.deflection(self.torque_sat / R)) / R / 8.0
         h0 = h0 if math.isfinite(h0) and h0 > 1e-9 else 1e-9
         with np.errstate(all="ignore"):
-            est = self._linearised_tau(pose, h0)
+            est = self._linearised_tau(n_scan, h0)
         first = None
         if est is not None and np.all(np.isfinite(est)):
             # the window from the linearised balance's range; the scan solved on its pins only, kept when its tau
             # stay in the window's range (else every pin, below)
-            self._window_for(*_window_range(est), n_scan, pose)
+            self._window_for(*_window_range(est), n_scan)
             idx = self.candidates(theta)
-            sub = pose if idx is None else self.pose(theta, idx)
+            sub = self.pose(theta, idx)
             with np.errstate(divide="ignore", invalid="ignore"):
                 try:
                     part = self._kinematics(sub, self._solve(sub, None, est), None)
@@ -1067,10 +1067,11 @@ class ContactModel:
                 first = self._full(part, idx)
         if first is None:
             self.window = None
+            pose = self.pose(theta)
             tau = self._bracketed(pose, None, 1e-15, h0, newton=True)
             with np.errstate(divide="ignore", invalid="ignore"):
                 first = self._kinematics(pose, tau, None)
-            self._window_for(*_window_range(tau), n_scan, pose)
+            self._window_for(*_window_range(tau), n_scan)
             first = _relayout(first, self.layout()[0])
         if np.all(np.isfinite(first.dtau)):
             self._remember(0, first)   # the frictionless solution warm-starts the scan below
@@ -1080,7 +1081,19 @@ class ContactModel:
             return first
         return self.state(theta)      # and the warm-start memory for the cycle
 
-    def _window_for(self, t_lo: float, t_hi: float, n_scan: int = 64, pose: "Pose | None" = None) -> None:
+    def _nominal(self, n_scan: int = 64):
+        """(psi, delta, arm) of every pin at the nominal pose (tau = 0) on ``n_scan`` crank angles of one period
+        (:class:`Pose`, :class:`Contacts`): the window's and the linearised balance's data (:meth:`_window_for`,
+        :meth:`_linearised_tau`).  They depend on the design only (not on the torque or the mode): computed once
+        and shared with the models that inherit or mirror this one."""
+        nom = self._nominal_cache.get(n_scan)
+        if nom is None:
+            pose = self.pose(np.arange(n_scan) * (self.g.period / n_scan))
+            ct = self.contacts(pose, np.zeros(n_scan))
+            nom = self._nominal_cache[n_scan] = (pose.psi, ct.delta, ct.arm)
+        return nom
+
+    def _window_for(self, t_lo: float, t_hi: float, n_scan: int = 64) -> None:
         """Set the candidate window to the pins that can touch for tau in [t_lo, t_hi] (see :meth:`set_window`;
         None when every pin can).  The pin set depends on the tau range: a window taken over from another
         torque or mode (:meth:`inherit`, :meth:`mirror`) with its tau range scaled must be recomputed for the
@@ -1088,14 +1101,12 @@ class ContactModel:
         :func:`mean_loss_ratio` still passes)."""
         g = self.g
         self.window = None
-        if pose is None:
-            pose = self.pose(np.arange(n_scan) * (g.period / n_scan))
+        psi, delta, arm = self._nominal(n_scan)
         R = g.R_p + g.e
-        ct = self.contacts(pose, np.zeros(pose.theta.size))
         # delta(tau) <= delta(0) - (X x n) tau + (R_p + e) tau^2/2: convex in tau, largest at an end
-        reach = np.maximum(-ct.arm * t_lo + 0.5 * R * t_lo * t_lo, -ct.arm * t_hi + 0.5 * R * t_hi * t_hi)
-        touch = np.any(ct.delta + reach + 0.01 * np.abs(reach) + 1e-12 * g.R_p > 0.0, axis=0)
-        z = np.sort(-pose.psi[touch])
+        reach = np.maximum(-arm * t_lo + 0.5 * R * t_lo * t_lo, -arm * t_hi + 0.5 * R * t_hi * t_hi)
+        touch = np.any(delta + reach + 0.01 * np.abs(reach) + 1e-12 * g.R_p > 0.0, axis=0)
+        z = np.sort(-psi[touch])
         if z.size:
             gaps = np.diff(np.concatenate((z, [z[0] + 2.0 * math.pi])))
             i = int(np.argmax(gaps))
@@ -1144,6 +1155,7 @@ class ContactModel:
         sign and d tau/d theta keeps it; scaled by the torque ratio like :meth:`inherit`.  With friction
         this is a warm start only (the window's tau range is checked on the final grid)."""
         r = (self.torque_sat / other.torque_sat) ** (1.0 / self.law.exponent)
+        self._nominal_cache = other._nominal_cache          # the same design
         if other.window is not None:
             z_lo, z_hi, m, (t_lo, t_hi) = other.window
             self.window = (-z_hi, -z_lo, m, (-t_hi * r, -t_lo * r))
@@ -1167,6 +1179,7 @@ class ContactModel:
         tau scales about as the deflection, (T/T_prev)^(1/p) for the law F ~ delta^p: the warm starts
         and the window's tau range are scaled by it (the range is checked on the final grid)."""
         r = (self.torque_sat / prev.torque_sat) ** (1.0 / self.law.exponent)
+        self._nominal_cache = prev._nominal_cache           # the same design
         if prev.window is not None:
             z_lo, z_hi, m, (t_lo, t_hi) = prev.window
             self.window = (z_lo, z_hi, m, (t_lo * r, t_hi * r))
@@ -1268,17 +1281,17 @@ class ContactModel:
             return find_root(lambda t: self.moment(pose, t, traction) - self.M_req, a, b, xtol=xtol, rtol=0.0).root
         return self._solve(pose, traction, 0.5 * (a + b), xtol, bracket=(a, b))
 
-    def _linearised_tau(self, pose: Pose, h0: float):
+    def _linearised_tau(self, n_scan: int, h0: float):
         r"""tau balancing the torque with the penetrations linearised about the nominal pose (no friction), or None
         where that balance has no root within +-pi/z1: a start for the first scan's Newton (:meth:`set_window`).
 
         With d delta/d tau = -(X x n) (:meth:`set_window`), the balance sum F(delta_0 - (X x n) tau) (X x n) = M_req
         needs only the contacts at tau = 0: bracketed by doubling from h0 and narrowed to 1e-6 of the bracket.
         Its error is that of the linearisation, |d^2 delta/d tau^2| tau^2/2 <= (R_p + e) tau^2/2, ~1e-3 of tau at
-        deflection-sized rotations: Newton on the true balance then needs about three rounds."""
-        n = pose.theta.size
-        ct = self.contacts(pose, np.zeros(n))
-        d0, arm = ct.delta, ct.arm
+        deflection-sized rotations: Newton on the true balance then needs about three rounds.  On the ``n_scan``
+        crank angles of :meth:`_nominal`."""
+        n = n_scan
+        _, d0, arm = self._nominal(n_scan)
 
         def G(t):
             return np.sum(self.law.force(d0 - arm * t) * arm, axis=(0, 1)) - self.M_req
