@@ -255,3 +255,40 @@ def test_no_numpy_warning_when_a_mode_jams_at_K1_above_1():
                                 np.array([False]))
     assert s["self_locking"] is True and s["curtate_ratio"] > 1.0
     assert math.isinf(T_H[0]) and bool(et.locked[0])
+
+
+FAR = {"kind": "pins", "name": "z 6/10 circular, rotating pins", "gearing": {
+    "profile": "circular", "satellite_teeth": 6, "pins": 10, "eccentricity_mm": 4.155, "curtate_ratio": 0.5,
+    "pin_radius_mm": 3.462, "axle_radius_mm": 2.385, "rotating_pins": True},
+    "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1},
+    "load": {"mode": "multiplier", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
+    "contact": {"law": "hertz", "face_width_mm": 10.0}}
+"""Design no. 52 of tests/test_guards.py's random sample (seed 13): its cycle held, with a stated error of 4e-6, a
+reducer loss ratio 0.180 where the crank angles solved one by one give 0.198 (pins.md §7 "Several equilibria")."""
+
+
+@pytest.mark.parametrize("design,held", [(WANDERING, False), (FAR, True)])
+def test_designs_whose_satellite_turns_far_beyond_a_deflection_are_flagged(design, held):
+    # pins.md §6-7: a pin centre that moves by more than TRAVEL_MAX of its radius under the load (here 1.6 and 0.7;
+    # the paper designs 0.004-0.042), and a cycle whose nodes contradict their pieces even on the densest scan, are
+    # flagged: tolerance_met false and a warning naming the cause, instead of a loss ratio 2-15 % off its reference
+    r = api.compute(design, model="contact", tol=1e-3)
+    assert r.summary["tolerance_met"] is False
+    assert any("a pin centre moves by" in w and "not a deflection" in w for w in r.warnings)
+    assert any("does not hold" in w for w in r.warnings) is not held
+
+
+def test_paper_designs_turn_by_a_deflection():
+    # the paper's u = 10 circular-arc design: a pin centre moves by 0.042 of its radius at most, below TRAVEL_MAX
+    runs, orig = [], pc.cycle_at_torque
+
+    def recorded(*a, **k):
+        runs.append(orig(*a, **k))
+        return runs[-1]
+
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(pc, "cycle_at_torque", recorded)
+        r = api.compute(Path(__file__).parents[1] / "configs" / "pins_paper_circ_u10_fixed.toml", model="contact")
+    travel = [pc.pin_travel(t.cycle.sol.tau, t.model.g) for t in runs]
+    assert max(travel) == pytest.approx(0.042, abs=0.001) and max(travel) < pc.TRAVEL_MAX
+    assert r.summary["tolerance_met"] is True and not any("pin centre" in w for w in r.warnings)

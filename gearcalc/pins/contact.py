@@ -50,6 +50,7 @@ from __future__ import annotations
 import dataclasses
 import functools
 import math
+import warnings
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -1783,6 +1784,8 @@ class ContactCycle:
     breakpoints : the located breakpoints in theta [rad]; roots : the located sign changes
     (:class:`BreakpointRoots`), which a later pass of the same design starts from;
     friction : (R_b, mu_eff, f, rolls, scale) of :func:`contact_losses` and the loss ratio's scale;
+    held : every node lies on its piece's side of every sign change (:func:`_pieces_hold`); False: not even on the
+    densest scan (``SCAN_MAX`` intervals), and the loss ratio is not known to its error (pins.md §6);
     nodes : (sets, mids, ref_sols, rows) of the trapezoid's final grid, for the next torque pass from the same nodes
     (:func:`relinearised_cycle`): each node's piece sets (active, branch, traction), its piece's midpoint, the states
     that fixed the pieces' sets and the pins the sets are over (:attr:`Solution.rows`; None: a Gauss-Kronrod rule).
@@ -1800,6 +1803,7 @@ class ContactCycle:
     roots: "BreakpointRoots | None" = None
     friction: tuple = ()
     nodes: "tuple | None" = field(default=None, repr=False, compare=False)
+    held: bool = True
 
     @functools.cached_property
     def _losses(self):
@@ -2228,6 +2232,15 @@ def _merge(points, gap):
     return out
 
 
+HOLD_FLOOR = 1e-3
+"""A full scan's cycle holds when no node contradicts its piece by more than HOLD_FLOOR of the component's largest
+|value| (:func:`_pieces_hold`): the dither of a sliding speed about 0 where the friction forces flip stays below
+3e-4 on the band designs; the contradictions of the random sample's failing designs were 3.7e-3 to 0.3."""
+
+SCAN_MAX = 4096
+"""The densest scan of a cycle's sign changes (:func:`mean_loss_ratio`): 256 intervals, then 4x denser while the
+quadrature's nodes contradict their pieces, up to this many; then the cycle is reported as not held."""
+
 DENSE_PER_PERIOD = 1024
 """Interpolated crank angles per period on the contact level's final grid with a Gauss-Kronrod rule
 (:func:`gk_interpolated`), shared out over the bisected pieces in proportion to their length (at least 2 each): as
@@ -2432,9 +2445,17 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
     checked = (cache, mids) if dense is None else (cache + [_take(dense[0], slice(None, None, 3))],
                                                    mids + [dense[1][::3]])
-    if not found.scanned and not _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period):
+    # the moved or coarse roots: every sign; the full scan's: a sliding speed that dithers about 0 (below 1e-3 of its
+    # largest) where the friction forces flip does not count (its losses are as small)
+    held = _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period, floor=HOLD_FLOOR if found.scanned else 0.0)
+    if not held and not found.scanned:
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
+                               n_initial, rule, n_min=n_min)
+    if not held and n_scan < SCAN_MAX:
+        # nor the full scan's: a contact or a sliding direction that changes twice between its angles, a 4x denser
+        # one (pins.md §6)
+        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, 4 * n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
     n_solved = solved.theta.size
     sol = solved if dense is None else _concat([solved, dense[0]])
@@ -2456,7 +2477,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         nodes = ((cat([t[0] for t in sets]), cat([t[1] for t in sets]), cat([t[2] for t in sets])),
                  cat(mids), ref_sols, rows)
     return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, n_solved, q, sol, edges, found,
-                        (g.R_b, mu_eff, sliding_friction, rolls, scale), nodes)
+                        (g.R_b, mu_eff, sliding_friction, rolls, scale), nodes, held)
 
 
 RELINEARISE_MARGIN = 1.25
@@ -2779,15 +2800,25 @@ def piece_guess(keys, tau, dtau, key, x, edges):
     return np.where(same & (h > 0.0) & np.isfinite(herm), herm, np.nan)
 
 
-def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float, away=None) -> bool:
+def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float, away=None,
+                 floor: float = 0.0) -> bool:
     """Whether every evaluated node lies on its piece's side of every sign change: no component has the
     opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's ends (where a
     located jump may lie within 1e-3 tol T_p of its place, :func:`_scan_roots`).  A stricter test than the full
     scan's (the nodes are denser than its 256 intervals), used for the incrementally moved breakpoints.
     ``away`` = (points, width): nor at a node within ``width`` of a point (sorted; the strips a breakpoint may have
-    moved through since the nodes were placed, :func:`relinearised_cycle`)."""
+    moved through since the nodes were placed, :func:`relinearised_cycle`).  ``floor``: a contradiction counts only
+    where the node's value and the piece's both exceed ``floor`` times the component's largest |value| over the nodes
+    (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance)."""
     rm = np.concatenate([r.theta for r in ref_sols])
     rv = np.concatenate([_components(r, rolls)[0] for r in ref_sols], axis=1)
+    if floor > 0.0:
+        with np.errstate(invalid="ignore"), warnings.catch_warnings():
+            warnings.simplefilter("ignore", RuntimeWarning)          # a component without a sign anywhere: NaN
+            big = floor * np.nanmax(np.abs(np.concatenate([_components(c, rolls)[0] for c in cache], axis=1)),
+                                    axis=1)
+        big = np.where(np.isfinite(big), big, 0.0)[:, None]
+        rv = np.where(np.abs(rv) > big, rv, np.nan)
     rpos, rneg = rv > 0.0, rv < 0.0             # NaN: neither (no sign)
     order = np.argsort(rm)
     excl = 2e-3 * tol * period + 8e-12 * period
@@ -2802,6 +2833,8 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
         v = _components(c, rolls)[0][:, inner]
         if v.shape[0] != rv.shape[0]:
             return False
+        if floor > 0.0:
+            v = np.where(np.abs(v) > big, v, np.nan)
         col = order[np.searchsorted(rm[order], mid[inner])]
         if np.any(((v > 0.0) & rneg[:, col]) | ((v < 0.0) & rpos[:, col])):
             return False
@@ -3126,6 +3159,30 @@ class TorqueCycle:
     settled: bool
     locked: bool = False
     stalled: bool = False
+
+
+TRAVEL_MAX = 0.25
+"""The largest travel of a pin centre relative to the satellite's nominal pose, as a share of the pin radius, that
+the contact level's results are trusted for (:func:`pin_travel`; pins.md §7 "Several equilibria")."""
+
+
+def pin_travel(tau, g: Cycloid) -> float:
+    r"""The largest travel of a pin centre relative to the satellite's nominal (rigid conjugate) pose under the load,
+    as a share of the pin radius: :math:`\max|\tau| (R_p + e)/R_b` [-] (pins.md §7).
+
+    The contact model holds the satellite's rotation tau to be deflection-sized; a pin centre that moves by a good
+    part of its radius (a profile with large free play, on few teeth) meets its tooth far from its nominal place,
+    and the moment balance there can have several solutions: above :data:`TRAVEL_MAX` (0.25) the random sample's
+    designs disagreed with the crank angles solved one by one by up to 10 %, below it (0.004-0.23, the paper designs
+    0.004-0.042) they agreed to the reference's own error.
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> round(pin_travel(np.array([1e-3, -2e-3]), g) * g.R_b / (g.R_p + g.e), 12)
+    0.002
+    """
+    return float(np.max(np.abs(tau))) * (g.R_p + g.e) / g.R_b
 
 
 def reducer_stalls(history, torques, uT: float) -> bool:

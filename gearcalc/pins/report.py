@@ -147,8 +147,9 @@ def no_equilibrium_error(exc, design, z1: int) -> DesignError:
     return DesignError(key, f"= {design[key]}: no contact can carry the torque at crank angle "
                             f"{fmt(math.degrees(float(exc.theta[0])))} deg: no satellite rotation within "
                             f"+-180/z1 = {fmt(180.0 / z1)} deg balances T_V = {fmt(exc.torque_V)} N*m (the "
-                            "teeth do not mesh with the pins, or the torque crushes the contacts; pins.md "
-                            "§5.5)")
+                            "teeth do not mesh with the pins, or the torque crushes the contacts, or the satellite "
+                            "turns so far under it that the search misses a balance among several; pins.md "
+                            "§5.5, §7)")
 
 
 def contact_error(exc, design, g) -> DesignError:
@@ -228,7 +229,9 @@ def stiffness_error(design, law, residual: float, tol: float) -> DesignError:
 
 def mode_warnings(modes, mode: str) -> list[str]:
     """The warnings of the contact level's modes (:class:`gearcalc.pins.contact.ModeCycles`): the requested mode
-    jams (its numbers are the frictionless balance's), a torque fixed point that did not settle."""
+    jams (its numbers are the frictionless balance's), a torque fixed point that did not settle, a cycle whose nodes
+    contradict their pieces' contact sets (:attr:`gearcalc.pins.contact.ContactCycle.held`)."""
+    from .contact import SCAN_MAX, TRAVEL_MAX, pin_travel       # the contact level ran: loaded already
     out = []
     multiplier = mode == "multiplier"
     if multiplier in modes.jams:
@@ -236,10 +239,23 @@ def mode_warnings(modes, mode: str) -> list[str]:
                    f"balance at crank angle {fmt(math.degrees(float(modes.jams[multiplier].theta[0])))} deg: no "
                    "positive contact force balances the torque; forces, speeds and losses are those of the "
                    "frictionless balance (friction.model = \"first-order\")")
-    for t in modes.runs.values():
+    for mult, t in modes.runs.items():
         if not t.settled:
             out.append(f"the torque fixed point T_V = u T_H/eta did not settle in {len(t.history)} passes (loss ratios "
                        f"{t.history[-2]:.10g}, {t.history[-1]:.10g})")
+        travel = pin_travel(t.cycle.sol.tau, t.model.g)
+        if travel > TRAVEL_MAX:
+            out.append(f"in the {'multiplier' if mult else 'reducer'} mode the satellite turns by up to "
+                       f"{fmt(math.degrees(float(abs(t.cycle.sol.tau).max())))} deg under the load: a pin centre "
+                       f"moves by {fmt(travel)} of the pin radius from its nominal place (more than {TRAVEL_MAX:g}: "
+                       f"not a deflection; the balance can have several solutions, pins.md §7); its loss ratio is not "
+                       f"known to the stated error")
+        if not t.cycle.held:
+            out.append(f"the {'multiplier' if mult else 'reducer'} mode's cycle does not hold: at some solved crank "
+                       f"angles a contact or a sliding direction differs from its piece's even with the sign changes "
+                       f"scanned on {SCAN_MAX} angles (it changes between them, or the satellite turns so far "
+                       f"under the load that its balance has several solutions, pins.md §6-7); its loss ratio is not "
+                       f"known to the stated error")
     return out
 
 
@@ -266,6 +282,12 @@ def other_mode_jams(multiplier: bool) -> str:
             "forces in the moment balance: efficiency_" + ("multiplier" if multiplier else "reducer") + " is empty")
 
 
+def travel_ok(tau, g) -> bool:
+    """Whether the satellite's rotation under load is deflection-sized (:func:`gearcalc.pins.contact.pin_travel`)."""
+    from .contact import TRAVEL_MAX, pin_travel
+    return pin_travel(tau, g) <= TRAVEL_MAX
+
+
 def contact_fields(design, g, law, geo, tc, pk, metrics, backlash, residual, rolling_ok) -> dict:
     """The contact level's summary fields from its results (pins.md §8): the cycle ``tc``
     (:class:`~gearcalc.pins.contact.TorqueCycle`), its peaks ``pk``, engagement ``metrics``, backlash [deg] and
@@ -276,7 +298,10 @@ def contact_fields(design, g, law, geo, tc, pk, metrics, backlash, residual, rol
         "mode": design["load.mode"], "ratio": g.ratio, "curtate_ratio": g.K1,
         "rolling_ok": None if rolling_ok is None else bool(rolling_ok[0]),
         "loss_ratio": tc.loss_ratio, "loss_ratio_err": tc.loss_ratio_err, "n_crank": cyc.n_crank,
-        "tolerance_met": bool(cyc.converged) and bool(tc.settled),     # the quadrature and the torque fixed point
+        # the quadrature, the torque fixed point, the nodes' check of the pieces' contact sets and a deflection-sized
+        # rotation (pins.md §6-7)
+        "tolerance_met": (bool(cyc.converged) and bool(tc.settled) and bool(cyc.held)
+                          and travel_ok(sol.tau, g)),
         "pin_force_max_N": pk.force if math.isfinite(tc.torque_V) else None,
         "pin_force_max_phase_deg": math.degrees(pk.force_phase), "loaded_pins_min": pk.loaded_min,
         "loaded_pins_max": pk.loaded_max,
