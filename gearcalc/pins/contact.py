@@ -987,6 +987,7 @@ class ContactModel:
         self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
         self._layout = None           # (window, rows, pos) of :meth:`layout`
         self._nominal_cache = {}      # n_scan -> :meth:`_nominal` (shared with the models that inherit or mirror)
+        self.scan_n = 0               # the densest full scan a cycle of this design needed (:func:`mean_loss_ratio`)
 
     # -- geometry -------------------------------------------------------------------------------
     def pose(self, theta, idx=None) -> Pose:
@@ -1156,7 +1157,7 @@ class ContactModel:
         sign and d tau/d theta keeps it; scaled by the torque ratio like :meth:`inherit`.  With friction
         this is a warm start only (the window's tau range is checked on the final grid)."""
         r = (self.torque_sat / other.torque_sat) ** (1.0 / self.law.exponent)
-        self._nominal_cache = other._nominal_cache          # the same design
+        self._nominal_cache, self.scan_n = other._nominal_cache, other.scan_n      # the same design
         if other.window is not None:
             z_lo, z_hi, m, (t_lo, t_hi) = other.window
             self.window = (-z_hi, -z_lo, m, (-t_hi * r, -t_lo * r))
@@ -1180,7 +1181,7 @@ class ContactModel:
         tau scales about as the deflection, (T/T_prev)^(1/p) for the law F ~ delta^p: the warm starts
         and the window's tau range are scaled by it (the range is checked on the final grid)."""
         r = (self.torque_sat / prev.torque_sat) ** (1.0 / self.law.exponent)
-        self._nominal_cache = prev._nominal_cache           # the same design
+        self._nominal_cache, self.scan_n = prev._nominal_cache, prev.scan_n        # the same design
         if prev.window is not None:
             z_lo, z_hi, m, (t_lo, t_hi) = prev.window
             self.window = (z_lo, z_hi, m, (t_lo * r, t_hi * r))
@@ -2427,6 +2428,8 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     elif coarse_scan is not None and coarse_scan < n_scan:
         found = _scan_roots(model, coarse_scan, tol, rolls, checked=True)
     if found is None:
+        # as dense as the last pass's full scan had to be (its nodes held only there; pins.md §6)
+        n_scan = max(n_scan, model.scan_n)
         found = _scan_roots(model, n_scan, tol, rolls)
     edges = _edges(model, found, tol)
     q = integrate_adaptive(integrand, edges, tol=tol, n_max=n_max, n_start=n_start, n_initial=n_initial, rule=rule,
@@ -2454,7 +2457,8 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
                                n_initial, rule, n_min=n_min)
     if not held and n_scan < SCAN_MAX:
         # nor the full scan's: a contact or a sliding direction that changes twice between its angles, a 4x denser
-        # one (pins.md §6)
+        # one (pins.md §6), also for the later passes of this design
+        model.scan_n = 4 * n_scan
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, 4 * n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
     n_solved = solved.theta.size
