@@ -58,7 +58,7 @@ import numpy as np
 from .. import hertz
 from ..arrays import unique_sorted
 from ..quadrature import _KRONROD, QuadResult, geometric_breakpoints, integrate_adaptive
-from ..roots import bisect, find_root
+from ..roots import BracketError, bisect, find_root
 from .checks import tooth_too_large
 from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
 from .efficiency import contact_loss_power
@@ -942,6 +942,18 @@ def _doubling_bracket(G, n: int, h0: float, limit: float):
     return np.minimum(lo, hi), np.maximum(lo, hi), open_
 
 
+def _bracket_root(G, theta, a, b, xtol: float):
+    """The roots of the moment balance G on the brackets [a, b] at crank angles theta (by
+    :func:`gearcalc.roots.find_root`); :class:`NoEquilibrium` at the angles whose ends no longer hold a sign change:
+    for a rotation far beyond a deflection the contact geometry depends on the search's path (a cycloidal pin's foot
+    point can jump to another flank between evaluations), so a bracket found by one search need not hold for the
+    next (pins.md §5.5, §7)."""
+    try:
+        return find_root(G, a, b, xtol=xtol, rtol=0.0).root
+    except BracketError as exc:
+        raise NoEquilibrium(np.asarray(theta)[exc.mask]) from None
+
+
 def _window_range(tau) -> tuple[float, float]:
     """The candidate window's range of tau from a scan's: each end twice as far from 0, or half as near when the
     range does not reach 0 (:meth:`ContactModel.set_window`)."""
@@ -1280,7 +1292,7 @@ class ContactModel:
         if np.any(open_):
             raise NoEquilibrium(pose.theta[open_])
         if not newton:
-            return find_root(lambda t: self.moment(pose, t, traction) - self.M_req, a, b, xtol=xtol, rtol=0.0).root
+            return _bracket_root(lambda t: self.moment(pose, t, traction) - self.M_req, pose.theta, a, b, xtol)
         return self._solve(pose, traction, 0.5 * (a + b), xtol, bracket=(a, b))
 
     def _linearised_tau(self, n_scan: int, h0: float):
@@ -1354,8 +1366,8 @@ class ContactModel:
         if np.any(failed) and bracket is not None:
             sub = _sub_pose(pose, failed)
             tr = None if traction is None else traction[..., failed]
-            tau[failed] = find_root(lambda t: self.moment(sub, t, tr) - self.M_req, bracket[0][failed],
-                                    bracket[1][failed], xtol=xtol, rtol=0.0).root
+            tau[failed] = _bracket_root(lambda t: self.moment(sub, t, tr) - self.M_req, sub.theta, bracket[0][failed],
+                                        bracket[1][failed], xtol)
         elif np.any(failed):
             tau[failed] = self._bracketed(_sub_pose(pose, failed),
                                           None if traction is None else traction[..., failed], xtol)
