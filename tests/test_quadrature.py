@@ -154,7 +154,8 @@ def test_levels_at_once_are_the_doublings_one_after_the_other(at_once, tol, n_in
 
     def f(x, mid, tag):
         calls[tag] += 1
-        return np.where(mid > 1 / math.pi, 1.0, 0.0) + np.abs(x - 0.7) + np.where(mid > 0.8, 1.0 / (x - 0.8 + 1e-3), 0.0)
+        return (np.where(mid > 1 / math.pi, 1.0, 0.0) + np.abs(x - 0.7)
+                + np.where(mid > 0.8, 1.0 / (x - 0.8 + 1e-3), 0.0))
 
     edges = [0.0, 1 / math.pi, 0.7, 0.8, 1.0]
     one = integrate_adaptive(lambda x, m: f(x, m, False), edges, tol=tol, n_initial=n_initial)

@@ -1632,8 +1632,8 @@ class ContactModel:
         |M_req| at most, the state is moved by it: tau + s, delta - (X x n) s (exact to O((R_p + e) s^2) ~ 1e-22 mm,
         d delta/d tau = -(X x n)), the forces and slopes anew from those deflections, the residual with the arms'
         turn G_geo s added; the geometry (normals, arms, positions) stays at ``tau`` (its change, (R_p + e) s ~ 1e-10
-        mm, is far below the deflections' resolution).  Returns (Solution, need): ``need`` marks the angles whose warm start was farther
-        (they need :meth:`_solve`).
+        mm, is far below the deflections' resolution).  Returns (Solution, need): ``need`` marks the angles whose
+        warm start was farther (they need :meth:`_solve`).
         """
         g = self.g
         th = pose.theta
@@ -1687,8 +1687,8 @@ class ContactModel:
         v_t = o_n + w1 * (ct.xn + g.R_b)
         ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * np.sum(np.abs(Fp * ct.arm), axis=(0, 1))
-        sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise, G_tau0,
-                       ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
+        sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
+                       G_tau0, ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
         return (sol, need) if step else sol
 
     def _picker(self, theta, rows=None):
@@ -2424,7 +2424,8 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         key = piece_keys(edges, x, mid)
         s = model.state(x, (active, branch, traction), phases=False, guess=piece_guess(*solved, key, x, edges))
         order = np.argsort(k_all := np.concatenate((solved[0], key)), kind="stable")
-        solved[:] = [k_all[order], np.concatenate((solved[1], s.tau))[order], np.concatenate((solved[2], s.dtau))[order]]
+        solved[:] = [k_all[order], np.concatenate((solved[1], s.tau))[order],
+                     np.concatenate((solved[2], s.dtau))[order]]
         cache.append(s)
         mids.append(np.asarray(mid, dtype=float))
         sets.append((active, branch, traction))
@@ -2531,7 +2532,9 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     over the strip (1/(1 + p)); p = 1 for the linear law, 1/9 for the Hertz law (its singular speeds,
     (theta - theta_0)^(1/9)).  That bound,
 
-    .. math::  E_s = \frac{1}{T_p s_2}\sum_b D_b \Big(J_b + \sum_{\pm} \frac{\Delta_\pm \min(1, D_b/t_\pm)^p}{1 + p}\Big),
+    .. math::
+
+        E_s = \frac{1}{T_p s_2}\sum_b D_b \Big(J_b + \sum_{\pm} \frac{\Delta_\pm \min(1, D_b/t_\pm)^p}{1 + p}\Big),
 
     is added to the quadrature's error (rescaled by s_1/s_2); the difference's own quadrature error is ~tol of a
     change of ~1e-7 lambda_bar.  Measured on the paper designs: the loss ratio within 0.28 of the full pass's
