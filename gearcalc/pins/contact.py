@@ -3204,6 +3204,17 @@ def pin_travel(tau, g: Cycloid) -> float:
     return float(np.max(np.abs(tau))) * (g.R_p + g.e) / g.R_b
 
 
+def deflection_sized(tau, g: Cycloid) -> bool:
+    """Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized: :func:`pin_travel` at most
+    :data:`TRAVEL_MAX` (else the contact level's results are flagged, pins.md §7).
+
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> deflection_sized(np.array([1e-3]), g), deflection_sized(np.array([0.1]), g)
+    (True, False)
+    """
+    return pin_travel(tau, g) <= TRAVEL_MAX
+
+
 def reducer_stalls(history, torques, uT: float) -> bool:
     r"""Whether a reducer's torque fixed point has no positive T_V: the losses alone exceed the input (pins.md §7).
 

@@ -231,7 +231,7 @@ def mode_warnings(modes, mode: str) -> list[str]:
     """The warnings of the contact level's modes (:class:`gearcalc.pins.contact.ModeCycles`): the requested mode
     jams (its numbers are the frictionless balance's), a torque fixed point that did not settle, a cycle whose nodes
     contradict their pieces' contact sets (:attr:`gearcalc.pins.contact.ContactCycle.held`)."""
-    from .contact import SCAN_MAX, TRAVEL_MAX, pin_travel       # the contact level ran: loaded already
+    from .contact import SCAN_MAX, TRAVEL_MAX, deflection_sized, pin_travel    # the contact level ran: loaded
     out = []
     multiplier = mode == "multiplier"
     if multiplier in modes.jams:
@@ -243,8 +243,8 @@ def mode_warnings(modes, mode: str) -> list[str]:
         if not t.settled:
             out.append(f"the torque fixed point T_V = u T_H/eta did not settle in {len(t.history)} passes (loss ratios "
                        f"{t.history[-2]:.10g}, {t.history[-1]:.10g})")
-        travel = pin_travel(t.cycle.sol.tau, t.model.g)
-        if travel > TRAVEL_MAX:
+        if not deflection_sized(t.cycle.sol.tau, t.model.g):
+            travel = pin_travel(t.cycle.sol.tau, t.model.g)
             out.append(f"in the {'multiplier' if mult else 'reducer'} mode the satellite turns by up to "
                        f"{fmt(math.degrees(float(abs(t.cycle.sol.tau).max())))} deg under the load: a pin centre "
                        f"moves by {fmt(travel)} of the pin radius from its nominal place (more than {TRAVEL_MAX:g}: "
@@ -282,16 +282,11 @@ def other_mode_jams(multiplier: bool) -> str:
             "forces in the moment balance: efficiency_" + ("multiplier" if multiplier else "reducer") + " is empty")
 
 
-def travel_ok(tau, g) -> bool:
-    """Whether the satellite's rotation under load is deflection-sized (:func:`gearcalc.pins.contact.pin_travel`)."""
-    from .contact import TRAVEL_MAX, pin_travel
-    return pin_travel(tau, g) <= TRAVEL_MAX
-
-
 def contact_fields(design, g, law, geo, tc, pk, metrics, backlash, residual, rolling_ok) -> dict:
     """The contact level's summary fields from its results (pins.md §8): the cycle ``tc``
     (:class:`~gearcalc.pins.contact.TorqueCycle`), its peaks ``pk``, engagement ``metrics``, backlash [deg] and
     equilibrium residual."""
+    from .contact import deflection_sized        # the contact level ran: loaded
     cyc, sol = tc.cycle, tc.cycle.sol
     return {
         "model": "contact", "profile": design["gearing.profile"], "rotating_pins": design["gearing.rotating_pins"],
@@ -301,7 +296,7 @@ def contact_fields(design, g, law, geo, tc, pk, metrics, backlash, residual, rol
         # the quadrature, the torque fixed point, the nodes' check of the pieces' contact sets and a deflection-sized
         # rotation (pins.md §6-7)
         "tolerance_met": (bool(cyc.converged) and bool(tc.settled) and bool(cyc.held)
-                          and travel_ok(sol.tau, g)),
+                          and deflection_sized(sol.tau, g)),
         "pin_force_max_N": pk.force if math.isfinite(tc.torque_V) else None,
         "pin_force_max_phase_deg": math.degrees(pk.force_phase), "loaded_pins_min": pk.loaded_min,
         "loaded_pins_max": pk.loaded_max,
