@@ -75,8 +75,8 @@ def cycle_notes(design, s, tol: float, warnings, failed) -> None:
     lam, E = s["loss_ratio"], s["loss_ratio_err"]
     jammed = s["self_locking"] and lam is None         # friction-consistent model: no positive normal forces
     if not s["tolerance_met"] and not jammed:
-        warnings.append(f"tolerance {tol:g} not met at {s['n_crank']} crank-angle intervals: "
-                        f"loss ratio {lam:.10g} +- {E:.3g}")
+        warnings.append(f"tolerance {tol:g} not met: loss ratio {lam:.10g} +- {E:.3g} ({s['n_crank']} crank-angle "
+                        f"intervals)")
     if jammed:
         failed.append(f"self-locking in the {s['mode']} mode: with the friction forces in the satellite's balance "
                       "(friction.model = \"consistent\", pins.md §4.9) no positive normal force carries the torque "
