@@ -109,21 +109,20 @@ def test_reducer_with_interfering_teeth_self_locks_in_two_passes_not_eight(monke
     assert r.summary["loss_ratio"] > 1.0 / 1e-3               # the losses dwarf the output at the last pass
 
 
-WANDERING = {"kind": "pins", "name": "z 3/5 circular, rotating pins", "gearing": {
-    "profile": "circular", "satellite_teeth": 3, "pins": 5, "eccentricity_mm": 2.215, "curtate_ratio": 0.811,
-    "pin_radius_mm": 2.446, "axle_radius_mm": 1.433, "rotating_pins": True},
-    "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1},
-    "load": {"mode": "reducer", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
-    "contact": {"law": "hertz", "face_width_mm": 10.0}}
-"""A design of tests/test_guards.py's random sample (seed 13, no. 29) whose loss ratio jumps with the torque: the
-number of pieces of its cycle changes between 29 and 50 from one pass to the next."""
+def _sample(name, profile, z1, z2, e, K1, R_b, r, mode):
+    """A design of tests/test_guards.py's random sample: rotating pins, f = 0.1, 100 N*m on H, Hertz contacts of
+    10 mm."""
+    return {"kind": "pins", "name": name, "gearing": {
+        "profile": profile, "satellite_teeth": z1, "pins": z2, "eccentricity_mm": e, "curtate_ratio": K1,
+        "pin_radius_mm": R_b, "axle_radius_mm": r, "rotating_pins": True},
+        "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1},
+        "load": {"mode": mode, "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
+        "contact": {"law": "hertz", "face_width_mm": 10.0}}
 
 
-def test_a_wandering_fixed_point_stops_after_four_passes_with_its_spread_as_error(monkeypatch):
-    # before: eight passes (0.130, 0.129, 0.119, 0.122, 0.129, 0.127, 0.120, 0.123; 2.7 s) and an error of the last
-    # change only (0.002); now four passes and their spread in the error (2026-11-27: 0.1235, 0.1259, 0.1302, 0.1274,
-    # spread 0.0067; the pieces' sets taken from the breakpoint search's states: spread 0.0029)
-    assert pc.fixed_point_stalls([0.1303, 0.1295, 0.1193, 0.1224])
+@pytest.fixture
+def cycles(monkeypatch):
+    """The :class:`~gearcalc.pins.contact.TorqueCycle` of every cycle_at_torque call of the test, in order."""
     runs, orig = [], pc.cycle_at_torque
 
     def recorded(*a, **k):
@@ -131,11 +130,24 @@ def test_a_wandering_fixed_point_stops_after_four_passes_with_its_spread_as_erro
         return runs[-1]
 
     monkeypatch.setattr(pc, "cycle_at_torque", recorded)
+    return runs
+
+
+WANDERING = _sample("z 3/5 circular, rotating pins", "circular", 3, 5, 2.215, 0.811, 2.446, 1.433, "reducer")
+"""A design of tests/test_guards.py's random sample (seed 13, no. 29) whose loss ratio jumps with the torque: the
+number of pieces of its cycle changes between 29 and 50 from one pass to the next."""
+
+
+def test_a_wandering_fixed_point_stops_after_four_passes_with_its_spread_as_error(cycles):
+    # before: eight passes (0.130, 0.129, 0.119, 0.122, 0.129, 0.127, 0.120, 0.123; 2.7 s) and an error of the last
+    # change only (0.002); now four passes and their spread in the error (2026-11-27: 0.1235, 0.1259, 0.1302, 0.1274,
+    # spread 0.0067; the pieces' sets taken from the breakpoint search's states: spread 0.0029)
+    assert pc.fixed_point_stalls([0.1303, 0.1295, 0.1193, 0.1224])
     r = api.compute(WANDERING, model="contact", tol=1e-3)
     s = r.summary
     assert not s["tolerance_met"]
     assert any("did not settle in 4 passes" in w for w in r.warnings)
-    wandering = [tc for tc in runs if not tc.settled]          # the reducer (the multiplier settles)
+    wandering = [tc for tc in cycles if not tc.settled]          # the reducer (the multiplier settles)
     assert len(wandering) == 1
     history = wandering[0].history
     assert len(history) == 4
@@ -145,19 +157,12 @@ def test_a_wandering_fixed_point_stops_after_four_passes_with_its_spread_as_erro
 @pytest.mark.xfail(strict=True, reason="known defect, pins.md §7 'Several equilibria': the satellite turns by up to "
                                        "0.44 rad under this load and the pieces' sets hold another equilibrium than "
                                        "the angles solved one by one (0.1210 against 0.1109)")
-def test_the_wandering_designs_cycle_is_the_mean_of_its_states_solved_angle_by_angle(monkeypatch):
+def test_the_wandering_designs_cycle_is_the_mean_of_its_states_solved_angle_by_angle(cycles):
     # an independent reference: the uniform mean of lambda over 8192 crank angles, each solved on its own (its own
     # active set and friction directions; O(1/N) at the jumps, ~1e-4 here); the cycle at the same torque on V
     on_V = {**WANDERING, "load": {**WANDERING["load"], "torque_shaft": "V", "torque_Nm": 133.5}}
-    runs, orig = [], pc.cycle_at_torque
-
-    def recorded(*a, **k):
-        runs.append(orig(*a, **k))
-        return runs[-1]
-
-    monkeypatch.setattr(pc, "cycle_at_torque", recorded)
     s = api.compute(on_V, model="contact", tol=1e-3).summary
-    t = next(r for r in runs if r.model.sigma == REDUCER)
+    t = next(r for r in cycles if r.model.sigma == REDUCER)
     m = t.model
     R_b, mu, f, rolls, scale = t.cycle.friction
     theta = (np.arange(8192) + 0.5) * (m.g.period / 8192)
@@ -258,12 +263,7 @@ def test_no_numpy_warning_when_a_mode_jams_at_K1_above_1():
     assert math.isinf(T_H[0]) and bool(et.locked[0])
 
 
-FAR = {"kind": "pins", "name": "z 6/10 circular, rotating pins", "gearing": {
-    "profile": "circular", "satellite_teeth": 6, "pins": 10, "eccentricity_mm": 4.155, "curtate_ratio": 0.5,
-    "pin_radius_mm": 3.462, "axle_radius_mm": 2.385, "rotating_pins": True},
-    "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1},
-    "load": {"mode": "multiplier", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
-    "contact": {"law": "hertz", "face_width_mm": 10.0}}
+FAR = _sample("z 6/10 circular, rotating pins", "circular", 6, 10, 4.155, 0.5, 3.462, 2.385, "multiplier")
 """Design no. 52 of tests/test_guards.py's random sample (seed 13): its cycle held, with a stated error of 4e-6, a
 reducer loss ratio 0.180 where the crank angles solved one by one give 0.198 (pins.md §7 "Several equilibria")."""
 
@@ -279,18 +279,10 @@ def test_designs_whose_satellite_turns_far_beyond_a_deflection_are_flagged(desig
     assert any("does not hold" in w for w in r.warnings) is not held
 
 
-def test_paper_designs_turn_by_a_deflection():
+def test_paper_designs_turn_by_a_deflection(cycles):
     # the paper's u = 10 circular-arc design: a pin centre moves by 0.042 of its radius at most, below TRAVEL_MAX
-    runs, orig = [], pc.cycle_at_torque
-
-    def recorded(*a, **k):
-        runs.append(orig(*a, **k))
-        return runs[-1]
-
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(pc, "cycle_at_torque", recorded)
-        r = api.compute(Path(__file__).parents[1] / "configs" / "pins_paper_circ_u10_fixed.toml", model="contact")
-    travel = [pc.pin_travel(t.cycle.sol.tau, t.model.g) for t in runs]
+    r = api.compute(Path(__file__).parents[1] / "configs" / "pins_paper_circ_u10_fixed.toml", model="contact")
+    travel = [pc.pin_travel(t.cycle.sol.tau, t.model.g) for t in cycles]
     assert max(travel) == pytest.approx(0.042, abs=0.001) and max(travel) < pc.TRAVEL_MAX
     assert r.summary["tolerance_met"] is True and not any("pin centre" in w for w in r.warnings)
 
@@ -299,12 +291,7 @@ def test_a_bracket_that_the_next_search_does_not_hold_is_no_equilibrium_not_an_i
     # a 4/5 cycloid of the guards' random sample (seed 5, no. 29) turns so far under 400 N*m that the contacts at a
     # bracket's ends differ from the doubling's (the foot point jumps flank): exit 70 before, now the design error
     # naming the crank angle (pins.md §5.5, §7)
-    design = {"kind": "pins", "name": "z 4/5 cycloid", "gearing": {
-        "profile": "cycloidal", "satellite_teeth": 4, "pins": 5, "eccentricity_mm": 0.513, "curtate_ratio": 0.615,
-        "pin_radius_mm": 1.869, "axle_radius_mm": 0.661, "rotating_pins": True},
-        "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1},
-        "load": {"mode": "multiplier", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
-        "contact": {"law": "hertz", "face_width_mm": 10.0}}
+    design = _sample("z 4/5 cycloid", "cycloidal", 4, 5, 0.513, 0.615, 1.869, 0.661, "multiplier")
     with pytest.raises(DesignError, match="no contact can carry the torque at crank angle"):
         api.compute(design, model="contact", tol=1e-6)
     # the helper: brackets whose ends hold no sign change at the second search raise NoEquilibrium at their angles
