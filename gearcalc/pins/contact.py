@@ -2530,7 +2530,10 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     side's change, which grows like t^p from r: read off the nearest node at least D out (Delta at distance
     t_n; the graded pieces next to a Hertz entry have one close by), scaled by min(1, D/t_n)^p and integrated
     over the strip (1/(1 + p)); p = 1 for the linear law, 1/9 for the Hertz law (its singular speeds,
-    (theta - theta_0)^(1/9)).  That bound,
+    (theta - theta_0)^(1/9)).  Under a power law a contact entry or exit alone counts only the touching side's change
+    (the other side's states differ from the truth over the strip by the touching pin's share of the speeds), and
+    nothing where its zero moved into the touching side (the states there are the other side's exactly,
+    :func:`_strip_sides`).  That bound,
 
     .. math::
 
@@ -2542,7 +2545,8 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
 
     None (a full pass is needed) when ``cyc`` has no final-grid record (a Gauss-Kronrod rule), a node has no
     equilibrium with its sets or non-finite values, a node farther than D from every breakpoint has a component
-    with the other sign than its piece (:func:`_pieces_hold`: a contact appears or leaves), the window's tau range
+    with the other sign than its piece (:func:`_pieces_hold`: a contact appears or leaves; with the floor of
+    ``cyc``'s own check, :data:`HOLD_FLOOR` where its roots are the full scan's), the window's tau range
     does not hold or its pins are not the last pass's (:meth:`ContactModel.layout`: a window recomputed for a wider
     tau range), a breakpoint's component is not found, or the quadrature's error and E_s exceed
     ``RELINEARISE_SHARE`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling pins'
@@ -2634,15 +2638,15 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         ends = order[np.concatenate((a_end, b_end))]
         v1 = _components(_take(sol1, nb), rolls)[0]
         v2n = _components(_take(s2, nb), rolls)[0]
-        v2, dv2, _ = _components(_take(s2, ends), rolls)
+        v2, dv2, n_delta = _components(_take(s2, ends), rolls)
         m = r.size
         flips = (np.sign(v1[:, :m]) * np.sign(v1[:, m:]) < 0.0)
         flips = np.concatenate((flips, flips), axis=1)
         with np.errstate(divide="ignore", invalid="ignore"):
             secant = (v2n - v2) / (x[nb] - x[ends])[None, :]
             slope = np.where(np.isfinite(dv2) & (dv2 != 0.0), dv2, secant)
-            d = np.where(flips, np.abs(v2 / slope), 0.0)
-        d = np.max(np.maximum(d[:, :m], d[:, m:]), axis=0)
+            step = np.where(flips, -v2 / slope, 0.0)          # the zero's signed move, from either side
+        d = np.max(np.maximum(np.abs(step[:, :m]), np.abs(step[:, m:])), axis=0)
         if not (np.all(flips.any(axis=0)) and np.all(np.isfinite(d))):
             return None
         move = RELINEARISE_MARGIN * d
@@ -2650,21 +2654,65 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         p_exp = 1.0 if model.law.exponent == 1.0 else model.law.exponent - 1.0
         lo = np.clip(np.searchsorted(xs, r - move, side="right") - 1, 0, n - 1)
         hi = np.clip(np.searchsorted(xs, r + move, side="left"), 0, n - 1)
+        left, right = _strip_sides(flips[:, :m], step, v1[:, :m], n_delta, model.law.exponent != 1.0)
         with np.errstate(divide="ignore", invalid="ignore"):
-            side = (np.abs(l1[lo] - l1[a_end]) * np.minimum(1.0, move / (r - xs[lo])) ** p_exp
-                    + np.abs(l1[hi] - l1[b_end]) * np.minimum(1.0, move / (xs[hi] - r)) ** p_exp) / (1.0 + p_exp)
+            side = (left * np.abs(l1[lo] - l1[a_end]) * np.minimum(1.0, move / (r - xs[lo])) ** p_exp
+                    + right * np.abs(l1[hi] - l1[b_end]) * np.minimum(1.0, move / (xs[hi] - r)) ** p_exp)
+            side = side / (1.0 + p_exp)
             strip = move * (np.abs(l1[a_end] - l1[b_end]) + np.where(move > 0.0, side, 0.0))
         if not np.all(np.isfinite(strip)):
             return None
         E_s = float(np.sum(strip)) / Tp / scale2
     if not (E_q + E_s <= RELINEARISE_SHARE * tol * abs(lam2)
-            and _pieces_hold([s2], [node_mid], ref_sols, edges, rolls, tol, Tp, away=(r, width))):
+            and _pieces_hold([s2], [node_mid], ref_sols, edges, rolls, tol, Tp, away=(r, width),
+                             floor=HOLD_FLOOR if cyc.roots.scanned else 0.0)):
         return None
     # functions of theta and the mode only
     s2.phase, s2.zeta = (sol1.phase, sol1.zeta) if sol1.phase is not None else model.phases(s2.theta, s2.rows)
     model.roots = cyc.roots
     return ContactCycle(float(lam2), E_q + E_s, cyc.converged, cyc.n_crank, cyc.quad, s2, edges, cyc.roots,
                         (R_b, mu_eff, f, rolls, scale2), (sets, node_mid, ref_sols, rows))
+
+
+def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
+    r"""(left, right): 1 where a side's change counts in the bound of a breakpoint's strip (:func:`relinearised_cycle`),
+    0 where it does not, per breakpoint (m,).
+
+    A node's forces are its own equilibrium's; its piece's sets enter only the one-sided derivatives (d tau/d theta,
+    so the sliding speeds).  A contact entry or exit alone (one sign-changing component, a penetration, both sides'
+    Newton steps of its zero the same way) under a power law F = c max(delta, 0)^p (p > 1), whose extension below
+    delta = 0 has force and stiffness 0 (:meth:`ContactLaw.force_on`): where the zero moved into the touching side,
+    that side's nodes in the strip hold the pin at delta < 0, exactly the other side's state: both 0; where it moved
+    the other way, the other side's nodes miss the touching pin's stiffness, whose share of the speeds grows from 0
+    at the new zero (like t^(p - 1)): only the touching side's change counts.  Every other breakpoint (a linear law,
+    whose extension goes on linearly; a sliding direction; several components; steps of opposite signs): both.
+
+    ``flips`` (c, m): the components that change sign at each breakpoint; ``step`` (c, 2m): their zeros' signed
+    Newton steps from the left and the right one-sided node; ``v_left`` (c, m): their values left of it (the first
+    pass's); ``n_delta``: the penetrations come first (:func:`_components`).
+
+    An entry moving earlier (only the touching right side counts), an exit moving later (the left side), an entry
+    moving later (into the touching side: neither), a sliding direction (both):
+
+    >>> flips = np.array([[True, False, True, False], [False, True, False, False], [False, False, False, True]])
+    >>> step = np.array([[-1e-6, 0.0, 1e-6, 0.0, -2e-6, 0.0, 2e-6, 0.0], [0.0, 1e-6, 0.0, 0.0, 0.0, 1e-6, 0.0, 0.0],
+    ...                  [0.0, 0.0, 0.0, 1e-6, 0.0, 0.0, 0.0, 1e-6]])
+    >>> v_left = np.array([[-1e-4, 0.0, -1e-4, 0.0], [0.0, 1e-4, 0.0, 0.0], [0.0, 0.0, 0.0, 0.5]])
+    >>> [a.tolist() for a in _strip_sides(flips, step, v_left, 2, True)]
+    [[0.0, 1.0, 0.0, 1.0], [1.0, 0.0, 0.0, 1.0]]
+    """
+    m = flips.shape[1]
+    if not power_law:
+        return np.ones(m), np.ones(m)
+    k = np.argmax(flips, axis=0)
+    cols = np.arange(m)
+    sa, sb = step[k, cols], step[k, m + cols]
+    alone = (flips.sum(axis=0) == 1) & (k < n_delta) & (np.sign(sa) == np.sign(sb)) & (sa != 0.0)
+    touch_left = v_left[k, cols] > 0.0                     # the pin touches left of the zero: an exit
+    into = np.where(touch_left, sa < 0.0, sa > 0.0)        # the zero moved into the touching side
+    left = np.where(alone, np.where(into, 0.0, touch_left.astype(float)), 1.0)
+    right = np.where(alone, np.where(into, 0.0, (~touch_left).astype(float)), 1.0)
+    return left, right
 
 
 def _piece_places(ps):
@@ -3299,8 +3347,8 @@ CYCLE_N_MIN = 1
 CYCLE_MOVE_ROOTS = True
 """Whether a later pass of the torque fixed point, and the other mode, move the last pass's breakpoints."""
 CYCLE_RELINEARISE = True
-"""The second pass of the torque fixed point from the first pass's nodes (:func:`relinearised_cycle`) where the
-integrand is continuous at the breakpoints; False: full passes only (a reference for the tests)."""
+"""The passes of the torque fixed point after a full one from its nodes (:func:`relinearised_cycle`) where their
+error bound allows; False: full passes only (a reference for the tests)."""
 CYCLE_AT_ONCE = 2
 """Doublings solved with the first level in one call (:func:`integrate_adaptive`): the first pass's first level and
 both doublings every piece gets; a later pass's first level is a quarter of the last pass's final counts, so that
@@ -3335,7 +3383,10 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     (at most ``passes``; one pass when the torque is on V).  The iteration starts from a coarse loss ratio
     of the candidate window's scan (64 uniform crank angles at T_V = u T_H); the second pass is the plain
     step, the later ones secant-Newton steps on phi(T_V) = T_V (1 -+ lambda) - u T_H with the slope of the
-    last two passes (:func:`_fixed_point_step`).  It stops when the linearised remaining change of lambda,
+    last two passes (:func:`_fixed_point_step`).  A pass after a full one starts from that one's nodes, its
+    breakpoints not moved (:func:`relinearised_cycle`), and so does each later pass while they are taken; one
+    refused (a contact that comes or goes, a breakpoint that moves too far for the tolerance) is a full pass, the
+    base of the next.  It stops when the linearised remaining change of lambda,
     |s phi/phi'| (never negative), is below tol/10 of lambda, or lambda did not change
     (:func:`fixed_point_settled`); that remaining change is added to the error.  When the passes run out
     (``settled`` False) or a multiplier self-locks on the way (lambda_bar >= 1: it keeps the last solution,
@@ -3460,6 +3511,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     uT = g.ratio * T
     locked = stalled = False
     T_next = None
+    base = None         # (cycle, model) of the last full pass, whose nodes the next pass starts from
     for _ in range(passes):
         if torque_on_V:
             T_V = T
@@ -3468,10 +3520,24 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             break
         else:
             T_V = T_next if T_next is not None else uT / (1.0 + a * lam)
-        # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
-        # changes little between passes: two doublings then usually suffice)
-        model, cyc = run(T_V, prev, n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
-        prev = model
+        lite = None
+        if base is not None:
+            # a pass from the last full pass's nodes, its breakpoints not moved (:func:`relinearised_cycle`); refused
+            # (a contact comes or goes, a breakpoint moves too far for the tolerance): a full pass, the next base
+            lite_model = make(T_V)
+            lite_model.inherit(model)
+            lite = relinearised_cycle(lite_model, base[0], base[1], tol)
+            base = None if lite is None else base
+            if lite is not None:
+                model, cyc = lite_model, lite
+        if lite is None:
+            # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
+            # changes little between passes: two doublings then usually suffice)
+            model, cyc = run(T_V, prev,
+                             n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
+            prev = model
+            if CYCLE_RELINEARISE and cyc.nodes is not None:
+                base = (cyc, model)
         finite = np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.sol.v_t))   # forces and speeds
         if not (np.isfinite(cyc.loss_ratio) and finite):
             raise Unresolvable("non-finite contact forces or losses")
@@ -3492,20 +3558,6 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             break
         if settles(remainder, history):
             break
-        if len(history) == 1 and CYCLE_RELINEARISE and cyc.nodes is not None and not (multiplier and lam >= 1.0):
-            # the second pass from the first one's nodes, its breakpoints not moved (:func:`relinearised_cycle`);
-            # taken only when it settles the fixed point, else the full passes go on as without it
-            T2 = uT / (1.0 + a * lam)
-            model2 = make(T2)
-            model2.inherit(model)
-            cyc2 = relinearised_cycle(model2, cyc, model, tol)
-            if cyc2 is not None:
-                h2, t2 = history + [cyc2.loss_ratio], torques + [T2]
-                rem2, _ = _fixed_point_step(h2, t2, uT, a)
-                if settles(rem2, h2) and not (not multiplier and reducer_stalls(h2, t2, uT)):
-                    history, torques, remainder = h2, t2, rem2
-                    model, cyc, T_V, lam = model2, cyc2, T2, cyc2.loss_ratio
-                    break
     else:
         settled = False
     if (locked and not stalled) or not settled:
