@@ -98,6 +98,22 @@ def test_pins_contact_estimate_is_honest_on_a_circular_design():
     _check_honest(A.report(["pins"], (1e-3,), budget=0, levels={"contact"}, cases={"typical_circ_u10_fixed"}))
 
 
+@pytest.mark.parametrize("level", ["ideal", "contact"])
+def test_pins_model_sensitivity_is_the_other_friction_models_change(level):
+    # issue 15 item 1: the difference between the friction-consistent and the first-order efficiency, at each level,
+    # against two runs of the suite's design through the API (friction.model set on each)
+    from gearcalc import api
+
+    case = "typical_cyc_u10_fixed" if level == "ideal" else "typical_circ_u10_fixed"
+    (r,) = A.report(["pins"], (1e-6,), budget=0, levels={level}, cases={case}, references=False)
+    design = next(d for name, _, d in A.suite("pins") if name == case)
+    eta = {m: api.compute(design.resolved(), model=level, tol=1e-6,
+                          overrides={"friction.model": m}).summary["efficiency"] for m in ("consistent", "first-order")}
+    assert r["model_sensitivity"] == pytest.approx((eta["consistent"] - eta["first-order"]) / eta["consistent"],
+                                                   rel=1e-9, abs=1e-12)
+    assert 0.003 < r["model_sensitivity"] < 0.03            # f = 0.1: a few 1e-3 to 2e-2 (pins.md §6)
+
+
 def test_summary_rows_aggregate_and_name_the_reference():
     rows = A.report(["rows"], (1e-3, 1e-9), budget=0)
     summ = A.summarise(rows)
