@@ -211,21 +211,26 @@ def _pins_high(design, s: dict, level: str, tol: float) -> tuple[float, float] |
 
 def _pins_sensitivity(design, s: dict, level: str) -> float | None:
     """(eta - eta_other)/eta: the efficiency under the design's friction model against the other one
-    (friction-consistent, pins.md §4.9, against first-order, §4.6-4.7) at the same level (ideal or contact), at
-    tol 1e-6: one more run per design (a contact run takes 20-100 ms since issue 15)."""
+    (friction-consistent, pins.md §4.9, against first-order, §4.6-4.7) at the same level (ideal or contact), both at
+    tol 1e-6 whatever the row's tolerance (a property of the design, computed once: two runs per design; a contact
+    run takes 20-100 ms since issue 15)."""
     from .design import validate
     from .kinds.pins import friction_model
 
     if level not in ("ideal", "contact") or s.get("efficiency") is None:
         return None
-    raw = design.resolved()
-    other = "first-order" if friction_model(design) == "consistent" else "consistent"
-    raw.setdefault("friction", {})["model"] = other
-    raw.get("contact", {}).pop("friction_in_equilibrium", None)
-    alt = registry.get("pins").compute(validate(raw, design.source), Options(tol=1e-6, model=level)).summary
-    if alt["efficiency"] is None:
+    own = friction_model(design)
+    eta = {}
+    for model in (own, "first-order" if own == "consistent" else "consistent"):
+        raw = design.resolved()
+        raw.setdefault("friction", {})["model"] = model
+        raw.get("contact", {}).pop("friction_in_equilibrium", None)
+        eta[model] = registry.get("pins").compute(validate(raw, design.source),
+                                                  Options(tol=1e-6, model=level)).summary["efficiency"]
+    if None in eta.values():
         return None
-    return _rel(s["efficiency"] - alt["efficiency"], s["efficiency"])
+    a, b = eta.values()
+    return _rel(a - b, a)
 
 
 def _pins_reference(design, s: dict) -> float | None:
@@ -334,7 +339,8 @@ _CACHE: dict[tuple, Any] = {}
 
 
 def _cached(key: tuple, make: Callable[[], Any]) -> Any:
-    """High-resolution and reference values do not depend on --tol: computed once per report."""
+    """High-resolution values, references and sensitivities depend on the shipped design only, not on --tol:
+    computed once per process."""
     if key not in _CACHE:
         _CACHE[key] = make()
     return _CACHE[key]
