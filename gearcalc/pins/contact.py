@@ -2670,7 +2670,9 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
                 # speeds, missing) grows from 0 at the new zero like t^p to e_r at the old place, where both sides'
                 # states are solved at the new torque: its integral e_r d/(1 + p) joins the value, and what a zero
                 # up to 25 % farther would add, (1.25^(1 + p) - 1) of it, the error
-                l2 = contact_losses(_take(s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
+                both = np.concatenate((a_end, b_end))          # piece ends: solved nodes, their losses in L2
+                l2 = L2[place[both]] if np.all(keep[both]) else \
+                    contact_losses(_take(s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
                 e_r = np.where(left == 1.0, l2[:m] - l2[m:], l2[m:] - l2[:m])     # touching minus the other
                 grown = np.where(grows, e_r * d / (1.0 + p_exp), 0.0)
                 strip = np.where(grows, (RELINEARISE_MARGIN ** (1.0 + p_exp) - 1.0) * np.abs(grown), strip)
