@@ -670,3 +670,21 @@ def test_shaft_torques_balance_the_powers(multiplier, on_V):
     lam, E, h = 0.15, 2e-7, 1e-6
     d = (pins.efficiency_reducer(lam + h) - pins.efficiency_reducer(lam - h)) / (2 * h)
     assert pins.efficiency_reducer_err(lam, E) == pytest.approx(abs(d) * E, rel=1e-8)
+
+
+def test_one_gears_admissibility_is_remembered_and_handed_out_as_copies():
+    # pins.md §4.2, §12.10: loading a design checks it and its solve asks again; the second answer comes from the
+    # remembered first, equal to a fresh computation (the many-gear path) and not shared with the caller
+    from gearcalc.pins import ideal
+
+    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    one = Cycloid(*(np.atleast_1d(v) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
+    ideal._ADMISSIBLE_ONE.clear()
+    first = ideal.admissibility(one)
+    first[1][0] = -1.0                                   # the caller's copy: the remembered value stays
+    again = ideal.admissibility(one)
+    fresh = ideal._admissibility(one)
+    assert len(ideal._ADMISSIBLE_ONE) == 1
+    assert all(np.array_equal(a, b) for a, b in zip(again, fresh)) and again[1][0] > 0.0
+    two = Cycloid(*(np.repeat(np.atleast_1d(v), 2) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
+    assert np.array_equal(ideal.admissibility(two)[1], np.repeat(fresh[1], 2))

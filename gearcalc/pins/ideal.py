@@ -650,10 +650,31 @@ def _spin_reversal_one(g: Cycloid):
     return np.array([2.0 * float(np.arcsin(math.sqrt(arg))) if ok else math.nan])
 
 
+_ADMISSIBLE_ONE: dict = {}
+"""(z1, z2, e, R_p, R_b, 1 - K1) -> (status, psi*, min rho_c) of one gear: the design checks (at loading) and the
+ideal level's solve ask for the same gear's; a pure function of those floats, so the second asks the dict (speed
+only; at most ``_ADMISSIBLE_KEEP`` gears kept)."""
+_ADMISSIBLE_KEEP = 256
+
+
 def admissibility(g: Cycloid):
     """(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)): status 0, TOO_FEW_TEETH
     (psi* <= 2 pi/z2, pins.md §12.10) or UNDERCUT (R_b >= min rho_c over the loaded arc, §4.2).  The ideal
-    level's checks, also run by ``gearcalc check`` (:func:`gearcalc.pins.checks.ideal_admissibility`)."""
+    level's checks, also run by ``gearcalc check`` (:func:`gearcalc.pins.checks.ideal_admissibility`).  One gear's
+    result is remembered: loading a design checks it, and its solve asks again (:data:`_ADMISSIBLE_ONE`)."""
+    if np.size(g.z2) == 1:
+        key = tuple(float(np.asarray(v).flat[0]) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1))
+        out = _ADMISSIBLE_ONE.get(key)
+        if out is None:
+            out = _admissibility(g)
+            if len(_ADMISSIBLE_ONE) >= _ADMISSIBLE_KEEP:
+                _ADMISSIBLE_ONE.clear()
+            _ADMISSIBLE_ONE[key] = out
+        return tuple(a.copy() for a in out)
+    return _admissibility(g)
+
+
+def _admissibility(g: Cycloid):
     z2 = np.atleast_1d(g.z2)
     psi_star = crest_cutoffs(g)
     if z2.size == 1:
