@@ -346,3 +346,47 @@ def test_a_non_finite_sum_stops_its_owner_at_once():
     alone = integrate_pieces(lambda x, m, p: f(x, m, p + 1), [0.0], [1.0], [0], tol=1e-10, n_max=2 ** 20)
     assert math.isnan(alone.value[0]) and math.isnan(alone.err[0]) and not alone.converged[0]   # one-owner path
     assert alone.n[0] <= 64
+
+
+# ---- the pieces' Richardson estimate (piece_errors; pins.md §6, decided 2026-11-27)
+
+@settings(max_examples=60, deadline=None)
+@given(a=st.floats(0.05, 4.0), tol=st.sampled_from([1e-3, 1e-5, 1e-7, 1e-9]), n_start=st.sampled_from([2, 8, 64]))
+def test_romberg_estimate_is_honest_on_an_end_singularity(a, tol, n_start):
+    # int_0^1 x^a dx = 1/(1 + a) (closed form); x^a with a in [0.58, 1.32] makes the ratio of two differences
+    # 2^(1 + a) fall in ROMBERG_RATIO, where R_2N is off by e (1/(r - 1) - 1/3) and the estimate is e (4 - r)/3
+    r = integrate_adaptive(lambda x, m: x ** a, [0.0, 1.0], tol=tol, n_start=n_start, n_max=2 ** 20)
+    assert r.err[0] <= tol * abs(r.value[0]) if r.converged else r.n > 2 ** 19     # small a: error ~ h^(1 + a)
+    assert abs(r.value[0] - 1.0 / (1.0 + a)) <= r.err[0]
+
+
+@settings(max_examples=60, deadline=None)
+@given(amp=st.floats(0.1, 10), freq=st.floats(0.5, 200), shift=st.floats(-3, 3),
+       tol=st.sampled_from([1e-3, 1e-6, 1e-9]))
+def test_romberg_estimate_is_honest_on_a_resolved_oscillation(amp, freq, shift, tol):
+    # amp sin(freq x + shift) + 2 amp on [0, 1], closed form; the first level has >= 1 node per radian (resolved: below
+    # 2 nodes per wavelength any rule aliases, and so did the two-doubling rule before, in 80 % of such cases)
+    def f(x, mid):
+        return amp * np.sin(freq * x + shift) + 2 * amp
+
+    exact = amp * (math.cos(shift) - math.cos(freq + shift)) / freq + 2 * amp
+    n_start = 1 << max(1, math.ceil(math.log2(freq)))
+    r = integrate_adaptive(f, [0.0, 1.0], tol=tol, n_start=n_start, n_max=2 ** 22)
+    assert r.converged and r.err[0] <= tol * abs(r.value[0])
+    assert abs(r.value[0] - exact) <= r.err[0] + 1e-15 * abs(exact)
+
+
+def test_romberg_estimate_needs_fewer_nodes_and_stays_conservative():
+    # exp on [0, 1] (exact e - 1) from 64 intervals: the change of the Richardson value overstates its error ~15x
+    # (R_N's error against R_2N's ~16x smaller), where e_p alone overstated it ~10^4x and doubled to tol on it
+    from gearcalc.quadrature import piece_errors
+
+    r = integrate_adaptive(lambda x, m: np.exp(x), [0.0, 1.0], tol=1e-10, n_start=64)
+    actual = abs(r.value[0] - (math.e - 1))
+    assert r.converged and r.n == 256 and 5 <= r.err[0] / actual <= 30
+    # the rule by hand: a piece off its asymptotic ratio keeps e_p and the two-doubling rule; one of fewer than
+    # ROMBERG_MIN intervals too
+    E, E_prev, est = piece_errors(np.array([1e-6, 1e-6]), np.array([4e-6, 2e-6]))
+    assert E == pytest.approx(1e-6) and E_prev == pytest.approx(2e-6) and est.tolist() == pytest.approx([0.0, 2e-6])
+    E, E_prev, _ = piece_errors(np.array([1e-6]), np.array([4e-6]), n_piece=np.array([4]))
+    assert E == pytest.approx(1e-6) and E_prev == pytest.approx(4e-6)

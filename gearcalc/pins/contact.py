@@ -2352,12 +2352,19 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     return out, mid_all[piece]
 
 
+INNER_SHARE = 1e-2
+"""The inner tolerances' share of the target (pins.md §6, error propagation): the equilibria are met to 1/100 of
+``tol`` (:func:`equilibrium_residual`), so a cycle mean's stated error is never below INNER_SHARE tol |lambda_bar|
+(the Richardson estimate of a very smooth cycle can be far smaller: 6e-12 relative on a stiff linear law)."""
+
+
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
                     tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
                     prefilter: bool = True, n_initial=None, rule: str = "trapezoid",
                     prior: "BreakpointRoots | None" = None, prior_width: float = 1e-2, n_min: int = 2,
                     coarse_scan: int | None = None, at_once: int = 0) -> ContactCycle:
-    """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error.
+    """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
+    quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least :data:`INNER_SHARE` tol |lambda_bar|).
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
     the summary and the detail tables (pins.md §5.6, §6).
@@ -2493,7 +2500,9 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
 
         nodes = ((cat([t[0] for t in sets]), cat([t[1] for t in sets]), cat([t[2] for t in sets])),
                  cat(mids), ref_sols, rows)
-    return ContactCycle(float(q.value[0]), float(q.err[0]), q.converged, n_solved, q, sol, edges, found,
+    # the states' equilibria are met to 1/100 of the tolerance (:func:`equilibrium_residual`): no error below that
+    err = max(float(q.err[0]), INNER_SHARE * tol * abs(float(q.value[0])))
+    return ContactCycle(float(q.value[0]), err, q.converged, n_solved, q, sol, edges, found,
                         (g.R_b, mu_eff, sliding_friction, rolls, scale), nodes, held)
 
 
@@ -3357,9 +3366,12 @@ def fixed_point_stalls(history) -> bool:
     return d[-1] >= 0.5 * d[-3] > 0.0
 
 
-CYCLE_N_START = 128
+CYCLE_N_START = 64
 """First-level crank-angle intervals of the cycle mean per period (:func:`mean_loss_ratio` in :func:`cycle_at_torque`):
-with two doublings at least 256 per period, as dense as the full breakpoint scan."""
+with two doublings at least 256 per period, rounded up per piece, so nodes at most T_p/256 apart: as dense as the
+full breakpoint scan (the least that keeps the coarse scan's check sound).  128 until 2026-11-27, when the pieces'
+Richardson estimate (:func:`~gearcalc.quadrature.piece_errors`) let the first call's 256 intervals meet tol 1e-6 on
+most designs: 470-510 solved angles per pass on the paper designs instead of 700-1040 (pins.md §6)."""
 CYCLE_N_MIN = 1
 """First-level intervals of a piece at least (the tiny pieces of a geometric grading)."""
 CYCLE_MOVE_ROOTS = True
@@ -3725,7 +3737,37 @@ ho},\qquad
     return R_b * (1.0 - (R_b - delta) * inv_D) / (1.0 + delta * inv_D)
 
 
-def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) -> CrankBearing:
+def richardson_weights(theta, pieces):
+    r"""Weights w of the cycle mean sum w_i v_i / (theta_n - theta_0) over a trapezoid's final grid,
+    Richardson-corrected piece by piece (pins.md §6, §8): per piece of 2N uniform intervals, T_2N + (T_2N - T_N)/3,
+    T_N over every other node (Simpson's rule on the piece).  ``theta`` sorted (piece ends twice, one-sided),
+    ``pieces`` each node's piece key (its midpoint, :attr:`ContactCycle.nodes`).  None when a piece has an odd count
+    of intervals (not the nested grid of :func:`~gearcalc.quadrature.integrate_adaptive`): the plain trapezoid then.
+
+    Examples
+    --------
+    Two pieces of 4 and 2 intervals; the cubic x^3 is integrated exactly (Simpson):
+
+    >>> x = np.array([0.0, 0.25, 0.5, 0.75, 1.0, 1.0, 1.5, 2.0])
+    >>> w = richardson_weights(x, np.array([0.5] * 5 + [1.5] * 3))
+    >>> float(np.sum(w * x ** 3))
+    4.0
+    """
+    order = np.lexsort((theta, pieces))
+    xs, ps = theta[order], pieces[order]
+    _, count, piece, j = _piece_places(ps)
+    if np.any((count - 1) % 2 != 0):
+        return None
+    w = _trapezoid_weights(xs, ps)
+    half = (j % 2 == 0) | (j == count[piece] - 1)
+    w2 = np.zeros(xs.size)
+    w2[half] = _trapezoid_weights(xs[half], ps[half])
+    out = np.empty(xs.size)
+    out[order] = w + (w - w2) / 3.0
+    return out
+
+
+def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, pieces=None) -> CrankBearing:
     r"""Crank torque, crank-bearing force and Hertz stress factor over a solved contact cycle (pins.md §4.9, §8).
 
     The crank bearing holds the satellite against the pins: B = -sum_i F_i (n_i + q_i z x n_i) (the friction
@@ -3734,8 +3776,10 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) 
     over the final grid.  The crank torque along the power flow is T_H = sigma e B_t (sigma +1 reducer, -1
     multiplier; the ideal level's sigma e B_y), summed over the discs (histories 2 pi/n_d of crank apart,
     :func:`gearcalc.pins.sum_over_discs`); its cycle mean equals the torque on H to the quadrature error.  Means are
-    trapezoids over the final grid, O(h^2) in its spacing.  The stress factor is the largest F/R_eff
-    (:func:`effective_radius`) of a loaded flank contact; a loaded contact on a crest corner is flagged instead.
+    trapezoids over the final grid, O(h^2) in its spacing, Richardson-corrected piece by piece when ``pieces`` (each
+    node's piece key, :attr:`ContactCycle.nodes`) is given (:func:`richardson_weights`, O(h^4) on smooth pieces).
+    The stress factor is the largest F/R_eff (:func:`effective_radius`) of a loaded flank contact; a loaded contact
+    on a crest corner is flagged instead.
 
     Parameters
     ----------
@@ -3747,6 +3791,8 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) 
         friction forces per unit normal force (:meth:`ContactModel.traction`), or None.
     n_discs : int
         n_d.
+    pieces : ndarray, optional
+        each node's piece key (the trapezoid's final grid, :attr:`ContactCycle.nodes`): Richardson-corrected means.
 
     Returns
     -------
@@ -3771,8 +3817,14 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int) 
     B = np.hypot(B_r, B_t)
     span = theta[-1] - theta[0]
 
+    w = None if pieces is None or span <= 0.0 else richardson_weights(theta, np.asarray(pieces, dtype=float))
+
     def mean(v):
-        return float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(theta)) / span) if span > 0.0 else float(v[0])
+        if span <= 0.0:
+            return float(v[0])
+        if w is not None:
+            return float(np.sum(w * v) / span)
+        return float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(theta)) / span)
 
     loaded = F > 0.0
     crest = np.zeros(F.shape, dtype=bool) if ct.branch is None else (ct.branch >= 0) & loaded
