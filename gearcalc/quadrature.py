@@ -382,7 +382,7 @@ def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n
             continue
         Q = float(np.sum(trap + e_last / 3.0))
         budget = max(tol * abs(Q), atol)
-        E, E_prev, est = piece_errors(e_last, e_prev, n_piece)
+        E, E_prev, est = piece_errors(e_last, e_prev)
         if E <= budget and E_prev <= budget:
             converged = True
             break
@@ -396,23 +396,19 @@ def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n
     done = np.isfinite(e_last)
     e = np.where(done, e_last, 0.0)
     value = float(np.sum(trap + e / 3.0))
-    err = piece_errors(e_last, e_prev, n_piece)[0] if np.all(done) else float("inf")
+    err = piece_errors(e_last, e_prev)[0] if np.all(done) else float("inf")
     return QuadResult(value=np.array([value]), err=np.array([err]), trapezoid=np.array([float(trap.sum())]),
                       n=int(n_piece.sum()), converged=converged, levels=int(lev.max()), edges=edges,
                       n_piece=n_piece)
 
 
-ROMBERG_MIN = 8
-"""The least intervals of a piece's last level for :data:`ROMBERG_RATIO` to count: a piece of 4 has its levels at 1, 2
-and 4 intervals, too coarse to call its ratio asymptotic (the tiny pieces of a geometric grading; their estimates are
-far below the tolerance either way)."""
 ROMBERG_RATIO = (3.0, 5.0)
 """A piece whose last two trapezoid differences shrink by a ratio in this range is in the asymptotic regime of the
 Euler-Maclaurin expansion (4 for a smooth piece; 2^(1 + a) for an end singularity t^a, a in [0.58, 1.32]): its
 error is estimated by the change of its Richardson value (:func:`piece_errors`; pins.md §6)."""
 
 
-def piece_errors(e_last, e_prev, n_piece=None):
+def piece_errors(e_last, e_prev):
     r"""The composite trapezoid's error estimates from each piece's last two differences (pins.md §6, §12.6).
 
     With e_p = T_2N,p - T_N,p and e'_p = T_N,p - T_N/2,p, a piece whose ratio r_p = e'_p/e_p lies in
@@ -424,9 +420,8 @@ def piece_errors(e_last, e_prev, n_piece=None):
     the error of R_N, which on a smooth piece is ~16x that of R_2N; for an end singularity t^a (r = 2^(1 + a))
     R_2N is off by e_p (1/(r - 1) - 1/3), at most half of |\hat e_p| over the range.  Every other piece keeps e_p
     (the error of T_N, ~4/3 that of T_2N, and far more than that of R_2N on a smooth piece), and the rule of two
-    successive doublings: its e'_p must be within the tolerance too; so does a piece of fewer than
-    :data:`ROMBERG_MIN` intervals (``n_piece``, optional).  Honest wherever the integrand is resolved (at least 2
-    nodes per wavelength: tested on x^a, a in [0.05, 4], and on oscillations; below that both rules alias).
+    successive doublings: its e'_p must be within the tolerance too.  Honest wherever the integrand is resolved (at
+    least 2 nodes per wavelength: tested on x^a, a in [0.05, 4], and on oscillations; below that both rules alias).
     Returns (E, E', est): E = |sum_p \hat e_p or e_p| (signed: the pieces' errors cancel as the trapezoid's do),
     E' = |sum e'_p| over the other pieces, and each piece's own estimate for refinement, |\hat e_p| or
     max(|e_p|, |e'_p|).
@@ -443,8 +438,6 @@ def piece_errors(e_last, e_prev, n_piece=None):
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = e_prev / e_last
     asym = np.isfinite(ratio) & (ratio >= ROMBERG_RATIO[0]) & (ratio <= ROMBERG_RATIO[1])
-    if n_piece is not None:
-        asym &= np.asarray(n_piece) >= ROMBERG_MIN
     change = (4.0 * e_last - e_prev) / 3.0
     E = float(abs(np.sum(np.where(asym, change, e_last))))
     E_prev = float(abs(np.sum(np.where(asym, 0.0, e_prev_f))))

@@ -3371,7 +3371,7 @@ CYCLE_N_START = 64
 with two doublings at least 256 per period, rounded up per piece, so nodes at most T_p/256 apart: as dense as the
 full breakpoint scan (the least that keeps the coarse scan's check sound).  128 until 2026-11-27, when the pieces'
 Richardson estimate (:func:`~gearcalc.quadrature.piece_errors`) let the first call's 256 intervals meet tol 1e-6 on
-most designs: 470-510 solved angles per pass on the paper designs instead of 700-1040 (pins.md §6)."""
+most designs: 469-483 solved angles per pass on the paper designs instead of 700-1040 (pins.md §6)."""
 CYCLE_N_MIN = 1
 """First-level intervals of a piece at least (the tiny pieces of a geometric grading)."""
 CYCLE_MOVE_ROOTS = True
