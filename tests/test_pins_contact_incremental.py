@@ -45,22 +45,6 @@ def test_moved_roots_are_the_scanned_roots_of_the_new_torque(make):
     assert np.array_equal(moved.contact, full.contact)
 
 
-def test_mirrored_roots_of_the_other_mode_with_friction():
-    # the reducer with its own friction forces starts from the multiplier's roots, mirrored (theta -> T_p - theta)
-    tol = 1e-6
-    fr = (0.1, 0.1, False)
-    m = circular_model(1.0e6, MULTIPLIER, fr)
-    m.set_window()
-    prior = pc._scan_roots(m, 256, tol, False).mirrored(m.g.period)
-    r = circular_model(1.0e6, REDUCER, fr)
-    r.mirror(m)
-    r.set_window()
-    moved = pc._incremental_roots(r, prior, 1e-2 * r.g.period, tol, False, 0.125 * r.g.period)
-    full = pc._scan_roots(r, 256, tol, False)
-    assert moved is not None
-    assert np.max(np.abs(moved.roots - full.roots)) <= 4e-12 * r.g.period
-
-
 def test_a_root_that_cannot_be_moved_falls_back_to_the_scan():
     tol = 1e-6
     a = circular_model(1.0e6)

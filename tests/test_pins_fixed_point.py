@@ -147,9 +147,12 @@ def test_a_wandering_fixed_point_stops_after_four_passes_with_its_spread_as_erro
     s = r.summary
     assert not s["tolerance_met"]
     assert any("did not settle in 4 passes" in w for w in r.warnings)
-    wandering = [tc for tc in cycles if not tc.settled]          # the reducer (the multiplier settles)
-    assert len(wandering) == 1
-    history = wandering[0].history
+    # the reducer (the requested mode); the multiplier wanders too since it scans its own breakpoints (2026-11-27:
+    # 0.1001, 0.0927, 0.0919, 0.0910, 0.0916, five passes), and settled when it moved the reducer's, mirrored: which
+    # passes settle on this design of several equilibria depends on the path (pins.md §7), both are flagged
+    reducer = next(tc for tc in cycles if tc.model.sigma == REDUCER)
+    assert not reducer.settled
+    history = reducer.history
     assert len(history) == 4
     assert s["loss_ratio_err"] >= max(history) - min(history) > 1e-3
 

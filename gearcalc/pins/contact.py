@@ -1974,10 +1974,6 @@ class BreakpointRoots:
     scanned: bool = True
     seen: list = field(default_factory=list, repr=False, compare=False)   # the states solved to find them
 
-    def mirrored(self, period: float) -> "BreakpointRoots":
-        """The roots of the other mode of the same design: theta -> T_p - theta (pins.md §4.8(5), §5.7)."""
-        return BreakpointRoots((period - self.roots)[::-1].copy(), self.contact[::-1].copy(), self.scanned)
-
 
 def _breakpoint_state(model: ContactModel):
     """A one-entry cache of the solved states of the last crank angles (the refinement evaluates the same ones
@@ -2024,7 +2020,7 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
 
 def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float, tol: float,
                        rolls: bool, max_width: float | None = None) -> BreakpointRoots | None:
-    """The roots of ``prior`` (the same design's cycle at a nearby torque, or its other mode mirrored) moved to this
+    """The roots of ``prior`` (the same design's cycle at a nearby torque) moved to this
     model: each is bracketed by +-``width`` (widened 4x, up to ``max_width``, where its bracket holds no sign change),
     and the components' sign changes between the bracket ends refined as in :func:`_scan_roots` (one root found in
     two overlapping brackets counted once).  None (the full scan is needed) unless every bracket holds a sign change
@@ -2381,7 +2377,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     rule : the quadrature rule of :func:`integrate_adaptive`: ``"trapezoid"`` (pins.md §6), or opt-in a
         Gauss-Kronrod pair per piece (``"gk7"``, ``"gk15"``: gk7 2-4x fewer crank angles at tol 1e-6; the peaks
         are then taken over its nodes, which hold no piece ends).
-    prior : the located sign changes of the same design's cycle at a nearby torque, or of its other mode mirrored
+    prior : the located sign changes of the same design's cycle at a nearby torque
         (:attr:`ContactCycle.roots`): the breakpoints are then moved from them by Newton within +-``prior_width`` T_p
         (:func:`_incremental_roots`) instead of the full scan, and every node of the quadrature is checked to lie
         on its piece's side of every sign change (its components' signs those of the piece's midpoint, away from
@@ -3375,7 +3371,7 @@ most designs: 469-483 solved angles per pass on the paper designs instead of 700
 CYCLE_N_MIN = 1
 """First-level intervals of a piece at least (the tiny pieces of a geometric grading)."""
 CYCLE_MOVE_ROOTS = True
-"""Whether a later pass of the torque fixed point, and the other mode, move the last pass's breakpoints."""
+"""Whether a later full pass of the torque fixed point moves the last pass's breakpoints (else it scans)."""
 CYCLE_RELINEARISE = True
 """The passes of the torque fixed point after a full one from its nodes (:func:`relinearised_cycle`) where their
 error bound allows; False: full passes only (a reference for the tests)."""
@@ -3389,9 +3385,6 @@ PRIOR_WIDTH_PASS = 1.0
 """First half-width of the bracket that moves a breakpoint to the next pass of the torque fixed point, in periods per
 unit relative change of the torque (a grazing contact entry of the circular-arc paper designs moves by 0.2 T_p per
 unit relative torque change)."""
-PRIOR_WIDTH_MODE = 1e-2
-"""First half-width, in periods, that moves the other mode's breakpoints (mirrored) to a mode with its own friction
-forces (they move by up to 3 % of the period on the circular-arc paper designs)."""
 PRIOR_WIDTH_MAX = 0.125
 """The widest bracket of a moved breakpoint, in periods."""
 
@@ -3499,28 +3492,19 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             model.inherit(prev)
         elif seed is not None and seed.sigma != sigma:
             model.mirror(seed)
-        # the breakpoints moved from the last pass's (a nearby torque), or from the other mode's, mirrored
-        prior, width = None, PRIOR_WIDTH_MODE
-        if not CYCLE_MOVE_ROOTS:
-            pass
-        elif prev is not None and prev.roots is not None:
+        # the breakpoints moved from the last pass's (a nearby torque); a mode's first full pass scans (the other
+        # mode's, mirrored, took three calls to move where the coarse scan takes one, pins.md §6)
+        prior, width = None, 0.0
+        if CYCLE_MOVE_ROOTS and prev is not None and prev.roots is not None:
             # a root moves up to 0.2 T_p per unit relative torque change (a grazing entry): a bracket of |dT/T| T_p,
             # widened where it holds no sign change (:func:`_incremental_roots`)
             prior = prev.roots
             width = max(PRIOR_WIDTH_PASS * abs(model.torque_sat / prev.torque_sat - 1.0), 1e-10)
-        elif seed is not None and seed.roots is not None and seed.sigma != sigma:
-            prior, width = seed.roots.mirrored(g.period), PRIOR_WIDTH_MODE
         try:
             with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
-                if prior is not None and prev is not None and prev.roots is None and not window_only:
-                    # the first full pass of a mode that moves the other mode's roots (no scan of its own): its
-                    # window scan's angles solved at this torque first, so that the nodes start from states of
-                    # this torque, not from the window scan's (a torque lambda_bar away: one or two Newton rounds
-                    # more per node)
-                    model.state(np.arange(CYCLE_COARSE_SCAN) * (g.period / CYCLE_COARSE_SCAN), phases=False)
                 if window_only:
                     out = coarse(model, model.set_window())
-                    model.roots = None        # the next pass starts from the seed's roots (above)
+                    model.roots = None        # the first full pass scans (above)
                     return model, out
                 return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial,
                                               rule=rule, prior=prior, prior_width=width, n_start=CYCLE_N_START,
