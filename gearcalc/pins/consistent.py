@@ -19,6 +19,7 @@ import numpy as np
 from .cycle import disc_offsets, sum_over_discs
 from .geometry import _as_arrays, Cycloid, MULTIPLIER, REDUCER
 from .ideal import _colsum, _contacts_geo, _GearTable, IdealCycles, _node_sums
+from ..quadrature import richardson_mean
 
 __all__ = ["consistent_node_values", "ConsistentCycles", "CONSISTENT_CHUNK_NODES", "REFINE_BLOCK", "CONSISTENT_N_MAX",
            "consistent_cycles", "crank_history"]
@@ -291,7 +292,7 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
         Bm, crank_m = np.where(finite, Bm, 0.0), np.where(finite, crank, 0.0)
     else:
         crank_m = crank
-    wr = mean_weights(w)
+    wr = richardson_mean(w[0], w[1])        # Richardson-corrected means (pins.md §8)
     means = np.bincount(np.concatenate((pt, pt + P)), np.concatenate((wr * Bm, wr * crank_m)), minlength=2 * P)
     res["bearing_mean"], res["crank_mean"] = means[:P], means[P:] * n_d
     for i in np.flatnonzero(n_d > 1):          # the discs' torques summed (pins.md §12.7): a handful of points
@@ -333,19 +334,6 @@ def _seq_sums(rows):
     """Sums of each row of a 2-D array from 0.0 in node order (as ``np.bincount`` accumulates; a cumulative sum is
     sequential, unlike numpy's pairwise ``sum``)."""
     return np.cumsum(rows, axis=1)[:, -1]
-
-
-def mean_weights(w):
-    """The cycle means' weights over a final grid from its trapezoid weights ``w`` at levels L and L-1 (rows 0, 1,
-    :func:`~gearcalc.pins.ideal._grid_weights`): Richardson-corrected piece by piece, (4 w_L - w_(L-1))/3
-    (Simpson's rule on every piece; pins.md §6, §8).
-
-    >>> x = np.linspace(0.0, 1.0, 5)
-    >>> w = np.array([[0.125, 0.25, 0.25, 0.25, 0.125], [0.25, 0.0, 0.5, 0.0, 0.25]])
-    >>> float(np.sum(mean_weights(w) * x ** 3))
-    0.25
-    """
-    return (4.0 * w[0] - w[1]) / 3.0
 
 
 def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> ConsistentCycles:
@@ -411,7 +399,7 @@ def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> Consisten
         both = stacked[4:6]                                    # |B| and the crank torque
         if not np.isfinite(c).all():   # 1/D overflows where D is subnormal: those nodes count 0 in the means
             both = np.where(np.isfinite(c), both, 0.0)
-        res["bearing_mean"], res["crank_mean"] = _seq_sums(mean_weights(w) * both).tolist()
+        res["bearing_mean"], res["crank_mean"] = _seq_sums(richardson_mean(w[0], w[1]) * both).tolist()
     if mu > 0.0:
         redo = [m for m in range(2) if not conv[m] and not jam[m]]
         if redo:   # continue the doubling where the final grid does not meet the tolerance (near the jam limit)
