@@ -465,3 +465,63 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
         assert abs(lite[k] - full[k]) <= lite[k + "_err"] + full[k + "_err"]
         assert lite[k + "_err"] <= 1e-6 * lite[k]
     assert lite["tolerance_met"] and full["tolerance_met"]
+
+
+@pytest.mark.parametrize("z1, z2", [(21, 22), (20, 22), (30, 33)])
+@pytest.mark.parametrize("profile", ["cycloid", "circular"])
+def test_a_pins_contact_depends_on_its_time_phase_alone(z1, z2, profile):
+    # the premise of the window's margin (WINDOW_MARGIN): pin j + 1 at theta + T_p is pin j at theta, one tooth pitch
+    # turned (the pin circle turns by 2 pi/z2 (1 + k/z1) = 2 pi/z1 in the satellite frame, the crank arm by the
+    # same), so a scan of all pins at n crank angles samples the time phase every T_p/n.  Exact identity, to round-off.
+    g = Cycloid.from_curtate_ratio(z1, z2, 3.9, 0.75, 1.95)
+    prof = pc.CycloidProfile(g, 0.05, 0.02) if profile == "cycloid" else pc.CircularProfile(g, *pc.full_tooth(g))
+    m = pc.ContactModel(g, prof, pc.contact_law("linear", stiffness=1e5), 1e5, MULTIPLIER)
+    theta = np.linspace(0.0, g.period, 8)[:-1] + 0.1 * g.period / 8
+    tau = np.linspace(-3e-4, 3e-4, theta.size)
+    idx = np.tile(np.arange(z2)[:, None], (1, theta.size))
+    a = m.contacts(m.pose(theta, idx), tau)
+    b = m.contacts(m.pose(theta + g.period, np.mod(idx + 1, z2)), tau)
+    near = a.delta > -0.5 * g.R_b           # the pins near their teeth (a far pin's pair of teeth is a tie at +-pi)
+    assert near.sum() >= theta.size
+    assert np.max(np.abs(a.delta - b.delta)[near]) <= 1e-12 * g.R_p
+    assert np.max(np.abs(a.arm - b.arm)[near]) <= 1e-12 * g.R_p
+
+
+@pytest.mark.parametrize("make", [cycloid_model, circular_model])
+@pytest.mark.parametrize("sigma", [MULTIPLIER, REDUCER])
+def test_no_pin_outside_the_window_touches_on_the_final_grid(make, sigma):
+    # the window's margin is WINDOW_MARGIN scan spacings of time phase (pins.md §5.5): every pin it leaves out is
+    # evaluated at the cycle's solved tau, over the whole final grid (friction in the balance: its own tau)
+    m = make(1.0e6, sigma, (0.1, 0.1, False))
+    cyc = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-6)
+    assert m.window is not None
+    theta, tau = cyc.sol.theta, cyc.sol.tau
+    inside = m.candidates(theta)
+    assert inside.shape[0] <= m.g.z2 - 2
+    out = np.array([np.setdiff1d(np.arange(m.g.z2), inside[:, i]) for i in range(theta.size)]).T
+    delta = m.contacts(m.pose(theta, out), tau).delta
+    assert np.all(delta < 0.0)
+    # and no wider than the margin makes it: at most two pins more than are loaded at once anywhere on the grid
+    at_once = np.any(cyc.sol.force > 0.0, axis=0).sum(axis=0).max()
+    assert 2 <= at_once and m.window[2] <= at_once + 2
+
+
+def test_a_window_that_leaves_out_a_touching_pin_is_refused():
+    # the check of the pins next to the window (ContactModel.window_holds): windows cut short at either end until a
+    # pin that touches somewhere is the first one left out
+    m = circular_model(1.0e6)
+    m.set_window()
+    s = m.state(np.linspace(0.0, m.g.period, 33), phases=False)
+    assert m.window_holds(s.tau, s.theta)
+    z_lo, z_hi, n, t = m.window
+    idx = m.candidates(s.theta)                          # (n, angles): position 0 has the largest time phase
+    rows = np.searchsorted(s.rows, idx)
+    loaded = np.any(s.force[:, rows, np.arange(s.theta.size)] > 0.0, axis=(0, 2))    # per position
+    first, last = np.flatnonzero(loaded)[[0, -1]]
+    assert 0 < last - first + 1 < n
+    m.window = (z_lo, z_hi, last, t)                     # the positions from `last` on left out (smallest phases)
+    assert not m.window_holds(s.tau, s.theta)
+    m.window = (z_lo, z_hi - (first + 1) * m.g.period, n - first - 1, t)     # the positions up to `first` left out
+    assert not m.window_holds(s.tau, s.theta)
+    m.window = (z_lo, z_hi, n, t)
+    assert m.window_holds(s.tau, s.theta)

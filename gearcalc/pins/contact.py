@@ -961,6 +961,14 @@ def _window_range(tau) -> tuple[float, float]:
     return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
 
 
+WINDOW_MARGIN = 2
+"""The candidate window's margin in time phase beyond the outermost pairs that can touch, in spacings of its scan
+(:meth:`ContactModel.set_window`): the scan's n_scan crank angles over all z2 pins sample the time phase zeta on a
+grid of T_p/n_scan (the contact geometry of a pin depends on zeta alone), so a pin between the last sample that can
+touch and the first that cannot lies within one spacing; two for safety.  (It was one pin pitch T_p, n_scan = 64
+spacings: two pins more per angle than needed, 8-30 % of the contact level's time.)  The pins next to the window are
+checked on each cycle's final grid (:meth:`ContactModel.window_holds`)."""
+
 NEWTON_SMALL = 1e-8
 """The satellite rotation's Newton iteration stops after a step |s| <= 1e-8 |tau| (quadratic convergence: the error is
 then ~s^2/tau <= 1e-16 |tau|; :meth:`ContactModel._solve`, :meth:`ContactModel._kinematics`)."""
@@ -1045,7 +1053,7 @@ class ContactModel:
             max over tau in {tau_lo, tau_hi} of delta(0) - (X x n) tau + (R_p + e) tau^2/2 <= 0
 
         (1 % and 1e-12 R_p of margin) cannot touch there.  The window is the shortest arc of zeta holding
-        every other pair, widened by one pin pitch on each side (the scan's resolution).
+        every other pair, widened by :data:`WINDOW_MARGIN` scan spacings on each side (the scan's resolution in zeta).
         :func:`mean_loss_ratio` checks the tau range on the final grid.  Returns the scan's solution
         (all pins' phases), which also seeds the warm starts."""
         g = self.g
@@ -1125,7 +1133,8 @@ class ContactModel:
             gaps = np.diff(np.concatenate((z, [z[0] + 2.0 * math.pi])))
             i = int(np.argmax(gaps))
             z_lo, z_hi = (z[0], z[-1]) if i == z.size - 1 else (z[i + 1], z[i] + 2.0 * math.pi)
-            z_lo, z_hi = z_lo - g.period, z_hi + g.period
+            pad = WINDOW_MARGIN * g.period / n_scan
+            z_lo, z_hi = z_lo - pad, z_hi + pad
             m = int(math.floor((z_hi - z_lo) / g.period)) + 2
             if m < g.z2:
                 self.window = (float(z_lo), float(z_hi), m, (t_lo, t_hi))
@@ -1154,12 +1163,22 @@ class ContactModel:
             self._layout = (self.window, rows, pos)
         return self._layout[1], self._layout[2]
 
-    def window_holds(self, tau) -> bool:
-        """Whether the solved tau stay in the range the candidate window allows (or there is no window)."""
+    def window_holds(self, tau, theta=None) -> bool:
+        """Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
+        their crank angles ``theta``, the pins next to the window on either side do not touch there (penetration
+        <= 0 at tau: :data:`WINDOW_MARGIN`)."""
         if self.window is None:
             return True
         t_lo, t_hi = self.window[3]
-        return bool(np.all((tau >= t_lo) & (tau <= t_hi)))
+        if not np.all((tau >= t_lo) & (tau <= t_hi)):
+            return False
+        if theta is None or tau.size == 0:
+            return True
+        idx = self.candidates(theta)
+        nb = np.mod(np.stack((idx[0] - 1, idx[-1] + 1)), self.g.z2)
+        with np.errstate(all="ignore"):
+            delta = self.contacts(self.pose(theta, nb), tau).delta
+        return bool(np.all(delta <= 0.0))
 
     def mirror(self, other: "ContactModel") -> None:
         """Start from the solved other mode of the same design: its window and warm starts mirrored.
@@ -2480,7 +2499,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     n_solved = solved.theta.size
     sol = solved if dense is None else _concat([solved, dense[0]])
     sol.phase, sol.zeta = model.phases(sol.theta, sol.rows)
-    if not model.window_holds(sol.tau):
+    if not model.window_holds(sol.tau, sol.theta):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial,
                                rule, None, prior_width, n_min)
@@ -2627,7 +2646,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     lo_n, hi_n, t_n = (np.empty_like(a) for a in (lo_s, hi_s, t_s))
     lo_n[order], hi_n[order], t_n[order] = place[lo_s], place[hi_s], t_s
     s2 = _moved(sol1, s2k, kept, lo_n, hi_n, t_n)
-    if not model.window_holds(s2.tau):
+    if not model.window_holds(s2.tau, s2.theta):
         return None
     l1 = L1[order]
     r = cyc.roots.roots
