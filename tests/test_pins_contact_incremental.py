@@ -525,3 +525,56 @@ def test_a_window_that_leaves_out_a_touching_pin_is_refused():
     assert not m.window_holds(s.tau, s.theta)
     m.window = (z_lo, z_hi, n, t)
     assert m.window_holds(s.tau, s.theta)
+
+
+@pytest.mark.parametrize("sigma", [MULTIPLIER, REDUCER])
+def test_circular_states_evaluate_the_pressed_tooth_only_and_equal_the_states_over_both(sigma):
+    # ContactModel.sides: of each pin's two teeth only the one the torque presses it against can touch for the
+    # window's range of tau (the same convex bound as the window's pins); the states over that tooth, scattered to
+    # both (the other out of reach), are the states over both teeth: the other carries no force anywhere
+    m = circular_model(1.0e6, sigma, (0.1, 0.1, False))
+    m.set_window()
+    assert m.sides is not None and m.sides.tolist() == ([1] if sigma == MULTIPLIER else [0])
+    theta = np.linspace(0.0, m.g.period, 41)
+    s = m.state(theta, phases=False)
+    ref = circular_model(1.0e6, sigma, (0.1, 0.1, False))
+    ref.set_window()
+    ref._sides = None                                    # both teeth of every window pin
+    assert ref.sides is None
+    r = ref.state(theta, phases=False)
+    assert s.force.shape == r.force.shape and s.force.shape[0] == 2
+    assert np.allclose(s.tau, r.tau, rtol=1e-13, atol=0.0)
+    assert np.allclose(s.force, r.force, rtol=1e-10, atol=1e-10 * r.force.max())
+    assert np.all(r.force[1 - m.sides[0]] == 0.0)        # the tooth left out is loaded nowhere
+    assert np.allclose(s.dtau, r.dtau, rtol=1e-9, atol=1e-12)
+    # a cycloid has one contact per pin: nothing to leave out
+    c = cycloid_model(1.0e6, sigma)
+    c.set_window()
+    assert c.sides is None
+
+
+def test_mirrored_sides_are_the_other_modes_own():
+    # without friction in the balance the reducer is the multiplier run backwards: the mirror swaps each pin's teeth
+    a = circular_model(1.0e6, MULTIPLIER)
+    a.set_window()
+    b = circular_model(1.0e6, REDUCER)
+    b.mirror(a)
+    fresh = circular_model(1.0e6, REDUCER)
+    fresh.set_window()
+    assert a.sides.tolist() == [1] and b.sides.tolist() == fresh.sides.tolist() == [0]
+    # a model that inherits the window keeps its sides; without a window there are none
+    c = circular_model(1.0e6 * 0.9, MULTIPLIER)
+    c.inherit(a)
+    assert c.sides.tolist() == [1]
+    c.window = None
+    assert c.sides is None
+
+
+def test_a_tooth_left_out_that_touches_is_refused():
+    # the check on the final grid (ContactModel.window_holds) covers the teeth that ContactModel.sides leaves out
+    m = circular_model(1.0e6, MULTIPLIER)
+    m.set_window()
+    s = m.state(np.linspace(0.0, m.g.period, 33), phases=False)
+    assert m.window_holds(s.tau, s.theta)
+    m._sides = (m.window, np.array([0]))                 # the wrong tooth: the loaded one is now left out
+    assert not m.window_holds(s.tau, s.theta)

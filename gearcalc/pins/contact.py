@@ -427,11 +427,14 @@ class CircularProfile:
     def __init__(self, g: Cycloid, tooth_radius: float, tooth_circle_radius: float):
         self.g, self.rho_t, self.R_t = g, float(tooth_radius), float(tooth_circle_radius)
 
-    def prepare(self, pose: Pose, trig=None) -> None:
+    def prepare(self, pose: Pose, trig=None, sides=None) -> None:
+        """The centres of the teeth each pin meets, (c, m, n): c = 0 the tooth just below the pin's polar angle, 1 the
+        one above; ``sides`` (indices into them, optional): only these (:attr:`ContactModel.sides`)."""
         z1 = self.g.z1
         gam = np.arctan2(pose.y0, pose.x0)
         m = np.floor((gam * z1 / math.pi - 1.0) / 2.0)          # tooth with chi_m just below gamma
-        chi = (2.0 * np.stack([m, m + 1.0]) + 1.0) * math.pi / z1
+        teeth = np.stack([m, m + 1.0]) if sides is None else m[None] + np.asarray(sides, dtype=float)[:, None, None]
+        chi = (2.0 * teeth + 1.0) * math.pi / z1
         pose.aux["tx"], pose.aux["ty"] = self.R_t * np.cos(chi), self.R_t * np.sin(chi)
 
     def contacts(self, pose: Pose, x, y, branch=None) -> Contacts:
@@ -576,8 +579,9 @@ class CycloidProfile:
                 break
         return beta.reshape(shape)
 
-    def prepare(self, pose: Pose, trig=None) -> None:
+    def prepare(self, pose: Pose, trig=None, sides=None) -> None:
         """The pins' families, their foot points on the design curve at the nominal pose (and the crest corners).
+        ``sides``: one contact per pin, nothing to choose (:attr:`ContactModel.sides`).
 
         ``trig``, optional: cos and sin of beta0 and of the crank-arm angle a = z2 theta/z1 of the pose, which are
         those of :meth:`_trig` at beta0 (Z_e beta0 - 2 pi b/k = a + 2 pi floor(j/k)).  Without a radial
@@ -1002,6 +1006,7 @@ class ContactModel:
         self.friction = friction
         self.diff_step = 1e-6
         self.window = None            # (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all
+        self._sides = None            # (window, sides): :attr:`sides` while that window is the model's
         self._memo = {0: None, 1: None}   # solved (theta, tau, dtau) for warm starts: 0 frictionless, 1 final
         self._gtau = {0: None, 1: None}   # dG/dtau at the memo's angles (None: unknown)
         self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
@@ -1010,9 +1015,10 @@ class ContactModel:
         self.scan_n = 0               # the densest full scan a cycle of this design needed (:func:`mean_loss_ratio`)
 
     # -- geometry -------------------------------------------------------------------------------
-    def pose(self, theta, idx=None) -> Pose:
+    def pose(self, theta, idx=None, sides=None) -> Pose:
         """Nominal satellite-frame pin positions at crank angles theta (tau = 0); ``idx`` (m, n): only
-        these pins (default: all, shape (z2, n))."""
+        these pins (default: all, shape (z2, n)); ``sides``: only these of each pin's contacts (default: all;
+        :attr:`sides`)."""
         g = self.g
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         sel = self.pins if idx is None else idx
@@ -1025,7 +1031,7 @@ class ContactModel:
         psi = np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
         p = Pose(theta, x0, y0, np.broadcast_to(beta0, x0.shape), psi)
         p.aux["idx"] = np.broadcast_to(sel, x0.shape)
-        self.profile.prepare(p, trig)
+        self.profile.prepare(p, trig, sides)
         return p
 
     def candidates(self, theta):
@@ -1038,6 +1044,15 @@ class ContactModel:
         _, z_hi, m, _ = self.window
         j0 = np.ceil((np.asarray(theta, dtype=float) - z_hi) / self.g.period).astype(np.int64)
         return np.mod(j0[None, :] + np.arange(m)[:, None], self.g.z2)
+
+    @property
+    def sides(self):
+        """The contacts of each pin that the states evaluate (indices into the profile's c per pin), or None (all):
+        with a candidate window, those that can touch for its range of tau (:meth:`_window_for`; circular teeth: the
+        tooth on the side the torque presses the pins against, the other one cannot touch at that rotation).  The
+        states' arrays hold every contact all the same (:meth:`_full`: the others out of reach)."""
+        s = self._sides
+        return s[1] if s is not None and self.window is not None and s[0] == self.window else None
 
     def set_window(self, n_scan: int = 64):
         """The candidate window: the time phases zeta of the pins that can touch (pins.md §5.5, speed).
@@ -1079,14 +1094,15 @@ class ContactModel:
             # stay in the window's range (else every pin, below)
             self._window_for(*_window_range(est), n_scan)
             idx = self.candidates(theta)
-            sub = self.pose(theta, idx)
+            sides = self.sides
+            sub = self.pose(theta, idx, sides)
             with np.errstate(divide="ignore", invalid="ignore"):
                 try:
                     part = self._kinematics(sub, self._solve(sub, None, est), None)
                 except NoEquilibrium:
                     part = None
             if part is not None and self.window_holds(part.tau) and np.all(np.isfinite(part.dtau)):
-                first = self._full(part, idx)
+                first = self._full(part, idx, sides)
         if first is None:
             self.window = None
             pose = self.pose(theta)
@@ -1127,7 +1143,8 @@ class ContactModel:
         R = g.R_p + g.e
         # delta(tau) <= delta(0) - (X x n) tau + (R_p + e) tau^2/2: convex in tau, largest at an end
         reach = np.maximum(-arm * t_lo + 0.5 * R * t_lo * t_lo, -arm * t_hi + 0.5 * R * t_hi * t_hi)
-        touch = np.any(delta + reach + 0.01 * np.abs(reach) + 1e-12 * g.R_p > 0.0, axis=0)
+        touch_c = delta + reach + 0.01 * np.abs(reach) + 1e-12 * g.R_p > 0.0
+        touch = np.any(touch_c, axis=0)
         z = np.sort(-psi[touch])
         if z.size:
             gaps = np.diff(np.concatenate((z, [z[0] + 2.0 * math.pi])))
@@ -1138,6 +1155,9 @@ class ContactModel:
             m = int(math.floor((z_hi - z_lo) / g.period)) + 2
             if m < g.z2:
                 self.window = (float(z_lo), float(z_hi), m, (t_lo, t_hi))
+                # the contacts of a pin that can touch at all (circular teeth: one of the two, by the torque's sense)
+                can = np.any(touch_c, axis=(1, 2))
+                self._sides = (self.window, np.flatnonzero(can)) if can.any() and not can.all() else None
 
     def period_pins(self):
         """The pins the candidate window can hold at crank angles in [0, T_p] (sorted), or None (every pin): the
@@ -1166,7 +1186,7 @@ class ContactModel:
     def window_holds(self, tau, theta=None) -> bool:
         """Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
         their crank angles ``theta``, the pins next to the window on either side do not touch there (penetration
-        <= 0 at tau: :data:`WINDOW_MARGIN`)."""
+        <= 0 at tau: :data:`WINDOW_MARGIN`), nor the contacts of the window's pins that :attr:`sides` leaves out."""
         if self.window is None:
             return True
         t_lo, t_hi = self.window[3]
@@ -1174,10 +1194,17 @@ class ContactModel:
             return False
         if theta is None or tau.size == 0:
             return True
-        idx = self.candidates(theta)
-        nb = np.mod(np.stack((idx[0] - 1, idx[-1] + 1)), self.g.z2)
+        idx, sides = self.candidates(theta), self.sides
+        if sides is None:
+            pins = np.stack((idx[0] - 1, idx[-1] + 1))
+        else:
+            # and the contacts of the window's pins that the states leave out (:attr:`sides`)
+            pins = np.concatenate(((idx[0] - 1)[None], idx, (idx[-1] + 1)[None]))
         with np.errstate(all="ignore"):
-            delta = self.contacts(self.pose(theta, nb), tau).delta
+            delta = self.contacts(self.pose(theta, np.mod(pins, self.g.z2)), tau).delta
+        if sides is not None:
+            delta = delta.copy()
+            delta[sides[:, None], np.arange(1, pins.shape[0] - 1)[None, :]] = -np.inf
         return bool(np.all(delta <= 0.0))
 
     def mirror(self, other: "ContactModel") -> None:
@@ -1192,6 +1219,10 @@ class ContactModel:
         if other.window is not None:
             z_lo, z_hi, m, (t_lo, t_hi) = other.window
             self.window = (-z_hi, -z_lo, m, (-t_hi * r, -t_lo * r))
+            # the mirror swaps each pin's two teeth (the one below its polar angle and the one above)
+            sides = other.sides
+            self._sides = None if sides is None else (self.window,
+                                                      np.sort(self.profile.contacts_per_pin - 1 - sides))
             if r > 1.0:                   # a wider tau range: its pins recomputed (:meth:`_window_for`)
                 with np.errstate(all="ignore"):
                     self._window_for(-t_hi * r, -t_lo * r)
@@ -1216,6 +1247,7 @@ class ContactModel:
         if prev.window is not None:
             z_lo, z_hi, m, (t_lo, t_hi) = prev.window
             self.window = (z_lo, z_hi, m, (t_lo * r, t_hi * r))
+            self._sides = None if prev.sides is None else (self.window, prev.sides)
             if r > 1.0:                   # a wider tau range: its pins recomputed (:meth:`_window_for`)
                 with np.errstate(all="ignore"):
                     self._window_for(t_lo * r, t_hi * r)
@@ -1407,16 +1439,23 @@ class ContactModel:
         (:func:`piece_guess`); the others from the solved angles around (:meth:`_guess`).
         """
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        idx = self.candidates(theta)
-        pose = self.pose(theta, idx)
+        idx, sides = self.candidates(theta), self.sides
+        pose = self.pose(theta, idx, sides)
         fixed = None if ref is None or len(ref) < 3 else ref[2]
         if ref is not None and idx is not None:
-            # the sets are over the rows of this model's layout (a cycle's states): the candidates' rows there
+            # the sets are over the rows of this model's layout (a cycle's states): the candidates' rows there (and
+            # the contacts the states evaluate, :attr:`sides`)
             at, cols = self.layout()[1][idx], np.arange(theta.size)[None, :]
             if np.any(at < 0):
                 raise ValueError("piece sets over the layout's rows hold no pins outside one period's window")
-            ref = (ref[0][:, at, cols], None if ref[1] is None else ref[1][:, at, cols])
-            fixed = None if fixed is None else fixed[:, at, cols]
+            if sides is None:
+                def cut(a):
+                    return None if a is None else a[:, at, cols]
+            else:
+                def cut(a):
+                    return None if a is None else a[sides[:, None, None], at[None], cols[None]]
+            ref = (cut(ref[0]), cut(ref[1]))
+            fixed = cut(fixed)
         elif ref is not None:
             ref = ref[:2]
         given = guess
@@ -1446,7 +1485,7 @@ class ContactModel:
         else:
             sol = self._friction_fixed_point(theta, pose, ref)
         self._remember(1 if self.friction is not None else 0, sol)
-        sol = self._full(sol, idx)
+        sol = self._full(sol, idx, sides)
         if phases:
             sol.phase, sol.zeta = self.phases(theta, sol.rows)
         return sol
@@ -1585,10 +1624,12 @@ class ContactModel:
             herm = _hermite(np.where(inside, (theta - th[a]) / h, 0.0), h, ta[a], dt[a], ta[b], dt[b])
         return np.where(inside, herm, line)
 
-    def _full(self, sol: Solution, idx) -> Solution:
+    def _full(self, sol: Solution, idx, sides=None) -> Solution:
         """The solution over the rows of :meth:`layout`: the candidates' values scattered, the others untouched by
         contact (a state at crank angles outside [0, T_p] whose candidates the layout does not hold: over the union
-        of both)."""
+        of both); solved on some contacts of each pin only (``sides``, :attr:`sides`): over all of them, the others
+        out of reach like the pins out of the window (their normals and turning rates over the candidates 0: they
+        carry no force)."""
         if idx is None:
             return sol
         rows, pos = self.layout()
@@ -1600,19 +1641,39 @@ class ContactModel:
         R = self.g.z2 if rows is None else rows.size
         at, cols = pos[idx], np.arange(n)[None, :]
 
-        def scatter(a, fill):
-            if a is None:
-                return None
-            out = np.full(a.shape[:-2] + (R, n), fill, dtype=a.dtype)
-            out[..., at, cols] = a
-            return out
+        C = self.profile.contacts_per_pin
+        if sides is None:
+            def scatter(a, fill):
+                if a is None:
+                    return None
+                out = np.full(a.shape[:-2] + (R, n), fill, dtype=a.dtype)
+                out[..., at, cols] = a
+                return out
+
+            def every(a):
+                return a
+        else:
+            def scatter(a, fill):
+                if a is None:
+                    return None
+                out = np.full(a.shape[:-3] + (C, R, n), fill, dtype=a.dtype)
+                out[..., sides[:, None, None], at[None], cols[None]] = a
+                return out
+
+            def every(a):
+                if a is None:
+                    return None
+                out = np.zeros(a.shape[:-3] + (C,) + a.shape[-2:], dtype=a.dtype)
+                out[..., sides, :, :] = a
+                return out
 
         cand = np.zeros((R, n), dtype=bool)
         cand[at, cols] = True
         return Solution(sol.theta, sol.tau, sol.dtau, sol.residual, scatter(sol.delta, -np.inf),
                         scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
                         scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
-                        sol.noise, sol.g_tau, sol.nx, sol.ny, sol.wx, sol.wy, sol.pins, rows)
+                        sol.noise, sol.g_tau, every(sol.nx), every(sol.ny), every(sol.wx), every(sol.wy), sol.pins,
+                        rows)
 
     def reference(self, theta):
         """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
