@@ -580,7 +580,7 @@ class CycloidProfile:
         return beta.reshape(shape)
 
     def prepare(self, pose: Pose, trig=None, sides=None) -> None:
-        """The pins' families, their foot points on the design curve at the nominal pose (and the crest corners).
+        """The pins' families and their foot points on the design curve at the nominal pose.
         ``sides``: one contact per pin, nothing to choose (:attr:`ContactModel.sides`).
 
         ``trig``, optional: cos and sin of beta0 and of the crank-arm angle a = z2 theta/z1 of the pose, which are
@@ -596,11 +596,11 @@ class CycloidProfile:
             # only the start of the Newton steps of :meth:`contacts` at the turned positions (which iterate until a
             # step below 1e-7 rad has been applied): 1e-7 here too (quadratic convergence: the error is then ~1e-14 rad)
             pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0, tol=1e-7)
-        if self.crests:
-            pose.aux["crest_x"], pose.aux["crest_y"] = self._crest_corners(pose)
 
-    def _crest_corners(self, pose: Pose):
-        """The crest corners of the tooth space pin j faces (psi = +psi*, -psi*), (2, m, n) x and y [mm].
+    def _crest_corners(self, pose: Pose, at, corner):
+        """The crest corners of the tooth spaces that the pins at the flat indices ``at`` of the pose's (m, n) arrays
+        face, ``corner`` 0 (psi = +psi*) or 1 (-psi*) for each, x and y [mm] (only where a pin faces a crest: 7-15 %
+        of the pairs on the paper's k = 2 cycloids, :meth:`contacts`).
 
         On the tooth profile they lie at beta0 + psi/z_d -+ psi*/z_d = B_j - 2 pi k w/z1 -+ psi*/z_d, with
         B_j = 2 pi j (1 + k/z1)/z2 and w the turns by which psi = phi_j - theta was wrapped (theta cancels); a shift
@@ -616,11 +616,12 @@ class CycloidProfile:
             r = 2.0 * math.pi * np.arange(z1) / z1
             self._corner_table = (cx, cy, np.cos(r), np.sin(r))
         cx, cy, cos_t, sin_t = self._corner_table
-        idx = pose.aux["idx"]
-        w = np.rint((2.0 * math.pi * idx / z2 - pose.theta[None, :] - pose.psi) / (2.0 * math.pi)).astype(np.int64)
+        idx = pose.aux["idx"].ravel()[at]
+        theta = pose.theta[at % pose.theta.size]
+        w = np.rint((2.0 * math.pi * idx / z2 - theta - pose.psi.ravel()[at]) / (2.0 * math.pi)).astype(np.int64)
         r = np.mod(k * w, z1)
         ca, sa = cos_t[r], -sin_t[r]             # the turn by -2 pi k w/z1
-        px, py = cx[:, idx], cy[:, idx]
+        px, py = cx[corner, idx], cy[corner, idx]
         return ca * px - sa * py, sa * px + ca * py
 
     def contacts(self, pose: Pose, x, y, branch=None) -> Contacts:
@@ -665,18 +666,16 @@ class CycloidProfile:
             side = np.where(psi_f > self.psi_star, 0, np.where(psi_f < -self.psi_star, 1, -1))
             if branch is not None:
                 side = np.asarray(branch)[0]
-            crest = side >= 0
-            if np.any(crest):
-                plus = side <= 0                      # the +psi* corner (0), else the -psi* one (1)
-                gx = np.where(plus, pose.aux["crest_x"][0], pose.aux["crest_x"][1])
-                gy = np.where(plus, pose.aux["crest_y"][0], pose.aux["crest_y"][1])
-                ex, ey = gx - x, gy - y
+            at = np.flatnonzero(side >= 0)            # the pairs facing a crest corner (a few)
+            if at.size:
+                gx, gy = self._crest_corners(pose, at, side.ravel()[at])
+                ex, ey = gx - x.ravel()[at], gy - y.ravel()[at]
                 r = np.hypot(ex, ey)
-                delta = np.where(crest, self.g.R_b - r, delta)
-                nx = np.where(crest, ex / r, nx)
-                ny = np.where(crest, ey / r, ny)
-                wx = np.where(crest, ny / r, wx)
-                wy = np.where(crest, -nx / r, wy)
+                ux, uy = ex / r, ey / r
+                # (delta, nx, ny, wx, wy are this call's own arrays)
+                delta.flat[at] = self.g.R_b - r
+                nx.flat[at], ny.flat[at] = ux, uy
+                wx.flat[at], wy.flat[at] = uy / r, -ux / r
         ct = Contacts(delta[None], nx[None], ny[None], (x * ny - y * nx)[None], (x * nx + y * ny)[None], switch,
                       wx=wx[None], wy=wy[None])
         ct.branch = side[None] if self.crests else None
