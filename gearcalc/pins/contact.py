@@ -969,8 +969,8 @@ WINDOW_MARGIN = 2
 (:meth:`ContactModel.set_window`): the scan's n_scan crank angles over all z2 pins sample the time phase zeta on a
 grid of T_p/n_scan (the contact geometry of a pin depends on zeta alone), so a pin between the last sample that can
 touch and the first that cannot lies within one spacing; two for safety.  (It was one pin pitch T_p, n_scan = 64
-spacings: two pins more per angle than needed, 8-30 % of the contact level's time.)  The pins next to the window are
-checked on each cycle's final grid (:meth:`ContactModel.window_holds`)."""
+spacings: two pins more per angle than needed.)  The pins next to the window are checked on each cycle's final grid
+(:meth:`ContactModel.window_holds`)."""
 
 NEWTON_SMALL = 1e-8
 """The satellite rotation's Newton iteration stops after a step |s| <= 1e-8 |tau| (quadratic convergence: the error is
