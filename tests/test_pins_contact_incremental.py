@@ -578,3 +578,32 @@ def test_a_tooth_left_out_that_touches_is_refused():
     assert m.window_holds(s.tau, s.theta)
     m._sides = (m.window, np.array([0]))                 # the wrong tooth: the loaded one is now left out
     assert not m.window_holds(s.tau, s.theta)
+
+
+def test_the_next_pass_skips_the_window_check_only_within_the_clearance(monkeypatch):
+    # ContactModel.window_holds(prev=...): the pairs left out keep a clearance c on the last pass's final grid; a pass
+    # whose tau moved by d with (R_p + e)(d + d^2/2) < c cannot have closed it (|d delta/d tau| <= R_p + e): nothing
+    # evaluated; a larger move is evaluated again
+    a = circular_model(1.0e6)
+    a.set_window()
+    s = a.state(np.linspace(0.0, a.g.period, 33), phases=False)
+    assert a.window_holds(s.tau, s.theta)
+    theta, tau, c, _ = a.clearance
+    assert c > 0.0 and theta is s.theta
+    b = circular_model(1.0e6)
+    b.inherit(a)
+    evaluated = []
+    orig = pc.ContactModel.contacts
+    monkeypatch.setattr(pc.ContactModel, "contacts", lambda self, *x, **k: evaluated.append(1) or orig(self, *x, **k))
+    small = 0.5 * c / (a.g.R_p + a.g.e)
+    assert b.window_holds(s.tau + small, s.theta, a) and not evaluated
+    assert b.clearance[2] == pytest.approx(c - (a.g.R_p + a.g.e) * (small + 0.5 * small ** 2), rel=1e-12)
+    # a move that could close it: evaluated
+    d = 1.01 * c / (a.g.R_p + a.g.e)
+    t_lo, t_hi = b.window[3]
+    assert np.all((s.tau - d >= t_lo) & (s.tau - d <= t_hi))      # (a move into the window's range of tau)
+    b.window_holds(s.tau - d, s.theta, a)
+    assert evaluated
+    evaluated.clear()
+    b.window_holds(s.tau, s.theta[::-1].copy(), a)                 # other crank angles: evaluated
+    assert evaluated

@@ -1006,6 +1006,7 @@ class ContactModel:
         self.diff_step = 1e-6
         self.window = None            # (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all
         self._sides = None            # (window, sides): :attr:`sides` while that window is the model's
+        self.clearance = None         # (theta, tau, clearance, window key) of the last check on a final grid
         self._memo = {0: None, 1: None}   # solved (theta, tau, dtau) for warm starts: 0 frictionless, 1 final
         self._gtau = {0: None, 1: None}   # dG/dtau at the memo's angles (None: unknown)
         self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
@@ -1182,10 +1183,16 @@ class ContactModel:
             self._layout = (self.window, rows, pos)
         return self._layout[1], self._layout[2]
 
-    def window_holds(self, tau, theta=None) -> bool:
+    def window_holds(self, tau, theta=None, prev: "ContactModel | None" = None) -> bool:
         """Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
         their crank angles ``theta``, the pins next to the window on either side do not touch there (penetration
-        <= 0 at tau: :data:`WINDOW_MARGIN`), nor the contacts of the window's pins that :attr:`sides` leaves out."""
+        <= 0 at tau: :data:`WINDOW_MARGIN`), nor the contacts of the window's pins that :attr:`sides` leaves out.
+
+        The smallest clearance -delta of those pairs is kept (:attr:`clearance`).  ``prev``: a model of the same
+        window and sides checked at the same crank angles (the torque pass before): where its clearance c exceeds
+        (R_p + e)(d + d^2/2), d = max |tau - tau_prev|, no pair can have closed it (|d delta/d tau| = |X x n| <=
+        R_p + e, |d^2 delta/d tau^2| <= R_p + e) and nothing is evaluated."""
+        self.clearance = None
         if self.window is None:
             return True
         t_lo, t_hi = self.window[3]
@@ -1194,6 +1201,14 @@ class ContactModel:
         if theta is None or tau.size == 0:
             return True
         idx, sides = self.candidates(theta), self.sides
+        key = (self.window[1], self.window[2], None if sides is None else tuple(sides.tolist()))
+        last = None if prev is None else prev.clearance
+        if last is not None and last[3] == key and last[0].shape == theta.shape and np.array_equal(last[0], theta):
+            d = float(np.max(np.abs(tau - last[1])))
+            bound = (self.g.R_p + self.g.e) * (d + 0.5 * d * d)
+            if bound < last[2]:
+                self.clearance = (theta, tau, last[2] - bound, key)
+                return True
         if sides is None:
             pins = np.stack((idx[0] - 1, idx[-1] + 1))
         else:
@@ -1204,7 +1219,11 @@ class ContactModel:
         if sides is not None:
             delta = delta.copy()
             delta[sides[:, None], np.arange(1, pins.shape[0] - 1)[None, :]] = -np.inf
-        return bool(np.all(delta <= 0.0))
+        c = float(-np.max(delta))
+        if not c >= 0.0:
+            return False
+        self.clearance = (theta, tau, c, key)
+        return True
 
     def mirror(self, other: "ContactModel") -> None:
         """Start from the solved other mode of the same design: its window and warm starts mirrored.
@@ -2706,7 +2725,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     lo_n, hi_n, t_n = (np.empty_like(a) for a in (lo_s, hi_s, t_s))
     lo_n[order], hi_n[order], t_n[order] = place[lo_s], place[hi_s], t_s
     s2 = _moved(sol1, s2k, kept, lo_n, hi_n, t_n)
-    if not model.window_holds(s2.tau, s2.theta):
+    if not model.window_holds(s2.tau, s2.theta, prev):
         return None
     l1 = L1[order]
     r = cyc.roots.roots
