@@ -1006,7 +1006,7 @@ class ContactModel:
         self.diff_step = 1e-6
         self.window = None            # (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all
         self._sides = None            # (window, sides): :attr:`sides` while that window is the model's
-        self.clearance = None         # (theta, tau, clearance, window key) of the last check on a final grid
+        self.clearance = None         # (theta, tau, clearance, (candidates, sides)) of the last final grid's check
         self._memo = {0: None, 1: None}   # solved (theta, tau, dtau) for warm starts: 0 frictionless, 1 final
         self._gtau = {0: None, 1: None}   # dG/dtau at the memo's angles (None: unknown)
         self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
@@ -1188,8 +1188,8 @@ class ContactModel:
         their crank angles ``theta``, the pins next to the window on either side do not touch there (penetration
         <= 0 at tau: :data:`WINDOW_MARGIN`), nor the contacts of the window's pins that :attr:`sides` leaves out.
 
-        The smallest clearance -delta of those pairs is kept (:attr:`clearance`).  ``prev``: a model of the same
-        window and sides checked at the same crank angles (the torque pass before): where its clearance c exceeds
+        The smallest clearance -delta of those pairs is kept (:attr:`clearance`).  ``prev``: a model checked at the
+        same crank angles with the same candidate pins and sides (the torque pass before): where its clearance c exceeds
         (R_p + e)(d + d^2/2), d = max |tau - tau_prev|, no pair can have closed it (|d delta/d tau| = |X x n| <=
         R_p + e, |d^2 delta/d tau^2| <= R_p + e) and nothing is evaluated."""
         self.clearance = None
@@ -1201,9 +1201,10 @@ class ContactModel:
         if theta is None or tau.size == 0:
             return True
         idx, sides = self.candidates(theta), self.sides
-        key = (self.window[1], self.window[2], None if sides is None else tuple(sides.tolist()))
+        key = (idx, None if sides is None else tuple(sides.tolist()))       # the pairs the states evaluate
         last = None if prev is None else prev.clearance
-        if last is not None and last[3] == key and last[0].shape == theta.shape and np.array_equal(last[0], theta):
+        if (last is not None and last[0].shape == theta.shape and np.array_equal(last[0], theta)
+                and last[3][1] == key[1] and np.array_equal(last[3][0], idx)):
             d = float(np.max(np.abs(tau - last[1])))
             bound = (self.g.R_p + self.g.e) * (d + 0.5 * d * d)
             if bound < last[2]:
