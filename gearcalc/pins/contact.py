@@ -900,6 +900,12 @@ def _with_cols(full, part, cols):
     return out
 
 
+def _contact_index(profile, sides):
+    """The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
+    when ``sides`` is None; :attr:`ContactModel.sides`)."""
+    return (np.arange(profile.contacts_per_pin) if sides is None else np.asarray(sides))[:, None, None]
+
+
 def _sub_pose(pose: Pose, sel) -> Pose:
     """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis)."""
     return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.psi[:, sel],
@@ -1467,12 +1473,11 @@ class ContactModel:
             at, cols = self.layout()[1][idx], np.arange(theta.size)[None, :]
             if np.any(at < 0):
                 raise ValueError("piece sets over the layout's rows hold no pins outside one period's window")
-            if sides is None:
-                def cut(a):
-                    return None if a is None else a[:, at, cols]
-            else:
-                def cut(a):
-                    return None if a is None else a[sides[:, None, None], at[None], cols[None]]
+            cs = _contact_index(self.profile, sides)
+
+            def cut(a):
+                return None if a is None else a[cs, at[None], cols[None]]
+
             ref = (cut(ref[0]), cut(ref[1]))
             fixed = cut(fixed)
         elif ref is not None:
@@ -1660,31 +1665,22 @@ class ContactModel:
         R = self.g.z2 if rows is None else rows.size
         at, cols = pos[idx], np.arange(n)[None, :]
 
-        C = self.profile.contacts_per_pin
-        if sides is None:
-            def scatter(a, fill):
-                if a is None:
-                    return None
-                out = np.full(a.shape[:-2] + (R, n), fill, dtype=a.dtype)
-                out[..., at, cols] = a
-                return out
+        C, cs = self.profile.contacts_per_pin, _contact_index(self.profile, sides)
 
-            def every(a):
+        def scatter(a, fill):
+            if a is None:
+                return None
+            out = np.full(a.shape[:-3] + (C, R, n), fill, dtype=a.dtype)
+            out[..., cs, at[None], cols[None]] = a
+            return out
+
+        def every(a):
+            # the geometry over the candidates (c, m, n): the contacts left out get 0 (no force, no moment)
+            if a is None or sides is None:
                 return a
-        else:
-            def scatter(a, fill):
-                if a is None:
-                    return None
-                out = np.full(a.shape[:-3] + (C, R, n), fill, dtype=a.dtype)
-                out[..., sides[:, None, None], at[None], cols[None]] = a
-                return out
-
-            def every(a):
-                if a is None:
-                    return None
-                out = np.zeros(a.shape[:-3] + (C,) + a.shape[-2:], dtype=a.dtype)
-                out[..., sides, :, :] = a
-                return out
+            out = np.zeros(a.shape[:-3] + (C,) + a.shape[-2:], dtype=a.dtype)
+            out[..., sides, :, :] = a
+            return out
 
         cand = np.zeros((R, n), dtype=bool)
         cand[at, cols] = True
