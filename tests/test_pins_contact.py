@@ -82,6 +82,25 @@ def test_laws_are_compression_only_and_linear_extension_for_one_sided_derivative
     assert float(lin.deflection(200.0)) == pytest.approx(1e-3)
 
 
+
+@pytest.mark.parametrize("name, kw", [("hertz", {"face_width": 10.0}), ("palmgren", {"face_width": 4.0}),
+                                      ("linear", {"stiffness": 2e5})])
+def test_force_stiffness_is_the_force_and_its_derivative(name, kw):
+    # the joint evaluation of the equilibrium (one power, F' = p F/delta) against the separate ones and against the
+    # derivative of F by central differences (F'' bounded away from delta = 0: O(h^2) ~ 1e-10 relative)
+    law = pc.contact_law(name, **kw)
+    d = np.array([[-2e-3, 0.0, 1e-6], [3e-4, 2e-3, -1e-9]])
+    active = np.array([[True, True, True], [False, True, True]])
+    F, Fp = law.force_stiffness(d)
+    np.testing.assert_allclose(F, law.force(d), rtol=1e-15, atol=0.0)
+    np.testing.assert_allclose(Fp, law.stiffness(d), rtol=1e-14, atol=0.0)
+    F, Fp = law.force_stiffness(d, active)
+    np.testing.assert_allclose(F, law.force_on(d, active), rtol=1e-15, atol=0.0)
+    np.testing.assert_allclose(Fp, law.stiffness_on(d, active), rtol=1e-14, atol=0.0)
+    x, h = np.array([3e-4, 2e-3]), 1e-8
+    fd = (law.force(x + h) - law.force(x - h)) / (2.0 * h)
+    np.testing.assert_allclose(law.force_stiffness(x)[1], fd, rtol=1e-6)
+
 # ------------------------------------------------------------------ circular-arc geometry (pins.md §5.3)
 
 def _brute_distance(R_t, g, n=200001):

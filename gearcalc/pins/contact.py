@@ -146,6 +146,32 @@ class ContactLaw:
             return np.where(active, self.constant, 0.0)
         return np.where(active, self.stiffness(delta), 0.0)
 
+    def force_stiffness(self, delta, active=None):
+        """(F, dF/d delta) together: :meth:`force` and :meth:`stiffness`, or on a fixed ``active`` set
+        :meth:`force_on` and :meth:`stiffness_on`.  Under a power law the stiffness is p F/delta on the touching
+        pairs (one power instead of two: the equilibrium evaluates both at every pair of every iteration).
+
+        Examples
+        --------
+        >>> law = ContactLaw("hertz", 2e4, 10.0 / 9.0)
+        >>> d = np.array([-1e-3, 0.0, 2e-3])
+        >>> F, Fp = law.force_stiffness(d)
+        >>> bool(np.allclose(F, law.force(d), rtol=1e-15) and np.allclose(Fp, law.stiffness(d), rtol=1e-15))
+        True
+        """
+        delta = np.asarray(delta, dtype=float)
+        if self.exponent == 1.0:
+            if active is None:
+                return self.constant * np.maximum(delta, 0.0), np.where(delta > 0.0, self.constant, 0.0)
+            return np.where(active, self.constant * delta, 0.0), np.where(active, self.constant, 0.0)
+        F, Fp = np.zeros(delta.shape), np.zeros(delta.shape)
+        on = delta > 0.0 if active is None else (delta > 0.0) & active
+        d = delta[on]
+        f = self.constant * d ** self.exponent
+        F[on] = f
+        Fp[on] = self.exponent * f / d
+        return F, Fp
+
     def deflection(self, force):
         """delta(F) [mm], the inverse of :meth:`force` for F >= 0."""
         return (np.asarray(force, dtype=float) / self.constant) ** (1.0 / self.exponent)
@@ -379,16 +405,25 @@ class Pose:
     """Nominal pose data at crank angles theta (tau = 0), shape (z2, n) per pin.
 
     theta [rad] (n,); x0, y0: X_j at tau = 0 in the satellite frame [mm]; beta0: curve parameter
-    phi_j + k theta/z1 [rad]; psi: pin phase phi_j - theta wrapped to (-pi, pi] [rad]; aux: the
-    profile's own precomputed data.
+    phi_j + k theta/z1 [rad]; psi: pin phase phi_j - theta wrapped to (-pi, pi] [rad], of the pins
+    ``aux["idx"]`` among z2, computed when first read (the circular-arc teeth need it only for the candidate
+    window, :meth:`ContactModel._nominal`); aux: the profile's own precomputed data.
     """
 
     theta: np.ndarray
     x0: np.ndarray
     y0: np.ndarray
     beta0: np.ndarray
-    psi: np.ndarray
+    z2: int
     aux: dict = field(default_factory=dict)
+    _psi: np.ndarray | None = None
+
+    @property
+    def psi(self) -> np.ndarray:
+        if self._psi is None:
+            psi = pin_phase(self.aux["idx"], self.theta[None, :], self.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
+            self._psi = np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
+        return self._psi
 
 
 @dataclass
@@ -908,8 +943,8 @@ def _contact_index(profile, sides):
 
 def _sub_pose(pose: Pose, sel) -> Pose:
     """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis)."""
-    return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.psi[:, sel],
-                {k: v[..., sel] for k, v in pose.aux.items()})
+    return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.z2,
+                {k: v[..., sel] for k, v in pose.aux.items()}, None if pose._psi is None else pose._psi[:, sel])
 
 
 def _distance_to(points, x):
@@ -1033,9 +1068,7 @@ class ContactModel:
         trig = (np.cos(beta0), np.sin(beta0), np.cos(a), np.sin(a))
         x0 = g.R_p * trig[0] - g.e * trig[2]
         y0 = g.R_p * trig[1] - g.e * trig[3]
-        psi = pin_phase(sel, theta[None, :], g.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
-        psi = np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
-        p = Pose(theta, x0, y0, np.broadcast_to(beta0, x0.shape), psi)
+        p = Pose(theta, x0, y0, np.broadcast_to(beta0, x0.shape), g.z2)
         p.aux["idx"] = np.broadcast_to(sel, x0.shape)
         self.profile.prepare(p, trig, sides)
         return p
@@ -1094,7 +1127,7 @@ class ContactModel:
         h0 = h0 if math.isfinite(h0) and h0 > 1e-9 else 1e-9
         with np.errstate(all="ignore"):
             est = self._linearised_tau(n_scan, h0)
-        first = None
+        first, start = None, None
         if est is not None and np.all(np.isfinite(est)):
             # the window from the linearised balance's range; the scan solved on its pins only, kept when its tau
             # stay in the window's range (else every pin, below)
@@ -1109,6 +1142,7 @@ class ContactModel:
                     part = None
             if part is not None and self.window_holds(part.tau) and np.all(np.isfinite(part.dtau)):
                 first = self._full(part, idx, sides)
+                start = (sub, part)
         if first is None:
             self.window = None
             pose = self.pose(theta)
@@ -1123,7 +1157,9 @@ class ContactModel:
             # the frictionless scan is the state over all pins (the window's pins the same, the others untouched)
             first.phase, first.zeta = self.phases(theta, first.rows)
             return first
-        return self.state(theta)      # and the warm-start memory for the cycle
+        # and the warm-start memory for the cycle; the friction directions from the frictionless scan on the window's
+        # pins (its pose and solution, not solved again)
+        return self.state(theta, scan=start if np.all(np.isfinite(first.dtau)) else None)
 
     def _nominal(self, n_scan: int = 64):
         """(psi, delta, arm) of every pin at the nominal pose (tau = 0) on ``n_scan`` crank angles of one period
@@ -1333,10 +1369,10 @@ class ContactModel:
         y = -s * pose.x0 + c * pose.y0
         if ref is None:
             ct = self.profile.contacts(pose, x, y)
-            F, Fp = self.law.force(ct.delta), self.law.stiffness(ct.delta)
+            F, Fp = self.law.force_stiffness(ct.delta)
         else:
             ct = self.profile.contacts(pose, x, y, ref[1])
-            F, Fp = self.law.force_on(ct.delta, ref[0]), self.law.stiffness_on(ct.delta, ref[0])
+            F, Fp = self.law.force_stiffness(ct.delta, ref[0])
         q = 0.0 if traction is None else traction
         A = ct.arm if traction is None else ct.arm + q * (ct.xn + self.g.R_b)
         G, G_tau, G_geo = self._moment_slope(ct, F, Fp, A, q, x, y)
@@ -1449,7 +1485,7 @@ class ContactModel:
                                           None if traction is None else traction[..., failed], xtol)
         return tau
 
-    def state(self, theta, ref=None, phases: bool = True, guess=None) -> Solution:
+    def state(self, theta, ref=None, phases: bool = True, guess=None, scan=None) -> Solution:
         """The solved state at crank angles theta: tau, d tau/d theta, forces, tangential speeds.
 
         ``ref`` = (active, branch) (c, z2, n), optional: the active set and contact branches of the
@@ -1462,10 +1498,12 @@ class ContactModel:
         ``phases = False`` leaves phase and zeta None (the cycle adds them once, :meth:`phases`).
         ``guess`` (n,), optional: warm starts of tau (NaN: none), e.g. from the solved neighbours in the same piece
         (:func:`piece_guess`); the others from the solved angles around (:meth:`_guess`).
+        ``scan`` = (pose, solution), optional, with friction: the frictionless equilibrium at theta on the candidate
+        pins (:meth:`set_window`'s scan), from which the friction directions are iterated (instead of solving it).
         """
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         idx, sides = self.candidates(theta), self.sides
-        pose = self.pose(theta, idx, sides)
+        pose = self.pose(theta, idx, sides) if scan is None else scan[0]
         fixed = None if ref is None or len(ref) < 3 else ref[2]
         if ref is not None and idx is not None:
             # the sets are over the rows of this model's layout (a cycle's states): the candidates' rows there (and
@@ -1507,7 +1545,7 @@ class ContactModel:
             if sol is None:
                 sol = self._friction_solve(pose, fixed, tau, ref)
         else:
-            sol = self._friction_fixed_point(theta, pose, ref)
+            sol = self._friction_fixed_point(theta, pose, ref, None if scan is None else scan[1])
         self._remember(1 if self.friction is not None else 0, sol)
         sol = self._full(sol, idx, sides)
         if phases:
@@ -1564,14 +1602,14 @@ class ContactModel:
             raise Jam(exc.theta) from None
         return self._kinematics(pose, tau, traction, ref)
 
-    def _friction_fixed_point(self, theta, pose: Pose, ref) -> Solution:
+    def _friction_fixed_point(self, theta, pose: Pose, ref, start: "Solution | None" = None) -> Solution:
         """The friction forces' directions iterated to a fixed point (at most 8 passes; pins.md §5.5).
 
         The first directions come from the kinematics at the warm start of an earlier friction solution,
         or, without one (or where that start leaves a contact set without stiffness), from the
-        frictionless equilibrium."""
-        sol = None
-        guess = self._guess(theta, 1)
+        frictionless equilibrium (``start``: already solved on ``pose``)."""
+        sol = start
+        guess = None if start is not None else self._guess(theta, 1)
         if guess is not None:
             with np.errstate(divide="ignore", invalid="ignore"):
                 sol = self._kinematics(pose, guess, None, ref)
@@ -1744,7 +1782,7 @@ class ContactModel:
                 s = np.where(take, s, 0.0)
                 tau = tau + s
                 ct.delta = ct.delta - ct.arm * s
-                F, Fp = self.law.force(ct.delta), self.law.stiffness(ct.delta)
+                F, Fp = self.law.force_stiffness(ct.delta)
                 G, G_tau, _ = self._moment_slope(ct, F, Fp, A, q, x, y)
                 G = G + G_geo * s       # the moment at tau + s to first order in s: the arms' turn added
         G_tau0 = G_tau
