@@ -520,15 +520,37 @@ class CycloidProfile:
     def _turned(self, trig, s, beta, fam):
         """:meth:`_trig` at beta (= the old beta + s) from its values at the old beta: the angle sums with cos and sin
         of the small angles s and Z_e s by their Taylor series, exact to round-off while |Z_e s| <= 1e-3 (the terms
-        left out are below 1e-19 of the kept ones); otherwise evaluated anew."""
+        left out are below 1e-19 of the kept ones; to the third order while |Z_e s| <= 1e-5, below 1e-21 then);
+        otherwise evaluated anew.
+
+        Examples
+        --------
+        >>> from gearcalc.pins import Cycloid
+        >>> p = CycloidProfile(Cycloid.from_curtate_ratio(30, 31, 3.9, 0.75, 1.95))
+        >>> beta, fam = np.array([0.3, 2.0, 5.1]), np.zeros(3, dtype=np.int64)
+        >>> s = np.array([3e-8, -2e-7, 1e-5])               # the last one by the fifth-order series
+        >>> cb, sb, ca, sa = p._trig(beta, fam)
+        >>> t = 31.0 * s                                    # Z_e s; the angle sums with exact cos and sin of s, t
+        >>> exact = (cb * np.cos(s) - sb * np.sin(s), sb * np.cos(s) + cb * np.sin(s),
+        ...          ca * np.cos(t) - sa * np.sin(t), sa * np.cos(t) + ca * np.sin(t))
+        >>> turned = p._turned((cb, sb, ca, sa), s, beta + s, fam)
+        >>> bool(np.max(np.abs(np.array(turned) - np.array(exact))) <= 4.0 * np.finfo(float).eps)
+        True
+        """
         ze = self.design.z2 / self.design.k
         t = ze * s
-        if not np.max(np.abs(t), initial=0.0) <= 1e-3:
+        largest = np.max(np.abs(t), initial=0.0)
+        if not largest <= 1e-3:
             return self._trig(beta, fam)
         cb, sb, ca, sa = trig
         s2, t2 = s * s, t * t
-        c1, s1 = 1.0 - 0.5 * s2 + s2 * s2 / 24.0, s * (1.0 - s2 / 6.0 + s2 * s2 / 120.0)
-        c2, s2_ = 1.0 - 0.5 * t2 + t2 * t2 / 24.0, t * (1.0 - t2 / 6.0 + t2 * t2 / 120.0)
+        if largest <= 1e-5:
+            # the last step of a converged foot point (below 1e-7 rad): two terms each, the next ones below 1e-21
+            c1, s1 = 1.0 - 0.5 * s2, s * (1.0 - s2 / 6.0)
+            c2, s2_ = 1.0 - 0.5 * t2, t * (1.0 - t2 / 6.0)
+        else:
+            c1, s1 = 1.0 - 0.5 * s2 + s2 * s2 / 24.0, s * (1.0 - s2 / 6.0 + s2 * s2 / 120.0)
+            c2, s2_ = 1.0 - 0.5 * t2 + t2 * t2 / 24.0, t * (1.0 - t2 / 6.0 + t2 * t2 / 120.0)
         return cb * c1 - sb * s1, sb * c1 + cb * s1, ca * c2 - sa * s2_, sa * c2 + ca * s2_
 
     def _curve_of(self, trig):
