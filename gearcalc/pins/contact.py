@@ -994,7 +994,7 @@ def _doubling_bracket(G, n: int, h0: float, limit: float):
     h = h0
     open_ = G0 != 0.0
     prev = np.zeros(n)
-    while np.any(open_):
+    while open_.any():
         step = min(h, limit)
         Gs = G(direction * step)
         found = open_ & (np.sign(Gs) != np.sign(G0))
@@ -1090,8 +1090,8 @@ class ContactModel:
         trig = (np.cos(beta0), np.sin(beta0), np.cos(a), np.sin(a))
         x0 = g.R_p * trig[0] - g.e * trig[2]
         y0 = g.R_p * trig[1] - g.e * trig[3]
-        p = Pose(theta, x0, y0, np.broadcast_to(beta0, x0.shape), g.z2)
-        p.aux["idx"] = np.broadcast_to(sel, x0.shape)
+        p = Pose(theta, x0, y0, beta0 if beta0.shape == x0.shape else np.broadcast_to(beta0, x0.shape), g.z2)
+        p.aux["idx"] = sel if np.shape(sel) == x0.shape else np.broadcast_to(sel, x0.shape)
         self.profile.prepare(p, trig, sides)
         return p
 
@@ -1150,7 +1150,7 @@ class ContactModel:
         with np.errstate(all="ignore"):
             est = self._linearised_tau(n_scan, h0)
         first, start = None, None
-        if est is not None and np.all(np.isfinite(est)):
+        if est is not None and (np.isfinite(est)).all():
             # the window from the linearised balance's range; the scan solved on its pins only, kept when its tau
             # stay in the window's range (else every pin, below)
             self._window_for(*_window_range(est), n_scan)
@@ -1162,7 +1162,7 @@ class ContactModel:
                     part = self._kinematics(sub, self._solve(sub, None, est), None)
                 except NoEquilibrium:
                     part = None
-            if part is not None and self.window_holds(part.tau) and np.all(np.isfinite(part.dtau)):
+            if part is not None and self.window_holds(part.tau) and (np.isfinite(part.dtau)).all():
                 first = self._full(part, idx, sides)
                 start = (sub, part)
         if first is None:
@@ -1173,15 +1173,15 @@ class ContactModel:
                 first = self._kinematics(pose, tau, None)
             self._window_for(*_window_range(tau), n_scan)
             first = _relayout(first, self.layout()[0])
-        if np.all(np.isfinite(first.dtau)):
+        if (np.isfinite(first.dtau)).all():
             self._remember(0, first)   # the frictionless solution warm-starts the scan below
-        if self.friction is None and np.all(np.isfinite(first.dtau)):
+        if self.friction is None and (np.isfinite(first.dtau)).all():
             # the frictionless scan is the state over all pins (the window's pins the same, the others untouched)
             first.phase, first.zeta = self.phases(theta, first.rows)
             return first
         # and the warm-start memory for the cycle; the friction directions from the frictionless scan on the window's
         # pins (its pose and solution, not solved again)
-        return self.state(theta, scan=start if np.all(np.isfinite(first.dtau)) else None)
+        return self.state(theta, scan=start if (np.isfinite(first.dtau)).all() else None)
 
     def _nominal(self, n_scan: int = 64):
         """(psi, delta, arm) of every pin at the nominal pose (tau = 0) on ``n_scan`` crank angles of one period
@@ -1208,7 +1208,7 @@ class ContactModel:
         # delta(tau) <= delta(0) - (X x n) tau + (R_p + e) tau^2/2: convex in tau, largest at an end
         reach = np.maximum(-arm * t_lo + 0.5 * R * t_lo * t_lo, -arm * t_hi + 0.5 * R * t_hi * t_hi)
         touch_c = delta + reach + 0.01 * np.abs(reach) + 1e-12 * g.R_p > 0.0
-        touch = np.any(touch_c, axis=0)
+        touch = touch_c.any(axis=0)
         z = np.sort(-psi[touch])
         if z.size:
             gaps = np.diff(np.concatenate((z, [z[0] + 2.0 * math.pi])))
@@ -1220,7 +1220,7 @@ class ContactModel:
             if m < g.z2:
                 self.window = (float(z_lo), float(z_hi), m, (t_lo, t_hi))
                 # the contacts of a pin that can touch at all (circular teeth: one of the two, by the torque's sense)
-                can = np.any(touch_c, axis=(1, 2))
+                can = touch_c.any(axis=(1, 2))
                 self._sides = (self.window, np.flatnonzero(can)) if can.any() and not can.all() else None
 
     def period_pins(self):
@@ -1260,7 +1260,7 @@ class ContactModel:
         if self.window is None:
             return True
         t_lo, t_hi = self.window[3]
-        if not np.all((tau >= t_lo) & (tau <= t_hi)):
+        if not ((tau >= t_lo) & (tau <= t_hi)).all():
             return False
         if theta is None or tau.size == 0:
             return True
@@ -1269,7 +1269,7 @@ class ContactModel:
         last = None if prev is None else prev.clearance
         if (last is not None and last[0].shape == theta.shape and np.array_equal(last[0], theta)
                 and last[3][1] == key[1] and np.array_equal(last[3][0], idx)):
-            d = float(np.max(np.abs(tau - last[1])))
+            d = float((np.abs(tau - last[1])).max())
             bound = (self.g.R_p + self.g.e) * (d + 0.5 * d * d)
             if bound < last[2]:
                 self.clearance = (theta, tau, last[2] - bound, key)
@@ -1284,7 +1284,7 @@ class ContactModel:
         if sides is not None:
             delta = delta.copy()
             delta[sides[:, None], np.arange(1, pins.shape[0] - 1)[None, :]] = -np.inf
-        c = float(-np.max(delta))
+        c = float(-delta.max())
         if not c >= 0.0:
             return False
         self.clearance = (theta, tau, c, key)
@@ -1372,8 +1372,8 @@ class ContactModel:
             ct = self.contacts(pose, tau, ref[1])
             F = self.law.force_on(ct.delta, ref[0])
         if traction is None:
-            return np.sum(F * ct.arm, axis=(0, 1))
-        return np.sum(F * (ct.arm + traction * (ct.xn + self.g.R_b)), axis=(0, 1))
+            return (F * ct.arm).sum(axis=(0, 1))
+        return (F * (ct.arm + traction * (ct.xn + self.g.R_b))).sum(axis=(0, 1))
 
     def _balance(self, pose: Pose, tau, traction=None, ref=None):
         r"""G = M - M_req and its analytic derivative G_tau, with the contact data (pins.md §5.5).
@@ -1403,10 +1403,10 @@ class ContactModel:
     def _moment_slope(self, ct: Contacts, F, Fp, A, q, x, y):
         """(G, G_tau, G_geo) of :meth:`_balance` from the contact data; G_geo: the part of G_tau from the turning
         geometry at fixed deflections, sum F (1 + w.X_tau)(X.n - q X x n)."""
-        G = np.sum(F * A, axis=(0, 1)) - self.M_req
+        G = (F * A).sum(axis=(0, 1)) - self.M_req
         one = 1.0 + (ct.wx * y - ct.wy * x)
-        G_geo = np.sum(F * one * (ct.xn - q * ct.arm), axis=(0, 1))
-        return G, np.sum(-Fp * ct.arm * A, axis=(0, 1)) + G_geo, G_geo
+        G_geo = (F * one * (ct.xn - q * ct.arm)).sum(axis=(0, 1))
+        return G, (-Fp * ct.arm * A).sum(axis=(0, 1)) + G_geo, G_geo
 
     # -- equilibrium ------------------------------------------------------------------------------
     def solve(self, theta, xtol: float = 1e-15, traction=None, pose=None):
@@ -1442,12 +1442,12 @@ class ContactModel:
         _, d0, arm = self._nominal(n_scan)
 
         def G(t):
-            return np.sum(self.law.force(d0 - arm * t) * arm, axis=(0, 1)) - self.M_req
+            return (self.law.force(d0 - arm * t) * arm).sum(axis=(0, 1)) - self.M_req
 
         a, b, open_ = _doubling_bracket(G, n, h0, math.pi / self.g.z1)
-        if np.any(open_):
+        if open_.any():
             return None
-        return find_root(G, a, b, xtol=1e-3 * float(np.max(np.abs(np.concatenate((a, b))))), rtol=0.0).root
+        return find_root(G, a, b, xtol=1e-3 * float((np.abs(np.concatenate((a, b)))).max()), rtol=0.0).root
 
     def _solve(self, pose: Pose, traction=None, guess=None, xtol: float = 1e-15, maxiter: int = 40, bracket=None):
         """tau from G(tau) = 0 at every crank angle of ``pose``: safeguarded Newton from ``guess``.
@@ -1490,19 +1490,19 @@ class ContactModel:
                 failed[idx] = fail
                 done[idx] = conv & ~fail
                 keep = ~(conv | fail)
-                if not np.any(keep):
+                if not keep.any():
                     break
-                if not np.all(keep):     # go on with the angles not yet solved (a sub-pose keeps its foot points)
+                if not keep.all():     # go on with the angles not yet solved (a sub-pose keeps its foot points)
                     sub = _sub_pose(sub, keep)
                     tr = None if tr is None else tr[..., keep]
                     idx = idx[keep]
         failed |= ~done
-        if np.any(failed) and bracket is not None:
+        if failed.any() and bracket is not None:
             sub = _sub_pose(pose, failed)
             tr = None if traction is None else traction[..., failed]
             tau[failed] = _bracket_root(lambda t: self.moment(sub, t, tr) - self.M_req, sub.theta, bracket[0][failed],
                                         bracket[1][failed], xtol)
-        elif np.any(failed):
+        elif failed.any():
             tau[failed] = self._bracketed(_sub_pose(pose, failed),
                                           None if traction is None else traction[..., failed], xtol)
         return tau
@@ -1531,7 +1531,7 @@ class ContactModel:
             # the sets are over the rows of this model's layout (a cycle's states): the candidates' rows there (and
             # the contacts the states evaluate, :attr:`sides`)
             at, cols = self.layout()[1][idx], np.arange(theta.size)[None, :]
-            if np.any(at < 0):
+            if (at < 0).any():
                 raise ValueError("piece sets over the layout's rows hold no pins outside one period's window")
             cs = _contact_index(self.profile, sides)
 
@@ -1592,7 +1592,7 @@ class ContactModel:
 
         part, pose_c = sol, pose
         for r in range(rounds + 1):
-            if not np.any(need):
+            if not need.any():
                 return sol
             keep = np.flatnonzero(need)
             cols = cols[keep]
@@ -1601,7 +1601,7 @@ class ContactModel:
             tau, G, G_tau = part.tau[keep], part.residual[keep], part.g_tau[keep]
             with np.errstate(divide="ignore", invalid="ignore"):
                 step = -G / G_tau
-            if r == rounds or not np.all((G_tau < 0.0) & (np.abs(step) <= 0.5 * np.abs(tau))):
+            if r == rounds or not ((G_tau < 0.0) & (np.abs(step) <= 0.5 * np.abs(tau))).all():
                 break
             with np.errstate(divide="ignore", invalid="ignore"):
                 part, need = self._kinematics(pose_c, tau + step, tr, ref_c, step=True)
@@ -1635,7 +1635,7 @@ class ContactModel:
         if guess is not None:
             with np.errstate(divide="ignore", invalid="ignore"):
                 sol = self._kinematics(pose, guess, None, ref)
-            if not np.all(np.isfinite(sol.v_t)):
+            if not (np.isfinite(sol.v_t)).all():
                 sol = None
         if sol is None:
             sol = self._kinematics(pose, self._solve(pose, None, self._guess(theta, 0)), None, ref)
@@ -1677,9 +1677,17 @@ class ContactModel:
             # with other sets): a warm start between a new state and an old one at the next angle would carry the old
             # one's error (~1e-3 of tau after a torque pass of lambda_bar ~ 0.1)
             if th.size:
-                keep = _distance_to(np.sort(th), old[0]) > 1e-12 * self.g.period
-                old = tuple(o[keep] for o in old)
-                old_g = None if old_g is None else old_g[keep]
+                # the old angles within 1e-12 T_p of a new one: the stretches [x - eps, x + eps] of the sorted memory
+                eps = 1e-12 * self.g.period
+                lo = np.searchsorted(old[0], th - eps, side="left")
+                hi = np.searchsorted(old[0], th + eps, side="right")
+                if (hi > lo).any():
+                    cover = np.zeros(old[0].size + 1, dtype=np.int64)
+                    np.add.at(cover, lo, 1)
+                    np.add.at(cover, hi, -1)
+                    keep = np.cumsum(cover[:-1]) == 0
+                    old = tuple(o[keep] for o in old)
+                    old_g = None if old_g is None else old_g[keep]
             th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
             if gt is not None and old_g is None:
                 old_g = np.full(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
@@ -1717,7 +1725,7 @@ class ContactModel:
         if idx is None:
             return sol
         rows, pos = self.layout()
-        if rows is not None and np.any(pos[idx] < 0):
+        if rows is not None and (pos[idx] < 0).any():
             rows = np.union1d(rows, idx)
             pos = np.full(self.g.z2, -1)
             pos[rows] = np.arange(rows.size)
@@ -1800,7 +1808,7 @@ class ContactModel:
                 take = ((G_tau < 0.0) & np.isfinite(s) & (np.abs(s) <= NEWTON_SMALL * np.abs(tau))
                         & (np.abs(G_geo * s) <= 1e-3 * NEWTON_SMALL * abs(self.M_req)))
             need = ~take
-            if np.any(take):
+            if take.any():
                 s = np.where(take, s, 0.0)
                 tau = tau + s
                 ct.delta = ct.delta - ct.arm * s
@@ -1812,10 +1820,10 @@ class ContactModel:
         if ref is not None:
             # the piece's sets differ from the solution's own only at some angles (a piece end, a contact at
             # delta = 0): the one-sided derivatives are evaluated there alone, the others are the same
-            other = np.any(ref[0] != (F > 0.0), axis=(0, 1))
+            other = (ref[0] != (F > 0.0)).any(axis=(0, 1))
             if ref[1] is not None:
-                other |= np.any(ref[1] != ct.branch, axis=(0, 1))
-            if np.any(other):
+                other |= (ref[1] != ct.branch).any(axis=(0, 1))
+            if other.any():
                 cols = np.flatnonzero(other)
                 sub_ref = (ref[0][..., cols], None if ref[1] is None else ref[1][..., cols])
                 sub_q = traction[..., cols] if isinstance(traction, np.ndarray) else traction
@@ -1833,7 +1841,7 @@ class ContactModel:
         om = cr.wx * vx + cr.wy * vy
         d_arm = vx * cr.ny - vy * cr.nx + om * cr.xn
         d_xn = dd - om * cr.arm
-        G_th = np.sum(Fp_r * dd * A_r + F_r * (d_arm + q * d_xn), axis=(0, 1))
+        G_th = (Fp_r * dd * A_r + F_r * (d_arm + q * d_xn)).sum(axis=(0, 1))
         dtau = -G_th / G_tau
         # contact velocity (omega_H = 1): v = z x O1 + w1 z x (C - O1); v_t = v.(z x n)
         #   = O1'.n + w1 (C.n), O1' = e u(theta - phi) and C = X + R_b n in the satellite axes
@@ -1841,7 +1849,7 @@ class ContactModel:
         o_n = g.e * (ca * ct.nx + sa * ct.ny)
         v_t = o_n + w1 * (ct.xn + g.R_b)
         ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
-        noise = EPS * (g.R_p + g.e) * np.sum(np.abs(Fp * ct.arm), axis=(0, 1))
+        noise = EPS * (g.R_p + g.e) * (np.abs(Fp * ct.arm)).sum(axis=(0, 1))
         sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
                        G_tau0, ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
         return (sol, need) if step else sol
@@ -1904,7 +1912,7 @@ class ContactModel:
         if ct is None:
             ct, pick = self.solved_contacts(sol)
         F, q = pick(sol.force), 0.0 if traction is None else pick(traction)
-        return -np.sum(F * (ct.nx - q * ct.ny), axis=(0, 1)), -np.sum(F * (ct.ny + q * ct.nx), axis=(0, 1))
+        return -(F * (ct.nx - q * ct.ny)).sum(axis=(0, 1)), -(F * (ct.ny + q * ct.nx)).sum(axis=(0, 1))
 
 
 # ============================================================ losses (pins.md §5.6)
@@ -1929,7 +1937,7 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
         return contact_loss_power(F, slide, mu_eff) * 1e3, np.zeros(F.shape[1:]), slide
     lead = np.argmax(F, axis=0)
     v_lead = np.take_along_axis(v, lead[None], axis=0)[0]
-    loaded = np.any(F > 0.0, axis=0)
+    loaded = (F > 0.0).any(axis=0)
     spin = np.where(loaded, v_lead / R_b, 0.0)
     is_lead = np.arange(F.shape[0])[:, None, None] == lead[None]
     slide = np.where(is_lead, 0.0, np.abs(v - v_lead[None]))
@@ -2085,7 +2093,7 @@ def _over_rows(a, src, dst, fill):
     pin that ``a`` does not hold gets ``fill``."""
     at = np.clip(np.searchsorted(src, dst), 0, src.size - 1)
     have = src[at] == dst
-    if np.all(have):
+    if have.all():
         return a[..., at, :]
     b = np.full(a.shape[:-2] + (dst.size, a.shape[-1]), fill, dtype=a.dtype)
     b[..., have, :] = a[..., at[have], :]
@@ -2201,7 +2209,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
         lo.append(a[idx]), hi.append(b[idx]), flo.append(va[comp, idx]), fhi.append(vb[comp, idx])
         missing = np.setdiff1d(np.arange(todo.size), idx)
         todo = todo[missing]
-        if todo.size and np.any(w[todo] >= max_width):
+        if todo.size and (w[todo] >= max_width).any():
             return None
         w[todo] = np.minimum(4.0 * w[todo], max_width)
     comp = np.concatenate(comps)
@@ -2563,11 +2571,11 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
             # sign changes around the piece while they were located, else at the midpoint; kept for the check below
             col, known = _interior_states(found, new, g.period)
             parts = []
-            if np.any(col >= 0):
+            if (col >= 0).any():
                 rs = _take(known, col[col >= 0])
                 rs.theta = new[col >= 0]            # the piece's reference, told by its midpoint
                 parts.append(rs)
-            if np.any(col < 0):
+            if (col < 0).any():
                 parts.append(model.state(new[col < 0], phases=False))
             for rs in parts:
                 ref_sols.append(rs)
@@ -2743,7 +2751,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         # over this model's rows (a pin they do not hold: out of reach at every node, inactive); a pin left out must
         # carry no force in them (the window's bound: it cannot touch at this torque either)
         src, dst = (np.arange(g.z2) if r is None else r for r in (rows, rows2))
-        if np.any(sol1.force[:, ~np.isin(src, dst)] > 0.0):
+        if (sol1.force[:, ~np.isin(src, dst)] > 0.0).any():
             return None
         sets = tuple(None if a is None else _over_rows(a, src, dst, fill) for a, fill in zip(sets, (False, -1, 0.0)))
         ref_sols = [_relayout(r, rows2, g.z2) for r in ref_sols]
@@ -2768,13 +2776,13 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
             return None
         L1 = contact_losses(sol1, R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
         L2 = contact_losses(s2k, R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
-    if not (np.all(np.isfinite(L2)) and np.all(np.isfinite(s2k.force)) and np.all(np.isfinite(s2k.v_t))):
+    if not ((np.isfinite(L2)).all() and (np.isfinite(s2k.force)).all() and (np.isfinite(s2k.v_t)).all()):
         return None
     # the change's trapezoid over the solved nodes of each piece, and over every other one of them (its error)
     dL, pk = L2 - L1[kept], ps[keep]
     w, w2 = _nested_trapezoid_weights(xs[keep], pk)
     change = np.bincount(pk, weights=w * dL, minlength=edges.size)
-    E_d = float(np.sum(np.abs(change - np.bincount(pk, weights=w2 * dL, minlength=edges.size)))) / Tp / scale2
+    E_d = float((np.abs(change - np.bincount(pk, weights=w2 * dL, minlength=edges.size))).sum()) / Tp / scale2
     lam2 = (cyc.loss_ratio * scale1 + float(change.sum()) / Tp) / scale2
     E_q = cyc.loss_ratio_err * scale1 / scale2 + E_d
     # the nodes between: the first pass's states moved by the change, linear between the solved nodes around
@@ -2791,7 +2799,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         n = x.size
         a_end = np.clip(np.searchsorted(xs, r), 0, n - 1)      # the two one-sided nodes at each breakpoint
         b_end = np.minimum(a_end + 1, n - 1)
-        if not np.all((np.abs(xs[a_end] - r) <= 8e-12 * Tp) & (xs[b_end] == xs[a_end])):
+        if not ((np.abs(xs[a_end] - r) <= 8e-12 * Tp) & (xs[b_end] == xs[a_end])).all():
             return None
         # the components that change sign at each breakpoint (between its neighbouring nodes, first torque), and
         # how far their zero moved: a Newton step from the one-sided nodes at the new torque (secant: no slope)
@@ -2807,8 +2815,8 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
             secant = (v2n - v2) / (x[nb] - x[ends])[None, :]
             slope = np.where(np.isfinite(dv2) & (dv2 != 0.0), dv2, secant)
             step = np.where(flips, -v2 / slope, 0.0)          # the zero's signed move, from either side
-        d = np.max(np.maximum(np.abs(step[:, :m]), np.abs(step[:, m:])), axis=0)
-        if not (np.all(flips.any(axis=0)) and np.all(np.isfinite(d))):
+        d = (np.maximum(np.abs(step[:, :m]), np.abs(step[:, m:]))).max(axis=0)
+        if not ((flips.any(axis=0)).all() and (np.isfinite(d)).all()):
             return None
         move = RELINEARISE_MARGIN * d
         width = float(move.max())
@@ -2822,21 +2830,21 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
             side = side / (1.0 + p_exp)
             strip = move * (np.abs(l1[a_end] - l1[b_end]) + np.where(move > 0.0, side, 0.0))
             grows = left != right               # an entry or exit alone whose zero moved out of the touching side
-            if np.any(grows):
+            if grows.any():
                 # that strip integrated, not bounded: the integrand's error there (the touching pin's share of the
                 # speeds, missing) grows from 0 at the new zero like t^p to e_r at the old place, where both sides'
                 # states are solved at the new torque: its integral e_r d/(1 + p) joins the value, and what a zero
                 # up to 25 % farther would add, (1.25^(1 + p) - 1) of it, the error
                 both = np.concatenate((a_end, b_end))          # piece ends: solved nodes, their losses in L2
-                l2 = L2[place[both]] if np.all(keep[both]) else \
+                l2 = L2[place[both]] if keep[both].all() else \
                     contact_losses(_take(s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
                 e_r = np.where(left == 1.0, l2[:m] - l2[m:], l2[m:] - l2[:m])     # touching minus the other
                 grown = np.where(grows, e_r * d / (1.0 + p_exp), 0.0)
                 strip = np.where(grows, (RELINEARISE_MARGIN ** (1.0 + p_exp) - 1.0) * np.abs(grown), strip)
-                lam2 += float(np.sum(grown)) / Tp / scale2
-        if not (np.all(np.isfinite(strip)) and math.isfinite(lam2)):
+                lam2 += float(grown.sum()) / Tp / scale2
+        if not ((np.isfinite(strip)).all() and math.isfinite(lam2)):
             return None
-        E_s = float(np.sum(strip)) / Tp / scale2
+        E_s = float(strip.sum()) / Tp / scale2
     if not (E_q + E_s <= RELINEARISE_SHARE * tol * abs(lam2)
             and _pieces_hold([s2], [node_mid], ref_sols, edges, rolls, tol, Tp, away=(r, width),
                              floor=HOLD_FLOOR if cyc.roots.scanned else 0.0)):
@@ -3081,7 +3089,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
         inner = (x - edges[piece] > excl) & (edges[piece + 1] - x > excl)
         if away is not None and away[0].size:
             inner &= _distance_to(away[0], x) > away[1]
-        if not np.any(inner):
+        if not inner.any():
             continue
         v = _components(c, rolls)[0][:, inner]
         if v.shape[0] != rv.shape[0]:
@@ -3089,7 +3097,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
         if floor > 0.0:
             v = np.where(np.abs(v) > big, v, np.nan)
         col = order[np.searchsorted(rm[order], mid[inner])]
-        if np.any(((v > 0.0) & rneg[:, col]) | ((v < 0.0) & rpos[:, col])):
+        if (((v > 0.0) & rneg[:, col]) | ((v < 0.0) & rpos[:, col])).any():
             return False
     return True
 
@@ -3965,8 +3973,8 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
         if span <= 0.0:
             return float(v[0])
         if w is not None:
-            return float(np.sum(w * v) / span)
-        return float(np.sum(0.5 * (v[1:] + v[:-1]) * np.diff(theta)) / span)
+            return float((w * v).sum() / span)
+        return float((0.5 * (v[1:] + v[:-1]) * np.diff(theta)).sum() / span)
 
     loaded = F > 0.0
     crest = np.zeros(F.shape, dtype=bool) if ct.branch is None else (ct.branch >= 0) & loaded
