@@ -948,6 +948,13 @@ _PIN_FILL = {"delta": -np.inf, "force": 0.0, "v_t": 0.0, "switch": np.nan, "bran
 _CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
 
 
+def _filled(shape, value, dtype=float):
+    """np.full without its Python wrapper (the scatters of every solve call it): an empty array filled in place."""
+    out = np.empty(shape, dtype)
+    out.fill(value)
+    return out
+
+
 def _with_cols(full, part, cols):
     """``full`` (..., n) with its columns ``cols`` replaced by ``part`` (a copy; None stays None)."""
     if full is None or part is None:
@@ -975,7 +982,7 @@ def _distance_to(points, x):
     >>> _distance_to(np.array([0.0, 1.0]), np.array([-1.0, 0.25, 0.5, 3.0])).tolist()
     [1.0, 0.25, 0.5, 2.0]
     """
-    k = np.clip(np.searchsorted(points, x), 1, points.size)
+    k = np.minimum(np.maximum(points.searchsorted(x), 1), points.size)
     return np.minimum(np.abs(x - points[k - 1]), np.abs(x - points[np.minimum(k, points.size - 1)]))
 
 
@@ -1313,7 +1320,7 @@ class ContactModel:
         for key, memo in other._memo.items():
             if memo is not None:
                 th = np.mod(-memo[0], Tp)
-                order = np.argsort(th, kind="stable")
+                order = th.argsort(kind="stable")
                 self._memo[key] = (th[order], -memo[1][order] * r, memo[2][order] * r)
         if self.friction is not None and self._memo[1] is None:
             self._memo[1] = self._memo[0]
@@ -1460,7 +1467,7 @@ class ContactModel:
         if guess is None:
             return self._bracketed(pose, traction, xtol)
         tau = np.array(guess, dtype=float)
-        lo, hi = ((np.full(n, -np.inf), np.full(n, np.inf)) if bracket is None
+        lo, hi = ((_filled(n, -np.inf), _filled(n, np.inf)) if bracket is None
                   else (bracket[0].copy(), bracket[1].copy()))
         done = np.zeros(n, dtype=bool)
         failed = np.zeros(n, dtype=bool)
@@ -1679,8 +1686,8 @@ class ContactModel:
             if th.size:
                 # the old angles within 1e-12 T_p of a new one: the stretches [x - eps, x + eps] of the sorted memory
                 eps = 1e-12 * self.g.period
-                lo = np.searchsorted(old[0], th - eps, side="left")
-                hi = np.searchsorted(old[0], th + eps, side="right")
+                lo = old[0].searchsorted(th - eps, side="left")
+                hi = old[0].searchsorted(th + eps, side="right")
                 if (hi > lo).any():
                     cover = np.zeros(old[0].size + 1, dtype=np.int64)
                     np.add.at(cover, lo, 1)
@@ -1690,9 +1697,9 @@ class ContactModel:
                     old_g = None if old_g is None else old_g[keep]
             th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
             if gt is not None and old_g is None:
-                old_g = np.full(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
+                old_g = _filled(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
             gt = None if old_g is None or gt is None else np.concatenate((old_g, gt))
-        order = np.argsort(th, kind="stable")
+        order = th.argsort(kind="stable")
         self._memo[key] = (th[order], ta[order], dt[order])
         self._gtau[key] = None if gt is None else gt[order]
 
@@ -1706,7 +1713,7 @@ class ContactModel:
         th, ta, dt = memo
         if th.size == 1:
             return ta[0] + dt[0] * (theta - th[0])
-        j = np.clip(np.searchsorted(th, theta, side="right"), 1, th.size - 1)
+        j = np.minimum(np.maximum(th.searchsorted(theta, side="right"), 1), th.size - 1)
         a, b = j - 1, j
         near = np.where(np.abs(theta - th[a]) <= np.abs(th[b] - theta), a, b)
         line = ta[near] + dt[near] * (theta - th[near])
@@ -1738,7 +1745,7 @@ class ContactModel:
         def scatter(a, fill):
             if a is None:
                 return None
-            out = np.full(a.shape[:-3] + (C, R, n), fill, dtype=a.dtype)
+            out = _filled(a.shape[:-3] + (C, R, n), fill, a.dtype)
             out[..., cs, at[None], cols[None]] = a
             return out
 
@@ -1864,7 +1871,7 @@ class ContactModel:
         cols = np.arange(np.size(theta))[None, :]
         at = idx
         if rows is not None:
-            at = np.clip(np.searchsorted(rows, idx), 0, rows.size - 1)
+            at = np.minimum(np.maximum(rows.searchsorted(idx), 0), rows.size - 1)
             if not np.array_equal(rows[at], idx):
                 raise ValueError("the state's rows do not hold every candidate pin")
 
@@ -2014,7 +2021,7 @@ def _sorted_places(thetas: list) -> list:
     """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order)."""
     theta = np.concatenate(thetas)
     place = np.empty(theta.size, dtype=np.int64)
-    place[np.argsort(theta, kind="stable")] = np.arange(theta.size)
+    place[theta.argsort(kind="stable")] = np.arange(theta.size)
     bounds = np.cumsum([0] + [t.size for t in thetas])
     return [place[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
@@ -2091,11 +2098,11 @@ def _relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
 def _over_rows(a, src, dst, fill):
     """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted): a
     pin that ``a`` does not hold gets ``fill``."""
-    at = np.clip(np.searchsorted(src, dst), 0, src.size - 1)
+    at = np.minimum(np.maximum(src.searchsorted(dst), 0), src.size - 1)
     have = src[at] == dst
     if have.all():
         return a[..., at, :]
-    b = np.full(a.shape[:-2] + (dst.size, a.shape[-1]), fill, dtype=a.dtype)
+    b = _filled(a.shape[:-2] + (dst.size, a.shape[-1]), fill, a.dtype)
     b[..., have, :] = a[..., at[have], :]
     return b
 
@@ -2122,7 +2129,7 @@ def _components(s: Solution, rolls: bool):
         parts.append(np.where(loaded.all(axis=0), force[0] - force[1], np.nan).reshape(-1, n))
         parts.append(np.where(other, v_t - v_lead, np.nan).reshape(-1, n))
     values = np.concatenate(parts)
-    slopes.append(np.full((values.shape[0] - slopes[0].shape[0], n), np.nan))
+    slopes.append(_filled((values.shape[0] - slopes[0].shape[0], n), np.nan))
     return values, np.concatenate(slopes), slopes[0].shape[0]
 
 
@@ -2177,7 +2184,7 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
                                      jump_xtol=1e-3 * tol * Tp, step_tol=ROOT_STEP * Tp)
     else:
         roots = np.empty(0)
-    order = np.argsort(roots, kind="stable")
+    order = roots.argsort(kind="stable")
     return BreakpointRoots(roots[order], (comp < n_delta)[order], not checked, state.seen)
 
 
@@ -2232,7 +2239,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     comp, roots = comp[~dup], roots[~dup]
     if roots.size != r0.size:
         return None
-    order = np.argsort(roots, kind="stable")
+    order = roots.argsort(kind="stable")
     return BreakpointRoots(roots[order], (comp < n_delta)[order], False, state.seen)
 
 
@@ -2461,7 +2468,7 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     a, b = q.edges[:-1], q.edges[1:]
     c, h = 0.5 * (a + b), 0.5 * (b - a)
     x = c[:, None] + h[:, None] * t[None, :]                    # as the quadrature evaluated them
-    k_all = np.clip(np.searchsorted(sol.theta, x.ravel()), 0, sol.theta.size - 1)
+    k_all = np.minimum(np.maximum(sol.theta.searchsorted(x.ravel()), 0), sol.theta.size - 1)
     if not np.array_equal(sol.theta[k_all], x.ravel()):
         return None
     k_all = k_all.reshape(a.size, m)
@@ -2589,7 +2596,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         traction = None if refs[um[0]][2] is None else np.stack([refs[m][2] for m in um], axis=-1)[..., inv]
         key = piece_keys(edges, x, mid)
         s = model.state(x, (active, branch, traction), phases=False, guess=piece_guess(*solved, key, x, edges))
-        order = np.argsort(k_all := np.concatenate((solved[0], key)), kind="stable")
+        order = (k_all := np.concatenate((solved[0], key))).argsort(kind="stable")
         solved[:] = [k_all[order], np.concatenate((solved[1], s.tau))[order],
                      np.concatenate((solved[2], s.dtau))[order]]
         cache.append(s)
@@ -2761,7 +2768,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     # the final grid piece by piece (a piece end is a node of each of its two pieces); pieces follow each other in
     # theta, so the order by (piece, theta) is sorted in theta too
     edges = cyc.breakpoints
-    p = np.clip(np.searchsorted(edges, node_mid) - 1, 0, edges.size - 2)
+    p = np.minimum(np.maximum(edges.searchsorted(node_mid) - 1, 0), edges.size - 2)
     order = np.lexsort((x, p))
     xs, ps = x[order], p[order]
     keep, lo_s, hi_s, t_s = _strided(xs, ps, RELINEARISE_STRIDE if stride is None else stride)
@@ -2797,13 +2804,13 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     E_s, width = 0.0, 0.0
     if r.size:
         n = x.size
-        a_end = np.clip(np.searchsorted(xs, r), 0, n - 1)      # the two one-sided nodes at each breakpoint
+        a_end = np.minimum(np.maximum(xs.searchsorted(r), 0), n - 1)      # the two one-sided nodes at each breakpoint
         b_end = np.minimum(a_end + 1, n - 1)
         if not ((np.abs(xs[a_end] - r) <= 8e-12 * Tp) & (xs[b_end] == xs[a_end])).all():
             return None
         # the components that change sign at each breakpoint (between its neighbouring nodes, first torque), and
         # how far their zero moved: a Newton step from the one-sided nodes at the new torque (secant: no slope)
-        nb = order[np.clip(np.concatenate((a_end - 1, b_end + 1)), 0, n - 1)]
+        nb = order[np.minimum(np.maximum(np.concatenate((a_end - 1, b_end + 1)), 0), n - 1)]
         ends = order[np.concatenate((a_end, b_end))]
         v1 = _components(_take(sol1, nb), rolls)[0]
         v2n = _components(_take(s2, nb), rolls)[0]
@@ -2821,8 +2828,8 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         move = RELINEARISE_MARGIN * d
         width = float(move.max())
         p_exp = 1.0 if model.law.exponent == 1.0 else model.law.exponent - 1.0
-        lo = np.clip(np.searchsorted(xs, r - move, side="right") - 1, 0, n - 1)
-        hi = np.clip(np.searchsorted(xs, r + move, side="left"), 0, n - 1)
+        lo = np.minimum(np.maximum(xs.searchsorted(r - move, side="right") - 1, 0), n - 1)
+        hi = np.minimum(np.maximum(xs.searchsorted(r + move, side="left"), 0), n - 1)
         left, right = _strip_sides(flips[:, :m], step, v1[:, :m], n_delta, model.law.exponent != 1.0)
         with np.errstate(divide="ignore", invalid="ignore"):
             side = (left * np.abs(l1[lo] - l1[a_end]) * np.minimum(1.0, move / (r - xs[lo])) ** p_exp
@@ -3022,7 +3029,7 @@ def _interior_states(found: BreakpointRoots, mids, period: float):
     th = known.theta
     r = found.roots
     margin = INTERIOR_MARGIN * period
-    k = np.searchsorted(r, mids)
+    k = r.searchsorted(mids)
     lo = np.where(k > 0, r[np.maximum(k - 1, 0)], -np.inf)[:, None]
     hi = np.where(k < r.size, r[np.minimum(k, r.size - 1)], np.inf)[:, None]
     inside = (th[None, :] > lo + margin) & (th[None, :] < hi - margin)
@@ -3034,11 +3041,11 @@ def _interior_states(found: BreakpointRoots, mids, period: float):
 def piece_keys(edges, x, mid):
     """The nodes' places 2 p + (x - a_p)/(b_p - a_p) in [2 p, 2 p + 1], p the piece of the midpoint ``mid`` (edges
     sorted): the keys of two pieces never meet, so the piece ends are told apart from their neighbours'."""
-    p = np.clip(np.searchsorted(edges, mid) - 1, 0, edges.size - 2)
+    p = np.minimum(np.maximum(edges.searchsorted(mid) - 1, 0), edges.size - 2)
     a, b = edges[p], edges[p + 1]
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(b > a, (x - a) / (b - a), 0.5)
-    return 2.0 * p + np.clip(t, 0.0, 1.0)
+    return 2.0 * p + np.minimum(np.maximum(t, 0.0), 1.0)
 
 
 def piece_guess(keys, tau, dtau, key, x, edges):
@@ -3048,11 +3055,11 @@ def piece_guess(keys, tau, dtau, key, x, edges):
     model's own warm start, :meth:`ContactModel.state`).  None when nothing is solved yet."""
     if keys.size < 2:
         return None
-    j = np.clip(np.searchsorted(keys, key), 1, keys.size - 1)
+    j = np.minimum(np.maximum(keys.searchsorted(key), 1), keys.size - 1)
     a, b = j - 1, j
     p = np.floor(key * 0.5)
     same = (np.floor(keys[a] * 0.5) == p) & (np.floor(keys[b] * 0.5) == p)
-    p = np.clip(p.astype(np.int64), 0, edges.size - 2)
+    p = np.minimum(np.maximum(p.astype(np.int64), 0), edges.size - 2)
     L = edges[p + 1] - edges[p]
     xa, xb = edges[p] + (keys[a] - 2.0 * p) * L, edges[p] + (keys[b] - 2.0 * p) * L
     h = xb - xa
@@ -3081,11 +3088,11 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
         big = np.where(np.isfinite(big), big, 0.0)[:, None]
         rv = np.where(np.abs(rv) > big, rv, np.nan)
     rpos, rneg = rv > 0.0, rv < 0.0             # NaN: neither (no sign)
-    order = np.argsort(rm)
+    order = rm.argsort()
     excl = 2e-3 * tol * period + 8e-12 * period
     for c, mid in zip(cache, mids):
         x = c.theta
-        piece = np.clip(np.searchsorted(edges, mid) - 1, 0, edges.size - 2)
+        piece = np.minimum(np.maximum(edges.searchsorted(mid) - 1, 0), edges.size - 2)
         inner = (x - edges[piece] > excl) & (edges[piece + 1] - x > excl)
         if away is not None and away[0].size:
             inner &= _distance_to(away[0], x) > away[1]
@@ -3096,7 +3103,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
             return False
         if floor > 0.0:
             v = np.where(np.abs(v) > big, v, np.nan)
-        col = order[np.searchsorted(rm[order], mid[inner])]
+        col = order[rm[order].searchsorted(mid[inner])]
         if (((v > 0.0) & rneg[:, col]) | ((v < 0.0) & rpos[:, col])).any():
             return False
     return True
@@ -3120,7 +3127,7 @@ def engagement_metrics(sol: Solution, spin, low: float = 0.1):
     F = sol.force.max(axis=0).ravel()
     z = sol.zeta.ravel()
     w = spin.ravel()
-    order = np.argsort(z, kind="stable")
+    order = z.argsort(kind="stable")
     z, F, w = z[order], F[order], w[order]
     on = F > 0.0
     if not np.any(on):
@@ -3284,7 +3291,7 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
         with np.errstate(invalid="ignore", divide="ignore"):
             S = np.sqrt(a * a - 2.0 * R * ct0.delta)
             t_j = np.where(ct0.delta < 0.0, np.where(a >= 0.0, (a + S) / R, -2.0 * ct0.delta / (S - a)), 0.0)
-        start = np.clip(np.min(np.where(np.isfinite(t_j), t_j, limit), axis=(0, 1)), 1e-15, limit)
+        start = np.minimum(np.maximum(np.min(np.where(np.isfinite(t_j), t_j, limit), axis=(0, 1)), 1e-15), limit)
         lo, hi = np.zeros(n), np.zeros(n)
         open_ = h0 < 0.0
         prev = np.zeros(n)                     # a touch at the start: the root lies in [0, start]
