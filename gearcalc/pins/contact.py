@@ -1467,42 +1467,47 @@ class ContactModel:
         if guess is None:
             return self._bracketed(pose, traction, xtol)
         tau = np.array(guess, dtype=float)
-        lo, hi = ((_filled(n, -np.inf), _filled(n, np.inf)) if bracket is None
+        # the iterate t and the bracket [lb, hb] of the sign changes met so far, over the angles still iterating (idx):
+        # only these are evaluated; an angle's tau and flags are written when it stops
+        t = tau.copy()
+        lb, hb = ((_filled(n, -np.inf), _filled(n, np.inf)) if bracket is None
                   else (bracket[0].copy(), bracket[1].copy()))
         done = np.zeros(n, dtype=bool)
         failed = np.zeros(n, dtype=bool)
-        idx = np.arange(n)               # the angles still iterating: only these are evaluated
+        idx = np.arange(n)
         sub, tr = pose, traction
         with np.errstate(divide="ignore", invalid="ignore"):
             for _ in range(maxiter):
-                t = tau[idx]
                 G, G_tau = self._balance(sub, t, tr)[:2]
-                lb, hb = lo[idx], hi[idx]
                 lb = np.where(G > 0.0, np.maximum(lb, t), lb)
                 hb = np.where(G < 0.0, np.minimum(hb, t), hb)
-                lo[idx], hi[idx] = lb, hb
                 step = -G / G_tau
                 newton = t + step
-                ok = np.isfinite(newton) & (G_tau < 0.0) & (newton > lb) & (newton < hb)
+                neg = G_tau < 0.0
+                ok = np.isfinite(newton) & neg & (newton > lb) & (newton < hb)
                 both = np.isfinite(lb) & np.isfinite(hb)
                 # quadratic convergence: after a step |s| <= 1e-8 |tau| the error is ~ s^2/tau <= 1e-16 |tau|;
                 # a step below the spacing of floats (not inside the open bracket) leaves tau as it is
+                at = np.abs(step)
                 xt = np.maximum(4.0 * np.spacing(np.abs(t)), 1e-3 * xtol)
-                tiny = (G_tau < 0.0) & (np.abs(step) <= xt)
-                small = ok & (np.abs(step) <= NEWTON_SMALL * np.abs(t))
-                conv = (G == 0.0) | tiny | small | (both & (hb - lb <= xt))
-                fail = ~ok & ~both & ~conv
+                conv = ((G == 0.0) | (neg & (at <= xt)) | (ok & (at <= NEWTON_SMALL * np.abs(t)))
+                        | (both & (hb - lb <= xt)))
+                fail = ~(ok | both | conv)
                 act = ~fail & (G != 0.0)
-                tau[idx] = np.where(act & ok, newton, np.where(act & ~conv & both, 0.5 * (lb + hb), t))
-                failed[idx] = fail
-                done[idx] = conv & ~fail
-                keep = ~(conv | fail)
-                if not keep.any():
+                t = np.where(act & ok, newton, np.where(act & ~conv & both, 0.5 * (lb + hb), t))
+                stop = conv | fail
+                if stop.all():
+                    tau[idx], failed[idx], done[idx] = t, fail, conv & ~fail
                     break
-                if not keep.all():     # go on with the angles not yet solved (a sub-pose keeps its foot points)
+                if stop.any():         # go on with the angles not yet solved (a sub-pose keeps its foot points)
+                    fin = idx[stop]
+                    tau[fin], failed[fin], done[fin] = t[stop], fail[stop], conv[stop] & ~fail[stop]
+                    keep = ~stop
                     sub = _sub_pose(sub, keep)
                     tr = None if tr is None else tr[..., keep]
-                    idx = idx[keep]
+                    idx, t, lb, hb = idx[keep], t[keep], lb[keep], hb[keep]
+            else:
+                tau[idx] = t               # the iterations ran out: not done, solved below
         failed |= ~done
         if failed.any() and bracket is not None:
             sub = _sub_pose(pose, failed)
