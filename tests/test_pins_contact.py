@@ -191,6 +191,30 @@ def test_cycloid_signed_distance_matches_brute_force_and_the_equidistant_modific
     assert np.allclose(d0, -0.02, atol=1e-12)        # nominal: every flank pin clear by Delta R_b
 
 
+@pytest.mark.parametrize("z1, z2, tau", [(20, 22, 2e-4), (60, 62, -1e-4), (10, 11, 5e-4)])
+def test_cycloid_foot_point_from_nominal_meets_the_bracketed_newton(z1, z2, tau):
+    # a fresh pose's foot points (Halley's first step from the nominal one, then Newton until a step below 1e-7 rad)
+    # against the safeguarded Newton of foot_point run to |d beta| < 1e-14 from the same start (pins.md §5.2): the
+    # same foot point to 1e-12 rad, in at most three curve evaluations (the pins at the line of centres, where the
+    # design curve turns fastest, take the third; the others stop after two, a Newton first step needed three)
+    g = Cycloid.from_curtate_ratio(z1, z2, 3.9, 0.75, 1.95)
+    prof = pc.CycloidProfile(g)
+    m = pc.ContactModel(g, prof, pc.contact_law("hertz", face_width=10.0), 1.0, REDUCER)
+    theta = np.linspace(0.0, g.period, 7)
+    pose = m.pose(theta)
+    c, s = math.cos(tau), math.sin(tau)
+    x, y = c * pose.x0 + s * pose.y0, -s * pose.x0 + c * pose.y0
+    start = tuple(pose.aux[k] for k in pc._START_KEYS)
+    calls = []
+    curve = prof._curve_of
+    prof._curve_of = lambda trig: calls.append(1) or curve(trig)
+    beta = prof._newton_trig(pose.aux["beta"], pose.aux["fam"], x, y, 8, 1e-7, start)[0]
+    del prof._curve_of
+    exact = prof.foot_point(pose.aux["beta"], pose.aux["fam"], x, y, tol=1e-14)
+    assert np.max(np.abs(beta - exact)) < 1e-12
+    assert len(calls) <= 3
+
+
 # ------------------------------------------------------------------ convergence to the ideal level (§5.7(a))
 
 @functools.lru_cache(maxsize=None)

@@ -573,8 +573,15 @@ class CycloidProfile:
 
     def _newton_trig(self, beta, fam, x, y, steps, tol=None, start=None):
         """:meth:`_newton`, also returning :meth:`_trig` at the beta before the last step and that step (signed, the
-        change of beta).  ``start``: :meth:`_trig` at the first beta, when known."""
+        change of beta).  ``start``: :meth:`_trig` at the first beta, when known.
+
+        The first step is Halley's, s = (g/g')/(1 - s_N g''/(2 g')) with the Newton step s_N = g/g' and
+        g'' = 3 c'.c'' + (c - X).c''' (Newton's where |s_N g''/(2 g')| > 1/2): from the nominal foot point, a
+        rotation's ~2e-4 rad away, Newton leaves ~1e-6 rad and a third step was needed before one below 1e-7 rad
+        (``tol``); Halley's error is cubic in the step, so the second one is below it."""
         trig, change = None, None
+        d = self.design
+        e3 = d.e * (d.z2 / d.k) ** 3
         for i in range(steps):
             # after the first step, cos/sin by the angle sums from the last ones (:meth:`_turned`: exact to round-off
             # for a step |Z_e s| <= 1e-3, else evaluated anew)
@@ -587,6 +594,11 @@ class CycloidProfile:
             gval = rx * dx + ry * dy
             gder = dx * dx + dy * dy + rx * ddx + ry * ddy
             step = gval / gder
+            if i == 0:
+                cb, sb, ca, sa = trig
+                g2 = 3.0 * (dx * ddx + dy * ddy) + rx * (d.R_p * sb - e3 * sa) + ry * (e3 * ca - d.R_p * cb)
+                ratio = 0.5 * step * g2 / gder
+                step = np.where(np.abs(ratio) <= 0.5, step / (1.0 - ratio), step)
             beta = beta - step
             change = -step
             if tol is not None and not np.max(np.abs(step), initial=0.0) > tol:
