@@ -660,7 +660,7 @@ class CycloidProfile:
         pose.aux["fam"] = fam
         if trig is not None and self.design.R_p == self.g.R_p:
             pose.aux["beta"] = pose.beta0
-            pose.aux.update(zip(_START_KEYS, (np.broadcast_to(t, pose.x0.shape) for t in trig)))
+            pose.aux.update(zip(_START_KEYS, trig))          # (m, n) and (1, n): they broadcast where used
         else:
             # only the start of the Newton steps of :meth:`contacts` at the turned positions (which iterate until a
             # step below 1e-7 rad has been applied): 1e-7 here too (quadratic convergence: the error is then ~1e-14 rad)
@@ -731,7 +731,9 @@ class CycloidProfile:
         if self.crests:
             zd = self.g.z1 / self.g.k
             psi_f = pose.psi - zd * (beta - pose.beta0)
-            switch = np.stack([self.psi_star - psi_f, psi_f + self.psi_star])[:, None]
+            switch = np.empty((2, 1) + psi_f.shape)
+            np.subtract(self.psi_star, psi_f, out=switch[0, 0])
+            np.add(psi_f, self.psi_star, out=switch[1, 0])
             side = np.where(psi_f > self.psi_star, 0, np.where(psi_f < -self.psi_star, 1, -1))
             if branch is not None:
                 side = np.asarray(branch)[0]
