@@ -1874,7 +1874,7 @@ class ContactModel:
         w1 = -kz + dtau
         o_n = g.e * (ca * ct.nx + sa * ct.ny)
         v_t = o_n + w1 * (ct.xn + g.R_b)
-        ddelta = ct.nx * vx + ct.ny * vy - ct.arm * dtau
+        ddelta = (dd if cr is ct else ct.nx * vx + ct.ny * vy) - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * (np.abs(Fp * ct.arm)).sum(axis=(0, 1))
         sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
                        G_tau0, ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
@@ -2995,6 +2995,7 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     # corner, :meth:`ContactModel.kept_contacts`); dropped when the two passes were solved on different pins
     same = (sol.pins is not None and part.pins is not None and sol.pins.shape[0] == part.pins.shape[0]
             and np.array_equal(sol.pins[:, kept], part.pins))
+    moving: dict = {}
     for fl in dataclasses.fields(sol):
         a = getattr(sol, fl.name)
         geometry = fl.name in _GEOMETRY_FIELDS
@@ -3011,21 +3012,28 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
             new[..., kept] = b
             out[fl.name] = new
             continue
-        ai, bi = a.copy(), b
+        moving.setdefault((a.shape, b.shape), []).append((fl.name, a, b))
+    # the fields of one shape moved together (one set of array operations for the penetrations, forces, speeds and
+    # their slopes, one for tau, d tau/d theta and the rest over the crank angles)
+    for group in moving.values():
+        names = [f for f, _, _ in group]
+        ai = np.stack([a for _, a, _ in group])
+        bi = np.stack([b for _, _, b in group])
         with np.errstate(invalid="ignore"):
             d = bi - ai[..., kept]
         d = np.where(np.isfinite(d), d, 0.0)
         old = ai[..., rest]
         dl = d[..., lo]
         v = old + dl + t * (d[..., hi] - dl)
-        if fl.name == "force":
-            v = np.maximum(v, 0.0)
+        if "force" in names:
+            f = names.index("force")
+            v[f] = np.maximum(v[f], 0.0)
         ok = np.isfinite(old)
-        if a.ndim >= 2 and cand is not None:
+        if ai.ndim >= 3 and cand is not None:
             ok &= cand
         ai[..., rest] = np.where(ok, v, old)
         ai[..., kept] = bi
-        out[fl.name] = ai
+        out.update(zip(names, ai))
     return Solution(**out)
 
 
