@@ -1164,7 +1164,15 @@ class ContactModel:
         g = self.g
         theta = np.arange(n_scan) * (g.period / n_scan)
         if getattr(self, "_mirrored", False) and self.window is not None:
-            sol = self.state(theta)       # the other mode's window, mirrored: the scan only
+            guess = None
+            if self.friction is not None:
+                # with friction, the mirrored states are the other mode's: its friction moment turns the satellite
+                # the other way, tau_other = tau_0 + d against tau = tau_0 - d + O(f^2) (tau_0 frictionless): start
+                # from 2 tau_0 - tau_other, the frictionless scan's mirror at these very angles
+                g0, g1 = self._guess(theta, 0), self._guess(theta, 1)
+                if g0 is not None and g1 is not None and self._memo[0] is not self._memo[1]:
+                    guess = 2.0 * g0 - g1
+            sol = self.state(theta, guess=guess)       # the other mode's window, mirrored: the scan only
             if self.friction is not None:
                 # the mirrored warm starts hold the other mode's friction forces (tau off by O(f)): the scan's own
                 # solutions replace them
@@ -1601,7 +1609,7 @@ class ContactModel:
             if sol is None:
                 sol = self._friction_solve(pose, fixed, tau, ref)
         else:
-            sol = self._friction_fixed_point(theta, pose, ref, None if scan is None else scan[1])
+            sol = self._friction_fixed_point(theta, pose, ref, None if scan is None else scan[1], given)
         self._remember(1 if self.friction is not None else 0, sol)
         sol = self._full(sol, idx, sides)
         if phases:
@@ -1658,14 +1666,20 @@ class ContactModel:
             raise Jam(exc.theta) from None
         return self._kinematics(pose, tau, traction, ref)
 
-    def _friction_fixed_point(self, theta, pose: Pose, ref, start: "Solution | None" = None) -> Solution:
+    def _friction_fixed_point(self, theta, pose: Pose, ref, start: "Solution | None" = None,
+                              guess=None) -> Solution:
         """The friction forces' directions iterated to a fixed point (at most 8 passes; pins.md §5.5).
 
         The first directions come from the kinematics at the warm start of an earlier friction solution,
         or, without one (or where that start leaves a contact set without stiffness), from the
-        frictionless equilibrium (``start``: already solved on ``pose``)."""
+        frictionless equilibrium (``start``: already solved on ``pose``).  ``guess`` (n,), optional: the warm start
+        instead of the memory's (NaN: the memory's)."""
         sol = start
-        guess = None if start is not None else self._guess(theta, 1)
+        if start is not None:
+            guess = None
+        else:
+            memo = self._guess(theta, 1)
+            guess = memo if guess is None else (guess if memo is None else np.where(np.isfinite(guess), guess, memo))
         if guess is not None:
             with np.errstate(divide="ignore", invalid="ignore"):
                 sol = self._kinematics(pose, guess, None, ref)
