@@ -1516,7 +1516,7 @@ class ContactModel:
                 neg = G_tau < 0.0
                 ok = np.isfinite(newton) & neg & (newton > lb) & (newton < hb)
                 both = np.isfinite(lb) & np.isfinite(hb)
-                # quadratic convergence: after a step |s| <= 1e-6 |tau| the error is ~ C s^2 <= ~3e-12 |tau| (NEWTON_STOP);
+                # quadratic convergence: after a step |s| <= 1e-6 |tau| the error is ~C s^2 <= ~3e-12 |tau|;
                 # a step below the spacing of floats (not inside the open bracket) leaves tau as it is
                 at = np.abs(step)
                 xt = np.maximum(4.0 * np.spacing(np.abs(t)), 1e-3 * xtol)
