@@ -543,7 +543,8 @@ def test_circular_states_evaluate_the_pressed_tooth_only_and_equal_the_states_ov
     assert ref.sides is None
     r = ref.state(theta, phases=False)
     assert s.force.shape == r.force.shape and s.force.shape[0] == 2
-    assert np.allclose(s.tau, r.tau, rtol=1e-13, atol=0.0)
+    # each solve stops after a Newton step below 1e-6 |tau| (NEWTON_STOP): its error C s^2 <= ~3e-12 |tau| (C <= 3)
+    assert np.allclose(s.tau, r.tau, rtol=1e-11, atol=0.0)
     assert np.allclose(s.force, r.force, rtol=1e-10, atol=1e-10 * r.force.max())
     assert np.all(r.force[1 - m.sides[0]] == 0.0)        # the tooth left out is loaded nowhere
     assert np.allclose(s.dtau, r.dtau, rtol=1e-9, atol=1e-12)

@@ -1169,9 +1169,9 @@ class ContactModel:
                 # with friction, the mirrored states are the other mode's: its friction moment turns the satellite
                 # the other way, tau_other = tau_0 + d against tau = tau_0 - d + O(f^2) (tau_0 frictionless): start
                 # from 2 tau_0 - tau_other, the frictionless scan's mirror at these very angles
-                g0, g1 = self._guess(theta, 0), self._guess(theta, 1)
+                g0, g1 = self._guess(theta, 0, slope=True), self._guess(theta, 1, slope=True)
                 if g0 is not None and g1 is not None and self._memo[0] is not self._memo[1]:
-                    guess = 2.0 * g0 - g1
+                    guess = (2.0 * g0[0] - g1[0], 2.0 * g0[1] - g1[1])
             sol = self.state(theta, guess=guess)       # the other mode's window, mirrored: the scan only
             if self.friction is not None:
                 # the mirrored warm starts hold the other mode's friction forces (tau off by O(f)): the scan's own
@@ -1672,19 +1672,24 @@ class ContactModel:
 
         The first directions come from the kinematics at the warm start of an earlier friction solution,
         or, without one (or where that start leaves a contact set without stiffness), from the
-        frictionless equilibrium (``start``: already solved on ``pose``).  ``guess`` (n,), optional: the warm start
-        instead of the memory's (NaN: the memory's)."""
+        frictionless equilibrium (``start``: already solved on ``pose``).  ``guess`` = (tau, d tau/d theta) (n,) or
+        tau, optional: the warm start instead of the memory's (NaN: the memory's).  The first directions are those of
+        the sliding speeds at the warm start with its interpolated d tau/d theta (:meth:`_sliding_at`: no balance)."""
         sol = start
-        if start is not None:
-            guess = None
-        else:
-            memo = self._guess(theta, 1)
-            guess = memo if guess is None else (guess if memo is None else np.where(np.isfinite(guess), guess, memo))
-        if guess is not None:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                sol = self._kinematics(pose, guess, None, ref)
-            if not (np.isfinite(sol.v_t)).all():
-                sol = None
+        if start is None:
+            memo = self._guess(theta, 1, slope=True)
+            if guess is not None and not isinstance(guess, tuple):
+                guess = (np.asarray(guess, dtype=float), np.full(np.shape(guess), np.nan) if memo is None else memo[1])
+            if guess is not None and memo is not None:
+                guess = (np.where(np.isfinite(guess[0]), guess[0], memo[0]),
+                         np.where(np.isfinite(guess[1]), guess[1], memo[1]))
+            elif guess is None:
+                guess = memo
+            if guess is not None:
+                with np.errstate(divide="ignore", invalid="ignore"):
+                    sol = self._sliding_at(pose, *guess)
+                if not (np.isfinite(sol.v_t)).all():
+                    sol = None
         if sol is None:
             sol = self._kinematics(pose, self._solve(pose, None, self._guess(theta, 0)), None, ref)
             self._remember(0, sol)
@@ -1744,16 +1749,18 @@ class ContactModel:
         self._memo[key] = (th[order], ta[order], dt[order])
         self._gtau[key] = None if gt is None else gt[order]
 
-    def _guess(self, theta, key):
+    def _guess(self, theta, key, slope: bool = False):
         """tau at theta from the solved angles around it: the cubic Hermite interpolant of tau and
         d tau/d theta between the two neighbours (the tangent line of the nearer one where they coincide
-        or lie on one side only), or None when nothing is solved yet."""
+        or lie on one side only), or None when nothing is solved yet.  ``slope``: (tau, d tau/d theta) of that
+        interpolant."""
         memo = self._memo[key] if key == 0 or self.friction is not None else None
         if memo is None:
             return None
         th, ta, dt = memo
         if th.size == 1:
-            return ta[0] + dt[0] * (theta - th[0])
+            line = ta[0] + dt[0] * (theta - th[0])
+            return (line, dt[0] + 0.0 * line) if slope else line
         j = np.minimum(np.maximum(th.searchsorted(theta, side="right"), 1), th.size - 1)
         a, b = j - 1, j
         near = np.where(np.abs(theta - th[a]) <= np.abs(th[b] - theta), a, b)
@@ -1761,8 +1768,26 @@ class ContactModel:
         h = th[b] - th[a]
         inside = (h > 0.0) & (theta >= th[a]) & (theta <= th[b])
         with np.errstate(divide="ignore", invalid="ignore"):
-            herm = _hermite(np.where(inside, (theta - th[a]) / h, 0.0), h, ta[a], dt[a], ta[b], dt[b])
+            t = np.where(inside, (theta - th[a]) / h, 0.0)
+            herm = _hermite(t, h, ta[a], dt[a], ta[b], dt[b])
+            if slope:
+                t2 = t * t
+                d_herm = ((6.0 * t2 - 6.0 * t) * (ta[a] - ta[b]) / h + (3.0 * t2 - 4.0 * t + 1.0) * dt[a]
+                          + (3.0 * t2 - 2.0 * t) * dt[b])
+                return np.where(inside, herm, line), np.where(inside, d_herm, dt[near])
         return np.where(inside, herm, line)
+
+    def _sliding_at(self, pose: Pose, tau, dtau):
+        """The contacts' forces and sliding speeds v_t at the rotations ``tau`` with the turning rate d tau/d theta
+        ``dtau`` given (a warm start's interpolant, :meth:`_guess`), without an equilibrium: the first friction
+        directions of :meth:`_friction_fixed_point` (:meth:`traction` reads ``force`` and ``v_t``), as
+        :meth:`_kinematics` gives them but for its own d tau/d theta (v_t = O1'.n + (d tau/d theta - k/z1)(C.n),
+        pins.md §5.6).  Returns a :class:`Solution` holding tau, d tau/d theta, the forces and v_t."""
+        g = self.g
+        ct = self.contacts(pose, tau)
+        ang = (g.z2 / g.z1) * pose.theta - tau
+        v_t = g.e * (np.cos(ang) * ct.nx + np.sin(ang) * ct.ny) + (dtau - g.k / g.z1) * (ct.xn + g.R_b)
+        return Solution(pose.theta, tau, dtau, None, ct.delta, self.law.force(ct.delta), v_t, None, None)
 
     def _full(self, sol: Solution, idx, sides=None) -> Solution:
         """The solution over the rows of :meth:`layout`: the candidates' values scattered, the others untouched by
