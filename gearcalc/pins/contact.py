@@ -437,6 +437,8 @@ class Contacts:
     wx, wy: the turning rate of the normal with the pin centre, dn = (wx dx + wy dy) (z x n) [1/mm]
     (-1/distance to the normal's centre of curvature: the tooth centre, a crest corner, or the
     design curve's centre of curvature seen from the pin centre); used by the analytic derivatives.
+    psi_f: (z2, n) the foot point's phase on a cycloid's flank [rad], from which :meth:`CycloidProfile.switch`
+    forms ``switch`` where a solution needs it (the balances of the Newton iteration do not), or None.
     """
 
     delta: np.ndarray
@@ -448,6 +450,7 @@ class Contacts:
     branch: np.ndarray | None = None
     wx: np.ndarray | None = None
     wy: np.ndarray | None = None
+    psi_f: np.ndarray | None = None
 
 
 class CircularProfile:
@@ -666,6 +669,14 @@ class CycloidProfile:
             # step below 1e-7 rad has been applied): 1e-7 here too (quadratic convergence: the error is then ~1e-14 rad)
             pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0, tol=1e-7)
 
+    def switch(self, psi_f):
+        """The crest components (2, 1, z2, n) of :attr:`Contacts.switch` from the foot points' flank phases psi_f:
+        psi* - psi_f and psi_f + psi* (a pin passes to the crest corner where one changes sign)."""
+        out = np.empty((2, 1) + psi_f.shape)
+        np.subtract(self.psi_star, psi_f, out=out[0, 0])
+        np.add(psi_f, self.psi_star, out=out[1, 0])
+        return out
+
     def _crest_corners(self, pose: Pose, at, corner):
         """The crest corners of the tooth spaces that the pins at the flat indices ``at`` of the pose's (m, n) arrays
         face, ``corner`` 0 (psi = +psi*) or 1 (-psi*) for each, x and y [mm] (only where a pin faces a crest: 7-15 %
@@ -727,13 +738,10 @@ class CycloidProfile:
         # dn = (d beta* c'x c''/|c'|^2) (z x n), d beta* = (c'.dX)/g', g' = |c'|^2 + (c - X).c''
         kap = (dx * ddy - dy * ddx) / (t2 * (t2 + (cx - x) * ddx + (cy - y) * ddy))
         wx, wy = dx * kap, dy * kap
-        switch = None
+        psi_f = None
         if self.crests:
             zd = self.g.z1 / self.g.k
             psi_f = pose.psi - zd * (beta - pose.beta0)
-            switch = np.empty((2, 1) + psi_f.shape)
-            np.subtract(self.psi_star, psi_f, out=switch[0, 0])
-            np.add(psi_f, self.psi_star, out=switch[1, 0])
             side = np.where(psi_f > self.psi_star, 0, np.where(psi_f < -self.psi_star, 1, -1))
             if branch is not None:
                 side = np.asarray(branch)[0]
@@ -747,8 +755,8 @@ class CycloidProfile:
                 delta.flat[at] = self.g.R_b - r
                 nx.flat[at], ny.flat[at] = ux, uy
                 wx.flat[at], wy.flat[at] = uy / r, -ux / r
-        ct = Contacts(delta[None], nx[None], ny[None], (x * ny - y * nx)[None], (x * nx + y * ny)[None], switch,
-                      wx=wx[None], wy=wy[None])
+        ct = Contacts(delta[None], nx[None], ny[None], (x * ny - y * nx)[None], (x * nx + y * ny)[None], None,
+                      wx=wx[None], wy=wy[None], psi_f=psi_f)
         ct.branch = side[None] if self.crests else None
         return ct
 
@@ -1923,7 +1931,8 @@ class ContactModel:
         v_t = o_n + w1 * (ct.xn + g.R_b)
         ddelta = (dd if cr is ct else ct.nx * vx + ct.ny * vy) - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * (np.abs(Fp * ct.arm)).sum(axis=(0, 1))
-        sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, ct.switch, ct.branch, None, ddelta, noise,
+        switch = ct.switch if ct.psi_f is None else self.profile.switch(ct.psi_f)
+        sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, switch, ct.branch, None, ddelta, noise,
                        G_tau0, ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
         return (sol, need) if step else sol
 
