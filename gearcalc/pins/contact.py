@@ -1816,12 +1816,16 @@ class ContactModel:
 
         C, cs = self.profile.contacts_per_pin, _contact_index(self.profile, sides)
 
+        # the places of the states' (c, m, n) entries in the rows' (C, R, n), flat: one index for every field
+        flat = ((cs * R + at[None]) * n + cols[None]).ravel()
+
         def scatter(a, fill):
             if a is None:
                 return None
-            out = _filled(a.shape[:-3] + (C, R, n), fill, a.dtype)
-            out[..., cs, at[None], cols[None]] = a
-            return out
+            lead = a.shape[:-3]
+            out = _filled(lead + (C * R * n,), fill, a.dtype)
+            out[..., flat] = a.reshape(lead + (-1,))
+            return out.reshape(lead + (C, R, n))
 
         def every(a):
             # the geometry over the candidates (c, m, n): the contacts left out get 0 (no force, no moment)
