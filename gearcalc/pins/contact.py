@@ -685,7 +685,8 @@ class CycloidProfile:
         On the tooth profile they lie at beta0 + psi/z_d -+ psi*/z_d = B_j - 2 pi k w/z1 -+ psi*/z_d, with
         B_j = 2 pi j (1 + k/z1)/z2 and w the turns by which psi = phi_j - theta was wrapped (theta cancels); a shift
         of beta by -2 pi k w/z1 turns the profile by that angle (z2 = z1 + k), so the corners are the pin's two
-        corners at w = 0 (a table over the pins), turned by -2 pi k w/z1 (a table over the teeth)."""
+        corners at w = 0 (a table over the pins), turned by -2 pi k w/z1 (a table over the teeth): every turned corner
+        is tabulated once (2 z2 z1 entries), a pair's corner is looked up."""
         g = self.g
         z1, z2, k = g.z1, g.z2, g.k
         if self._corner_table is None:
@@ -694,15 +695,15 @@ class CycloidProfile:
             dz = self.psi_star * k / z1
             cx, cy = tooth_profile(np.stack([B - dz, B + dz]), np.mod(j, k)[None], self.design)
             r = 2.0 * math.pi * np.arange(z1) / z1
-            self._corner_table = (cx, cy, np.cos(r), np.sin(r))
-        cx, cy, cos_t, sin_t = self._corner_table
+            ca, sa = np.cos(r), -np.sin(r)       # the turn by -2 pi k w/z1 of every corner: (2, z2, z1) tables
+            px, py = cx[:, :, None], cy[:, :, None]
+            self._corner_table = ((ca * px - sa * py).ravel(), (sa * px + ca * py).ravel())
+        tx, ty = self._corner_table
         idx = pose.aux["idx"].ravel()[at]
         theta = pose.theta[at % pose.theta.size]
         w = np.rint((2.0 * math.pi * idx / z2 - theta - pose.psi.ravel()[at]) / (2.0 * math.pi)).astype(np.int64)
-        r = np.mod(k * w, z1)
-        ca, sa = cos_t[r], -sin_t[r]             # the turn by -2 pi k w/z1
-        px, py = cx[corner, idx], cy[corner, idx]
-        return ca * px - sa * py, sa * px + ca * py
+        place = (corner * z2 + idx) * z1 + np.mod(k * w, z1)
+        return tx[place], ty[place]
 
     def contacts(self, pose: Pose, x, y, branch=None) -> Contacts:
         """``branch`` (z2, n), optional, forces the flank (-1) or a crest corner (0: +psi*, 1: -psi*)."""
