@@ -2098,7 +2098,10 @@ def _put(sol: Solution, part: Solution, sel) -> None:
 
 
 def _sorted_places(thetas: list) -> list:
-    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order)."""
+    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order); one
+    part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice)."""
+    if len(thetas) == 1 and not (thetas[0][1:] < thetas[0][:-1]).any():
+        return [slice(None)]
     theta = np.concatenate(thetas)
     place = np.empty(theta.size, dtype=np.int64)
     place[theta.argsort(kind="stable")] = np.arange(theta.size)
