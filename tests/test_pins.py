@@ -118,6 +118,10 @@ def test_pin_phase_exact_and_consistent(z2):
     phm = pins.pin_phase(i, theta[None, :], z2, MULTIPLIER)
     d = np.abs(phm - np.mod(-naive, 2 * np.pi))
     assert np.all(np.minimum(d, 2 * np.pi - d) < 1e-12)
+    # a pin index outside [0, z2) is the same pin: the same phase, bit for bit, both modes
+    for shift in (-2 * z2, z2, 3 * z2):
+        assert np.array_equal(pins.pin_phase(i + shift, theta[None, :], z2), ph)
+        assert np.array_equal(pins.pin_phase(i + shift, theta[None, :], z2, MULTIPLIER), phm)
 
 
 def test_contact_point_lies_on_the_normal_through_the_pitch_point():

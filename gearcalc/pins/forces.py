@@ -37,15 +37,19 @@ def pin_phase(pin, theta, z2: int, sigma: int = REDUCER):
     3.141592653589793
     """
     pin = np.asarray(pin)
+    if pin.size and (pin.min() < 0 or pin.max() >= z2):
+        pin = np.mod(pin, z2)
     t = np.asarray(theta, dtype=float) * (z2 / (2.0 * math.pi))
     m = np.floor(t)
     tau = t - m
-    m = m.astype(np.int64)
+    m = np.mod(m.astype(np.int64), z2)
+    # (pin - m) mod z2 with both in [0, z2): the difference, plus z2 where negative (an integer modulo over every pin
+    # and crank angle costs 4x as much)
+    d = pin - m if sigma == REDUCER else m - pin
+    j = d + z2 * (d < 0)
     if sigma == REDUCER:
-        j = np.mod(pin - m, z2)
         j = np.where((j == 0) & (tau > 0), z2, j)
         return math.pi * ((2.0 * j - 2.0 * tau) / z2)
-    j = np.mod(m - pin, z2)
     return math.pi * ((2.0 * j + 2.0 * tau) / z2)
 
 
