@@ -1801,8 +1801,15 @@ class ContactModel:
         g = self.g
         ct = self.contacts(pose, tau)
         ang = (g.z2 / g.z1) * pose.theta - tau
-        v_t = g.e * (np.cos(ang) * ct.nx + np.sin(ang) * ct.ny) + (dtau - g.k / g.z1) * (ct.xn + g.R_b)
+        v_t = self._tangential_speed(np.cos(ang), np.sin(ang), ct, dtau)
         return Solution(pose.theta, tau, dtau, None, ct.delta, self.law.force(ct.delta), v_t, None, None)
+
+    def _tangential_speed(self, ca, sa, ct: Contacts, dtau):
+        """The sliding speed v_t of every contact per unit crank speed [mm/rad] (pins.md §5.6): with omega_H = 1,
+        v = z x O1' + w1 z x (C - O1) and v_t = v.(z x n) = O1'.n + w1 (C.n), O1' = e u(theta - phi), C = X + R_b n
+        in the satellite axes and w1 = d tau/d theta - k/z1; ``ca``, ``sa``: cos and sin of z2 theta/z1 - tau."""
+        g = self.g
+        return g.e * (ca * ct.nx + sa * ct.ny) + (-(g.k / g.z1) + dtau) * (ct.xn + g.R_b)
 
     def _full(self, sol: Solution, idx, sides=None) -> Solution:
         """The solution over the rows of :meth:`layout`: the candidates' values scattered, the others untouched by
@@ -1935,11 +1942,7 @@ class ContactModel:
         d_xn = dd - om * cr.arm
         G_th = (Fp_r * dd * A_r + F_r * (d_arm + q * d_xn)).sum(axis=(0, 1))
         dtau = -G_th / G_tau
-        # contact velocity (omega_H = 1): v = z x O1 + w1 z x (C - O1); v_t = v.(z x n)
-        #   = O1'.n + w1 (C.n), O1' = e u(theta - phi) and C = X + R_b n in the satellite axes
-        w1 = -kz + dtau
-        o_n = g.e * (ca * ct.nx + sa * ct.ny)
-        v_t = o_n + w1 * (ct.xn + g.R_b)
+        v_t = self._tangential_speed(ca, sa, ct, dtau)
         ddelta = (dd if cr is ct else ct.nx * vx + ct.ny * vy) - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * (np.abs(Fp * ct.arm)).sum(axis=(0, 1))
         switch = ct.switch if ct.psi_f is None else self.profile.switch(ct.psi_f)
