@@ -608,3 +608,26 @@ def test_the_next_pass_skips_the_window_check_only_within_the_clearance(monkeypa
     evaluated.clear()
     b.window_holds(s.tau, s.theta[::-1].copy(), a)                 # other crank angles: evaluated
     assert evaluated
+
+
+@pytest.mark.parametrize("make", [cycloid_model, circular_model])
+def test_a_pose_reused_at_another_torque_gives_the_states_of_a_fresh_one(make):
+    # ContactModel.state(reuse=...): the last pass's pose of the same crank angles and candidates (its cycloid foot
+    # points the warm start of the new torque's) against a fresh pose: the same states to the solves' precision
+    # (NEWTON_STOP: ~3e-12 of tau), and a pose of other angles is not taken
+    a = make(1.0e6, MULTIPLIER, (0.1, 0.1, False))
+    a.set_window()
+    theta = np.linspace(0.003, a.g.period - 0.002, 37)
+    a.state(theta, phases=False)
+    b = make(1.0e6 * (1.0 + 3e-5), MULTIPLIER, (0.1, 0.1, False))
+    b.inherit(a)
+    c = make(1.0e6 * (1.0 + 3e-5), MULTIPLIER, (0.1, 0.1, False))
+    c.inherit(a)
+    reused = b.state(theta, phases=False, reuse=a.last_pose)
+    assert b.last_pose is a.last_pose
+    fresh = c.state(theta, phases=False)
+    assert c.last_pose is not a.last_pose
+    assert np.allclose(reused.tau, fresh.tau, rtol=1e-11, atol=0.0)
+    assert np.allclose(reused.force, fresh.force, rtol=1e-8, atol=1e-9 * fresh.force.max())
+    c.state(theta[:-1], phases=False, reuse=a.last_pose)          # other angles: a pose of its own
+    assert c.last_pose is not a.last_pose

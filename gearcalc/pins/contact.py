@@ -1112,6 +1112,7 @@ class ContactModel:
         self.window = None            # (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all
         self._sides = None            # (window, sides): :attr:`sides` while that window is the model's
         self.clearance = None         # (theta, tau, clearance, (candidates, sides)) of the last final grid's check
+        self.last_pose = None         # the pose of the last state (its foot points start the next torque's)
         self._memo = {0: None, 1: None}   # solved (theta, tau, dtau) for warm starts: 0 frictionless, 1 final
         self._gtau = {0: None, 1: None}   # dG/dtau at the memo's angles (None: unknown)
         self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
@@ -1564,7 +1565,7 @@ class ContactModel:
                                           None if traction is None else traction[..., failed], xtol)
         return tau
 
-    def state(self, theta, ref=None, phases: bool = True, guess=None, scan=None) -> Solution:
+    def state(self, theta, ref=None, phases: bool = True, guess=None, scan=None, reuse=None) -> Solution:
         """The solved state at crank angles theta: tau, d tau/d theta, forces, tangential speeds.
 
         ``ref`` = (active, branch) (c, z2, n), optional: the active set and contact branches of the
@@ -1579,10 +1580,20 @@ class ContactModel:
         (:func:`piece_guess`); the others from the solved angles around (:meth:`_guess`).
         ``scan`` = (pose, solution), optional, with friction: the frictionless equilibrium at theta on the candidate
         pins (:meth:`set_window`'s scan), from which the friction directions are iterated (instead of solving it).
+        ``reuse`` (:class:`Pose`), optional: a pose of the same crank angles and candidate pins solved at another torque
+        (:attr:`last_pose` of the pass before, :func:`relinearised_cycle`): taken instead of a new one, its foot points
+        the warm start of this torque's (one Newton step instead of a fresh search from the nominal ones).
         """
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         idx, sides = self.candidates(theta), self.sides
-        pose = self.pose(theta, idx, sides) if scan is None else scan[0]
+        if scan is not None:
+            pose = scan[0]
+        elif reuse is not None and reuse.theta.shape == theta.shape and np.array_equal(reuse.theta, theta) \
+                and np.array_equal(reuse.aux["idx"], self.pins if idx is None else idx):
+            pose = reuse
+        else:
+            pose = self.pose(theta, idx, sides)
+        self.last_pose = pose
         fixed = None if ref is None or len(ref) < 3 else ref[2]
         if ref is not None and idx is not None:
             # the sets are over the rows of this model's layout (a cycle's states): the candidates' rows there (and
@@ -2869,8 +2880,14 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         step = (model.M_req - prev.M_req) / sol1.g_tau[kept]
         guess = np.where((sol1.g_tau[kept] < 0.0) & np.isfinite(step), sol1.tau[kept] + step, np.nan)
         try:
+            # the last pass's pose of its nodes (solved in one call, in this order), at the kept ones: its foot points
+            # start this torque's
+            last, same_sides = prev.last_pose, (prev.sides is None) == (model.sides is None) and (
+                prev.sides is None or np.array_equal(prev.sides, model.sides))
+            reuse = _sub_pose(last, kept) if last is not None and same_sides and last.theta.shape == x.shape \
+                and np.array_equal(last.theta, x) else None
             s2k = model.state(x[kept], tuple(None if a is None else a[..., kept] for a in sets), phases=False,
-                              guess=guess)
+                              guess=guess, reuse=reuse)
         except NoEquilibrium:
             return None
         L1 = contact_losses(sol1, R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
