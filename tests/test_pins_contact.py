@@ -86,17 +86,22 @@ def test_laws_are_compression_only_and_linear_extension_for_one_sided_derivative
 @pytest.mark.parametrize("name, kw", [("hertz", {"face_width": 10.0}), ("palmgren", {"face_width": 4.0}),
                                       ("linear", {"stiffness": 2e5})])
 def test_force_stiffness_is_the_force_and_its_derivative(name, kw):
-    # the joint evaluation of the equilibrium (one power, F' = p F/delta) against the separate ones and against the
+    # the joint evaluation of the equilibrium (one power, F' = p F/delta) against the force alone, the closed-form
+    # stiffness c p delta^(p-1) (0 where delta <= 0; on a fixed set, the linear law's c below 0 too) and the
     # derivative of F by central differences (F'' bounded away from delta = 0: O(h^2) ~ 1e-10 relative)
     law = pc.contact_law(name, **kw)
+    c, p = law.constant, law.exponent
     d = np.array([[-2e-3, 0.0, 1e-6], [3e-4, 2e-3, -1e-9]])
     active = np.array([[True, True, True], [False, True, True]])
+    touch = d > 0.0
+    closed = np.where(touch, c * p * np.where(touch, d, 1.0) ** (p - 1.0), 0.0)
     F, Fp = law.force_stiffness(d)
     np.testing.assert_allclose(F, law.force(d), rtol=1e-15, atol=0.0)
-    np.testing.assert_allclose(Fp, law.stiffness(d), rtol=1e-14, atol=0.0)
+    np.testing.assert_allclose(Fp, closed, rtol=1e-14, atol=0.0)
     F, Fp = law.force_stiffness(d, active)
     np.testing.assert_allclose(F, law.force_on(d, active), rtol=1e-15, atol=0.0)
-    np.testing.assert_allclose(Fp, law.stiffness_on(d, active), rtol=1e-14, atol=0.0)
+    on_set = np.where(active, c, 0.0) if p == 1.0 else np.where(active, closed, 0.0)
+    np.testing.assert_allclose(Fp, on_set, rtol=1e-14, atol=0.0)
     x, h = np.array([3e-4, 2e-3]), 1e-8
     fd = (law.force(x + h) - law.force(x - h)) / (2.0 * h)
     np.testing.assert_allclose(law.force_stiffness(x)[1], fd, rtol=1e-6)
