@@ -916,7 +916,12 @@ class Solution:
     rows: (R,) the pins (sorted) that the per-pin arrays (delta, force, v_t, phase, zeta, switch, branch, cand,
     ddelta) hold, in that order: the pins the candidate window can hold over the period
     (:meth:`ContactModel.layout`); every other pin cannot touch anywhere on the cycle (R of z2 rows: the arrays
-    of a u = 30 paper design are 6x smaller).  None: all z2 pins, in order.
+    of a u = 30 paper design are 6x smaller).  None: all z2 pins, in order;
+    traction: (c, R, n) the friction forces per unit normal force the state was solved with (:meth:`ContactModel.
+    traction` of the directions it settled on, or its piece's fixed ones), over the rows (0 where a pin is out of
+    reach); None without friction in the balance.  At a piece end, or where no direction is consistent (the
+    directions flip back and forth, :meth:`ContactModel._friction_fixed_point`), they can differ from the
+    directions of the state's own sliding speeds: the crank bearing takes these (:func:`crank_bearing`).
     """
 
     theta: np.ndarray
@@ -940,6 +945,7 @@ class Solution:
     wy: np.ndarray | None = None
     pins: np.ndarray | None = None
     rows: np.ndarray | None = None
+    traction: np.ndarray | None = None
 
     def over_pins(self, z2: int) -> "Solution":
         """This state over all ``z2`` pins in order, to index its per-pin arrays by pin number: the rows scattered,
@@ -950,11 +956,12 @@ class Solution:
 _GEOMETRY_FIELDS = ("nx", "ny", "wx", "wy", "pins")
 """The :class:`Solution` fields over the pins it was solved on (m, not its rows): never scattered to its rows."""
 
-_PIN_FIELDS = ("delta", "force", "v_t", "phase", "zeta", "switch", "branch", "cand", "ddelta")
+_PIN_FIELDS = ("delta", "force", "v_t", "phase", "zeta", "switch", "branch", "cand", "ddelta", "traction")
 """The :class:`Solution` fields over its ``rows`` (the pin axis second to last), with the values of a pin that is not
 a candidate (out of reach: no contact)."""
 
-_PIN_FILL = {"delta": -np.inf, "force": 0.0, "v_t": 0.0, "switch": np.nan, "branch": -1, "cand": False, "ddelta": 0.0}
+_PIN_FILL = {"delta": -np.inf, "force": 0.0, "v_t": 0.0, "switch": np.nan, "branch": -1, "cand": False, "ddelta": 0.0,
+             "traction": 0.0}
 
 _CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
 
@@ -1850,7 +1857,7 @@ class ContactModel:
                         scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
                         scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
                         sol.noise, sol.g_tau, every(sol.nx), every(sol.ny), every(sol.wx), every(sol.wy), sol.pins,
-                        rows)
+                        rows, scatter(sol.traction, 0.0))
 
     def reference(self, theta):
         """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
@@ -1941,8 +1948,10 @@ class ContactModel:
         ddelta = (dd if cr is ct else ct.nx * vx + ct.ny * vy) - ct.arm * dtau
         noise = EPS * (g.R_p + g.e) * np.abs(Fp * ct.arm).sum(axis=(0, 1))
         switch = ct.switch if ct.psi_f is None else self.profile.switch(ct.psi_f)
+        # the friction forces solved with, per contact (a copy: the caller's array stays its own)
+        solved_q = None if traction is None else np.array(np.broadcast_to(traction, F.shape), dtype=float)
         sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, switch, ct.branch, None, ddelta, noise,
-                       G_tau0, ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"])
+                       G_tau0, ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"], traction=solved_q)
         return (sol, need) if step else sol
 
     def _picker(self, theta, rows=None):
@@ -2152,7 +2161,8 @@ def _concat(parts: list[Solution]) -> Solution:
                     None if parts[0].switch is None else cat("switch", 3),
                     None if parts[0].branch is None else cat("branch", 2),
                     None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
-                    cat("noise", 0), cat("g_tau", 0), *geometry, rows)
+                    cat("noise", 0), cat("g_tau", 0), *geometry, rows,
+                    None if parts[0].traction is None else cat("traction", 2))
 
 
 def _same_rows(a, b) -> bool:
@@ -2601,7 +2611,8 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
                    np.maximum(interp_pins(sol.force, 0.0), 0.0), interp_pins(sol.v_t, 0.0), None, None,
                    interp_pins(sol.switch, np.nan), per_piece(sol.branch, lambda v: v[..., 0]),
                    None if sol.cand is None else cand, interp_pins(sol.ddelta, 0.0),
-                   per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau), rows=sol.rows)
+                   per_piece(sol.noise, lambda v: v.max(axis=-1)), interp(sol.g_tau), rows=sol.rows,
+                   traction=per_piece(sol.traction, lambda v: v[..., 0]))
     return out, mid_all[piece]
 
 
@@ -3052,8 +3063,8 @@ def _nested_trapezoid_weights(xs, ps):
 def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     """``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change
     part - sol interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``;
-    weight ``t`` on ``hi``); the sets (branch, candidates), the phases, the residual and the contact geometry (nx, ny,
-    wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are clipped at 0, a value that is not
+    weight ``t`` on ``hi``); the sets (branch, candidates, the friction forces' directions), the phases, the residual
+    and the contact geometry (nx, ny, wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are clipped at 0, a value that is not
     finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both over the same rows)."""
     n = sol.theta.size
     rest = np.ones(n, dtype=bool)
@@ -3081,7 +3092,7 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
             out[fl.name] = a
             continue
         b = np.asarray(getattr(part, fl.name))
-        if fl.name == "residual" or geometry or not rest.size:
+        if fl.name in ("residual", "traction") or geometry or not rest.size:
             new = a.copy()
             new[..., kept] = b
             out[fl.name] = new
@@ -4046,7 +4057,8 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
     sol : Solution
         the solved cycle over one period, sorted by theta, piece ends included.
     traction : ndarray or None
-        friction forces per unit normal force (:meth:`ContactModel.traction`), or None.
+        friction forces per unit normal force, those the states were solved with (:attr:`Solution.traction`), or
+        None (friction-free forces).
     n_discs : int
         n_d.
     pieces : ndarray, optional

@@ -209,7 +209,8 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
     # the crank torque, bearing force and contact stress from the requested mode's own forces (friction in the
     # balance unless first-order or jammed: then the friction-free forces, and no crank-torque history, pins.md §8)
     own = consistent and multiplier not in modes.jams
-    crank = pc.crank_bearing(tc.model, cyc.sol, tc.model.traction(cyc.sol) if own else None, n_discs,
+    # the friction forces each state was solved with (at a piece end they can differ from its own sliding's)
+    crank = pc.crank_bearing(tc.model, cyc.sol, cyc.sol.traction if own else None, n_discs,
                              None if cyc.nodes is None else cyc.nodes[1])
     tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs, crank, own) if detail else None
     return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, pk, metrics, play, ov,
