@@ -3064,8 +3064,9 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     """``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change
     part - sol interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``;
     weight ``t`` on ``hi``); the sets (branch, candidates, the friction forces' directions), the phases, the residual
-    and the contact geometry (nx, ny, wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are clipped at 0, a value that is not
-    finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both over the same rows)."""
+    and the contact geometry (nx, ny, wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are
+    clipped at 0, a value that is not finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both
+    over the same rows)."""
     n = sol.theta.size
     rest = np.ones(n, dtype=bool)
     rest[kept] = False
