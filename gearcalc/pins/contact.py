@@ -526,7 +526,7 @@ class CycloidProfile:
         """
         ze = self.design.z2 / self.design.k
         t = ze * s
-        largest = np.max(np.abs(t), initial=0.0)
+        largest = np.abs(t).max(initial=0.0)
         if not largest <= 1e-3:
             return self._trig(beta, fam)
         cb, sb, ca, sa = trig
@@ -588,7 +588,7 @@ class CycloidProfile:
                 step = np.where(np.abs(ratio) <= 0.5, step / (1.0 - ratio), step)
             beta = beta - step
             change = -step
-            if tol is not None and not np.max(np.abs(step), initial=0.0) > tol:
+            if tol is not None and not np.abs(step).max(initial=0.0) > tol:
                 break
         return beta, trig, change
 
@@ -706,7 +706,7 @@ class CycloidProfile:
             step = (rx * dx + ry * dy) / (dx * dx + dy * dy + rx * ddx + ry * ddy)
             beta = pose.aux["beta1"] - step
             trig, change = tuple(pose.aux[k] for k in _TRIG_KEYS), -step
-            if np.max(np.abs(step), initial=0.0) > 1e-7:
+            if np.abs(step).max(initial=0.0) > 1e-7:
                 beta, trig, change = self._newton_trig(beta, fam, x, y, 7, 1e-7)
         else:
             start = tuple(pose.aux[k] for k in _START_KEYS) if _START_KEYS[0] in pose.aux else None
