@@ -2340,6 +2340,11 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     return BreakpointRoots(roots[order], (comp < n_delta)[order], False, state.seen)
 
 
+HERTZ_GRADING_RATIO = 0.25
+"""The geometric ratio of the grading toward both sides of a contact entry or exit under the Hertz law (:func:`_edges`,
+:func:`cycle_breakpoints`): each graded piece is 1/ratio times longer than the next one nearer the entry."""
+
+
 def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarray:
     """The piece ends from the located roots: the period's ends, the roots, and the geometric gradings
     (:func:`cycle_breakpoints`)."""
@@ -2353,9 +2358,9 @@ def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarra
         for x0 in _merge(contact_bp, 4.0 * xtol):
             i = int(np.argmin(np.abs(edges - x0)))
             if i > 0:
-                extra.append(geometric_breakpoints(edges[i], edges[i - 1], width, ratio=0.25))
+                extra.append(geometric_breakpoints(edges[i], edges[i - 1], width, ratio=HERTZ_GRADING_RATIO))
             if i + 1 < edges.size:
-                extra.append(geometric_breakpoints(edges[i], edges[i + 1], width, ratio=0.25))
+                extra.append(geometric_breakpoints(edges[i], edges[i + 1], width, ratio=HERTZ_GRADING_RATIO))
     if model.g.one_minus_K1 < 0.01:
         extra.append(geometric_breakpoints(0.0, Tp, model.g.one_minus_K1 * Tp * model.g.z2 / (2.0 * math.pi)))
     return _merge(np.concatenate([edges, *extra]), 4.0 * xtol)
