@@ -3778,9 +3778,12 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     def make(T_V):
         return ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
 
-    def settles(remainder, history):
-        """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing."""
-        return remainder <= max(0.1 * tol * abs(history[-1]), 1e-15) or fixed_point_settled(history[-2:], tol)
+    def settles(remainder, history, cyc):
+        """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing, or, when
+        the cycle mean itself did not converge (its quadrature at the cap of its angles: the tolerance is not met
+        whatever the torque), below that mean's own error (more passes would refine what that error swamps)."""
+        return (remainder <= max(0.1 * tol * abs(history[-1]), 1e-15) or fixed_point_settled(history[-2:], tol)
+                or (not cyc.converged and remainder <= cyc.loss_ratio_err))
 
     def run(T_V, prev, window_only=False, n_initial=None):
         model = make(T_V)
@@ -3866,7 +3869,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             # (which a wandering history can make small by chance) says nothing: not settled, whatever it is
             settled = False
             break
-        if settles(remainder, history):
+        if settles(remainder, history, cyc):
             break
     else:
         settled = False
