@@ -2061,7 +2061,8 @@ class ContactCycle:
     (:class:`BreakpointRoots`), which a later pass of the same design starts from;
     friction : (R_b, mu_eff, f, rolls, scale) of :func:`contact_losses` and the loss ratio's scale;
     held : every node lies on its piece's side of every sign change (:func:`_pieces_hold`); False: not even on the
-    densest scan (``SCAN_MAX`` intervals), and the loss ratio is not known to its error (pins.md §6);
+    densest scan (``SCAN_MAX`` intervals; not scanned denser where the satellite turns beyond a deflection,
+    :func:`deflection_sized`), and the loss ratio is not known to its error (pins.md §6);
     nodes : (sets, mids, ref_sols, rows) of the trapezoid's final grid, for the next torque pass from the same nodes
     (:func:`relinearised_cycle`): each node's piece sets (active, branch, traction), its piece's midpoint, the states
     that fixed the pieces' sets and the pins the sets are over (:attr:`Solution.rows`; None: a Gauss-Kronrod rule).
@@ -2744,9 +2745,11 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
-    if not held and n_scan < SCAN_MAX:
+    if not held and n_scan < SCAN_MAX and deflection_sized(solved.tau, g):
         # nor the full scan's: a contact or a sliding direction that changes twice between its angles, a 4x denser
-        # one (pins.md §6), also for the later passes of this design
+        # one (pins.md §6), also for the later passes of this design; not where the satellite turns beyond a
+        # deflection (:func:`deflection_sized`): that cycle is flagged whatever the scan (its balance can have several
+        # solutions, pins.md §7), and at its cap of angles each denser scan cost seconds a pass
         model.scan_n = 4 * n_scan
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, 4 * n_scan, prefilter,
                                n_initial, rule, n_min=n_min)

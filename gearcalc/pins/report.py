@@ -243,7 +243,8 @@ def mode_warnings(modes, mode: str) -> list[str]:
         if not t.settled:
             out.append(f"the torque fixed point T_V = u T_H/eta did not settle in {len(t.history)} passes (loss ratios "
                        f"{t.history[-2]:.10g}, {t.history[-1]:.10g})")
-        if not deflection_sized(t.cycle.sol.tau, t.model.g):
+        sized = deflection_sized(t.cycle.sol.tau, t.model.g)
+        if not sized:
             travel = pin_travel(t.cycle.sol.tau, t.model.g)
             out.append(f"in the {'multiplier' if mult else 'reducer'} mode the satellite turns by up to "
                        f"{fmt(math.degrees(float(abs(t.cycle.sol.tau).max())))} deg under the load: a pin centre "
@@ -251,11 +252,14 @@ def mode_warnings(modes, mode: str) -> list[str]:
                        f"not a deflection; the balance can have several solutions, pins.md §7); its loss ratio is not "
                        f"known to the stated error")
         if not t.cycle.held:
+            # a satellite that turns beyond a deflection is not scanned denser (pins.md §6): the text says which
+            scan = ("with the sign changes scanned as usual (not denser: the satellite turns beyond a deflection, "
+                    "above)" if not sized else
+                    f"even with the sign changes scanned on {SCAN_MAX} angles (it changes between them, or the "
+                    f"satellite turns so far under the load that its balance has several solutions)")
             out.append(f"the {'multiplier' if mult else 'reducer'} mode's cycle does not hold: at some solved crank "
-                       f"angles a contact or a sliding direction differs from its piece's even with the sign changes "
-                       f"scanned on {SCAN_MAX} angles (it changes between them, or the satellite turns so far "
-                       f"under the load that its balance has several solutions, pins.md §6-7); its loss ratio is not "
-                       f"known to the stated error")
+                       f"angles a contact or a sliding direction differs from its piece's {scan}, pins.md §6-7; its "
+                       f"loss ratio is not known to the stated error")
     return out
 
 
