@@ -183,24 +183,34 @@ def test_stiff_linear_contact_outputs_approach_the_ideal_level_on_a_k1_cycloid()
     assert ideal["crank_torque_mean_Nm"] == pytest.approx(100.0, rel=1e-13)
 
 
-@pytest.mark.parametrize("name, friction", [
-    ("pins_paper_cyc_u30_fixed.toml", "first-order"),        # k = 2: crest corners, piece ends where the foot jumps
-    ("pins_paper_cyc_u10_rotating.toml", "consistent"),
-    ("pins_paper_circ_u10_fixed.toml", "consistent"),
-])
-def test_kept_contact_geometry_is_the_solved_states_own(name, friction, monkeypatch):
-    # the crank bearing reads the normals the solves kept (Solution.nx, ny, wx, wy) instead of evaluating the
-    # contacts of the final grid again; against evaluating them anew at the solved rotations (the reference): the
-    # normals agree to the rotation's last Newton step or, between the solved nodes of the pass from the last nodes,
-    # its change (~1e-7), and the outputs they make (bearing force, Hertz stress) to the same order
-    seen = []
-    original = pc.crank_bearing
+CRANK_BEARING = pc.crank_bearing
+"""The function itself (the fixture below replaces it by a spy that calls it)."""
+
+
+@pytest.fixture
+def crank_calls(monkeypatch):
+    """(model, sol, traction, n_discs) of every crank_bearing call of the test, in order."""
+    seen, original = [], CRANK_BEARING
 
     def spy(model, sol, traction, n_discs, pieces=None):
         seen.append((model, sol, traction, n_discs))
         return original(model, sol, traction, n_discs, pieces)
 
     monkeypatch.setattr(pc, "crank_bearing", spy)
+    return seen
+
+
+@pytest.mark.parametrize("name, friction", [
+    ("pins_paper_cyc_u30_fixed.toml", "first-order"),        # k = 2: crest corners, piece ends where the foot jumps
+    ("pins_paper_cyc_u10_rotating.toml", "consistent"),
+    ("pins_paper_circ_u10_fixed.toml", "consistent"),
+])
+def test_kept_contact_geometry_is_the_solved_states_own(name, friction, monkeypatch, crank_calls):
+    # the crank bearing reads the normals the solves kept (Solution.nx, ny, wx, wy) instead of evaluating the
+    # contacts of the final grid again; against evaluating them anew at the solved rotations (the reference): the
+    # normals agree to the rotation's last Newton step or, between the solved nodes of the pass from the last nodes,
+    # its change (~1e-7), and the outputs they make (bearing force, Hertz stress) to the same order
+    seen, original = crank_calls, CRANK_BEARING
     _contact(name, **{"friction.model": friction})
     model, sol, traction, n_discs = seen[0]
     kept, pick = model.kept_contacts(sol)
@@ -219,7 +229,7 @@ def test_kept_contact_geometry_is_the_solved_states_own(name, friction, monkeypa
 
 
 @pytest.mark.parametrize("name, wrong", [("pins_circ_band_u10.toml", 1e-3), ("pins_circ_band_u30.toml", 3e-5)])
-def test_the_crank_bearing_takes_the_friction_forces_each_state_was_solved_with(name, wrong, monkeypatch):
+def test_the_crank_bearing_takes_the_friction_forces_each_state_was_solved_with(name, wrong, crank_calls):
     # pins.md §8: at a piece end (a sliding speed that changes sign there) a state is solved with its piece's friction
     # directions, which can differ from those of its own sliding speed (~0 there); the crank torque must take the ones
     # its forces balance.  Reference: the satellite's moment balance about O1 re-evaluated at every node of the final
@@ -227,16 +237,9 @@ def test_the_crank_bearing_takes_the_friction_forces_each_state_was_solved_with(
     # the torque: the nodes between the solved ones of a pass from the last pass's nodes are interpolated); with the
     # directions read off the states' own sliding speeds it is off by the friction moment of a contact (two-touch
     # band designs, rotating pins: such a node exists, so the check can fail; 4.6e-3 and 6.8e-5 of the torque)
-    seen = []
-    original = pc.crank_bearing
-
-    def spy(model, sol, traction, n_discs, pieces=None):
-        seen.append((model, sol, traction))
-        return original(model, sol, traction, n_discs, pieces)
-
-    monkeypatch.setattr(pc, "crank_bearing", spy)
+    seen = crank_calls
     api.compute(str(CONFIGS / name), model="contact", tol=1e-6)
-    model, sol, traction = seen[0]
+    model, sol, traction, _ = seen[0]
     assert traction is sol.traction and traction is not None
     full = sol.over_pins(model.g.z2)
     pose = model.pose(full.theta)

@@ -317,7 +317,7 @@ def test_a_bracket_that_the_next_search_does_not_hold_is_no_equilibrium_not_an_i
     assert exc.value.theta.tolist() == [0.3]
 
 
-def test_an_unconverged_cycle_mean_stops_the_fixed_point_at_its_own_error(monkeypatch):
+def test_an_unconverged_cycle_mean_stops_the_fixed_point_at_its_own_error(monkeypatch, cycles):
     # pins.md §7: when the cycle mean did not converge (its quadrature at the cap of its angles, here 2^6 instead of
     # 2^12 at tol 1e-9), the fixed point stops once its remaining change is below that mean's own error: more passes
     # would refine what the error swamps (a random design, seed 103 no. 34, took eight passes and 19.7 s before,
@@ -335,16 +335,9 @@ def test_an_unconverged_cycle_mean_stops_the_fixed_point_at_its_own_error(monkey
 
     path = str(CONFIGS / "pins_circ_band_u30.toml")
     over = {"friction.model": "first-order"}
-    runs, orig_cycle = [], pc.cycle_at_torque
-
-    def recorded(*a, **k):
-        runs.append(orig_cycle(*a, **k))
-        return runs[-1]
-
     monkeypatch.setattr(pc, "mean_loss_ratio", capped)
-    monkeypatch.setattr(pc, "cycle_at_torque", recorded)
     s = _summary(path, over, tol=1e-9)
-    tc = runs[-1]
+    tc = cycles[-1]
     assert not tc.cycle.converged and not s["tolerance_met"]
     assert tc.settled and len(tc.history) == 2
     assert tc.loss_ratio_err >= tc.cycle.loss_ratio_err
