@@ -2267,10 +2267,11 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
     state = _breakpoint_state(model)
     xtol = 1e-12 * Tp
     x = np.linspace(0.0, Tp, n_scan + 1)
-    v, _, n_delta = _components(state(x), rolls)
+    v, dv, n_delta = _components(state(x), rolls)
     sgn = np.sign(v)
     comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
     if comp.size:
+        x0 = _smooth_side_start(x, v, dv, comp, idx)
         def h(t, k):
             val, slope, _ = _components(state(t), rolls)
             i = np.arange(k.size)
@@ -2279,11 +2280,76 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
         # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
         # 1e-3 tol times the jump of lambda over lambda_bar
         roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
-                                     jump_xtol=1e-3 * tol * Tp, step_tol=ROOT_STEP * Tp)
+                                     jump_xtol=1e-3 * tol * Tp, step_tol=ROOT_STEP * Tp, x0=x0, bent_above=True)
     else:
         roots = np.empty(0)
     order = roots.argsort(kind="stable")
     return BreakpointRoots(roots[order], (comp < n_delta)[order], not checked, state.seen)
+
+
+SMOOTH_START_BACKOFF = 1e-4
+"""The refinement's first point from the smooth side (:func:`_smooth_side_start`) lies this fraction of its distance
+from the scan point short of the cubic's root: below zero, where the state is smooth and solved to round-off from its
+own side's warm start (a first point just above zero, next to a Hertz contact's entry, came out ~1e-10 mm off in the
+penetration and the root 5e-10 T_p off; measured 2026-11-27), and near enough that Newton from it meets the root to
+~(h''/2h') (1e-4 d)^2, so the second call's step is below :data:`ROOT_STEP`."""
+
+
+def _smooth_side_start(x, v, dv, comp, idx):
+    """First points of the refinement of the scan's sign changes (:func:`_refine_sign_changes`): for a penetration
+    (its slope known), the root of the cubic Hermite interpolant of the two scan points below zero next to the
+    sign change (value and slope each), extrapolated over the bracket; NaN (the scan's linear interpolation) where
+    the slope is unknown, the next point out is not below zero too, another component changes sign on the way or in
+    the bracket, or the far end lies above the cubic (below).
+
+    Below zero the pin is clear of its tooth and the state is smooth in theta; above, the contact's force bends the
+    penetration ((theta - theta0)^(10/9) under the Hertz law), so the linear interpolation across the root and Newton
+    from the point above zero land 1e-5-1e-4 T_p off, and the refinement takes three calls; the cubic's root, whose
+    error is O(h^4) (1e-10-1e-9 T_p on the paper designs), backed off into the side below zero by
+    :data:`SMOOTH_START_BACKOFF` of its distance from the scan point, takes two (pins.md §6).
+
+    ``x`` (m + 1,): the scan's crank angles; ``v``, ``dv`` (c, m + 1): the components and their slopes there (NaN:
+    unknown); ``comp``, ``idx``: the sign changes, between x[idx] and x[idx + 1] of component comp.
+
+    Examples
+    --------
+    >>> x = np.linspace(0.0, 1.0, 5)
+    >>> f = lambda t: np.sin(3.0 * t) - 0.8                # one root at arcsin(0.8)/3 = 0.30910
+    >>> v, dv = f(x)[None], (3.0 * np.cos(3.0 * x))[None]
+    >>> start = _smooth_side_start(x, v, dv, np.array([0]), np.array([1]))
+    >>> bool(abs(start[0] - np.arcsin(0.8) / 3.0) < 2e-3 < abs(x[1] - v[0, 1] * 0.25 / (v[0, 2] - v[0, 1]) - 0.30910))
+    True
+    """
+    m = x.size - 1
+    lower = v[comp, idx] < 0.0                      # the side below zero: idx (else idx + 1)
+    n = np.where(lower, idx, idx + 1)               # its scan point next to the root
+    o = np.where(lower, idx - 1, idx + 2)           # and the next one out
+    ok = (o >= 0) & (o <= m)
+    o = np.clip(o, 0, m)
+    fn, sn, fo, so = v[comp, n], dv[comp, n], v[comp, o], dv[comp, o]
+    # no sign change of any component between o and n (a kink of the state there), nor of another one in the bracket
+    a, b = np.minimum(n, o), np.maximum(n, o)
+    sg = np.sign(v)
+    clean = ~np.any(sg[:, a] * sg[:, b] < 0.0, axis=0) & (np.sum(sg[:, idx] * sg[:, idx + 1] < 0.0, axis=0) == 1)
+    ok &= clean & (fo < 0.0) & np.isfinite(sn) & np.isfinite(so) & np.isfinite(fo)
+    xn, xo = x[n], x[o]
+    H = xn - xo                                    # signed: toward the root
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = xn - fn / sn                             # Newton from the nearer point, then Newton on the cubic
+        for _ in range(3):
+            t = (r - xo) / H
+            t2 = t * t
+            p = _hermite(t, H, fo, so, fn, sn)
+            dp = ((6.0 * t2 - 6.0 * t) * (fo - fn) / H + (3.0 * t2 - 4.0 * t + 1.0) * so + (3.0 * t2 - 2.0 * t) * sn)
+            r = r - p / dp
+        # the far end's penetration, bent by the contact's own force, lies below the cubic's (the smooth extension:
+        # the state without that force, which turns the satellite farther): else the bracket holds other sign changes
+        # (a crest corner, another root) and the scan's linear start is kept
+        f_far = v[comp, np.where(lower, idx + 1, idx)]
+        t = (x[np.where(lower, idx + 1, idx)] - xo) / H
+        p_far = _hermite(t, H, fo, so, fn, sn)
+        ok &= (f_far > 0.0) & (f_far <= 1.25 * p_far)
+    return np.where(ok, r - SMOOTH_START_BACKOFF * np.abs(r - xn) * np.sign(H), np.nan)
 
 
 def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float, tol: float,
@@ -2329,7 +2395,7 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
         return val[comp[k], i], slope[comp[k], i]
 
     roots = _refine_sign_changes(h, np.concatenate(lo), np.concatenate(hi), np.concatenate(flo), np.concatenate(fhi),
-                                 xtol, jump_xtol=jtol, step_tol=ROOT_STEP * Tp)
+                                 xtol, jump_xtol=jtol, step_tol=ROOT_STEP * Tp, bent_above=True)
     # one root found from two overlapping brackets: the same component within the refinement's tolerance
     order = np.lexsort((roots, comp))
     comp, roots = comp[order], roots[order]
@@ -2402,7 +2468,7 @@ about the cost of one point (a call's cost is mostly its fixed overhead; :func:`
 
 
 def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None,
-                         step_tol: float | None = None, sections: int = SECTIONS):
+                         step_tol: float | None = None, sections: int = SECTIONS, x0=None, bent_above: bool = False):
     """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
     slope, secant otherwise, and where a step leaves the bracket the bracket cut into ``sections`` equal parts by
     as many points minus one in the next call (pins.md §6: breakpoints to 1e-12 T_p).  ``h(x, k)`` returns (values,
@@ -2415,6 +2481,14 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     where the friction forces flip): it is narrowed only to ``jump_xtol`` (default ``xtol``).  A cut bracket is cut
     again while its end values stay 4x above that (a jump, or a root whose slope is far from the scan's), else
     Newton or the secant take over from the part with the sign change.
+
+    ``x0`` (optional): first points to evaluate, e.g. a root extrapolated from the smooth side (:func:`_smooth_side_start`),
+    taken where finite and within a quarter of the bracket of the scan's linear interpolation (else that: farther, the
+    bracket may hold three sign changes, and the start would pick another one than the linear one, which the other
+    passes and modes of the cycle pick).  ``bent_above``: a value above zero that comes with a slope is a
+    penetration's, bent there by the contact's own force, so Newton from it converges linearly (its error ~1/30 of the
+    step under the Hertz law, not ~s^2): such a step never stops the bracket; the stepped point, just below zero, is
+    evaluated, and the step from there does.
 
     ``step_tol`` (default ``xtol``): a bracket also stops after a Newton or secant step below it, at the stepped
     point: Newton's error after a step s is ~(h''/2h') s^2, the secant's ~s^1.6, so a step of 1e-9 T_p leaves
@@ -2438,6 +2512,11 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     with np.errstate(divide="ignore", invalid="ignore"):
         x = lo - flo * (hi - lo) / (fhi - flo)                # the scan's linear interpolation
     x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
+    if x0 is not None:
+        # far from the linear interpolation (a quarter of the bracket) the bracket holds more than one sign change, or
+        # the cubic does not describe it: the linear start then
+        x0 = np.asarray(x0, dtype=float)
+        x = np.where(np.isfinite(x0) & (x0 > lo) & (x0 < hi) & (np.abs(x0 - x) <= 0.25 * (hi - lo)), x0, x)
     xp, fp = np.where(np.abs(flo) < np.abs(fhi), lo, hi), np.where(np.abs(flo) < np.abs(fhi), flo, fhi)
     cut = np.zeros(x.size, dtype=bool)              # cut into sections at the next call (else one point: x)
     frac = np.arange(1, sections) / sections
@@ -2463,7 +2542,10 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
             new = np.where(bad, 0.5 * (lb + hh), new)
             width = hh - lb
             jump = (width <= 1e-3 * w0[one]) & (np.minimum(np.abs(fl), np.abs(fh)) > 100.0 * slope0[one] * width)
-            conv = ((f == 0.0) | (~bad & (np.abs(new - xa) <= step_tol)) | (width <= 2.0 * xtol)
+            small = np.abs(new - xa) <= step_tol
+            if bent_above:
+                small = np.where((f > 0.0) & np.isfinite(slope), np.abs(new - xa) <= 30.0 * xtol, small)
+            conv = ((f == 0.0) | (~bad & small) | (width <= 2.0 * xtol)
                     | (jump & (width <= 2.0 * jtol)))
             closed = conv & ((width <= 2.0 * xtol) | (jump & (width <= 2.0 * jtol)))
             lo[one], hi[one], flo[one], fhi[one] = lb, hh, fl, fh
