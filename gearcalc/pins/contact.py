@@ -2482,10 +2482,10 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     again while its end values stay 4x above that (a jump, or a root whose slope is far from the scan's), else
     Newton or the secant take over from the part with the sign change.
 
-    ``x0`` (optional): first points to evaluate, e.g. a root extrapolated from the smooth side (:func:`_smooth_side_start`),
-    taken where finite and within a quarter of the bracket of the scan's linear interpolation (else that: farther, the
-    bracket may hold three sign changes, and the start would pick another one than the linear one, which the other
-    passes and modes of the cycle pick).  ``bent_above``: a value above zero that comes with a slope is a
+    ``x0`` (optional): first points to evaluate, e.g. a root extrapolated from the smooth side
+    (:func:`_smooth_side_start`), taken where finite and within a quarter of the bracket of the scan's linear
+    interpolation (else that: farther, the bracket may hold three sign changes, and the start would pick another one
+    than the linear one, which the other passes and modes of the cycle pick).  ``bent_above``: a value above zero that comes with a slope is a
     penetration's, bent there by the contact's own force, so Newton from it converges linearly (its error ~1/30 of the
     step under the Hertz law, not ~s^2): such a step never stops the bracket; the stepped point, just below zero, is
     evaluated, and the step from there does.
