@@ -2485,10 +2485,12 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     ``x0`` (optional): first points to evaluate, e.g. a root extrapolated from the smooth side
     (:func:`_smooth_side_start`), taken where finite and within a quarter of the bracket of the scan's linear
     interpolation (else that: farther, the bracket may hold three sign changes, and the start would pick another one
-    than the linear one, which the other passes and modes of the cycle pick).  ``bent_above``: a value above zero that comes with a slope is a
-    penetration's, bent there by the contact's own force, so Newton from it converges linearly (its error ~1/30 of the
-    step under the Hertz law, not ~s^2): such a step never stops the bracket; the stepped point, just below zero, is
-    evaluated, and the step from there does.
+    than the linear one, which the other passes and modes of the cycle pick).
+
+    ``bent_above``: a value above zero that comes with a slope is a penetration's, bent there by the contact's own
+    force, so Newton from it converges linearly (its error ~1/30 of the step under the Hertz law, not ~s^2): such a
+    step stops the bracket only below 30 ``xtol``; otherwise the stepped point, just below zero, is evaluated, and the
+    step from there stops it.
 
     ``step_tol`` (default ``xtol``): a bracket also stops after a Newton or secant step below it, at the stepped
     point: Newton's error after a step s is ~(h''/2h') s^2, the secant's ~s^1.6, so a step of 1e-9 T_p leaves
