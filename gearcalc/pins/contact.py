@@ -1065,6 +1065,13 @@ NEWTON_SMALL = 1e-8
 |s| <= 1e-8 |tau| (quadratic convergence: the error is then ~s^2/tau <= 1e-16 |tau|, and the geometry, kept at the
 start, moves by (R_p + e) s ~ 1e-10 mm, far below the deflections' resolution)."""
 
+REFINE_NEWTON_STOP, REFINE_NEWTON_SMALL = 1e-11, 1e-12
+""":data:`NEWTON_STOP` and :data:`NEWTON_SMALL` of the solves that refine a scanned penetration's sign change from the
+smooth side (:func:`_scan_roots`, :attr:`ContactModel._refining`): a root is taken from one such state's value and
+slope, so the penetration must hold to well below 1e-12 T_p times its slope (with the product's stops, a state next to a
+Hertz contact's entry warm-started from the scan came out ~1e-10 mm off; measured 2026-11-27).  An iteration or two
+more per refinement call (2-3 crank angles)."""
+
 NEWTON_STOP = 1e-6
 """The satellite rotation's Newton iteration (:meth:`ContactModel._solve`) stops after a step |s| <= 1e-6 |tau|: its
 error is then C s^2 with C = |G_tautau tau/(2 G_tau)|, measured 0.05-3 on the paper designs (the ratio of successive
@@ -1092,6 +1099,9 @@ class ContactModel:
     -G_theta/G_tau analytically; only the pins of a candidate window (those that can touch for
     |tau| <= 2 max |tau| of a first solve, :meth:`set_window`) are evaluated.
     """
+
+    _refining = False
+    """Solves for a breakpoint's refinement: stopped at :data:`REFINE_NEWTON_STOP` and :data:`REFINE_NEWTON_SMALL`."""
 
     def __init__(self, g: Cycloid, profile, law: ContactLaw, torque_sat: float, sigma: int, friction=None):
         self.g, self.profile, self.law = g, profile, law
@@ -1527,7 +1537,8 @@ class ContactModel:
                 # a step below the spacing of floats (not inside the open bracket) leaves tau as it is
                 at = np.abs(step)
                 xt = np.maximum(4.0 * np.spacing(np.abs(t)), 1e-3 * xtol)
-                conv = ((G == 0.0) | (neg & (at <= xt)) | (ok & (at <= NEWTON_STOP * np.abs(t)))
+                stop = REFINE_NEWTON_STOP if self._refining else NEWTON_STOP
+                conv = ((G == 0.0) | (neg & (at <= xt)) | (ok & (at <= stop * np.abs(t)))
                         | (both & (hb - lb <= xt)))
                 fail = ~(ok | both | conv)
                 act = ~fail & (G != 0.0)
@@ -1906,8 +1917,9 @@ class ContactModel:
         if step:
             with np.errstate(divide="ignore", invalid="ignore"):
                 s = -G / G_tau
-                take = ((G_tau < 0.0) & np.isfinite(s) & (np.abs(s) <= NEWTON_SMALL * np.abs(tau))
-                        & (np.abs(G_geo * s) <= 1e-3 * NEWTON_SMALL * abs(self.M_req)))
+                small = REFINE_NEWTON_SMALL if self._refining else NEWTON_SMALL
+                take = ((G_tau < 0.0) & np.isfinite(s) & (np.abs(s) <= small * np.abs(tau))
+                        & (np.abs(G_geo * s) <= 1e-3 * small * abs(self.M_req)))
             need = ~take
             if take.any():
                 s = np.where(take, s, 0.0)
@@ -2271,52 +2283,64 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
     sgn = np.sign(v)
     comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
     if comp.size:
-        x0 = _smooth_side_start(x, v, dv, comp, idx)
+        x0, steps = _smooth_side_start(x, v, dv, comp, idx, xtol, Tp)
+
+        first = [True]
+
         def h(t, k):
-            val, slope, _ = _components(state(t), rolls)
+            # the first call's solves tight (its points from the smooth side are taken as they are, below); later
+            # ones are the product's
+            model._refining, first[0] = first[0] and np.isfinite(x0).any(), False
+            try:
+                val, slope, _ = _components(state(t), rolls)
+            finally:
+                model._refining = False
             i = np.arange(k.size)
             return val[comp[k], i], slope[comp[k], i]
 
         # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
         # 1e-3 tol times the jump of lambda over lambda_bar
         roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
-                                     jump_xtol=1e-3 * tol * Tp, step_tol=ROOT_STEP * Tp, x0=x0, bent_above=True)
+                                     jump_xtol=1e-3 * tol * Tp, step_tol=ROOT_STEP * Tp, x0=x0, bent_above=True,
+                                     step_tols=steps)
     else:
         roots = np.empty(0)
     order = roots.argsort(kind="stable")
     return BreakpointRoots(roots[order], (comp < n_delta)[order], not checked, state.seen)
 
 
-SMOOTH_START_BACKOFF = 1e-4
-"""The refinement's first point from the smooth side (:func:`_smooth_side_start`) lies this fraction of its distance
-from the scan point short of the cubic's root: below zero, where the state is smooth and solved to round-off from its
-own side's warm start (a first point just above zero, next to a Hertz contact's entry, came out ~1e-10 mm off in the
-penetration and the root 5e-10 T_p off; measured 2026-11-27), and near enough that Newton from it meets the root to
-~(h''/2h') (1e-4 d)^2, so the second call's step is below :data:`ROOT_STEP`."""
+SMOOTH_START_CURVATURE_MARGIN = 1e-2
+"""A refinement step from the smooth side of a scanned penetration's sign change (:func:`_smooth_side_start`) stops its
+bracket when Newton's error after it, C s^2 (C = |f''/2f'|, the larger of the scan cubic's at its root and 1/T_p), is
+below this fraction of the breakpoints' tolerance (1e-12 T_p): the curvature may be 100x the estimate."""
 
 
-def _smooth_side_start(x, v, dv, comp, idx):
-    """First points of the refinement of the scan's sign changes (:func:`_refine_sign_changes`): for a penetration
-    (its slope known), the root of the cubic Hermite interpolant of the two scan points below zero next to the
-    sign change (value and slope each), extrapolated over the bracket; NaN (the scan's linear interpolation) where
-    the slope is unknown, the next point out is not below zero too, another component changes sign on the way or in
-    the bracket, or the far end lies above the cubic (below).
+def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
+    """First points and step tolerances of the refinement of the scan's sign changes (:func:`_refine_sign_changes`):
+    for a penetration (its slope known), the root of the cubic Hermite interpolant of the two scan points below zero
+    next to the sign change (value and slope each), extrapolated over the bracket, and backed off into the side below
+    zero by half the step tolerance; NaN (the scan's linear interpolation, the global step tolerance) where the slope
+    is unknown, the next point out is not below zero too, another component changes sign on the way or in the
+    bracket, or the far end lies above the cubic (below).
 
     Below zero the pin is clear of its tooth and the state is smooth in theta; above, the contact's force bends the
     penetration ((theta - theta0)^(10/9) under the Hertz law), so the linear interpolation across the root and Newton
-    from the point above zero land 1e-5-1e-4 T_p off, and the refinement takes three calls; the cubic's root, whose
-    error is O(h^4) (1e-10-1e-9 T_p on the paper designs), backed off into the side below zero by
-    :data:`SMOOTH_START_BACKOFF` of its distance from the scan point, takes two (pins.md §6).
+    from the point above zero land 1e-5-1e-4 T_p off, and the refinement took three calls.  The cubic's root is
+    O(h^4) off (1e-10-1e-9 T_p on the paper designs); a Newton step of s from a point below zero leaves C s^2, C =
+    |f''/2f'| (from the cubic at its root, at least 1/T_p), so the bracket's step tolerance is the s with
+    C s^2 = :data:`SMOOTH_START_CURVATURE_MARGIN` ``xtol`` (~1e-7 T_p, against :data:`ROOT_STEP` = 1e-9 T_p), and
+    the first point, half of it short of the cubic's root, is one step from the root: one call (pins.md §6).
 
     ``x`` (m + 1,): the scan's crank angles; ``v``, ``dv`` (c, m + 1): the components and their slopes there (NaN:
-    unknown); ``comp``, ``idx``: the sign changes, between x[idx] and x[idx + 1] of component comp.
+    unknown); ``comp``, ``idx``: the sign changes, between x[idx] and x[idx + 1] of component comp; ``xtol``: the
+    breakpoints' tolerance; ``Tp``: the period.  Returns (first points, step tolerances), NaN where not taken.
 
     Examples
     --------
     >>> x = np.linspace(0.0, 1.0, 5)
     >>> f = lambda t: np.sin(3.0 * t) - 0.8                # one root at arcsin(0.8)/3 = 0.30910
     >>> v, dv = f(x)[None], (3.0 * np.cos(3.0 * x))[None]
-    >>> start = _smooth_side_start(x, v, dv, np.array([0]), np.array([1]))
+    >>> start, step = _smooth_side_start(x, v, dv, np.array([0]), np.array([1]), 1e-12, 1.0)
     >>> bool(abs(start[0] - np.arcsin(0.8) / 3.0) < 2e-3 < abs(x[1] - v[0, 1] * 0.25 / (v[0, 2] - v[0, 1]) - 0.30910))
     True
     """
@@ -2342,14 +2366,19 @@ def _smooth_side_start(x, v, dv, comp, idx):
             p = _hermite(t, H, fo, so, fn, sn)
             dp = ((6.0 * t2 - 6.0 * t) * (fo - fn) / H + (3.0 * t2 - 4.0 * t + 1.0) * so + (3.0 * t2 - 2.0 * t) * sn)
             r = r - p / dp
+        # the cubic's curvature at its root, |p''/2p'|, at least 1/T_p
+        t = (r - xo) / H
+        d2p = ((12.0 * t - 6.0) * (fo - fn) / H + (6.0 * t - 4.0) * so + (6.0 * t - 2.0) * sn) / H
+        C = np.maximum(np.abs(d2p / (2.0 * dp)), 1.0 / Tp)
+        step = np.sqrt(SMOOTH_START_CURVATURE_MARGIN * xtol / C)
         # the far end's penetration, bent by the contact's own force, lies below the cubic's (the smooth extension:
         # the state without that force, which turns the satellite farther): else the bracket holds other sign changes
         # (a crest corner, another root) and the scan's linear start is kept
         f_far = v[comp, np.where(lower, idx + 1, idx)]
         t = (x[np.where(lower, idx + 1, idx)] - xo) / H
         p_far = _hermite(t, H, fo, so, fn, sn)
-        ok &= (f_far > 0.0) & (f_far <= 1.25 * p_far)
-    return np.where(ok, r - SMOOTH_START_BACKOFF * np.abs(r - xn) * np.sign(H), np.nan)
+        ok &= (f_far > 0.0) & (f_far <= 1.25 * p_far) & np.isfinite(step) & np.isfinite(r)
+    return np.where(ok, r - 0.5 * step * np.sign(H), np.nan), np.where(ok, step, np.nan)
 
 
 def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float, tol: float,
@@ -2468,7 +2497,8 @@ about the cost of one point (a call's cost is mostly its fixed overhead; :func:`
 
 
 def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None,
-                         step_tol: float | None = None, sections: int = SECTIONS, x0=None, bent_above: bool = False):
+                         step_tol: float | None = None, sections: int = SECTIONS, x0=None, bent_above: bool = False,
+                         step_tols=None):
     """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
     slope, secant otherwise, and where a step leaves the bracket the bracket cut into ``sections`` equal parts by
     as many points minus one in the next call (pins.md §6: breakpoints to 1e-12 T_p).  ``h(x, k)`` returns (values,
@@ -2490,7 +2520,8 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     ``bent_above``: a value above zero that comes with a slope is a penetration's, bent there by the contact's own
     force, so Newton from it converges linearly (its error ~1/30 of the step under the Hertz law, not ~s^2): such a
     step stops the bracket only below 30 ``xtol``; otherwise the stepped point, just below zero, is evaluated, and the
-    step from there stops it.
+    step from there stops it.  ``step_tols`` (optional, per bracket): a larger step tolerance where finite (one whose
+    Newton error is known to be small from the bracket's curvature, :func:`_smooth_side_start`).
 
     ``step_tol`` (default ``xtol``): a bracket also stops after a Newton or secant step below it, at the stepped
     point: Newton's error after a step s is ~(h''/2h') s^2, the secant's ~s^1.6, so a step of 1e-9 T_p leaves
@@ -2514,6 +2545,7 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     with np.errstate(divide="ignore", invalid="ignore"):
         x = lo - flo * (hi - lo) / (fhi - flo)                # the scan's linear interpolation
     x = np.where(np.isfinite(x) & (x > lo) & (x < hi), x, 0.5 * (lo + hi))
+    stols = None if step_tols is None else np.where(np.isfinite(step_tols), np.maximum(step_tols, step_tol), step_tol)
     if x0 is not None:
         # far from the linear interpolation (a quarter of the bracket) the bracket holds more than one sign change, or
         # the cubic does not describe it: the linear start then
@@ -2544,7 +2576,7 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
             new = np.where(bad, 0.5 * (lb + hh), new)
             width = hh - lb
             jump = (width <= 1e-3 * w0[one]) & (np.minimum(np.abs(fl), np.abs(fh)) > 100.0 * slope0[one] * width)
-            small = np.abs(new - xa) <= step_tol
+            small = np.abs(new - xa) <= (step_tol if step_tols is None else stols[one])
             if bent_above:
                 small = np.where((f > 0.0) & np.isfinite(slope), np.abs(new - xa) <= 30.0 * xtol, small)
             conv = ((f == 0.0) | (~bad & small) | (width <= 2.0 * xtol)
