@@ -1010,6 +1010,18 @@ def _hermite(t, h, fa, da, fb, db):
     return ((2 * t3 - 3 * t2 + 1) * fa + (t3 - 2 * t2 + t) * h * da + (-2 * t3 + 3 * t2) * fb + (t3 - t2) * h * db)
 
 
+def _hermite_slope(t, h, fa, da, fb, db):
+    """The derivative d/dx of :func:`_hermite` at t = (x - x_a)/h.
+
+    >>> bool(abs(_hermite_slope(0.3, 2.0, 1.0, -0.5, 4.0, 2.0)
+    ...          - (_hermite(0.3 + 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0) - _hermite(0.3 - 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0))
+    ...          / 4e-7) < 1e-8)
+    True
+    """
+    t2 = t * t
+    return (6.0 * t2 - 6.0 * t) * (fa - fb) / h + (3.0 * t2 - 4.0 * t + 1.0) * da + (3.0 * t2 - 2.0 * t) * db
+
+
 def _doubling_bracket(G, n: int, h0: float, limit: float):
     """Brackets of the roots of a decreasing G(tau) (n,) about tau = 0, by doubling a step from h0 on the side of
     sign(G(0)) up to ``limit``: (a, b, open), open where no sign change lies within +-limit."""
@@ -1799,9 +1811,7 @@ class ContactModel:
             t = np.where(inside, (theta - th[a]) / h, 0.0)
             herm = _hermite(t, h, ta[a], dt[a], ta[b], dt[b])
             if slope:
-                t2 = t * t
-                d_herm = ((6.0 * t2 - 6.0 * t) * (ta[a] - ta[b]) / h + (3.0 * t2 - 4.0 * t + 1.0) * dt[a]
-                          + (3.0 * t2 - 2.0 * t) * dt[b])
+                d_herm = _hermite_slope(t, h, ta[a], dt[a], ta[b], dt[b])
                 return np.where(inside, herm, line), np.where(inside, d_herm, dt[near])
         return np.where(inside, herm, line)
 
@@ -2362,12 +2372,10 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
         r = xn - fn / sn                             # Newton from the nearer point, then Newton on the cubic
         for _ in range(3):
             t = (r - xo) / H
-            t2 = t * t
-            p = _hermite(t, H, fo, so, fn, sn)
-            dp = ((6.0 * t2 - 6.0 * t) * (fo - fn) / H + (3.0 * t2 - 4.0 * t + 1.0) * so + (3.0 * t2 - 2.0 * t) * sn)
-            r = r - p / dp
+            r = r - _hermite(t, H, fo, so, fn, sn) / _hermite_slope(t, H, fo, so, fn, sn)
         # the cubic's curvature at its root, |p''/2p'|, at least 1/T_p
         t = (r - xo) / H
+        dp = _hermite_slope(t, H, fo, so, fn, sn)
         d2p = ((12.0 * t - 6.0) * (fo - fn) / H + (6.0 * t - 4.0) * so + (6.0 * t - 2.0) * sn) / H
         C = np.maximum(np.abs(d2p / (2.0 * dp)), 1.0 / Tp)
         step = np.sqrt(SMOOTH_START_CURVATURE_MARGIN * xtol / C)
