@@ -21,7 +21,9 @@ rad/s; a power F [N]·v [mm/s]·1e-3 is in W.
   (§4.4-4.9, §8).
 * :mod:`~gearcalc.pins.detail`: the per-element detail tables of both cycle levels (§8).
 * :mod:`~gearcalc.pins.contact`: level ``contact``, the compliant contact model (§5); its names are not
-  re-exported here (use ``from gearcalc.pins import contact``).
+  re-exported here (use ``from gearcalc.pins import contact``).  Its contact laws are in
+  :mod:`~gearcalc.pins.contact_law` (§5.4), its tooth profiles and pin penetrations in
+  :mod:`~gearcalc.pins.contact_profiles` (§5.2-5.3); :mod:`~gearcalc.pins.contact` re-exports both.
 * :mod:`~gearcalc.pins.contact_level`: the contact level of one design: profile, friction, modes, peaks (§5).
 
 The calculator's design keys are in :mod:`~gearcalc.pins.schema`, its validity rules (each once, for
@@ -31,8 +33,8 @@ designs or points as summary columns in :mod:`~gearcalc.pins.columns`, a batch's
 :mod:`~gearcalc.pins.plot`; the adapter :mod:`gearcalc.kinds.pins` maps design keys to these functions and
 their results to output fields.
 
-Every public name of the physics modules above but :mod:`~gearcalc.pins.contact` and
-:mod:`~gearcalc.pins.detail` is available here, imported on first use (PEP 562), so that
+Every public name of the physics modules above but the contact level's (:mod:`~gearcalc.pins.contact` and the
+two it re-exports) and :mod:`~gearcalc.pins.detail` is available here, imported on first use (PEP 562), so that
 ``from gearcalc import pins`` (and the schema the calculator reads at start-up) imports no numpy.
 
 The paper's worked value (pins.md §3): the rolling and axle friction power of the most loaded pin,
