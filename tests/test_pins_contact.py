@@ -20,6 +20,7 @@ import tomli_w
 
 from gearcalc import pins
 from gearcalc.pins import contact as pc
+from gearcalc.pins import contact_cycle as pcc
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from gearcalc.quadrature import integrate_adaptive
 from test_pins_cli import design, run, summary  # the pins CLI helpers, shared
@@ -218,7 +219,7 @@ def test_gauss_kronrod_option_is_honest_and_agrees_with_the_trapezoid(rule, fric
     # the final grid adds the pieces' interpolated states (pc.gk_interpolated, ~DENSE_PER_PERIOD of them)
     pieces = np.unique(gk.breakpoints).size - 1
     assert gk.n_crank == gk.quad.n + 2 * pieces < trap.n_crank
-    assert gk.n_crank + 0.9 * pc.DENSE_PER_PERIOD < gk.sol.theta.size
+    assert gk.n_crank + 0.9 * pcc.DENSE_PER_PERIOD < gk.sol.theta.size
     assert np.all(np.diff(gk.sol.theta) >= 0.0) and np.all(np.isfinite(gk.lam))
     assert np.all(np.isin(np.unique(gk.breakpoints), gk.sol.theta))
 

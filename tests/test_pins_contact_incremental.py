@@ -12,6 +12,8 @@ import pytest
 
 import gearcalc
 from gearcalc.pins import contact as pc
+from gearcalc.pins import contact_cycle as pcc
+from gearcalc.pins import contact_model as pcm
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 
 
@@ -34,11 +36,11 @@ def test_moved_roots_are_the_scanned_roots_of_the_new_torque(make):
     tol = 1e-6
     a = make(1.0e6)
     a.set_window()
-    prior = pc._scan_roots(a, 256, tol, False)
+    prior = pcc._scan_roots(a, 256, tol, False)
     b = make(1.0e6 * (1.0 + 3e-5))              # the next pass: a torque a few 1e-5 away
     b.inherit(a)
-    moved = pc._incremental_roots(b, prior, 3e-5 * b.g.period, tol, False, 0.125 * b.g.period)
-    full = pc._scan_roots(b, 256, tol, False)
+    moved = pcc._incremental_roots(b, prior, 3e-5 * b.g.period, tol, False, 0.125 * b.g.period)
+    full = pcc._scan_roots(b, 256, tol, False)
     assert moved is not None and not moved.scanned
     assert moved.roots.size == full.roots.size > 0
     assert np.max(np.abs(moved.roots - full.roots)) <= 4e-12 * b.g.period
@@ -65,18 +67,19 @@ def test_scan_roots_refined_from_the_smooth_side_take_fewer_calls_to_the_same_ro
         m = make(1.0e6, friction=friction)
         m.set_window()
         calls.clear()
-        found = pc._scan_roots(m, pc.CYCLE_COARSE_SCAN, tol, False)
+        found = pcc._scan_roots(m, pc.CYCLE_COARSE_SCAN, tol, False)
         return found, len(calls), m.g.period
 
     monkeypatch.setattr(pc.ContactModel, "state", counted)
     smooth, n_smooth, Tp = roots()
     with monkeypatch.context() as mp:
-        for name, value in (("NEWTON_STOP", 1e-13), ("REFINE_NEWTON_STOP", 1e-13), ("REFINE_NEWTON_SMALL", 1e-15),
-                            ("ROOT_STEP", 1e-15), ("SMOOTH_START_CURVATURE_MARGIN", 1e-8)):
-            mp.setattr(pc, name, value)
+        for module, name, value in ((pcm, "NEWTON_STOP", 1e-13), (pcm, "REFINE_NEWTON_STOP", 1e-13),
+                                    (pcm, "REFINE_NEWTON_SMALL", 1e-15), (pcc, "ROOT_STEP", 1e-15),
+                                    (pcc, "SMOOTH_START_CURVATURE_MARGIN", 1e-8)):
+            mp.setattr(module, name, value)      # where the solves and the refinement read them
         ref = roots()[0]
     with monkeypatch.context() as mp:
-        mp.setattr(pc, "_smooth_side_start", lambda x, v, dv, comp, idx, xtol, Tp: (np.full(comp.size, np.nan),) * 2)
+        mp.setattr(pcc, "_smooth_side_start", lambda x, v, dv, comp, idx, xtol, Tp: (np.full(comp.size, np.nan),) * 2)
         linear, n_linear, _ = roots()
     assert smooth.roots.size == linear.roots.size == ref.roots.size > 0
     assert np.array_equal(smooth.contact, ref.contact) and np.array_equal(linear.contact, ref.contact)
@@ -89,11 +92,11 @@ def test_a_root_that_cannot_be_moved_falls_back_to_the_scan():
     tol = 1e-6
     a = circular_model(1.0e6)
     a.set_window()
-    prior = pc._scan_roots(a, 256, tol, False)
+    prior = pcc._scan_roots(a, 256, tol, False)
     # one root too many (a contact that the new model does not have): the count does not match
     extra = pc.BreakpointRoots(np.sort(np.append(prior.roots, 0.5 * (prior.roots[0] + prior.roots[1]))),
                                np.append(prior.contact, True))
-    assert pc._incremental_roots(a, extra, 1e-6 * a.g.period, tol, False, 0.125 * a.g.period) is None
+    assert pcc._incremental_roots(a, extra, 1e-6 * a.g.period, tol, False, 0.125 * a.g.period) is None
 
 
 def test_cycle_from_moved_roots_equals_the_scanned_cycle_within_its_error():
@@ -269,7 +272,7 @@ def test_strided_nodes_keep_both_ends_and_every_stride_th():
     counts = [33, 9, 5, 2]
     ps = np.repeat(np.arange(4), counts)
     xs = np.concatenate([p + np.linspace(0.0, 1.0, c) for p, c in enumerate(counts)])
-    keep, lo, hi, t = pc._strided(xs, ps, 8)
+    keep, lo, hi, t = pcc._strided(xs, ps, 8)
     kept = [np.flatnonzero(keep[ps == p]) for p in range(4)]
     assert [k.tolist() for k in kept] == [list(range(0, 33, 8)), list(range(0, 9, 2)), list(range(5)), [0, 1]]
     # every node lies between its two kept neighbours of the same piece, at the place t
@@ -277,7 +280,7 @@ def test_strided_nodes_keep_both_ends_and_every_stride_th():
     inner = ~keep
     assert np.allclose(xs[lo] + t * (xs[hi] - xs[lo]), xs) and np.all((t[inner] > 0.0) & (t[inner] < 1.0))
     # exact identity: the trapezoid integrates a linear function exactly, piece by piece
-    w = pc._trapezoid_weights(xs[keep], ps[keep])
+    w = pcc._trapezoid_weights(xs[keep], ps[keep])
     assert np.isclose(np.dot(w, 3.0 * xs[keep] + 1.0), sum(3.0 * (p + 0.5) + 1.0 for p in range(4)), rtol=1e-14)
 
 
@@ -291,19 +294,19 @@ def test_moved_states_are_exact_for_a_change_linear_in_theta():
     lo, hi = np.repeat([0, 1, 2], [4, 4, 1]), np.repeat([1, 2, 2], [4, 4, 1])
     t = np.array([0, 0.25, 0.5, 0.75, 0, 0.25, 0.5, 0.75, 0])
     change = 1e-3 * (1.0 + sol.theta)
-    part = pc._take(sol, kept)
+    part = pcm._take(sol, kept)
     part.tau = part.tau + change[kept]
     on = sol.cand                                # the candidates change; the other pins keep their fill values
     part.force = part.force + np.where(on[:, kept], change[kept], 0.0)
     part.residual = part.residual + 1.0
-    moved = pc._moved(sol, part, kept, lo, hi, t)
+    moved = pcc._moved(sol, part, kept, lo, hi, t)
     assert np.allclose(moved.tau, sol.tau + change, rtol=0.0, atol=1e-15)
     both = on & on[:, kept[lo]] & on[:, kept[hi]]    # a candidate at the node and at the kept nodes around it
     assert np.allclose(moved.force[:, both], (sol.force + change)[:, both], rtol=0.0, atol=1e-15 * sol.force.max())
     assert np.array_equal(moved.force[:, ~on], sol.force[:, ~on]) and np.any(both) and not np.all(on)
     assert np.array_equal(np.isinf(moved.delta), np.isinf(sol.delta)) and np.any(np.isinf(sol.delta))
     part.force = part.force - 2.0 * change[kept] - 1e9        # an interpolated fall below 0 is clipped
-    assert np.all(np.delete(pc._moved(sol, part, kept, lo, hi, t).force, kept, axis=-1) >= 0.0)
+    assert np.all(np.delete(pcc._moved(sol, part, kept, lo, hi, t).force, kept, axis=-1) >= 0.0)
     assert np.array_equal(moved.residual[kept], part.residual)
     assert np.array_equal(np.delete(moved.residual, kept), np.delete(sol.residual, kept))
 
@@ -331,7 +334,7 @@ def test_strided_pass_agrees_with_every_node_solved(make, friction):
     assert np.array_equal(one.sol.theta, eight.sol.theta)
     # farther than 1e-3 T_p from the breakpoints (closer, a contact entry's speeds change like (theta - theta_0)^(1/9)
     # with its place: within the strips E_s bounds, and at most as far off as the unmoved state)
-    far = pc._distance_to(first.roots.roots, one.sol.theta) > 1e-3 * a.g.period
+    far = pcm._distance_to(first.roots.roots, one.sol.theta) > 1e-3 * a.g.period
     for field in ("tau", "force", "v_t"):
         solved, strided, old = (getattr(c.sol, field) for c in (one, eight, first))
         fin = np.isfinite(old)
@@ -348,9 +351,9 @@ def test_merged_parts_equal_the_sorted_concatenation():
     arrays = [rng.random((2, 6, t.size)) for t in thetas]
     order = np.argsort(np.concatenate(thetas), kind="stable")
     expected = np.concatenate(arrays, axis=-1)[..., order]
-    places = pc._sorted_places(thetas)
-    assert np.array_equal(pc._merged(thetas, places, 0), np.concatenate(thetas)[order])
-    assert np.array_equal(pc._merged(arrays, places, 2), expected)
+    places = pcm._sorted_places(thetas)
+    assert np.array_equal(pcm._merged(thetas, places, 0), np.concatenate(thetas)[order])
+    assert np.array_equal(pcm._merged(arrays, places, 2), expected)
 
 
 def test_states_over_the_windows_pins_are_the_states_over_all_pins():
@@ -371,10 +374,10 @@ def test_states_over_the_windows_pins_are_the_states_over_all_pins():
     assert np.array_equal(full.force > 0.0, r.force > 0.0)
     assert np.array_equal(a.phases(theta, rows)[0], b.phases(theta)[0][rows])       # same pins, same phases
     # back to the window's rows: the identity
-    back = pc._relayout(full, rows)
+    back = pcm._relayout(full, rows)
     assert all(np.array_equal(getattr(back, k), getattr(s, k)) for k in ("delta", "force", "v_t", "cand"))
     # parts over different rows: over the union (here all pins), in theta order
-    both = pc._concat([s, pc._take(r, slice(0, 3))])
+    both = pcm._concat([s, pcm._take(r, slice(0, 3))])
     assert both.rows is None and both.force.shape[1] == a.g.z2 and np.all(np.diff(both.theta) >= 0.0)
 
 
@@ -403,11 +406,11 @@ def test_window_scan_from_the_linearised_balance_is_the_all_pin_solve(make, sigm
 
 def test_doubling_bracket_holds_the_root_or_reports_none():
     # G(t) = 3e-4 - t (root 3e-4), and one without a root within the limit
-    a, b, open_ = pc._doubling_bracket(lambda t: np.array([3e-4, 5.0]) - t, 2, 1e-9, 1.0)
+    a, b, open_ = pcm._doubling_bracket(lambda t: np.array([3e-4, 5.0]) - t, 2, 1e-9, 1.0)
     assert a[0] <= 3e-4 <= b[0] and b[0] <= 2.0 * 3e-4 + 1e-9 and a[0] >= 0.5 * 3e-4 - 1e-9
     assert open_.tolist() == [False, True]
     # a root below 0: the steps go the other way (G decreasing, G(0) < 0)
-    a, b, open_ = pc._doubling_bracket(lambda t: -2e-3 - t, 1, 1e-9, 1.0)
+    a, b, open_ = pcm._doubling_bracket(lambda t: -2e-3 - t, 1, 1e-9, 1.0)
     assert a[0] <= -2e-3 <= b[0] and not open_[0]
 
 
@@ -468,14 +471,14 @@ def test_refinement_cuts_a_jump_into_sections_and_keeps_newton_for_a_root():
                 np.where(k == 0, np.cos(x - 0.3), np.nan))
 
     jtol = 1e-9
-    r = pc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
+    r = pcc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
                                 jump_xtol=jtol)
     assert abs(r[0] - 0.3) <= 1e-12 and abs(r[1] - 0.7123456789) <= jtol
     # bisection alone would take log2(1/2e-9) ~ 29 calls for the jump; sections of 8: ~ log8 of it plus a few
     assert len(calls) <= 14
-    assert max(calls) <= pc.SECTIONS            # one bracket cut (SECTIONS - 1 points) and the other one's point
+    assert max(calls) <= pcc.SECTIONS            # one bracket cut (SECTIONS - 1 points) and the other one's point
     n_cut, calls[:] = len(calls), []
-    r2 = pc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
+    r2 = pcc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
                                  jump_xtol=jtol, sections=2)                           # bisection
     assert abs(r2[1] - 0.7123456789) <= jtol and len(calls) >= 2 * n_cut
 
@@ -493,7 +496,8 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
         full_passes.append(1)
         return mean(*args, **kwargs)
 
-    monkeypatch.setattr(pc, "mean_loss_ratio", counted)
+    monkeypatch.setattr(pc, "mean_loss_ratio", counted)        # the fixed point's passes
+    monkeypatch.setattr(pcc, "mean_loss_ratio", counted)       # and the quadrature's own retries
     out = {}
     for flag in (True, False):
         monkeypatch.setattr(pc, "CYCLE_RELINEARISE", flag)

@@ -19,6 +19,8 @@ from gearcalc import api
 from gearcalc.calculator import DesignError
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from gearcalc.pins import contact as pc
+from gearcalc.pins import contact_cycle as pcc
+from gearcalc.pins import contact_model as pcm
 from gearcalc.pins import report as R
 from gearcalc.pins.operating import efficiency_torques, shaft_torques
 
@@ -312,7 +314,7 @@ def test_a_bracket_that_the_next_search_does_not_hold_is_no_equilibrium_not_an_i
     # the helper: brackets whose ends hold no sign change at the second search raise NoEquilibrium at their angles
     theta = np.array([0.1, 0.2, 0.3])
     with pytest.raises(pc.NoEquilibrium) as exc:
-        pc._bracket_root(lambda t: np.array([1.0, -1.0, 1.0]) * (t - 0.5) + np.array([0.0, 0.0, 9.0]), theta,
+        pcm._bracket_root(lambda t: np.array([1.0, -1.0, 1.0]) * (t - 0.5) + np.array([0.0, 0.0, 9.0]), theta,
                          np.zeros(3), np.ones(3), 1e-12)
     assert exc.value.theta.tolist() == [0.3]
 
@@ -335,13 +337,15 @@ def test_an_unconverged_cycle_mean_stops_the_fixed_point_at_its_own_error(monkey
 
     path = str(CONFIGS / "pins_circ_band_u30.toml")
     over = {"friction.model": "first-order"}
-    monkeypatch.setattr(pc, "mean_loss_ratio", capped)
+    monkeypatch.setattr(pc, "mean_loss_ratio", capped)      # the fixed point's passes
+    monkeypatch.setattr(pcc, "mean_loss_ratio", capped)     # and the quadrature's own retries
     s = _summary(path, over, tol=1e-9)
     tc = cycles[-1]
     assert not tc.cycle.converged and not s["tolerance_met"]
     assert tc.settled and len(tc.history) == 2
     assert tc.loss_ratio_err >= tc.cycle.loss_ratio_err
     monkeypatch.setattr(pc, "mean_loss_ratio", original)
+    monkeypatch.setattr(pcc, "mean_loss_ratio", original)
     ref = _summary(path, over, tol=1e-9)
     assert ref["tolerance_met"]
     assert abs(s["loss_ratio"] - ref["loss_ratio"]) <= s["loss_ratio_err"]

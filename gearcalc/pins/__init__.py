@@ -21,9 +21,11 @@ rad/s; a power F [N]·v [mm/s]·1e-3 is in W.
   (§4.4-4.9, §8).
 * :mod:`~gearcalc.pins.detail`: the per-element detail tables of both cycle levels (§8).
 * :mod:`~gearcalc.pins.contact`: level ``contact``, the compliant contact model (§5); its names are not
-  re-exported here (use ``from gearcalc.pins import contact``).  Its contact laws are in
-  :mod:`~gearcalc.pins.contact_law` (§5.4), its tooth profiles and pin penetrations in
-  :mod:`~gearcalc.pins.contact_profiles` (§5.2-5.3); :mod:`~gearcalc.pins.contact` re-exports both.
+  re-exported here (use ``from gearcalc.pins import contact``).  It holds the torque fixed point and the modes
+  (§4.9, §7) and re-exports the level's other modules: the tooth profiles and pin penetrations
+  (:mod:`~gearcalc.pins.contact_profiles`, §5.2-5.3), the contact laws (:mod:`~gearcalc.pins.contact_law`, §5.4),
+  the equilibrium at given crank angles (:mod:`~gearcalc.pins.contact_model`, §5.1, §5.5) and one cycle at one
+  torque (:mod:`~gearcalc.pins.contact_cycle`, §5.6-5.7, §6).
 * :mod:`~gearcalc.pins.contact_level`: the contact level of one design: profile, friction, modes, peaks (§5).
 
 The calculator's design keys are in :mod:`~gearcalc.pins.schema`, its validity rules (each once, for

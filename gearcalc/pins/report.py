@@ -231,7 +231,7 @@ def mode_warnings(modes, mode: str) -> list[str]:
     """The warnings of the contact level's modes (:class:`gearcalc.pins.contact.ModeCycles`): the requested mode
     jams (its numbers are the frictionless balance's), a torque fixed point that did not settle, a cycle whose nodes
     contradict their pieces' contact sets (:attr:`gearcalc.pins.contact.ContactCycle.held`)."""
-    from .contact import SCAN_MAX, TRAVEL_MAX, deflection_sized, pin_travel    # the contact level ran: loaded
+    from .contact_cycle import SCAN_MAX, TRAVEL_MAX, deflection_sized, pin_travel    # the contact level ran: loaded
     out = []
     multiplier = mode == "multiplier"
     if multiplier in modes.jams:
