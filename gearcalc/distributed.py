@@ -30,6 +30,13 @@ ENV = "DASK_SCHEDULER_ADDRESS"
 CONNECT_TIMEOUT_S = 10
 """Seconds to reach a scheduler before the run stops with a message."""
 
+LOOPBACK = "127.0.0.1"
+LOCAL_DASHBOARD = "127.0.0.1:8787"
+"""``local:N`` listens on the loopback interface only: its scheduler, its workers and nannies, and the
+dashboard (Dask's usual port, another free one when it is taken; the notice gives the address).  Dask's
+default for the dashboard is every interface (0.0.0.0:8787), where anyone who reaches the machine could
+read the run's pages (its tasks, the workers' logs and call stacks) for as long as it lasts."""
+
 WAIT_NOTICE_S = 5
 """Seconds without any worker after which the wait is said on stderr (the wait itself has no end: a batch
 system may take long to start workers; Ctrl-C stops it)."""
@@ -129,7 +136,8 @@ class Cluster:
                     workers = value or os.cpu_count() or 1
                     with _workers_ignore_sigint():
                         self.local = distributed.LocalCluster(
-                            n_workers=workers, threads_per_worker=1, processes=True,
+                            n_workers=workers, threads_per_worker=1, processes=True, host=LOOPBACK,
+                            dashboard_address=LOCAL_DASHBOARD,
                             silence_logs=logging.DEBUG if self.debug else logging.ERROR)
                     self.client = distributed.Client(self.local, set_as_default=False)
                 elif what == "file":

@@ -47,10 +47,31 @@ def _start(args: list[str], work: Path, log: str) -> subprocess.Popen:
                                 env=_env(work), start_new_session=True)
 
 
+LOOPBACK = ["--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0"]
+"""Every Dask process of the tests listens on 127.0.0.1 only: ``--host`` for its comm port (a worker's default is
+every interface, IPv4 and IPv6), ``--dashboard-address`` for its HTTP server (every interface by default, even
+with ``--no-dashboard``: it serves the health and metrics pages)."""
+
+
+def _scheduler(scheduler_file: Path, work: Path, log: str = "scheduler.log") -> subprocess.Popen:
+    """`dask scheduler` on a free port of 127.0.0.1, its address in ``scheduler_file`` once it is up."""
+    proc = _start(["distributed.cli.dask_scheduler", *LOOPBACK, "--port", "0", "--no-dashboard",
+                   "--scheduler-file", str(scheduler_file)], work, log)
+    end = time.monotonic() + START_TIMEOUT
+    try:
+        while not scheduler_file.exists() or not scheduler_file.read_text().strip().endswith("}"):
+            assert time.monotonic() < end and proc.poll() is None, (work / log).read_text()
+            time.sleep(0.05)
+    except BaseException:
+        _stop(proc)
+        raise
+    return proc
+
+
 def _worker(scheduler_file: Path, work: Path, name: str) -> subprocess.Popen:
-    return _start(["distributed.cli.dask_worker", "--scheduler-file", str(scheduler_file), "--nthreads", "1",
-                   "--nworkers", "1", "--no-dashboard", "--local-directory", str(work), "--name", name,
-                   "--death-timeout", "60"], work, f"{name}.log")
+    return _start(["distributed.cli.dask_worker", "--scheduler-file", str(scheduler_file), *LOOPBACK,
+                   "--nthreads", "1", "--nworkers", "1", "--no-dashboard", "--local-directory", str(work),
+                   "--name", name, "--death-timeout", "60"], work, f"{name}.log")
 
 
 def _stop(proc: subprocess.Popen, sig=signal.SIGTERM) -> None:
@@ -76,14 +97,10 @@ def cluster(tmp_path_factory):
     """`dask scheduler` and two `dask worker` processes (one thread each) on 127.0.0.1, free ports."""
     work = tmp_path_factory.mktemp("dask-cluster")
     file = work / "scheduler.json"
-    procs = [_start(["distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-                     "--scheduler-file", str(file)], work, "scheduler.log")]
+    procs = []
     client = None
     try:
-        end = time.monotonic() + START_TIMEOUT
-        while not file.exists() or not file.read_text().strip().endswith("}"):
-            assert time.monotonic() < end and procs[0].poll() is None, (work / "scheduler.log").read_text()
-            time.sleep(0.05)
+        procs.append(_scheduler(file, work))
         procs += [_worker(file, work, "w1"), _worker(file, work, "w2")]
         client = distributed.Client(scheduler_file=str(file), timeout=START_TIMEOUT, set_as_default=False)
         client.wait_for_workers(2, timeout=START_TIMEOUT)
@@ -381,6 +398,60 @@ def test_sigint_cancels_the_futures_and_exits_130(tmp_path, cluster):
             "gearcalc" in str(k) for k in dask_scheduler.tasks))
         time.sleep(0.1)
     assert left == 0, "the scheduler still holds gearcalc's tasks"
+
+
+# ------------------------------------------------------------------------------------------- listening sockets
+def _listening(pids) -> list[tuple[str, int, str]]:
+    """(address, port, command) of every listening inet socket of these processes and their children."""
+    psutil = pytest.importorskip("psutil")  # installed with distributed
+    found = []
+    for pid in pids:
+        try:
+            top = psutil.Process(pid)
+            procs = [top, *top.children(recursive=True)]
+        except psutil.NoSuchProcess:
+            continue
+        for proc in procs:
+            try:
+                conns = proc.net_connections(kind="inet")
+                what = " ".join(proc.cmdline()[1:3])
+            except psutil.Error:  # ended meanwhile
+                continue
+            found += [(c.laddr.ip, c.laddr.port, f"{proc.pid} {what}") for c in conns
+                      if c.status == psutil.CONN_LISTEN]
+    return found
+
+
+def _loopback(address: str) -> bool:
+    import ipaddress
+
+    return ipaddress.ip_address(address).is_loopback
+
+
+def test_fixture_cluster_listens_on_loopback_only(cluster):
+    # the scheduler (its comm port and HTTP server), each worker's nanny and the worker it starts
+    found = _listening([proc.pid for proc in cluster.procs])
+    assert len({who for _, _, who in found}) >= 5, found
+    assert [s for s in found if not _loopback(s[0])] == [], found
+
+
+def test_local_cluster_listens_on_loopback_only(tmp_path):
+    # --scheduler local:2 listens only on 127.0.0.1 (scheduler, nannies, workers, dashboard) for the whole run
+    args = ["sweep", ENVELOPE, "--vary", "load.radial_N=1000:400000:1000", "-o", tmp_path / "out.csv",
+            "--scheduler", "local:2"]
+    p, master, text = _pty_run(args, _env(tmp_path), "computing on the Dask cluster at ")
+    try:
+        found: set = set()
+        deadline = time.monotonic() + START_TIMEOUT
+        while len({who for _, _, who in found}) < 3:  # gearcalc (scheduler, nannies, dashboard), two workers
+            assert p.poll() is None and time.monotonic() < deadline, (found, text)
+            found |= set(_listening([p.pid]))
+            time.sleep(0.1)
+    finally:
+        os.killpg(p.pid, signal.SIGINT)
+        text = _finish(p, master, text)
+    assert [s for s in found if not _loopback(s[0])] == [], sorted(found)
+    assert "dashboard http://127.0.0.1:" in text, text
 
 
 # ------------------------------------------------------------------------------------------- local:2
