@@ -121,8 +121,11 @@ class Cluster:
             import logging
             import warnings
 
-            for name in ("distributed", "tornado", "bokeh"):
-                logging.getLogger(name).setLevel(logging.ERROR)
+            # a lost scheduler is logged at ERROR with tracebacks, which gearcalc says in one line; Dask's
+            # configuration gives some loggers their own level (distributed.client: warning), hence each
+            for name in [*logging.root.manager.loggerDict, "distributed", "tornado", "bokeh"]:
+                if name.split(".")[0] in ("distributed", "tornado", "bokeh"):
+                    logging.getLogger(name).setLevel(logging.CRITICAL)
             # a local cluster's dashboard moves to a free port when 8787 is taken: the notice gives the address
             warnings.filterwarnings("ignore", message="Port .* is already in use", category=UserWarning)
         if not self.own_client:
@@ -155,8 +158,26 @@ class Cluster:
                                      "`dask worker ADDRESS`, or use --scheduler local") from None
         self.address = self.client.scheduler.address
         self.dashboard = self._dashboard()
-        self.threads = self._wait_for_threads()
+        try:
+            self.threads = self._wait_for_threads()
+        except OSError:  # the scheduler went away while gearcalc waited for a worker
+            raise self.lost() from None
         return self
+
+    def lost(self) -> SchedulerError:
+        """The error of a scheduler lost during the run (killed, its host gone): one line, exit 2 as for
+        one that cannot be reached at the start; nothing more comes from the cluster."""
+        from .design import _clip
+
+        spec = str(self.spec) if isinstance(self.spec, str) else self.address
+        where = "" if self.address in (None, spec) else f" at {self.address}"
+        return SchedulerError(f"--scheduler {_clip(spec)}: lost the connection to the Dask scheduler{where} "
+                              "during the run; start it and its workers again and rerun")
+
+    def _gone(self) -> bool:
+        """Whether the client has lost its scheduler (reconnecting, or closed after failing to)."""
+        client = self.client
+        return client is None or getattr(client, "status", "running") in ("connecting", "closing", "closed")
 
     def _dashboard(self) -> str | None:
         """The dashboard's address when the scheduler serves one (its page needs bokeh on the scheduler)."""
@@ -238,10 +259,16 @@ class Cluster:
                 pass
             while flight:
                 fut = flight.popleft()
-                result = _result(fut)
+                result = self._result(fut)
                 fut.release()
                 submit()
                 yield result
+        except SchedulerError:
+            raise
+        except Exception as exc:
+            if _cancelled_by_loss(exc) or self._gone():
+                raise self.lost() from None
+            raise
         finally:
             pending = list(flight) + [data]
             flight.clear()
@@ -250,6 +277,18 @@ class Cluster:
                     client.cancel(pending)
                 except Exception:  # noqa: BLE001 - the cluster is going away anyway
                     pass
+
+    def _result(self, fut):
+        """A chunk's value, waited for while the scheduler is there (a future submitted as the connection
+        was lost is never cancelled: it would wait for ever)."""
+        while not fut.done():
+            if self.client is None or getattr(self.client, "status", "running") in ("closing", "closed"):
+                raise self.lost()
+            try:
+                fut.result(timeout=1)
+            except Exception:  # noqa: BLE001 - not done yet, or done: then _result says what it was
+                pass
+        return _result(fut)
 
 
 @contextlib.contextmanager
@@ -277,8 +316,13 @@ def _ones():
         yield 1
 
 
+def _cancelled_by_loss(exc: BaseException) -> bool:
+    """A future Dask cancelled because the client lost its scheduler."""
+    return getattr(exc, "reason", None) == "scheduler-connection-lost"
+
+
 def _result(fut):
-    """A chunk's value; a failure that is the workers' environment becomes a SchedulerError."""
+    """A finished chunk's value; a failure that is the workers' environment becomes a SchedulerError."""
     try:
         value = fut.result()
     except ModuleNotFoundError as exc:

@@ -254,6 +254,9 @@ class _FakeFuture:
     def release(self):
         self.client.live -= 1
 
+    def done(self):
+        return True
+
 
 class _FakeClient:
     """Computes at submit and counts the futures alive: the window's bound without a cluster's timing."""
@@ -398,6 +401,41 @@ def test_sigint_cancels_the_futures_and_exits_130(tmp_path, cluster):
             "gearcalc" in str(k) for k in dask_scheduler.tasks))
         time.sleep(0.1)
     assert left == 0, "the scheduler still holds gearcalc's tasks"
+
+
+def test_scheduler_killed_mid_run_is_a_message(tmp_path):
+    """A scheduler of its own (one worker) SIGKILLed while a sweep's chunk computes: one line saying the
+    connection was lost (exit 2, as an unreachable scheduler), no traceback, and -o as it was before."""
+    file = tmp_path / "scheduler.json"
+    sched = _scheduler(file, tmp_path, "victim.log")
+    procs = [sched, _worker(file, tmp_path, "only")]
+    try:
+        address = json.loads(file.read_text())["address"]
+        out = tmp_path / "out" / "study.csv"
+        out.parent.mkdir()
+        out.write_text("an earlier study\n")
+        args = ["sweep", ENVELOPE, "--vary", "load.radial_N=1000:400000:1000", "-o", out, "--scheduler", address]
+        p = subprocess.Popen([sys.executable, "-m", "gearcalc", *map(str, args)], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, env=_env(tmp_path))
+        try:
+            with distributed.Client(address, timeout=START_TIMEOUT, set_as_default=False) as watch:
+                deadline = time.monotonic() + START_TIMEOUT
+                while not any("gearcalc-chunk" in str(k) for ks in watch.processing().values() for k in ks):
+                    assert p.poll() is None and time.monotonic() < deadline, p.communicate()
+                    time.sleep(0.02)
+            _stop(sched, signal.SIGKILL)
+            assert p.poll() is None  # killed mid-run
+            _, err = p.communicate(timeout=60)
+        finally:
+            if p.poll() is None:
+                p.kill()
+        assert p.returncode == 2, err
+        assert err == (f"gearcalc: --scheduler {address}: lost the connection to the Dask scheduler during the "
+                       "run; start it and its workers again and rerun\n"), err
+        assert out.read_text() == "an earlier study\n" and os.listdir(out.parent) == ["study.csv"]
+    finally:
+        for proc in reversed(procs):
+            _stop(proc, signal.SIGKILL)
 
 
 # ------------------------------------------------------------------------------------------- listening sockets
