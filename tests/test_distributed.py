@@ -559,6 +559,20 @@ def test_bad_scheduler_value(value, says):
 def test_jobs_and_scheduler_together_are_refused():
     r = cli("run", CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", "--jobs", "2", "--scheduler", "local:2")
     assert r.code == 2 and "choose one" in r.err
+    r = cli("run", CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", "--jobs", "2", "--scheduler", "")
+    assert r.code == 2 and "give a scheduler address" in r.err and "choose one" not in r.err, r.err
+
+
+def test_empty_environment_variable_is_unset():
+    # an empty DASK_SCHEDULER_ADDRESS is no address (click, as POSIX tools read empty variables); an empty
+    # --scheduler is refused (test_bad_scheduler_value)
+    from typer.testing import CliRunner
+
+    from gearcalc.cli import app
+
+    args, _ = _sweep_args("rows")
+    r = CliRunner().invoke(app, [str(a) for a in args], env={"DASK_SCHEDULER_ADDRESS": ""})
+    assert r.exit_code == 0 and r.stdout == cli(*args).out and not r.stderr
 
 
 def test_unreachable_scheduler_is_a_message(monkeypatch):
