@@ -369,8 +369,12 @@ def dask_cluster(scheduler: Optional[str], jobs: int, debug: bool):
     it says its dashboard on a terminal), or None: then gearcalc does not import Dask."""
     if scheduler is None:
         return None
-    from .distributed import Cluster, SchedulerError, is_terminal
+    from .distributed import Cluster, SchedulerError, is_terminal, parse
 
+    try:
+        parse(scheduler)  # an empty value (a script's unset variable) is refused before --jobs is looked at
+    except SchedulerError as exc:
+        raise Abort(str(exc)) from None
     if jobs > 1:
         given = any(a.startswith("--scheduler") for a in sys.argv)
         source = "" if given else " (from DASK_SCHEDULER_ADDRESS)"
