@@ -289,21 +289,91 @@ def _elide(text: str, width: int, middle: bool = False) -> str:
     return _head(text, max(width - 1, 0)) + "…"
 
 
-def _shorten_names(names: list[str], width: int) -> list[str]:
-    """Design names cut to ``width``: first the words every name starts with ("Merko et al. example, ...")
-    become "…", then the middle of what is still too long.
+_TOKEN = re.compile(r"\S+ = \S+\s*|\S+\s*")
+"""A word of a design name with its trailing space; ``u = 10`` is one word (a key and its value)."""
 
-    >>> _shorten_names(["Merko example, scheme A, inner", "Merko example, scheme B, outer"], 20)
-    ['…A, inner', '…B, outer']
+
+def _core(token: str) -> str:
+    return token.strip().rstrip(",;")
+
+
+def _matches(runs: list, start: bool, end: bool, toks: list) -> bool:
+    """Whether a name's words ``toks`` fit a label's runs of kept words (``start``/``end``: the label begins/ends
+    with a kept word; each "…" stands for at least one word).
+
+    >>> _matches([["a"], ["c"]], True, False, ["a", "b", "c", "d"]), _matches([["a"], ["c"]], True, True, ["a", "c"])
+    (True, False)
     """
-    if len(names) > 1 and max(map(_cells, names)) > width:
-        import os.path
+    n, pos = len(toks), 0
+    for r, run in enumerate(runs):
+        size, first, last = len(run), r == 0, r == len(runs) - 1
+        lo = 0 if first and start else pos + 1
+        hi = 0 if first and start else n - size - (1 if last and not end else 0)
+        if last and end:
+            lo = max(lo, n - size)
+            hi = min(hi, n - size)
+        for s in range(lo, hi + 1):
+            if toks[s:s + size] == run:
+                pos = s + size
+                break
+        else:
+            return False
+    return True
 
-        prefix = os.path.commonprefix(names)
-        cut = max(prefix.rfind(" "), prefix.rfind(","), prefix.rfind("_")) + 1  # at a word boundary
-        if cut > 3:
-            names = ["…" + n[cut:].lstrip() for n in names]
-    return [_elide(n, width, middle=True) for n in names]
+
+def _label(tokens: list, kept: list[int]) -> str:
+    out, prev = "", -1
+    for t in kept:
+        if t != prev + 1:
+            out = out.rstrip(" ,;") + "…"
+        out += tokens[t]
+        prev = t
+    if prev != len(tokens) - 1:
+        out = out.rstrip(" ,;") + "…"
+    return out.rstrip()
+
+
+def _distinct_labels(names: list[str], width: int) -> list[str]:
+    """Labels of at most ``width`` cells that tell the names apart: the words a name shares with most other names
+    (the common ones first, then those at an end) become "…" while the label still fits only its own name (a
+    label never fits another name, so labels of distinct names differ); what is still too wide is cut in the
+    middle.  ``width`` 0: every word is dropped that can be (the narrowest labels that tell the names apart).
+
+    >>> _distinct_labels(["Paper: cycloidal, u = 10, fixed pins", "Paper: cycloidal, u = 30, fixed pins",
+    ...                   "Paper: circular-arc, u = 10, fixed pins"], 24)
+    ['…cycloidal, u = 10…', '…cycloidal, u = 30…', '…circular-arc, u = 10…']
+    """
+    distinct = list(dict.fromkeys(names))
+    tokens = [_TOKEN.findall(n) or [n] for n in distinct]
+    cores = [[_core(t) for t in toks] for toks in tokens]
+    posting: dict[str, set] = {}
+    for i, cs in enumerate(cores):
+        for c in cs:
+            posting.setdefault(c, set()).add(i)
+    out = {}
+    for i, (name, toks, cs) in enumerate(zip(distinct, tokens, cores)):
+        kept = list(range(len(toks)))
+        while _cells(_label(toks, kept)) > width and len(kept) > 1:
+            edge = set(kept) - {t for t in kept if t - 1 in kept and t + 1 in kept}
+            edge |= {0, len(toks) - 1} & set(kept)
+            for t in sorted(kept, key=lambda t: (-len(posting[cs[t]]), t not in edge, t)):
+                trial = [k for k in kept if k != t]
+                runs, cur = [], []
+                for k in trial:
+                    if cur and k != cur[-1] + 1:
+                        runs.append([cs[j] for j in cur])
+                        cur = []
+                    cur.append(k)
+                runs.append([cs[j] for j in cur])
+                rivals = set.intersection(*(posting[cs[k]] for k in trial)) - {i}
+                if not any(_matches(runs, trial[0] == 0, trial[-1] == len(toks) - 1, cores[j]) for j in rivals):
+                    kept = trial
+                    break
+            else:
+                break
+        label = _label(toks, kept) if len(kept) < len(toks) else name
+        out[name] = _elide(label, width, middle=True) if width else label
+    return [out[n] for n in names]
 
 
 @dataclass
@@ -315,9 +385,10 @@ class Grid2D:
     text: list[bool]
 
 
-def _layout(grid: Grid2D, width: int | None, elastic: int | None = 0):
+def _layout(grid: Grid2D, width: int | None, elastic: int | None = 0, name_min: int = NAME_MIN):
     """Column widths that fit ``width`` (None: no limit): whole columns from the left while they fit; the
-    ``elastic`` column (the design name) shrinks to :data:`NAME_MIN` first.  Returns (widths, shown)."""
+    ``elastic`` column (the design name) shrinks to ``name_min`` (at least :data:`NAME_MIN`: the width at which
+    the names are still told apart) first.  Returns (widths, shown)."""
     widths = [_column_width(f, [row[j] for row in grid.cells]) for j, f in enumerate(grid.fields)]
     if width is None:
         return widths, len(widths)
@@ -326,8 +397,9 @@ def _layout(grid: Grid2D, width: int | None, elastic: int | None = 0):
     def total(k):
         return sum(widths[:k]) + sep * (k - 1)
 
-    if elastic is not None and total(len(widths)) > width and widths[elastic] > NAME_MIN:
-        widths[elastic] = max(NAME_MIN, widths[elastic] - (total(len(widths)) - width))
+    name_min = max(NAME_MIN, min(name_min, width))
+    if elastic is not None and total(len(widths)) > width and widths[elastic] > name_min:
+        widths[elastic] = max(name_min, widths[elastic] - (total(len(widths)) - width))
     shown = len(widths)
     while shown > 1 and total(shown) > width:
         shown -= 1
@@ -373,7 +445,10 @@ def layout_table(grid: Grid2D, width: int | None, title: str = "", notes: list |
 
     grid, lifted = _lift_long_text(grid, lift_key)
     above = list(above) + lifted
-    widths, shown = _layout(grid, width, elastic)
+    name_min = NAME_MIN
+    if elastic == 0 and width is not None and len(grid.cells) > 1:  # design names: as wide as telling them apart needs
+        name_min = max(map(_cells, _distinct_labels([row[0] for row in grid.cells], 0)), default=0)
+    widths, shown = _layout(grid, width, elastic, name_min)
     if shown < len(grid.fields) and notes is not None:
         hidden = grid.fields[shown:]
         notes.append(f"{title + ': ' if title else ''}{len(hidden)} more {what} not shown at this width ("
@@ -384,7 +459,7 @@ def layout_table(grid: Grid2D, width: int | None, title: str = "", notes: list |
         head = "\n".join(_header_lines(grid.fields[j], widths[j]))
         t.add_column(Text(head, style="bold"), justify="left" if grid.text[j] else "right", no_wrap=True,
                      vertical="bottom", overflow="ellipsis", min_width=widths[j], max_width=widths[j])
-    names = _shorten_names([row[elastic] for row in grid.cells], widths[elastic]) if (
+    names = _distinct_labels([row[elastic] for row in grid.cells], widths[elastic]) if (
         elastic is not None and elastic < shown) else None
     for k, row in enumerate(grid.cells):
         t.add_row(*(Text(names[k] if j == elastic and names else _elide(row[j], widths[j], middle=j == elastic))

@@ -192,3 +192,52 @@ def test_csv_of_int_and_flag_arrays_and_constant_lists_is_the_row_csv():
     rows = [dict(zip(as_lists, values)) for values in zip(*as_lists.values())]
     text = R.write_csv_columns(R.Columns(cols))
     assert text == R.write_csv_columns(R.Columns(as_lists)) == R.write_csv(rows)
+
+
+# ----------------------------------------------------------------------------- design names in a narrow table
+def _shipped():
+    return sorted(CONFIGS.glob("*.toml")) + sorted(PAPER.glob("*.toml"))
+
+
+def test_shipped_designs_have_distinct_names():
+    import tomllib
+
+    names = [tomllib.loads(p.read_text()).get("name", p.stem) for p in _shipped()]
+    dup = {n for n in names if names.count(n) > 1}
+    assert not dup, dup  # a table and a JSON array tell designs apart by their names
+
+
+def _labels(text):
+    """The first cells (design names) of the rows under each table's rule."""
+    import re
+
+    lines, out = text.split("\n"), []
+    for k, line in enumerate(lines):
+        if line.startswith("─"):
+            j = k + 1
+            while j < len(lines) and lines[j].strip() and not lines[j].startswith("gearcalc "):
+                out.append(re.split(r"\s{2,}", lines[j].strip())[0])
+                j += 1
+    return out
+
+
+@pytest.mark.parametrize("width", [80, 100, 120])
+def test_shipped_names_are_told_apart_in_a_table(width):
+    from gearcalc import api
+
+    batch = api.compute_files([CONFIGS, PAPER])
+    labels = _labels(R.render_table(batch.records, width=width, notes=[]))
+    assert len(labels) == len(_shipped())
+    assert len(set(labels)) == len(labels), sorted(labels)  # was 21 distinct labels at 80 columns
+
+
+def test_distinct_labels_drop_common_words_first():
+    names = ["Merko example, scheme A, inner", "Merko example, scheme B, outer"]
+    assert R._distinct_labels(names, 20) == ["…scheme A, inner", "…scheme B, outer"]
+    assert R._distinct_labels(names, 40) == names  # fits: verbatim
+    # the words that differ survive wherever they are: a middle cut would give the same label twice
+    names = [f"Paper: profile {p}, u = {u}, {m} pins (assumed geometry)" for p in ("circ", "cyc")
+             for u in (10, 30) for m in ("fixed", "rotating")]
+    labels = R._distinct_labels(names, 0)
+    assert len(set(labels)) == len(names), labels
+    assert all(len(label) <= 30 for label in labels), labels
