@@ -135,8 +135,9 @@ def write_csv(rows: list[dict]) -> str:
     return buf.getvalue()
 
 
-def render_csv(records: list[Record], detail: bool = False) -> str:
-    """One CSV: the summaries (or, with ``detail``, the detail rows in long form).  A batch of several
+def render_csv(records: list[Record], detail: bool = False, joined: bool = False) -> str:
+    """One CSV: the summaries (or, with ``detail``, the detail rows in long form; ``joined``: each row with its
+    design's summary fields after ``name`` and ``table``, as ``--detail --fields`` asks).  A batch of several
     kinds gets a leading ``kind`` column and the union of the kinds' columns (cells of another kind's
     fields empty)."""
     mixed = len({r.kind for r in records}) > 1
@@ -147,8 +148,9 @@ def render_csv(records: list[Record], detail: bool = False) -> str:
     rows = []
     for r in records:
         lead = {"kind": r.kind} if mixed else {}
+        extra = {k: v for k, v in r.result.summary.items() if k != "name"} if joined else {}
         for table, trows in r.result.detail.items():
-            rows.extend({**lead, "name": r.name, "table": table, **row} for row in trows)
+            rows.extend({**lead, "name": r.name, "table": table, **extra, **row} for row in trows)
     return write_csv(rows) if rows else "name,table\n"
 
 
@@ -185,16 +187,23 @@ def parse_fields(text: str | None) -> list[str] | None:
     return [f.strip() for f in text.split(",") if f.strip()]
 
 
-def unknown_fields(requested: list[str] | None, available: list[str]) -> list[str]:
-    """Messages for requested fields that no result has (each with a did-you-mean)."""
+FILE_FIELD = "file"
+"""``--fields file``: the design's file (``<stdin>`` for standard input), a column of a batch's table or CSV beside the
+summary fields (not one of them: ``--fields all`` leaves it out, JSON has it beside the summary)."""
+
+
+def unknown_fields(requested: list[str] | None, available: list[str], extra: tuple = ("name",)) -> list[str]:
+    """Messages for requested fields that no result has (each with a did-you-mean); ``extra``: fields always
+    there (``name``; ``file`` for a batch)."""
     if not requested or requested == [ALL_FIELDS]:
         return []
     import difflib
 
-    have = set(available)
+    have = set(available) | set(extra)
+    available = list(available) + [f for f in extra if f not in available]
     out = []
     for f in requested:
-        if f not in have and f != "name":
+        if f not in have:
             close = difflib.get_close_matches(f[:100], available, n=1, cutoff=0.6)
             out.append(f"--fields {f[:60]}: no such output field" + (f" (did you mean '{close[0]}'?)" if close else ""))
     return out
@@ -433,10 +442,12 @@ def _lift_long_text(grid: Grid2D, key_col: int | None = None) -> tuple[Grid2D, l
 
 def layout_table(grid: Grid2D, width: int | None, title: str = "", notes: list | None = None,
                  what: str = "columns", elastic: int | None = 0, lift_key: int | None = None,
-                 above: tuple = ()):
+                 above: tuple = (), keep: tuple = (), choose: str | None = "--fields"):
     """A rich renderable for a grid: units in headers, one line per row, no cell ever wrapped.
 
-    Columns that do not fit ``width`` are left out and a note (for stderr) says which and how to see them.
+    Columns that do not fit ``width`` are left out and a note (for stderr) says which and how to see them
+    (``choose``: the option that chooses columns, None when there is none); a column named in ``keep`` stays,
+    moved left before the columns left out.
     """
     from rich.console import Group
     from rich.table import Table
@@ -449,11 +460,25 @@ def layout_table(grid: Grid2D, width: int | None, title: str = "", notes: list |
     if elastic == 0 and width is not None and len(grid.cells) > 1:  # design names: as wide as telling them apart needs
         name_min = max(map(_cells, _distinct_labels([row[0] for row in grid.cells], 0)), default=0)
     widths, shown = _layout(grid, width, elastic, name_min)
+    kept = [j for j in range(shown, len(grid.fields)) if grid.fields[j] in keep]
+    if kept:  # the columns to keep after as many others as fit with them
+        rest = [j for j in range(len(grid.fields)) if j not in kept]
+        for pos in range(len(rest) - 1, 0, -1):
+            order = rest[:pos] + kept + rest[pos:]
+            moved = Grid2D([grid.fields[j] for j in order], [[row[j] for j in order] for row in grid.cells],
+                           [grid.text[j] for j in order])
+            widths, shown = _layout(moved, width, elastic, name_min)
+            if shown >= pos + len(kept):
+                grid = moved
+                break
+        else:
+            widths, shown = _layout(grid, width, elastic, name_min)
     if shown < len(grid.fields) and notes is not None:
         hidden = grid.fields[shown:]
         notes.append(f"{title + ': ' if title else ''}{len(hidden)} more {what} not shown at this width ("
                      + ", ".join(hidden[:6]) + (", …" if len(hidden) > 6 else "")
-                     + "): choose them with --fields, or use --format csv / json")
+                     + (f"): choose them with {choose}, or use --format csv / json" if choose else
+                        "): see them with --format csv / json"))
     t = Table(box=box.SIMPLE_HEAD, padding=(0, 1), pad_edge=False, show_edge=False)
     for j in range(shown):
         head = "\n".join(_header_lines(grid.fields[j], widths[j]))
@@ -537,7 +562,7 @@ def render_table(records: list[Record], detail: bool = False, width: int | None 
             for table, rows in r.result.detail.items():
                 if rows:
                     console.print(layout_table(rows_grid(rows), width, f"{r.name}: {table}", notes,
-                                               elastic=None))
+                                               elastic=None, choose="--detail --fields"))
     return buf.getvalue()
 
 
@@ -561,22 +586,51 @@ def render(records: list[Record], fmt: str, detail: bool = False, width: int | N
            array: bool | None = None) -> str:
     """Render computed designs as ``fmt``; ``fields`` selects summary fields (``--fields``); ``array`` forces
     a JSON array (a folder or several paths) even for one design."""
+    joined = False
     if fields is not None and fields != [ALL_FIELDS]:
+        with_file = FILE_FIELD in fields and fmt != "json"  # JSON has the file beside the summary
+        columns = detail_columns(records) if detail else set()
+        wanted = [f for f in fields if f in columns]
+        joined = detail and fmt == "csv" and any(f not in columns for f in fields)
         records = [Record(r.source, r.kind, r.name, r.design,
-                          Result(summary=filter_summary(r.result.summary, fields), detail=r.result.detail,
+                          Result(summary=filter_summary(_with_file(r) if with_file else r.result.summary, fields),
+                                 detail=_filter_detail(r.result.detail, wanted) if wanted else r.result.detail,
                                  warnings=r.result.warnings, failed=r.result.failed, model=r.result.model,
                                  labels=r.result.labels))
                    for r in records]
     if fmt == "json":
         return render_json(records, detail, array)
     if fmt == "csv":
-        return render_csv(records, detail)
+        return render_csv(records, detail, joined)
     return render_table(records, detail, width=width, color=color, fields=fields, notes=notes)
+
+
+def detail_columns(records: list[Record]) -> set:
+    """The columns of the records' detail tables (``--detail --fields`` chooses among them too)."""
+    return {c for r in records for rows in r.result.detail.values() for row in rows for c in row}
+
+
+def _filter_detail(detail: dict, wanted: list[str]) -> dict:
+    """The detail tables restricted to the ``wanted`` columns, in that order; a table with none of them is left out."""
+    out = {}
+    for table, rows in detail.items():
+        cols = [c for c in wanted if any(c in row for row in rows)]
+        if cols:
+            out[table] = [{c: row[c] for c in cols if c in row} for row in rows]
+    return out
+
+
+def _with_file(rec: Record) -> dict:
+    """The summary with a ``file`` field after ``name`` (``--fields file``)."""
+    summary = dict(rec.result.summary)
+    lead = {"name": summary.pop("name")} if "name" in summary else {}
+    return {**lead, FILE_FIELD: "<stdin>" if rec.source == "-" else str(rec.source), **summary}
 
 
 def render_rows(rows, fmt: str, title: str = "", width: int | None = None, color: bool = False,
                 fields: list[str] | None = None, default: list[str] | None = None, lead: tuple = (),
-                notes: list | None = None, lift_key: int | None = None) -> str:
+                notes: list | None = None, lift_key: int | None = None, keep: tuple = (),
+                choose: str | None = "--fields") -> str:
     """Plain rows (a sweep; a list of dicts or :class:`Columns`): CSV with a union header, a JSON
     array, or one table.  ``fields`` (``--fields``) selects columns after the ``lead`` ones (the varied keys);
     a table shows ``default`` when no ``fields`` are given, and lifts columns that are the same on every row
@@ -596,7 +650,7 @@ def render_rows(rows, fmt: str, title: str = "", width: int | None = None, color
     buf = io.StringIO()
     console = _console(buf, width, color)
     console.print(layout_table(grid, width, title, notes, what="columns", elastic=None, lift_key=lift_key,
-                               above=tuple(above)))
+                               above=tuple(above), keep=keep, choose=choose))
     return buf.getvalue()
 
 
