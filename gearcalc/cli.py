@@ -651,7 +651,8 @@ def check_cmd(
     paths: List[str] = typer.Argument(..., metavar="PATH...", help="Design files or folders."),
     sets: Optional[List[str]] = O_SET,
     resolved: bool = typer.Option(False, "--resolved",
-                                  help="Print each valid design with every default filled in, as TOML."),
+                                  help="Print each valid design with every default filled in (also those the "
+                                  "computation derives, such as the default allowable stress), as TOML."),
     debug: bool = O_DEBUG,
 ):
     """Validate design files only; print every problem found.
@@ -682,7 +683,7 @@ def check_cmd(
             if resolved:
                 import tomli_w
 
-                sys.stdout.write(f"# {dmod.display_name(f)}\n" + tomli_w.dumps(d.resolved()) + "\n")
+                sys.stdout.write(f"# {dmod.display_name(f)}\n" + tomli_w.dumps(d.resolved(implicit=True)) + "\n")
             else:
                 print(f"ok  {dmod.display_name(f)}  ({d.kind}: {d.name})")
         return worst
