@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import functools
 import io
 import json
 import math
@@ -342,30 +343,28 @@ def _label(tokens: list, kept: list[int]) -> str:
     return out.rstrip()
 
 
-def _distinct_labels(names: list[str], width: int) -> list[str]:
-    """Labels of at most ``width`` cells that tell the names apart: the words a name shares with most other names
-    (the common ones first, then those at an end) become "…" while the label still fits only its own name (a
-    label never fits another name, so labels of distinct names differ); what is still too wide is cut in the
-    middle.  ``width`` 0: every word is dropped that can be (the narrowest labels that tell the names apart).
+MAX_TOLD_APART = 2000
+"""Tables of more distinct design names than this cut them in the middle (telling them apart costs about a
+millisecond per name)."""
 
-    >>> _distinct_labels(["Paper: cycloidal, u = 10, fixed pins", "Paper: cycloidal, u = 30, fixed pins",
-    ...                   "Paper: circular-arc, u = 10, fixed pins"], 24)
-    ['…cycloidal, u = 10…', '…cycloidal, u = 30…', '…circular-arc, u = 10…']
-    """
-    distinct = list(dict.fromkeys(names))
+
+@functools.lru_cache(maxsize=4)
+def _shortenings(distinct: tuple) -> list[list[str]]:
+    """Per name, its labels from the whole name to the shortest that tells it apart (:func:`_distinct_labels`):
+    the same order at every width, so one pass serves the layout and the rows."""
     tokens = [_TOKEN.findall(n) or [n] for n in distinct]
     cores = [[_core(t) for t in toks] for toks in tokens]
     posting: dict[str, set] = {}
     for i, cs in enumerate(cores):
         for c in cs:
             posting.setdefault(c, set()).add(i)
-    out = {}
+    out = []
     for i, (name, toks, cs) in enumerate(zip(distinct, tokens, cores)):
-        kept = list(range(len(toks)))
-        while _cells(_label(toks, kept)) > width and len(kept) > 1:
+        kept, steps = list(range(len(toks))), [name]
+        while len(kept) > 1:
             edge = set(kept) - {t for t in kept if t - 1 in kept and t + 1 in kept}
             edge |= {0, len(toks) - 1} & set(kept)
-            for t in sorted(kept, key=lambda t: (-len(posting[cs[t]]), t not in edge, t)):
+            for t in sorted(kept, key=lambda t: (t not in edge, -len(posting[cs[t]]), t)):
                 trial = [k for k in kept if k != t]
                 runs, cur = [], []
                 for k in trial:
@@ -374,13 +373,35 @@ def _distinct_labels(names: list[str], width: int) -> list[str]:
                         cur = []
                     cur.append(k)
                 runs.append([cs[j] for j in cur])
-                rivals = set.intersection(*(posting[cs[k]] for k in trial)) - {i}
+                rivals = set.intersection(*sorted((posting[cs[k]] for k in trial), key=len)) - {i}
                 if not any(_matches(runs, trial[0] == 0, trial[-1] == len(toks) - 1, cores[j]) for j in rivals):
                     kept = trial
+                    steps.append(_label(toks, kept))
                     break
             else:
                 break
-        label = _label(toks, kept) if len(kept) < len(toks) else name
+        out.append(steps)
+    return out
+
+
+def _distinct_labels(names: list[str], width: int) -> list[str]:
+    """Labels of at most ``width`` cells that tell the names apart: the words a name shares with other names become
+    "…" (those at an end of what is left first, so that the label has few "…"; of those, the most common first)
+    while the label still fits only its own name (a label never fits another name, so labels of distinct names
+    differ); what is still too wide is cut in the middle.  ``width`` 0: every word is dropped that can be (the
+    narrowest labels that tell the names apart).
+
+    >>> _distinct_labels(["Paper: cycloidal, u = 10, fixed pins", "Paper: cycloidal, u = 30, fixed pins",
+    ...                   "Paper: circular-arc, u = 10, fixed pins"], 24)
+    ['…cycloidal, u = 10…', '…cycloidal, u = 30…', '…circular-arc, u = 10…']
+    """
+    distinct = list(dict.fromkeys(names))
+    if len(distinct) > MAX_TOLD_APART:
+        return [_elide(n, width, middle=True) if width else n for n in names]
+    shorter = _shortenings(tuple(distinct))
+    out = {}
+    for name, steps in zip(distinct, shorter):
+        label = next((s for s in steps if _cells(s) <= width), steps[-1])
         out[name] = _elide(label, width, middle=True) if width else label
     return [out[n] for n in names]
 
