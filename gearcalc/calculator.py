@@ -167,6 +167,18 @@ class Result:
         return pd.DataFrame(self.detail[table])
 
 
+def keyed(key: str, message: str) -> str:
+    """A problem's key and message as one text: ``key = value: why`` when the message starts with the value
+    (``"= 20: ..."``), else ``key: message``.
+
+    >>> keyed("gearing.pins", "= 20: too many"), keyed("rows.count", "missing"), keyed("", "no key")
+    ('gearing.pins = 20: too many', 'rows.count: missing', 'no key')
+    """
+    if not key:
+        return message
+    return f"{key} {message}" if message.startswith("= ") else f"{key}: {message}"
+
+
 class DesignError(Exception):
     """An input that the schema accepted but the physics cannot: exit code 2.
 
@@ -177,7 +189,7 @@ class DesignError(Exception):
     """
 
     def __init__(self, key: str, message: str):
-        super().__init__(f"{key}: {message}" if key else message)
+        super().__init__(keyed(key, message))
         self.key = key
         self.message = message
 
@@ -218,6 +230,9 @@ class Calculator:
     identical to ``compute``; the CLI uses it for batches of two or more designs.
     """
 
+    implicit: Callable[[Any], dict] | None = None
+    """Optional: the values the computation takes for keys a valid design leaves out and no schema default fills
+    (dotted key -> value, e.g. the default allowable stress), for ``gearcalc check --resolved``."""
     table_fields: tuple[str, ...] = ()
     """The summary fields a terminal table shows for several designs (after ``name``), the handful an
     engineer reads first; ``--fields`` chooses others.  Empty: every field."""

@@ -75,8 +75,8 @@ O_PLOT = typer.Option(None, "--plot", help="Draw the calculator's figure to this
 O_DEBUG = typer.Option(False, "--debug", help="Show the traceback of an internal error.")
 O_FIELDS = typer.Option(None, "--fields", metavar="A,B,...",
                         help="Summary fields to output, comma-separated (name always first); 'all' for every "
-                        "field. Default: a table of several designs shows each kind's main fields, CSV and JSON "
-                        "every field.")
+                        "field; 'file' adds the design's file; with --detail also detail columns. Default: a table "
+                        "of several designs shows each kind's main fields, CSV and JSON every field.")
 O_VERBOSE = typer.Option(False, "--verbose", "-v",
                          help="Repeat a warning that many designs share once per design (default: once, "
                          "with the count and the first names).")
@@ -217,7 +217,11 @@ def _emit(records, fmt, detail, output, plot, worst, fields=None, array=None) ->
     from .render import render, unknown_fields
 
     if fields is not None and records:
-        bad = unknown_fields(fields, list(dict.fromkeys(k for r in records for k in r.result.summary)))
+        from .render import detail_columns
+
+        have = dict.fromkeys(k for r in records for k in r.result.summary)
+        bad = unknown_fields(fields, list(have) + sorted(detail_columns(records) - set(have) if detail else ()),
+                             extra=("name", "file"))
         if bad:
             raise Abort("; ".join(bad) + " (the summary fields are the CSV columns: --format csv --fields all)")
     if records or (fmt == "json" and array):
@@ -625,7 +629,7 @@ def accuracy_cmd(
         title = "gearcalc accuracy: " + "; ".join(f"{k}: {acc.SPECS[k].quantity}" for k in names)
         notes: list[str] = []
         if not emit_text(lambda width, color: render_rows(out, f, title=title, width=width, color=color, notes=notes,
-                                                          lift_key=0), f, output):
+                                                          lift_key=0, keep=("honest",), choose=None), f, output):
             return EXIT_BUG
         for note in notes:
             err(note)
@@ -651,7 +655,8 @@ def check_cmd(
     paths: List[str] = typer.Argument(..., metavar="PATH...", help="Design files or folders."),
     sets: Optional[List[str]] = O_SET,
     resolved: bool = typer.Option(False, "--resolved",
-                                  help="Print each valid design with every default filled in, as TOML."),
+                                  help="Print each valid design with every default filled in (also those the "
+                                  "computation derives, such as the default allowable stress), as TOML."),
     debug: bool = O_DEBUG,
 ):
     """Validate design files only; print every problem found.
@@ -682,7 +687,7 @@ def check_cmd(
             if resolved:
                 import tomli_w
 
-                sys.stdout.write(f"# {dmod.display_name(f)}\n" + tomli_w.dumps(d.resolved()) + "\n")
+                sys.stdout.write(f"# {dmod.display_name(f)}\n" + tomli_w.dumps(d.resolved(implicit=True)) + "\n")
             else:
                 print(f"ok  {dmod.display_name(f)}  ({d.kind}: {d.name})")
         return worst

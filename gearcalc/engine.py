@@ -74,7 +74,7 @@ def report_one(d, outcome, debug: bool = False):
     where = display_name(d.source)
     lines = [f"{where}: warning: {w}" for w in d.warnings]
     if isinstance(outcome, DesignError):
-        lines.append(f"{where}: {outcome.key}: {outcome.message}" if outcome.key else f"{where}: {outcome.message}")
+        lines.append(f"{where}: {outcome}")  # key and message (calculator.keyed)
         return None, lines, EXIT_INPUT
     if isinstance(outcome, BaseException):
         if debug:

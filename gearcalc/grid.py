@@ -141,6 +141,31 @@ def round12(v):
     return out
 
 
+def _range_hint(key: str, parts: list[str]) -> str:
+    """For a range with units ("1kN:50kN:1kN"): the bare numbers in the key's unit, converted by the rule that
+    converts a number with a unit in a design file (:func:`gearcalc.design.with_unit`)."""
+    from . import units
+    from .design import number_hint, with_unit
+
+    for p in parts:
+        hint = number_hint(p)
+        if hint:
+            return f" ({p.strip()[:20]}: {hint})"
+    unit = units.unit_of(key)
+    if not unit:
+        return ""
+    numbers = []
+    for p in parts:
+        try:
+            numbers.append(float(p))
+        except ValueError:
+            numbers.append(with_unit(p, unit))
+    if any(x is None for x in numbers):
+        return f"; write bare numbers in {unit} (the unit is in the key's name)"
+    shown = ":".join(str(int(x)) if x.is_integer() and abs(x) < 1e16 else f"{x:.15g}" for x in numbers)
+    return f"; write the bare numbers {shown} (in {unit}: the unit is in the key's name)"
+
+
 def parse_spec(key: str, spec: str) -> list[Any]:
     """Values of one axis from its SPEC.
 
@@ -162,7 +187,8 @@ def parse_spec(key: str, spec: str) -> list[Any]:
         try:
             start, stop, step = (float(p) for p in parts)
         except ValueError:
-            raise SweepError(f"--vary {key}={shown}: start, stop and step must be numbers") from None
+            raise SweepError(f"--vary {key}={shown}: start, stop and step must be numbers"
+                             + _range_hint(key, parts)) from None
         if not all(math.isfinite(v) for v in (start, stop, step)):
             raise SweepError(f"--vary {key}={shown}: start, stop and step must be finite numbers")
         span = stop - start
@@ -550,7 +576,7 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
         try:
             summaries = fast(base, raw, axes, points, options)
         except DesignError as exc:
-            raise SweepError(f"{exc.key}: {exc.message}") from None
+            raise SweepError(str(exc)) from None
         if summaries is not None:
             if progress:
                 progress(len(points))
@@ -572,7 +598,7 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
         except InputError as exc:
             raise SweepError(f"at {p}: " + "; ".join(exc.messages)) from None
         except DesignError as exc:
-            raise SweepError(f"at {p}: {exc.key}: {exc.message}") from None
+            raise SweepError(f"at {p}: {exc}") from None
         rows.append({**p, **res.summary})
         if progress:
             progress(1)

@@ -192,6 +192,18 @@ def test_strength_check_exit_1(tmp_path):
     assert "check failed" in r.stderr and "sigma_max_MPa" in r.stderr
 
 
+def test_a_failed_strength_check_prints_the_digits_that_show_the_excess(tmp_path):
+    import re
+
+    sigma = summary(EXAMPLE)[0]["sigma_max_MPa"]  # the example's own stress: the allowable a hair below it
+    allow = sigma * (1 - 1e-8)
+    assert f"{sigma:.6g}" == f"{allow:.6g}"  # at six digits the message would read "x > x"
+    s, r = summary(EXAMPLE, "--set", f"material.allowable_stress_MPa={allow!r}")
+    assert r.exit_code == 1 and s["pass"] is False
+    shown, limit = re.search(r"sigma_max_MPa = (\S+) > allowable_stress_MPa = (\S+) ", r.stderr).groups()
+    assert float(shown) > float(limit), r.stderr
+
+
 def test_huge_load_fails_and_warns(tmp_path):
     s, r = summary(design(tmp_path), "--set", "load.radial_N=1e9")
     assert r.exit_code == 1 and s["pass"] is False and "b/rho" in r.stderr

@@ -242,9 +242,15 @@ def plot(records, path: str) -> None:
     draw(records, path, compute)
 
 
+def implicit(design) -> dict:
+    """``friction.model`` as the computation takes it when left out (its alias contact.friction_in_equilibrium,
+    else the default), unless the alias is given (the design then says it)."""
+    return {} if design.get(KEYS["alias"]) is not None else {KEYS["model"]: friction_model(design)}
+
+
 CALCULATOR = Calculator(
     kind="pins", title="KHV planetary pin gearing: per-pin friction losses and efficiency", tables=TABLES,
-    compute=compute, check=check, models=MODELS, header=HEADER, sweep=sweep,
+    implicit=implicit, compute=compute, check=check, models=MODELS, header=HEADER, sweep=sweep,
     table_fields=("model", "efficiency", "self_locking", "pin_force_max_N", "P_tr_W"), sweep_plot=("efficiency",),
     failure=(("self_locking", True),), plot=plot, batch=batch,
 )

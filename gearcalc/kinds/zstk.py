@@ -222,8 +222,19 @@ def plot(records, path: str) -> None:
     plot_records(records, path)
 
 
+def implicit(design) -> dict:
+    """The material values the computation takes for keys left out (:func:`gearcalc.zstk.solve.prepare`): each
+    ring's elastic constants from ring_E_MPa / ring_poisson, the default allowable stress."""
+    return {"material.inner_ring_E_MPa": design["material.ring_E_MPa"],
+            "material.inner_ring_poisson": design["material.ring_poisson"],
+            "material.outer_ring_E_MPa": design["material.ring_E_MPa"],
+            "material.outer_ring_poisson": design["material.ring_poisson"],
+            "material.allowable_stress_MPa": DEFAULT_ALLOWABLE_MPA}
+
+
 CALCULATOR = Calculator(
     kind="zstk",
+    implicit=implicit,
     title="closed rolling-body mechanism (eccentric ZSTK, leading inner ring)",
     tables=TABLES,
     compute=compute,
