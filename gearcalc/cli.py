@@ -228,12 +228,13 @@ def _emit(records, fmt, detail, output, plot, worst, fields=None, array=None) ->
         for note in dict.fromkeys(notes):
             err(note)
         if plot:
-            from .plot import plot_records
+            from .plot import PLOT_HINT, plot_records
 
             try:
-                plot_records(records, plot)
+                for note in plot_records(records, plot):
+                    err(note)
             except ImportError:
-                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                err(PLOT_HINT)
                 worst = max(worst, EXIT_INPUT)
     return worst
 
@@ -481,12 +482,12 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
         err(note)
     code = EXIT_OK
     if plot:
-        try:
-            from .plot import plot_sweep
+        from .plot import PLOT_HINT, plot_sweep
 
+        try:
             plot_sweep(calc.kind, rows.rows(), list(axes), plot)
         except ImportError:
-            err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+            err(PLOT_HINT)
             code = EXIT_INPUT
     return calc.failed_points(rows.data), rows.n, code
 
@@ -626,12 +627,12 @@ def accuracy_cmd(
         for note in notes:
             err(note)
         if plot:
-            try:
-                from .plot import plot_accuracy
+            from .plot import PLOT_HINT, plot_accuracy
 
+            try:
                 plot_accuracy(acc.summarise(rows), plot)
             except ImportError:
-                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                err(PLOT_HINT)
                 return EXIT_INPUT
         dishonest = [r for r in rows if r.get("honest") is False]
         for r in dishonest:

@@ -232,11 +232,11 @@ def sweep(base, raw, axes, points, options):
     return cols  # column-major: the sweep writes it without building a dict per point
 
 
-def plot(records, path: str) -> None:
-    """The figure of :mod:`gearcalc.rows.plot` (matplotlib imported there, on use)."""
+def plot(records, path: str) -> list:
+    """The figure of :mod:`gearcalc.rows.plot` (matplotlib imported there, on use); the records drawn."""
     from ..rows.plot import plot as draw
 
-    draw(records, path)
+    return draw(records, path)
 
 
 CALCULATOR = Calculator(
