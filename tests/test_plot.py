@@ -212,3 +212,30 @@ def test_pins_engagement_in_the_same_range_at_both_levels(tmp_path, mode):
     # the compliant pins reach a little past the ideal arc, by less than one pin pitch
     assert psi <= x_contact.max() < psi + pitch
     assert np.all(np.diff(x_contact) >= 0)
+
+
+# ------------------------------------------------------------------------- accuracy --plot
+def test_accuracy_tick_labels_do_not_overprint():
+    # times within one decade (zstk's levels: 25-300 ms on this machine) got minor labels 3x10^1, 4x10^1 ...
+    # printed over each other; the rows are made up in the shape of gearcalc.accuracy.summarise's
+    from gearcalc.plot import accuracy_figure
+
+    rows = [{"kind": kind, "level": level, "tol": tol, "time_ms_median": t * scale, "error_max": e,
+             "error_est_max": 10 * e}
+            for kind, scale in (("zstk", 1.0), ("rows", 0.01))
+            for level, t0 in (("equilibrium", 25.0), ("reference", 260.0))
+            for tol, t, e in ((1e-3, t0, 1e-8), (1e-6, t0 * 1.1, 1e-12), (1e-9, t0 * 1.15, 1e-12))]
+    fig = accuracy_figure(rows)
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        lo, hi = ax.get_xlim()
+        labels = [t for t in ax.get_xticklabels() + ax.get_xticklabels(minor=True)
+                  if t.get_text() and t.get_visible() and lo <= t.get_position()[0] <= hi]
+        assert len(labels) >= 2
+        boxes = [t.get_window_extent(r) for t in labels]
+        assert not any(overlaps(a, b) for i, a in enumerate(boxes) for b in boxes[i + 1:]), \
+            [t.get_text() for t in labels]
+        assert not [t for t in ax.get_xticklabels(minor=True) if t.get_text()]
+        tols = [t.get_window_extent(r) for t in ax.texts]  # the tol labels of coinciding points
+        assert not any(overlaps(a, b) for i, a in enumerate(tols) for b in tols[i + 1:])
