@@ -91,12 +91,12 @@ O_SCHEDULER = typer.Option(None, "--scheduler", envvar="DASK_SCHEDULER_ADDRESS",
 
 
 def model_levels(kinds) -> str:
-    """The --model help with the levels of these kinds, cheapest first (from the calculators: imported only
-    when a help page is shown)."""
+    """The --model help with the levels of these kinds, cheapest first (the registry's: the calculators' own
+    lists, without importing a calculator)."""
     kinds = [k for k in kinds if k in registry.kinds()]
     if len(kinds) == 1:
-        return f"{MODEL_HELP} Levels: {', '.join(registry.get(kinds[0]).models)}."
-    return f"{MODEL_HELP} Levels: " + "; ".join(f"{k}: {', '.join(registry.get(k).models)}" for k in kinds) + "."
+        return f"{MODEL_HELP} Levels: {', '.join(registry.levels(kinds[0]))}."
+    return f"{MODEL_HELP} Levels: " + "; ".join(f"{k}: {', '.join(registry.levels(k))}" for k in kinds) + "."
 
 
 class _Help(typer.core.TyperCommand):
