@@ -15,7 +15,8 @@ module (``gearcalc.kinds.<kind>``) defines a module-level ``CALCULATOR`` of type
   ``None`` falls back to point-by-point evaluation.
 * ``batch(designs, options) -> list[Result | Exception]`` (optional): many designs of the kind
   at once (numpy over designs), identical to ``compute`` design by design.
-* ``plot(records, path)`` (optional): draw the calculator's figure (matplotlib, imported inside).
+* ``plot(records, path)`` (optional): draw the calculator's figure (matplotlib, imported inside) and
+  return the records it drew (a figure holds a few designs; :func:`gearcalc.plot.plot_records` names the rest).
 
 This module imports nothing heavy: ``gearcalc --help`` loads it.
 """

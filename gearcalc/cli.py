@@ -68,8 +68,8 @@ O_OUTPUT = typer.Option(None, "--output", "-o", help="Write to this file instead
 O_SET = typer.Option(None, "--set",
                      help="Override a design key for this run: KEY=VALUE with a dotted KEY (repeatable).")
 O_TOL = typer.Option(1e-6, "--tol", help="Relative accuracy target for numerically computed results (0 < REL < 0.1).")
-O_MODEL = typer.Option(None, "--model", help="Force a model level (see the calculator's levels); "
-                       "default: the cheapest level the design needs.")
+MODEL_HELP = "Force a model level; default: the cheapest level the design needs."
+O_MODEL = typer.Option(None, "--model", metavar="LEVEL", help=MODEL_HELP)
 O_PLOT = typer.Option(None, "--plot", help="Draw the calculator's figure to this file: png, pdf, svg, ... from its "
                       "extension (needs the 'plot' extra).")
 O_DEBUG = typer.Option(False, "--debug", help="Show the traceback of an internal error.")
@@ -88,6 +88,59 @@ O_SCHEDULER = typer.Option(None, "--scheduler", envvar="DASK_SCHEDULER_ADDRESS",
                            "scheduler file *.json), or local[:N] for N worker processes here (default: the "
                            "cores). Output identical to a run without it. Default: $DASK_SCHEDULER_ADDRESS. "
                            "Needs the 'dask' extra.")
+
+
+def model_levels(kinds) -> str:
+    """The --model help with the levels of these kinds, cheapest first (the registry's: the calculators' own
+    lists, without importing a calculator)."""
+    kinds = [k for k in kinds if k in registry.kinds()]
+    if len(kinds) == 1:
+        return f"{MODEL_HELP} Levels: {', '.join(registry.levels(kinds[0]))}."
+    return f"{MODEL_HELP} Levels: " + "; ".join(f"{k}: {', '.join(registry.levels(k))}" for k in kinds) + "."
+
+
+class _Help(typer.core.TyperCommand):
+    """A command whose help page names the model levels of its kinds under --model (``kinds``: None for all)."""
+
+    kinds: Optional[tuple] = None
+
+    def format_help(self, ctx, formatter) -> None:
+        for p in self.params:
+            if p.name == "model":
+                p.help = model_levels(self.kinds or registry.kinds())
+        super().format_help(ctx, formatter)
+
+
+def _help_of(kind: Optional[str] = None):
+    return type("Help", (_Help,), {"kinds": (kind,) if kind else None})
+
+
+def examples(*lines: str) -> str:
+    """A help page's epilog: example command lines, kept as written (click's \\b: no rewrapping)."""
+    return "\b\nExamples:\n" + "\n".join(f"  {line}" for line in lines)
+
+
+EXAMPLES = {
+    "run": examples("gearcalc run configs --format table          # every design below a folder",
+                    "gearcalc run configs --format json -o results.json",
+                    "gearcalc run a.toml b.toml --fields name,efficiency --jobs 4"),
+    "sweep": examples("gearcalc sweep configs/rows_mass_fig5.toml --vary rows.count=1,2,3,4 \\",
+                      "    --vary gear.ratio=2.2:12:0.05 --plot fig5.png",
+                      "gearcalc sweep gear.toml --vary friction.sliding=0.02:0.2:0.02 --format json"),
+    "accuracy": examples("gearcalc accuracy pins --tols 1e-3,1e-6", "gearcalc accuracy --plot accuracy.png"),
+    "check": examples("gearcalc check configs", "gearcalc check gear.toml --resolved > resolved.toml"),
+    "new": examples("gearcalc new rows > gear.toml", "gearcalc new pins -o pins.toml     # --force replaces a file"),
+}
+
+
+EXAMPLE_SET = {"pins": "friction.sliding=0.08", "zstk": "load.radial_N=12000", "rows": "rows.count=4"}
+"""A --set for each kind's examples (tests/test_cli.py runs it on the kind's template)."""
+
+
+def kind_examples(kind: str) -> str:
+    return examples(f"gearcalc new {kind} > {kind}.toml && gearcalc {kind} {kind}.toml",
+                    f"gearcalc {kind} {kind}.toml --detail --format json -o {kind}.json",
+                    f"gearcalc {kind} {kind}.toml --set {EXAMPLE_SET.get(kind, 'KEY=VALUE')} --plot {kind}.png")
 
 
 def pick_format(fmt: Optional[str], output: Optional[str]) -> str:
@@ -232,12 +285,13 @@ def _emit(records, fmt, detail, output, plot, worst, fields=None, array=None) ->
         for note in dict.fromkeys(notes):
             err(note)
         if plot:
-            from .plot import plot_records
+            from .plot import PLOT_HINT, plot_records
 
             try:
-                plot_records(records, plot)
+                for note in plot_records(records, plot):
+                    err(note)
             except ImportError:
-                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                err(PLOT_HINT)
                 worst = max(worst, EXIT_INPUT)
     return worst
 
@@ -267,10 +321,11 @@ def _kind_command(kind: str, summary: str):
 
 
 for _kind in registry.KINDS:  # the registry is the one list of kinds
-    app.command(_kind, help=registry.help_of(_kind))(_kind_command(_kind, registry.help_of(_kind)))
+    app.command(_kind, help=registry.help_of(_kind), cls=_help_of(_kind),
+                epilog=kind_examples(_kind))(_kind_command(_kind, registry.help_of(_kind)))
 
 
-@app.command("run")
+@app.command("run", cls=_help_of(), epilog=EXAMPLES["run"])
 def run_cmd(
     paths: List[str] = typer.Argument(
         ..., metavar="PATH...", help="Design files or folders (every *.toml below a folder); '-' reads stdin."),
@@ -295,7 +350,7 @@ def run_cmd(
                                  verbose, scheduler), debug)
 
 
-@app.command("sweep")
+@app.command("sweep", cls=_help_of(), epilog=EXAMPLES["sweep"])
 def sweep_cmd(
     file: str = typer.Argument(..., metavar="FILE", help="One design file ('-' reads standard input)."),
     vary: List[str] = typer.Option(..., "--vary", help="KEY=SPEC: an axis of the grid; SPEC is start:stop:step "
@@ -489,12 +544,12 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
         err(note)
     code = EXIT_OK
     if plot:
-        try:
-            from .plot import plot_sweep
+        from .plot import PLOT_HINT, plot_sweep
 
+        try:
             plot_sweep(calc.kind, rows.rows(), list(axes), plot)
         except ImportError:
-            err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+            err(PLOT_HINT)
             code = EXIT_INPUT
     return calc.failed_points(rows.data), rows.n, code
 
@@ -574,7 +629,7 @@ def _is_terminal(stream) -> bool:
         return False
 
 
-@app.command("accuracy")
+@app.command("accuracy", epilog=EXAMPLES["accuracy"])
 def accuracy_cmd(
     kinds: Optional[List[str]] = typer.Argument(None, metavar="[KIND]...",
                                               help="Calculators to report (default: all): pins, zstk, rows."),
@@ -634,12 +689,12 @@ def accuracy_cmd(
         for note in notes:
             err(note)
         if plot:
-            try:
-                from .plot import plot_accuracy
+            from .plot import PLOT_HINT, plot_accuracy
 
+            try:
                 plot_accuracy(acc.summarise(rows), plot)
             except ImportError:
-                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                err(PLOT_HINT)
                 return EXIT_INPUT
         dishonest = [r for r in rows if r.get("honest") is False]
         for r in dishonest:
@@ -650,7 +705,7 @@ def accuracy_cmd(
     finish(body, debug)
 
 
-@app.command("check")
+@app.command("check", epilog=EXAMPLES["check"])
 def check_cmd(
     paths: List[str] = typer.Argument(..., metavar="PATH...", help="Design files or folders."),
     sets: Optional[List[str]] = O_SET,
@@ -695,20 +750,26 @@ def check_cmd(
     finish(body, debug)
 
 
-@app.command("new")
+@app.command("new", epilog=EXAMPLES["new"])
 def new_cmd(
     kind: str = typer.Argument(..., metavar="KIND", help="pins | zstk | rows"),
-    output: Optional[str] = O_OUTPUT,
+    output: Optional[str] = typer.Option(None, "--output", "-o", help="Write to this new file instead of stdout "
+                                         "('-': stdout); an existing file is refused (it may be a design you "
+                                         "edited) unless --force is given."),
+    force: bool = typer.Option(False, "--force", help="With -o: replace an existing file."),
 ):
     """Print a complete, commented template design of that kind (every key, its unit, its default)."""
 
     def body() -> int:
+        from .output import descriptor
         from .template import template
 
         if kind not in registry.kinds():
             raise Abort(f"new {clip(kind)}: unknown kind; must be one of {', '.join(registry.kinds())}"
                         + did_you_mean(kind, list(registry.kinds())))
         check_output_path(output)
+        if output and output != "-" and not force and descriptor(output) is None and os.path.isfile(output):
+            raise Abort(f"new -o {output}: the file exists; add --force to replace it")
         text = template(registry.get(kind))
         from .output import to_file, write_stdout
 

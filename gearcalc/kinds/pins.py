@@ -235,11 +235,11 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     return summary
 
 
-def plot(records, path: str) -> None:
-    """The figure of :mod:`gearcalc.pins.plot` (matplotlib imported there, on use)."""
+def plot(records, path: str) -> list:
+    """The figure of :mod:`gearcalc.pins.plot` (matplotlib imported there, on use); the records drawn."""
     from ..pins.plot import plot as draw
 
-    draw(records, path, compute)
+    return draw(records, path, compute)
 
 
 def implicit(design) -> dict:

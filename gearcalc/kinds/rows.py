@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from ..calculator import Calculator, DesignError, Options, Problems, Result
+from ..registry import LEVELS
 from ..rows import geometry as G
 from ..rows import report as W
 from ..rows.schema import FAST_SWEEP_KEYS, TABLES
@@ -232,16 +233,16 @@ def sweep(base, raw, axes, points, options):
     return cols  # column-major: the sweep writes it without building a dict per point
 
 
-def plot(records, path: str) -> None:
-    """The figure of :mod:`gearcalc.rows.plot` (matplotlib imported there, on use)."""
+def plot(records, path: str) -> list:
+    """The figure of :mod:`gearcalc.rows.plot` (matplotlib imported there, on use); the records drawn."""
     from ..rows.plot import plot as draw
 
-    draw(records, path)
+    return draw(records, path)
 
 
 CALCULATOR = Calculator(
     kind="rows", title="multi-row planetary gear: row load sharing, equalising carrier bridges, relative mass",
-    tables=TABLES, compute=compute, check=check, models=("stepwise", "exact", "continuous"),
+    tables=TABLES, compute=compute, check=check, models=LEVELS["rows"],
     header="Seed paper 004_971077b94d8d4426.txt; physics in rows.md. Lengths in mm, torque in N*m, stresses in MPa.",
     sweep=sweep, table_fields=("K", "K_exact", "bridges_feasible", "K_balanced", "relative_mass_min_kg_per_kNm"),
     sweep_plot=("relative_mass_kg_per_kNm", "K"), failure=(("bridges_feasible", False),), plot=plot,

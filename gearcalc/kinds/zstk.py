@@ -215,11 +215,12 @@ def _compute_sweeping(design, p, options: Options) -> Result:
     return _result(cols, extra, 0, model)
 
 
-def plot(records, path: str) -> None:
-    """The paper's Fig. 2 and a drawing of the chain for up to 4 designs (:mod:`gearcalc.zstk.figure`)."""
+def plot(records, path: str) -> list:
+    """The paper's Fig. 2 and a drawing of the chain for up to 4 designs (:mod:`gearcalc.zstk.figure`); the
+    records drawn."""
     from ..zstk.figure import plot_records
 
-    plot_records(records, path)
+    return plot_records(records, path)
 
 
 def implicit(design) -> dict:
