@@ -108,15 +108,20 @@ def compute(design, *, model: str | None = None, tol: float = DEFAULT_TOL, detai
     resolved design; ``result.to_dict()`` is the JSON object, ``result.to_pandas()`` a one-row DataFrame.
 
     Raises ``InputError`` for a design the schema refuses, ``DesignError`` for one the physics cannot
-    compute, ``ValueError`` for an unknown model level or a tolerance outside (0, 0.1).
+    compute (also for an output that would be infinite or NaN), ``ValueError`` for an unknown model level or a
+    tolerance outside (0, 0.1).
     """
     from . import registry
-    from .engine import check_model
+    from .engine import check_model, finite_error, quiet_numpy
 
     d = load(design, overrides=overrides, kind=kind)
     _check_tol(tol)
     check_model(model, d.kind)
-    result = registry.get(d.kind).compute(d, Options(tol=tol, model=model, detail=detail))
+    with quiet_numpy():
+        result = registry.get(d.kind).compute(d, Options(tol=tol, model=model, detail=detail))
+    bad = finite_error(d, result)  # never an inf or a NaN as a result: the design's error, as on the command line
+    if bad is not None:
+        raise bad
     result.design = d.resolved()
     result.name, result.kind = d.name, d.kind
     return result
