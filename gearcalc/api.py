@@ -109,7 +109,7 @@ def compute(design, *, model: str | None = None, tol: float = DEFAULT_TOL, detai
 
     Raises ``InputError`` for a design the schema refuses, ``DesignError`` for one the physics cannot
     compute (also for an output that would be infinite or NaN), ``ValueError`` for an unknown model level or a
-    tolerance outside (0, 0.1).
+    tolerance outside [1e-15, 0.1).
     """
     from . import registry
     from .engine import check_model, finite_error, quiet_numpy
@@ -128,8 +128,11 @@ def compute(design, *, model: str | None = None, tol: float = DEFAULT_TOL, detai
 
 
 def _check_tol(tol: float) -> None:
-    if not (0.0 < tol < 0.1):
-        raise ValueError(f"tol = {tol!r}: must be > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
+    from .calculator import tol_problem
+
+    problem = tol_problem(tol)
+    if problem:
+        raise ValueError(f"tol = {tol!r}: {problem}")
 
 
 @dataclass

@@ -168,8 +168,11 @@ def emit_text(render_fn, fmt: str, output: Optional[str]) -> bool:
 
 
 def check_tol(tol: float) -> None:
-    if not (0.0 < tol < 0.1):
-        raise Abort(f"--tol {tol}: must be > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
+    from .calculator import tol_problem
+
+    problem = tol_problem(tol)
+    if problem:
+        raise Abort(f"--tol {tol}: {problem}")
 
 
 def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
