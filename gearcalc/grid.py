@@ -537,17 +537,18 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
                     progress=None, arrays: bool = False) -> list[dict]:
     """Evaluate the given grid points: the calculator's vectorised sweep if it has one, else one by one.
     ``arrays``: columns of floats, counts or flags may stay numpy arrays (the CSV writer's fast path); else every
-    column of a :class:`Columns` is a list."""
+    column of a :class:`Columns` is a list.  A point with a NaN or infinite output has its outputs None and its
+    message in the chunk's ``Columns.errors`` (:func:`blank_nonfinite`): the sweep goes on."""
     import copy
 
     from . import registry
     from .design import InputError, apply_set, validate
 
-    base = validate(copy.deepcopy(raw), source)
-    calc = registry.get(base.kind)
     from .engine import finite_error, quiet_numpy
     from .render import Columns
 
+    base = validate(copy.deepcopy(raw), source)
+    calc = registry.get(base.kind)
     fast = getattr(calc, "sweep", None)
     if fast is not None:
         try:
@@ -584,7 +585,7 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
         bad = finite_error(d, res)
         if bad is not None:  # the point's error, its outputs empty: the sweep goes on
             errors.append(f"at {p}: {bad.key}: {bad.message.replace('this design', 'this point')}")
-            rows.append(dict(p))
+            rows.append({**p, **dict.fromkeys(res.summary)})  # its columns kept, every output None
         else:
             rows.append({**p, **res.summary})
         if progress:
@@ -606,7 +607,7 @@ def blank_nonfinite(data, points, base, lead=()) -> list[str]:
         bad = [k for k, r in enumerate(data) if any(type(v) is float and not math.isfinite(v) for v in r.values())]
         errors = [_point_error(base, points[k], {f: v for f, v in data[k].items() if f not in lead}) for k in bad]
         for k in bad:
-            data[k] = {f: v for f, v in data[k].items() if f in lead}
+            data[k] = {f: (v if f in lead else None) for f, v in data[k].items()}
         return errors
     mask = None
     for col in data.values():

@@ -23,7 +23,7 @@ def overflowing(monkeypatch):
     calc = rows.CALCULATOR
 
     def spoil(d, res):
-        if d.name == "overflow" and not isinstance(res, Exception):
+        if (d.name == "overflow" or d.get("rows.relative_width") == 2.2) and not isinstance(res, Exception):
             res.summary["K"] = np.float64(1e308) * 10  # inf, as numpy makes it (quietly here)
         return res
 
@@ -122,3 +122,27 @@ def test_sweep_api_chunk_carries_the_point_errors(overflowing):
         parts = list(gearcalc.sweep(GOOD, {"rows.relative_width": [2.0, 2.2, 2.4]}))
     assert len(parts) == 1 and parts[0].data["K"][1] is None and parts[0].data["K"][0] > 1
     assert len(parts[0].errors) == 1 and "2.2" in parts[0].errors[0]
+
+
+@pytest.mark.parametrize("fmt", ["csv", "json"])
+def test_jobs_2_batch_and_sweep_carry_the_errors_from_the_workers(overflowing, tmp_path, fmt):
+    # the workers are forked (the injected overflow goes with them): the same messages, rows and exit status
+    bad = _overflow_design(tmp_path)
+    one = cli("run", GOOD, bad, MASS, "--format", fmt)
+    two = cli("run", GOOD, bad, MASS, "--format", fmt, "--jobs", "2")
+    assert (two.code, two.out, two.err) == (one.code, one.out, one.err) and two.code == 2, two
+    axis = ("--vary", "rows.relative_width=2.0,2.2,2.4,2.6")
+    one = cli("sweep", GOOD, *axis, "--format", fmt)
+    two = cli("sweep", GOOD, *axis, "--format", fmt, "--jobs", "2")
+    assert (two.code, two.out, two.err) == (one.code, one.out, one.err) and two.code == 2, two
+    assert two.err.count("the computed value is inf") == 1, two
+
+
+def test_point_by_point_sweep_point_with_a_nonfinite_output(overflowing):
+    # a design with [bridges] is swept point by point (man page `sweep`): the same empty row and message
+    design = CONFIGS / "rows_bridges_n3_B3_i6.toml"
+    r = cli("sweep", design, "--vary", "rows.relative_width=2.0,2.2,2.4", "--format", "json")
+    assert r.code == 2 and "at {'rows.relative_width': 2.2}: K: the computed value is inf" in r.err, r
+    rows = json.loads(r.out)
+    assert [p["rows.relative_width"] for p in rows] == [2.0, 2.2, 2.4] and list(rows[1]) == list(rows[0])
+    assert rows[1]["K"] is None and rows[1]["bridges_feasible"] is None and rows[0]["K"] > 1
