@@ -543,7 +543,6 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
 
     from . import registry
     from .design import InputError, apply_set, validate
-
     from .engine import finite_error, quiet_numpy
     from .render import Columns
 
