@@ -108,23 +108,31 @@ def compute(design, *, model: str | None = None, tol: float = DEFAULT_TOL, detai
     resolved design; ``result.to_dict()`` is the JSON object, ``result.to_pandas()`` a one-row DataFrame.
 
     Raises ``InputError`` for a design the schema refuses, ``DesignError`` for one the physics cannot
-    compute, ``ValueError`` for an unknown model level or a tolerance outside (0, 0.1).
+    compute (also for an output that would be infinite or NaN), ``ValueError`` for an unknown model level or a
+    tolerance outside [1e-15, 0.1).
     """
     from . import registry
-    from .engine import check_model
+    from .engine import check_model, finite_error, quiet_numpy
 
     d = load(design, overrides=overrides, kind=kind)
     _check_tol(tol)
     check_model(model, d.kind)
-    result = registry.get(d.kind).compute(d, Options(tol=tol, model=model, detail=detail))
+    with quiet_numpy():
+        result = registry.get(d.kind).compute(d, Options(tol=tol, model=model, detail=detail))
+    bad = finite_error(d, result)  # never an inf or a NaN as a result: the design's error, as on the command line
+    if bad is not None:
+        raise bad
     result.design = d.resolved()
     result.name, result.kind = d.name, d.kind
     return result
 
 
 def _check_tol(tol: float) -> None:
-    if not (0.0 < tol < 0.1):
-        raise ValueError(f"tol = {tol!r}: must be > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
+    from .calculator import tol_problem
+
+    problem = tol_problem(tol)
+    if problem:
+        raise ValueError(f"tol = {tol!r}: {problem}")
 
 
 @dataclass
@@ -197,6 +205,8 @@ def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None
     with ``.rows()``, a DataFrame with ``.to_pandas()``), in grid order.  Memory is bounded by the chunk,
     not by the grid.  ``scheduler``: the chunks are computed on a Dask cluster (an address, ``"local:N"``
     or a ``distributed.Client``; needs the ``dask`` extra), the same values in the same order.
+    A point whose output would be infinite or NaN has every output None and its message in the chunk's
+    ``errors`` (``"at {'KEY': VALUE}: FIELD: the computed value is inf (...)"``); the other points are computed.
 
     >>> import gearcalc
     >>> base = {"kind": "rows", "gear": {"sun_teeth": 18, "module_mm": 5.0},

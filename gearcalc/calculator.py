@@ -115,6 +115,22 @@ class Table:
         return None
 
 
+TOL_MIN, TOL_MAX = 1e-15, 0.1
+"""The range of ``--tol`` (``tol``): [1e-15, 0.1).  A relative accuracy below 1e-15 is under float64's round-off
+(2.2e-16 relative): no computation can meet it, and the levels it would ask for overflow."""
+
+
+def tol_problem(tol) -> str | None:
+    """What is wrong with a tolerance (``"must be ..."``), or None: the one rule of the CLI and the API.
+
+    >>> tol_problem(1e-6), tol_problem(1e-320)
+    (None, 'must be >= 1e-15 and < 0.1 (a relative accuracy, e.g. 1e-6; below 1e-15 is under the round-off of floats)')
+    """
+    if isinstance(tol, (int, float)) and not isinstance(tol, bool) and TOL_MIN <= tol < TOL_MAX:
+        return None
+    return "must be >= 1e-15 and < 0.1 (a relative accuracy, e.g. 1e-6; below 1e-15 is under the round-off of floats)"
+
+
 @dataclass
 class Options:
     """Run options that reach the calculator."""

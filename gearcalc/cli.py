@@ -221,8 +221,11 @@ def emit_text(render_fn, fmt: str, output: Optional[str]) -> bool:
 
 
 def check_tol(tol: float) -> None:
-    if not (0.0 < tol < 0.1):
-        raise Abort(f"--tol {tol}: must be > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
+    from .calculator import tol_problem
+
+    problem = tol_problem(tol)
+    if problem:
+        raise Abort(f"--tol {tol}: {problem}")
 
 
 def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
@@ -406,7 +409,7 @@ def sweep_cmd(
                     if f == "table" or plot:  # a table and a figure show every point at once
                         result = _sweep_whole(chunks, f, output, chosen, axes, where, plot, calc)
                     else:  # CSV and JSON are written a chunk at a time: memory follows the chunk, not the grid
-                        result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc)
+                        result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc, where)
             finally:
                 bar.stop()
         except sw.SweepError as exc:
@@ -478,17 +481,20 @@ def _fields_or_abort(fields, names) -> None:
         raise Abort("; ".join(bad))
 
 
-def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc):
+def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: str):
     """Write a sweep's chunks as they come (CSV: the header once; JSON: one array); (failed points, points,
     exit status), or None after an internal-error message (a non-finite value)."""
     from .output import stream, to_file
     from .render import CsvPiece, NonFiniteOutput, csv_blocks, json_array_piece, select_columns
 
     failed = total = 0
+    code = EXIT_OK
     try:
         with stream(output if to_file(output) else None) as out:
             first = True
             for part in chunks:
+                if _point_errors(part, where):
+                    code = EXIT_INPUT
                 if isinstance(part, CsvPiece):  # formatted where it was computed (CsvRenderer)
                     if first:
                         _fields_or_abort(fields, part.columns)
@@ -517,7 +523,15 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc):
     except NonFiniteOutput as exc:
         err(f"internal error: {exc}; please report it with the design file")
         return None
-    return failed, total, EXIT_OK
+    return failed, total, code
+
+
+def _point_errors(part, where: str) -> bool:
+    """Say the errors of a sweep chunk's points that could not be computed (their outputs are empty); any?"""
+    errors = getattr(part, "errors", ())
+    for e in errors:
+        err(f"{where}: {e}")
+    return bool(errors)
 
 
 def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc):
@@ -531,7 +545,9 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
         what = "--plot" if plot else "a table"
         raise Abort(f"{where}: the grid has {total} points; {what} holds every point at once and takes at most "
                     f"{sw.MAX_WHOLE_POINTS} (memory): write --format csv or json, which stream any size")
-    rows = sw.join_parts(list(chunks))
+    parts = list(chunks)
+    code = EXIT_INPUT if any([_point_errors(p, where) for p in parts]) else EXIT_OK
+    rows = sw.join_parts(parts)
     _fields_or_abort(fields, rows.data)
     default = list(calc.table_fields) or None
     notes: list[str] = []
@@ -542,7 +558,6 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
         return None
     for note in notes:
         err(note)
-    code = EXIT_OK
     if plot:
         from .plot import PLOT_HINT, plot_sweep
 

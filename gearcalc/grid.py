@@ -563,46 +563,125 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
                     progress=None, arrays: bool = False) -> list[dict]:
     """Evaluate the given grid points: the calculator's vectorised sweep if it has one, else one by one.
     ``arrays``: columns of floats, counts or flags may stay numpy arrays (the CSV writer's fast path); else every
-    column of a :class:`Columns` is a list."""
+    column of a :class:`Columns` is a list.  A point with a NaN or infinite output has its outputs None and its
+    message in the chunk's ``Columns.errors`` (:func:`blank_nonfinite`): the sweep goes on."""
     import copy
 
     from . import registry
     from .design import InputError, apply_set, validate
+    from .engine import finite_error, quiet_numpy
+    from .render import Columns
 
     base = validate(copy.deepcopy(raw), source)
     calc = registry.get(base.kind)
     fast = getattr(calc, "sweep", None)
     if fast is not None:
         try:
-            summaries = fast(base, raw, axes, points, options)
+            with quiet_numpy():
+                summaries = fast(base, raw, axes, points, options)
         except DesignError as exc:
             raise SweepError(str(exc)) from None
         if summaries is not None:
             if progress:
                 progress(len(points))
             if isinstance(summaries, dict):  # column-major: keep it so (fast CSV)
-                from .render import Columns
-
+                errors = blank_nonfinite(summaries, points, base)
                 axis_columns = {k: points.column(k, arrays) if isinstance(points, Grid) else [p[k] for p in points]
                                 for k in axes}
                 cols = Columns({**axis_columns, **summaries})
-                return cols if arrays else cols.lists()
-            return [{**p, **s} for p, s in zip(points, summaries)]
-    rows = []
+                cols = cols if arrays else cols.lists()
+                cols.errors = errors
+                return cols
+            rows = [{**p, **s} for p, s in zip(points, summaries)]
+            errors = blank_nonfinite(rows, points, base, lead=axes)
+            return Columns.from_rows(rows, errors) if errors else rows
+    rows, errors = [], []
     for p in points:
         trial = copy.deepcopy(raw)
         apply_set(trial, list(p.items()))
         try:
             d = validate(trial, source)
-            res = calc.compute(d, options)
+            with quiet_numpy():
+                res = calc.compute(d, options)
         except InputError as exc:
             raise SweepError(f"at {p}: " + "; ".join(exc.messages)) from None
         except DesignError as exc:
             raise SweepError(f"at {p}: {exc}") from None
-        rows.append({**p, **res.summary})
+        bad = finite_error(d, res)
+        if bad is not None:  # the point's error, its outputs empty: the sweep goes on
+            errors.append(f"at {p}: {str(bad).replace('this design', 'this point')}")
+            rows.append({**p, **dict.fromkeys(res.summary)})  # its columns kept, every output None
+        else:
+            rows.append({**p, **res.summary})
         if progress:
             progress(1)
-    return rows
+    return Columns.from_rows(rows, errors) if errors else rows
+
+
+def blank_nonfinite(data, points, base, lead=()) -> list[str]:
+    """The points of a sweep's summaries (columns, or rows) with a NaN or infinite output (never printed,
+    interface.md "Output"): each such point's outputs made None (an empty CSV cell, a JSON null; ``lead``, the
+    varied keys of rows, kept) and its message returned, as :func:`gearcalc.engine.finite_error` words a
+    design's.  A column of floats is checked by one sum (non-finite values propagate through it), point by
+    point only when that is not finite."""
+    import math
+
+    import numpy as np
+
+    if isinstance(data, list):  # rows
+        bad = [k for k, r in enumerate(data) if any(type(v) is float and not math.isfinite(v) for v in r.values())]
+        errors = [_point_error(base, points[k], {f: v for f, v in data[k].items() if f not in lead}) for k in bad]
+        for k in bad:
+            data[k] = {f: (v if f in lead else None) for f, v in data[k].items()}
+        return errors
+    mask = None
+    for col in data.values():
+        if isinstance(col, np.ndarray):
+            if col.dtype.kind != "f":
+                continue
+            m = ~np.isfinite(col)
+        elif isinstance(col, list):
+            try:
+                total = sum(col)  # a column of numbers: one sum
+            except TypeError:  # words, None, lists: the floats among them
+                total = sum(v for v in col if type(v) is float)
+            if math.isfinite(total):
+                continue
+            m = np.array([type(v) is float and not math.isfinite(v) for v in col])
+        else:
+            continue
+        if m.any():
+            mask = m if mask is None else mask | m
+    if mask is None or not mask.any():
+        return []
+    bad = np.flatnonzero(mask).tolist()
+    errors = [_point_error(base, points[k], {f: col[k] for f, col in data.items()}) for k in bad]
+    for f, col in data.items():
+        col = col.tolist() if isinstance(col, np.ndarray) else list(col)
+        for k in bad:
+            col[k] = None
+        data[f] = col
+    return errors
+
+
+def _point_error(base, point: dict, summary: dict) -> str:
+    """The message of a sweep point whose summary has a non-finite value."""
+    from .calculator import Result
+    from .engine import finite_error
+
+    bad = finite_error(_PointDesign(base, point), Result(summary=summary))
+    return f"at {point}: {str(bad).replace('this design', 'this point')}"
+
+
+class _PointDesign:
+    """The resolved values of a sweep point (the base design with the point's values), as
+    :func:`gearcalc.engine.finite_error` reads them to name the likely cause."""
+
+    def __init__(self, base, point: dict):
+        self.values = {t: dict(v or {}) for t, v in base.values.items()}
+        for key, value in point.items():
+            table, _, name = key.partition(".")
+            self.values.setdefault(table, {})[name] = value
 
 
 def _finished(result, shaped, slots: "Slots | None" = None):
@@ -630,7 +709,7 @@ def join_parts(parts: list):
                     return np.concatenate(cols)
                 return [v for c in cols for v in (c.tolist() if isinstance(c, np.ndarray) else c)]
 
-            return Columns({k: joined(k) for k in names})
+            return Columns({k: joined(k) for k in names}, [e for p in parts for e in p.errors])
     rows: list[dict] = []
     for p in parts:
         rows.extend(p.rows() if isinstance(p, Columns) else p)
@@ -699,7 +778,7 @@ def shape(part, header: list[str], axes):
                          + ", ".join(axes) + " or give fewer points per run")
     if list(part.data) == header:
         return part
-    return Columns({k: part.data.get(k, [None] * part.n) for k in header})
+    return Columns({k: part.data.get(k, [None] * part.n) for k in header}, part.errors)
 
 
 def evaluate_post(raw: dict, source: str, axes: dict[str, list[Any]], start: int, stop: int, options, arrays: bool,

@@ -700,7 +700,7 @@ def select_columns(cols: "Columns", fields: list[str] | None, lead: tuple = ()) 
     """The ``lead`` columns (a sweep's varied keys) and ``fields`` (``--fields``; None or ``all``: every one)."""
     if fields is None or fields == [ALL_FIELDS]:
         return cols
-    return Columns({k: cols.data[k] for k in select(list(cols.data), fields, None, lead=lead)})
+    return Columns({k: cols.data[k] for k in select(list(cols.data), fields, None, lead=lead)}, cols.errors)
 
 
 def json_array_piece(cols: "Columns", first: bool) -> str:
@@ -722,22 +722,25 @@ class Columns:
     """Column-major rows (a sweep): ``data[name]`` is a list, every list as long as the others.  Inside a
     streamed sweep a column of floats, counts or flags may be a numpy array (float64, integers, bool:
     ``grid.stream(arrays=True)``, for the CSV writer); :meth:`lists` gives the columns as lists, :meth:`rows`
-    plain Python values either way."""
+    plain Python values either way.  ``errors``: the messages of the points that could not be computed (their
+    outputs None), e.g. ``"at {'mass.efficiency': 1e-300}: relative_mass_kg_per_kNm: the computed value is inf
+    (...)"``."""
 
-    def __init__(self, data: dict[str, list]):
+    def __init__(self, data: dict[str, list], errors: list[str] | None = None):
         self.data = data
         self.n = len(next(iter(data.values()))) if data else 0
+        self.errors = list(errors or [])
 
     def lists(self) -> "Columns":
         """These columns with every numpy array as a list of Python values (self when there is none)."""
         if not any(hasattr(v, "tolist") for v in self.data.values()):
             return self
-        return Columns({k: v.tolist() if hasattr(v, "tolist") else v for k, v in self.data.items()})
+        return Columns({k: v.tolist() if hasattr(v, "tolist") else v for k, v in self.data.items()}, self.errors)
 
     @classmethod
-    def from_rows(cls, rows: list[dict]) -> "Columns":
+    def from_rows(cls, rows: list[dict], errors: list[str] | None = None) -> "Columns":
         cols = _union(rows)
-        return cls({c: [r.get(c) for r in rows] for c in cols})
+        return cls({c: [r.get(c) for r in rows] for c in cols}, errors)
 
     def rows(self) -> list[dict]:
         names = list(self.data)
@@ -855,6 +858,8 @@ class CsvPiece:
     columns: list
     shown: list
     text: Any
+    errors: tuple = ()
+    """The messages of the points that could not be computed (:attr:`Columns.errors`)."""
 
     def header(self) -> bytes:
         """The CSV header line of the columns shown (:func:`csv_blocks`' first block)."""
@@ -887,7 +892,8 @@ class CsvRenderer:
         shown = select_columns(part, self.fields, self.lead)
         # the blocks as they come (about 3 MB each): joining them would copy the whole chunk's text once more
         blocks = tuple(csv_blocks(shown, header=False, binary=True))
-        return CsvPiece(part.n, failed, list(part.data), list(shown.data), blocks[0] if len(blocks) == 1 else blocks)
+        return CsvPiece(part.n, failed, list(part.data), list(shown.data), blocks[0] if len(blocks) == 1 else blocks,
+                        tuple(getattr(part, "errors", ())))
 
 
 CSV_VECTOR_ROWS = 512

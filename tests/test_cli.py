@@ -154,6 +154,20 @@ def test_bad_tol(tol):
     assert r.code == 2 and "--tol" in r.err
 
 
+@pytest.mark.parametrize("tol", ["1e-320", "1e-16", "5e-324"])
+def test_tol_below_the_float_round_off_is_refused(tol):
+    # issue 34: --tol 1e-320 was an OverflowError in pins.ideal.first_levels (exit 70); interface.md: --tol is
+    # 1e-15 <= REL < 0.1, below that under float64's round-off (2.2e-16). The CLI and the API share the rule.
+    import gearcalc
+
+    for cmd in (("pins", CONFIGS / "pins_paper_cyc_u30_fixed.toml"), ("sweep", FIG3, "--vary", "rows.count=2,3")):
+        r = cli(*cmd, "--tol", tol)
+        assert r.code == 2 and f"--tol {float(tol)}" in r.err and ">= 1e-15" in r.err and r.out == "", r
+    with pytest.raises(ValueError, match=">= 1e-15"):
+        gearcalc.compute(FIG3, tol=float(tol))
+    assert cli("rows", FIG3, "--tol", "1e-15", "--format", "csv").code == 0
+
+
 def test_bad_format():
     r = cli("rows", FIG3, "--format", "xml")
     assert r.code == 2 and "--format" in r.err

@@ -69,9 +69,12 @@ def _violations(values):
 
 def check(design, problems: Problems) -> None:
     """Cross-key checks (pins.md §7, §9; :func:`gearcalc.pins.checks.design_problems`); every problem is reported."""
+    from ..engine import quiet_numpy
+
     a, tables = _one(design), _tables(design)
-    found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, **{n: a[n] for n in GEAR_ARGS},
-                              is_modified=_modified(design))
+    with quiet_numpy():  # an overflow at an input's extreme is a problem said below, never a numpy warning
+        found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, **{n: a[n] for n in GEAR_ARGS},
+                                  is_modified=_modified(design))
     R.report_problems(found, problems)
     if "gearing" not in tables or found and found[-1][1] == "overflow":
         return

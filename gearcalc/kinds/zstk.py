@@ -27,7 +27,10 @@ def check(design, problems) -> None:
     """Cross-key checks: raceways, eccentricity, gap, parity, N and the corrected geometry (spec §3.3, §9:
     :func:`gearcalc.zstk.check_designs`, the rules compute, batch and sweep use); the cost budget of the phase
     and direction sweeps (:func:`cost_problem`, at the default model)."""
-    p = _prepare(_design_columns([design]), 1)
+    from ..engine import quiet_numpy
+
+    with quiet_numpy():  # an overflow at an input's extreme (R_H = 1e-320) is a problem said below, not a warning
+        p = _prepare(_design_columns([design]), 1)
     for key, msg in _problems(p, 0):
         problems.error(key, msg)
     if p.valid[0]:

@@ -160,7 +160,8 @@ def contact_error(exc, design, g) -> DesignError:
 
     if isinstance(exc, NoEquilibrium):
         return no_equilibrium_error(exc, design, design["gearing.satellite_teeth"])
-    return unresolvable_error(design["gearing.eccentricity_mm"], g.R_p, design["gearing.pin_radius_mm"])
+    return unresolvable_error(design["gearing.eccentricity_mm"], g.R_p, design["gearing.pin_radius_mm"],
+                              design.get("load.torque_Nm"))
 
 
 def group_results(designs, cols, ideal, tol: float, detail: bool, t0: float) -> list:
@@ -206,12 +207,15 @@ def report_problems(found, problems) -> None:
             problems.warn(warning(rule, **values))
 
 
-def unresolvable_error(e, Rp, Rb) -> DesignError:
-    """A contact-level geometry below floating-point resolution."""
+def unresolvable_error(e, Rp, Rb, torque=None) -> DesignError:
+    """A contact-level geometry below floating-point resolution (``torque``: load.torque_Nm, named as the other
+    cause: the deflections scale with it)."""
+    under = "" if torque is None else f" under load.torque_Nm = {fmt(torque)} N*m"
+    hint = "" if torque is None else "; a larger torque deflects the contacts more"
     return DesignError("gearing.eccentricity_mm",
                        f"= {fmt(e)}: the contact level cannot resolve this geometry in floating point "
-                       f"(R_p = {fmt(Rp)} mm, e = {fmt(e)} mm, R_b = {fmt(Rb)} mm: the deflections are "
-                       "below the round-off of the pin positions)")
+                       f"(R_p = {fmt(Rp)} mm, e = {fmt(e)} mm, R_b = {fmt(Rb)} mm: the deflections{under} are "
+                       f"below the round-off of the pin positions{hint})")
 
 
 def stiffness_error(design, law, residual: float, tol: float) -> DesignError:

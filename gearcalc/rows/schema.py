@@ -62,7 +62,7 @@ TABLES = (
         Field("planet_fill", "number", 1.0, "k_g, fill factor of a planet", gt=0, le=1),
         Field("allowable_contact_MPa", "number", 600.0, "sigma_HP, allowable contact stress", ge=1e-3, le=1e6),
         Field("density_kg_m3", "number", 7800.0, "rho, density", gt=0, le=1e6),
-        Field("efficiency", "number", 0.95, "eta, efficiency", gt=0, le=1),
+        Field("efficiency", "number", 0.95, "eta, efficiency (a drive passes at least 1 %)", ge=0.01, le=1),
         Field("unevenness", "number", 1.0, "K used in M; \"computed\" takes K_balanced with [bridges], "
               "else the design's K", ge=1e-3, le=1e6, choices=("computed",)),
         Field("ratio_range", "numbers", [2.2, 12.0], "[i_lo, i_hi] where the minimum is searched", gt=2, le=1e4,

@@ -79,7 +79,8 @@ MATERIAL = Table("material", (
           default_doc="ring_E_MPa"),
     Field("outer_ring_poisson", "number", None, "override ring_poisson for the outer ring", gt=0, lt=0.5,
           default_doc="ring_poisson"),
-    Field("allowable_stress_MPa", "number", None, "[sigma_H], allowable contact stress", gt=0,
+    Field("allowable_stress_MPa", "number", None, "[sigma_H], allowable contact stress (at most 1e6 MPa, far above "
+          "any material's strength: Q_allow grows as its square and overflowed at 1e308)", gt=0, le=1e6,
           default_doc=f"{DEFAULT_ALLOWABLE_MPA:g} (ISO 76 static reference, not an endurance allowable)"),
 ), doc="Elastic constants and the allowable contact stress")
 
