@@ -178,25 +178,27 @@ def sweep(base, raw, axes, points, options):
     """The summaries of a whole grid as columns (no Python loop per point; rows.md §9), from the same geometry,
     validity and load-sharing functions as :func:`check` and :func:`compute`.
 
-    Points are grouped by the number of rows n, each group one batch of :func:`gearcalc.rows.row_sharing`; the
-    mass optimum is one vectorised golden-section search.  Designs with [bridges] (dense verification solves per
-    point) or varied keys outside ``FAST_SWEEP_KEYS`` return None: the caller evaluates them point by point.
+    Points are grouped by the number of rows n, each group one batch of :func:`gearcalc.rows.row_sharing` and,
+    with [bridges], of :func:`gearcalc.rows.size_bridges_batch` and :func:`gearcalc.rows.verify_carrier_batch`;
+    the mass optimum is one vectorised golden-section search.  Varied keys outside ``FAST_SWEEP_KEYS``, or
+    ``mass.unevenness = "computed"`` where K is undefined, return None: the caller evaluates them point by point.
     """
     import numpy as np
 
     from .. import rows as R
 
-    if base.has("bridges") or any(k not in FAST_SWEEP_KEYS for k in axes):
+    if any(k not in FAST_SWEEP_KEYS for k in axes):
         return None
-    if base.has("mass") and (base["mass.unevenness"] == "computed" or "mass.unevenness" in axes
-                             and any(isinstance(v, str) for v in axes["mass.unevenness"])):
+    computed = base.has("mass") and (base["mass.unevenness"] == "computed" or "mass.unevenness" in axes
+                                     and any(isinstance(v, str) for v in axes["mass.unevenness"]))
+    if computed and (not base.has("bridges") or "mass.unevenness" in axes):
         return None
     P = len(points)
 
     def col(key):
         if key in axes:
             vals = points.column(key, True) if hasattr(points, "column") else [p[key] for p in points]
-            return vals if key == "sun.torsion_diameter" else np.array(vals, dtype=float)
+            return vals if key in WORDS else np.array(vals, dtype=float)
         v = base.get(key)
         return v if isinstance(v, str) or v is None else np.full(P, float(v))
 
@@ -224,12 +226,98 @@ def sweep(base, raw, axes, points, options):
     T_a = col("sun.torque_Nm")
     if T_a is not None:
         cols.update(W.load_fields(R.mean_line_load(nm_to_nmm(T_a), n, f.base_radius, f.rim_width, nw), sh, column))
+    if base.has("bridges"):
+        bridge_cols, K_bal, late = bridges_columns(base, axes, points, col, f, n, nw, bore, E, nu, C, column)
+        cols.update(bridge_cols)
     if base.has("mass"):
         (lo, hi), unev = base["mass.ratio_range"], col("mass.unevenness")
+        if computed:
+            if np.isnan(K_bal).any():  # K_balanced undefined: point by point says so at its first point
+                return None
+            unev = K_bal
         m = R.mass_and_optimum(ratio(col), (np.full(P, lo), np.full(P, hi)), options.tol,
                                **mass_params(col, n, nw, f, E, nu, unev, deg_to_rad(col("gear.pressure_angle_deg"))))
         cols.update(W.mass_fields(m, unev, column))
+    for key in late if base.has("bridges") else ():
+        cols[key] = cols.pop(key)
     return cols  # column-major: the sweep writes it without building a dict per point
+
+
+def bridges_columns(base, axes, points, col, f, n, nw, bore, E, nu, C, column):
+    """The bridge summary columns of a sweep (:func:`bridges`' fields; rows.md §8, §9) and K_balanced (NaN where
+    undefined): the points grouped by n, each group one batch; the columns of every n in the order the points
+    first show them (a design alone lists its own n's columns: the union of §13.5)."""
+    import numpy as np
+
+    from .. import rows as R
+
+    P = len(n)
+    alpha, m, i = deg_to_rad(col("gear.pressure_angle_deg")), col("gear.module_mm"), ratio(col)
+    section = {k: col(f"bridges.{k}_mm") if base.is_given(f"bridges.{k}_mm") or f"bridges.{k}_mm" in axes
+               else G.DEFAULT_SECTION_PER_RIM * f.rim_width for k in ("axle_diameter", "bridge_thickness")}
+    first = col("bridges.first_span")
+    first = np.array([0.0 if v == "axes_only" else float(v) for v in first], dtype=float) \
+        if isinstance(first, list) else np.full(P, 0.0 if first == "axes_only" else float(first))
+    d_size = diameter(col("bridges.torsion_diameter"), f)
+    fits = G.bore_fits(bore, d_size)
+    if not np.all(fits):
+        raise DesignError("bridges.torsion_diameter",
+                          f"the sun bore must be smaller at {points[int(np.argmax(~fits))]}")
+    Ip = R.polar_moment(d_size, bore)
+    G_sun = R.shear_modulus(E, nu)
+    H_max, H, rel = np.zeros(P), {}, {}
+    feasible = np.zeros(P, bool)
+    K = {label: np.full(P, np.nan) for label in ("sized", "pitch", "root")}
+    unloaded = [[]] * P
+    order = list(dict.fromkeys(np.asarray(n)[np.sort(np.unique(n, return_index=True)[1])].tolist()))
+    for rows in order:
+        k = np.flatnonzero(n == rows)
+
+        def at(v, k=k):
+            return v[k] if np.ndim(v) else v
+
+        res = R.size_bridges_batch(rows, at(nw), at(f.sun_diameter), at(m), at(f.rim_width), at(f.cheek), at(alpha),
+                                   at(i), at(section["axle_diameter"]), at(section["bridge_thickness"]), at(E),
+                                   at(nu), at(Ip), first_span=at(first))
+        wide = (first[k] > 0) & (res["H_max"] > 0) & (first[k] > res["H_max"])
+        if wide.any():
+            j = int(k[np.argmax(wide)])
+            raise DesignError("bridges.first_span", W.first_span_too_wide(
+                float(first[j]), float(res["H_max"][np.argmax(wide)])) + f" at {points[j]}")
+        H_max[k], feasible[k] = res["H_max"], res["feasible"]
+        for j in range(rows):
+            H.setdefault(j, np.full(P, np.nan))[k] = res["H"][:, j]
+            rel.setdefault(j, np.full(P, np.nan))[k] = res["H_rel"][:, j]
+        Y = R.carrier_compliance_batch(res["a_w"], at(nw), res["stiffness"], rows, at(f.rim_width), at(alpha), at(C))
+        for label, d_i in (("sized", d_size), ("pitch", f.sun_diameter), ("root", f.root_diameter)):
+            kappa = R.torsion_parameter(at(C), at(f.base_radius), at(nw), at(f.rim_width), at(G_sun),
+                                        R.polar_moment(at(d_i), at(bore)))
+            kappa = np.broadcast_to(kappa, k.shape)
+            _, _, off, _, K[label][k] = R.verify_carrier_batch(kappa, np.broadcast_to(at(f.cheek_ratio), k.shape),
+                                                               rows, Y)
+            if label == "sized":
+                for q in np.flatnonzero(off.any(axis=1) & ~np.isnan(K[label][k])):  # rows.md §13.4
+                    unloaded[k[q]] = (np.flatnonzero(off[q]) + 1).tolist()
+    out = {"bridge_max_mm": column(np.maximum(H_max, 0.0)), "bridge_torsion_diameter_mm": column(d_size)}
+    first_n, late = order[0], []
+    for name, values in (("bridge_rel", rel), ("bridge", H)):
+        for j in range(first_n):
+            out[f"{name}_{j + 1}" + ("_mm" if name == "bridge" else "")] = column(values[j], ~np.isnan(values[j]))
+    out.update(bridges_feasible=column(feasible), K_balanced=column(K["sized"], ~np.isnan(K["sized"])),
+               K_balanced_pitch=column(K["pitch"], ~np.isnan(K["pitch"])),
+               K_balanced_root=column(K["root"], ~np.isnan(K["root"])), unloaded_rows_balanced=unloaded)
+    seen = first_n
+    for rows in order[1:]:  # a larger n's own columns: after every column of the points before (rows.md §13.5)
+        for name, values in (("bridge_rel", rel), ("bridge", H)):
+            for j in range(seen, rows):
+                late.append(f"{name}_{j + 1}" + ("_mm" if name == "bridge" else ""))
+                out[late[-1]] = column(values[j], ~np.isnan(values[j]))
+        seen = max(seen, rows)
+    return out, K["sized"], late
+
+
+WORDS = ("sun.torsion_diameter", "bridges.torsion_diameter", "bridges.first_span")
+"""Keys whose values may be words: a sweep keeps their column a list."""
 
 
 def plot(records, path: str) -> None:
