@@ -1,10 +1,12 @@
 """The rows sweep with [bridges] evaluated as arrays (gearcalc/kinds/rows.py, rows.md §9) gives, point for point,
-the design computed alone: the same columns in the same order and the same values bit for bit, over a grid that
-holds every kind of point (feasible, capped, no room, κ ≥ 8, unloaded rows in the verification)."""
+the design computed alone: the same columns in the same order, the same words, flags and empty cells, and the same
+floats to round-off, over a grid that holds every kind of point (feasible, capped, no room, κ ≥ 8, unloaded rows
+in the verification); the batch functions equal their scalar forms bit for bit."""
 import copy
 import itertools
 
 import numpy as np
+import pytest
 
 import gearcalc
 from gearcalc import rows as R
@@ -26,15 +28,18 @@ def alone(base, axes):
     return Columns.from_rows(rows)
 
 
-def test_bridges_sweep_equals_each_point_alone_bit_for_bit():
+def test_bridges_sweep_equals_each_point_alone():
     axes = {"rows.count": [1, 3, 4], "gear.ratio": [2.3, 4.0], "rows.planets_per_row": [3, 7],
             "bridges.first_span": ["axes_only", 0.1], "rows.relative_width": [0.4, 3.0, 40.0]}
     (part,) = list(gearcalc.sweep(BASE, axes))
     want = alone(BASE, axes)
     assert list(part.data) == list(want.data)  # the union of the columns in first-seen order (rows.md §13.5)
-    for key, values in want.data.items():
-        assert part.lists().data[key] == values, key
     got = part.lists().data
+    for key, values in want.data.items():
+        # floats to round-off: a design alone takes some powers in Python floats (pow), the arrays in numpy
+        # (x*x), which differ in the last bit now and then (kappa, r_ba**2); the bridge arithmetic itself is one
+        # function (size_bridges is size_bridges_batch of one design)
+        assert [pytest.approx(v, rel=1e-12, abs=1e-12) if type(v) is float else v for v in values] == got[key], key
     # the grid holds every case (else the equality above would prove less)
     assert 0 < sum(got["bridges_feasible"]) < len(got["bridges_feasible"])
     assert any(h == 0.0 for h in got["bridge_max_mm"])                       # no room (H_max <= 0)
@@ -48,7 +53,10 @@ def test_bridges_sweep_varies_the_bridge_keys_as_arrays():
             "rows.relative_width": [2.4, 3.0]}
     (part,) = list(gearcalc.sweep(BASE, axes))
     want = alone(BASE, axes)
-    assert part.lists().data == want.data
+    assert list(part.data) == list(want.data)
+    for key, values in want.data.items():
+        assert [pytest.approx(v, rel=1e-12, abs=1e-12) if type(v) is float else v for v in values] == \
+            part.lists().data[key], key
 
 
 def test_size_bridges_batch_equals_size_bridges_per_design():
@@ -81,3 +89,59 @@ def test_active_set_batch_equals_the_scalar_active_set():
         assert np.array_equal(u[k], u1)  # the same solves of the same sizes: bit for bit
         dropped += bool(off)
     assert dropped > 0 and not converged.all()
+
+
+# ---------------------------------------------------------------- the cost of a sweep, estimated before it starts
+
+def test_a_mistyped_step_is_refused_before_any_point_is_computed(monkeypatch, tmp_path):
+    # issue 34: --vary rows.relative_width=1:1000:0.00001 is (1000 - 1)/1e-5 = 99 900 000 steps (99 900 000 points:
+    # the stop lies 1e-8 of a step off the grid in floating point, beyond the parser's 1e-9); at the
+    # vectorised bridges' estimate (kinds/rows.py sweep_cost: 10 us + 4 us a row, n = 3: 22 us) that is ~37 min,
+    # over grid.SWEEP_SECONDS_MAX = 600 s: exit 2, the count and a coarser step, and no point evaluated
+    from conftest import cli
+    from gearcalc import grid, registry
+    from gearcalc.template import template
+
+    design = tmp_path / "new.toml"
+    design.write_text(template(registry.get("rows")))  # `gearcalc new rows`: every template has [bridges]
+    assert "[bridges]" in design.read_text()
+
+    def never(*args, **kwargs):
+        raise AssertionError("a point was computed")
+
+    monkeypatch.setattr(grid, "evaluate_points", never)
+    r = cli("sweep", design, "--vary", "rows.relative_width=1:1000:0.00001", "--format", "csv")
+    assert r.code == 2 and r.out == ""
+    assert "99900000 points" in r.err and "--vary rows.relative_width=1:1000:" in r.err and "coarser" in r.err
+
+
+def test_the_cost_rule_is_one_for_every_kind():
+    # the same budget (600 s) takes a pins contact-level grid of 1e3 points (kinds/pins.py sweep_cost: 0.45 ms a
+    # pin and pass x 31 pins x 3 passes = 84 ms a point: 84 s) and refuses 1e4 (14 min), unless 10 processes share it
+    from conftest import CONFIGS
+    from gearcalc import grid
+    from gearcalc.calculator import Options
+
+    raw = gearcalc.design.read_toml(CONFIGS / "pins_paper_circ_u30_rotating.toml")
+    axes = {"friction.sliding": grid.Range(0.01, 1e-5, 1_000)}
+    total, seconds = grid.prepare(raw, "x.toml", axes, Options())
+    assert total == 1_000 and grid.cost_problem(axes, total, seconds) is None
+    big = {"friction.sliding": grid.Range(0.01, 1e-6, 10_000)}
+    assert "10000 points" in grid.cost_problem(big, 10_000, seconds)
+    assert grid.cost_problem(big, 10_000, seconds, workers=10) is None  # --jobs 10
+
+
+def test_costly_points_make_small_chunks():
+    # a contact-level point costs ~40 ms (kinds/pins.py sweep_cost): chunks of about a second's work
+    # (grid.FIRST_OUTPUT_SECONDS), so a streamed sweep shows its first rows at once, not after 65 536 points
+    from conftest import CONFIGS
+    from gearcalc import grid
+
+    raw = gearcalc.design.read_toml(CONFIGS / "pins_paper_circ_u30_rotating.toml")
+    seconds = grid.prepare(raw, "x.toml", {"friction.sliding": [0.1]})[1]
+    size = grid.chunk_points(seconds)
+    assert 1 <= size < 64 and size == int(grid.FIRST_OUTPUT_SECONDS / seconds)
+    parts = list(gearcalc.sweep(raw, {"friction.sliding": [0.05 + 0.001 * k for k in range(size + 1)]}))
+    assert [p.n for p in parts] == [size, 1]
+    # cheap vectorised points keep big chunks (rows with bridges, n = 3: 22 us a point, 45 454 points)
+    assert grid.chunk_points(grid.prepare(BASE, "x.toml", {"rows.count": [3]})[1]) > 10_000

@@ -675,7 +675,7 @@ def stepwise_active_set_batch(kappa, cheek_ratio, rows: int, carrier=None, thres
     Examples
     --------
     >>> u, unloaded, converged = stepwise_active_set_batch(np.array([0.5, 0.25]), np.full(2, 0.25), 3)
-    >>> u[0].round(6).tolist(), unloaded.any(), converged.tolist()   # the first as stepwise_active_set
+    >>> u[0].round(6).tolist(), bool(unloaded.any()), converged.tolist()   # the first as stepwise_active_set
     ([1.690909, 0.818182, 0.490909], False, [True, True])
 
     References
