@@ -145,3 +145,16 @@ def test_costly_points_make_small_chunks():
     assert [p.n for p in parts] == [size, 1]
     # cheap vectorised points keep big chunks (rows with bridges, n = 3: 22 us a point, 45 454 points)
     assert grid.chunk_points(grid.prepare(BASE, "x.toml", {"rows.count": [3]})[1]) > 10_000
+
+
+def test_the_progress_bar_says_the_time_left(tmp_path):
+    # on a terminal's stderr a sweep's bar has a "left" column (rich's TimeRemainingColumn: the time once the
+    # rate is known): a pins contact-level sweep of 12 points, chunks of 11 (its ~84 ms a point estimated)
+    from conftest import CONFIGS
+    from test_terminal import run_tty
+
+    code, out, err = run_tty("sweep", CONFIGS / "pins_paper_circ_u30_rotating.toml", "--vary",
+                             "friction.sliding=0.05:0.061:0.001", "--format", "csv", stdout_tty=False,
+                             stderr_tty=True, env={"GEARCALC_PROGRESS_DELAY": "0"})
+    assert code == 0 and len(out.splitlines()) == 1 + 12
+    assert "computing" in err and "points" in err and "left" in err
