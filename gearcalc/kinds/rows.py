@@ -153,14 +153,17 @@ def bridges(design, f, s, detail, warnings, failed, kappa_for, C, E, nu):
     if first_mm is not None and res["H_max"] > 0 and first_mm > res["H_max"]:
         raise DesignError("bridges.first_span", W.first_span_too_wide(first_mm, res["H_max"]))
     if not res["feasible"]:
-        B_ok = None
-        if design.get("rows.rim_width_mm") is None:
+        hint = None
+        if design.get("rows.rim_width_mm") is None:  # where every bridge fits: B's windows, else another n
             given = {k: design[f"bridges.{k}_mm"] if design.is_given(f"bridges.{k}_mm") else None
                      for k in ("axle_diameter", "bridge_thickness")}
-            B_ok = R.largest_feasible_width(f.relative_width, n, nw, design["gear.sun_teeth"], m, alpha, i, E, nu, Ip,
-                                            cheek_ratio=design["rows.cheek_ratio"], cheek=design.get("rows.cheek_mm"),
-                                            first_span=first_mm, **given)
-        failed.append(W.bridge_failure(res["flags"], res["H_max"], B_ok))
+            args = (nw, design["gear.sun_teeth"], m, alpha, i, E, nu, Ip)
+            kwargs = dict(cheek_ratio=design["rows.cheek_ratio"], cheek=design.get("rows.cheek_mm"),
+                          first_span=first_mm, **given)
+            windows = R.feasible_widths(f.relative_width, n, *args, **kwargs)
+            hint = (n, windows, None, []) if windows else (n, [], *R.feasible_rows(f.relative_width, n, *args,
+                                                                                     **kwargs))
+        failed.append(W.bridge_failure(res["flags"], res["H_max"], hint))
     Y = R.carrier_compliance(res["a_w"], nw, res["stiffness"], n, f.rim_width, alpha, C)
     verified = {}
     for label, d_i in (("sized", d_size), ("pitch", f.sun_diameter), ("root", f.root_diameter)):

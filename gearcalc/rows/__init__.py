@@ -53,7 +53,7 @@ _NAMES = {
     "bridges": ("Verification", "carrier_displacements", "carrier_matrix",
                 "carrier_compliance", "beam_compliance", "bridge_width_for_compliance", "size_bridges",
                 "verify_carrier", "bridges_fit", "largest_feasible_width", "FLAGS", "size_bridges_batch",
-                "carrier_compliance_batch", "verify_carrier_batch"),
+                "carrier_compliance_batch", "verify_carrier_batch", "fits_batch", "feasible_widths", "feasible_rows"),
     "mass": ("Mass", "mass_bracket", "relative_mass", "mass_optimum_closed_form", "mass_and_optimum"),
 }
 __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), _MODULES, _NAMES)

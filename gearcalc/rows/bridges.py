@@ -20,7 +20,8 @@ from .sharing import KAPPA_STEPWISE_MAX, stepwise_active_set, stepwise_active_se
 
 __all__ = ["Verification", "carrier_compliance", "verify_carrier", "bridges_fit", "largest_feasible_width",
            "carrier_displacements", "carrier_matrix", "beam_compliance", "bridge_width_for_compliance",
-           "size_bridges", "FLAGS", "size_bridges_batch", "carrier_compliance_batch", "verify_carrier_batch"]
+           "size_bridges", "FLAGS", "size_bridges_batch", "carrier_compliance_batch", "verify_carrier_batch",
+           "fits_batch", "feasible_widths", "feasible_rows"]
 
 FLAGS = ("ok", "axes_too_stiff", "exceeds_max", "no_room")
 """The feasibility flags of a span (rows.md §5.5), in the order of :func:`size_bridges_batch`'s codes."""
@@ -290,16 +291,9 @@ def bridges_fit(relative_width, rows: int, planets_per_row: int, sun_teeth, modu
     .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
        recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
     """
-    face = face_geometry(sun_teeth, module, rows, pressure_angle, relative_width=relative_width,
-                         cheek_ratio=cheek_ratio, cheek=cheek)
-    if not rims_fit(face.rim_width):
-        return False
-    section = DEFAULT_SECTION_PER_RIM * face.rim_width
-    res = size_bridges(rows, planets_per_row, face.sun_diameter, module, face.rim_width, face.cheek, pressure_angle,
-                       ratio, section if axle_diameter is None else axle_diameter,
-                       section if bridge_thickness is None else bridge_thickness, youngs_modulus, poisson,
-                       polar_moment, first_span=first_span)
-    return res["feasible"]
+    return bool(fits_batch(relative_width, rows, planets_per_row, sun_teeth, module, pressure_angle, ratio,
+                           youngs_modulus, poisson, polar_moment, cheek_ratio, cheek, axle_diameter, bridge_thickness,
+                           first_span)[0])
 
 
 def largest_feasible_width(relative_width, *args, iterations: int = 40, **kwargs):
@@ -508,3 +502,126 @@ def verify_carrier_batch(kappa, cheek_ratio, rows: int, carrier):
     ok = valid & converged
     K = np.where(ok, np.where(ok[:, None], u, -np.inf).max(axis=1), np.nan)
     return valid, u, unloaded, converged, K
+
+
+# ----------------------------------------------------------------------------- where every bridge fits (rows.md §5.5)
+SCAN_SPAN = 30.0
+""":func:`feasible_widths` scans relative widths from B/SCAN_SPAN to B SCAN_SPAN ..."""
+SCAN_POINTS = 3000
+"""... at this many geometric steps (0.23 % apart: a window narrower than that may be missed) ..."""
+SCAN_BISECTIONS = 24
+"""... and bisects each edge of a window this many times (to a relative 1e-9)."""
+
+
+def fits_batch(relative_width, rows: int, planets_per_row, sun_teeth, module, pressure_angle, ratio, youngs_modulus,
+               poisson, polar_moment, cheek_ratio=0.25, cheek=None, axle_diameter=None, bridge_thickness=None,
+               first_span=None):
+    """:func:`bridges_fit` at every relative width of an array (one batch of :func:`size_bridges_batch`): the
+    rims fit, every span's flag is ``ok`` and a first span in mm fits within H_max.
+
+    Examples
+    --------
+    >>> from gearcalc.rows.sharing import polar_moment
+    >>> fits_batch(np.array([2.6, 2.7, 2.97, 3.0]), 3, 3, 18, 5.0, math.radians(20.0), 4.0, 2e5, 0.3,
+    ...            polar_moment(77.5)).tolist()   # the capped paper cell n = 3, B = 3, i = 4 (rows.md §5.6)
+    [False, True, True, False]
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    """
+    B = np.atleast_1d(np.asarray(relative_width, float))
+    face = face_geometry(sun_teeth, module, rows, pressure_angle, relative_width=B, cheek_ratio=cheek_ratio,
+                         cheek=cheek)
+    room = np.asarray(rims_fit(face.rim_width))
+    b_w = np.where(room, face.rim_width, 1.0)
+    section = DEFAULT_SECTION_PER_RIM * b_w
+    res = size_bridges_batch(rows, planets_per_row, face.sun_diameter, module, b_w, np.where(room, face.cheek, 0.0),
+                             pressure_angle, ratio, section if axle_diameter is None else axle_diameter,
+                             section if bridge_thickness is None else bridge_thickness, youngs_modulus, poisson,
+                             polar_moment, first_span=first_span)
+    first = 0.0 if first_span is None else first_span
+    return room & res["feasible"] & ~((first > 0) & (res["H_max"] > 0) & (first > res["H_max"]))
+
+
+def feasible_widths(relative_width, rows: int, *args, **kwargs) -> list:
+    """The windows of relative width [B_lo, B_hi] in which every bridge fits (:func:`fits_batch`) at this number
+    of rows, nearest to the given B first (rows.md §5.5).
+
+    Feasibility is not monotone in B (the paper's capped cell fits only for 2.666 <= B <= 2.973: narrower rows
+    need a bridge wider than H_max in span 2, wider ones in span 3), so the widths from B/:data:`SCAN_SPAN` to
+    B :data:`SCAN_SPAN` are scanned at :data:`SCAN_POINTS` geometric steps and each edge bisected
+    (:data:`SCAN_BISECTIONS` times, to a relative 1e-9); every step is one array of designs.
+
+    Parameters
+    ----------
+    relative_width : B of the design [-]; rows : n;
+    *args, **kwargs : the arguments of :func:`fits_batch` after ``rows``
+
+    Returns
+    -------
+    list of (B_lo, B_hi): each bound a width that fits, within a relative 1e-9 of the edge; None for a window
+    open beyond the scanned range
+
+    Examples
+    --------
+    >>> from gearcalc.rows.sharing import polar_moment
+    >>> args = (3, 18, 5.0, math.radians(20.0), 4.0, 2e5, 0.3, polar_moment(77.5))
+    >>> [(round(lo, 4), round(hi, 4)) for lo, hi in feasible_widths(3.0, 3, *args)]
+    [(2.6656, 2.9738)]
+    >>> feasible_widths(3.0, 5, *args)   # five rows: no width fits
+    []
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    """
+    B = np.geomspace(relative_width / SCAN_SPAN, relative_width * SCAN_SPAN, SCAN_POINTS)
+    with np.errstate(all="ignore"):
+        ok = fits_batch(B, rows, *args, **kwargs)
+        edges = np.flatnonzero(ok[1:] != ok[:-1])
+        inside = np.where(ok[edges], B[edges], B[edges + 1])  # the side of each edge that fits
+        outside = np.where(ok[edges], B[edges + 1], B[edges])
+        for _ in range(SCAN_BISECTIONS if edges.size else 0):
+            mid = 0.5 * (inside + outside)
+            fit = fits_batch(mid, rows, *args, **kwargs)
+            inside, outside = np.where(fit, mid, inside), np.where(fit, outside, mid)
+    bounds = dict(zip(edges.tolist(), inside.tolist()))
+    windows, start = [], None if ok[0] else False
+    for k in range(SCAN_POINTS):
+        if ok[k] and start is False:
+            start = bounds[k - 1]
+        elif not ok[k] and start is not False:
+            windows.append((start, bounds[k - 1]))
+            start = False
+    if start is not False:
+        windows.append((start, None))
+    return sorted(windows, key=lambda w: min(abs(math.log(b / relative_width)) for b in w if b is not None)
+                  if w != (None, None) else 0.0)
+
+
+def feasible_rows(relative_width, rows: int, *args, span: int = 10, **kwargs):
+    """The number of rows nearest to ``rows`` (2 to ``rows + span``, at most 1000) at which some relative width
+    makes every bridge fit, and its windows (:func:`feasible_widths`); (None, []) when none has one.
+
+    Examples
+    --------
+    >>> from gearcalc.rows.sharing import polar_moment
+    >>> args = (3, 18, 5.0, math.radians(20.0), 4.0, 2e5, 0.3, polar_moment(77.5))
+    >>> n, windows = feasible_rows(3.0, 5, *args)
+    >>> n, [(round(lo, 3), round(hi, 3)) for lo, hi in windows]
+    (4, [(3.999, 4.036)])
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    """
+    others = sorted((n for n in range(2, min(1000, rows + span) + 1) if n != rows), key=lambda n: (abs(n - rows), n))
+    for n in others:
+        windows = feasible_widths(relative_width, n, *args, **kwargs)
+        if windows:
+            return n, windows
+    return None, []
