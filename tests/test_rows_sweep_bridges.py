@@ -116,23 +116,24 @@ def test_a_mistyped_step_is_refused_before_any_point_is_computed(monkeypatch, tm
 
 
 def test_the_cost_rule_is_one_for_every_kind():
-    # the same budget (600 s) takes a pins contact-level grid of 1e3 points (kinds/pins.py sweep_cost: 0.45 ms a
-    # pin and pass x 31 pins x 3 passes = 84 ms a point: 84 s) and refuses 1e4 (14 min), unless 10 processes share it
+    # the same budget (600 s) takes a pins contact-level grid of 1e4 points (kinds/pins.py sweep_cost: 0.22 ms a
+    # pin and pass x 62 pins x 3 passes = 41 ms a point: 409 s) and refuses 2e4 (818 s), unless 10 processes
+    # share it
     from conftest import CONFIGS
     from gearcalc import grid
     from gearcalc.calculator import Options
 
     raw = gearcalc.design.read_toml(CONFIGS / "pins_paper_circ_u30_rotating.toml")
-    axes = {"friction.sliding": grid.Range(0.01, 1e-5, 1_000)}
+    axes = {"friction.sliding": grid.Range(0.01, 1e-5, 10_000)}
     total, seconds = grid.prepare(raw, "x.toml", axes, Options())
-    assert total == 1_000 and grid.cost_problem(axes, total, seconds) is None
-    big = {"friction.sliding": grid.Range(0.01, 1e-6, 10_000)}
-    assert "10000 points" in grid.cost_problem(big, 10_000, seconds)
-    assert grid.cost_problem(big, 10_000, seconds, workers=10) is None  # --jobs 10
+    assert total == 10_000 and grid.cost_problem(axes, total, seconds) is None
+    big = {"friction.sliding": grid.Range(0.01, 1e-6, 20_000)}
+    assert "20000 points" in grid.cost_problem(big, 20_000, seconds)
+    assert grid.cost_problem(big, 20_000, seconds, workers=10) is None  # --jobs 10
 
 
 def test_costly_points_make_small_chunks():
-    # a contact-level point costs ~40 ms (kinds/pins.py sweep_cost): chunks of about a second's work
+    # a contact-level point costs ~41 ms (kinds/pins.py sweep_cost): chunks of about a second's work
     # (grid.FIRST_OUTPUT_SECONDS), so a streamed sweep shows its first rows at once, not after 65 536 points
     from conftest import CONFIGS
     from gearcalc import grid
@@ -149,7 +150,7 @@ def test_costly_points_make_small_chunks():
 
 def test_the_progress_bar_says_the_time_left(tmp_path):
     # on a terminal's stderr a sweep's bar has a "left" column (rich's TimeRemainingColumn: the time once the
-    # rate is known): a pins contact-level sweep of 12 points, chunks of 11 (its ~84 ms a point estimated)
+    # rate is known): a pins contact-level sweep of 12 points (its ~41 ms a point estimated)
     from conftest import CONFIGS
     from test_terminal import run_tty
 

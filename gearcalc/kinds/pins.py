@@ -182,8 +182,9 @@ def sweep(base, raw, axes, points, options):
 def sweep_cost(base, axes, options) -> float:
     """Estimated seconds of one point of a sweep (:func:`gearcalc.grid.point_seconds`), measured on one core
     (2026-12-07): :func:`sweep`'s arrays 25 us a point (43 000 points/s end to end); point by point the formula
-    level 1 ms, the ideal level 1 ms + 35 us a pin-disc (:data:`IDEAL_WORK_MAX`), the contact level 0.45 ms a pin
-    and pass of the torque fixed point (40 ms for 31 pins, 3 passes)."""
+    level 1 ms, the ideal level 1 ms + 35 us a pin-disc (:data:`IDEAL_WORK_MAX`), the contact level 0.22 ms a pin
+    and pass of the torque fixed point (38-40 ms for ``configs/pins_paper_circ_u30_rotating.toml``: 62 pins,
+    3 passes)."""
     try:
         level = select_level(base, options.model)
     except DesignError:
@@ -195,7 +196,7 @@ def sweep_cost(base, axes, options) -> float:
     z2 = max([base["gearing.pins"]] + [v for v in axes.get("gearing.pins", []) if isinstance(v, int)])
     if level == "ideal":
         return 1e-3 + 35e-6 * z2 * base["gearing.discs"]
-    return 4.5e-4 * z2 * C.contact_passes(base.get(KEYS["shaft"]) == "V")
+    return 2.2e-4 * z2 * C.contact_passes(base.get(KEYS["shaft"]) == "V")
 
 
 def _points_pass_checks(base, values, n: int, level: str) -> bool:
