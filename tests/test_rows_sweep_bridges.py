@@ -202,3 +202,15 @@ def test_feasible_widths_bisects_each_edge_to_1e_9():
     assert R.bridges_fit(lo, 3, *args) and R.bridges_fit(hi, 3, *args)
     assert not R.bridges_fit(lo * (1 - 1e-8), 3, *args) and not R.bridges_fit(hi * (1 + 1e-8), 3, *args)
     assert R.feasible_widths(3.0, 5, *args) == [] and R.feasible_rows(3.0, 5, *args)[0] == 4
+
+
+def test_bridges_sweep_with_the_mass_of_the_balanced_rows():
+    # mass.unevenness = "computed" takes K_balanced with [bridges] (rows.md §6): the arrays give it too
+    base = {**BASE, "mass": {"unevenness": "computed"}}
+    axes = {"rows.relative_width": [2.4, 2.7, 3.0], "gear.ratio": [4.0, 6.0]}
+    (part,) = list(gearcalc.sweep(base, axes))
+    want = alone(base, axes)
+    assert list(part.data) == list(want.data)
+    for key, values in want.data.items():
+        assert [pytest.approx(v, rel=1e-12, abs=1e-12) if type(v) is float else v for v in values] == \
+            part.lists().data[key], key
