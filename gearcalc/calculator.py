@@ -13,6 +13,9 @@ module (``gearcalc.kinds.<kind>``) defines a module-level ``CALCULATOR`` of type
 * ``sweep(base, raw, axes, points, options) -> dict[str, list] | list[dict] | None`` (optional):
   the summaries of a whole grid at once, vectorised, column-major (a list per field) or as rows;
   ``None`` falls back to point-by-point evaluation.
+* ``sweep_cost(base, axes, options) -> float`` (optional): the estimated seconds of computing one point
+  of that grid (by the path ``sweep`` takes); a sweep over its time budget is refused before it starts,
+  and its chunks are sized by it (:func:`gearcalc.grid.prepare`, :func:`gearcalc.grid.chunk_points`).
 * ``batch(designs, options) -> list[Result | Exception]`` (optional): many designs of the kind
   at once (numpy over designs), identical to ``compute`` design by design.
 * ``plot(records, path)`` (optional): draw the calculator's figure (matplotlib, imported inside) and
@@ -237,6 +240,7 @@ class Calculator:
     models: tuple[str, ...] = ()
     header: str = ""
     sweep: Callable[..., Any] | None = None
+    sweep_cost: Callable[..., float] | None = None
     plot: Callable[..., Any] | None = None
     batch: Callable[[Sequence[Any], Options], list[Any]] | None = None
     """Optional: compute many validated designs of this kind at once (numpy over designs).
@@ -265,6 +269,7 @@ class Calculator:
         bad = [False] * n
         for name, value in self.failure:
             col = columns.get(name)
+            col = col.tolist() if hasattr(col, "tolist") else col  # a numpy column: its values as Python's
             if col is not None:
                 bad = [b or (v is not None and v == value and type(v) is type(value)) for b, v in zip(bad, col)]
         return sum(bad)

@@ -610,14 +610,16 @@ class Progress:
 
     def _show(self) -> None:
         from rich.console import Console
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress as Bar, TextColumn, TimeElapsedColumn
+        from rich.progress import (BarColumn, MofNCompleteColumn, Progress as Bar, TextColumn, TimeElapsedColumn,
+                                   TimeRemainingColumn)
 
         with self.lock:
             if self.timer is None:  # stopped meanwhile
                 return
             console = Console(file=self.stream, stderr=True)
+            eta = (TextColumn("left"), TimeRemainingColumn()) if self.total else ()  # once the rate is known
             self.bar = Bar(TextColumn("computing"), BarColumn(), MofNCompleteColumn(), TextColumn(self.unit),
-                           TimeElapsedColumn(), console=console, transient=True)
+                           TimeElapsedColumn(), *eta, console=console, transient=True)
             self.bar.start()
             self.task = self.bar.add_task("computing", total=self.total or None, completed=self.done)
 

@@ -555,8 +555,8 @@ def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progre
 
 
 CHUNK_POINTS = 65_536
-"""Grid points evaluated at a time: a streamed sweep holds one chunk (about 50-100 MB of Python values for the
-widest kind), and a progress bar advances per chunk."""
+"""Grid points evaluated at a time at most: a streamed sweep holds one chunk (about 50-100 MB of Python values for
+the widest kind), and a progress bar advances per chunk; costly points make smaller chunks (:func:`chunk_points`)."""
 
 
 def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: list[dict], options,
@@ -731,15 +731,100 @@ def evaluate_range(raw: dict, source: str, axes: dict[str, list[Any]], start: in
     return as_columns(evaluate_points(raw, source, axes, Grid(axes, start, stop), options, progress, arrays))
 
 
-def prepare(raw: dict, source: str, axes: dict[str, list[Any]]) -> int:
-    """Validate the base design and every axis value once; the number of grid points."""
+def prepare(raw: dict, source: str, axes: dict[str, list[Any]], options=None) -> tuple[int, float]:
+    """Validate the base design and every axis value once, and estimate the grid's cost: (points, estimated
+    seconds a point, :func:`point_seconds`); nothing is computed."""
     import copy
 
     from .design import validate
 
-    validate(copy.deepcopy(raw), source)
+    base = validate(copy.deepcopy(raw), source)
     validate_axes(raw, source, axes)
-    return len(Grid(axes))
+    total = len(Grid(axes))
+    return total, point_seconds(base, axes, options)
+
+
+SWEEP_SECONDS_MAX = 600.0
+"""The estimated computing time a sweep may take, in seconds (its points times the estimated cost of a point,
+:func:`point_seconds`, over the worker processes): a grid beyond it is refused before any point is computed, so
+that a mistyped step (``1:1000:0.00001``, 1e8 points) is an error at once rather than hours of work.  The same
+rule for every kind; at the vectorised rows path (~3 us a point) the cap of :data:`MAX_POINTS` comes first."""
+
+POINT_SECONDS_DEFAULT = 1e-3
+"""The estimated cost of a point of a kind without its own estimate (``Calculator.sweep_cost``)."""
+
+FIRST_OUTPUT_SECONDS = 1.0
+"""A chunk holds the points computed in about this time (at most :data:`CHUNK_POINTS`): a streamed sweep says its
+first rows within about a second, and a progress bar moves at least as often."""
+
+
+def point_seconds(base, axes: dict[str, list[Any]], options=None) -> float:
+    """The estimated seconds of computing one point of the grid of ``base`` (a validated design) over ``axes``:
+    the kind's ``sweep_cost(base, axes, options)`` (its vectorised or point-by-point path, its level and size),
+    or :data:`POINT_SECONDS_DEFAULT`."""
+    from . import registry
+    from .calculator import Options
+
+    calc = registry.get(base.kind)
+    cost = getattr(calc, "sweep_cost", None)
+    return float(cost(base, axes, options or Options())) if cost is not None else POINT_SECONDS_DEFAULT
+
+
+def chunk_points(seconds: float) -> int:
+    """Points in a chunk of a grid whose points cost ``seconds`` each: about :data:`FIRST_OUTPUT_SECONDS` of work,
+    1 to :data:`CHUNK_POINTS`.
+
+    >>> chunk_points(3e-6), chunk_points(0.04), chunk_points(5.0)
+    (65536, 25, 1)
+    """
+    return max(1, min(CHUNK_POINTS, int(FIRST_OUTPUT_SECONDS / max(seconds, 1e-12))))
+
+
+def _duration(seconds: float) -> str:
+    """A duration in words.
+
+    >>> _duration(42.0), _duration(5400.0), _duration(2.5e5)
+    ('42 s', '90 min', '2.9 days')
+    """
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.2g} h" if seconds < 172800 else f"{seconds / 86400:.2g} days"
+
+
+def cost_problem(axes: dict[str, list[Any]], total: int, seconds: float, workers: int = 1) -> str | None:
+    """The message refusing a grid whose estimated time (``total`` points at ``seconds`` each, over ``workers``)
+    exceeds :data:`SWEEP_SECONDS_MAX`, with a coarser step of its longest range axis that fits; else None.
+
+    >>> text = cost_problem({"a": Range(1.0, 1e-5, 99_900_001)}, 99_900_001, 2e-5)
+    >>> text[:60]
+    'the grid has 99900001 points at about 0.02 ms a point: about'
+    >>> text[61:]  # doctest: +ELLIPSIS
+    '33 min of computing, more than a sweep may take (10 min); ...(e.g. --vary a=1:1000:3.36e-05, 29732143 points)...'
+    >>> cost_problem({"a": [1, 2]}, 2, 2e-5) is None
+    True
+    """
+    estimate = total * seconds / max(workers, 1)
+    if estimate <= SWEEP_SECONDS_MAX:
+        return None
+    text = (f"the grid has {total} points at about {seconds * 1e3:.2g} ms a point"
+            + (f" over {workers} processes" if workers > 1 else "")
+            + f": about {_duration(estimate)} of computing, more than a sweep may take ({_duration(SWEEP_SECONDS_MAX)})"
+            + "; narrow a --vary range or take a coarser step")
+    fits = int(SWEEP_SECONDS_MAX * max(workers, 1) / seconds)
+    key = max(axes, key=lambda k: len(axes[k])) if axes else None
+    values = axes.get(key)
+    if isinstance(values, Range) and len(values) > 1:
+        count = fits // (total // len(values))
+        if count >= 2:
+            stop = values.start + (len(values) - 1) * values.step
+            step = (stop - values.start) / (count - 1)
+            step = float(f"{step:.3g}")
+            step = step if abs((stop - values.start) / step) < count else float(f"{step * 1.01:.3g}")
+            points = int(math.floor(abs((stop - values.start) / step) + 1e-9)) + 1
+            text += f" (e.g. --vary {key}={values.start:g}:{stop:g}:{step:g}, {points * (total // len(values))} points)"
+    return text + ", or split the grid into several sweeps"
 
 
 STRUCTURE_PROBES = 256
@@ -811,12 +896,15 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     memory (:class:`Slots`), valid until the next chunk is asked for: write it before."""
     from .render import Columns
 
-    total = prepare(raw, source, axes)
-    if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
-        keep_freed_memory()
-    size = chunk or CHUNK_POINTS
+    total, seconds = prepare(raw, source, axes, options)
     if cluster is not None and total:
         jobs = cluster.connect().threads
+    problem = cost_problem(axes, total, seconds, jobs)
+    if problem:  # before any point is computed
+        raise SweepError(problem)
+    if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
+        keep_freed_memory()
+    size = chunk or chunk_points(seconds)
     if jobs > 1:  # enough chunks to keep every worker busy
         size = min(size, max(1, -(-total // (4 * jobs))))
     ranges = [(k, min(k + size, total)) for k in range(0, total, size)]

@@ -210,7 +210,7 @@ def test_sweep_exits_1_when_a_point_fails_a_check():
 
 def test_bridge_failure_names_span_limit_and_fix():
     r = cli("rows", PAPER / "rows_bridges_n3_B3_i4.toml", "--format", "csv")
-    assert "span 3" in r.err and "H_max = " in r.err and "rows.relative_width <= 2.973" in r.err
+    assert "span 3" in r.err and "H_max = " in r.err and "rows.relative_width from 2.666 to 2.973" in r.err
     # the suggested width is feasible and 0.1 % more is not (the bisection's bracket)
     ok = cli("rows", PAPER / "rows_bridges_n3_B3_i4.toml", "--set", "rows.relative_width=2.973", "--format", "csv")
     bad = cli("rows", PAPER / "rows_bridges_n3_B3_i4.toml", "--set", "rows.relative_width=2.976", "--format", "csv")

@@ -199,6 +199,23 @@ def sweep(base, raw, axes, points, options):
     return _solve_stack(p, np.arange(size), options.model or "equilibrium", base.name, detail=False)[0]
 
 
+def sweep_cost(base, axes, options) -> float:
+    """Estimated seconds of one point of a sweep (:func:`gearcalc.grid.point_seconds`): the stacked solve of
+    :func:`sweep` 0.1 ms a point (9 570 points/s, README); a "cycle" or "envelope" point (computed alone) 1 ms
+    + 10 us per roller-configuration of its first phase and direction grids (zstk.md §8; measured 2026-12-07:
+    98 ms for the 8 640 of ``configs/zstk_merko_A_envelope.toml``, the refinements included)."""
+    from ..zstk import envelope
+
+    cycle = base["geometry.scheme"] == "cycle" or "cycle" in axes.get("geometry.scheme", ())
+    envelope_ = base["load.direction_deg"] == "envelope" or "envelope" in axes.get("load.direction_deg", ())
+    if not (cycle or envelope_):
+        return 1e-4
+    p = _prepare(_design_columns([base]), 1)
+    n = int(p.n[0]) if p.valid[0] else 3
+    grid = envelope.sweep_grid((options.model or "equilibrium") == "reference")
+    return 1e-3 + 1e-5 * envelope.sweep_work(n, cycle, envelope_, grid)
+
+
 def _hashable(v):
     return tuple(v) if isinstance(v, list) else (type(v).__name__, v)
 
@@ -244,6 +261,7 @@ CALCULATOR = Calculator(
     compute=compute,
     check=check,
     sweep=sweep,
+    sweep_cost=sweep_cost,
     batch=batch,
     models=MODELS,
     table_fields=TABLE_FIELDS,

@@ -77,5 +77,6 @@ FAST_SWEEP_KEYS = frozenset({
     "sun.torque_Nm", "sun.torsion_diameter", "sun.bore_mm", "material.E_MPa", "material.poisson",
     "material.mesh_stiffness_MPa", "mass.wall_ratio", "mass.sun_fill", "mass.planet_fill",
     "mass.allowable_contact_MPa", "mass.density_kg_m3", "mass.efficiency", "mass.unevenness",
+    "bridges.axle_diameter_mm", "bridges.bridge_thickness_mm", "bridges.first_span", "bridges.torsion_diameter",
 })
 """The keys a vectorised rows sweep may vary (:func:`gearcalc.kinds.rows.sweep`); others run point by point."""
