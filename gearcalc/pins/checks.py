@@ -101,12 +101,20 @@ def contact_law_problem(law: str, face_width, stiffness):
 
     >>> contact_law_problem("hertz", None, None), contact_law_problem("linear", None, 1e5)
     ('face_width', None)
+
+    A name that is not a law (:data:`LAW_NEEDS`, the names of :data:`gearcalc.pins.contact_law.CONTACT_LAWS`) is a
+    ValueError listing the known ones.
     """
-    if law in ("hertz", "palmgren") and face_width is None:
-        return "face_width"
-    if law == "linear" and stiffness is None:
-        return "stiffness"
-    return None
+    try:
+        need = LAW_NEEDS[law]
+    except (KeyError, TypeError):
+        raise ValueError(f"unknown contact law {law!r}; known: {', '.join(LAW_NEEDS)}") from None
+    return need if {"face_width": face_width, "stiffness": stiffness}[need] is None else None
+
+
+LAW_NEEDS = {"hertz": "face_width", "palmgren": "face_width", "linear": "stiffness"}
+"""The constant each contact law needs (pins.md §5.4): the rule broken when it is missing.  Kept here, without numpy,
+for ``gearcalc check``; a test checks its names are those of :data:`gearcalc.pins.contact_law.CONTACT_LAWS`."""
 
 
 @dataclass(frozen=True)
