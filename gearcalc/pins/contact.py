@@ -71,7 +71,9 @@ from .contact_profiles import (PROFILE_RULES, CircularProfile, Contacts, Cycloid
                                circular_profile, cycloid_profile, full_tooth, tooth_centre_distance,
                                zero_backlash_tooth_circle)
 from .cycle import disc_offsets, sum_over_discs
+from .friction import peak_coefficient
 from .geometry import MULTIPLIER, REDUCER, Cycloid
+from .operating import SCALAR_OPS
 
 __all__ = [
     # re-exported, the contact level's names in one place: the contact laws (:mod:`gearcalc.pins.contact_law`), the
@@ -719,7 +721,7 @@ def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: fl
 
     Pw = omega_H * 1e-3                                                   # W per (N·mm/s per rad/s)
     rpm = units.rad_s_to_rpm(omega_H)
-    coeff = mu_eff if rolls else sliding_friction
+    coeff = peak_coefficient(mu_eff, rolls, sliding_friction, SCALAR_OPS)
     return ContactOperating(
         loss_mean=loss_ratio * torque_V * (omega_H * g.k / g.z1), loss_peak=pk.total * Pw, loss_max=pk.loss * Pw,
         loss_phase=math.degrees(pk.loss_phase), loss_bound=coeff * pk.force * pk.contact_speed * Pw,

@@ -25,7 +25,7 @@ from .contact_model import (_GEOMETRY_FIELDS, ContactModel, NoEquilibrium, Solut
                             _hermite, _hermite_slope, _merged, _over_rows, _relayout, _same_rows, _sorted_places,
                             _sub_pose, _take)
 from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
-from .efficiency import contact_loss_power
+from .friction import PinFriction
 from .geometry import Cycloid
 
 __all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoints", "mean_loss_ratio",
@@ -36,7 +36,8 @@ __all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoin
 # ============================================================ losses (pins.md §5.6)
 
 def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool):
-    """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
+    """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6): the rolling-pin rule of
+    :meth:`gearcalc.pins.friction.PinFriction.losses`.
 
     Fixed pins: every loaded contact slides at |v_t| with mu_eff = f.  Rolling pins: the contact with
     the larger force sets the spin omega_pin = v_t/R_b and loses mu_rot F |v_t|; another loaded
@@ -49,18 +50,7 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
     slide : sliding speed per contact [mm/s per rad/s] (c, R, n);
     over the state's rows (:attr:`Solution.rows`: R pins; every other pin carries no force).
     """
-    F, v = sol.force, sol.v_t
-    if not rolls:
-        slide = np.abs(v)
-        return contact_loss_power(F, slide, mu_eff) * 1e3, np.zeros(F.shape[1:]), slide
-    lead = np.argmax(F, axis=0)
-    v_lead = np.take_along_axis(v, lead[None], axis=0)[0]
-    loaded = (F > 0.0).any(axis=0)
-    spin = np.where(loaded, v_lead / R_b, 0.0)
-    is_lead = np.arange(F.shape[0])[:, None, None] == lead[None]
-    slide = np.where(is_lead, 0.0, np.abs(v - v_lead[None]))
-    loss = np.where(is_lead, mu_eff * F * np.abs(v), sliding_friction * F * slide)
-    return loss, spin, slide
+    return PinFriction(mu_eff, sliding_friction, rolls).losses(sol.force, sol.v_t, R_b)
 
 
 # ============================================================ the cycle (pins.md §5.6, §6)
@@ -128,11 +118,9 @@ def _components(s: Solution, rolls: bool):
     if s.switch is not None:      # not masked: a pin can reach the crest and leave it in one scan step
         parts.append(s.switch.reshape(-1, n))
     if rolls and force.shape[0] == 2:
-        lead = (force[1] > force[0]).astype(np.intp)          # np.argmax over the two contacts (ties: the first)
-        v_lead = np.where(lead == 1, v_t[1], v_t[0])[None]
-        other = loaded & (np.arange(2)[:, None, None] != lead[None])
-        parts.append(np.where(loaded.all(axis=0), force[0] - force[1], np.nan).reshape(-1, n))
-        parts.append(np.where(other, v_t - v_lead, np.nan).reshape(-1, n))
+        switch, relative = PinFriction.sign_components(force, v_t, loaded)
+        parts.append(switch.reshape(-1, n))
+        parts.append(relative.reshape(-1, n))
     values = np.concatenate(parts)
     slopes.append(_filled((values.shape[0] - slopes[0].shape[0], n), np.nan))
     return values, np.concatenate(slopes), slopes[0].shape[0]

@@ -23,7 +23,8 @@ from . import contact as pc
 from .checks import pin_circle_curtate
 from .detail import contact_detail
 from .geometry import Cycloid
-from .operating import ARRAY_OPS, friction_regime
+from .friction import friction_regime
+from .operating import ARRAY_OPS
 
 __all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "contact_level"]
 
@@ -95,7 +96,7 @@ def satellite_profile(g, circular: bool, tooth_radius, tooth_circle_radius, radi
 
 def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: float, axle: float):
     r"""(mu_eff, rolls, rolling condition) of one operating point as arrays of one (pins.md §4.5-4.6):
-    :func:`~gearcalc.pins.operating.friction_regime`; the condition is None for fixed pins.
+    :func:`~gearcalc.pins.friction.friction_regime`; the condition is None for fixed pins.
 
     .. math:: \mu_{eff} = (f_c r + f_k)/R_b \text{ where } f R_b \ge f_c r + f_k, \text{ else } f
 

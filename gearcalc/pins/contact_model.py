@@ -23,6 +23,7 @@ from ..roots import BracketError, find_root
 from .contact_law import ContactLaw
 from .contact_profiles import Contacts, Pose
 from .forces import pin_phase
+from .friction import PinFriction
 from .geometry import REDUCER, Cycloid
 
 __all__ = ["NoEquilibrium", "Jam", "Solution", "ContactModel", "EPS"]
@@ -271,7 +272,7 @@ class ContactModel:
         self.torque_sat, self.sigma = float(torque_sat), sigma
         self.M_req = -self.torque_sat if sigma == REDUCER else self.torque_sat
         self.pins = np.arange(g.z2)[:, None]
-        self.friction = friction
+        self.friction = None if friction is None else PinFriction(*friction)
         self.diff_step = 1e-6
         self.window = None            # (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all
         self._sides = None            # (window, sides): :attr:`sides` while that window is the model's
@@ -1041,16 +1042,10 @@ class ContactModel:
         """Tangential force per unit normal force against the sliding (pins.md §5.5, §5.6).
 
         Fixed pins: -f sign(v_t) at every contact.  Rolling pins: -mu_rot sign(v_t) at the contact with
-        the larger force (the rolling resistance), -f sign(v_t - omega_pin R_b) at the other one.
+        the larger force (the rolling resistance), -f sign(v_t - omega_pin R_b) at the other one: the rule of
+        :meth:`gearcalc.pins.friction.PinFriction.traction`.
         """
-        mu_eff, f, rolls = self.friction
-        v = sol.v_t
-        if not rolls:
-            return -f * np.sign(v)
-        lead = np.argmax(sol.force, axis=0)
-        v_lead = np.take_along_axis(v, lead[None], axis=0)
-        is_lead = np.arange(v.shape[0])[:, None, None] == lead[None]
-        return np.where(is_lead, -mu_eff * np.sign(v), -f * np.sign(v - v_lead))
+        return self.friction.traction(sol.force, sol.v_t)
 
     def _kinematics(self, pose: Pose, tau, traction, ref=None, step: bool = False):
         r"""Forces, d tau/d theta and the contact speeds at the solved tau (pins.md §5.6).

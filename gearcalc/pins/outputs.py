@@ -25,6 +25,7 @@ from .. import hertz, units
 from .consistent import consistent_cycles
 from .cycle import disc_offsets, sum_over_discs
 from .efficiency import efficiency_multiplier, efficiency_reducer
+from .friction import peak_coefficient
 from .geometry import MULTIPLIER, REDUCER
 from .operating import ARRAY_OPS, SCALAR_OPS, efficiency_reducer_err, shaft_torques
 
@@ -218,7 +219,7 @@ def pin_loss_bound(mu_eff, rolls, sliding_friction, force_max, speed_max, xp=ARR
     ----------
     Prudnikov, eq. (7); pins.md §8 (pin_loss_bound_W).
     """
-    return xp.where(rolls, mu_eff, sliding_friction) * force_max * speed_max * 1e-3
+    return peak_coefficient(mu_eff, rolls, sliding_friction, xp) * force_max * speed_max * 1e-3
 
 
 @dataclass(frozen=True)
