@@ -38,10 +38,10 @@ def test_contact_friction_of_fixed_pins():
 
 def test_the_full_circular_tooth():
     g, _ = gear(*BAND)
-    prof, overlap = satellite_profile(g, True, "full", "zero_backlash", 0.0, 0.0)
+    prof, overlap = satellite_profile(g, "circular", "full", "zero_backlash", 0.0, 0.0)
     assert math.isclose(prof.rho_t, prof.R_t * math.sin(math.pi / 20), rel_tol=1e-12)   # pins.md §5.3
     assert not overlap
-    prof, overlap = satellite_profile(g, True, 3.576, "zero_backlash", 0.0, 0.0)
+    prof, overlap = satellite_profile(g, "circular", 3.576, "zero_backlash", 0.0, 0.0)
     assert prof.rho_t == 3.576 and not overlap
 
 
@@ -56,7 +56,7 @@ def _point(**over):
 
 def test_a_frictionless_contact_level_loses_nothing():
     g, _ = gear(*BAND)
-    prof, _ = satellite_profile(g, True, "full", "zero_backlash", 0.0, 0.0)
+    prof, _ = satellite_profile(g, "circular", "full", "zero_backlash", 0.0, 0.0)
     cl = contact_level(g, prof, LAW, _point(sliding=0.0, rolling=0.0, axle=0.0), 1, False, None, "consistent", 1e-4,
                        True)
     assert cl.balanced and not cl.consistent          # pins.md §4.9: no friction, nothing to put in the balance
@@ -76,7 +76,7 @@ def test_the_contact_level_equals_the_calculators_contact_run():
     d = dmod.load(CONFIGS / "pins_circ_band_u10.toml")
     s = kind_pins.compute(d, Options(tol=1e-4)).summary
     g, _ = gear(*BAND)
-    prof, _ = satellite_profile(g, True, 3.576, "zero_backlash", 0.0, 0.0)
+    prof, _ = satellite_profile(g, "circular", 3.576, "zero_backlash", 0.0, 0.0)
     cl = contact_level(g, prof, LAW, _point(), 1, True, 1.75, "consistent", 1e-4, True, detail=True)
     assert s["loss_ratio"] == cl.modes.requested.loss_ratio and s["efficiency"] == float(cl.et_multiplier.eta_vh[0])
     assert s["equilibrium_residual"] == cl.residual and set(cl.detail) == {"crank", "contacts"}

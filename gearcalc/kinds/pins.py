@@ -201,7 +201,7 @@ def _satellite(design, a):
         raise DesignError(*_law_problem(a))
     law = contact_law(a["law"], a["face_width"], a["stiffness"])
     try:
-        return (g, law, *satellite_profile(g, a["profile"] == "circular", a["tooth_radius"], a["tooth_circle_radius"],
+        return (g, law, *satellite_profile(g, a["profile"], a["tooth_radius"], a["tooth_circle_radius"],
                                            a["radial_mod"], a["equidistant_mod"]))
     except InadmissibleProfile as exc:
         raise R.profile_error(exc, design, g) from None
@@ -219,11 +219,10 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     summary = {k: v[0] for k, v in cols.items()}
     g, law, profile, overlap = _satellite(design, a)
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
-    model, circular = friction_model(design), a["profile"] == "circular"
-    play_free = circular and a["tooth_circle_radius"] == "zero_backlash" or not circular and not _modified(design)
+    model = friction_model(design)
     try:
         cl = contact_level(g, profile, law, {n: a[n] for n in OPERATING}, a["n_d"], a["rotating"], a["r"],
-                           model, options.tol, play_free, options.detail)
+                           model, options.tol, profile.play_free, options.detail)
     except (pc.NoEquilibrium, pc.Unresolvable) as exc:
         raise R.contact_error(exc, design, g) from None
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .profiles import PROFILES
 from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_TOL_MIN, IDEAL_SWEEP_WORK_MAX,
                      IDEAL_WORK_MAX)
 
@@ -72,7 +73,8 @@ def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | 
     tables : set of str
         The design's tables among "gearing", "pin_load", "contact".
     profile : str or None
-        "cycloidal" or "circular" (None without a gear).
+        A name of :data:`gearcalc.pins.profiles.PROFILES`, "cycloidal" or "circular" (None without a gear); the
+        ideal level computes only those its entry marks ``ideal``.
     is_modified : bool
         A cycloid with a profile modification (:func:`modified`).
 
@@ -83,15 +85,17 @@ def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | 
     >>> select_level(None, {"gearing"}, "circular", False), select_level("ideal", {"gearing"}, "circular", False)
     (('contact', None), ('ideal', 'ideal_profile'))
     """
-    has_g, circular = "gearing" in tables, profile == "circular"
+    entry = PROFILES.get(profile)
+    has_g, contact_only = "gearing" in tables, entry is not None and not entry.ideal    # circular teeth
     if model is None:
-        return ("contact" if circular or is_modified or "contact" in tables else "ideal") if has_g else "formula", None
+        level = "contact" if contact_only or is_modified or "contact" in tables else "ideal"
+        return level if has_g else "formula", None
     if model == "formula" and "pin_load" not in tables:
         return model, "need_pin_load"
     if model in ("ideal", "contact") and not has_g:
         return model, "need_gearing"
-    if model == "ideal" and (circular or is_modified):
-        return model, "ideal_profile" if circular else "ideal_mods"
+    if model == "ideal" and (contact_only or is_modified):
+        return model, "ideal_profile" if contact_only else "ideal_mods"
     return model, None
 
 

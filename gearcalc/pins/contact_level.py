@@ -25,6 +25,7 @@ from .detail import contact_detail
 from .geometry import Cycloid
 from .friction import friction_regime
 from .operating import ARRAY_OPS
+from .profiles import ProfileParams, make_profile
 
 __all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "contact_level"]
 
@@ -62,7 +63,7 @@ def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
     return Cycloid(z1, z2, float(e), float(Rp), float(Rb), float(omk)), Rp
 
 
-def satellite_profile(g, circular: bool, tooth_radius, tooth_circle_radius, radial_mod: float,
+def satellite_profile(g, profile: str, tooth_radius, tooth_circle_radius, radial_mod: float,
                       equidistant_mod: float):
     """The satellite profile of the contact level (pins.md §5.2-5.3) and whether circular teeth overlap.
 
@@ -70,9 +71,10 @@ def satellite_profile(g, circular: bool, tooth_radius, tooth_circle_radius, radi
     ----------
     g : Cycloid
         The gear.
-    circular : bool
-        Circular-arc teeth (:func:`~gearcalc.pins.contact.circular_profile`), else the (modified) cycloid
-        (:func:`~gearcalc.pins.contact.cycloid_profile`).
+    profile : str
+        The profile's name in :data:`gearcalc.pins.profiles.PROFILES`: "circular" (circular-arc teeth,
+        :func:`~gearcalc.pins.contact.circular_profile`), "cycloidal" (the (modified) cycloid,
+        :func:`~gearcalc.pins.contact.cycloid_profile`); ValueError for an unknown name.
     tooth_radius : float or "full"
         rho_t [mm]; "full": adjacent teeth tangent at the root.
     tooth_circle_radius : float or "zero_backlash"
@@ -88,10 +90,7 @@ def satellite_profile(g, circular: bool, tooth_radius, tooth_circle_radius, radi
     ------
     gearcalc.pins.contact.InadmissibleProfile
     """
-    if not circular:
-        return pc.cycloid_profile(g, radial_mod, equidistant_mod), False
-    return pc.circular_profile(g, None if tooth_radius == "full" else tooth_radius,
-                               None if tooth_circle_radius == "zero_backlash" else tooth_circle_radius)
+    return make_profile(profile, g, ProfileParams(tooth_radius, tooth_circle_radius, radial_mod, equidistant_mod))
 
 
 def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: float, axle: float):

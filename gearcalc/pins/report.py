@@ -372,8 +372,7 @@ def operating_fields(ov) -> dict:
 def contact_summary(design, g, law, profile, cl, model: str) -> dict:
     """The contact level's summary fields (pins.md §8) from :class:`gearcalc.pins.contact_level.ContactLevel`
     ``cl`` of ``design`` with gear ``g``, contact ``law``, satellite ``profile`` and friction ``model``."""
-    geo = ({"tooth_radius_mm": profile.rho_t, "tooth_circle_radius_mm": profile.R_t}
-           if design["gearing.profile"] == "circular" else {})
+    geo = profile.summary_fields()
     s = contact_fields(design, g, law, geo, cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual,
                        cl.rolling_ok)
     s.update(efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, design["load.mode"] == "multiplier", plain))
