@@ -20,7 +20,6 @@ import tomli_w
 
 from gearcalc import pins
 from gearcalc.pins import contact as pc
-from gearcalc.pins import contact_cycle as pcc
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from gearcalc.quadrature import integrate_adaptive
 from test_pins_cli import design, run, summary  # the pins CLI helpers, shared
@@ -216,10 +215,10 @@ def test_gauss_kronrod_option_is_honest_and_agrees_with_the_trapezoid(rule, fric
     assert gk.loss_ratio_err <= 1e-6 * gk.loss_ratio
     assert abs(gk.loss_ratio - trap.loss_ratio) <= gk.loss_ratio_err + trap.loss_ratio_err
     # the solved crank angles: the quadrature's nodes and both one-sided ends of every piece of the breakpoints;
-    # the final grid adds the pieces' interpolated states (pc.gk_interpolated, ~DENSE_PER_PERIOD of them)
+    # the final grid adds the pieces' interpolated states (pc.gk_interpolated, ~settings.dense_per_period of them)
     pieces = np.unique(gk.breakpoints).size - 1
     assert gk.n_crank == gk.quad.n + 2 * pieces < trap.n_crank
-    assert gk.n_crank + 0.9 * pcc.DENSE_PER_PERIOD < gk.sol.theta.size
+    assert gk.n_crank + 0.9 * pc.DEFAULT_SETTINGS.dense_per_period < gk.sol.theta.size
     assert np.all(np.diff(gk.sol.theta) >= 0.0) and np.all(np.isfinite(gk.lam))
     assert np.all(np.isin(np.unique(gk.breakpoints), gk.sol.theta))
 

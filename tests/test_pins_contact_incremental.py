@@ -5,30 +5,31 @@ instead of scanning one period again; the quadrature's nodes then confirm that n
 Independent references: the full 256-interval scan of the same model (the located roots must agree to the
 refinement's 1e-12 T_p), and the cycle computed from that scan (the loss ratio must agree within its error).
 """
+import dataclasses
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import gearcalc
 from gearcalc.pins import contact as pc
 from gearcalc.pins import contact_cycle as pcc
 from gearcalc.pins import contact_model as pcm
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 
 
-def cycloid_model(T_sat, sigma=MULTIPLIER, friction=None):
+def cycloid_model(T_sat, sigma=MULTIPLIER, friction=None, settings=None):
     # the paper's u = 10 cycloid (k = 2, K1 = 0.75), Hertz contacts of 10 mm
     g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     return pc.ContactModel(g, pc.CycloidProfile(g, 0.0, 0.0), pc.contact_law("hertz", face_width=10.0), T_sat,
-                           sigma, friction)
+                           sigma, friction, settings)
 
 
-def circular_model(T_sat, sigma=MULTIPLIER, friction=None):
+def circular_model(T_sat, sigma=MULTIPLIER, friction=None, settings=None):
     g = Cycloid.from_pin_circle(20, 22, 3.9, 57.2, 2.75)
     rho, R_t = pc.full_tooth(g)
     return pc.ContactModel(g, pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0), T_sat,
-                           sigma, friction)
+                           sigma, friction, settings)
 
 
 @pytest.mark.parametrize("make", [cycloid_model, circular_model])
@@ -63,23 +64,21 @@ def test_scan_roots_refined_from_the_smooth_side_take_fewer_calls_to_the_same_ro
         calls.append(np.size(theta))
         return state(self, theta, *args, **kwargs)
 
-    def roots():
-        m = make(1.0e6, friction=friction)
+    def roots(settings=None):
+        m = make(1.0e6, friction=friction, settings=settings)
         m.set_window()
         calls.clear()
-        found = pcc._scan_roots(m, pc.CYCLE_COARSE_SCAN, tol, False)
+        found = pcc._scan_roots(m, pc.DEFAULT_SETTINGS.cycle_coarse_scan, tol, False)
         return found, len(calls), m.g.period
 
     monkeypatch.setattr(pc.ContactModel, "state", counted)
     smooth, n_smooth, Tp = roots()
+    # the solves and the refinement read these from the model's settings
+    ref = roots(dataclasses.replace(pc.DEFAULT_SETTINGS, newton_stop=1e-13, refine_newton_stop=1e-13,
+                                    refine_newton_small=1e-15, root_step=1e-15, smooth_start_curvature_margin=1e-8))[0]
     with monkeypatch.context() as mp:
-        for module, name, value in ((pcm, "NEWTON_STOP", 1e-13), (pcm, "REFINE_NEWTON_STOP", 1e-13),
-                                    (pcm, "REFINE_NEWTON_SMALL", 1e-15), (pcc, "ROOT_STEP", 1e-15),
-                                    (pcc, "SMOOTH_START_CURVATURE_MARGIN", 1e-8)):
-            mp.setattr(module, name, value)      # where the solves and the refinement read them
-        ref = roots()[0]
-    with monkeypatch.context() as mp:
-        mp.setattr(pcc, "_smooth_side_start", lambda x, v, dv, comp, idx, xtol, Tp: (np.full(comp.size, np.nan),) * 2)
+        mp.setattr(pcc, "_smooth_side_start", lambda x, v, dv, comp, idx, xtol, Tp, margin:
+                   (np.full(comp.size, np.nan),) * 2)
         linear, n_linear, _ = roots()
     assert smooth.roots.size == linear.roots.size == ref.roots.size > 0
     assert np.array_equal(smooth.contact, ref.contact) and np.array_equal(linear.contact, ref.contact)
@@ -238,8 +237,9 @@ def test_torque_fixed_point_with_and_without_the_pass_from_the_last_nodes(monkey
     for consistent in (False, True):
         out = {}
         for flag in (True, False):
-            monkeypatch.setattr(pc, "CYCLE_RELINEARISE", flag)
-            out[flag] = pc.cycle_at_torque(g, prof, law, 100.0, False, True, 1, 0.1, 0.1, False, consistent, tol=1e-6)
+            settings = dataclasses.replace(pc.DEFAULT_SETTINGS, cycle_relinearise=flag)
+            out[flag] = pc.cycle_at_torque(g, prof, law, 100.0, False, True, 1, 0.1, 0.1, False, consistent, tol=1e-6,
+                                           settings=settings)
         assert out[True].settled and out[False].settled
         assert abs(out[True].loss_ratio - out[False].loss_ratio) <= out[True].loss_ratio_err + out[False].loss_ratio_err
         assert len(out[True].history) <= len(out[False].history)
@@ -461,7 +461,7 @@ def test_pass_with_a_wider_window_takes_the_last_states_over_its_rows():
 
 
 def test_refinement_cuts_a_jump_into_sections_and_keeps_newton_for_a_root():
-    # a smooth root (Newton: a few calls, to 1e-12) and a jump (steps leave the bracket: cut into SECTIONS parts
+    # a smooth root (Newton: a few calls, to 1e-12) and a jump (steps leave the bracket: cut into `sections` parts
     # per call, 8x narrower instead of bisection's 2x): exact places known (pins.md §6)
     calls = []
 
@@ -476,7 +476,7 @@ def test_refinement_cuts_a_jump_into_sections_and_keeps_newton_for_a_root():
     assert abs(r[0] - 0.3) <= 1e-12 and abs(r[1] - 0.7123456789) <= jtol
     # bisection alone would take log2(1/2e-9) ~ 29 calls for the jump; sections of 8: ~ log8 of it plus a few
     assert len(calls) <= 14
-    assert max(calls) <= pcc.SECTIONS            # one bracket cut (SECTIONS - 1 points) and the other one's point
+    assert max(calls) <= pc.DEFAULT_SETTINGS.sections     # one bracket cut (sections - 1 points), one point
     n_cut, calls[:] = len(calls), []
     r2 = pcc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
                                  jump_xtol=jtol, sections=2)                           # bisection
@@ -487,8 +487,17 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
     # the shipped u = 10 band design (rotating pins, both modes friction-consistent): its coarse start is ~1.5e-4 of
     # lambda off, so the fixed point does not settle at the second pass; the third starts from the first's nodes
     # too (pins.md §6(6)): one full pass per mode instead of three, each mode's efficiency within both stated errors
-    # of the full passes' (the reference: CYCLE_RELINEARISE off)
-    path = Path(__file__).resolve().parents[1] / "configs" / "pins_circ_band_u10.toml"
+    # of the full passes' (the reference: settings.cycle_relinearise off)
+    from gearcalc.pins.contact_level import contact_level, gear, satellite_profile
+
+    cfg = tomllib.loads((Path(__file__).resolve().parents[1] / "configs" / "pins_circ_band_u10.toml").read_text())
+    G, F, L = cfg["gearing"], cfg["friction"], cfg["load"]
+    g = gear(G["satellite_teeth"], G["pins"], G["eccentricity_mm"], G["pin_circle_radius_mm"], None,
+             G["pin_radius_mm"])[0]
+    prof = satellite_profile(g, G["profile"], G["tooth_radius_mm"], G["tooth_circle_radius_mm"], 0.0, 0.0)[0]
+    law = pc.contact_law(cfg["contact"]["law"], face_width=cfg["contact"]["face_width_mm"])
+    point = {"sliding": F["sliding"], "rolling": F["rolling_mm"], "axle": F["axle"], "mode": L["mode"],
+             "shaft": L["torque_shaft"], "torque": L["torque_Nm"], "speed": L["crank_speed_rpm"]}
     full_passes = []
     mean = pc.mean_loss_ratio
 
@@ -500,21 +509,27 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
     monkeypatch.setattr(pcc, "mean_loss_ratio", counted)       # and the quadrature's own retries
     out = {}
     for flag in (True, False):
-        monkeypatch.setattr(pc, "CYCLE_RELINEARISE", flag)
         full_passes.clear()
-        out[flag] = (gearcalc.compute(path, model="contact", tol=1e-6).summary, len(full_passes))
+        settings = dataclasses.replace(pc.DEFAULT_SETTINGS, cycle_relinearise=flag)
+        cl = contact_level(g, prof, law, point, 1, G["rotating_pins"], G["axle_radius_mm"], "consistent", 1e-6,
+                           prof.play_free, settings=settings)
+        out[flag] = (cl, len(full_passes))
     (lite, n_lite), (full, n_full) = out[True], out[False]
     assert n_lite == 2 and n_full >= 6
-    for k in ("efficiency_multiplier", "efficiency_reducer"):
-        assert abs(lite[k] - full[k]) <= lite[k + "_err"] + full[k + "_err"]
-        assert lite[k + "_err"] <= 1e-6 * lite[k]
-    assert lite["tolerance_met"] and full["tolerance_met"]
+    for et in ("et_multiplier", "et_reducer"):
+        eta = "eta_vh" if et == "et_multiplier" else "eta_hv"
+        a, b = getattr(lite, et), getattr(full, et)
+        assert abs(getattr(a, eta)[0] - getattr(b, eta)[0]) <= getattr(a, eta + "_err")[0] + getattr(b, eta + "_err")[0]
+        assert getattr(a, eta + "_err")[0] <= 1e-6 * getattr(a, eta)[0]
+    for cl in (lite, full):                    # tolerance_met (pins.md §6-7)
+        for t in cl.modes.runs.values():
+            assert t.cycle.converged and t.settled and t.cycle.held and pc.deflection_sized(t.cycle.sol.tau, g)
 
 
 @pytest.mark.parametrize("z1, z2", [(21, 22), (20, 22), (30, 33)])
 @pytest.mark.parametrize("profile", ["cycloid", "circular"])
 def test_a_pins_contact_depends_on_its_time_phase_alone(z1, z2, profile):
-    # the premise of the window's margin (WINDOW_MARGIN): pin j + 1 at theta + T_p is pin j at theta, one tooth pitch
+    # the premise of the window's margin (window_margin): pin j + 1 at theta + T_p is pin j at theta, one tooth pitch
     # turned (the pin circle turns by 2 pi/z2 (1 + k/z1) = 2 pi/z1 in the satellite frame, the crank arm by the
     # same), so a scan of all pins at n crank angles samples the time phase every T_p/n.  Exact identity, to round-off.
     g = Cycloid.from_curtate_ratio(z1, z2, 3.9, 0.75, 1.95)
@@ -534,7 +549,7 @@ def test_a_pins_contact_depends_on_its_time_phase_alone(z1, z2, profile):
 @pytest.mark.parametrize("make", [cycloid_model, circular_model])
 @pytest.mark.parametrize("sigma", [MULTIPLIER, REDUCER])
 def test_no_pin_outside_the_window_touches_on_the_final_grid(make, sigma):
-    # the window's margin is WINDOW_MARGIN scan spacings of time phase (pins.md §5.5): every pin it leaves out is
+    # the window's margin is window_margin scan spacings of time phase (pins.md §5.5): every pin it leaves out is
     # evaluated at the cycle's solved tau, over the whole final grid (friction in the balance: its own tau)
     m = make(1.0e6, sigma, (0.1, 0.1, False))
     cyc = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-6)
@@ -587,7 +602,7 @@ def test_circular_states_evaluate_the_pressed_tooth_only_and_equal_the_states_ov
     assert ref.sides is None
     r = ref.state(theta, phases=False)
     assert s.force.shape == r.force.shape and s.force.shape[0] == 2
-    # each solve stops after a Newton step below 1e-6 |tau| (NEWTON_STOP): its error C s^2 <= ~3e-12 |tau| (C <= 3)
+    # each solve stops after a Newton step below 1e-6 |tau| (newton_stop): its error C s^2 <= ~3e-12 |tau| (C <= 3)
     assert np.allclose(s.tau, r.tau, rtol=1e-11, atol=0.0)
     assert np.allclose(s.force, r.force, rtol=1e-10, atol=1e-10 * r.force.max())
     assert np.all(r.force[1 - m.sides[0]] == 0.0)        # the tooth left out is loaded nowhere
@@ -658,7 +673,7 @@ def test_the_next_pass_skips_the_window_check_only_within_the_clearance(monkeypa
 def test_a_pose_reused_at_another_torque_gives_the_states_of_a_fresh_one(make):
     # ContactModel.state(reuse=...): the last pass's pose of the same crank angles and candidates (its cycloid foot
     # points the warm start of the new torque's) against a fresh pose: the same states to the solves' precision
-    # (NEWTON_STOP: ~3e-12 of tau), and a pose of other angles is not taken
+    # (settings.newton_stop: ~3e-12 of tau), and a pose of other angles is not taken
     a = make(1.0e6, MULTIPLIER, (0.1, 0.1, False))
     a.set_window()
     theta = np.linspace(0.003, a.g.period - 0.002, 37)

@@ -261,3 +261,26 @@ def test_the_band_designs_crank_torque_ripple_is_well_conditioned(name, ripple):
               for tol in (1e-5, 1e-8)]
     assert values[0] == pytest.approx(values[1], rel=1e-4)
     assert values[1] == pytest.approx(ripple, rel=2e-4)
+
+
+def test_contact_settings_are_one_frozen_documented_object_not_module_constants():
+    # issue 35 item 1: the numerical tunables in one immutable, documented settings object, passed explicitly
+    import ast
+    import dataclasses
+    import inspect
+
+    from gearcalc.pins import Cycloid, contact_cycle, contact_model, contact_settings
+    s = contact_settings.DEFAULT_SETTINGS
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        s.scan_max = 1
+    body = ast.parse(inspect.getsource(contact_settings.ContactSettings)).body[0].body
+    documented = {a.target.id for a, d in zip(body, body[1:]) if isinstance(a, ast.AnnAssign)
+                  and isinstance(d, ast.Expr) and isinstance(d.value, ast.Constant) and len(d.value.value) > 20}
+    assert documented == {f.name for f in dataclasses.fields(s)}
+    for module, name in ((pc, "CYCLE_RELINEARISE"), (contact_cycle, "SCAN_MAX"), (contact_model, "NEWTON_STOP")):
+        assert not hasattr(module, name)
+    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    other = dataclasses.replace(s, newton_stop=1e-9)
+    m = pc.ContactModel(g, pc.CycloidProfile(g), pc.contact_law("linear", stiffness=1e5), 1e4, pc.REDUCER,
+                        settings=other)
+    assert m.settings is other and pc.ContactModel(g, pc.CycloidProfile(g), m.law, 1e4, pc.REDUCER).settings is s

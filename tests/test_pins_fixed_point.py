@@ -275,7 +275,7 @@ reducer loss ratio 0.180 where the crank angles solved one by one give 0.198 (pi
 
 @pytest.mark.parametrize("design,held", [(WANDERING, False), (FAR, True)])
 def test_designs_whose_satellite_turns_far_beyond_a_deflection_are_flagged(design, held):
-    # pins.md §6-7: a pin centre that moves by more than TRAVEL_MAX of its radius under the load (here 1.6 and 0.7;
+    # pins.md §6-7: a pin centre that moves by more than travel_max of its radius under the load (here 1.6 and 0.7;
     # the paper designs 0.004-0.042), and a cycle whose nodes contradict their pieces even on the densest scan, are
     # flagged: tolerance_met false and a warning naming the cause, instead of a loss ratio 2-15 % off its reference
     r = api.compute(design, model="contact", tol=1e-3)
@@ -297,10 +297,10 @@ def test_a_satellite_turning_beyond_a_deflection_is_not_scanned_denser(cycles):
 
 
 def test_paper_designs_turn_by_a_deflection(cycles):
-    # the paper's u = 10 circular-arc design: a pin centre moves by 0.042 of its radius at most, below TRAVEL_MAX
+    # the paper's u = 10 circular-arc design: a pin centre moves by 0.042 of its radius at most, below travel_max
     r = api.compute(Path(__file__).parents[1] / "configs" / "pins_paper_circ_u10_fixed.toml", model="contact")
     travel = [pc.pin_travel(t.cycle.sol.tau, t.model.g) for t in cycles]
-    assert max(travel) == pytest.approx(0.042, abs=0.001) and max(travel) < pc.TRAVEL_MAX
+    assert max(travel) == pytest.approx(0.042, abs=0.001) and max(travel) < pc.DEFAULT_SETTINGS.travel_max
     assert r.summary["tolerance_met"] is True and not any("pin centre" in w for w in r.warnings)
 
 

@@ -61,7 +61,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..quadrature import richardson_mean
-from .contact_cycle import (TRAVEL_MAX, BreakpointRoots, ContactCycle, CyclePeaks, _nested_trapezoid_weights,
+from .contact_cycle import (BreakpointRoots, ContactCycle, CyclePeaks, _nested_trapezoid_weights,
                             _piece_places, backlash, contact_losses, cycle_breakpoints, cycle_peaks, deflection_sized,
                             engagement_metrics, free_play, gk_interpolated, mean_loss_ratio, piece_guess, piece_keys,
                             pin_travel, relinearised_cycle)
@@ -70,6 +70,7 @@ from .contact_model import EPS, ContactModel, Jam, NoEquilibrium, Solution
 from .contact_profiles import (PROFILE_RULES, CircularProfile, Contacts, CycloidProfile, InadmissibleProfile, Pose,
                                circular_profile, cycloid_profile, full_tooth, tooth_centre_distance,
                                zero_backlash_tooth_circle)
+from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .cycle import disc_offsets, sum_over_discs
 from .friction import peak_coefficient
 from .geometry import MULTIPLIER, REDUCER, Cycloid
@@ -86,7 +87,7 @@ __all__ = [
     "ContactModel", "NoEquilibrium", "Jam", "Solution", "EPS",
     "contact_losses", "ContactCycle", "BreakpointRoots", "mean_loss_ratio", "relinearised_cycle", "cycle_breakpoints",
     "gk_interpolated", "piece_keys", "piece_guess", "engagement_metrics", "free_play", "backlash", "CyclePeaks",
-    "cycle_peaks", "TRAVEL_MAX", "pin_travel", "deflection_sized",
+    "cycle_peaks", "pin_travel", "deflection_sized", "ContactSettings", "DEFAULT_SETTINGS",
     # this module's: the torque fixed point and the modes
     "Unresolvable", "fixed_point_settled", "TorqueCycle", "cycle_at_torque", "ModeCycles", "solve_modes",
     "mode_efficiencies", "equilibrium_residual", "CrankBearing", "crank_bearing", "effective_radius",
@@ -218,34 +219,11 @@ def fixed_point_stalls(history) -> bool:
     return d[-1] >= 0.5 * d[-3] > 0.0
 
 
-CYCLE_N_START = 64
-"""First-level crank-angle intervals of the cycle mean per period (:func:`mean_loss_ratio` in :func:`cycle_at_torque`):
-with two doublings at least 256 per period, rounded up per piece, so nodes at most T_p/256 apart: as dense as the
-full breakpoint scan (the least that keeps the coarse scan's check sound).  128 until 2026-11-27, when the pieces'
-Richardson estimate (:func:`~gearcalc.quadrature.piece_errors`) let the first call's 256 intervals meet tol 1e-6 on
-most designs: 469-483 solved angles per pass on the paper designs instead of 700-1040 (pins.md §6)."""
-CYCLE_N_MIN = 1
-"""First-level intervals of a piece at least (the tiny pieces of a geometric grading)."""
-CYCLE_MOVE_ROOTS = True
-"""Whether a later full pass of the torque fixed point moves the last pass's breakpoints (else it scans)."""
-CYCLE_RELINEARISE = True
-"""The passes of the torque fixed point after a full one from its nodes (:func:`relinearised_cycle`) where their
-error bound allows; False: full passes only (a reference for the tests)."""
-CYCLE_AT_ONCE = 2
-"""Doublings solved with the first level in one call (:func:`integrate_adaptive`): the first pass's first level and
-both doublings every piece gets; a later pass's first level is a quarter of the last pass's final counts, so that
-grid at once."""
-CYCLE_COARSE_SCAN = 64
-"""Intervals of the first breakpoint scan of a design, checked on the quadrature's nodes (:func:`mean_loss_ratio`)."""
-PRIOR_WIDTH_PASS = 1.0
-"""First half-width of the bracket that moves a breakpoint to the next pass of the torque fixed point, in periods per
-unit relative change of the torque (a grazing contact entry of the circular-arc paper designs moves by 0.2 T_p per
-unit relative torque change)."""
-
 def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
                     n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool,
                     friction_in_equilibrium: bool = False, tol: float = 1e-6, passes: int = 8,
-                    seed: "ContactModel | None" = None, rule: str = "trapezoid") -> TorqueCycle:
+                    seed: "ContactModel | None" = None, rule: str = "trapezoid",
+                    settings: ContactSettings | None = None) -> TorqueCycle:
     r"""The contact cycle under the torque given on V, or on H through the torque fixed point (pins.md §4.7, §7).
 
     The loss ratio depends (weakly) on the torque, so with the torque given on H the torque on V is
@@ -320,6 +298,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     from .. import units
 
     sigma = MULTIPLIER if multiplier else REDUCER
+    st = DEFAULT_SETTINGS if settings is None else settings
     friction = (mu_eff, sliding_friction, rolls) if friction_in_equilibrium else None
     T = float(torque)
     lam, cyc, model, T_V, history, torques = 0.0, None, None, None, [], []
@@ -333,7 +312,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         return float(np.mean(loss.sum(axis=(0, 1)))) / (model.torque_sat * g.k / g.z1)
 
     def make(T_V):
-        return ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
+        return ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction, st)
 
     def settles(remainder, history, cyc):
         """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing, or, when
@@ -351,11 +330,11 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
         # the breakpoints moved from the last pass's (a nearby torque); a mode's first full pass scans (the other
         # mode's, mirrored, took three calls to move where the coarse scan takes one, pins.md §6)
         prior, width = None, 0.0
-        if CYCLE_MOVE_ROOTS and prev is not None and prev.roots is not None:
+        if st.cycle_move_roots and prev is not None and prev.roots is not None:
             # a root moves up to 0.2 T_p per unit relative torque change (a grazing entry): a bracket of |dT/T| T_p,
             # widened where it holds no sign change (:func:`_incremental_roots`)
             prior = prev.roots
-            width = max(PRIOR_WIDTH_PASS * abs(model.torque_sat / prev.torque_sat - 1.0), 1e-10)
+            width = max(st.prior_width_pass * abs(model.torque_sat / prev.torque_sat - 1.0), 1e-10)
         try:
             with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
                 if window_only:
@@ -363,9 +342,9 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
                     model.roots = None        # the first full pass scans (above)
                     return model, out
                 return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial,
-                                              rule=rule, prior=prior, prior_width=width, n_start=CYCLE_N_START,
-                                              n_min=CYCLE_N_MIN, coarse_scan=CYCLE_COARSE_SCAN,
-                                              at_once=CYCLE_AT_ONCE)
+                                              rule=rule, prior=prior, prior_width=width, n_start=st.cycle_n_start,
+                                              n_min=st.cycle_n_min, coarse_scan=st.cycle_coarse_scan,
+                                              at_once=st.cycle_at_once)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise
@@ -406,7 +385,7 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
             model, cyc = run(T_V, prev,
                              n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
             prev = model
-            if CYCLE_RELINEARISE and cyc.nodes is not None:
+            if st.cycle_relinearise and cyc.nodes is not None:
                 base = (cyc, model)
         finite = np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.sol.v_t))   # forces and speeds
         if not (np.isfinite(cyc.loss_ratio) and finite):
@@ -463,7 +442,7 @@ class ModeCycles:
 
 def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
                 n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool, consistent: bool,
-                tol: float = 1e-6, rule: str = "trapezoid") -> ModeCycles:
+                tol: float = 1e-6, rule: str = "trapezoid", settings: ContactSettings | None = None) -> ModeCycles:
     """The contact cycle of each mode with its own forces (friction-consistent model), or of the requested
     mode with frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
 
@@ -485,7 +464,7 @@ def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V
     """
     def run(mult: bool, in_equilibrium: bool, seed=None):
         return cycle_at_torque(g, profile, law, torque, torque_on_V, mult, n_discs, mu_eff, sliding_friction, rolls,
-                               in_equilibrium, tol=tol, seed=seed, rule=rule)
+                               in_equilibrium, tol=tol, seed=seed, rule=rule, settings=settings)
 
     jams, runs = {}, {}
     for mult in ((multiplier, not multiplier) if consistent else (multiplier,)):

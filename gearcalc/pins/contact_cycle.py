@@ -24,13 +24,14 @@ from ..roots import find_root
 from .contact_model import (_GEOMETRY_FIELDS, ContactModel, NoEquilibrium, Solution, _concat, _distance_to, _filled,
                             _hermite, _hermite_slope, _merged, _over_rows, _relayout, _same_rows, _sorted_places,
                             _sub_pose, _take)
+from .contact_settings import DEFAULT_SETTINGS
 from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
 from .friction import PinFriction
 from .geometry import Cycloid
 
 __all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoints", "mean_loss_ratio",
            "relinearised_cycle", "gk_interpolated", "piece_keys", "piece_guess", "engagement_metrics", "CyclePeaks",
-           "cycle_peaks", "free_play", "backlash", "TRAVEL_MAX", "pin_travel", "deflection_sized"]
+           "cycle_peaks", "free_play", "backlash", "pin_travel", "deflection_sized"]
 
 
 # ============================================================ losses (pins.md §5.6)
@@ -69,7 +70,7 @@ class ContactCycle:
     (:class:`BreakpointRoots`), which a later pass of the same design starts from;
     friction : (R_b, mu_eff, f, rolls, scale) of :func:`contact_losses` and the loss ratio's scale;
     held : every node lies on its piece's side of every sign change (:func:`_pieces_hold`); False: not even on the
-    densest scan (``SCAN_MAX`` intervals; not scanned denser where the satellite turns beyond a deflection,
+    densest scan (``settings.scan_max`` intervals; not scanned denser where the satellite turns beyond a deflection,
     :func:`deflection_sized`), and the loss ratio is not known to its error (pins.md §6);
     nodes : (sets, mids, ref_sols, rows) of the trapezoid's final grid, for the next torque pass from the same nodes
     (:func:`relinearised_cycle`): each node's piece sets (active, branch, traction), its piece's midpoint, the states
@@ -166,7 +167,7 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
     sgn = np.sign(v)
     comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
     if comp.size:
-        x0, steps = _smooth_side_start(x, v, dv, comp, idx, xtol, Tp)
+        x0, steps = _smooth_side_start(x, v, dv, comp, idx, xtol, Tp, model.settings.smooth_start_curvature_margin)
 
         first = [True]
 
@@ -184,21 +185,17 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
         # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
         # 1e-3 tol times the jump of lambda over lambda_bar
         roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
-                                     jump_xtol=1e-3 * tol * Tp, step_tol=ROOT_STEP * Tp, x0=x0, bent_above=True,
-                                     step_tols=steps)
+                                     jump_xtol=1e-3 * tol * Tp, step_tol=model.settings.root_step * Tp, x0=x0,
+                                     bent_above=True, step_tols=steps, sections=model.settings.sections)
     else:
         roots = np.empty(0)
     order = roots.argsort(kind="stable")
     return BreakpointRoots(roots[order], (comp < n_delta)[order], not checked, state.seen)
 
 
-SMOOTH_START_CURVATURE_MARGIN = 1e-2
-"""A refinement step from the smooth side of a scanned penetration's sign change (:func:`_smooth_side_start`) stops its
-bracket when Newton's error after it, C s^2 (C = |f''/2f'|, the larger of the scan cubic's at its root and 1/T_p), is
-below this fraction of the breakpoints' tolerance (1e-12 T_p): the curvature may be 100x the estimate."""
 
 
-def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
+def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: float):
     """First points and step tolerances of the refinement of the scan's sign changes (:func:`_refine_sign_changes`):
     for a penetration (its slope known), the root of the cubic Hermite interpolant of the two scan points below zero
     next to the sign change (value and slope each), extrapolated over the bracket, and backed off into the side below
@@ -211,7 +208,8 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
     from the point above zero land 1e-5-1e-4 T_p off, and the refinement took three calls.  The cubic's root is
     O(h^4) off (1e-10-1e-9 T_p on the paper designs); a Newton step of s from a point below zero leaves C s^2, C =
     |f''/2f'| (from the cubic at its root, at least 1/T_p), so the bracket's step tolerance is the s with
-    C s^2 = :data:`SMOOTH_START_CURVATURE_MARGIN` ``xtol`` (~1e-7 T_p, against :data:`ROOT_STEP` = 1e-9 T_p), and
+    C s^2 = ``margin`` ``xtol`` (``settings.smooth_start_curvature_margin``: ~1e-7 T_p, against
+    ``settings.root_step`` = 1e-9 T_p), and
     the first point, half of it short of the cubic's root, is one step from the root: one call (pins.md §6).
 
     ``x`` (m + 1,): the scan's crank angles; ``v``, ``dv`` (c, m + 1): the components and their slopes there (NaN:
@@ -251,7 +249,7 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
         dp = _hermite_slope(t, H, fo, so, fn, sn)
         d2p = ((12.0 * t - 6.0) * (fo - fn) / H + (6.0 * t - 4.0) * so + (6.0 * t - 2.0) * sn) / H
         C = np.maximum(np.abs(d2p / (2.0 * dp)), 1.0 / Tp)
-        step = np.sqrt(SMOOTH_START_CURVATURE_MARGIN * xtol / C)
+        step = np.sqrt(margin * xtol / C)
         # the far end's penetration, bent by the contact's own force, lies below the cubic's (the smooth extension:
         # the state without that force, which turns the satellite farther): else the bracket holds other sign changes
         # (a crest corner, another root) and the scan's linear start is kept
@@ -305,7 +303,8 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
         return val[comp[k], i], slope[comp[k], i]
 
     roots = _refine_sign_changes(h, np.concatenate(lo), np.concatenate(hi), np.concatenate(flo), np.concatenate(fhi),
-                                 xtol, jump_xtol=jtol, step_tol=ROOT_STEP * Tp, bent_above=True)
+                                 xtol, jump_xtol=jtol, step_tol=model.settings.root_step * Tp, bent_above=True,
+                                 sections=model.settings.sections)
     # one root found from two overlapping brackets: the same component within the refinement's tolerance
     order = np.lexsort((roots, comp))
     comp, roots = comp[order], roots[order]
@@ -317,9 +316,6 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     return BreakpointRoots(roots[order], (comp < n_delta)[order], False, state.seen)
 
 
-HERTZ_GRADING_RATIO = 0.25
-"""The geometric ratio of the grading toward both sides of a contact entry or exit under the Hertz law (:func:`_edges`,
-:func:`cycle_breakpoints`): each graded piece is 1/ratio times longer than the next one nearer the entry."""
 
 
 def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarray:
@@ -335,9 +331,11 @@ def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarra
         for x0 in _merge(contact_bp, 4.0 * xtol):
             i = int(np.argmin(np.abs(edges - x0)))
             if i > 0:
-                extra.append(geometric_breakpoints(edges[i], edges[i - 1], width, ratio=HERTZ_GRADING_RATIO))
+                extra.append(geometric_breakpoints(edges[i], edges[i - 1], width,
+                                                   ratio=model.settings.hertz_grading_ratio))
             if i + 1 < edges.size:
-                extra.append(geometric_breakpoints(edges[i], edges[i + 1], width, ratio=HERTZ_GRADING_RATIO))
+                extra.append(geometric_breakpoints(edges[i], edges[i + 1], width,
+                                                   ratio=model.settings.hertz_grading_ratio))
     if model.g.one_minus_K1 < 0.01:
         extra.append(geometric_breakpoints(0.0, Tp, model.g.one_minus_K1 * Tp * model.g.z2 / (2.0 * math.pi)))
     return _merge(np.concatenate([edges, *extra]), 4.0 * xtol)
@@ -371,14 +369,11 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
     return (edges, found) if roots else edges
 
 
-SECTIONS = 8
-"""A bracket that Newton or the secant cannot narrow (a step outside it: a jump, or a root far from linear) is cut into
-SECTIONS equal parts at once (SECTIONS - 1 points in one call): 8x narrower per call instead of bisection's 2x, at
-about the cost of one point (a call's cost is mostly its fixed overhead; :func:`_refine_sign_changes`)."""
 
 
 def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None,
-                         step_tol: float | None = None, sections: int = SECTIONS, x0=None, bent_above: bool = False,
+                         step_tol: float | None = None, sections: int = DEFAULT_SETTINGS.sections, x0=None,
+                         bent_above: bool = False,
                          step_tols=None):
     """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
     slope, secant otherwise, and where a step leaves the bracket the bracket cut into ``sections`` equal parts by
@@ -494,9 +489,6 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     return x
 
 
-ROOT_STEP = 1e-9
-"""A breakpoint's refinement stops after a Newton or secant step below ROOT_STEP T_p, at the stepped point (its error
-then ~1e-15 T_p, :func:`_refine_sign_changes`; pins.md §6)."""
 
 
 def _merge(points, gap):
@@ -511,19 +503,8 @@ def _merge(points, gap):
     return out
 
 
-HOLD_FLOOR = 1e-3
-"""A full scan's cycle holds when no node contradicts its piece by more than HOLD_FLOOR of the component's largest
-|value| (:func:`_pieces_hold`): the dither of a sliding speed about 0 where the friction forces flip stays below
-3e-4 on the band designs; the contradictions of the random sample's failing designs were 3.7e-3 to 0.3."""
 
-SCAN_MAX = 4096
-"""The densest scan of a cycle's sign changes (:func:`mean_loss_ratio`): 256 intervals, then 4x denser while the
-quadrature's nodes contradict their pieces, up to this many; then the cycle is reported as not held."""
 
-DENSE_PER_PERIOD = 1024
-"""Interpolated crank angles per period on the contact level's final grid with a Gauss-Kronrod rule
-(:func:`gk_interpolated`), shared out over the bisected pieces in proportion to their length (at least 2 each): as
-dense as the composite trapezoid's final grid at tol 1e-6 (pins.md §6)."""
 
 
 def _lagrange_matrix(nodes, points):
@@ -619,10 +600,6 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     return out, mid_all[piece]
 
 
-INNER_SHARE = 1e-2
-"""The inner tolerances' share of the target (pins.md §6, error propagation): the equilibria are met to 1/100 of
-``tol`` (:func:`equilibrium_residual`), so a cycle mean's stated error is never below INNER_SHARE tol |lambda_bar|
-(the Richardson estimate of a very smooth cycle can be far smaller: 6e-12 relative on a stiff linear law)."""
 
 
 def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
@@ -631,7 +608,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
                     prior: "BreakpointRoots | None" = None, prior_width: float = 1e-2, n_min: int = 2,
                     coarse_scan: int | None = None, at_once: int = 0) -> ContactCycle:
     """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
-    quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least :data:`INNER_SHARE` tol |lambda_bar|).
+    quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least ``settings.inner_share`` tol |lambda_bar|).
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
     the summary and the detail tables (pins.md §5.6, §6).
@@ -677,7 +654,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         if new.size:
             # the pieces' fixed sets (:meth:`ContactModel.reference`), from a state solved in the stretch between the
             # sign changes around the piece while they were located, else at the midpoint; kept for the check below
-            col, known = _interior_states(found, new, g.period)
+            col, known = _interior_states(found, new, g.period, model.settings.interior_margin)
             parts = []
             if (col >= 0).any():
                 rs = _take(known, col[col >= 0])
@@ -711,7 +688,8 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     rows = model.layout()[0]             # the window is fixed for this cycle (a failing one recomputes it)
     found = None
     if prior is not None:
-        found = _incremental_roots(model, prior, prior_width * g.period, tol, rolls, PRIOR_WIDTH_MAX * g.period)
+        found = _incremental_roots(model, prior, prior_width * g.period, tol, rolls,
+                                   model.settings.prior_width_max * g.period)
     elif coarse_scan is not None and coarse_scan < n_scan:
         found = _scan_roots(model, coarse_scan, tol, rolls, checked=True)
     if found is None:
@@ -730,19 +708,20 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         mid = 0.5 * (lo + hi)                    # the pieces' midpoints, as the quadrature tells them
         integrand(np.column_stack((lo, hi)).ravel(), np.repeat(mid, 2))     # in time order: ..., b_p, a_(p+1), ...
     solved = _concat(cache)
-    dense = gk_interpolated(solved, q, rule, DENSE_PER_PERIOD) if rule != "trapezoid" else None
+    dense = gk_interpolated(solved, q, rule, model.settings.dense_per_period) if rule != "trapezoid" else None
     # the check of the moved or coarse roots covers the interpolated states too: as dense as the trapezoid's nodes
     # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
     checked = (cache, mids) if dense is None else (cache + [_take(dense[0], slice(None, None, 3))],
                                                    mids + [dense[1][::3]])
     # the moved or coarse roots: every sign; the full scan's: a sliding speed that dithers about 0 (below 1e-3 of its
     # largest) where the friction forces flip does not count (its losses are as small)
-    held = _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period, floor=HOLD_FLOOR if found.scanned else 0.0)
+    held = _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period,
+                        floor=model.settings.hold_floor if found.scanned else 0.0)
     if not held and not found.scanned:
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
-    if not held and n_scan < SCAN_MAX and deflection_sized(solved.tau, g):
+    if not held and n_scan < model.settings.scan_max and deflection_sized(solved.tau, g, model.settings.travel_max):
         # nor the full scan's: a contact or a sliding direction that changes twice between its angles, a 4x denser
         # one (pins.md §6), also for the later passes of this design; not where the satellite turns beyond a
         # deflection (:func:`deflection_sized`): that cycle is flagged whatever the scan (its balance can have several
@@ -770,21 +749,11 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         nodes = ((cat([t[0] for t in sets]), cat([t[1] for t in sets]), cat([t[2] for t in sets])),
                  cat(mids), ref_sols, rows)
     # the states' equilibria are met to 1/100 of the tolerance (:func:`equilibrium_residual`): no error below that
-    err = max(float(q.err[0]), INNER_SHARE * tol * abs(float(q.value[0])))
+    err = max(float(q.err[0]), model.settings.inner_share * tol * abs(float(q.value[0])))
     return ContactCycle(float(q.value[0]), err, q.converged, n_solved, q, sol, edges, found,
                         (g.R_b, mu_eff, sliding_friction, rolls, scale), nodes, held)
 
 
-RELINEARISE_MARGIN = 1.25
-"""A breakpoint's move to the next torque, taken as this many times its Newton step (:func:`relinearised_cycle`; the
-step's own error is second order in a move of ~1e-6 T_p)."""
-RELINEARISE_STRIDE = 8
-"""The pass from the last pass's nodes solves every RELINEARISE_STRIDE-th node of each piece and its ends
-(:func:`relinearised_cycle`, :func:`_strided`); the nodes between are interpolated."""
-RELINEARISE_SHARE = 0.9
-"""The largest share of the tolerance (tol lambda_bar) that the quadrature's error and the strips the breakpoints move
-through may hold together in a torque pass from the last pass's nodes (:func:`relinearised_cycle`); more: a full
-pass."""
 
 
 def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactModel, tol: float,
@@ -804,7 +773,8 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     scale T_sat k/z1), exact but for the strips between each breakpoint's old place r and its new one: there the
     other side's state holds.  A breakpoint moves by d = |c/c'| (c the sign-changing component at the new torque
     at r, c' its slope, else a secant to the next node: a Newton step), taken as D = 1.25 d
-    (``RELINEARISE_MARGIN``); the integrand's two sides differ over the strip by at most the jump J at r plus each
+    (``settings.relinearise_margin``); the integrand's two sides differ over the strip by at most the jump J at r plus
+    each
     side's change, which grows like t^p from r: read off the nearest node at least D out (Delta at distance
     t_n; the graded pieces next to a Hertz entry have one close by), scaled by min(1, D/t_n)^p and integrated
     over the strip (1/(1 + p)); p = 1 for the linear law, 1/9 for the Hertz law (its singular speeds,
@@ -828,10 +798,11 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     None (a full pass is needed) when ``cyc`` has no final-grid record (a Gauss-Kronrod rule), a node has no
     equilibrium with its sets or non-finite values, a node farther than D from every breakpoint has a component
     with the other sign than its piece (:func:`_pieces_hold`: a contact appears or leaves; with the floor of
-    ``cyc``'s own check, :data:`HOLD_FLOOR` where its roots are the full scan's), the window's tau range
+    ``cyc``'s own check, ``settings.hold_floor`` where its roots are the full scan's), the window's tau range
     does not hold or its pins are not the last pass's (:meth:`ContactModel.layout`: a window recomputed for a wider
     tau range), a breakpoint's component is not found, or the quadrature's error and E_s exceed
-    ``RELINEARISE_SHARE`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling pins'
+    ``settings.relinearise_share`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling
+    pins'
     lead switch, flipping friction forces).
 
     Examples
@@ -875,7 +846,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     p = np.minimum(np.maximum(edges.searchsorted(node_mid) - 1, 0), edges.size - 2)
     order = np.lexsort((x, p))
     xs, ps = x[order], p[order]
-    keep, lo_s, hi_s, t_s = _strided(xs, ps, RELINEARISE_STRIDE if stride is None else stride)
+    keep, lo_s, hi_s, t_s = _strided(xs, ps, model.settings.relinearise_stride if stride is None else stride)
     kept = order[keep]                        # the nodes solved at the new torque (both ends of every piece)
     with np.errstate(divide="ignore", invalid="ignore"):
         step = (model.M_req - prev.M_req) / sol1.g_tau[kept]
@@ -935,7 +906,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         d = np.maximum(np.abs(step[:, :m]), np.abs(step[:, m:])).max(axis=0)
         if not ((flips.any(axis=0)).all() and np.isfinite(d).all()):
             return None
-        move = RELINEARISE_MARGIN * d
+        move = model.settings.relinearise_margin * d
         width = float(move.max())
         p_exp = 1.0 if model.law.exponent == 1.0 else model.law.exponent - 1.0
         lo = np.minimum(np.maximum(xs.searchsorted(r - move, side="right") - 1, 0), n - 1)
@@ -957,14 +928,15 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
                     contact_losses(_take(s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
                 e_r = np.where(left == 1.0, l2[:m] - l2[m:], l2[m:] - l2[:m])     # touching minus the other
                 grown = np.where(grows, e_r * d / (1.0 + p_exp), 0.0)
-                strip = np.where(grows, (RELINEARISE_MARGIN ** (1.0 + p_exp) - 1.0) * np.abs(grown), strip)
+                strip = np.where(grows, (model.settings.relinearise_margin ** (1.0 + p_exp) - 1.0) * np.abs(grown),
+                                 strip)
                 lam2 += float(grown.sum()) / Tp / scale2
         if not (np.isfinite(strip).all() and math.isfinite(lam2)):
             return None
         E_s = float(strip.sum()) / Tp / scale2
-    if not (E_q + E_s <= RELINEARISE_SHARE * tol * abs(lam2)
+    if not (E_q + E_s <= model.settings.relinearise_share * tol * abs(lam2)
             and _pieces_hold([s2], [node_mid], ref_sols, edges, rolls, tol, Tp, away=(r, width),
-                             floor=HOLD_FLOOR if cyc.roots.scanned else 0.0)):
+                             floor=model.settings.hold_floor if cyc.roots.scanned else 0.0)):
         return None
     # functions of theta and the mode only
     s2.phase, s2.zeta = (sol1.phase, sol1.zeta) if sol1.phase is not None else model.phases(s2.theta, s2.rows)
@@ -1129,15 +1101,13 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     return Solution(**out)
 
 
-INTERIOR_MARGIN = 1e-6
-"""A state stands for a piece's sets when it lies farther than INTERIOR_MARGIN T_p from every located sign change
-(1000x a jump's location tolerance at --tol 1e-6, :func:`_interior_states`)."""
 
 
-def _interior_states(found: BreakpointRoots, mids, period: float):
+def _interior_states(found: BreakpointRoots, mids, period: float, margin: float):
     """For the pieces with midpoints ``mids``: the column of a state solved while the sign changes ``found`` were
     located (``found.seen``) that lies in the same stretch between two of them as the midpoint, farther than
-    ``INTERIOR_MARGIN`` T_p from both (the nearest such to the midpoint), else -1; and those states concatenated.
+    ``settings.interior_margin`` T_p from both (the nearest such to the midpoint), else -1; and those states
+    concatenated.
     The components keep their signs over the stretch, so that state has the piece's active set, branches and
     friction directions, as its midpoint's would (pins.md §6; a sign change the located ones missed is caught on the
     nodes, :func:`_pieces_hold`)."""
@@ -1147,7 +1117,7 @@ def _interior_states(found: BreakpointRoots, mids, period: float):
     known = _concat(seen)
     th = known.theta
     r = found.roots
-    margin = INTERIOR_MARGIN * period
+    margin = margin * period
     k = r.searchsorted(mids)
     lo = np.where(k > 0, r[np.maximum(k - 1, 0)], -np.inf)[:, None]
     hi = np.where(k < r.size, r[np.minimum(k, r.size - 1)], np.inf)[:, None]
@@ -1229,8 +1199,6 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
 
 
 # the moved breakpoints' widest bracket (a tunable of the torque fixed point, pins.md §7)
-PRIOR_WIDTH_MAX = 0.125
-"""The widest bracket of a moved breakpoint, in periods."""
 
 
 # ============================================================ cycle metrics (pins.md §5.7, §8)
@@ -1443,8 +1411,6 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
     return tuple(out)
 
 
-BACKLASH_ZOOM = 33
-"""Crank angles of each zoom of :func:`backlash`'s search for the least play (each shrinks the bracket 16x)."""
 
 
 def backlash(model: ContactModel, n_scan: int = 129) -> float:
@@ -1457,7 +1423,8 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
     For each flank, the least rotation over the cycle from the nominal position to the first contact
     (:func:`free_play`), summed over the two flanks: 0 for an unmodified cycloid and for the
     zero-backlash tooth circle (it touches the pins' paths), positive with clearance.  Sampled on
-    ``n_scan`` crank angles of one period; each least value is then refined by zooming: ``BACKLASH_ZOOM`` angles
+    ``n_scan`` crank angles of one period; each least value is then refined by zooming: ``settings.backlash_zoom``
+    angles
     across the two scan intervals around the least sample, the two intervals around the least of those next (each
     zoom one vectorised :func:`free_play` of that flank), until the least sample's neighbours exceed it by at most
     1e-12 of it (the play is a minimum over the pins of smooth functions of theta: the least value in the bracket
@@ -1499,7 +1466,7 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
             j, k = max(i - 1, 0), min(i + 1, x.size - 1)
             if not (x[k] - x[j] > 1e-9 * Tp and max(p[j], p[k]) - p[i] > 1e-12 * p[i] + 1e-18):
                 break
-            x = np.linspace(x[j], x[k], BACKLASH_ZOOM)
+            x = np.linspace(x[j], x[k], model.settings.backlash_zoom)
             p = np.abs(free_play(model, x, sides=(direction,))[0])
             best = min(best, float(p.min()))
         total += best
@@ -1508,9 +1475,6 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
 
 # ============================================================ deflection-sized rotations (pins.md §7)
 
-TRAVEL_MAX = 0.25
-"""The largest travel of a pin centre relative to the satellite's nominal pose, as a share of the pin radius, that
-the contact level's results are trusted for (:func:`pin_travel`; pins.md §7 "Several equilibria")."""
 
 
 def pin_travel(tau, g: Cycloid) -> float:
@@ -1519,7 +1483,7 @@ def pin_travel(tau, g: Cycloid) -> float:
 
     The contact model holds the satellite's rotation tau to be deflection-sized; a pin centre that moves by a good
     part of its radius (a profile with large free play, on few teeth) meets its tooth far from its nominal place,
-    and the moment balance there can have several solutions: above :data:`TRAVEL_MAX` (0.25) the random sample's
+    and the moment balance there can have several solutions: above ``settings.travel_max`` (0.25) the random sample's
     designs disagreed with the crank angles solved one by one by up to 10 %, below it (0.004-0.23, the paper designs
     0.004-0.042) they agreed to the reference's own error.
 
@@ -1532,12 +1496,12 @@ def pin_travel(tau, g: Cycloid) -> float:
     return float(np.max(np.abs(tau))) * (g.R_p + g.e) / g.R_b
 
 
-def deflection_sized(tau, g: Cycloid) -> bool:
+def deflection_sized(tau, g: Cycloid, travel_max: float = DEFAULT_SETTINGS.travel_max) -> bool:
     """Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized: :func:`pin_travel` at most
-    :data:`TRAVEL_MAX` (else the contact level's results are flagged, pins.md §7).
+    ``settings.travel_max`` (else the contact level's results are flagged, pins.md §7).
 
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> deflection_sized(np.array([1e-3]), g), deflection_sized(np.array([0.1]), g)
     (True, False)
     """
-    return pin_travel(tau, g) <= TRAVEL_MAX
+    return pin_travel(tau, g) <= travel_max

@@ -21,34 +21,30 @@ import numpy as np
 from .. import units
 from . import contact as pc
 from .checks import pin_circle_curtate
+from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .detail import contact_detail
-from .geometry import Cycloid
 from .friction import friction_regime
+from .geometry import Cycloid
 from .operating import ARRAY_OPS
 from .profiles import ProfileParams, make_profile
 
 __all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "contact_level"]
 
 
-GK_BELOW = 3e-7
-"""Below this --tol the contact level's cycle mean uses the Gauss-Kronrod pair ``"gk7"``, above it the composite
-trapezoid (:func:`contact_rule`)."""
-
-
-def contact_rule(tol: float) -> str:
-    """The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6): the composite trapezoid
-    per smooth piece at tol >= 3e-7 (the default 1e-6 included), the Gauss-Kronrod pair ``"gk7"`` (3-point Gauss,
-    7-point Kronrod, with the piece ends solved and each piece's interpolated states on the final grid,
-    :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured 2026-11-27 on the eight paper designs, CPU time
-    of both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time (each solve's fixed numpy overhead outweighs gk7's
-    2-3x fewer angles); at 1e-7 gk7 takes 0.77x the trapezoid's in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8
-    it meets the tolerance where the trapezoid reaches its cap of 2^12 intervals on 3 designs, at 1e-9 on the three
-    designs tried (0.13-0.45 s against 0.24-0.54 s).
+def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
+    """The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6): the composite trapezoid per
+    smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the Gauss-Kronrod pair ``"gk7"``
+    (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's interpolated states on the final grid,
+    :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured 2026-11-27 on the eight paper designs, CPU time of
+    both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time (each solve's fixed numpy overhead outweighs gk7's 2-3x
+    fewer angles); at 1e-7 gk7 takes 0.77x the trapezoid's in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8 it
+    meets the tolerance where the trapezoid reaches its cap of 2^12 intervals on 3 designs, at 1e-9 on the three designs
+    tried (0.13-0.45 s against 0.24-0.54 s).
 
     >>> contact_rule(1e-6), contact_rule(1e-9)
     ('trapezoid', 'gk7')
     """
-    return "gk7" if tol < GK_BELOW else "trapezoid"
+    return "gk7" if tol < (DEFAULT_SETTINGS if settings is None else settings).gk_below else "trapezoid"
 
 
 def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
@@ -148,7 +144,8 @@ class ContactLevel:
 
 
 def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, axle_radius, friction_model: str,
-                  tol: float, play_free: bool, detail: bool = False) -> ContactLevel:
+                  tol: float, play_free: bool, detail: bool = False,
+                  settings: ContactSettings | None = None) -> ContactLevel:
     r"""The compliant contact level (pins.md §5) of one design at one operating point.
 
     The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the
@@ -178,6 +175,8 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
         The profile has no play by construction (:func:`backlash_deg`).
     detail : bool
         Build the detail tables (pins.md §8).
+    settings : ContactSettings or None
+        The numerical settings (:mod:`gearcalc.pins.contact_settings`; None: the defaults).
 
     Returns
     -------
@@ -193,7 +192,7 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
     consistent = friction_model == "consistent" and not (mu == 0.0 and f == 0.0)
     torque, multiplier, on_V = point["torque"], point["mode"] == "multiplier", point["shaft"] == "V"
     modes = pc.solve_modes(g, profile, law, torque, on_V, multiplier, n_discs, mu, f, rolls, consistent, tol=tol,
-                           rule=contact_rule(tol))
+                           rule=contact_rule(tol, settings), settings=settings)
     residual, excess = pc.equilibrium_residual(modes.runs.values(), tol)
     if not excess <= 1.0:
         return ContactLevel(modes, residual, False, consistent, rolling_ok)

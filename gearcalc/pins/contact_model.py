@@ -22,6 +22,7 @@ import numpy as np
 from ..roots import BracketError, find_root
 from .contact_law import ContactLaw
 from .contact_profiles import Contacts, Pose
+from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .forces import pin_phase
 from .friction import PinFriction
 from .geometry import REDUCER, Cycloid
@@ -216,46 +217,20 @@ def _window_range(tau) -> tuple[float, float]:
     return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
 
 
-WINDOW_MARGIN = 2
-"""The candidate window's margin in time phase beyond the outermost pairs that can touch, in spacings of its scan
-(:meth:`ContactModel.set_window`): the scan's n_scan crank angles over all z2 pins sample the time phase zeta on a
-grid of T_p/n_scan (the contact geometry of a pin depends on zeta alone), so a pin between the last sample that can
-touch and the first that cannot lies within one spacing; two for safety.  (It was one pin pitch T_p, n_scan = 64
-spacings: two pins more per angle than needed.)  The pins next to the window are checked on each cycle's final grid
-(:meth:`ContactModel.window_holds`)."""
-
-NEWTON_SMALL = 1e-8
-"""A warm start's Newton step s is taken without a new balance (:meth:`ContactModel._kinematics` with ``step``) when
-|s| <= 1e-8 |tau| (quadratic convergence: the error is then ~s^2/tau <= 1e-16 |tau|, and the geometry, kept at the
-start, moves by (R_p + e) s ~ 1e-10 mm, far below the deflections' resolution)."""
-
-REFINE_NEWTON_STOP, REFINE_NEWTON_SMALL = 1e-11, 1e-12
-""":data:`NEWTON_STOP` and :data:`NEWTON_SMALL` of the solves that refine a scanned penetration's sign change from the
-smooth side (:func:`_scan_roots`, :attr:`ContactModel._refining`): a root is taken from one such state's value and
-slope, so the penetration must hold to well below 1e-12 T_p times its slope (with the product's stops, a state next to a
-Hertz contact's entry warm-started from the scan came out ~1e-10 mm off; measured 2026-11-27).  An iteration or two
-more per refinement call (2-3 crank angles)."""
-
-NEWTON_STOP = 1e-6
-"""The satellite rotation's Newton iteration (:meth:`ContactModel._solve`) stops after a step |s| <= 1e-6 |tau|: its
-error is then C s^2 with C = |G_tautau tau/(2 G_tau)|, measured 0.05-3 on the paper designs (the ratio of successive
-relative steps), so <= ~3e-12 |tau|, the resolution of tau itself (a deflection of ~1e-3 mm out of positions of
-~60 mm held to 1e-14 mm: ~1e-11); the kinematics then evaluate the geometry at the stepped tau.  (1e-8 took one
-balance more per solve, whose step was that round-off, 3e-12 to 1e-13.)"""
-
-
 class ContactModel:
     """The satellite of one design under one torque: pose, penetrations, moment, equilibrium, speeds.
 
     Parameters
     ----------
     g : the pin gear (actual pins: z1, z2, e, R_p, R_b).
-    profile : :class:`CircularProfile` or :class:`CycloidProfile`.
+    profile : a :class:`gearcalc.pins.profiles.ToothProfile` (:class:`CircularProfile`, :class:`CycloidProfile`).
     law : the contact law.
     torque_sat : T_sat, torque per satellite [N·mm], > 0.
     sigma : +1 reducer (M_req = -T_sat), -1 multiplier (M_req = +T_sat)  (pins.md §5.5).
     friction : None (frictionless forces, the first-order model) or (mu_eff, f, rolls): add the
         tangential friction forces to the moment balance (the friction-consistent model, §4.9, §5.5).
+    settings : the numerical settings (:class:`gearcalc.pins.contact_settings.ContactSettings`; None: the
+        defaults), ``self.settings``: the cycle functions of :mod:`gearcalc.pins.contact_cycle` read them there.
 
     Speed (pins.md §5.5-5.6): the equilibrium is solved at all crank angles at once by safeguarded
     Newton on G(tau) = M(tau) - M_req with the analytic G_tau (warm-started from the nearest solved
@@ -265,10 +240,12 @@ class ContactModel:
     """
 
     _refining = False
-    """Solves for a breakpoint's refinement: stopped at :data:`REFINE_NEWTON_STOP` and :data:`REFINE_NEWTON_SMALL`."""
+    """Solves for a breakpoint's refinement: stopped at ``settings.refine_newton_stop`` and ``refine_newton_small``."""
 
-    def __init__(self, g: Cycloid, profile, law: ContactLaw, torque_sat: float, sigma: int, friction=None):
+    def __init__(self, g: Cycloid, profile, law: ContactLaw, torque_sat: float, sigma: int, friction=None,
+                 settings: ContactSettings | None = None):
         self.g, self.profile, self.law = g, profile, law
+        self.settings = DEFAULT_SETTINGS if settings is None else settings
         self.torque_sat, self.sigma = float(torque_sat), sigma
         self.M_req = -self.torque_sat if sigma == REDUCER else self.torque_sat
         self.pins = np.arange(g.z2)[:, None]
@@ -339,7 +316,8 @@ class ContactModel:
             max over tau in {tau_lo, tau_hi} of delta(0) - (X x n) tau + (R_p + e) tau^2/2 <= 0
 
         (1 % and 1e-12 R_p of margin) cannot touch there.  The window is the shortest arc of zeta holding
-        every other pair, widened by :data:`WINDOW_MARGIN` scan spacings on each side (the scan's resolution in zeta).
+        every other pair, widened by ``settings.window_margin`` scan spacings on each side (the scan's resolution in
+        zeta).
         :func:`mean_loss_ratio` checks the tau range on the final grid.  Returns the scan's solution
         (all pins' phases), which also seeds the warm starts."""
         g = self.g
@@ -432,7 +410,7 @@ class ContactModel:
             gaps = np.diff(np.concatenate((z, [z[0] + 2.0 * math.pi])))
             i = int(np.argmax(gaps))
             z_lo, z_hi = (z[0], z[-1]) if i == z.size - 1 else (z[i + 1], z[i] + 2.0 * math.pi)
-            pad = WINDOW_MARGIN * g.period / n_scan
+            pad = self.settings.window_margin * g.period / n_scan
             z_lo, z_hi = z_lo - pad, z_hi + pad
             m = int(math.floor((z_hi - z_lo) / g.period)) + 2
             if m < g.z2:
@@ -468,7 +446,7 @@ class ContactModel:
     def window_holds(self, tau, theta=None, prev: "ContactModel | None" = None) -> bool:
         """Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
         their crank angles ``theta``, the pins next to the window on either side do not touch there (penetration
-        <= 0 at tau: :data:`WINDOW_MARGIN`), nor the contacts of the window's pins that :attr:`sides` leaves out.
+        <= 0 at tau: ``settings.window_margin``), nor the contacts of the window's pins that :attr:`sides` leaves out.
 
         The smallest clearance -delta of those pairs is kept (:attr:`clearance`).  ``prev``: a model checked at the
         same crank angles with the same candidate pins and sides (the torque pass before): where its clearance c exceeds
@@ -701,7 +679,7 @@ class ContactModel:
                 # a step below the spacing of floats (not inside the open bracket) leaves tau as it is
                 at = np.abs(step)
                 xt = np.maximum(4.0 * np.spacing(np.abs(t)), 1e-3 * xtol)
-                stop = REFINE_NEWTON_STOP if self._refining else NEWTON_STOP
+                stop = self.settings.refine_newton_stop if self._refining else self.settings.newton_stop
                 conv = ((G == 0.0) | (neg & (at <= xt)) | (ok & (at <= stop * np.abs(t)))
                         | (both & (hb - lb <= xt)))
                 fail = ~(ok | both | conv)
@@ -1073,7 +1051,7 @@ class ContactModel:
         if step:
             with np.errstate(divide="ignore", invalid="ignore"):
                 s = -G / G_tau
-                small = REFINE_NEWTON_SMALL if self._refining else NEWTON_SMALL
+                small = self.settings.refine_newton_small if self._refining else self.settings.newton_small
                 take = ((G_tau < 0.0) & np.isfinite(s) & (np.abs(s) <= small * np.abs(tau))
                         & (np.abs(G_geo * s) <= 1e-3 * small * abs(self.M_req)))
             need = ~take
