@@ -15,6 +15,7 @@ import pytest
 from gearcalc.pins import contact as pc
 from gearcalc.pins import contact_cycle as pcc
 from gearcalc.pins import contact_model as pcm
+from gearcalc.pins import contact_states as pcs
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 
 
@@ -294,7 +295,7 @@ def test_moved_states_are_exact_for_a_change_linear_in_theta():
     lo, hi = np.repeat([0, 1, 2], [4, 4, 1]), np.repeat([1, 2, 2], [4, 4, 1])
     t = np.array([0, 0.25, 0.5, 0.75, 0, 0.25, 0.5, 0.75, 0])
     change = 1e-3 * (1.0 + sol.theta)
-    part = pcm._take(sol, kept)
+    part = pcs.take_states(sol, kept)
     part.tau = part.tau + change[kept]
     on = sol.cand                                # the candidates change; the other pins keep their fill values
     part.force = part.force + np.where(on[:, kept], change[kept], 0.0)
@@ -334,7 +335,7 @@ def test_strided_pass_agrees_with_every_node_solved(make, friction):
     assert np.array_equal(one.sol.theta, eight.sol.theta)
     # farther than 1e-3 T_p from the breakpoints (closer, a contact entry's speeds change like (theta - theta_0)^(1/9)
     # with its place: within the strips E_s bounds, and at most as far off as the unmoved state)
-    far = pcm._distance_to(first.roots.roots, one.sol.theta) > 1e-3 * a.g.period
+    far = pcs.distance_to(first.roots.roots, one.sol.theta) > 1e-3 * a.g.period
     for field in ("tau", "force", "v_t"):
         solved, strided, old = (getattr(c.sol, field) for c in (one, eight, first))
         fin = np.isfinite(old)
@@ -351,9 +352,9 @@ def test_merged_parts_equal_the_sorted_concatenation():
     arrays = [rng.random((2, 6, t.size)) for t in thetas]
     order = np.argsort(np.concatenate(thetas), kind="stable")
     expected = np.concatenate(arrays, axis=-1)[..., order]
-    places = pcm._sorted_places(thetas)
-    assert np.array_equal(pcm._merged(thetas, places, 0), np.concatenate(thetas)[order])
-    assert np.array_equal(pcm._merged(arrays, places, 2), expected)
+    places = pcs.sorted_places(thetas)
+    assert np.array_equal(pcs.merged(thetas, places, 0), np.concatenate(thetas)[order])
+    assert np.array_equal(pcs.merged(arrays, places, 2), expected)
 
 
 def test_states_over_the_windows_pins_are_the_states_over_all_pins():
@@ -374,10 +375,10 @@ def test_states_over_the_windows_pins_are_the_states_over_all_pins():
     assert np.array_equal(full.force > 0.0, r.force > 0.0)
     assert np.array_equal(a.phases(theta, rows)[0], b.phases(theta)[0][rows])       # same pins, same phases
     # back to the window's rows: the identity
-    back = pcm._relayout(full, rows)
+    back = pcs.relayout(full, rows)
     assert all(np.array_equal(getattr(back, k), getattr(s, k)) for k in ("delta", "force", "v_t", "cand"))
     # parts over different rows: over the union (here all pins), in theta order
-    both = pcm._concat([s, pcm._take(r, slice(0, 3))])
+    both = pcs.concat_states([s, pcs.take_states(r, slice(0, 3))])
     assert both.rows is None and both.force.shape[1] == a.g.z2 and np.all(np.diff(both.theta) >= 0.0)
 
 

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .profiles import PROFILES
+from .profiles import PROFILES, tooth_too_large
 from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_TOL_MIN, IDEAL_SWEEP_WORK_MAX,
                      IDEAL_WORK_MAX)
 
@@ -172,7 +172,7 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
     """
     import numpy as np
 
-    from .columns import floats
+    from .operating import floats
     from .geometry import geometry_violations
 
     K1g, Rpg, r_ = floats(K1), floats(Rp), floats(r)
@@ -199,20 +199,6 @@ def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
 
     Rp, omk = pin_circle(z1, z2, e, math.nan if Rp is None else Rp, math.nan if K1 is None else K1, SCALAR_OPS)
     return Rp, (e * z2 / ((z2 - z1) * Rp) if K1 is None else K1), omk
-
-
-def tooth_too_large(Rb, tooth_radius, Rp, e):
-    r"""Whether a circular tooth is too large for any zero-backlash tooth circle (pins.md §5.3, §9):
-
-    .. math:: R_b + \rho_t \ge R_p - e
-
-    (the one rule: :func:`gearcalc.pins.contact.circular_profile` and
-    :func:`gearcalc.pins.contact.zero_backlash_tooth_circle` call it).
-
-    >>> tooth_too_large(2.75, 37.4, 44.227, 3.9), tooth_too_large(2.75, 37.6, 44.227, 3.9)
-    (False, True)
-    """
-    return Rb + tooth_radius >= Rp - e
 
 
 def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rotating, profile, tooth_radius,
@@ -346,7 +332,7 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d,
     """
     import numpy as np
 
-    from .columns import floats
+    from .operating import floats
 
     if has_pin_load and np.any(bad.pin_load_axle):
         return False

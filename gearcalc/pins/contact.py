@@ -61,8 +61,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..quadrature import richardson_mean
-from .contact_cycle import (BreakpointRoots, ContactCycle, CyclePeaks, _nested_trapezoid_weights,
-                            _piece_places, backlash, contact_losses, cycle_breakpoints, cycle_peaks, deflection_sized,
+from .contact_cycle import (BreakpointRoots, ContactCycle, CyclePeaks, nested_trapezoid_weights,
+                            piece_places, backlash, contact_losses, cycle_breakpoints, cycle_peaks, deflection_sized,
                             engagement_metrics, free_play, gk_interpolated, mean_loss_ratio, piece_guess, piece_keys,
                             pin_travel, relinearised_cycle)
 from .contact_law import HERTZ_EXPONENT, PALMGREN_COEFFICIENT, ContactLaw, contact_law, palmgren_line_constant
@@ -571,10 +571,10 @@ def richardson_weights(theta, pieces):
     """
     order = np.lexsort((theta, pieces))
     xs, ps = theta[order], pieces[order]
-    if np.any((_piece_places(ps)[1] - 1) % 2 != 0):
+    if np.any((piece_places(ps)[1] - 1) % 2 != 0):
         return None
     out = np.empty(xs.size)
-    out[order] = richardson_mean(*_nested_trapezoid_weights(xs, ps))
+    out[order] = richardson_mean(*nested_trapezoid_weights(xs, ps))
     return out
 
 

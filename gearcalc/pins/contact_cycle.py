@@ -21,10 +21,10 @@ import numpy as np
 from ..arrays import unique_sorted
 from ..quadrature import _KRONROD, QuadResult, geometric_breakpoints, integrate_adaptive
 from ..roots import find_root
-from .contact_model import (_GEOMETRY_FIELDS, ContactModel, NoEquilibrium, Solution, _concat, _distance_to, _filled,
-                            _hermite, _hermite_slope, _merged, _over_rows, _relayout, _same_rows, _sorted_places,
-                            _sub_pose, _take)
+from .contact_model import ContactModel, NoEquilibrium
 from .contact_settings import DEFAULT_SETTINGS
+from .contact_states import (GEOMETRY_FIELDS, Solution, concat_states, distance_to, filled, hermite, hermite_slope,
+                             merged, over_rows, relayout, same_rows, sorted_places, sub_pose, take_states)
 from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
 from .friction import PinFriction
 from .geometry import Cycloid
@@ -123,7 +123,7 @@ def _components(s: Solution, rolls: bool):
         parts.append(switch.reshape(-1, n))
         parts.append(relative.reshape(-1, n))
     values = np.concatenate(parts)
-    slopes.append(_filled((values.shape[0] - slopes[0].shape[0], n), np.nan))
+    slopes.append(filled((values.shape[0] - slopes[0].shape[0], n), np.nan))
     return values, np.concatenate(slopes), slopes[0].shape[0]
 
 
@@ -221,7 +221,7 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: floa
     >>> x = np.linspace(0.0, 1.0, 5)
     >>> f = lambda t: np.sin(3.0 * t) - 0.8                # one root at arcsin(0.8)/3 = 0.30910
     >>> v, dv = f(x)[None], (3.0 * np.cos(3.0 * x))[None]
-    >>> start, step = _smooth_side_start(x, v, dv, np.array([0]), np.array([1]), 1e-12, 1.0)
+    >>> start, step = _smooth_side_start(x, v, dv, np.array([0]), np.array([1]), 1e-12, 1.0, 1e-2)
     >>> bool(abs(start[0] - np.arcsin(0.8) / 3.0) < 2e-3 < abs(x[1] - v[0, 1] * 0.25 / (v[0, 2] - v[0, 1]) - 0.30910))
     True
     """
@@ -243,10 +243,10 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: floa
         r = xn - fn / sn                             # Newton from the nearer point, then Newton on the cubic
         for _ in range(3):
             t = (r - xo) / H
-            r = r - _hermite(t, H, fo, so, fn, sn) / _hermite_slope(t, H, fo, so, fn, sn)
+            r = r - hermite(t, H, fo, so, fn, sn) / hermite_slope(t, H, fo, so, fn, sn)
         # the cubic's curvature at its root, |p''/2p'|, at least 1/T_p
         t = (r - xo) / H
-        dp = _hermite_slope(t, H, fo, so, fn, sn)
+        dp = hermite_slope(t, H, fo, so, fn, sn)
         d2p = ((12.0 * t - 6.0) * (fo - fn) / H + (6.0 * t - 4.0) * so + (6.0 * t - 2.0) * sn) / H
         C = np.maximum(np.abs(d2p / (2.0 * dp)), 1.0 / Tp)
         step = np.sqrt(margin * xtol / C)
@@ -255,7 +255,7 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: floa
         # (a crest corner, another root) and the scan's linear start is kept
         f_far = v[comp, np.where(lower, idx + 1, idx)]
         t = (x[np.where(lower, idx + 1, idx)] - xo) / H
-        p_far = _hermite(t, H, fo, so, fn, sn)
+        p_far = hermite(t, H, fo, so, fn, sn)
         ok &= (f_far > 0.0) & (f_far <= 1.25 * p_far) & np.isfinite(step) & np.isfinite(r)
     return np.where(ok, r - 0.5 * step * np.sign(H), np.nan), np.where(ok, step, np.nan)
 
@@ -657,7 +657,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
             col, known = _interior_states(found, new, g.period, model.settings.interior_margin)
             parts = []
             if (col >= 0).any():
-                rs = _take(known, col[col >= 0])
+                rs = take_states(known, col[col >= 0])
                 rs.theta = new[col >= 0]            # the piece's reference, told by its midpoint
                 parts.append(rs)
             if (col < 0).any():
@@ -707,11 +707,11 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         lo, hi = lo[hi > lo], hi[hi > lo]
         mid = 0.5 * (lo + hi)                    # the pieces' midpoints, as the quadrature tells them
         integrand(np.column_stack((lo, hi)).ravel(), np.repeat(mid, 2))     # in time order: ..., b_p, a_(p+1), ...
-    solved = _concat(cache)
+    solved = concat_states(cache)
     dense = gk_interpolated(solved, q, rule, model.settings.dense_per_period) if rule != "trapezoid" else None
     # the check of the moved or coarse roots covers the interpolated states too: as dense as the trapezoid's nodes
     # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
-    checked = (cache, mids) if dense is None else (cache + [_take(dense[0], slice(None, None, 3))],
+    checked = (cache, mids) if dense is None else (cache + [take_states(dense[0], slice(None, None, 3))],
                                                    mids + [dense[1][::3]])
     # the moved or coarse roots: every sign; the full scan's: a sliding speed that dithers about 0 (below 1e-3 of its
     # largest) where the friction forces flip does not count (its losses are as small)
@@ -730,7 +730,7 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, 4 * n_scan, prefilter,
                                n_initial, rule, n_min=n_min)
     n_solved = solved.theta.size
-    sol = solved if dense is None else _concat([solved, dense[0]])
+    sol = solved if dense is None else concat_states([solved, dense[0]])
     sol.phase, sol.zeta = model.phases(sol.theta, sol.rows)
     if not model.window_holds(sol.tau, sol.theta):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
@@ -739,12 +739,12 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     model.roots = found
     nodes = None
     if dense is None:
-        # the nodes' piece sets and midpoints in the final grid's order (:func:`_concat`), for the next torque pass
-        # from these nodes (:func:`relinearised_cycle`)
-        places = _sorted_places([c.theta for c in cache])
+        # the nodes' piece sets and midpoints in the final grid's order (:func:`concat_states`), for the next torque
+        # pass from these nodes (:func:`relinearised_cycle`)
+        places = sorted_places([c.theta for c in cache])
 
         def cat(parts):
-            return None if parts[0] is None else _merged(parts, places, parts[0].ndim - 1)
+            return None if parts[0] is None else merged(parts, places, parts[0].ndim - 1)
 
         nodes = ((cat([t[0] for t in sets]), cat([t[1] for t in sets]), cat([t[2] for t in sets])),
                  cat(mids), ref_sols, rows)
@@ -828,16 +828,16 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     R_b, mu_eff, f, rolls, scale1 = cyc.friction
     g, sol1 = model.g, cyc.sol
     rows2 = model.layout()[0]
-    if not _same_rows(rows2, rows):
+    if not same_rows(rows2, rows):
         # the window recomputed for a wider tau range (:meth:`ContactModel.inherit`): the last pass's states and sets
         # over this model's rows (a pin they do not hold: out of reach at every node, inactive); a pin left out must
         # carry no force in them (the window's bound: it cannot touch at this torque either)
         src, dst = (np.arange(g.z2) if r is None else r for r in (rows, rows2))
         if (sol1.force[:, ~np.isin(src, dst)] > 0.0).any():
             return None
-        sets = tuple(None if a is None else _over_rows(a, src, dst, fill) for a, fill in zip(sets, (False, -1, 0.0)))
-        ref_sols = [_relayout(r, rows2, g.z2) for r in ref_sols]
-        sol1, rows = _relayout(sol1, rows2, g.z2), rows2
+        sets = tuple(None if a is None else over_rows(a, src, dst, fill) for a, fill in zip(sets, (False, -1, 0.0)))
+        ref_sols = [relayout(r, rows2, g.z2) for r in ref_sols]
+        sol1, rows = relayout(sol1, rows2, g.z2), rows2
     Tp, x = g.period, cyc.sol.theta
     scale2 = model.torque_sat * g.k / g.z1
     # the final grid piece by piece (a piece end is a node of each of its two pieces); pieces follow each other in
@@ -856,7 +856,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
             # start this torque's
             last, same_sides = prev.last_pose, (prev.sides is None) == (model.sides is None) and (
                 prev.sides is None or np.array_equal(prev.sides, model.sides))
-            reuse = _sub_pose(last, kept) if last is not None and same_sides and last.theta.shape == x.shape \
+            reuse = sub_pose(last, kept) if last is not None and same_sides and last.theta.shape == x.shape \
                 and np.array_equal(last.theta, x) else None
             s2k = model.state(x[kept], tuple(None if a is None else a[..., kept] for a in sets), phases=False,
                               guess=guess, reuse=reuse)
@@ -868,7 +868,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         return None
     # the change's trapezoid over the solved nodes of each piece, and over every other one of them (its error)
     dL, pk = L2 - L1[kept], ps[keep]
-    w, w2 = _nested_trapezoid_weights(xs[keep], pk)
+    w, w2 = nested_trapezoid_weights(xs[keep], pk)
     change = np.bincount(pk, weights=w * dL, minlength=edges.size)
     E_d = float(np.abs(change - np.bincount(pk, weights=w2 * dL, minlength=edges.size)).sum()) / Tp / scale2
     lam2 = (cyc.loss_ratio * scale1 + float(change.sum()) / Tp) / scale2
@@ -893,9 +893,9 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         # how far their zero moved: a Newton step from the one-sided nodes at the new torque (secant: no slope)
         nb = order[np.minimum(np.maximum(np.concatenate((a_end - 1, b_end + 1)), 0), n - 1)]
         ends = order[np.concatenate((a_end, b_end))]
-        v1 = _components(_take(sol1, nb), rolls)[0]
-        v2n = _components(_take(s2, nb), rolls)[0]
-        v2, dv2, n_delta = _components(_take(s2, ends), rolls)
+        v1 = _components(take_states(sol1, nb), rolls)[0]
+        v2n = _components(take_states(s2, nb), rolls)[0]
+        v2, dv2, n_delta = _components(take_states(s2, ends), rolls)
         m = r.size
         flips = (np.sign(v1[:, :m]) * np.sign(v1[:, m:]) < 0.0)
         flips = np.concatenate((flips, flips), axis=1)
@@ -925,7 +925,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
                 # up to 25 % farther would add, (1.25^(1 + p) - 1) of it, the error
                 both = np.concatenate((a_end, b_end))          # piece ends: solved nodes, their losses in L2
                 l2 = L2[place[both]] if keep[both].all() else \
-                    contact_losses(_take(s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
+                    contact_losses(take_states(s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
                 e_r = np.where(left == 1.0, l2[:m] - l2[m:], l2[m:] - l2[:m])     # touching minus the other
                 grown = np.where(grows, e_r * d / (1.0 + p_exp), 0.0)
                 strip = np.where(grows, (model.settings.relinearise_margin ** (1.0 + p_exp) - 1.0) * np.abs(grown),
@@ -987,7 +987,7 @@ def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
     return left, right
 
 
-def _piece_places(ps):
+def piece_places(ps):
     """Of nodes sorted by piece (``ps`` their pieces): each run's first position ``start`` and node count ``count``,
     and per node its run ``piece`` and its place ``j`` in it (0 at the piece's first node)."""
     start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
@@ -1001,7 +1001,7 @@ def _strided(xs, ps, stride: int):
     pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves it
     at least 4 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it in
     its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node)."""
-    start, count, piece, j = _piece_places(ps)
+    start, count, piece, j = piece_places(ps)
     k = np.ones(start.size, dtype=np.int64)
     s = 2
     while s <= stride:
@@ -1027,11 +1027,11 @@ def _trapezoid_weights(xs, ps):
     return w
 
 
-def _nested_trapezoid_weights(xs, ps):
+def nested_trapezoid_weights(xs, ps):
     """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece,
     over all nodes and over every other node of each piece (its ends kept): (w, w_half), the levels N and N/2 of a
     piece of N intervals (an odd N: the half level's last interval is the one that is left)."""
-    _, count, piece, j = _piece_places(ps)
+    _, count, piece, j = piece_places(ps)
     half = (j % 2 == 0) | (j == count[piece] - 1)
     w_half = np.zeros(xs.size)
     w_half[half] = _trapezoid_weights(xs[half], ps[half])
@@ -1062,7 +1062,7 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     moving: dict = {}
     for fl in dataclasses.fields(sol):
         a = getattr(sol, fl.name)
-        geometry = fl.name in _GEOMETRY_FIELDS
+        geometry = fl.name in GEOMETRY_FIELDS
         if geometry and not same:
             out[fl.name] = None
             continue
@@ -1114,7 +1114,7 @@ def _interior_states(found: BreakpointRoots, mids, period: float, margin: float)
     seen = [s for s in found.seen if s.theta.size]
     if not seen:
         return np.full(mids.size, -1), None
-    known = _concat(seen)
+    known = concat_states(seen)
     th = known.theta
     r = found.roots
     margin = margin * period
@@ -1153,7 +1153,7 @@ def piece_guess(keys, tau, dtau, key, x, edges):
     xa, xb = edges[p] + (keys[a] - 2.0 * p) * L, edges[p] + (keys[b] - 2.0 * p) * L
     h = xb - xa
     with np.errstate(divide="ignore", invalid="ignore"):
-        herm = _hermite((x - xa) / h, h, tau[a], dtau[a], tau[b], dtau[b])
+        herm = hermite((x - xa) / h, h, tau[a], dtau[a], tau[b], dtau[b])
     return np.where(same & (h > 0.0) & np.isfinite(herm), herm, np.nan)
 
 
@@ -1184,7 +1184,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
         piece = np.minimum(np.maximum(edges.searchsorted(mid) - 1, 0), edges.size - 2)
         inner = (x - edges[piece] > excl) & (edges[piece + 1] - x > excl)
         if away is not None and away[0].size:
-            inner &= _distance_to(away[0], x) > away[1]
+            inner &= distance_to(away[0], x) > away[1]
         if not inner.any():
             continue
         v = _components(c, rolls)[0][:, inner]
@@ -1391,7 +1391,7 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
         t = start.copy()
         while np.any(open_):
             idx = np.flatnonzero(open_)
-            found = hmax(direction * t[idx], _sub_pose(pose, idx)) >= 0.0
+            found = hmax(direction * t[idx], sub_pose(pose, idx)) >= 0.0
             lo[idx] = np.where(found, prev[idx], lo[idx])
             hi[idx] = np.where(found, t[idx], hi[idx])
             done = found | (t[idx] >= limit)
@@ -1403,7 +1403,7 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
         root = np.zeros(n)
         if np.any(good):
             idx = np.flatnonzero(good)
-            sub = _sub_pose(pose, idx)
+            sub = sub_pose(pose, idx)
             res = find_root(lambda x, sub=sub, d=direction: hmax(d * x, sub), lo[idx], hi[idx], xtol=1e-15)
             root[idx] = res.root
         root = np.where(miss, limit, root)

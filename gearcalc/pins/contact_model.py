@@ -1,21 +1,19 @@
 """KHV pin gearing, level ``contact``: the satellite's equilibrium at given crank angles (pins.md §5.1, §5.5, §5.6).
 
-:class:`ContactModel` holds one design's gear, tooth profile, contact law, torque and mode: the candidate window
-of the pins that can touch, the moment balance M(tau) = M_req over all crank angles at once by safeguarded Newton
-with the analytic G_tau (warm-started from the solved neighbours, the shared bracketed root finder as the fallback),
-the friction forces' directions iterated to a fixed point with friction in the balance (a crank angle where no
-rotation balances the torque with them: :class:`Jam`), and the kinematics: d tau/d theta = -G_theta/G_tau, the
-contact-point speeds.  :class:`Solution` is the solved state per crank angle and contact, with the helpers that
-take, put, merge and re-lay states over the window's pins.  Pure physics over floats and numpy arrays (N, mm,
-N·mm, rad; speeds per unit crank speed).  The cycle over these states is :mod:`gearcalc.pins.contact_cycle`, the
-torque fixed point and the modes :mod:`gearcalc.pins.contact`, which re-exports this module's public names.
+:class:`ContactModel` holds one design's gear, tooth profile, contact law, torque and mode: the candidate window of
+the pins that can touch, the moment balance M(tau) = M_req over all crank angles at once by safeguarded Newton with
+the analytic G_tau (warm-started from the solved neighbours, the shared bracketed root finder as the fallback), the
+friction forces' directions iterated to a fixed point with friction in the balance (a crank angle where no rotation
+balances the torque with them: :class:`Jam`), and the kinematics: d tau/d theta = -G_theta/G_tau, the contact-point
+speeds.  :class:`~gearcalc.pins.contact_states.Solution` (the solved state per crank angle and contact, with the
+helpers that take, put, merge and re-lay states) is :mod:`gearcalc.pins.contact_states`'s.  Pure physics over floats
+and numpy arrays (N, mm, N·mm, rad; speeds per unit crank speed).  The cycle over these states is
+:mod:`gearcalc.pins.contact_cycle`, the torque fixed point and the modes :mod:`gearcalc.pins.contact`, which
+re-exports this module's public names.
 """
 from __future__ import annotations
 
-import dataclasses
-import functools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -23,6 +21,7 @@ from ..roots import BracketError, find_root
 from .contact_law import ContactLaw
 from .contact_profiles import Contacts, Pose
 from .contact_settings import DEFAULT_SETTINGS, ContactSettings
+from .contact_states import Solution, filled, hermite, hermite_slope, put_states, relayout, sub_pose, take_states
 from .forces import pin_phase
 from .friction import PinFriction
 from .geometry import REDUCER, Cycloid
@@ -46,84 +45,7 @@ class Jam(NoEquilibrium):
     (pins.md §4.9, §5.5)."""
 
 
-@dataclass
-class Solution:
-    """The solved contact state at crank angles theta (n,), per contact (c, z2, n).
-
-    tau: transmission error phi - phi_nom [rad]; dtau: d tau/d theta [-]; residual: M - M_req [N·mm];
-    delta [mm], force [N], v_t: tangential speed of the satellite at the contact per unit crank
-    speed [mm/s per rad/s] (positive along z x n); phase: load-side phase of each pin [rad] (z2, n);
-    zeta: pin phase measured along time, theta - phi_j wrapped to (-pi, pi] [rad] (z2, n);
-    cand: (z2, n) the pins evaluated at each angle (the candidate window), None: all; the others cannot
-    touch (delta = -inf, F = 0, v_t = 0 there);
-    ddelta: (c, z2, n) d delta/d theta along the solution, n.dX/dtheta - (X x n) d tau/d theta [mm/rad]
-    (the Newton slope of the contact entries and exits, :func:`cycle_breakpoints`);
-    noise: (n,) the round-off floor of the residual [N·mm]: eps (R_p + e) sum |F'(delta) X x n|, the moment
-    change of a round-off of the pin positions at every contact (the penetrations are differences of
-    lengths ~R_p);
-    g_tau: (n,) dG/dtau of the moment balance at the solution [N·mm/rad] (the warm start of another torque,
-    :meth:`ContactModel.inherit`);
-    nx, ny, wx, wy: (c, m, n) the contacts' normals and their turning rates (:class:`Contacts`) over the pins
-    ``pins`` (m, n) the state was solved on (the candidate window, or all pins), at the solved rotation (within a
-    last Newton step of it): kept for the crank bearing (:func:`crank_bearing`), None where not known;
-    rows: (R,) the pins (sorted) that the per-pin arrays (delta, force, v_t, phase, zeta, switch, branch, cand,
-    ddelta) hold, in that order: the pins the candidate window can hold over the period
-    (:meth:`ContactModel.layout`); every other pin cannot touch anywhere on the cycle (R of z2 rows: the arrays
-    of a u = 30 paper design are 6x smaller).  None: all z2 pins, in order;
-    traction: (c, R, n) the friction forces per unit normal force the state was solved with (:meth:`ContactModel.
-    traction` of the directions it settled on, or its piece's fixed ones), over the rows (0 where a pin is out of
-    reach); None without friction in the balance.  At a piece end, or where no direction is consistent (the
-    directions flip back and forth, :meth:`ContactModel._friction_fixed_point`), they can differ from the
-    directions of the state's own sliding speeds: the crank bearing takes these (:func:`crank_bearing`).
-    """
-
-    theta: np.ndarray
-    tau: np.ndarray
-    dtau: np.ndarray
-    residual: np.ndarray
-    delta: np.ndarray
-    force: np.ndarray
-    v_t: np.ndarray
-    phase: np.ndarray
-    zeta: np.ndarray
-    switch: np.ndarray | None = None
-    branch: np.ndarray | None = None
-    cand: np.ndarray | None = None
-    ddelta: np.ndarray | None = None
-    noise: np.ndarray | None = None
-    g_tau: np.ndarray | None = None
-    nx: np.ndarray | None = None
-    ny: np.ndarray | None = None
-    wx: np.ndarray | None = None
-    wy: np.ndarray | None = None
-    pins: np.ndarray | None = None
-    rows: np.ndarray | None = None
-    traction: np.ndarray | None = None
-
-    def over_pins(self, z2: int) -> "Solution":
-        """This state over all ``z2`` pins in order, to index its per-pin arrays by pin number: the rows scattered,
-        every other pin out of reach (no contact; phases None where not held: :meth:`ContactModel.phases`)."""
-        return _relayout(self, None, z2)
-
-
-_GEOMETRY_FIELDS = ("nx", "ny", "wx", "wy", "pins")
-"""The :class:`Solution` fields over the pins it was solved on (m, not its rows): never scattered to its rows."""
-
-_PIN_FIELDS = ("delta", "force", "v_t", "phase", "zeta", "switch", "branch", "cand", "ddelta", "traction")
-"""The :class:`Solution` fields over its ``rows`` (the pin axis second to last), with the values of a pin that is not
-a candidate (out of reach: no contact)."""
-
-_PIN_FILL = {"delta": -np.inf, "force": 0.0, "v_t": 0.0, "switch": np.nan, "branch": -1, "cand": False, "ddelta": 0.0,
-             "traction": 0.0}
-
 _CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
-
-
-def _filled(shape, value, dtype=float):
-    """np.full without its Python wrapper (the scatters of every solve call it): an empty array filled in place."""
-    out = np.empty(shape, dtype)
-    out.fill(value)
-    return out
 
 
 def _with_cols(full, part, cols):
@@ -139,40 +61,6 @@ def _contact_index(profile, sides):
     """The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
     when ``sides`` is None; :attr:`ContactModel.sides`)."""
     return (np.arange(profile.contacts_per_pin) if sides is None else np.asarray(sides))[:, None, None]
-
-
-def _sub_pose(pose: Pose, sel) -> Pose:
-    """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis)."""
-    return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.z2,
-                {k: v[..., sel] for k, v in pose.aux.items()}, None if pose._psi is None else pose._psi[:, sel])
-
-
-def _distance_to(points, x):
-    """The distance from each of ``x`` to the nearest of ``points`` (sorted, not empty).
-
-    >>> _distance_to(np.array([0.0, 1.0]), np.array([-1.0, 0.25, 0.5, 3.0])).tolist()
-    [1.0, 0.25, 0.5, 2.0]
-    """
-    k = np.minimum(np.maximum(points.searchsorted(x), 1), points.size)
-    return np.minimum(np.abs(x - points[k - 1]), np.abs(x - points[np.minimum(k, points.size - 1)]))
-
-
-def _hermite(t, h, fa, da, fb, db):
-    """The cubic Hermite interpolant at t = (x - x_a)/h in [0, 1] of values f and slopes d at x_a and x_a + h."""
-    t2, t3 = t * t, t * t * t
-    return ((2 * t3 - 3 * t2 + 1) * fa + (t3 - 2 * t2 + t) * h * da + (-2 * t3 + 3 * t2) * fb + (t3 - t2) * h * db)
-
-
-def _hermite_slope(t, h, fa, da, fb, db):
-    """The derivative d/dx of :func:`_hermite` at t = (x - x_a)/h.
-
-    >>> bool(abs(_hermite_slope(0.3, 2.0, 1.0, -0.5, 4.0, 2.0)
-    ...          - (_hermite(0.3 + 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0) - _hermite(0.3 - 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0))
-    ...          / 4e-7) < 1e-8)
-    True
-    """
-    t2 = t * t
-    return (6.0 * t2 - 6.0 * t) * (fa - fb) / h + (3.0 * t2 - 4.0 * t + 1.0) * da + (3.0 * t2 - 2.0 * t) * db
 
 
 def _doubling_bracket(G, n: int, h0: float, limit: float):
@@ -368,7 +256,7 @@ class ContactModel:
             with np.errstate(divide="ignore", invalid="ignore"):
                 first = self._kinematics(pose, tau, None)
             self._window_for(*_window_range(tau), n_scan)
-            first = _relayout(first, self.layout()[0])
+            first = relayout(first, self.layout()[0])
         if np.isfinite(first.dtau).all():
             self._remember(0, first)   # the frictionless solution warm-starts the scan below
         if self.friction is None and np.isfinite(first.dtau).all():
@@ -659,7 +547,7 @@ class ContactModel:
         # the iterate t and the bracket [lb, hb] of the sign changes met so far, over the angles still iterating (idx):
         # only these are evaluated; an angle's tau and flags are written when it stops
         t = tau.copy()
-        lb, hb = ((_filled(n, -np.inf), _filled(n, np.inf)) if bracket is None
+        lb, hb = ((filled(n, -np.inf), filled(n, np.inf)) if bracket is None
                   else (bracket[0].copy(), bracket[1].copy()))
         done = np.zeros(n, dtype=bool)
         failed = np.zeros(n, dtype=bool)
@@ -693,19 +581,19 @@ class ContactModel:
                     fin = idx[stop]
                     tau[fin], failed[fin], done[fin] = t[stop], fail[stop], conv[stop] & ~fail[stop]
                     keep = ~stop
-                    sub = _sub_pose(sub, keep)
+                    sub = sub_pose(sub, keep)
                     tr = None if tr is None else tr[..., keep]
                     idx, t, lb, hb = idx[keep], t[keep], lb[keep], hb[keep]
             else:
                 tau[idx] = t               # the iterations ran out: not done, solved below
         failed |= ~done
         if failed.any() and bracket is not None:
-            sub = _sub_pose(pose, failed)
+            sub = sub_pose(pose, failed)
             tr = None if traction is None else traction[..., failed]
             tau[failed] = _bracket_root(lambda t: self.moment(sub, t, tr) - self.M_req, sub.theta, bracket[0][failed],
                                         bracket[1][failed], xtol)
         elif failed.any():
-            tau[failed] = self._bracketed(_sub_pose(pose, failed),
+            tau[failed] = self._bracketed(sub_pose(pose, failed),
                                           None if traction is None else traction[..., failed], xtol)
         return tau
 
@@ -808,7 +696,7 @@ class ContactModel:
                 return sol
             keep = np.flatnonzero(need)
             cols = cols[keep]
-            pose_c = _sub_pose(pose_c, keep)
+            pose_c = sub_pose(pose_c, keep)
             tr, ref_c = sub(traction, cols), None if ref is None else (sub(ref[0], cols), sub(ref[1], cols))
             tau, G, G_tau = part.tau[keep], part.residual[keep], part.g_tau[keep]
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -817,14 +705,14 @@ class ContactModel:
                 break
             with np.errstate(divide="ignore", invalid="ignore"):
                 part, need = self._kinematics(pose_c, tau + step, tr, ref_c, step=True)
-            _put(sol, part, cols)
+            put_states(sol, part, cols)
         try:
             tau = self._solve(pose_c, tr, tau)
         except NoEquilibrium as exc:
             if traction is None:
                 raise
             raise Jam(exc.theta) from None
-        _put(sol, self._kinematics(pose_c, tau, tr, ref_c), cols)
+        put_states(sol, self._kinematics(pose_c, tau, tr, ref_c), cols)
         return sol
 
     def _friction_solve(self, pose: Pose, traction, tau, ref) -> Solution:
@@ -913,7 +801,7 @@ class ContactModel:
                     old_g = None if old_g is None else old_g[keep]
             th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
             if gt is not None and old_g is None:
-                old_g = _filled(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
+                old_g = filled(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
             gt = None if old_g is None or gt is None else np.concatenate((old_g, gt))
         order = th.argsort(kind="stable")
         self._memo[key] = (th[order], ta[order], dt[order])
@@ -939,9 +827,9 @@ class ContactModel:
         inside = (h > 0.0) & (theta >= th[a]) & (theta <= th[b])
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.where(inside, (theta - th[a]) / h, 0.0)
-            herm = _hermite(t, h, ta[a], dt[a], ta[b], dt[b])
+            herm = hermite(t, h, ta[a], dt[a], ta[b], dt[b])
             if slope:
-                d_herm = _hermite_slope(t, h, ta[a], dt[a], ta[b], dt[b])
+                d_herm = hermite_slope(t, h, ta[a], dt[a], ta[b], dt[b])
                 return np.where(inside, herm, line), np.where(inside, d_herm, dt[near])
         return np.where(inside, herm, line)
 
@@ -990,7 +878,7 @@ class ContactModel:
             if a is None:
                 return None
             lead = a.shape[:-3]
-            out = _filled(lead + (C * R * n,), fill, a.dtype)
+            out = filled(lead + (C * R * n,), fill, a.dtype)
             out[..., flat] = a.reshape(lead + (-1,))
             return out.reshape(lead + (C, R, n))
 
@@ -1074,7 +962,7 @@ class ContactModel:
                 cols = np.flatnonzero(other)
                 sub_ref = (ref[0][..., cols], None if ref[1] is None else ref[1][..., cols])
                 sub_q = traction[..., cols] if isinstance(traction, np.ndarray) else traction
-                _, gt, cs, fs, fps, As, _, _, _, _ = self._balance(_sub_pose(pose, cols), tau[cols], sub_q, sub_ref)
+                _, gt, cs, fs, fps, As, _, _, _, _ = self._balance(sub_pose(pose, cols), tau[cols], sub_q, sub_ref)
                 G_tau = G_tau.copy()
                 G_tau[cols] = gt
                 cr = Contacts(*(_with_cols(getattr(ct, k), getattr(cs, k), cols) for k in _CONTACT_FIELDS))
@@ -1143,7 +1031,7 @@ class ContactModel:
         twice = np.concatenate(([False], theta[1:] == theta[:-1]))
         ends = np.flatnonzero(twice | np.concatenate((twice[1:], [False])))
         if ends.size:
-            anew = self.solved_contacts(_take(sol, ends))[0]
+            anew = self.solved_contacts(take_states(sol, ends))[0]
             nx, ny, wx, wy = (_with_cols(a, getattr(anew, k), ends) for a, k in ((nx, "nx"), (ny, "ny"),
                                                                                    (wx, "wx"), (wy, "wy")))
         ct = Contacts(pick(sol.delta), nx, ny, None, None, wx=wx, wy=wy)
@@ -1159,114 +1047,3 @@ class ContactModel:
             ct, pick = self.solved_contacts(sol)
         F, q = pick(sol.force), 0.0 if traction is None else pick(traction)
         return -(F * (ct.nx - q * ct.ny)).sum(axis=(0, 1)), -(F * (ct.ny + q * ct.nx)).sum(axis=(0, 1))
-
-
-def _take(sol: Solution, sel) -> Solution:
-    """The states of ``sol`` at the crank angles ``sel`` (an index or slice over the last axis)."""
-    n = sol.theta.size
-    return Solution(**{f.name: (v[..., sel] if isinstance(v, np.ndarray) and v.shape[-1:] == (n,) and f.name != "rows"
-                                else v)
-                       for f in dataclasses.fields(sol) for v in (getattr(sol, f.name),)})
-
-
-def _put(sol: Solution, part: Solution, sel) -> None:
-    """The states of ``part`` written into ``sol`` at the crank angles ``sel`` (in place; theta is not written)."""
-    n = sol.theta.size
-    for f in dataclasses.fields(sol):
-        a = getattr(sol, f.name)
-        if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name not in ("theta", "pins", "rows"):
-            a[..., sel] = getattr(part, f.name)
-
-
-def _sorted_places(thetas: list) -> list:
-    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order); one
-    part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice)."""
-    if len(thetas) == 1 and not (thetas[0][1:] < thetas[0][:-1]).any():
-        return [slice(None)]
-    theta = np.concatenate(thetas)
-    place = np.empty(theta.size, dtype=np.int64)
-    place[theta.argsort(kind="stable")] = np.arange(theta.size)
-    bounds = np.cumsum([0] + [t.size for t in thetas])
-    return [place[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
-
-
-def _merged(arrays: list, places: list, axis: int):
-    """The arrays written at their ``places`` (:func:`_sorted_places`) along ``axis``, the last one: the sorted
-    concatenation in one pass."""
-    a0 = arrays[0]
-    shape = list(a0.shape)
-    shape[axis] = sum(a.shape[axis] for a in arrays)
-    out = np.empty(shape, dtype=np.result_type(*arrays))
-    lead = (slice(None),) * axis
-    for a, p in zip(arrays, places):
-        out[lead + (p,)] = a
-    return out
-
-
-def _concat(parts: list[Solution]) -> Solution:
-    """The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
-    parts' rows differ, :func:`_relayout`)."""
-    rows = parts[0].rows
-    if not all(_same_rows(p.rows, rows) for p in parts):
-        full = [p for p in parts if p.rows is None]
-        rows = None if full else functools.reduce(np.union1d, [p.rows for p in parts])
-        z2 = full[0].force.shape[-2] if full else None
-        parts = [_relayout(p, rows, z2) for p in parts]
-    places = _sorted_places([p.theta for p in parts])
-    theta = _merged([p.theta for p in parts], places, 0)
-
-    def cat(name, axis):
-        if any(getattr(p, name) is None for p in parts):
-            return None
-        return _merged([getattr(p, name) for p in parts], places, axis)
-
-    geometry = [None] * len(_GEOMETRY_FIELDS)
-    if all(p.pins is not None for p in parts) and len({p.pins.shape[0] for p in parts}) == 1:
-        geometry = [cat(name, getattr(parts[0], name).ndim - 1) for name in _GEOMETRY_FIELDS]
-
-    return Solution(theta, cat("tau", 0), cat("dtau", 0), cat("residual", 0), cat("delta", 2),
-                    cat("force", 2), cat("v_t", 2), cat("phase", 1), cat("zeta", 1),
-                    None if parts[0].switch is None else cat("switch", 3),
-                    None if parts[0].branch is None else cat("branch", 2),
-                    None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
-                    cat("noise", 0), cat("g_tau", 0), *geometry, rows,
-                    None if parts[0].traction is None else cat("traction", 2))
-
-
-def _same_rows(a, b) -> bool:
-    """Whether two :attr:`Solution.rows` are the same pins."""
-    return (a is None and b is None) or (a is not None and b is not None and np.array_equal(a, b))
-
-
-def _relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
-    """``sol`` over the pins ``rows`` (sorted; None: all ``z2``): each per-pin array's rows of these pins, a pin that
-    ``sol`` does not hold with the values of a pin out of reach (no contact; :data:`_PIN_FILL`; phases then None, to
-    be computed, :meth:`ContactModel.phases`)."""
-    if _same_rows(sol.rows, rows):
-        return sol
-    n_src = sol.force.shape[-2]
-    src = np.arange(n_src) if sol.rows is None else sol.rows
-    dst = np.arange(z2) if rows is None else rows
-    held = np.isin(dst, src).all()
-    out = {}
-    for name in _PIN_FIELDS:
-        a = getattr(sol, name)
-        if name == "cand" and a is None and not held:
-            a = np.ones((n_src, sol.theta.size), dtype=bool)
-        if a is None or (name in ("phase", "zeta") and not held):
-            out[name] = None
-        else:
-            out[name] = _over_rows(a, src, dst, _PIN_FILL.get(name))
-    return dataclasses.replace(sol, rows=rows, **out)
-
-
-def _over_rows(a, src, dst, fill):
-    """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted): a
-    pin that ``a`` does not hold gets ``fill``."""
-    at = np.minimum(np.maximum(src.searchsorted(dst), 0), src.size - 1)
-    have = src[at] == dst
-    if have.all():
-        return a[..., at, :]
-    b = _filled(a.shape[:-2] + (dst.size, a.shape[-1]), fill, a.dtype)
-    b[..., have, :] = a[..., at[have], :]
-    return b

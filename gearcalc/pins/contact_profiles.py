@@ -19,9 +19,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..roots import bisect
-from .checks import tooth_too_large
 from .forces import pin_phase
 from .geometry import REDUCER, Cycloid, crest_cutoff, min_curvature_radius, pin_centre_curve, tooth_profile
+from .profiles import tooth_too_large
 
 __all__ = [
     "tooth_centre_distance", "zero_backlash_tooth_circle", "full_tooth",

@@ -19,8 +19,18 @@ from .. import units
 from .efficiency import efficiency_multiplier, efficiency_reducer
 from .friction import friction_regime, peak_coefficient
 
-__all__ = ["SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime", "efficiency_reducer_err", "shaft_torques",
-           "EfficiencyTorques", "efficiency_torques", "ScaledCycle", "scale_unit_cycle"]
+__all__ = ["floats", "SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime", "efficiency_reducer_err",
+           "shaft_torques", "EfficiencyTorques", "efficiency_torques", "ScaledCycle", "scale_unit_cycle"]
+
+
+def floats(vals):
+    """A float array from a list of numbers and None (NaN): a column of design values (:mod:`gearcalc.pins.columns`,
+    :mod:`gearcalc.pins.checks`).
+
+    >>> floats([1, None]).tolist()
+    [1.0, nan]
+    """
+    return np.array([np.nan if v is None else v for v in vals], dtype=float)
 
 
 # The friction regime and the mapping from loss ratios to efficiencies and torques, for one operating

@@ -14,7 +14,8 @@ import importlib
 from dataclasses import dataclass
 from typing import Any, Protocol, runtime_checkable
 
-__all__ = ["ToothProfile", "ProfileParams", "ProfileEntry", "PROFILES", "profile_entry", "make_profile"]
+__all__ = ["ToothProfile", "ProfileParams", "ProfileEntry", "PROFILES", "profile_entry", "make_profile",
+           "tooth_too_large"]
 
 
 @runtime_checkable
@@ -117,3 +118,20 @@ def make_profile(name: str, g, params: ProfileParams | None = None):
     entry = profile_entry(name)
     module = importlib.import_module(entry.module if "." in entry.module else f"{__package__}.{entry.module}")
     return getattr(module, entry.factory)(g, ProfileParams() if params is None else params)
+
+
+# ============================================================ the circular teeth's numpy-free rule
+
+def tooth_too_large(Rb, tooth_radius, Rp, e):
+    r"""Whether a circular tooth is too large for any zero-backlash tooth circle (pins.md §5.3, §9):
+
+    .. math:: R_b + \rho_t \ge R_p - e
+
+    (the one rule: :func:`gearcalc.pins.contact.circular_profile`,
+    :func:`gearcalc.pins.contact.zero_backlash_tooth_circle` and :func:`gearcalc.pins.checks.design_problems` call it;
+    here, without numpy, for ``gearcalc check``).
+
+    >>> tooth_too_large(2.75, 37.4, 44.227, 3.9), tooth_too_large(2.75, 37.6, 44.227, 3.9)
+    (False, True)
+    """
+    return Rb + tooth_radius >= Rp - e
