@@ -20,7 +20,7 @@ from .contact_profiles import Pose
 
 __all__ = ["Solution", "GEOMETRY_FIELDS", "PIN_FIELDS", "PIN_FILL", "filled", "sub_pose", "distance_to", "hermite",
            "hermite_slope", "take_states", "put_states", "sorted_places", "merged", "concat_states", "same_rows",
-           "relayout", "over_rows"]
+           "relayout", "over_rows", "contact_index"]
 
 
 @dataclass
@@ -244,3 +244,9 @@ def over_rows(a, src, dst, fill):
     b = filled(a.shape[:-2] + (dst.size, a.shape[-1]), fill, a.dtype)
     b[..., have, :] = a[..., at[have], :]
     return b
+
+
+def contact_index(profile, sides):
+    """The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
+    when ``sides`` is None; :attr:`ContactModel.sides`)."""
+    return (np.arange(profile.contacts_per_pin) if sides is None else np.asarray(sides))[:, None, None]
