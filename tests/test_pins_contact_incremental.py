@@ -102,14 +102,14 @@ def test_a_root_that_cannot_be_moved_falls_back_to_the_scan():
 def test_cycle_from_moved_roots_equals_the_scanned_cycle_within_its_error():
     tol = 1e-6
     a = cycloid_model(1.0e6)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     b = cycloid_model(1.0e6 * (1.0 + 1e-5))
     b.inherit(a)
-    moved = pc.mean_loss_ratio(b, 0.1, 0.1, False, tol=tol, prior=first.roots, prior_width=1e-5)
+    moved = pc.mean_loss_ratio(b, (0.1, 0.1, False), tol=tol, prior=first.roots, prior_width=1e-5)
     assert not moved.roots.scanned                  # the moved roots held on every node
     c = cycloid_model(1.0e6 * (1.0 + 1e-5))
     c.inherit(a)
-    scanned = pc.mean_loss_ratio(c, 0.1, 0.1, False, tol=tol)
+    scanned = pc.mean_loss_ratio(c, (0.1, 0.1, False), tol=tol)
     assert scanned.roots.scanned
     assert np.max(np.abs(moved.breakpoints - scanned.breakpoints)) <= 4e-12 * b.g.period
     assert abs(moved.loss_ratio - scanned.loss_ratio) <= min(moved.loss_ratio_err, scanned.loss_ratio_err)
@@ -122,9 +122,9 @@ def test_a_missed_contact_is_caught_on_the_nodes():
     tol = 1e-5
     a = circular_model(1.0e6)
     empty = pc.BreakpointRoots(np.empty(0), np.zeros(0, dtype=bool))
-    cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol, prior=empty)
+    cyc = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol, prior=empty)
     assert cyc.roots.scanned and cyc.roots.roots.size > 0
-    ref = pc.mean_loss_ratio(circular_model(1.0e6), 0.1, 0.1, False, tol=tol)
+    ref = pc.mean_loss_ratio(circular_model(1.0e6), (0.1, 0.1, False), tol=tol)
     assert np.max(np.abs(cyc.breakpoints - ref.breakpoints)) <= 4e-12 * a.g.period
     assert abs(cyc.loss_ratio - ref.loss_ratio) <= min(cyc.loss_ratio_err, ref.loss_ratio_err)
 
@@ -132,9 +132,9 @@ def test_a_missed_contact_is_caught_on_the_nodes():
 def test_coarse_scan_is_confirmed_or_replaced():
     tol = 1e-6
     a = cycloid_model(1.0e6)
-    coarse = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol, coarse_scan=64, n_min=1)
+    coarse = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol, grid=pc.CycleGrid(coarse_scan=64, n_min=1))
     b = cycloid_model(1.0e6)
-    full = pc.mean_loss_ratio(b, 0.1, 0.1, False, tol=tol, n_min=1)
+    full = pc.mean_loss_ratio(b, (0.1, 0.1, False), tol=tol, grid=pc.CycleGrid(n_min=1))
     assert np.max(np.abs(coarse.breakpoints - full.breakpoints)) <= 4e-12 * a.g.period
     assert abs(coarse.loss_ratio - full.loss_ratio) <= min(coarse.loss_ratio_err, full.loss_ratio_err)
 
@@ -143,7 +143,7 @@ def test_tiny_torque_balance_is_met_to_round_off():
     # a torque whose deflection is ~1e-8 of the satellite's rotation from nominal: the Newton solve stops at the
     # spacing of the floats, not at a fixed 1e-15 rad (pins.md §5.5), so the residual stays far below 1e-3
     a = circular_model(1.0)
-    cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=1e-4)
+    cyc = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=1e-4)
     assert np.max(np.abs(cyc.sol.residual)) / a.torque_sat < 1e-4
 
 
@@ -158,7 +158,7 @@ def test_pass_from_the_last_nodes_equals_the_full_pass_within_its_error(make, fr
     # earlier, into the touching sides, whose strips hold no error (:func:`_strip_sides`): 2e-5 less is taken
     tol = 1e-6
     a = make(1.0e6, MULTIPLIER, friction)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     T2 = 1.0e6 * (1.0 + step)                   # the paper designs' second passes: 1e-6 to 2e-5 away
     b = make(T2, MULTIPLIER, friction)
     b.inherit(a)
@@ -166,7 +166,7 @@ def test_pass_from_the_last_nodes_equals_the_full_pass_within_its_error(make, fr
     assert lite is not None
     c = make(T2, MULTIPLIER, friction)
     c.inherit(a)
-    full = pc.mean_loss_ratio(c, 0.1, 0.1, False, tol=tol, prior=first.roots, prior_width=5e-6)
+    full = pc.mean_loss_ratio(c, (0.1, 0.1, False), tol=tol, prior=first.roots, prior_width=5e-6)
     assert abs(lite.loss_ratio - full.loss_ratio) <= lite.loss_ratio_err + full.loss_ratio_err
     assert lite.loss_ratio_err >= first.loss_ratio_err * first.friction[4] / lite.friction[4]
     assert lite.loss_ratio != first.loss_ratio                  # the torque's own change, not the old value
@@ -183,13 +183,13 @@ def test_strips_a_hertz_entry_moved_out_of_are_integrated(friction):
     # sign turned 38-58 %)
     tol = 1e-6
     a = circular_model(1.0e6, MULTIPLIER, friction)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     T2 = 1.0e6 * (1.0 + 2e-5)
     b = circular_model(T2, MULTIPLIER, friction)
     b.inherit(a)
     lite = pc.relinearised_cycle(b, first, a, tol)
     assert lite is not None
-    full = pc.mean_loss_ratio(circular_model(T2, MULTIPLIER, friction), 0.1, 0.1, False, tol=0.01 * tol)
+    full = pc.mean_loss_ratio(circular_model(T2, MULTIPLIER, friction), (0.1, 0.1, False), tol=0.01 * tol)
     assert abs(lite.loss_ratio - full.loss_ratio) <= 0.05 * lite.loss_ratio_err
 
 
@@ -200,7 +200,7 @@ def test_touching_sets_past_a_hertz_entry_give_the_other_sides_state(friction):
     # one-sided derivatives use has force and stiffness 0: the other side's state, speeds included, to round-off, at
     # every contact entry and exit of the cycle
     a = circular_model(1.0e6, MULTIPLIER, friction)
-    cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=1e-5)
+    cyc = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=1e-5)
     roots = cyc.roots.roots[cyc.roots.contact]
     assert roots.size >= 2
     eps = 1e-7 * a.g.period
@@ -223,7 +223,7 @@ def test_pass_from_the_last_nodes_refuses_a_far_torque():
     # bound exceeds the tolerance, or a node's penetration changes sign against its piece; a full pass is needed
     tol = 1e-6
     a = circular_model(1.0e6)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     b = circular_model(1.02e6)
     b.inherit(a)
     assert pc.relinearised_cycle(b, first, a, tol) is None
@@ -239,8 +239,8 @@ def test_torque_fixed_point_with_and_without_the_pass_from_the_last_nodes(monkey
         out = {}
         for flag in (True, False):
             settings = dataclasses.replace(pc.DEFAULT_SETTINGS, cycle_relinearise=flag)
-            out[flag] = pc.cycle_at_torque(g, prof, law, 100.0, False, True, 1, 0.1, 0.1, False, consistent, tol=1e-6,
-                                           settings=settings)
+            case = pc.ContactCase(g, prof, law, 1, (0.1, 0.1, False), 100.0, False)
+            out[flag] = pc.cycle_at_torque(case, True, consistent, tol=1e-6, settings=settings)
         assert out[True].settled and out[False].settled
         assert abs(out[True].loss_ratio - out[False].loss_ratio) <= out[True].loss_ratio_err + out[False].loss_ratio_err
         assert len(out[True].history) <= len(out[False].history)
@@ -320,7 +320,7 @@ def test_strided_pass_agrees_with_every_node_solved(make, friction):
     # of the torque's change of them of the solved ones
     tol = 1e-6
     a = make(1.0e6, MULTIPLIER, friction)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     T2 = 1.0e6 * (1.0 + 5e-6)
     runs = {}
     for stride in (1, 8):
@@ -434,7 +434,7 @@ def test_pass_with_a_wider_window_takes_the_last_states_over_its_rows():
     # the same pass on the last window's rows to round-off (pins.md §5.5)
     tol = 1e-6
     a = circular_model(1.0e6)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     T2 = 1.0e6 * (1.0 + 5e-6)
     same = circular_model(T2)
     same.inherit(a)
@@ -472,15 +472,14 @@ def test_refinement_cuts_a_jump_into_sections_and_keeps_newton_for_a_root():
                 np.where(k == 0, np.cos(x - 0.3), np.nan))
 
     jtol = 1e-9
-    r = pcc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
-                                jump_xtol=jtol)
+    brackets = ([0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0])
+    r = pcc._refine_sign_changes(h, brackets, pcc.RootStops(1e-12, jump_xtol=jtol))
     assert abs(r[0] - 0.3) <= 1e-12 and abs(r[1] - 0.7123456789) <= jtol
     # bisection alone would take log2(1/2e-9) ~ 29 calls for the jump; sections of 8: ~ log8 of it plus a few
     assert len(calls) <= 14
     assert max(calls) <= pc.DEFAULT_SETTINGS.sections     # one bracket cut (sections - 1 points), one point
     n_cut, calls[:] = len(calls), []
-    r2 = pcc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
-                                 jump_xtol=jtol, sections=2)                           # bisection
+    r2 = pcc._refine_sign_changes(h, brackets, pcc.RootStops(1e-12, jump_xtol=jtol, sections=2))     # bisection
     assert abs(r2[1] - 0.7123456789) <= jtol and len(calls) >= 2 * n_cut
 
 
@@ -489,7 +488,7 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
     # lambda off, so the fixed point does not settle at the second pass; the third starts from the first's nodes
     # too (pins.md §6(6)): one full pass per mode instead of three, each mode's efficiency within both stated errors
     # of the full passes' (the reference: settings.cycle_relinearise off)
-    from gearcalc.pins.contact_level import contact_level, gear, satellite_profile
+    from gearcalc.pins.contact_level import ContactDesign, contact_level, gear, satellite_profile
 
     cfg = tomllib.loads((Path(__file__).resolve().parents[1] / "configs" / "pins_circ_band_u10.toml").read_text())
     G, F, L = cfg["gearing"], cfg["friction"], cfg["load"]
@@ -512,8 +511,8 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
     for flag in (True, False):
         full_passes.clear()
         settings = dataclasses.replace(pc.DEFAULT_SETTINGS, cycle_relinearise=flag)
-        cl = contact_level(g, prof, law, point, 1, G["rotating_pins"], G["axle_radius_mm"], "consistent", 1e-6,
-                           prof.play_free, settings=settings)
+        cl = contact_level(ContactDesign(g, prof, law, 1, G["rotating_pins"], G["axle_radius_mm"]), point, "consistent",
+                           1e-6, prof.play_free, settings=settings)
         out[flag] = (cl, len(full_passes))
     (lite, n_lite), (full, n_full) = out[True], out[False]
     assert n_lite == 2 and n_full >= 6
@@ -553,7 +552,7 @@ def test_no_pin_outside_the_window_touches_on_the_final_grid(make, sigma):
     # the window's margin is window_margin scan spacings of time phase (pins.md §5.5): every pin it leaves out is
     # evaluated at the cycle's solved tau, over the whole final grid (friction in the balance: its own tau)
     m = make(1.0e6, sigma, (0.1, 0.1, False))
-    cyc = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-6)
+    cyc = pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-6)
     assert m.window is not None
     theta, tau = cyc.sol.theta, cyc.sol.tau
     inside = m.candidates(theta)

@@ -8,7 +8,8 @@ import math
 import pytest
 
 from gearcalc.pins.contact import contact_law
-from gearcalc.pins.contact_level import backlash_deg, contact_friction, contact_level, gear, satellite_profile
+from gearcalc.pins.contact_level import (ContactDesign, backlash_deg, contact_friction, contact_level, gear,
+                                         satellite_profile)
 
 BAND = (20, 22, 3.9, 44.227, None, 2.75)       # configs/pins_circ_band_u10.toml: z1, z2, e, R_p, K1, R_b
 LAW = contact_law("hertz", 10.0)
@@ -57,8 +58,8 @@ def _point(**over):
 def test_a_frictionless_contact_level_loses_nothing():
     g, _ = gear(*BAND)
     prof, _ = satellite_profile(g, "circular", "full", "zero_backlash", 0.0, 0.0)
-    cl = contact_level(g, prof, LAW, _point(sliding=0.0, rolling=0.0, axle=0.0), 1, False, None, "consistent", 1e-4,
-                       True)
+    cl = contact_level(ContactDesign(g, prof, LAW, 1, False, None), _point(sliding=0.0, rolling=0.0, axle=0.0),
+                       "consistent", 1e-4, True)
     assert cl.balanced and not cl.consistent          # pins.md §4.9: no friction, nothing to put in the balance
     assert cl.modes.requested.loss_ratio == 0.0 and cl.operating.loss_mean == 0.0
     # pins.md §4.7: eta_HV = 1/(1 + lambda), eta_VH = 1 - lambda at lambda = 0
@@ -77,7 +78,7 @@ def test_the_contact_level_equals_the_calculators_contact_run():
     s = kind_pins.compute(d, Options(tol=1e-4)).summary
     g, _ = gear(*BAND)
     prof, _ = satellite_profile(g, "circular", 3.576, "zero_backlash", 0.0, 0.0)
-    cl = contact_level(g, prof, LAW, _point(), 1, True, 1.75, "consistent", 1e-4, True, detail=True)
+    cl = contact_level(ContactDesign(g, prof, LAW, 1, True, 1.75), _point(), "consistent", 1e-4, True, detail=True)
     assert s["loss_ratio"] == cl.modes.requested.loss_ratio and s["efficiency"] == float(cl.et_multiplier.eta_vh[0])
     assert s["equilibrium_residual"] == cl.residual and set(cl.detail) == {"crank", "contacts"}
 

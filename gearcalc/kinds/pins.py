@@ -211,7 +211,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     """The summary of the compliant contact level (:func:`gearcalc.pins.contact_level.contact_level`)."""
     from ..pins import contact as pc
     from ..pins.columns import OPERATING, level_columns
-    from ..pins.contact_level import contact_level
+    from ..pins.contact_level import ContactDesign, contact_level
 
     a = _one(design)
     cols, _ = level_columns({n: [x] for n, x in a.items()}, "contact", [design.name], options.tol,
@@ -221,8 +221,8 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
     model = friction_model(design)
     try:
-        cl = contact_level(g, profile, law, {n: a[n] for n in OPERATING}, a["n_d"], a["rotating"], a["r"],
-                           model, options.tol, profile.play_free, options.detail)
+        cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"]),
+                           {n: a[n] for n in OPERATING}, model, options.tol, profile.play_free, options.detail)
     except (pc.NoEquilibrium, pc.Unresolvable) as exc:
         raise R.contact_error(exc, design, g) from None
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))

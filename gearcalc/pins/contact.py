@@ -61,7 +61,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..quadrature import richardson_mean
-from .contact_cycle import (BreakpointRoots, ContactCycle, CyclePeaks, nested_trapezoid_weights,
+from .contact_cycle import (BreakpointRoots, ContactCycle, CycleGrid, CyclePeaks, nested_trapezoid_weights,
                             piece_places, backlash, contact_losses, cycle_breakpoints, cycle_peaks, deflection_sized,
                             engagement_metrics, free_play, gk_interpolated, mean_loss_ratio, piece_guess, piece_keys,
                             pin_travel, relinearised_cycle)
@@ -72,7 +72,7 @@ from .contact_profiles import (PROFILE_RULES, CircularProfile, Contacts, Cycloid
                                zero_backlash_tooth_circle)
 from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .cycle import disc_offsets, sum_over_discs
-from .friction import peak_coefficient
+from .friction import PinFriction, peak_coefficient
 from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .operating import SCALAR_OPS
 
@@ -85,11 +85,11 @@ __all__ = [
     "CircularProfile", "CycloidProfile", "InadmissibleProfile", "PROFILE_RULES", "circular_profile",
     "cycloid_profile",
     "ContactModel", "NoEquilibrium", "Jam", "Solution", "EPS",
-    "contact_losses", "ContactCycle", "BreakpointRoots", "mean_loss_ratio", "relinearised_cycle", "cycle_breakpoints",
-    "gk_interpolated", "piece_keys", "piece_guess", "engagement_metrics", "free_play", "backlash", "CyclePeaks",
-    "cycle_peaks", "pin_travel", "deflection_sized", "ContactSettings", "DEFAULT_SETTINGS",
+    "contact_losses", "ContactCycle", "BreakpointRoots", "CycleGrid", "mean_loss_ratio", "relinearised_cycle",
+    "cycle_breakpoints", "gk_interpolated", "piece_keys", "piece_guess", "engagement_metrics", "free_play", "backlash",
+    "CyclePeaks", "cycle_peaks", "pin_travel", "deflection_sized", "ContactSettings", "DEFAULT_SETTINGS",
     # this module's: the torque fixed point and the modes
-    "Unresolvable", "fixed_point_settled", "TorqueCycle", "cycle_at_torque", "ModeCycles", "solve_modes",
+    "Unresolvable", "fixed_point_settled", "TorqueCycle", "ContactCase", "cycle_at_torque", "ModeCycles", "solve_modes",
     "mode_efficiencies", "equilibrium_residual", "CrankBearing", "crank_bearing", "effective_radius",
     "richardson_weights", "ContactOperating", "operating_values", "MULTIPLIER", "REDUCER",
 ]
@@ -219,10 +219,31 @@ def fixed_point_stalls(history) -> bool:
     return d[-1] >= 0.5 * d[-3] > 0.0
 
 
-def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
-                    n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool,
-                    friction_in_equilibrium: bool = False, tol: float = 1e-6, passes: int = 8,
-                    seed: "ContactModel | None" = None, rule: str = "trapezoid",
+@dataclass(frozen=True)
+class ContactCase:
+    """One design's contact level at one operating point: the parameter object of :func:`cycle_at_torque` and
+    :func:`solve_modes`.
+
+    g : Cycloid, the pin gear; profile : a :class:`~gearcalc.pins.profiles.ToothProfile`; law : ContactLaw;
+    n_discs : n_d, discs sharing the torque; friction : :class:`~gearcalc.pins.friction.PinFriction` (mu_eff, f,
+    rolls) or that tuple; torque : T [N·m], on V when ``torque_on_V`` else on H.
+    """
+
+    g: Cycloid
+    profile: object
+    law: ContactLaw
+    n_discs: int
+    friction: PinFriction
+    torque: float
+    torque_on_V: bool
+
+    def __post_init__(self):
+        if not isinstance(self.friction, PinFriction):
+            object.__setattr__(self, "friction", PinFriction(*self.friction))
+
+
+def cycle_at_torque(case: ContactCase, multiplier: bool, friction_in_equilibrium: bool = False, tol: float = 1e-6,
+                    passes: int = 8, seed: "ContactModel | None" = None, rule: str = "trapezoid",
                     settings: ContactSettings | None = None) -> TorqueCycle:
     r"""The contact cycle under the torque given on V, or on H through the torque fixed point (pins.md §4.7, §7).
 
@@ -250,18 +271,10 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
 
     Parameters
     ----------
-    g : Cycloid
-        the pin gear.
-    profile : CircularProfile or CycloidProfile
-    law : ContactLaw
-    torque : float
-        T, on V when ``torque_on_V`` else on H [N·m].
-    torque_on_V, multiplier : bool
-        where the torque is given; multiplier (V drives H) or reducer mode.
-    n_discs : int
-        n_d, discs sharing the torque.
-    mu_eff, sliding_friction : float
-        mu_eff and f [-]; rolls : bool, the pins roll.
+    case : ContactCase
+        the gear, profile, law, discs, friction (mu_eff, f, rolls) and the torque T [N·m], on V or on H.
+    multiplier : bool
+        multiplier (V drives H) or reducer mode.
     friction_in_equilibrium : bool
         add the friction forces to the moment balance (pins.md §5.5).
     seed : ContactModel, optional
@@ -286,8 +299,9 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
-    >>> tc = cycle_at_torque(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 10.0, False,
-    ...                      False, 1, 0.1, 0.1, False, tol=1e-4)
+    >>> case = ContactCase(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1, (0.1, 0.1, False),
+    ...                    10.0, False)
+    >>> tc = cycle_at_torque(case, False, tol=1e-4)
     >>> tc.settled, 0.0 < tc.loss_ratio < 1.0
     (True, True)
 
@@ -297,9 +311,14 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     """
     from .. import units
 
+    g, profile, law, n_discs, torque, torque_on_V = (case.g, case.profile, case.law, case.n_discs, case.torque,
+                                                     case.torque_on_V)
+    mu_eff, sliding_friction, rolls = case.friction.mu_eff, case.friction.sliding, case.friction.rolls
     sigma = MULTIPLIER if multiplier else REDUCER
     st = DEFAULT_SETTINGS if settings is None else settings
-    friction = (mu_eff, sliding_friction, rolls) if friction_in_equilibrium else None
+    friction = case.friction if friction_in_equilibrium else None
+    grid = CycleGrid(n_start=st.cycle_n_start, n_min=st.cycle_n_min, coarse_scan=st.cycle_coarse_scan,
+                     at_once=st.cycle_at_once)
     T = float(torque)
     lam, cyc, model, T_V, history, torques = 0.0, None, None, None, [], []
     remainder = 0.0
@@ -341,10 +360,8 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
                     out = coarse(model, model.set_window())
                     model.roots = None        # the first full pass scans (above)
                     return model, out
-                return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial,
-                                              rule=rule, prior=prior, prior_width=width, n_start=st.cycle_n_start,
-                                              n_min=st.cycle_n_min, coarse_scan=st.cycle_coarse_scan,
-                                              at_once=st.cycle_at_once)
+                return model, mean_loss_ratio(model, case.friction, tol, grid, n_initial=n_initial, rule=rule,
+                                              prior=prior, prior_width=width)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise
@@ -440,9 +457,8 @@ class ModeCycles:
     requested: TorqueCycle
 
 
-def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
-                n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool, consistent: bool,
-                tol: float = 1e-6, rule: str = "trapezoid", settings: ContactSettings | None = None) -> ModeCycles:
+def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: float = 1e-6, rule: str = "trapezoid",
+                settings: ContactSettings | None = None) -> ModeCycles:
     """The contact cycle of each mode with its own forces (friction-consistent model), or of the requested
     mode with frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
 
@@ -463,8 +479,7 @@ def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V
     .. [1] pins.md §4.9 (each mode solved on its own, jams), §5.5, §7 (the torque fixed point).
     """
     def run(mult: bool, in_equilibrium: bool, seed=None):
-        return cycle_at_torque(g, profile, law, torque, torque_on_V, mult, n_discs, mu_eff, sliding_friction, rolls,
-                               in_equilibrium, tol=tol, seed=seed, rule=rule, settings=settings)
+        return cycle_at_torque(case, mult, in_equilibrium, tol=tol, seed=seed, rule=rule, settings=settings)
 
     jams, runs = {}, {}
     for mult in ((multiplier, not multiplier) if consistent else (multiplier,)):

@@ -29,7 +29,7 @@ from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
 from .friction import PinFriction
 from .geometry import Cycloid
 
-__all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoints", "mean_loss_ratio",
+__all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoints", "CycleGrid", "mean_loss_ratio",
            "relinearised_cycle", "gk_interpolated", "piece_keys", "piece_guess", "engagement_metrics", "CyclePeaks",
            "cycle_peaks", "free_play", "backlash", "pin_travel", "deflection_sized"]
 
@@ -184,9 +184,10 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
 
         # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
         # 1e-3 tol times the jump of lambda over lambda_bar
-        roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
-                                     jump_xtol=1e-3 * tol * Tp, step_tol=model.settings.root_step * Tp, x0=x0,
-                                     bent_above=True, step_tols=steps, sections=model.settings.sections)
+        stops = RootStops(xtol, jump_xtol=1e-3 * tol * Tp, step_tol=model.settings.root_step * Tp,
+                          sections=model.settings.sections)
+        roots = _refine_sign_changes(h, (x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1]), stops, x0=x0,
+                                     bent_above=True, step_tols=steps)
     else:
         roots = np.empty(0)
     order = roots.argsort(kind="stable")
@@ -302,9 +303,8 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
         i = np.arange(k.size)
         return val[comp[k], i], slope[comp[k], i]
 
-    roots = _refine_sign_changes(h, np.concatenate(lo), np.concatenate(hi), np.concatenate(flo), np.concatenate(fhi),
-                                 xtol, jump_xtol=jtol, step_tol=model.settings.root_step * Tp, bent_above=True,
-                                 sections=model.settings.sections)
+    stops = RootStops(xtol, jump_xtol=jtol, step_tol=model.settings.root_step * Tp, sections=model.settings.sections)
+    roots = _refine_sign_changes(h, tuple(np.concatenate(u) for u in (lo, hi, flo, fhi)), stops, bent_above=True)
     # one root found from two overlapping brackets: the same component within the refinement's tolerance
     order = np.lexsort((roots, comp))
     comp, roots = comp[order], roots[order]
@@ -371,10 +371,21 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
 
 
 
-def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None,
-                         step_tol: float | None = None, sections: int = DEFAULT_SETTINGS.sections, x0=None,
-                         bent_above: bool = False,
-                         step_tols=None):
+@dataclass(frozen=True)
+class RootStops:
+    """Where :func:`_refine_sign_changes` stops (its parameter object): ``xtol`` the location tolerance of a root;
+    ``jump_xtol`` (default ``xtol``) of a jump; ``step_tol`` (default ``xtol``) a Newton or secant step below which a
+    bracket stops at the stepped point; ``maxiter`` calls at most; a bracket that Newton or the secant cannot narrow
+    is cut into ``sections`` parts per call (``settings.sections``)."""
+
+    xtol: float
+    jump_xtol: float | None = None
+    step_tol: float | None = None
+    maxiter: int = 100
+    sections: int = DEFAULT_SETTINGS.sections
+
+
+def _refine_sign_changes(h, brackets, stops: RootStops, x0=None, bent_above: bool = False, step_tols=None):
     """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
     slope, secant otherwise, and where a step leaves the bracket the bracket cut into ``sections`` equal parts by
     as many points minus one in the next call (pins.md §6: breakpoints to 1e-12 T_p).  ``h(x, k)`` returns (values,
@@ -408,10 +419,14 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     A root of a smooth function (Newton) and a jump (cut into 8 parts per call, to ``jump_xtol``):
 
     >>> f = lambda x, k: (np.where(k == 0, x - 0.3, np.where(x < 0.7, -1.0, 1.0)), np.where(k == 0, 1.0, np.nan))
-    >>> r = _refine_sign_changes(f, [0.0, 0.0], [1.0, 1.0], [-0.3, -1.0], [0.7, 1.0], 1e-12, jump_xtol=1e-9)
+    >>> brackets = ([0.0, 0.0], [1.0, 1.0], [-0.3, -1.0], [0.7, 1.0])      # a, b, h(a), h(b)
+    >>> r = _refine_sign_changes(f, brackets, RootStops(1e-12, jump_xtol=1e-9))
     >>> bool(abs(r[0] - 0.3) < 1e-12), bool(abs(r[1] - 0.7) < 1e-9)
     (True, True)
     """
+    a, b, fa, fb = brackets
+    xtol, jump_xtol, step_tol, maxiter, sections = (stops.xtol, stops.jump_xtol, stops.step_tol, stops.maxiter,
+                                                    stops.sections)
     step_tol = xtol if step_tol is None else max(step_tol, xtol)
     lo, hi = np.array(a, dtype=float), np.array(b, dtype=float)
     flo, fhi = np.array(fa, dtype=float), np.array(fb, dtype=float)
@@ -602,11 +617,30 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
 
 
 
-def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
-                    tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
-                    prefilter: bool = True, n_initial=None, rule: str = "trapezoid",
-                    prior: "BreakpointRoots | None" = None, prior_width: float = 1e-2, n_min: int = 2,
-                    coarse_scan: int | None = None, at_once: int = 0) -> ContactCycle:
+@dataclass(frozen=True)
+class CycleGrid:
+    """The crank-angle grids of a cycle mean (:func:`mean_loss_ratio`, pins.md §6): its parameter object.
+
+    n_max : cap on crank-angle intervals (2^12, pins.md §6); n_start : first-level intervals per period; n_scan :
+    intervals of the full breakpoint scan; n_min : the least intervals of a piece at the first level
+    (:func:`integrate_adaptive`); coarse_scan : without a prior, scan on this many intervals instead of ``n_scan``,
+    with the check of the nodes (and the full scan where it fails; the nodes must then be at least as dense as the
+    full scan: ``n_start`` >= n_scan/4 with two doublings); at_once : the first level's doublings solved with it in
+    one call (:func:`integrate_adaptive`); prefilter : the candidate window (False: every pin at every angle).
+    """
+
+    n_max: int = 2 ** 12
+    n_start: int = 128
+    n_scan: int = 256
+    n_min: int = 2
+    coarse_scan: int | None = None
+    at_once: int = 0
+    prefilter: bool = True
+
+
+def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: CycleGrid | None = None,
+                    n_initial=None, rule: str = "trapezoid", prior: "BreakpointRoots | None" = None,
+                    prior_width: float = 1e-2) -> ContactCycle:
     """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
     quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least ``settings.inner_share`` tol |lambda_bar|).
 
@@ -616,10 +650,11 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     Parameters
     ----------
     model : the contact model (design and torque).
-    mu_eff : f (fixed pins or pins that cannot roll) or mu_rot (rolling pins) [-].
-    sliding_friction : f, for the second contact of a rolling pin [-].
-    rolls : the pins roll.
-    tol : relative accuracy target; n_max : cap on crank-angle intervals (2^12, pins.md §6).
+    friction : :class:`~gearcalc.pins.friction.PinFriction` or its tuple (mu_eff, f, rolls): mu_eff f (fixed pins or
+        pins that cannot roll) or mu_rot (rolling pins), f for the second contact of a rolling pin [-], the pins
+        roll.
+    tol : relative accuracy target.
+    grid : the crank-angle grids (:class:`CycleGrid`; None: its defaults).
     n_initial : first-level intervals per piece (:func:`integrate_adaptive`), used when the breakpoints
         give that many pieces.
     rule : the quadrature rule of :func:`integrate_adaptive`: ``"trapezoid"`` (pins.md §6), or opt-in a
@@ -631,13 +666,16 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         on its piece's side of every sign change (its components' signs those of the piece's midpoint, away from
         the piece ends); when the roots cannot be moved, or a node fails that check (a contact appeared or
         vanished between the passes), the cycle is recomputed with the full scan.
-    coarse_scan : without ``prior``, scan on this many intervals instead of ``n_scan``, with the same check of the
-        nodes (and the same recomputation with the full scan); the nodes must then be at least as dense as the full
-        scan (``n_start`` >= n_scan/4 with two doublings), so the check is at least as strict as the full scan.
-    n_min : the least intervals of a piece at the first level (:func:`integrate_adaptive`).
-    at_once : the first level's doublings solved with it in one call (:func:`integrate_adaptive`), as with
-        ``n_initial`` from the last pass, whose final grid the first call then solves at once.
+    ``grid.coarse_scan`` checks a coarse scan the same way (:class:`CycleGrid`); ``grid.at_once`` solves the first
+    level's doublings in one call, as with ``n_initial`` from the last pass, whose final grid the first call then
+    solves at once.
     """
+    grid = CycleGrid() if grid is None else grid
+    friction = friction if isinstance(friction, PinFriction) else PinFriction(*friction)
+    mu_eff, sliding_friction, rolls = friction.mu_eff, friction.sliding, friction.rolls
+    n_max, n_start, n_scan, n_min = grid.n_max, grid.n_start, grid.n_scan, grid.n_min
+    coarse_scan, at_once, prefilter = grid.coarse_scan, grid.at_once, grid.prefilter
+    full = dataclasses.replace(grid, coarse_scan=None, at_once=0)      # a recomputation's grid
     g = model.g
     scale = model.torque_sat * g.k / g.z1
     cache: list[Solution] = []
@@ -715,27 +753,25 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
                                                    mids + [dense[1][::3]])
     # the moved or coarse roots: every sign; the full scan's: a sliding speed that dithers about 0 (below 1e-3 of its
     # largest) where the friction forces flip does not count (its losses are as small)
-    held = _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period,
+    held = _pieces_hold(checked, ref_sols, edges, rolls, tol, g.period,
                         floor=model.settings.hold_floor if found.scanned else 0.0)
     if not held and not found.scanned:
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
-        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
-                               n_initial, rule, n_min=n_min)
+        return mean_loss_ratio(model, friction, tol, full, n_initial, rule)
     if not held and n_scan < model.settings.scan_max and deflection_sized(solved.tau, g, model.settings.travel_max):
         # nor the full scan's: a contact or a sliding direction that changes twice between its angles, a 4x denser
         # one (pins.md §6), also for the later passes of this design; not where the satellite turns beyond a
         # deflection (:func:`deflection_sized`): that cycle is flagged whatever the scan (its balance can have several
         # solutions, pins.md §7), and at its cap of angles each denser scan cost seconds a pass
         model.scan_n = 4 * n_scan
-        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, 4 * n_scan, prefilter,
-                               n_initial, rule, n_min=n_min)
+        return mean_loss_ratio(model, friction, tol, dataclasses.replace(full, n_scan=4 * n_scan), n_initial, rule)
     n_solved = solved.theta.size
     sol = solved if dense is None else concat_states([solved, dense[0]])
     sol.phase, sol.zeta = model.phases(sol.theta, sol.rows)
     if not model.window_holds(sol.tau, sol.theta):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
-        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial,
-                               rule, None, prior_width, n_min)
+        return mean_loss_ratio(model, friction, tol, dataclasses.replace(full, prefilter=False), n_initial, rule, None,
+                               prior_width)
     model.roots = found
     nodes = None
     if dense is None:
@@ -811,7 +847,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> law = contact_law("linear", stiffness=1e5)
     >>> a = ContactModel(g, CycloidProfile(g, 0.0, 0.0), law, 1e4, MULTIPLIER)
-    >>> first = mean_loss_ratio(a, 0.1, 0.1, False, tol=1e-5)
+    >>> first = mean_loss_ratio(a, (0.1, 0.1, False), tol=1e-5)
     >>> b = ContactModel(g, CycloidProfile(g, 0.0, 0.0), law, 1e4 * (1.0 + 1e-6), MULTIPLIER)
     >>> b.inherit(a)
     >>> lite = relinearised_cycle(b, first, a, 1e-5)
@@ -935,7 +971,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
             return None
         E_s = float(strip.sum()) / Tp / scale2
     if not (E_q + E_s <= model.settings.relinearise_share * tol * abs(lam2)
-            and _pieces_hold([s2], [node_mid], ref_sols, edges, rolls, tol, Tp, away=(r, width),
+            and _pieces_hold(([s2], [node_mid]), ref_sols, edges, rolls, tol, Tp, away=(r, width),
                              floor=model.settings.hold_floor if cyc.roots.scanned else 0.0)):
         return None
     # functions of theta and the mode only
@@ -1157,7 +1193,7 @@ def piece_guess(keys, tau, dtau, key, x, edges):
     return np.where(same & (h > 0.0) & np.isfinite(herm), herm, np.nan)
 
 
-def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float, away=None,
+def _pieces_hold(nodes, ref_sols, edges, rolls: bool, tol: float, period: float, away=None,
                  floor: float = 0.0) -> bool:
     """Whether every evaluated node lies on its piece's side of every sign change: no component has the
     opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's ends (where a
@@ -1166,7 +1202,9 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
     ``away`` = (points, width): nor at a node within ``width`` of a point (sorted; the strips a breakpoint may have
     moved through since the nodes were placed, :func:`relinearised_cycle`).  ``floor``: a contradiction counts only
     where the node's value and the piece's both exceed ``floor`` times the component's largest |value| over the nodes
-    (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance)."""
+    (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance).  ``nodes``:
+    (cache, mids), the nodes' states and their pieces' midpoints."""
+    cache, mids = nodes
     rm = np.concatenate([r.theta for r in ref_sols])
     rv = np.concatenate([_components(r, rolls)[0] for r in ref_sols], axis=1)
     if floor > 0.0:
@@ -1314,7 +1352,7 @@ def cycle_peaks(cyc: ContactCycle, g: Cycloid, n_discs: int, rolls: bool) -> Cyc
     >>> from gearcalc.pins.contact import MULTIPLIER, REDUCER, CycloidProfile, contact_law
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> m = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, REDUCER)
-    >>> pk = cycle_peaks(mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-4), g, 1, False)
+    >>> pk = cycle_peaks(mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-4), g, 1, False)
     >>> pk.force > 0.0, pk.spin_abs
     (True, 0.0)
 

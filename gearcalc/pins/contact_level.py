@@ -23,12 +23,13 @@ from . import contact as pc
 from .checks import pin_circle_curtate
 from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .detail import contact_detail
-from .friction import friction_regime
+from .friction import PinFriction, friction_regime
 from .geometry import Cycloid
 from .operating import ARRAY_OPS
 from .profiles import ProfileParams, make_profile
 
-__all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "contact_level"]
+__all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "ContactDesign",
+           "contact_level"]
 
 
 def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
@@ -143,9 +144,22 @@ class ContactLevel:
     crank: object = None
 
 
-def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, axle_radius, friction_model: str,
-                  tol: float, play_free: bool, detail: bool = False,
-                  settings: ContactSettings | None = None) -> ContactLevel:
+@dataclass(frozen=True)
+class ContactDesign:
+    """One design at the contact level (the parameter object of :func:`contact_level`): the gear ``g``, its
+    ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating`` pins on axles of radius
+    ``axle_radius`` [mm] (None: fixed pins)."""
+
+    g: Cycloid
+    profile: object
+    law: object
+    n_discs: int
+    rotating: bool
+    axle_radius: float | None
+
+
+def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: float, play_free: bool,
+                  detail: bool = False, settings: ContactSettings | None = None) -> ContactLevel:
     r"""The compliant contact level (pins.md §5) of one design at one operating point.
 
     The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the
@@ -160,13 +174,11 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
 
     Parameters
     ----------
-    g : Cycloid; profile : the satellite (:func:`satellite_profile`); law : ContactLaw
+    design : ContactDesign
+        The gear, satellite profile, contact law, discs and pins (rotating, on axles of radius r [mm]).
     point : dict
         The operating point (:data:`gearcalc.pins.columns.OPERATING`): sliding f, rolling f_k [mm], axle f_c,
         mode ("multiplier" or "reducer"), shaft ("H" or "V") of torque T [N·m], speed n_H [rpm] (None: none).
-    n_discs : int
-    rotating : bool; axle_radius : float or None
-        Rotating pins on axles of radius r [mm].
     friction_model : str
         "consistent" or "first-order".
     tol : float
@@ -186,13 +198,14 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
     ------
     gearcalc.pins.contact.NoEquilibrium, gearcalc.pins.contact.Jam, gearcalc.pins.contact.Unresolvable
     """
-    mu_a, rolls_a, rolling_ok = contact_friction(rotating, g.R_b, axle_radius, point["sliding"], point["rolling"],
-                                                 point["axle"])
+    g, n_discs = design.g, design.n_discs
+    mu_a, rolls_a, rolling_ok = contact_friction(design.rotating, g.R_b, design.axle_radius, point["sliding"],
+                                                 point["rolling"], point["axle"])
     mu, rolls, f = float(mu_a[0]), bool(rolls_a[0]), float(point["sliding"])
     consistent = friction_model == "consistent" and not (mu == 0.0 and f == 0.0)
     torque, multiplier, on_V = point["torque"], point["mode"] == "multiplier", point["shaft"] == "V"
-    modes = pc.solve_modes(g, profile, law, torque, on_V, multiplier, n_discs, mu, f, rolls, consistent, tol=tol,
-                           rule=contact_rule(tol, settings), settings=settings)
+    case = pc.ContactCase(g, design.profile, design.law, n_discs, PinFriction(mu, f, rolls), torque, on_V)
+    modes = pc.solve_modes(case, multiplier, consistent, tol=tol, rule=contact_rule(tol, settings), settings=settings)
     residual, excess = pc.equilibrium_residual(modes.runs.values(), tol)
     if not excess <= 1.0:
         return ContactLevel(modes, residual, False, consistent, rolling_ok)
