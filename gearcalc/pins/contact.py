@@ -309,42 +309,52 @@ def cycle_at_torque(case: ContactCase, multiplier: bool, friction_in_equilibrium
     ----------
     .. [1] pins.md §4.7, §5.5, §7 (torque_shaft).
     """
-    from .. import units
+    return _TorquePasses(case, multiplier, friction_in_equilibrium, tol, seed, rule, settings).iterate(passes)
 
-    g, profile, law, n_discs, torque, torque_on_V = (case.g, case.profile, case.law, case.n_discs, case.torque,
-                                                     case.torque_on_V)
-    mu_eff, sliding_friction, rolls = case.friction.mu_eff, case.friction.sliding, case.friction.rolls
-    sigma = MULTIPLIER if multiplier else REDUCER
-    st = DEFAULT_SETTINGS if settings is None else settings
-    friction = case.friction if friction_in_equilibrium else None
-    grid = CycleGrid(n_start=st.cycle_n_start, n_min=st.cycle_n_min, coarse_scan=st.cycle_coarse_scan,
-                     at_once=st.cycle_at_once)
-    T = float(torque)
-    lam, cyc, model, T_V, history, torques = 0.0, None, None, None, [], []
-    remainder = 0.0
-    settled = True
-    frictionless = mu_eff == 0.0 and sliding_friction == 0.0
 
-    def coarse(model, sol):
+class _TorquePasses:
+    """The passes of the torque fixed point of one design in one mode (:func:`cycle_at_torque`): its set-up (the
+    case, mode, friction in the balance, tolerance, quadrature rule, settings and the cycle mean's grid) and the
+    model and cycle of each pass."""
+
+    def __init__(self, case: ContactCase, multiplier: bool, friction_in_equilibrium: bool, tol: float,
+                 seed: "ContactModel | None", rule: str, settings: ContactSettings | None):
+        from .. import units
+
+        self.case, self.multiplier, self.tol, self.seed, self.rule = case, multiplier, tol, seed, rule
+        self.nm_to_nmm = units.nm_to_nmm
+        self.st = st = DEFAULT_SETTINGS if settings is None else settings
+        self.sigma = MULTIPLIER if multiplier else REDUCER
+        self.friction = case.friction if friction_in_equilibrium else None
+        self.grid = CycleGrid(n_start=st.cycle_n_start, n_min=st.cycle_n_min, coarse_scan=st.cycle_coarse_scan,
+                              at_once=st.cycle_at_once)
+
+    def coarse(self, model, sol):
         """lambda_bar from the window scan's uniform crank angles (no breakpoints): a coarse value."""
-        loss = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)[0]
+        g, fr = self.case.g, self.case.friction
+        loss = contact_losses(sol, g.R_b, fr.mu_eff, fr.sliding, fr.rolls)[0]
         return float(np.mean(loss.sum(axis=(0, 1)))) / (model.torque_sat * g.k / g.z1)
 
-    def make(T_V):
-        return ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction, st)
+    def make(self, T_V):
+        c = self.case
+        return ContactModel(c.g, c.profile, c.law, self.nm_to_nmm(T_V) / c.n_discs, self.sigma, self.friction, self.st)
 
-    def settles(remainder, history, cyc):
+    def settles(self, remainder, history, cyc):
         """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing, or, when
         the cycle mean itself did not converge (its quadrature at the cap of its angles: the tolerance is not met
         whatever the torque), below that mean's own error (more passes would refine what that error swamps)."""
+        tol = self.tol
         return (remainder <= max(0.1 * tol * abs(history[-1]), 1e-15) or fixed_point_settled(history[-2:], tol)
                 or (not cyc.converged and remainder <= cyc.loss_ratio_err))
 
-    def run(T_V, prev, window_only=False, n_initial=None):
-        model = make(T_V)
+    def run(self, T_V, prev, window_only=False, n_initial=None):
+        """A full pass at T_V: its model (from the last pass's, or the other mode's seed, mirrored) and cycle mean
+        (``window_only``: the coarse value of the window scan instead)."""
+        st, seed = self.st, self.seed
+        model = self.make(T_V)
         if prev is not None:
             model.inherit(prev)
-        elif seed is not None and seed.sigma != sigma:
+        elif seed is not None and seed.sigma != self.sigma:
             model.mirror(seed)
         # the breakpoints moved from the last pass's (a nearby torque); a mode's first full pass scans (the other
         # mode's, mirrored, took three calls to move where the coarse scan takes one, pins.md §6)
@@ -357,88 +367,102 @@ def cycle_at_torque(case: ContactCase, multiplier: bool, friction_in_equilibrium
         try:
             with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
                 if window_only:
-                    out = coarse(model, model.set_window())
+                    out = self.coarse(model, model.set_window())
                     model.roots = None        # the first full pass scans (above)
                     return model, out
-                return model, mean_loss_ratio(model, case.friction, tol, grid, n_initial=n_initial, rule=rule,
-                                              prior=prior, prior_width=width)
+                return model, mean_loss_ratio(model, self.case.friction, self.tol, self.grid, n_initial=n_initial,
+                                              rule=self.rule, prior=prior, prior_width=width)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise
 
-    prev = None
-    if not torque_on_V and not frictionless:
-        # a coarse loss ratio from the candidate-window scan (uniform angles, no breakpoints) starts the
-        # fixed point close to it: two or three full passes then settle it
-        prev, lam = run(g.ratio * T, None, window_only=True)
-        if not (np.isfinite(lam) and lam < 1.0):
-            lam = 0.0
-    a = -1.0 if multiplier else 1.0          # the fixed point phi(T_V) = T_V (1 + a lambda(T_V)) - u T_H = 0
-    uT = g.ratio * T
-    locked = stalled = False
-    T_next = None
-    base = None         # (cycle, model) of the last full pass, whose nodes the next pass starts from
-    for _ in range(passes):
-        if torque_on_V:
-            T_V = T
-        elif multiplier and lam >= 1.0:
-            locked = True                  # self-locking: no T_V balances T_H; keep the last solution
-            break
+    def iterate(self, passes: int) -> TorqueCycle:
+        """The fixed point's passes (at most ``passes``; :func:`cycle_at_torque`)."""
+        case, multiplier, tol, rule = self.case, self.multiplier, self.tol, self.rule
+        g, torque_on_V, fr = case.g, case.torque_on_V, case.friction
+        T = float(case.torque)
+        lam, cyc, model, T_V, history, torques = 0.0, None, None, None, [], []
+        remainder = 0.0
+        settled = True
+        frictionless = fr.mu_eff == 0.0 and fr.sliding == 0.0
+        prev = None
+        if not torque_on_V and not frictionless:
+            # a coarse loss ratio from the candidate-window scan (uniform angles, no breakpoints) starts the
+            # fixed point close to it: two or three full passes then settle it
+            prev, lam = self.run(g.ratio * T, None, window_only=True)
+            if not (np.isfinite(lam) and lam < 1.0):
+                lam = 0.0
+        a = -1.0 if multiplier else 1.0          # the fixed point phi(T_V) = T_V (1 + a lambda(T_V)) - u T_H = 0
+        uT = g.ratio * T
+        locked = stalled = False
+        T_next = None
+        base = None         # (cycle, model) of the last full pass, whose nodes the next pass starts from
+        for _ in range(passes):
+            if torque_on_V:
+                T_V = T
+            elif multiplier and lam >= 1.0:
+                locked = True                  # self-locking: no T_V balances T_H; keep the last solution
+                break
+            else:
+                T_V = T_next if T_next is not None else uT / (1.0 + a * lam)
+            lite = None
+            if base is not None:
+                # a pass from the last full pass's nodes, its breakpoints not moved (:func:`relinearised_cycle`);
+                # refused (a contact comes or goes, a breakpoint moves too far for the tolerance): a full pass, the
+                # next base
+                lite_model = self.make(T_V)
+                lite_model.inherit(model)
+                lite = relinearised_cycle(lite_model, base[0], base[1], tol)
+                base = None if lite is None else base
+                if lite is not None:
+                    model, cyc = lite_model, lite
+            if lite is None:
+                # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
+                # changes little between passes: two doublings then usually suffice)
+                model, cyc = self.run(T_V, prev,
+                                      n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
+                prev = model
+                if self.st.cycle_relinearise and cyc.nodes is not None:
+                    base = (cyc, model)
+            finite = np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.sol.v_t))   # forces and speeds
+            if not (np.isfinite(cyc.loss_ratio) and finite):
+                raise Unresolvable("non-finite contact forces or losses")
+            history.append(cyc.loss_ratio)
+            torques.append(T_V)
+            lam = cyc.loss_ratio
+            if torque_on_V or frictionless:
+                remainder = 0.0
+                break
+            if not multiplier and reducer_stalls(history, torques, uT):
+                locked = stalled = True        # the losses at no load exceed the input: keep the last solution
+                break
+            remainder, T_next = _fixed_point_step(history, torques, uT, a)
+            if fixed_point_stalls(history):
+                # lambda(T_V) jumps (a contact comes and goes with the torque): no contraction, so the secant's
+                # remainder (which a wandering history can make small by chance) says nothing: not settled, whatever
+                settled = False
+                break
+            if self.settles(remainder, history, cyc):
+                break
         else:
-            T_V = T_next if T_next is not None else uT / (1.0 + a * lam)
-        lite = None
-        if base is not None:
-            # a pass from the last full pass's nodes, its breakpoints not moved (:func:`relinearised_cycle`); refused
-            # (a contact comes or goes, a breakpoint moves too far for the tolerance): a full pass, the next base
-            lite_model = make(T_V)
-            lite_model.inherit(model)
-            lite = relinearised_cycle(lite_model, base[0], base[1], tol)
-            base = None if lite is None else base
-            if lite is not None:
-                model, cyc = lite_model, lite
-        if lite is None:
-            # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
-            # changes little between passes: two doublings then usually suffice)
-            model, cyc = run(T_V, prev,
-                             n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
-            prev = model
-            if st.cycle_relinearise and cyc.nodes is not None:
-                base = (cyc, model)
-        finite = np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.sol.v_t))   # forces and speeds
-        if not (np.isfinite(cyc.loss_ratio) and finite):
-            raise Unresolvable("non-finite contact forces or losses")
-        history.append(cyc.loss_ratio)
-        torques.append(T_V)
-        lam = cyc.loss_ratio
-        if torque_on_V or frictionless:
-            remainder = 0.0
-            break
-        if not multiplier and reducer_stalls(history, torques, uT):
-            locked = stalled = True        # the losses at no load exceed the input: keep the last solution
-            break
-        remainder, T_next = _fixed_point_step(history, torques, uT, a)
-        if fixed_point_stalls(history):
-            # lambda(T_V) jumps (a contact comes and goes with the torque): no contraction, so the secant's remainder
-            # (which a wandering history can make small by chance) says nothing: not settled, whatever it is
             settled = False
-            break
-        if settles(remainder, history, cyc):
-            break
-    else:
-        settled = False
-    if (locked and not stalled) or not settled:
-        # the passes ran out or stalled, or the multiplier locked on the way (a stalled reducer has no fixed point:
-        # its loss ratio is the last pass's, with that pass's quadrature error): the remainder is not known to be
-        # small; the spread of all passes (the last change at least) is in the error (never less): a loss ratio that
-        # jumps with the torque takes any of those values near the torques the passes tried
+        E = _fixed_point_error(cyc, history, remainder, (locked and not stalled) or not settled)
+        if frictionless:
+            lam, E = 0.0, 0.0
+        return TorqueCycle(cyc, model, T_V, lam, E, history, settled, locked, stalled)
+
+
+def _fixed_point_error(cyc, history, remainder: float, unsettled: bool) -> float:
+    """The torque cycle's error: the quadrature's plus the fixed point's remaining change.  ``unsettled``: the passes
+    ran out or stalled, or the multiplier locked on the way (a stalled reducer has no fixed point: its loss ratio is
+    the last pass's, with that pass's quadrature error): the remainder is not known to be small; the spread of all
+    passes (the last change at least) is in the error (never less): a loss ratio that jumps with the torque takes
+    any of those values near the torques the passes tried."""
+    if unsettled:
         spread = max(history) - min(history) if len(history) >= 3 else 0.0
         remainder = max(remainder if math.isfinite(remainder) else 0.0, spread,
                         abs(history[-1] - history[-2]) if len(history) >= 2 else 0.0)
-    # the error: the quadrature's plus the fixed point's remaining change
-    E = cyc.loss_ratio_err + (remainder if math.isfinite(remainder) else 0.0)
-    if frictionless:
-        lam, E = 0.0, 0.0
-    return TorqueCycle(cyc, model, T_V, lam, E, history, settled, locked, stalled)
+    return cyc.loss_ratio_err + (remainder if math.isfinite(remainder) else 0.0)
 
 
 # ============================================================ modes, residual, speeds, powers (pins.md §4.9, §5.5, §8)
