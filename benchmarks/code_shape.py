@@ -149,7 +149,8 @@ def main(root: str = "gearcalc/pins") -> None:
     print(f"functions with > 8 parameters (package): {len(many)}; max {max((_params(f) for _, f in funcs), default=0)}")
     for n, m, name in many:
         print(f"   {n:3d} {m}.{name}")
-    print(f"  of them in the contact modules: {sum(m in contact for _, m, _ in many)}")
+    print(f"  of them in the contact modules: {sum(m in contact for _, m, _ in many)}; max parameters there: "
+          f"{max((_params(f) for m, f in funcs if m in contact), default=0)}")
     long_ = sorted(((_span(f), _code_span(f), m, f.name) for m, f in funcs if _span(f) > 80), reverse=True)
     print(f"functions over 80 lines (package): {len(long_)}; without their docstrings: "
           f"{sum(c > 80 for _, c, _, _ in long_)}")

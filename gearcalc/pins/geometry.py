@@ -280,6 +280,9 @@ def as_arrays(g: Cycloid) -> Cycloid:
     return Cycloid(*(np.atleast_1d(v) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
 
 
+_as_arrays = as_arrays          # its former name (issue 35 made it public): for code written against that one
+
+
 def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: int = 2) -> np.ndarray:
     """psi* of many gears at once [rad]: pi where k = 1, else the first root of h = epsilon + pi/z1.
 
