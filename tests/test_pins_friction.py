@@ -71,3 +71,18 @@ def test_every_level_uses_the_one_rule():
     assert efficiency.rolling_condition is fr.rolling_condition
     assert efficiency.rotating_loss_coefficient is fr.rotating_loss_coefficient
     assert contact_cycle.PinFriction is fr.PinFriction
+
+
+def test_the_coulomb_law_through_the_interface_is_the_contact_levels_own_bit_for_bit():
+    # the extension point is the path the numbers take: the contact cycle with Coulomb(f) as an explicit FrictionLaw
+    # (its coefficient read at every contact's speed and force) equals the built-in rule's, bit for bit, with the
+    # friction forces in the balance too
+    from gearcalc.pins import contact as pc
+    from gearcalc.pins.geometry import Cycloid
+    g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    prof, law = pc.CycloidProfile(g, 0.0, 0.01), pc.contact_law("linear", stiffness=1e5)
+    out = []
+    for friction in (fr.PinFriction(0.1, 0.1, False), fr.PinFriction(0.1, 0.1, False, fr.Coulomb(0.1))):
+        tc = pc.cycle_at_torque(pc.ContactCase(g, prof, law, 1, friction, 10.0, True), False, True, tol=1e-4)
+        out.append((tc.loss_ratio, tc.loss_ratio_err, tc.cycle.sol.tau.tobytes(), tc.cycle.loss.tobytes()))
+    assert out[0] == out[1]
