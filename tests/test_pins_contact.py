@@ -761,6 +761,6 @@ def test_interior_states_without_a_located_sign_change(monkeypatch):
 
     seen = SimpleNamespace(theta=np.array([0.1, 0.5, 0.9]))
     found = SimpleNamespace(seen=[seen], roots=np.empty(0))
-    monkeypatch.setattr(cc, "_concat", lambda parts: parts[0])
-    col, known = cc._interior_states(found, np.array([0.2, 0.8]), 1.0)
+    monkeypatch.setattr(cc, "concat_states", lambda parts: parts[0])
+    col, known = cc._interior_states(found, np.array([0.2, 0.8]), 1.0, cc.DEFAULT_SETTINGS.interior_margin)
     assert col.tolist() == [0, 2] and known is seen
