@@ -108,8 +108,10 @@ def optimize_body(a) -> int:
         fixed = dict(dmod.parse_set(a.sets)) if a.sets else {}
         points = [{**fixed, **{k: row[k] for k in box.keys}} for row in r.rows()]
         try:
-            for path in save_designs(a.save, a.file, raw, points):
-                cli.err(f"{where}: wrote {path}")
+            paths = save_designs(a.save, a.file, raw, points)
+            cli.err(f"{where}: wrote {paths[0]}" if len(paths) == 1 else
+                    f"{where}: wrote {len(paths)} design files {os.path.basename(paths[0])} .. "
+                    f"{os.path.basename(paths[-1])} into {a.save}")
         except FileExistsError as exc:
             raise cli.Abort(f"--save {a.save}: {exc.args[0]} exists (never replaced; choose another folder)") from None
         except OSError as exc:
@@ -122,12 +124,11 @@ def plot_front(r, path: str) -> None:
     dominated feasible points and the infeasible ones."""
     import numpy as np
 
-    from ..plot import _label, figure, save
+    from ..plot import _label, _pyplot, save
     from .optimize import _column
 
     s = r.samples
-    fig = figure()
-    ax = fig.subplots()
+    fig, ax = _pyplot().subplots(figsize=(7, 5))
     feas = np.array(s.data["feasible"], dtype=bool)
     o = r.objectives
     x = _column(s, o[0].field)
