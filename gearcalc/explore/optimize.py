@@ -358,9 +358,8 @@ def optimize_design(raw: dict, source: str, box, objectives, conditions, options
         if refine:
             starts = [(values[k, ints].astype(int), U[k, ~ints]) for k in order]
             runs = {}
-            for iv, u0 in starts:
-                if (~ints).any():
-                    runs[tuple(iv.tolist())] = _refine(P, iv, u0, scale)
+            for iv, u0 in starts:  # integer keys only: nothing to refine, the neighbourhood decides
+                runs[tuple(iv.tolist())] = _refine(P, iv, u0, scale) if (~ints).any() else (True, "")
             center = _best(P, box)
             moves = 0
             while ints.any() and moves <= MOVES_MAX:
