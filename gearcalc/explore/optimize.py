@@ -20,8 +20,8 @@ One objective (``--objective FIELD:min|max``):
 The optimum reported is the best feasible point evaluated (sampled, refined or a difference point), so it meets
 every condition exactly; ``converged`` says that the winning refinement ended with SLSQP's success and the integer
 neighbourhood held no better point.  The objective's error is its ``FIELD_err`` output where the kind reports one
-(e.g. ``efficiency_err``), else 0 (exact to rounding: the field is a closed form).  Each ``--where`` is reported
-with its slack; a constraint is *active* within :data:`ACTIVE_TOL` (relative) of its bound.
+(e.g. ``efficiency_err``, ``sigma_max_err_MPa``), else 0 (exact to rounding: the field is a closed form).  Each
+``--where`` is reported with its slack; a constraint is *active* within :data:`ACTIVE_TOL` (relative) of its bound.
 
 Several objectives: the non-dominated feasible points of the sample (the Pareto front; not refined), each
 objective minimised or maximised as given.
@@ -387,7 +387,7 @@ def optimize_design(raw: dict, source: str, box, objectives, conditions, options
         result.optimum = {k: row[k] for k in box.keys}
         result.outputs = {k: v for k, v in row.items() if k != "error"}
         result.value = row[obj.field]
-        err = row.get(f"{obj.field}_err")
+        err = row.get(error_field(obj.field, row))
         result.error = float(err) if isinstance(err, (int, float)) and not isinstance(err, bool) else 0.0
         for c in conditions:
             s = slack(c, [row.get(c.field)])
@@ -397,6 +397,22 @@ def optimize_design(raw: dict, source: str, box, objectives, conditions, options
         result.converged = converged
         result.evaluations = ev.evaluations
     return result
+
+
+def error_field(name: str, row) -> str | None:
+    """The output holding the error estimate of output ``name``: ``NAME_err`` or, for a name with a unit,
+    ``BASE_err_UNIT`` (zstk's ``sigma_max_err_MPa``); None when the kind reports none.
+
+    >>> error_field("sigma_max_MPa", {"sigma_max_err_MPa": 1e-9}), error_field("K", {"K": 1.0})
+    ('sigma_max_err_MPa', None)
+    """
+    from ..units import split_unit
+
+    base, unit = split_unit(name)
+    for candidate in (f"{name}_err", f"{base}_err_{unit}" if unit else None):
+        if candidate and candidate in row:
+            return candidate
+    return None
 
 
 def _reorder(cols, order):
