@@ -94,7 +94,7 @@ O_WHERE = typer.Option(None, "--where", metavar="'FIELD<=VALUE'",
 O_SAMPLE = typer.Option(None, "--sample", metavar="sobol:N|lhs:N|random:N",
                         help="Sample N points of the --vary KEY=LO:HI ranges instead of a grid (integer keys as "
                         "integers, LO..HI inclusive).")
-O_SEED = typer.Option(0, "--seed", help="The seed of --sample (the same seed, the same points).")
+O_SEED = typer.Option(0, "--seed", help="The seed of the sampled points (the same seed, the same points).")
 
 
 def model_levels(kinds) -> str:

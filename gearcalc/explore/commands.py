@@ -60,9 +60,9 @@ def optimize_body(a) -> int:
     from .where import WhereError, parse_where
 
     fmt, cluster, raw, where = _common(a, a.plot)
-    if a.save is not None:
-        cli.check_output_path(a.save, [a.file], "--save") if os.path.exists(a.save) and not os.path.isdir(a.save) \
-            else None
+    if a.save is not None and (os.path.exists(a.save) and not os.path.isdir(a.save)
+                               or not os.path.isdir(os.path.dirname(os.path.abspath(a.save)))):
+        raise cli.Abort(f"--save {a.save}: must be a folder (created when missing) in an existing folder")
     try:
         box = parse_ranges(a.vary, raw)
         objectives = parse_objectives(a.objective)
