@@ -46,6 +46,9 @@ ACTIVE_TOL = 1e-4
 NEIGHBOURS_MAX = 27
 MOVES_MAX = 10
 MAXITER = 100
+REFINE_BUDGET = 20
+"""The refinement evaluates at most this many times the global phase's points (and at most the estimated
+computing time a sweep may take, :data:`gearcalc.grid.SWEEP_SECONDS_MAX`); beyond, it stops unconverged."""
 
 
 class OptimizeError(ValueError):
@@ -170,6 +173,7 @@ class _Problem:
         self.box, self.objectives, self.conditions = box, objectives, conditions
         self.evaluate, self.calc = evaluator, calc
         self.archive = []  # (f, feasible, row) of every evaluated point, single objective
+        self.limit = None  # the evaluations the refinement may reach
 
     def feasible(self, cols):
         import numpy as np
@@ -238,6 +242,8 @@ def _refine(problem, ints, u0, scale):
         key = tuple(np.round(u, 15).tolist())
         if key in cache:
             return cache[key]
+        if problem.limit is not None and problem.evaluate.evaluations >= problem.limit:
+            raise _Undefined("the refinement's budget of evaluations is spent")
         h = np.where(u + STEP <= 1.0, STEP, -STEP)
         pts = [u] + [u + h[i] * e for i, e in enumerate(np.eye(dc))] + [
             np.clip(u - h[i] * e, 0.0, 1.0) for i, e in enumerate(np.eye(dc))]
@@ -261,7 +267,7 @@ def _refine(problem, ints, u0, scale):
     def fun(u):
         v = batch(u)
         if not v[4]:
-            raise _Undefined
+            raise _Undefined("a point near the candidate is not a valid design (refinement stopped there)")
         return v[0]
 
     constraints = []
@@ -274,8 +280,8 @@ def _refine(problem, ints, u0, scale):
     try:
         res = minimize(fun, u0, jac=lambda u: batch(u)[1], method="SLSQP", bounds=[(0.0, 1.0)] * dc,
                        constraints=constraints, options={"maxiter": MAXITER, "ftol": 1e-12})
-    except _Undefined:
-        return False, "a point near the candidate is not a valid design (refinement stopped there)"
+    except _Undefined as exc:
+        return False, str(exc)
     return bool(res.success), str(res.message)
 
 
@@ -324,6 +330,9 @@ def optimize_design(raw: dict, source: str, box, objectives, conditions, options
         if problem:
             raise SweepError(problem.replace("the grid has", "the global phase has"))
         P = _Problem(box, objectives, conditions, ev, calc)
+        from ..grid import SWEEP_SECONDS_MAX
+
+        P.limit = budget + min(REFINE_BUDGET * budget, int(SWEEP_SECONDS_MAX * max(jobs, 1) / max(seconds, 1e-12)))
         cols = ev(samples_axes)
         P.check_names(cols)
         feas = P.feasible(cols)
