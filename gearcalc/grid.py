@@ -598,6 +598,8 @@ def _values_to_check(values: list) -> list:
 
         if all(map(math.isfinite, values)):
             return [min(values), max(values)]
+    if len(values) > 2 and all(type(v) is int for v in values):  # e.g. a sample's integer key: each value once
+        return list(dict.fromkeys(values))
     return values
 
 
