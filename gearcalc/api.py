@@ -219,7 +219,8 @@ def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None
 
     from . import grid as sw
 
-    axes = {k: v if isinstance(v, Sequence) and not isinstance(v, str) else list(v) for k, v in axes.items()}
+    axes = (sw.Sample if isinstance(axes, sw.Sample) else dict)(  # a Sample (explore.api.sample): its points
+        {k: v if isinstance(v, Sequence) and not isinstance(v, str) else list(v) for k, v in axes.items()})
     raw, source = _raw(design, overrides)
     _check_tol(tol)
     kind = raw.get("kind")
