@@ -336,8 +336,11 @@ class Calculator:
                 out[c.name] = count
         return out
 
-    def check_named(self, name: str) -> Check | None:
-        return next((c for c in self.checks if c.name == name), None)
+    def check_lines(self, failed: dict, total: int, what: str) -> list:
+        """One line per design check that some points (or designs) fail (``failed``: check name -> count), in the
+        order of :attr:`checks`: "312 of 4096 points fail sigma (sigma_max > allowable_stress)"."""
+        return [f"{failed[c.name]} of {total} {what} fail {c.name} ({c.fails})" for c in self.checks
+                if failed.get(c.name)]
 
     def table(self, name: str) -> Table | None:
         for t in self.tables:

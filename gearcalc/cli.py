@@ -577,9 +577,9 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
 
 
 def check_counts(calc, failed: dict, total: int, what: str) -> list:
-    """One line per design check that some points (or designs) fail, in the calculator's order of checks:
-    "312 of 4096 points fail sigma (sigma_max > allowable_stress)"."""
-    lines = [f"{failed[c.name]} of {total} {what} fail {c.name} ({c.fails})" for c in calc.checks if failed.get(c.name)]
+    """A sweep's closing lines: one per design check that some points fail (:meth:`Calculator.check_lines`), and
+    the count of the points without results."""
+    lines = calc.check_lines(failed, total, what)
     if failed.get("errors"):
         lines.append(f"{failed['errors']} of {total} {what} have no results (not a valid design, or a non-finite "
                      "output: the reason is in their error column)")

@@ -43,7 +43,7 @@ def check(design, problems: Problems) -> None:
         return
     if not given("rows.cheek_ratio"):
         design.values["rows"]["cheek_ratio"] = 0.25
-    za, m = design["gear.sun_teeth"], design["gear.module_mm"]
+    za = design["gear.sun_teeth"]
     if given("gear.ratio") and given("gear.planet_teeth"):
         i_teeth = G.ratio_from_planet_teeth(design["gear.planet_teeth"], za)
         if abs(i_teeth - design["gear.ratio"]) > 1e-9 * i_teeth:
@@ -363,7 +363,8 @@ def bridges_columns(base, axes, points, col, f, n, nw, bore, E, nu, C, column):
     for name, values in (("bridge_rel", rel), ("bridge", H)):
         for j in range(first_n):
             out[f"{name}_{j + 1}" + ("_mm" if name == "bridge" else "")] = column(values[j], ~np.isnan(values[j]))
-    out.update(bridges_feasible=column(feasible), margin_bridge_fit=column(margin), K_balanced=column(K["sized"], ~np.isnan(K["sized"])),
+    out.update(bridges_feasible=column(feasible), margin_bridge_fit=column(margin),
+               K_balanced=column(K["sized"], ~np.isnan(K["sized"])),
                K_balanced_pitch=column(K["pitch"], ~np.isnan(K["pitch"])),
                K_balanced_root=column(K["root"], ~np.isnan(K["root"])), unloaded_rows_balanced=unloaded)
     seen = first_n

@@ -173,7 +173,8 @@ def sweep(base, raw, axes, points, options):
     points are validated element-wise with the arithmetic of :func:`check` and solved in stacks of
     the same N, exactly as :func:`compute` would solve each.  Points that are not valid designs raise
     :class:`~gearcalc.calculator.InvalidPoints` with the message each point on its own gives (key and
-    constraint); the sweep computes the others and gives these a row with the reason.  Grids with "cycle" or "envelope" points return None (evaluated point by point: each
+    constraint); the sweep computes the others and gives these a row with the reason.  Grids with "cycle" or
+    "envelope" points return None (evaluated point by point: each
     such point runs adaptive sweeps of its own).
     """
     import numpy as np

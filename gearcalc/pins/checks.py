@@ -17,7 +17,8 @@ from ..calculator import Check
 from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_TOL_MIN, IDEAL_SWEEP_WORK_MAX,
                      IDEAL_WORK_MAX)
 
-__all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVEL_KEYS", "level_reason", "contact_law_problem", "Violations", "violations",
+__all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVEL_KEYS", "level_reason",
+           "contact_law_problem", "Violations", "violations",
            "pin_circle_curtate", "tooth_too_large", "design_problems", "ideal_admissibility", "ideal_over_budget",
            "contact_passes", "contact_over_budget", "computed_alone", "points_pass"]
 

@@ -429,7 +429,8 @@ def size_bridges_batch(rows: int, planets_per_row, sun_diameter, module, rim_wid
     rel = np.where(room[:, None], H / np.where(room, H_max, 1.0)[:, None], 0.0)  # never 0/0 (rows.md §13.6)
     feasible = (flags == 0).all(axis=1)
     return {"H": H, "H_max": H_max, "H_rel": rel, "D": D, "flags": flags, "feasible": feasible,
-            "margin": fit_margin(worst, H_max, 2.0 * math.pi * a_c / nw, feasible), "Q": Q, "axle_compliance": delta_o, "stiffness": stiffness, "a_w": a_w, "a_c": a_c, "planet_teeth": z_g}
+            "margin": fit_margin(worst, H_max, 2.0 * math.pi * a_c / nw, feasible), "Q": Q, "axle_compliance": delta_o,
+            "stiffness": stiffness, "a_w": a_w, "a_c": a_c, "planet_teeth": z_g}
 
 
 def fit_margin(worst, H_max, pitch_arc, feasible):

@@ -232,7 +232,8 @@ def bridge_fields(res, sizing_diameter, verified) -> tuple[dict, list[dict]]:
     s.update({f"bridge_{j + 1}_mm": float(H[j]) for j in range(n)})
     sized = verified["sized"]
     u_bal = None if sized.K is None else sized.shares
-    s.update(bridges_feasible=res["feasible"], margin_bridge_fit=res["margin"], K_balanced=sized.K, K_balanced_pitch=verified["pitch"].K,
+    s.update(bridges_feasible=res["feasible"], margin_bridge_fit=res["margin"], K_balanced=sized.K,
+             K_balanced_pitch=verified["pitch"].K,
              K_balanced_root=verified["root"].K, unloaded_rows_balanced=[] if u_bal is None else sized.unloaded)
     detail = [{"span": j + 1, "D": float(res["D"][j]), "H_mm": float(H[j]), "H_rel": float(rel[j]),
                "flag": res["flags"][j], "u_balanced": None if u_bal is None else float(u_bal[j])} for j in range(n)]
