@@ -36,8 +36,8 @@ def rolling_margin(sliding, bushing_radius, axle_friction, axle_radius, rolling)
     --------
     >>> round(float(rolling_margin(0.1, 1.95, 0.1, 0.95, 0.01)), 12)   # (0.195 - 0.105)/0.195
     0.461538461538
-    >>> float(rolling_margin(0.01, 1.95, 0.1, 0.95, 0.01))
-    -0.8167938931297709
+    >>> round(float(rolling_margin(0.01, 1.95, 0.1, 0.95, 0.01)), 12)   # (0.0195 - 0.105)/0.105
+    -0.814285714286
     """
     drive = np.asarray(sliding, dtype=float) * np.asarray(bushing_radius, dtype=float)
     resist = np.asarray(axle_friction, dtype=float) * np.asarray(axle_radius, dtype=float) + np.asarray(rolling,
