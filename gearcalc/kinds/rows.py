@@ -246,9 +246,9 @@ def sweep(base, raw, axes, points, options):
         m = R.mass_and_optimum(ratio(col), (np.full(P, lo), np.full(P, hi)), options.tol,
                                **mass_params(col, n, nw, f, E, nu, unev, deg_to_rad(col("gear.pressure_angle_deg"))))
         cols.update(W.mass_fields(m, unev, column))
+    cols.update(margins(col, f, d_i, cols.get("margin_bridge_fit"), column, P))
     for key in late if base.has("bridges") else ():
         cols[key] = cols.pop(key)
-    cols.update(margins(col, f, d_i, cols.get("margin_bridge_fit"), column, P))
     return cols  # column-major: the sweep writes it without building a dict per point
 
 

@@ -107,7 +107,7 @@ def margin_columns(cols: dict, v: dict) -> dict:
     has_roll = np.array([x is not None for x in cols["rolling_ok"]])
     roll = rolling_margin(*(_floats(v[k]) for k in ("sliding", "Rb", "axle", "r", "rolling"))) if has_roll.any() \
         else np.zeros(len(locked))
-    stress = stress_margin(_floats(cols["contact_stress_max_MPa"]), _floats(v["allowable"]))
+    stress = stress_margin(_floats(cols["contact_stress_max_MPa"]), _floats(v.get("allowable", [None] * len(locked))))
     out = {"margin_self_locking": _plain(lock, has_lock), "margin_rolling": _plain(roll, has_roll & ~np.isnan(roll)),
            "margin_contact_stress": _plain(stress, ~np.isnan(stress))}
     out["failed_checks"] = failed_check_column(out, CHECKS, len(locked))
