@@ -205,8 +205,9 @@ def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None
     with ``.rows()``, a DataFrame with ``.to_pandas()``), in grid order.  Memory is bounded by the chunk,
     not by the grid.  ``scheduler``: the chunks are computed on a Dask cluster (an address, ``"local:N"``
     or a ``distributed.Client``; needs the ``dask`` extra), the same values in the same order.
-    A point whose output would be infinite or NaN has every output None and its message in the chunk's
-    ``errors`` (``"at {'KEY': VALUE}: FIELD: the computed value is inf (...)"``); the other points are computed.
+    A point that is not a valid design, or whose output would be infinite or NaN, has every output None, its
+    reason in the column ``error`` (None for a computed point) and its message in the chunk's ``errors``
+    (``"at {'KEY': VALUE}: FIELD: the computed value is inf (...)"``); the other points are computed.
 
     >>> import gearcalc
     >>> base = {"kind": "rows", "gear": {"sun_teeth": 18, "module_mm": 5.0},

@@ -214,6 +214,18 @@ class DesignError(Exception):
         self.message = message
 
 
+class InvalidPoints(DesignError):
+    """Some points of a vectorised sweep (``Calculator.sweep``) are not valid designs: ``messages[k]`` is the
+    message of point k (its key and constraint, as the point alone would give), None for a valid point.  The sweep
+    computes the valid points and gives the others a row with its ``error`` (:func:`gearcalc.grid.evaluate_points`).
+    """
+
+    def __init__(self, messages: list):
+        first = next(m for m in messages if m is not None)
+        super().__init__("", first)
+        self.messages = messages
+
+
 @dataclass
 class Problems:
     """Collects every problem found in one design (errors) and the warnings."""
@@ -226,6 +238,50 @@ class Problems:
 
     def warn(self, message: str) -> None:
         self.warnings.append(message)
+
+
+@dataclass(frozen=True)
+class Check:
+    """A design check as a margin (architecture convention 10): the summary field ``margin_<name>`` holds a signed,
+    dimensionless margin, >= 0 passes, < 0 fails, None where the check does not apply.
+
+    name : the check's name in ``failed_checks`` (``"sigma"``); fails : what a failing point breaks, for the
+    run-end counts (``"sigma_max > allowable"``).
+    """
+
+    name: str
+    fails: str
+
+    @property
+    def field(self) -> str:
+        return "margin_" + self.name
+
+
+def failed_checks(summary: dict, checks) -> list:
+    """The names of the checks a design's summary fails (its margin < 0), in the order of ``checks``.
+
+    >>> failed_checks({"margin_sigma": -0.1, "margin_rim": None}, (Check("sigma", ""), Check("rim", "")))
+    ['sigma']
+    """
+    return [c.name for c in checks if _below_zero(summary.get(c.field))]
+
+
+def _below_zero(v) -> bool:
+    return v is not None and not isinstance(v, (bool, str)) and v < 0
+
+
+def failed_check_column(columns: dict, checks, n: int) -> list:
+    """:func:`failed_checks` of every point of column-major summaries (a list of lists of names)."""
+    masks = []
+    for c in checks:
+        col = columns.get(c.field)
+        if col is None:
+            continue
+        col = col.tolist() if hasattr(col, "tolist") else col
+        masks.append((c.name, [_below_zero(v) for v in col]))
+    if not masks:
+        return [[] for _ in range(n)]
+    return [[name for name, m in masks if m[k]] for k in range(n)]
 
 
 @dataclass(frozen=True)
@@ -260,19 +316,31 @@ class Calculator:
     sweep_plot: tuple[str, ...] = ()
     """The summary fields a sweep's figure plots against the varied key: the first that the sweep has."""
     failure: tuple[tuple[str, Any], ...] = ()
-    """(summary field, value) pairs that mean a failed design check, e.g. ``(("pass", False),)``: a sweep
-    counts its failed points by them (``compute`` reports the same checks in ``Result.failed``)."""
+    """(summary field, value) pairs of the flags kept for readers of earlier versions (e.g. ``(("pass", False),)``);
+    they are derived from the margins of :attr:`checks`."""
+    checks: tuple[Check, ...] = ()
+    """The design checks as margins (:class:`Check`): ``compute`` reports the failing ones in ``Result.failed``
+    and the summary's ``failed_checks``; a run counts the points failing each."""
 
-    def failed_points(self, columns: dict) -> int:
-        """How many points of column-major summaries fail a design check (see :attr:`failure`)."""
-        n = len(next(iter(columns.values()))) if columns else 0
-        bad = [False] * n
-        for name, value in self.failure:
-            col = columns.get(name)
+    def failed_points(self, columns: dict) -> dict:
+        """How many points of column-major summaries fail each design check (its margin < 0): check name -> count,
+        the checks with no failing point left out (an empty dict: every point passes)."""
+        out = {}
+        for c in self.checks:
+            col = columns.get(c.field)
+            if col is None:
+                continue
             col = col.tolist() if hasattr(col, "tolist") else col  # a numpy column: its values as Python's
-            if col is not None:
-                bad = [b or (v is not None and v == value and type(v) is type(value)) for b, v in zip(bad, col)]
-        return sum(bad)
+            count = sum(1 for v in col if _below_zero(v))
+            if count:
+                out[c.name] = count
+        return out
+
+    def check_lines(self, failed: dict, total: int, what: str) -> list:
+        """One line per design check that some points (or designs) fail (``failed``: check name -> count), in the
+        order of :attr:`checks`: "312 of 4096 points fail sigma (sigma_max > allowable_stress)"."""
+        return [f"{failed[c.name]} of {total} {what} fail {c.name} ({c.fails})" for c in self.checks
+                if failed.get(c.name)]
 
     def table(self, name: str) -> Table | None:
         for t in self.tables:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import contextlib
 import os
 import sys
+from collections import Counter
 from typing import List, Optional
 
 import typer
@@ -444,11 +445,9 @@ def sweep_cmd(
         if result is None:
             return EXIT_BUG
         failed, total, code = result
-        if failed:
-            err(f"{where}: check failed at {failed} of {total} points ("
-                + ", ".join(f"{k} = {_word(v)}" for k, v in calc.failure) + ")")
-            code = max(code, EXIT_CHECK)
-        return code
+        for line in check_counts(calc, failed, total, "points"):
+            err(f"{where}: {line}")
+        return max(code, EXIT_CHECK) if set(failed) - {"errors"} else code
 
     finish(body, debug)
 
@@ -614,19 +613,19 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: st
     from .output import stream, to_file
     from .render import CsvPiece, NonFiniteOutput, csv_blocks, json_array_piece, select_columns
 
-    failed = total = 0
+    failed, total = Counter(), 0
     code = EXIT_OK
     try:
         with stream(output if to_file(output) else None) as out:
             first = True
             for part in chunks:
-                if _point_errors(part, where):
+                if _point_errors(part, where, failed):
                     code = EXIT_INPUT
                 if isinstance(part, CsvPiece):  # formatted where it was computed (CsvRenderer)
                     if first:
                         _fields_or_abort(fields, part.columns)
                         out.write(part.header())
-                    failed += part.failed
+                    failed += Counter(part.failed)
                     total += part.n
                     for block in part.blocks():
                         out.write(block)
@@ -637,7 +636,7 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: st
                     _fields_or_abort(fields, part.data)
                 if not part.n and fmt == "json":  # every point filtered out (--where): no element
                     continue
-                failed += calc.failed_points(part.data)
+                failed += Counter(calc.failed_points(part.data))
                 total += part.n
                 shown = select_columns(part, fields, lead)
                 if fmt == "csv":
@@ -655,11 +654,18 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: st
     return failed, total, code
 
 
-def _point_errors(part, where: str) -> bool:
-    """Say the errors of a sweep chunk's points that could not be computed (their outputs are empty); any?"""
+POINT_ERRORS_SHOWN = 20
+"""The messages of points without results a sweep says one by one; the rest are counted at the end (each row
+has its reason in the ``error`` column)."""
+
+
+def _point_errors(part, where: str, said: Counter) -> bool:
+    """Say the errors of a sweep chunk's points that could not be computed (their outputs are empty, their reason
+    in the ``error`` column), the first :data:`POINT_ERRORS_SHOWN` of the sweep; any?"""
     errors = getattr(part, "errors", ())
-    for e in errors:
+    for e in errors[:max(0, POINT_ERRORS_SHOWN - said["errors"])]:
         err(f"{where}: {e}")
+    said["errors"] += len(errors)
     return bool(errors)
 
 
@@ -675,7 +681,8 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
         raise Abort(f"{where}: the grid has {total} points; {what} holds every point at once and takes at most "
                     f"{sw.MAX_WHOLE_POINTS} (memory): write --format csv or json, which stream any size")
     parts = list(chunks)
-    code = EXIT_INPUT if any([_point_errors(p, where) for p in parts]) else EXIT_OK
+    said = Counter()
+    code = EXIT_INPUT if any([_point_errors(p, where, said) for p in parts]) else EXIT_OK
     rows = sw.join_parts(parts)
     _fields_or_abort(fields, rows.data)
     default = list(calc.table_fields) or None
@@ -695,11 +702,17 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
         except ImportError:
             err(PLOT_HINT)
             code = EXIT_INPUT
-    return calc.failed_points(rows.data), rows.n, code
+    return Counter(calc.failed_points(rows.data)) + said, rows.n, code
 
 
-def _word(value) -> str:
-    return ("true" if value else "false") if isinstance(value, bool) else str(value)
+def check_counts(calc, failed: dict, total: int, what: str) -> list:
+    """A sweep's closing lines: one per design check that some points fail (:meth:`Calculator.check_lines`), and
+    the count of the points without results."""
+    lines = calc.check_lines(failed, total, what)
+    if failed.get("errors"):
+        lines.append(f"{failed['errors']} of {total} {what} have no results (not a valid design, or a non-finite "
+                     "output: the reason is in their error column)")
+    return lines
 
 
 def math_prod(values) -> int:

@@ -269,6 +269,7 @@ def run(designs: list, opts: Options, *, say: Callable = print, advance: Callabl
 
     said = Warnings(verbose, say)
     records, worst = [], EXIT_OK
+    failing: dict = {}  # kind -> check name -> designs failing it
     try:
         for d, result, lines, code in outcomes(designs, opts, debug, jobs, cluster,
                                                advance if cluster is not None else None):
@@ -283,6 +284,14 @@ def run(designs: list, opts: Options, *, say: Callable = print, advance: Callabl
             worst = max(worst, code)
             if result is not None:
                 records.append(Record(d.source, d.kind, d.name, d.resolved(), result))
+                for name in result.summary.get("failed_checks") or ():
+                    failing.setdefault(d.kind, {}).setdefault(name, 0)
+                    failing[d.kind][name] += 1
     finally:
         said.flush()
+    if len(designs) > 1:  # a batch ends with one line per failing check (interface.md "Checks")
+        for kind, counts in failing.items():
+            total = sum(1 for d in designs if d.kind == kind)
+            for line in registry.get(kind).check_lines(counts, total, f"{kind} designs"):
+                say(line)
     return records, worst

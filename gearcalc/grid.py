@@ -540,12 +540,9 @@ def grid_points(axes: dict[str, list[Any]]) -> Grid:
 
 
 def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
-    """Validate the axis values against the base design.
-
-    Every value is checked against its field (type and bounds, cheap); the whole design, with its
-    cross-key checks, is validated with each value substituted alone for at most
-    ``FULL_CHECKS`` representative values per axis (both ends and evenly spaced ones between).
-    Combinations are checked by the calculator's sweep or by the point-by-point evaluation.
+    """Validate the axis values: every value against its field (type, bounds, choices), a value its key never
+    accepts being a :class:`SweepError` before anything is computed.  A point whose values together do not make
+    a valid design (a cross-key rule) is a row with its reason (:func:`evaluate_points`), not an error.
     """
     import copy
 
@@ -562,20 +559,16 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
                 _, problem = check_value(field, v)
                 if problem:
                     raise SweepError(f"--vary {key}={_clip(v)}: {problem}")
-        step = max(1, len(values) // (FULL_CHECKS - 1))
-        picks = sorted(set(list(range(0, len(values), step)) + [len(values) - 1]))
-        for k in picks:
-            trial = copy.deepcopy(raw)
-            apply_set(trial, [(key, values[k])])
-            try:
-                validate(trial, source)
-            except InputError as exc:
-                prefix = display_name(source) + ": "  # the caller names the file once
-                raise SweepError("; ".join(f"--vary {key}={_clip(values[k])}: {m.removeprefix(prefix)}"
-                                           for m in exc.messages)) from None
+            continue
+        trial = copy.deepcopy(raw)  # not a key of the kind: the loader's words (did you mean ...?)
+        apply_set(trial, [(key, values[0])])
+        try:
+            validate(trial, source)
+        except InputError as exc:
+            prefix = display_name(source) + ": "  # the caller names the file once
+            raise SweepError("; ".join(f"--vary {key}={_clip(values[0])}: {m.removeprefix(prefix)}"
+                                       for m in exc.messages)) from None
 
-
-FULL_CHECKS = 16
 
 
 def _clip(value) -> str:
@@ -616,15 +609,22 @@ CHUNK_POINTS = 65_536
 the widest kind), and a progress bar advances per chunk; costly points make smaller chunks (:func:`chunk_points`)."""
 
 
+ERROR_FIELD = "error"
+"""The last column of every sweep row: why the point has no results (not a valid design, or a non-finite output;
+its outputs are then empty), None for a computed point (interface.md "Sweeps")."""
+
+
 def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: list[dict], options,
                     progress=None, arrays: bool = False) -> list[dict]:
     """Evaluate the given grid points: the calculator's vectorised sweep if it has one, else one by one.
     ``arrays``: columns of floats, counts or flags may stay numpy arrays (the CSV writer's fast path); else every
-    column of a :class:`Columns` is a list.  A point with a NaN or infinite output has its outputs None and its
-    message in the chunk's ``Columns.errors`` (:func:`blank_nonfinite`): the sweep goes on."""
+    column of a :class:`Columns` is a list.  A point that is not a valid design, or with a NaN or infinite output,
+    has its outputs None, its reason in the column :data:`ERROR_FIELD` and its message in the chunk's
+    ``Columns.errors`` (:func:`blank_nonfinite`): the sweep goes on."""
     import copy
 
     from . import registry
+    from .calculator import InvalidPoints
     from .design import InputError, apply_set, validate
     from .engine import finite_error, quiet_numpy
     from .render import Columns
@@ -636,20 +636,23 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
         try:
             with quiet_numpy():
                 summaries = fast(base, raw, axes, points, options)
-        except DesignError as exc:
-            raise SweepError(str(exc)) from None
+        except InvalidPoints as exc:  # the valid points computed together, the others rows with their reason
+            return _with_invalid(raw, source, axes, points, options, progress, exc.messages)
+        except DesignError:  # a rule the kind's sweep does not say point by point: each point on its own
+            summaries = None
         if summaries is not None:
             if progress:
                 progress(len(points))
             if isinstance(summaries, dict):  # column-major: keep it so (fast CSV)
-                errors = blank_nonfinite(summaries, points, base)
+                reasons = [None] * len(points)
+                errors = blank_nonfinite(summaries, points, base, into=reasons)
                 axis_columns = {k: points.column(k, arrays) if isinstance(points, Grid) else [p[k] for p in points]
                                 for k in axes}
-                cols = Columns({**axis_columns, **summaries})
+                cols = Columns({**axis_columns, **summaries, ERROR_FIELD: reasons})
                 cols = cols if arrays else cols.lists()
                 cols.errors = errors
                 return cols
-            rows = [{**p, **s} for p, s in zip(points, summaries)]
+            rows = [{**p, **s, ERROR_FIELD: None} for p, s in zip(points, summaries)]
             errors = blank_nonfinite(rows, points, base, lead=axes)
             return Columns.from_rows(rows, errors) if errors else rows
     rows, errors = [], []
@@ -660,27 +663,63 @@ def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: 
             d = validate(trial, source)
             with quiet_numpy():
                 res = calc.compute(d, options)
-        except InputError as exc:
-            raise SweepError(f"at {p}: " + "; ".join(exc.messages)) from None
-        except DesignError as exc:
-            raise SweepError(f"at {p}: {exc}") from None
+        except (InputError, DesignError) as exc:  # not a valid design: a row with its reason, the sweep goes on
+            why = "; ".join(exc.messages) if isinstance(exc, InputError) else str(exc)
+            errors.append(f"at {p}: {why}")
+            rows.append({**p, ERROR_FIELD: why})
+            if progress:
+                progress(1)
+            continue
         bad = finite_error(d, res)
         if bad is not None:  # the point's error, its outputs empty: the sweep goes on
-            errors.append(f"at {p}: {str(bad).replace('this design', 'this point')}")
-            rows.append({**p, **dict.fromkeys(res.summary)})  # its columns kept, every output None
+            why = str(bad).replace('this design', 'this point')
+            errors.append(f"at {p}: {why}")
+            rows.append({**p, **dict.fromkeys(res.summary), ERROR_FIELD: why})  # its columns kept, outputs None
         else:
-            rows.append({**p, **res.summary})
+            rows.append({**p, **res.summary, ERROR_FIELD: None})
         if progress:
             progress(1)
-    return Columns.from_rows(rows, errors) if errors else rows
+    if errors:
+        cols = Columns.from_rows(rows, errors)
+        return Columns({**{k: v for k, v in cols.data.items() if k != ERROR_FIELD},
+                        ERROR_FIELD: cols.data[ERROR_FIELD]}, errors)  # the reason last, whichever row came first
+    return rows
 
 
-def blank_nonfinite(data, points, base, lead=()) -> list[str]:
+def _with_invalid(raw, source, axes, points, options, progress, messages):
+    """A chunk some of whose points are not valid designs (``messages``: each point's reason, None where valid):
+    the valid ones evaluated together (:func:`evaluate_points`), the others rows of their axes and reason."""
+    import numpy as np
+
+    from .render import Columns
+
+    n, good = len(points), [k for k, m in enumerate(messages) if m is None]
+    data = {k: points.column(k) if isinstance(points, Grid) else [p[k] for p in points] for k in axes}
+    reasons = np.array(messages, dtype=object)
+    errors = [f"at {points[k]}: {m}" for k, m in enumerate(messages) if m is not None]
+    if good:
+        sub = as_columns(evaluate_points(raw, source, axes, [points[k] for k in good], options, progress)).lists()
+        for name, col in sub.data.items():
+            if name in axes:
+                continue
+            full = reasons if name == ERROR_FIELD else np.full(n, None, dtype=object)
+            full[good] = np.array(col + [None], dtype=object)[:-1]  # (a column of lists stays a column of lists)
+            if name != ERROR_FIELD:
+                data[name] = full.tolist()
+        errors += sub.errors
+    data[ERROR_FIELD] = reasons.tolist()
+    if progress:
+        progress(n - len(good))
+    return Columns(data, errors)
+
+
+def blank_nonfinite(data, points, base, lead=(), into: list | None = None) -> list[str]:
     """The points of a sweep's summaries (columns, or rows) with a NaN or infinite output (never printed,
     interface.md "Output"): each such point's outputs made None (an empty CSV cell, a JSON null; ``lead``, the
     varied keys of rows, kept) and its message returned, as :func:`gearcalc.engine.finite_error` words a
     design's.  A column of floats is checked by one sum (non-finite values propagate through it), point by
-    point only when that is not finite."""
+    point only when that is not finite.  Rows get the reason in :data:`ERROR_FIELD`; columns in ``into`` (a list
+    over the points), when given."""
     import math
 
     import numpy as np
@@ -688,8 +727,9 @@ def blank_nonfinite(data, points, base, lead=()) -> list[str]:
     if isinstance(data, list):  # rows
         bad = [k for k, r in enumerate(data) if any(type(v) is float and not math.isfinite(v) for v in r.values())]
         errors = [_point_error(base, points[k], {f: v for f, v in data[k].items() if f not in lead}) for k in bad]
-        for k in bad:
+        for k, e in zip(bad, errors):
             data[k] = {f: (v if f in lead else None) for f, v in data[k].items()}
+            data[k][ERROR_FIELD] = e.removeprefix(f"at {points[k]}: ")
         return errors
     mask = None
     for col in data.values():
@@ -713,6 +753,8 @@ def blank_nonfinite(data, points, base, lead=()) -> list[str]:
         return []
     bad = np.flatnonzero(mask).tolist()
     errors = [_point_error(base, points[k], {f: col[k] for f, col in data.items()}) for k in bad]
+    for k, e in zip(bad, errors) if into is not None else ():
+        into[k] = e.removeprefix(f"at {points[k]}: ")
     for f, col in data.items():
         col = col.tolist() if isinstance(col, np.ndarray) else list(col)
         for k in bad:

@@ -1,6 +1,7 @@
 """Tests of the shared batch and sweep path (gearcalc/engine.py, gearcalc/grid.py): an output that is not finite is
 the design's (or the sweep point's) error, never an exit 70 that costs the whole batch (issue 34)."""
 import dataclasses
+import csv
 import json
 import warnings
 
@@ -106,8 +107,10 @@ def test_sweep_point_with_a_nonfinite_output_is_its_error_and_the_sweep_goes_on(
     assert "internal error" not in r.err and "Traceback" not in r.err, r
     if fmt == "csv":
         lines = r.out.splitlines()
-        assert len(lines) == 4 and lines[2].startswith("2.2,") and set(lines[2][4:]) == {","}, lines
-        assert lines[1].startswith("2.0,") and lines[3].startswith("2.4,") and "inf" not in r.out
+        cells = next(csv.reader([lines[2]]))  # the outputs empty, the reason in the last column, error
+        assert len(lines) == 4 and cells[0] == "2.2" and set(cells[1:-1]) == {""}, lines
+        assert lines[0].endswith(",error") and cells[-1].startswith("K: the computed value is inf"), lines
+        assert lines[1].startswith("2.0,") and lines[3].startswith("2.4,") and "inf" not in r.out.replace(cells[-1], "")
     elif fmt == "json":
         rows = json.loads(r.out)
         assert [p["rows.relative_width"] for p in rows] == [2.0, 2.2, 2.4]

@@ -208,8 +208,10 @@ def test_sweeps_that_cannot_be_vectorised_fall_back():
                  {"gearing.pins": [22, 40]},                                       # pins overlap at the second
                  {"gearing.satellite_teeth": [20, 22]}):                           # z2 <= z1 at the second
         assert PINS.sweep(base, {}, axes, sw.grid_points(axes), Options()) is None
-    with pytest.raises(sw.SweepError, match="undercut"):
-        _sweep_rows({"gearing.curtate_ratio": [0.75, 0.999999]})
+    # the inadmissible point is a row with its reason, the other computed (issue 36 item 1)
+    rows = _sweep_rows({"gearing.curtate_ratio": [0.75, 0.999999]})
+    assert rows[0]["error"] is None and rows[0]["efficiency"] is not None
+    assert "undercut" in rows[1]["error"] and rows[1]["efficiency"] is None
 
 
 @settings(max_examples=60, deadline=None)

@@ -208,9 +208,14 @@ def test_contact_table_and_modifications_select_the_contact_level(tmp_path):
     # a plain cycloid with --model contact and no [contact] table: the hertz law needs the face width
     code, _, err = run(design(tmp_path), "--model", "contact")
     assert code == 2 and "contact.face_width_mm" in err and "missing" in err and "Traceback" not in err
-    # --model ideal runs a cycloidal design with a [contact] table, ignoring the table with a warning
-    code, _, err = run(design(tmp_path, contact__face_width_mm=10.0), "--model", "ideal")
+    # --model ideal runs a cycloidal design with a [contact] table naming its law, ignoring the law with a warning
+    code, _, err = run(design(tmp_path, contact__law="hertz", contact__face_width_mm=10.0), "--model", "ideal")
     assert code == 0 and "not used" in err
+    # issue 37 item 6: a [contact] table with face_width_mm alone keeps the ideal level (no warning), which gives
+    # the Hertz stress of its own forces, and says why it ran
+    s, code, err = summary(design(tmp_path, contact__face_width_mm=10.0))
+    assert code == 0 and s["model"] == "ideal" and s["contact_stress_max_MPa"] > 0 and "not used" not in err
+    assert s["model_reason"] == "an unmodified cycloidal profile (rigid contacts)"
 
 
 def test_pin_load_with_gearing_gives_both(tmp_path):
@@ -292,7 +297,9 @@ def test_rolling_condition_violated_falls_back_to_fixed(tmp_path):
     fixed, _, _ = summary(design(tmp_path))
     s, code, err = summary(design(tmp_path, gearing__rotating_pins=True, friction__sliding=0.05,
                                   friction__axle=0.1, friction__rolling_mm=0.01))
-    assert code == 0 and s["rolling_ok"] is False
+    # a failed check (issue 36 item 1: margin_rolling < 0; it was a warning), the model goes on with fixed pins
+    assert code == 1 and s["rolling_ok"] is False and s["margin_rolling"] < 0 and "check failed" in err
+    assert s["failed_checks"] == ["rolling"]
     for word in ("f = 0.05", "f_c = 0.1", "r = 0.95", "f_k = 0.01", "R_b = 1.95"):
         assert word in err
     assert s["loss_ratio"] == pytest.approx(fixed["loss_ratio"] * 0.5, rel=1e-6)
@@ -560,6 +567,6 @@ def test_sweep_over_geometry_is_vectorised(tmp_path):
     out = registry.get("pins").sweep(d, {}, {"gearing.curtate_ratio": [0.6]}, [{"gearing.curtate_ratio": 0.6}],
                                      Options())
     assert out["curtate_ratio"] == [pytest.approx(0.6, rel=1e-15)] and out["model"] == ["ideal"]
-    c = load(str(design(tmp_path, "c.toml", contact__face_width_mm=10.0)))
+    c = load(str(design(tmp_path, "c.toml", contact__law="hertz", contact__face_width_mm=10.0)))
     assert registry.get("pins").sweep(c, {}, {"friction.sliding": [0.1]}, [{"friction.sliding": 0.1}],
                                       Options()) is None

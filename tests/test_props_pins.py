@@ -152,7 +152,8 @@ def test_efficiency_bounds_self_locking_and_willis(raw):
     multiplier = raw["load"]["mode"] == "multiplier"
     # pins.md §4.7: self_locking flags the multiplier with lambda >= 1; never a negative efficiency
     assert s["self_locking"] == (locked and multiplier)
-    assert bool(res.failed) == s["self_locking"]
+    assert bool(res.failed) == (s["self_locking"] or s["rolling_ok"] is False)  # the rolling check: issue 36
+    assert ("self_locking" in s["failed_checks"]) == s["self_locking"] == (s["margin_self_locking"] < 0)
     if s["self_locking"]:
         assert s["efficiency"] is None and s["efficiency_err"] is None
     else:

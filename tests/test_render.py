@@ -203,7 +203,7 @@ def test_sweep_exits_1_when_a_point_fails_a_check():
     alone = cli("rows", paper, "--format", "csv")
     assert alone.code == 1  # the point B = 3 alone fails its bridge check
     r = cli("sweep", paper, "--vary", "rows.relative_width=2.9,3.0", "--format", "csv")
-    assert r.code == 1 and "at 1 of 2 points" in r.err
+    assert r.code == 1 and "1 of 2 points fail bridge_fit" in r.err
     ok = cli("sweep", paper, "--vary", "rows.relative_width=2.9,2.95", "--format", "csv")
     assert ok.code == 0
 

@@ -4,7 +4,6 @@ computed alone."""
 import pytest
 
 import gearcalc
-from gearcalc.grid import SweepError
 
 BASE = {"kind": "rows", "gear": {"sun_teeth": 18, "module_mm": 5.0},
         "rows": {"count": 3, "planets_per_row": 3, "relative_width": 2.4}, "sun": {"torque_Nm": 1e3}}
@@ -44,9 +43,13 @@ def test_sweep_point_equals_the_design_computed_alone(name, model):
 
 
 def test_sweep_refuses_combinations_check_refuses():
-    # each value alone passes check (grid.validate_axes); the combination is refused by the sweep's batch of
-    # the same rules: b_w > 0 (rows.md §7) and d_0 < min(d_f, d_I) (rows.md §10)
-    with pytest.raises(SweepError, match="rows.cheek_mm: the cheeks leave no room for the rims at"):
-        list(gearcalc.sweep(DESIGNS["B, b in mm"], {"rows.relative_width": [2.4, 0.5], "rows.cheek_mm": [12.0, 40.0]}))
-    with pytest.raises(SweepError, match=r"sun.bore_mm: must be < min\(d_f, d_I\) at"):
-        list(gearcalc.sweep(BASE, {"sun.bore_mm": [0.0, 60.0], "gear.module_mm": [5.0, 3.0]}))
+    # each value alone passes check; a combination the sweep's batch of the same rules refuses, b_w > 0 (rows.md
+    # §7) and d_0 < min(d_f, d_I) (rows.md §10), is a row with its reason (issue 36 item 1), the others computed
+    (rows,) = gearcalc.sweep(DESIGNS["B, b in mm"], {"rows.relative_width": [2.4, 0.5], "rows.cheek_mm": [12.0, 40.0]})
+    why = [r["error"] for r in rows.rows()]
+    assert [w is None for w in why] == [True, True, True, False]  # B = 0.5 with b = 40 mm: b_w < 0
+    assert why[3].startswith("rows.cheek_mm = 40.0: the cheeks leave no room for the rims")
+    (rows,) = gearcalc.sweep(BASE, {"sun.bore_mm": [0.0, 60.0], "gear.module_mm": [5.0, 3.0]})
+    why = [r["error"] for r in rows.rows()]
+    assert [w is None for w in why] == [True, True, True, False] and why[3].startswith("sun.bore_mm = 60.0: must be <")
+    assert rows.rows()[3]["K"] is None and rows.errors[0].startswith("at {'sun.bore_mm': 60.0, 'gear.module_mm': 3.0}")

@@ -160,4 +160,4 @@ def test_one_design_is_a_vertical_table_with_units():
 def test_failing_paper_case_table_and_exit_1():
     code, out, err = run_tty("rows", PAPER / "rows_bridges_n3_B3_i4.toml", cols=80)
     assert code == 1
-    assert "H_max" in err and "rows.relative_width <=" in err
+    assert "H_max" in err and "rows.relative_width from" in err

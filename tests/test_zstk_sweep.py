@@ -49,7 +49,7 @@ def point_by_point(raw, axes, options):
     for p in sw.grid_points(axes):
         trial = copy.deepcopy(raw)
         apply_set(trial, list(p.items()))
-        rows.append({**p, **ZSTK.compute(validate(trial, str(EXAMPLE)), options).summary})
+        rows.append({**p, **ZSTK.compute(validate(trial, str(EXAMPLE)), options).summary, "error": None})
     return rows
 
 
@@ -131,36 +131,48 @@ def test_sweep_with_cycle_or_envelope_falls_back():
 
 
 def test_impossible_point_errors_like_point_by_point():
-    """Each axis value is valid with the base design, but (R_B = 90, e = 12) is not (e >= R_H - R_B = 10):
-    the hook raises the DesignError the point gives on its own, naming the key, the constraint and the point."""
+    """Each axis value is valid with the base design, but (R_B = 90, e = 12) is not (e >= R_H - R_B = 10): the
+    hook says so for that point only (InvalidPoints), with the key and constraint the point gives on its own; the
+    frame gives the point a row with that reason and empty results, and computes the others (issue 36 item 1)."""
+    from gearcalc.calculator import InvalidPoints
+
     raw = raw_example()
     axes = {"geometry.inner_raceway_radius_mm": [50.0, 90.0], "geometry.eccentricity_mm": [6.0, 12.0]}
     base = validate(copy.deepcopy(raw), str(EXAMPLE))
-    with pytest.raises(DesignError) as hook_err:
+    with pytest.raises(InvalidPoints) as hook_err:
         ZSTK.sweep(base, raw, axes, sw.grid_points(axes), Options())
     bad = {"geometry.inner_raceway_radius_mm": 90.0, "geometry.eccentricity_mm": 12.0}
-    assert hook_err.value.key == "geometry.eccentricity_mm"
-    assert str(bad) in hook_err.value.message
+    k_bad = list(sw.grid_points(axes)).index(bad)
+    messages = hook_err.value.messages
+    assert [m is None for m in messages] == [k != k_bad for k in range(4)]
     # the same design on its own (gearcalc zstk --set ...) reports the same key and constraint
     trial = copy.deepcopy(raw)
     apply_set(trial, list(bad.items()))
     with pytest.raises(Exception) as alone:
         validate(trial, str(EXAMPLE))
-    constraint = hook_err.value.message.split(" (at ")[0]
-    assert f"geometry.eccentricity_mm {constraint}" in str(alone.value)  # "key = value: why" (calculator.keyed)
-    with pytest.raises(sw.SweepError) as frame_err:  # through the frame: exit 2 in the CLI
-        sw.evaluate(raw, str(EXAMPLE), axes, Options())
-    assert "geometry.eccentricity_mm" in str(frame_err.value) and str(bad) in str(frame_err.value)
+    assert messages[k_bad].startswith("geometry.eccentricity_mm = ") and messages[k_bad] in str(alone.value)
+    rows = sw.evaluate(raw, str(EXAMPLE), axes, Options())  # through the frame: a row per point, in grid order
+    rows = rows.rows() if hasattr(rows, "rows") else rows
+    assert rows[k_bad]["error"] == messages[k_bad] and rows[k_bad]["sigma_max_MPa"] is None
+    assert {k: rows[k_bad][k] for k in axes} == bad
+    good = [r for k, r in enumerate(rows) if k != k_bad]
+    for r in good:
+        trial = copy.deepcopy(raw)
+        apply_set(trial, [(k, r[k]) for k in axes])
+        same({k: r[k] for k in r if k not in axes}, {**ZSTK.compute(validate(trial, str(EXAMPLE)), Options()).summary,
+                                                      "error": None})
 
 
 def test_impossible_combination_of_rollers_and_scheme():
-    """An explicit N of the wrong parity for the scheme (A needs even N) only at one grid point."""
+    """An explicit N of the wrong parity for the scheme (A, D even; B, C odd) at two grid points, (8, B) and (7, A):
+    their rows name geometry.rollers; the other two are computed."""
     raw = raw_example()
     axes = {"geometry.rollers": [8, 7], "geometry.scheme": ["B", "A"]}
-    base = validate(copy.deepcopy(raw), str(EXAMPLE))
-    with pytest.raises(DesignError) as err:
-        ZSTK.sweep(base, raw, axes, sw.grid_points(axes), Options())
-    assert err.value.key == "geometry.rollers" and "'geometry.rollers': 8, 'geometry.scheme': 'B'" in err.value.message
+    rows = sw.evaluate(raw, str(EXAMPLE), axes, Options())
+    rows = rows.rows() if hasattr(rows, "rows") else rows
+    errors = [(r["geometry.rollers"], r["geometry.scheme"], r["error"]) for r in rows if r["error"] is not None]
+    assert [e[:2] for e in errors] == [(8, "B"), (7, "A")] and all(e[2].startswith("geometry.rollers") for e in errors)
+    assert sum(r["sigma_max_MPa"] is not None for r in rows) == 2
 
 
 # ----------------------------------------------------------------------------- batch

@@ -27,6 +27,7 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     "load_pin_radius": "pin_load.pin_radius_mm", "load_axle_radius": "pin_load.axle_radius_mm",
     "paper_pi": "pin_load.paper_pi", "face_width": "contact.face_width_mm", "model": "friction.model",
     "alias": "contact.friction_in_equilibrium", "law": "contact.law", "stiffness": "contact.stiffness_N_per_mm",
+    "allowable": "material.allowable_stress_MPa",
 }
 VIOLATION_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile", "sliding", "load_pin_radius",
                   "load_axle_radius")
@@ -47,7 +48,15 @@ def _one(design) -> dict:
 
 
 def _tables(design) -> set:
-    return {t for t in ("gearing", "pin_load", "load", "contact") if design.has(t)}
+    """The design's tables that choose its level: "contact" only where [contact] names a law or a stiffness
+    (:data:`gearcalc.pins.checks.CONTACT_LEVEL_KEYS`; face_width_mm alone gives the ideal level's stress)."""
+    asks = design.has("contact") and any(design.is_given("contact." + k) for k in C.CONTACT_LEVEL_KEYS)
+    return {t for t in ("gearing", "pin_load", "load") if design.has(t)} | ({"contact"} if asks else set())
+
+
+def level_reason(design, model: str | None) -> str:
+    """Why the design runs at its level (the summary's model_reason; :func:`gearcalc.pins.checks.level_reason`)."""
+    return C.level_reason(model, _tables(design), design.get(KEYS["profile"]), _modified(design))
 
 
 def friction_model(design) -> str:
@@ -152,6 +161,7 @@ def _group(designs, level: str, options: Options, t0: float) -> list:
 
     cols, ideal = level_columns(_args(lambda key: [d.get(key) for d in designs]), level, [d.name for d in designs],
                                 options.tol, any(d.has("pin_load") for d in designs), DEFAULT_FRICTION_MODEL)
+    cols["model_reason"] = [level_reason(d, options.model) for d in designs]
     return R.group_results(designs, cols, ideal, options.tol, options.detail, t0)
 
 
@@ -179,6 +189,7 @@ def sweep(base, raw, axes, points, options):
     if ideal is not None and any(err is not None for err in ideal.errors):
         return None
     cols["model_time_ms"] = [(time.perf_counter() - t0) * 1e3 / max(n, 1)] * n
+    cols["model_reason"] = [level_reason(base, options.model)] * n
     return cols
 
 
@@ -235,6 +246,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     from ..pins import contact as pc
     from ..pins.columns import OPERATING, level_columns
     from ..pins.contact_level import ContactDesign, contact_level
+    from ..pins.margins import margin_columns
 
     a = _one(design)
     cols, _ = level_columns({n: [x] for n, x in a.items()}, "contact", [design.name], options.tol,
@@ -253,6 +265,10 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
         raise R.stiffness_error(design, law, cl.residual, options.tol)
     summary.update(R.contact_summary(design, g, law, profile, cl, model))
     R.contact_notes(design, summary, options.tol, warnings, failed, cl, a["mode"] == "multiplier")
+    summary.update({k: v[0] for k, v in margin_columns({k: [v] for k, v in summary.items()},
+                                                       {n: [x] for n, x in a.items()}).items()})
+    failed.extend(R.stress_failure(summary, a["allowable"]))
+    summary["model_reason"] = level_reason(design, options.model)
     detail.update(cl.detail or {})
     return summary
 
@@ -276,4 +292,5 @@ CALCULATOR = Calculator(
     sweep_cost=sweep_cost,
     table_fields=("model", "efficiency", "self_locking", "pin_force_max_N", "P_tr_W"), sweep_plot=("efficiency",),
     failure=(("self_locking", True),), plot=plot, batch=batch,
+    checks=C.CHECKS,
 )

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import math
 
-from ..calculator import Calculator, DesignError, Options, Problems, Result
+from ..calculator import Calculator, Check, DesignError, Options, Problems, Result
 from ..registry import LEVELS
 from ..rows import geometry as G
 from ..rows import report as W
@@ -43,7 +43,7 @@ def check(design, problems: Problems) -> None:
         return
     if not given("rows.cheek_ratio"):
         design.values["rows"]["cheek_ratio"] = 0.25
-    za, m = design["gear.sun_teeth"], design["gear.module_mm"]
+    za = design["gear.sun_teeth"]
     if given("gear.ratio") and given("gear.planet_teeth"):
         i_teeth = G.ratio_from_planet_teeth(design["gear.planet_teeth"], za)
         if abs(i_teeth - design["gear.ratio"]) > 1e-9 * i_teeth:
@@ -57,8 +57,6 @@ def check(design, problems: Problems) -> None:
     d_i, d_f, bore = diameter(design["sun.torsion_diameter"], f), f.root_diameter, design["sun.bore_mm"]
     if not G.bore_fits(bore, d_f, d_i):
         problems.error("sun.bore_mm", W.bore_too_large(bore, d_f, d_i))
-    elif G.rim_too_thin(d_f, bore, m):
-        problems.warn(W.rim_too_thin(G.rim_under_roots(d_f, bore), G.RIM_MIN_MODULES * m))
     i = ratio(design.get)
     if design.has("bridges"):
         if i is None:
@@ -136,7 +134,20 @@ def compute(design, options: Options) -> Result:
         if m.ratio_opt_on_bound:
             lo, hi = design["mass.ratio_range"]
             warnings.append(W.MASS_ON_BOUND.format(lo=lo, hi=hi))
+    s.update(margins(design.get, f, d_i, s.get("margin_bridge_fit"), W.one))
+    if s["margin_rim"] is not None and s["margin_rim"] < 0:
+        failed.append(W.rim_too_thin(G.rim_under_roots(f.root_diameter, bore), G.RIM_MIN_MODULES * design[
+            "gear.module_mm"]))
     return Result(summary=s, detail=detail, warnings=warnings, failed=failed, model=s["model"])
+
+
+def margins(get, f, d_i, fit, plain, n=None) -> dict:
+    """margin_bore, margin_rim and failed_checks (:func:`gearcalc.rows.report.margin_fields`) of a design or the
+    columns of a sweep (``get``: a key's value or column); ``fit``: margin_bridge_fit, None without [bridges]."""
+    bore = get("sun.bore_mm")
+    diameters = (f.root_diameter, d_i) + (() if fit is None else (diameter(get("bridges.torsion_diameter"), f),))
+    return W.margin_fields(fit, G.bore_margin(bore, *diameters), G.rim_margin(f.root_diameter, bore,
+                                                                              get("gear.module_mm")), plain, n)
 
 
 def bridges(design, f, s, detail, warnings, failed, kappa_for, C, E, nu):
@@ -209,13 +220,8 @@ def sweep(base, raw, axes, points, options):
 
     f = face(get)
     n, nw = get("rows.count"), col("rows.planets_per_row")
-    fits = G.rims_fit(f.rim_width)
-    if not np.all(fits):
-        raise DesignError("rows.cheek_mm", f"the cheeks leave no room for the rims at {points[int(np.argmax(~fits))]}")
     d_i, bore = diameter(col("sun.torsion_diameter"), f), col("sun.bore_mm")
-    fits = G.bore_fits(bore, f.root_diameter, d_i)
-    if not np.all(fits):
-        raise DesignError("sun.bore_mm", f"must be < min(d_f, d_I) at {points[int(np.argmax(~fits))]}")
+    invalid_points(f, d_i, bore, col, base.has("bridges"))
     E, nu = col("material.E_MPa"), col("material.poisson")
     C = col("material.mesh_stiffness_MPa") if base.is_given("material.mesh_stiffness_MPa") or \
         "material.mesh_stiffness_MPa" in axes else G.mesh_stiffness(E)
@@ -240,9 +246,42 @@ def sweep(base, raw, axes, points, options):
         m = R.mass_and_optimum(ratio(col), (np.full(P, lo), np.full(P, hi)), options.tol,
                                **mass_params(col, n, nw, f, E, nu, unev, deg_to_rad(col("gear.pressure_angle_deg"))))
         cols.update(W.mass_fields(m, unev, column))
+    cols.update(margins(col, f, d_i, cols.get("margin_bridge_fit"), column, P))
     for key in late if base.has("bridges") else ():
         cols[key] = cols.pop(key)
     return cols  # column-major: the sweep writes it without building a dict per point
+
+
+def invalid_points(f, d_i, bore, col, bridges: bool) -> None:
+    """Raise :class:`~gearcalc.calculator.InvalidPoints` when some points of a sweep break a rule of :func:`check`
+    (rims that fit, the sun bore, with [bridges] the bore of the sizing diameter): each such point's message."""
+    import numpy as np
+
+    from ..calculator import InvalidPoints, keyed
+
+    d_f = np.broadcast_to(f.root_diameter, np.shape(f.rim_width))
+    rules = [(~G.rims_fit(f.rim_width), "rows.cheek_mm", lambda k: W.no_room_for_rims(
+        _at(col("rows.cheek_mm"), k), _at(f.relative_width * f.sun_diameter, k))),
+             (~G.bore_fits(bore, d_f, d_i), "sun.bore_mm", lambda k: W.bore_too_large(
+                 _at(bore, k), _at(d_f, k), _at(d_i, k)))]
+    if bridges:
+        bd = col("bridges.torsion_diameter")
+        rules.append((~G.bore_fits(bore, diameter(bd, f)), "bridges.torsion_diameter",
+                      lambda k: f"= {_at(bd, k)!r}: the sun bore {_at(bore, k)!r} mm must be smaller"))
+    why = [None] * len(d_f)
+    for bad, key, message in rules:
+        for k in np.flatnonzero(bad).tolist():
+            why[k] = why[k] or keyed(key, message(k))
+    if any(w is not None for w in why):
+        raise InvalidPoints(why)
+
+
+def _at(v, k):
+    """Point k's value of a column (or the value shared by every point) as a plain number or word."""
+    import numpy as np
+
+    v = v[k] if isinstance(v, list) or np.ndim(v) else v
+    return v.item() if hasattr(v, "item") else v
 
 
 def vectorised(base, axes) -> bool:
@@ -284,13 +323,9 @@ def bridges_columns(base, axes, points, col, f, n, nw, bore, E, nu, C, column):
     first = np.array([0.0 if v == "axes_only" else float(v) for v in first], dtype=float) \
         if isinstance(first, list) else np.full(P, 0.0 if first == "axes_only" else float(first))
     d_size = diameter(col("bridges.torsion_diameter"), f)
-    fits = G.bore_fits(bore, d_size)
-    if not np.all(fits):
-        raise DesignError("bridges.torsion_diameter",
-                          f"the sun bore must be smaller at {points[int(np.argmax(~fits))]}")
     Ip = R.polar_moment(d_size, bore)
     G_sun = R.shear_modulus(E, nu)
-    H_max, H, rel = np.zeros(P), {}, {}
+    H_max, H, rel, margin = np.zeros(P), {}, {}, np.zeros(P)
     feasible = np.zeros(P, bool)
     K = {label: np.full(P, np.nan) for label in ("sized", "pitch", "root")}
     unloaded = [[]] * P
@@ -309,7 +344,7 @@ def bridges_columns(base, axes, points, col, f, n, nw, bore, E, nu, C, column):
             j = int(k[np.argmax(wide)])
             raise DesignError("bridges.first_span", W.first_span_too_wide(
                 float(first[j]), float(res["H_max"][np.argmax(wide)])) + f" at {points[j]}")
-        H_max[k], feasible[k] = res["H_max"], res["feasible"]
+        H_max[k], feasible[k], margin[k] = res["H_max"], res["feasible"], res["margin"]
         for j in range(rows):
             H.setdefault(j, np.full(P, np.nan))[k] = res["H"][:, j]
             rel.setdefault(j, np.full(P, np.nan))[k] = res["H_rel"][:, j]
@@ -328,7 +363,8 @@ def bridges_columns(base, axes, points, col, f, n, nw, bore, E, nu, C, column):
     for name, values in (("bridge_rel", rel), ("bridge", H)):
         for j in range(first_n):
             out[f"{name}_{j + 1}" + ("_mm" if name == "bridge" else "")] = column(values[j], ~np.isnan(values[j]))
-    out.update(bridges_feasible=column(feasible), K_balanced=column(K["sized"], ~np.isnan(K["sized"])),
+    out.update(bridges_feasible=column(feasible), margin_bridge_fit=column(margin),
+               K_balanced=column(K["sized"], ~np.isnan(K["sized"])),
                K_balanced_pitch=column(K["pitch"], ~np.isnan(K["pitch"])),
                K_balanced_root=column(K["root"], ~np.isnan(K["root"])), unloaded_rows_balanced=unloaded)
     seen = first_n
@@ -359,4 +395,5 @@ CALCULATOR = Calculator(
     sweep=sweep, sweep_cost=sweep_cost,
     table_fields=("K", "K_exact", "bridges_feasible", "K_balanced", "relative_mass_min_kg_per_kNm"),
     sweep_plot=("relative_mass_kg_per_kNm", "K"), failure=(("bridges_feasible", False),), plot=plot,
+    checks=tuple(Check(*c) for c in W.CHECKS),
 )

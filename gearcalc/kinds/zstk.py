@@ -9,7 +9,7 @@ Spec: zstk.md; source: Merko et al., seed 003_2d1da402cb0b8488.txt.
 """
 from __future__ import annotations
 
-from ..calculator import Calculator, DesignError, Options, Result
+from ..calculator import Calculator, Check, DesignError, InvalidPoints, Options, Result, keyed
 from ..zstk import report as R
 from ..zstk.schema import (B_OVER_RHO_LIMIT, DEFAULT_ALLOWABLE_MPA, HEADER, KEYS, MAX_ROLLERS, MODELS, SWEEP_WORK_MAX,
                            TABLE_FIELDS, TABLES)
@@ -171,9 +171,10 @@ def sweep(base, raw, axes, points, options):
 
     Every grid point is a design of its own (any key may vary, the roller count N included); the
     points are validated element-wise with the arithmetic of :func:`check` and solved in stacks of
-    the same N, exactly as :func:`compute` would solve each.  A point that is not a valid design
-    raises the DesignError that the point on its own gives, naming the key, the constraint and the
-    point.  Grids with "cycle" or "envelope" points return None (evaluated point by point: each
+    the same N, exactly as :func:`compute` would solve each.  Points that are not valid designs raise
+    :class:`~gearcalc.calculator.InvalidPoints` with the message each point on its own gives (key and
+    constraint); the sweep computes the others and gives these a row with the reason.  Grids with "cycle" or
+    "envelope" points return None (evaluated point by point: each
     such point runs adaptive sweeps of its own).
     """
     import numpy as np
@@ -190,10 +191,8 @@ def sweep(base, raw, axes, points, options):
         resolved = {_hashable(v): check_value(field, v)[0] for v in axes[key]}
         cols[key] = [resolved[_hashable(pt[key])] for pt in points]
     p = _prepare(cols, size)
-    if not np.all(p.valid):
-        k = int(np.argmax(~p.valid))
-        key, msg = _problems(p, k)[0]
-        raise DesignError(key, f"{msg} (at {points[k]})")
+    if not np.all(p.valid):  # each invalid point's first problem (its row's error); the valid ones are computed
+        raise InvalidPoints([None if ok else keyed(*_problems(p, k)[0]) for k, ok in enumerate(p.valid.tolist())])
     if np.any(p.cycle | p.envelope):
         return None
     return _solve_stack(p, np.arange(size), options.model or "equilibrium", base.name, detail=False)[0]
@@ -267,6 +266,7 @@ CALCULATOR = Calculator(
     table_fields=TABLE_FIELDS,
     sweep_plot=("sigma_max_MPa",),
     failure=(("pass", False),),
+    checks=tuple(Check(*c) for c in R.CHECKS),
     plot=plot,
     header=HEADER,
 )

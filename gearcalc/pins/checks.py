@@ -13,11 +13,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..calculator import Check
 from .profiles import PROFILES, tooth_too_large
 from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_TOL_MIN, IDEAL_SWEEP_WORK_MAX,
                      IDEAL_WORK_MAX)
 
-__all__ = ["friction_model", "modified", "select_level", "contact_law_problem", "Violations", "violations",
+__all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVEL_KEYS", "level_reason",
+           "contact_law_problem", "Violations", "violations",
            "pin_circle_curtate", "tooth_too_large", "design_problems", "ideal_admissibility", "ideal_over_budget",
            "contact_passes", "contact_over_budget", "computed_alone", "points_pass"]
 
@@ -97,6 +99,36 @@ def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | 
     if model == "ideal" and (contact_only or is_modified):
         return model, "ideal_profile" if contact_only else "ideal_mods"
     return model, None
+
+
+CHECKS = (Check("self_locking", "the requested mode self-locks"),
+          Check("rolling", "f R_b < f_c r + f_k: the bushings cannot turn"),
+          Check("contact_stress", "contact_stress_max > allowable_stress"))
+"""The pins design checks (pins.md §8): their margins, the summary fields margin_<name>, are
+:mod:`gearcalc.pins.margins`'."""
+
+CONTACT_LEVEL_KEYS = ("law", "stiffness_N_per_mm")
+"""The [contact] keys that ask for the contact level (pins.md §3): a table with face_width_mm alone (or with the
+friction alias) does not change the level; the ideal level gives the Hertz stress of its own forces with it."""
+
+
+def level_reason(model, tables, profile, is_modified: bool) -> str:
+    """Why a design runs at the level :func:`select_level` gives it, in words (the summary's ``model_reason``).
+
+    >>> level_reason(None, {"gearing", "load"}, "cycloidal", False), level_reason("contact", {"gearing"}, None, False)
+    ('an unmodified cycloidal profile (rigid contacts)', '--model contact')
+    """
+    if model is not None:
+        return f"--model {model}"
+    if "gearing" not in tables:
+        return "[pin_load] without [gearing]: the paper's per-pin formula"
+    if profile == "circular":
+        return "a circular profile"
+    if is_modified:
+        return "a modified cycloid"
+    if "contact" in tables:
+        return "[contact] names a contact law (contact.law or contact.stiffness_N_per_mm)"
+    return "an unmodified cycloidal profile (rigid contacts)"
 
 
 def contact_law_problem(law: str, face_width, stiffness):

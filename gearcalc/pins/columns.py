@@ -21,6 +21,7 @@ from .checks import friction_model
 from .formula import formula_losses
 from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .ideal import DISC_SAMPLES_MAX, DISC_WORK_MAX, TOO_COSTLY
+from .margins import margin_columns
 from .operating import ARRAY_OPS, SCALAR_OPS, floats
 from .points import ideal_points
 from .schema import SUMMARY_KEYS
@@ -205,4 +206,5 @@ def level_columns(v, level: str, names: list, tol: float, pin_load: bool, defaul
         out["rotating_pins"] = [True] * n        # eqs. (3)-(7) are the paper's rotating-pin losses
     if pin_load:
         out.update(formula_columns(v))
+    out.update(margin_columns(out, v))
     return {key: out[key] for key in SUMMARY_KEYS}, ideal

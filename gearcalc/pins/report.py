@@ -67,9 +67,9 @@ def cycle_notes(design, s, tol: float, warnings, failed) -> None:
     summary ``s`` of ``design`` computed to ``tol``."""
     f, fk, fc, Rb = (design["friction.sliding"], design["friction.rolling_mm"], design["friction.axle"],
                      design["gearing.pin_radius_mm"])
-    if s["rolling_ok"] is False:
+    if s["rolling_ok"] is False:  # a failed check (margin_rolling < 0); the model goes on with fixed pins
         r = design["gearing.axle_radius_mm"]
-        warnings.append(f"rolling condition f*R_b >= f_c*r + f_k fails (f = {fmt(f)}, R_b = {fmt(Rb)} mm, "
+        failed.append(f"rolling condition f*R_b >= f_c*r + f_k fails (f = {fmt(f)}, R_b = {fmt(Rb)} mm, "
                         f"f_c = {fmt(fc)}, r = {fmt(r)} mm, f_k = {fmt(fk)} mm: {fmt(f * Rb)} < "
                         f"{fmt(fc * r + fk)}): the bushings cannot turn; treated as fixed pins sliding with f")
     lam, E = s["loss_ratio"], s["loss_ratio_err"]
@@ -177,8 +177,10 @@ def group_results(designs, cols, ideal, tol: float, detail: bool, t0: float) -> 
             if ideal.errors[i] is not None:
                 out.append(ideal.errors[i])
                 continue
-            warnings = ([CONTACT_TABLE_UNUSED] if d.has("contact") else []) + ideal.warnings[i]
+            law = d.has("contact") and (d.is_given("contact.law") or d.is_given("contact.stiffness_N_per_mm"))
+            warnings = ([CONTACT_TABLE_UNUSED] if law else []) + ideal.warnings[i]
             cycle_notes(d, summary, tol, warnings, failed)
+            failed.extend(stress_failure(summary, d.get("material.allowable_stress_MPa")))
             tables = ideal.detail(i) if detail else {}
         out.append(result(summary, tables, warnings, failed))
     per_design = (time.perf_counter() - t0) * 1e3 / len(designs)
@@ -186,6 +188,18 @@ def group_results(designs, cols, ideal, tol: float, detail: bool, t0: float) -> 
         if isinstance(r, Result):
             r.summary["model_time_ms"] = per_design
     return out
+
+
+def stress_failure(s, allowable) -> list:
+    """The failed contact-stress check of a summary ``s`` (margin_contact_stress < 0), as a list of its message."""
+    m = s.get("margin_contact_stress")
+    if m is None or m >= 0:
+        return []
+    from ..floatfmt import apart
+
+    shown, limit = apart(s["contact_stress_max_MPa"], allowable)  # never "1500 > 1500"
+    return [f"contact_stress_max_MPa = {shown} > material.allowable_stress_MPa = {limit} (the Hertz stress of the "
+            f"{s['model']} level's forces)"]
 
 
 def result(summary, detail, warnings, failed) -> Result:

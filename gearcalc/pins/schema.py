@@ -113,14 +113,21 @@ TABLES = (
               le=MAX_STIFFNESS_N_PER_MM),
         Field("friction_in_equilibrium", "bool", None, "alias of friction.model: true = \"consistent\", "
               "false = \"first-order\""),
-    ), doc="Compliant contact level (circular teeth, modified cycloids): the contact law", optional=True,
+    ), doc="Compliant contact level (circular teeth, modified cycloids): the contact law; face_width_mm alone "
+           "gives the ideal level's contact stress without changing the level", optional=True,
         in_template=False),
+    Table("material", (
+        Field("allowable_stress_MPa", "number", None, "[sigma_H], allowable contact (Hertz) stress: the check "
+              "margin_contact_stress = 1 - contact_stress_max_MPa/[sigma_H] (needs contact.face_width_mm)", gt=0,
+              le=1e6),
+    ), doc="The allowable contact stress of the tooth-pin contacts (optional)", optional=True, in_template=False),
 )
 
 HEADER = """KHV planetary pin gearing after Prudnikov (seed 000): levels formula | ideal | contact.
 [pin_load] alone: the paper's per-pin formula level.  [gearing] + [load]: the cycle model
 (ideal for a cycloidal profile without modifications; circular profiles, modifications and
-a [contact] table run the compliant contact level, which needs [contact] face_width_mm)."""
+a contact.law or contact.stiffness_N_per_mm run the compliant contact level, which needs
+[contact] face_width_mm; face_width_mm alone gives the ideal level's contact stress)."""
 
 SUMMARY_KEYS = (
     "name", "model", "mode", "profile", "rotating_pins", "ratio", "curtate_ratio",
@@ -137,6 +144,7 @@ SUMMARY_KEYS = (
     "contact_law", "tooth_radius_mm", "tooth_circle_radius_mm",
     "n_crank", "model_time_ms", "tolerance_met",
     "F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W",
+    "model_reason", "margin_self_locking", "margin_rolling", "margin_contact_stress", "failed_checks",
 )
 
 
@@ -151,5 +159,7 @@ GEOMETRY_KEYS = ("gearing.satellite_teeth", "gearing.pins", "gearing.eccentricit
 
 PIN_LOAD_KEYS = ("pin_load.normal_force_N", "pin_load.pin_speed_rpm", "pin_load.pin_radius_mm",
                  "pin_load.axle_radius_mm", "pin_load.paper_pi")
-FORMULA_SWEEP_KEYS = PIN_LOAD_KEYS + ("friction.sliding", "friction.rolling_mm", "friction.axle")
-IDEAL_SWEEP_KEYS = OPERATING_KEYS + GEOMETRY_KEYS + PIN_LOAD_KEYS
+FORMULA_SWEEP_KEYS = PIN_LOAD_KEYS + ("friction.sliding", "friction.rolling_mm", "friction.axle",
+                                      "material.allowable_stress_MPa")
+IDEAL_SWEEP_KEYS = OPERATING_KEYS + GEOMETRY_KEYS + PIN_LOAD_KEYS + ("contact.face_width_mm",
+                                                                    "material.allowable_stress_MPa")

@@ -43,7 +43,7 @@ _NAMES = {
                  "Face", "pitch_diameter", "root_diameter", "rim_width", "rim_width_from_cheek", "relative_width",
                  "cheek_ratio_of", "base_radius", "face_geometry", "ratio_from_planet_teeth", "planet_teeth",
                  "torsion_diameter", "shear_modulus", "mesh_stiffness", "rim_under_roots", "rims_fit",
-                 "bore_fits", "rim_too_thin", "planets_collide", "row_centres"),
+                 "bore_fits", "rim_too_thin", "planets_collide", "row_centres", "bore_margin", "rim_margin"),
     "sharing": ("RESCALE", "KAPPA_UNIFORM", "KAPPA_STEPWISE_MAX", "UNLOADED_SHARE", "LEVELS", "Sharing",
                 "polar_moment", "torsion_parameter", "stepwise_shares", "stepwise_dense", "twist_between",
                 "exact_shares", "exact_k_no_gap", "x_coth_x", "continuous_x", "continuous_k",

@@ -166,7 +166,7 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
     Returns
     -------
     dict with ``H`` [mm], ``H_max`` [mm], ``H_rel`` = H/H_max (0 without room), ``D``, ``flags``,
-    ``feasible`` (every flag ``ok``), ``Q``, ``axle_compliance`` [mm/N],
+    ``feasible`` (every flag ``ok``), ``margin`` (:func:`fit_margin`), ``Q``, ``axle_compliance`` [mm/N],
     ``stiffness`` (k_j of every span [N·mm/rad]), ``a_w``, ``a_c`` [mm].
 
     Examples
@@ -187,7 +187,7 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
                            axle_diameter, bridge_thickness, youngs_modulus, poisson, polar_moment, first_span)
     flags = [FLAGS[c] for c in b["flags"][0]]
     return {"H": b["H"][0], "H_max": float(b["H_max"][0]), "H_rel": b["H_rel"][0], "D": b["D"][0], "flags": flags,
-            "feasible": all(f == "ok" for f in flags), "Q": float(b["Q"][0]),
+            "feasible": all(f == "ok" for f in flags), "margin": float(b["margin"][0]), "Q": float(b["Q"][0]),
             "axle_compliance": float(b["axle_compliance"][0]), "stiffness": b["stiffness"][0],
             "a_w": float(b["a_w"][0]), "a_c": float(b["a_c"][0]), "planet_teeth": float(b["planet_teeth"][0])}
 
@@ -402,11 +402,15 @@ def size_bridges_batch(rows: int, planets_per_row, sun_diameter, module, rim_wid
     H = np.zeros((P, n))
     D_max = D_of(np.where(room, H_max, 1.0))
     D[:, 0] = np.where(first > 0, D_of(np.where(first > 0, first, 1.0)), 1.0)
+    worst = np.full(P, np.inf)
     for j in range(1, n):  # 0-based j: span j+1 (rows.md §5.2)
         denom = Q * (n - j) - (j - 0.5) / D[:, j - 1]
         with np.errstate(divide="ignore"):
             D_req = np.where(denom > 0, (j + 0.5) / np.where(denom > 0, denom, 1.0), np.inf)
         stiff, over = D_req < 1.0, D_req > D_max
+        with np.errstate(invalid="ignore"):  # the span's need within the window [1, D_max] (:func:`fit_margin`)
+            x = (D_req - 1.0) / np.where(room, D_max - 1.0, 1.0)
+            worst = np.minimum(worst, np.where(np.isnan(x), -np.inf, np.minimum(x, 1.0 - x)))
         flags[:, j] = np.where(room, np.where(stiff, 1, np.where(over, 2, 0)), 3)
         D[:, j] = np.where(stiff, 1.0, np.where(over, D_max, D_req))
     D[~room] = 1.0
@@ -423,8 +427,45 @@ def size_bridges_batch(rows: int, planets_per_row, sun_diameter, module, rim_wid
                                               nu[:, None]), np.inf)
     stiffness = nw[:, None] * ((a_w**2 / delta_o)[:, None] + np.where(H > 0, (a_c**2)[:, None] / d_h, 0.0))
     rel = np.where(room[:, None], H / np.where(room, H_max, 1.0)[:, None], 0.0)  # never 0/0 (rows.md §13.6)
-    return {"H": H, "H_max": H_max, "H_rel": rel, "D": D, "flags": flags, "feasible": (flags == 0).all(axis=1),
-            "Q": Q, "axle_compliance": delta_o, "stiffness": stiffness, "a_w": a_w, "a_c": a_c, "planet_teeth": z_g}
+    feasible = (flags == 0).all(axis=1)
+    return {"H": H, "H_max": H_max, "H_rel": rel, "D": D, "flags": flags, "feasible": feasible,
+            "margin": fit_margin(worst, H_max, 2.0 * math.pi * a_c / nw, feasible), "Q": Q, "axle_compliance": delta_o,
+            "stiffness": stiffness, "a_w": a_w, "a_c": a_c, "planet_teeth": z_g}
+
+
+def fit_margin(worst, H_max, pitch_arc, feasible):
+    r"""The bridge fit as a margin (rows.md §5.5, §8): >= 0 exactly where every span's bridge fits (``feasible``).
+
+    Each span j >= 2 needs the stiffening D_j (eq. (2)) within the window [1, D_max] that a bridge of width 0 to
+    H_max gives; x_j = (D_j - 1)/(D_max - 1) is the span's need as a fraction of the widest bridge's, and the
+    margin is the worst span's distance to either end of the window, as that fraction:
+
+    .. math:: m_{fit} = \max\Bigl(-1, \min_j \min(x_j, 1 - x_j)\Bigr)
+
+    (1 - x_j < 0: the span needs a bridge wider than H_max, ``exceeds_max``; x_j < 0: the axes alone are stiffer
+    than the span needs, ``axes_too_stiff``; -1 also stands for a need beyond any bridge, D_j infinite).  Without
+    room for a bridge (H_max <= 0, ``no_room``) the margin is H_max over the pitch arc 2 pi a_c/n_w, the room a bridge
+    lacks; one row (no span to size): 1.  At the exact ties of the rules (x_j = 1, H_max = 0) the margin takes the
+    sign of the flags: the least negative float where a span fails.
+
+    Parameters
+    ----------
+    worst : ndarray, shape (P,)
+        min_j min(x_j, 1 - x_j) over the sized spans (inf: none; -inf: a need beyond any bridge).
+    H_max, pitch_arc : ndarray, shape (P,)
+        The widest bridge and the carrier's pitch arc 2 pi a_c/n_w [mm].
+    feasible : ndarray of bool, shape (P,)
+        Every span's flag ``ok``.
+
+    Examples
+    --------
+    >>> fit_margin(np.array([0.25, -0.5, np.inf, 0.1]), np.array([50.0, 50.0, 50.0, -5.0]), 100.0,
+    ...            np.array([True, False, True, False])).tolist()
+    [0.25, -0.5, 1.0, -0.05]
+    """
+    m = np.where(H_max > 0, np.clip(worst, -1.0, 1.0), H_max / pitch_arc)
+    tiny = np.nextafter(0.0, 1.0)
+    return np.where(feasible, np.maximum(m, 0.0), np.minimum(m, -tiny))
 
 
 def _widths(compliance, need, length, thickness, youngs_modulus, poisson):

@@ -22,7 +22,7 @@ __all__ = ["MESH_STIFFNESS_PER_E", "ROOT_DEPTH_MODULES", "RIM_MIN_MODULES", "PAP
            "pitch_diameter", "root_diameter", "rim_width", "rim_width_from_cheek", "relative_width",
            "cheek_ratio_of", "base_radius", "face_geometry", "ratio_from_planet_teeth", "planet_teeth",
            "torsion_diameter", "shear_modulus", "mesh_stiffness", "rim_under_roots", "rims_fit", "bore_fits",
-           "rim_too_thin", "planets_collide", "row_centres"]
+           "rim_too_thin", "planets_collide", "row_centres", "bore_margin", "rim_margin"]
 
 MESH_STIFFNESS_PER_E = 0.075
 """C = 0.075 E, the mesh stiffness per unit face width [paper, citing its ref. 1] (rows.md §2.2)."""
@@ -455,6 +455,59 @@ def rim_too_thin(root_diameter, bore, module):
        recoverable); gearcalc specification docs/spec/rows.md §10; ISO 6336-3 rim-thickness factor.
     """
     return (bore > 0) & (rim_under_roots(root_diameter, bore) < RIM_MIN_MODULES * module)
+
+
+def bore_margin(bore, *diameters):
+    r"""The bore check as a margin (rows.md §10): ``1 - d_0/min(d)``, >= 0 exactly where :func:`bore_fits` holds
+    except at d_0 = min(d) (0: the bore touches; the check, strict, fails there and the design is not valid).
+
+    .. math:: m_{bore} = \frac{\min(d_f, d_I, \dots) - d_0}{\min(d_f, d_I, \dots)}
+
+    Examples
+    --------
+    >>> bore_margin(50.0, 77.5, 100.0), bore_margin(0.0, 77.5)
+    (0.3548387096774194, 1.0)
+
+    References
+    ----------
+    .. [1] gearcalc specification docs/spec/rows.md §10.
+    """
+    smallest = diameters[0]
+    for d in diameters[1:]:
+        smallest = smallest if _is_number(smallest) and _is_number(d) and smallest <= d else _minimum(smallest, d)
+    return (smallest - bore) / smallest
+
+
+def _minimum(a, b):
+    if _is_number(a) and _is_number(b):
+        return min(a, b)
+    import numpy as np
+
+    return np.minimum(a, b)
+
+
+def rim_margin(root_diameter, bore, module):
+    r"""The rim check of a hollow sun as a margin (rows.md §10): ``1 - 2.7 m/t``, t = (d_f - d_0)/2 the rim under
+    the roots; < 0 exactly where :func:`rim_too_thin`; NaN for a solid sun (d_0 = 0: no rim to check).
+
+    .. math:: m_{rim} = \frac{t - 2.7\,m}{t}, \qquad t = \frac{d_f - d_0}{2}
+
+    Examples
+    --------
+    >>> rim_margin(77.5, 57.5, 5.0), rim_margin(77.5, 70.0, 5.0)
+    (-0.35, -2.6)
+
+    References
+    ----------
+    .. [1] gearcalc specification docs/spec/rows.md §10; ISO 6336-3 rim-thickness factor.
+    """
+    t = rim_under_roots(root_diameter, bore)
+    m = (t - RIM_MIN_MODULES * module) / t
+    if _is_number(bore):
+        return m if bore > 0 else math.nan
+    import numpy as np
+
+    return np.where(np.asarray(bore) > 0, m, np.nan)
 
 
 def planets_collide(sun_teeth, planet_teeth, planets_per_row):

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 __all__ = ["one", "columns", "sharing_fields", "load_fields", "mass_fields", "detail_rows", "BRIDGE_FLAG_TEXT",
            "bridge_failure", "bridge_fields", "STEPWISE_UNAVAILABLE", "LEVELS_DIFFER", "MASS_ON_BOUND", "UNSETTLED",
-           "K_BALANCED_UNAVAILABLE"]
+           "K_BALANCED_UNAVAILABLE", "CHECKS", "margin_fields"]
 
 STEPWISE_UNAVAILABLE = ("the stepwise level is not available at kappa = {kappa:.6g} >= 8 (the half-row twist "
                         "outweighs the mesh compliance): K comes from the exact level")
@@ -200,6 +200,29 @@ def _window(window) -> str:
     return f"from {up:.{digits}f} to {down:.{digits}f}"
 
 
+CHECKS = (("bridge_fit", "a span's bridge does not fit between 0 and H_max"),
+          ("bore", "sun bore >= min(d_f, d_I)"), ("rim", "rim under the roots < 2.7 m"))
+"""The design checks (name, what a failing point breaks), rows.md §8: their margins are margin_<name>."""
+
+
+def margin_fields(fit, bore, rim, plain, n: int | None = None) -> dict:
+    """margin_bore, margin_rim (None for a solid sun, where ``rim`` is NaN) and failed_checks, with the bridge fit
+    ``fit`` (margin_bridge_fit, a field of :func:`bridge_fields`; None without [bridges]); ``plain`` makes the
+    values of one design (:func:`one`, ``n`` None) or the columns of ``n`` points (:func:`columns`)."""
+    import numpy as np
+
+    from ..calculator import Check, failed_check_column
+
+    out = {"margin_bore": plain(bore), "margin_rim": plain(rim, ~np.isnan(rim))}
+    margins = {**out, "margin_bridge_fit": fit}
+    if n is None:
+        out["failed_checks"] = failed_check_column({k: [v] for k, v in margins.items()},
+                                                   [Check(*c) for c in CHECKS], 1)[0]
+    else:
+        out["failed_checks"] = failed_check_column(margins, [Check(*c) for c in CHECKS], n)
+    return out
+
+
 def bridge_fields(res, sizing_diameter, verified) -> tuple[dict, list[dict]]:
     """The bridge summary fields and detail rows (rows.md §8) from :func:`gearcalc.rows.size_bridges` and the
     :class:`~gearcalc.rows.bridges.Verification` of each sun reading (``sized``, ``pitch``, ``root``)."""
@@ -209,7 +232,8 @@ def bridge_fields(res, sizing_diameter, verified) -> tuple[dict, list[dict]]:
     s.update({f"bridge_{j + 1}_mm": float(H[j]) for j in range(n)})
     sized = verified["sized"]
     u_bal = None if sized.K is None else sized.shares
-    s.update(bridges_feasible=res["feasible"], K_balanced=sized.K, K_balanced_pitch=verified["pitch"].K,
+    s.update(bridges_feasible=res["feasible"], margin_bridge_fit=res["margin"], K_balanced=sized.K,
+             K_balanced_pitch=verified["pitch"].K,
              K_balanced_root=verified["root"].K, unloaded_rows_balanced=[] if u_bal is None else sized.unloaded)
     detail = [{"span": j + 1, "D": float(res["D"][j]), "H_mm": float(H[j]), "H_rel": float(rel[j]),
                "flag": res["flags"][j], "u_balanced": None if u_bal is None else float(u_bal[j])} for j in range(n)]

@@ -9,7 +9,7 @@ The seed paper by Merko et al. (seed 003), cited in full in :mod:`gearcalc.zstk`
 """
 from __future__ import annotations
 
-__all__ = ["Outputs", "stack_outputs", "RollerDetail", "roller_detail"]
+__all__ = ["Outputs", "stack_outputs", "RollerDetail", "roller_detail", "Margins", "margins"]
 
 from dataclasses import dataclass
 
@@ -29,7 +29,8 @@ class Outputs:
     summary : :func:`gearcalc.zstk.summarise`; capacity : the allowable radial load; shear, shear_depth :
     tau_max [MPa] at the critical contact and its depth [mm]; separator : F_S of every roller [N], (G, N);
     passed : sigma_max <= [sigma_H]; safety : [sigma_H]/sigma_max (NaN where sigma_max <= 0); r_min, r_max :
-    the extreme roller radii [mm]; admissible_max : the largest admissible N of each design (a list).
+    the extreme roller radii [mm]; admissible_max : the largest admissible N of each design (a list); margins :
+    the design checks as margins (:func:`margins`).
     """
 
     summary: Summary
@@ -42,6 +43,7 @@ class Outputs:
     r_min: np.ndarray
     r_max: np.ndarray
     admissible_max: list
+    margins: "Margins"
 
 
 def stack_outputs(stack, fixed_direction=False, sweep_value=None, sweep_err=None, inner=None,
@@ -97,8 +99,61 @@ def stack_outputs(stack, fixed_direction=False, sweep_value=None, sweep_err=None
     r_min, r_max = extreme_roller_radii(chain.outer_radius, chain.inner_radius, chain.eccentricity)
     admissible = [largest_admissible_n(lim, c) for lim, c in zip(broadcast(chain.n_limit, (size,)).tolist(),
                                                                  broadcast(chain.correct, (size,)).tolist())]
-    return Outputs(sm, capacity, tau, depth, separator, sm.sigma_max <= stack.allowable,
-                   safety_factor(sm.sigma_max, stack.allowable), r_min, r_max, admissible)
+    m = margins(sm.sigma_max, stack.allowable, chain.n, chain.n_limit, chain.correct, stack.clearance, r_min)
+    return Outputs(sm, capacity, tau, depth, separator, m.sigma >= 0.0,
+                   safety_factor(sm.sigma_max, stack.allowable), r_min, r_max, admissible, m)
+
+
+@dataclass(frozen=True)
+class Margins:
+    """The design checks of G designs as signed, dimensionless margins (>= 0 passes; zstk.md §10), arrays (G,):
+    sigma (the strength check), closure (N against the chain's N_max), clearance (|s| against r_min)."""
+
+    sigma: np.ndarray
+    closure: np.ndarray
+    clearance: np.ndarray
+
+
+def margins(sigma_max, allowable, n, n_limit, correct, clearance, r_min) -> Margins:
+    r"""The zstk design checks as margins (zstk.md §10): >= 0 passes, < 0 fails.
+
+    .. math:: m_\sigma = \frac{[\sigma_H] - \sigma_{max}}{[\sigma_H]}, \qquad
+              m_{closure} = 1 - \frac{N}{N_{max}}, \qquad m_{clearance} = 1 - \frac{|s|}{r_{min}}
+
+    m_sigma is 1 - sigma_max/[sigma_H], written as a difference first so that its sign is exactly that of
+    [sigma_H] - sigma_max (the check ``pass``: sigma_max <= [sigma_H]).  closure and clearance are distances to
+    validity rules (zstk.md §3.3, §9): a design past them is not computed (an error, a sweep's ``error`` row), so
+    on a computed design they are >= 0 (N = N_max of the "gap" correction, closed within 1e-9, is 0; no N_max: 1).
+
+    Parameters
+    ----------
+    sigma_max, allowable : array_like, shape (G,)
+        sigma_max and [sigma_H] [MPa].
+    n : int or array_like
+        N.
+    n_limit : array_like
+        N_max of the chain (inf: none).
+    correct : str or array_like of str
+        The correction ("gap" admits N = N_max).
+    clearance, r_min : array_like
+        s and the smallest roller radius (R_H - R_B - e)/2 [mm].
+
+    Examples
+    --------
+    >>> m = margins(np.array([748.94]), np.array([4000.0]), 8, np.array([31.94]), "outer", np.array([0.0]),
+    ...             np.array([23.35]))
+    >>> round(float(m.sigma[0]), 6), round(float(m.closure[0]), 6), float(m.clearance[0])
+    (0.812765, 0.74953, 1.0)
+    """
+    allowable = np.asarray(allowable, dtype=float)
+    sigma = (allowable - np.asarray(sigma_max, dtype=float)) / allowable
+    lim = np.asarray(n_limit, dtype=float)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        closure = np.where(np.isfinite(lim), 1.0 - np.asarray(n, dtype=float) / lim, 1.0)
+        clear = 1.0 - np.abs(np.asarray(clearance, dtype=float)) / np.asarray(r_min, dtype=float)
+    shape = sigma.shape
+    return Margins(sigma, np.maximum(np.broadcast_to(closure, shape), 0.0), np.maximum(np.broadcast_to(clear, shape),
+                                                                                        0.0))
 
 
 @dataclass(frozen=True)

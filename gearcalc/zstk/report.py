@@ -108,7 +108,22 @@ def summary_fields(names, model: str, stack, out, sweep: dict) -> dict:
         **{k: [sweep.get(k)] * size for k in ("phase_samples", "phase_step_deg", "direction_samples",
                                               "direction_step_deg")},
         "stepping_residual_mm": [None] * size if stack.stepping is None else col(stack.stepping),
+        **margin_fields(out.margins, col),
     }
+
+
+CHECKS = ("sigma", "sigma_max > allowable_stress"), ("closure", "N above the chain's N_max"), \
+    ("clearance", "|clearance| >= r_min")
+"""The design checks (name, what a failing point breaks), zstk.md §10: their margins are margin_<name>."""
+
+
+def margin_fields(m, col) -> dict:
+    """The summary's margins (margin_sigma, margin_closure, margin_clearance) and failed_checks, as columns."""
+    from ..calculator import Check, failed_check_column
+
+    cols = {"margin_sigma": col(m.sigma), "margin_closure": col(m.closure), "margin_clearance": col(m.clearance)}
+    cols["failed_checks"] = failed_check_column(cols, [Check(*c) for c in CHECKS], len(cols["margin_sigma"]))
+    return cols
 
 
 def _contact(c) -> str:
