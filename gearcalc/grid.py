@@ -291,10 +291,22 @@ class Grid(Sequence):
 def ignore_sigint() -> None:
     """Initializer of ``--jobs`` worker processes: they ignore Ctrl-C (SIGINT goes to the whole process
     group), so that the main process alone reports "interrupted" and shuts the pool down, without a
-    KeyboardInterrupt traceback from every worker."""
+    KeyboardInterrupt traceback from every worker.  The other stop signals: SIGQUIT (from the keyboard
+    too) is ignored likewise; SIGTERM, SIGHUP and SIGUSR1 end the worker at once and quietly (the default
+    action: a forked worker would otherwise inherit the main process's handler, which raises), and the
+    main process, signalled with its process group, cleans up and reports."""
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name, action in (("SIGQUIT", signal.SIG_IGN), ("SIGTERM", signal.SIG_DFL), ("SIGHUP", signal.SIG_DFL),
+                         ("SIGUSR1", signal.SIG_DFL)):
+        signum = getattr(signal, name, None)
+        if signum is not None and (name == "SIGTERM" or signal.getsignal(signum) != signal.SIG_IGN):
+            signal.signal(signum, action)  # SIGTERM always: the pool stops its workers with it
+    if hasattr(signal, "pthread_sigmask"):  # forked with them blocked (WorkerPool.submit): now they may come
+        from .console import stop_signal_numbers
+
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, stop_signal_numbers())
 
 
 _MALLOC_TUNED = False
@@ -430,6 +442,13 @@ def worker_pool(jobs: int, keep_memory: bool = False, slots: Slots | None = None
     from concurrent.futures import ProcessPoolExecutor
 
     class WorkerPool(ProcessPoolExecutor):
+        def submit(self, fn, /, *args, **kwargs):
+            # the workers are forked here (at the first submit) with the stop signals held: see held_signals
+            from .console import held_signals
+
+            with held_signals():
+                return super().submit(fn, *args, **kwargs)
+
         def _stop_workers(self) -> None:
             for proc in list((getattr(self, "_processes", None) or {}).values()):
                 if proc.is_alive():
