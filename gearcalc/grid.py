@@ -439,7 +439,19 @@ def worker_pool(jobs: int, keep_memory: bool = False, slots: Slots | None = None
     chunks first.  ``keep_memory``: the workers keep the memory they free (:func:`keep_freed_memory`);
     ``slots``: the :class:`Slots` they share with this process (with ``keep_memory``; ``context`` the
     multiprocessing context whose start method forks)."""
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import Future, ProcessPoolExecutor
+
+    class QuietFuture(Future):
+        """A future that takes no exception once it is done (cancelled). Python 3.11's pool marks every pending
+        future broken when a worker dies (``terminate_broken``) without asking whether it was cancelled
+        meanwhile, and the InvalidStateError ends its manager thread with a traceback on stderr: seen when
+        SIGTERM or SIGHUP to the process group ended the workers while the main process cancelled its futures
+        (CPython 3.11.7)."""
+
+        def set_exception(self, exception) -> None:
+            with self._condition:
+                if not self.done():
+                    super().set_exception(exception)
 
     class WorkerPool(ProcessPoolExecutor):
         def submit(self, fn, /, *args, **kwargs):
@@ -447,7 +459,9 @@ def worker_pool(jobs: int, keep_memory: bool = False, slots: Slots | None = None
             from .console import held_signals
 
             with held_signals():
-                return super().submit(fn, *args, **kwargs)
+                future = super().submit(fn, *args, **kwargs)
+            future.__class__ = QuietFuture  # the same object the pool's manager thread holds
+            return future
 
         def _stop_workers(self) -> None:
             for proc in list((getattr(self, "_processes", None) or {}).values()):
