@@ -26,7 +26,7 @@ Before anything else, :func:`main` makes the process safe at its edges:
   temporary file is removed and worker processes are stopped; the exit status is 130 for SIGINT and SIGTERM
   and 128 + the signal's number for the others (:func:`interrupted_status`).
 
-This module imports nothing beyond ``os``, ``signal`` and ``sys`` until it knows it needs the CLI.
+This module imports nothing beyond ``os`` and ``sys`` (``signal`` with the CLI) until it knows it needs the CLI.
 """
 from __future__ import annotations
 
@@ -206,7 +206,6 @@ def interrupted_message(exc: BaseException) -> str:
 def main() -> None:
     """Run ``gearcalc`` with the arguments of the process and leave with its exit status."""
     open_standard_streams()
-    catch_stop_signals()
     try:
         _main()
     except KeyboardInterrupt as exc:  # before the CLI's own handling (while importing, parsing)
@@ -231,6 +230,7 @@ def _main() -> None:
         from . import __version__
 
         _leave(_write(f"gearcalc {__version__}\n"))
+    catch_stop_signals()  # before the CLI (and any file it makes); the fast paths above make none
     from .cli import main as cli_main
 
     try:
