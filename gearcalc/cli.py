@@ -41,7 +41,13 @@ class Abort(Exception):
 
 
 def err(message: str) -> None:
-    print(message, file=sys.stderr)
+    """A message on stderr; dropped when stderr cannot take it (a hung-up terminal), never sent to stdout."""
+    if sys.stderr is None:  # print(file=None) would write to stdout
+        return
+    try:
+        print(message, file=sys.stderr)
+    except (OSError, ValueError):
+        pass
 
 
 def _version(value: bool):
@@ -201,7 +207,7 @@ def check_output_path(output: Optional[str], inputs=(), option: str = "-o", othe
 def check_outputs(output: Optional[str], plot: Optional[str], inputs=()) -> None:
     """check_output_path for -o and --plot together (and that they are not the same file)."""
     check_output_path(output, inputs)
-    if plot:
+    if plot is not None:
         check_output_path(plot, inputs, "--plot", other=output, plot=True)
 
 
@@ -951,9 +957,11 @@ def finish(body, debug: bool) -> None:
     except BrokenPipeError:
         silence_stdout()
         code = EXIT_OK
-    except KeyboardInterrupt:
-        err("gearcalc: interrupted")
-        code = 130
+    except KeyboardInterrupt as exc:  # Ctrl-C, or a stop signal (gearcalc.console.catch_stop_signals)
+        from .console import interrupted_message, interrupted_status
+
+        err(interrupted_message(exc))
+        code = interrupted_status(exc)
     except Exception as exc:  # noqa: BLE001 - the last line of defence
         from .design import InputError
         from .output import OutputError, write_error
@@ -978,17 +986,10 @@ def finish(body, debug: bool) -> None:
     raise typer.Exit(code)
 
 
-def _terminate(signum, frame):  # SIGTERM: unwind like Ctrl-C, so no temporary file is left behind
-    raise KeyboardInterrupt
-
-
 def main() -> None:
-    import signal
+    from .console import catch_stop_signals
 
-    try:
-        signal.signal(signal.SIGTERM, _terminate)
-    except (ValueError, OSError):  # not in the main thread
-        pass
+    catch_stop_signals()  # SIGTERM, SIGHUP, ...: unwind like Ctrl-C, so no temporary file is left behind
     if "--debug" not in sys.argv[1:]:
         # numpy's RuntimeWarnings (an overflow to inf in an intermediate whose limit is the right answer,
         # e.g. 1/(1+lambda)^2 -> 0) are not the user's to act on; a non-finite output is refused by the

@@ -14,7 +14,19 @@ Two things cost a one-design call time without doing any of its work:
   process with :func:`os._exit`. :func:`gearcalc.cli.main` keeps the ordinary ``SystemExit`` for
   callers in the same process (tests, ``CliRunner``).
 
-This module imports nothing beyond ``os`` and ``sys`` until it knows it needs the CLI.
+Before anything else, :func:`main` makes the process safe at its edges:
+
+* A standard descriptor the caller closed (``>&-``, ``2>&-``, ``<&-``) is opened on the null device
+  (:func:`open_standard_streams`), so that no file the command opens (an ``-o`` temporary file) takes its
+  number. Standard output is opened read-only, as GNU coreutils do: data written there fails with
+  ``EBADF`` and the run says ``gearcalc: cannot write standard output: Bad file descriptor`` (exit 74),
+  before computing when the command knows where its data goes. Standard error is opened for writing: the
+  messages are dropped, the exit status is the one of the run, and nothing meant for stderr reaches stdout.
+* SIGTERM, SIGHUP, SIGQUIT and SIGUSR1 unwind like Ctrl-C (:func:`catch_stop_signals`), so an ``-o``
+  temporary file is removed and worker processes are stopped; the exit status is 130 for SIGINT and SIGTERM
+  and 128 + the signal's number for the others (:func:`interrupted_status`).
+
+This module imports nothing beyond ``os`` and ``sys`` (``signal`` with the CLI) until it knows it needs the CLI.
 """
 from __future__ import annotations
 
@@ -47,8 +59,168 @@ def one_blas_thread(environ=os.environ) -> None:
         environ.setdefault(name, "1")
 
 
+def open_standard_streams() -> tuple:
+    """Open each closed standard descriptor (0, 1, 2) on the null device and give Python a stream for it;
+    the numbers of those that were closed.
+
+    Standard input is opened write-only and standard output read-only, so that reading or writing them
+    fails (``EBADF``) as it would on the closed descriptor; standard error write-only, so that messages are
+    dropped. :data:`gearcalc.output.STDOUT_CLOSED` records a closed standard output."""
+    closed = []
+    for fd, flags in ((0, os.O_WRONLY), (1, os.O_RDONLY), (2, os.O_WRONLY)):
+        try:
+            os.fstat(fd)
+            continue
+        except OSError:
+            pass
+        try:
+            new = os.open(os.devnull, flags)
+            if new != fd:
+                os.dup2(new, fd)
+                os.close(new)
+        except OSError:  # pragma: no cover - no null device: leave the descriptor closed
+            continue
+        closed.append(fd)
+        mode = "r" if fd == 0 else "w"
+        stream = open(fd, mode, encoding="utf-8", errors="backslashreplace" if fd == 2 else "strict", closefd=False)
+        setattr(sys, ("stdin", "stdout", "stderr")[fd], stream)
+    if 1 in closed:
+        from . import output
+
+        output.STDOUT_CLOSED = True
+    return tuple(closed)
+
+
+STOP_SIGNALS = ("SIGTERM", "SIGHUP", "SIGQUIT", "SIGUSR1")
+"""Signals that stop a run like Ctrl-C (SIGINT): the same cleanup, exit status :func:`interrupted_status`."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """Raised by the handler of a stop signal (:data:`STOP_SIGNALS`): a KeyboardInterrupt, so every path that
+    cleans up after Ctrl-C (an ``-o`` temporary file removed, worker processes stopped) does so for it too."""
+
+    def __init__(self, signum: int):
+        super().__init__(signum)
+        self.signum = signum
+
+
+_HELD = None
+"""While :func:`held_signals` holds them: the stop signals that came meanwhile (else None)."""
+
+
+def _stop(signum, frame):
+    if _HELD is not None:
+        _HELD.append(signum)
+        return
+    raise _interruption(signum)
+
+
+def _interruption(signum: int) -> KeyboardInterrupt:
+    import signal
+
+    return KeyboardInterrupt() if signum == signal.SIGINT else Interrupted(signum)
+
+
+class held_signals:  # noqa: N801 - a context manager, used like a function
+    """``with held_signals(): fork()``: SIGINT and the stop signals are blocked in this thread (a process forked
+    meanwhile starts with them blocked: a ``--jobs`` worker unblocks them once it has set its own handlers,
+    :func:`gearcalc.grid.ignore_sigint`), and one that reaches this process (through another thread) is held
+    and raised at the end: not raised inside ``os.fork``'s hooks, where Python would print and drop it."""
+
+    def __enter__(self):
+        import signal
+
+        global _HELD
+        self.outer, self.mask = _HELD, None
+        if self.outer is None:
+            _HELD = []
+        if hasattr(signal, "pthread_sigmask"):
+            self.mask = signal.pthread_sigmask(signal.SIG_BLOCK, stop_signal_numbers())
+        return self
+
+    def __exit__(self, kind, value, tb):
+        import signal
+
+        global _HELD
+        if self.mask is not None:
+            signal.pthread_sigmask(signal.SIG_SETMASK, self.mask)  # a blocked signal is taken here
+        if self.outer is None:
+            pending, _HELD = _HELD, None
+            if pending and kind is None:
+                raise _interruption(pending[0])
+        return False
+
+
+def stop_signal_numbers() -> set:
+    """SIGINT and the :data:`STOP_SIGNALS` that this system has."""
+    import signal
+
+    return {getattr(signal, name) for name in ("SIGINT", *STOP_SIGNALS) if hasattr(signal, name)}
+
+
+def catch_stop_signals() -> None:
+    """Make the :data:`STOP_SIGNALS` raise :class:`Interrupted` in the main thread, and SIGINT
+    KeyboardInterrupt as it does by default, both held by :class:`held_signals` (a signal the caller
+    ignores, as ``nohup`` does for SIGHUP, stays ignored). ``--jobs`` workers are forked with these signals
+    blocked and set their own handlers before they take them (:func:`gearcalc.grid.worker_pool`)."""
+    import signal
+
+    for name in ("SIGINT", *STOP_SIGNALS):
+        signum = getattr(signal, name, None)
+        if signum is None:
+            continue
+        try:
+            if signal.getsignal(signum) != signal.SIG_IGN:
+                signal.signal(signum, _stop)
+        except (ValueError, OSError):  # not in the main thread
+            pass
+
+
+def interrupted_status(exc: BaseException) -> int:
+    """The exit status of a run stopped by ``exc``: 130 for Ctrl-C (SIGINT) and SIGTERM, 128 + the number of
+    any other stop signal (129 SIGHUP, 131 SIGQUIT, 138 SIGUSR1 on Linux), as the shell reports a process
+    that signal ended.
+
+    >>> import signal
+    >>> interrupted_status(KeyboardInterrupt()), interrupted_status(Interrupted(signal.SIGTERM))
+    (130, 130)
+    >>> interrupted_status(Interrupted(signal.SIGHUP)) == 128 + signal.SIGHUP
+    True
+    """
+    import signal
+
+    signum = getattr(exc, "signum", signal.SIGINT)
+    return 130 if signum in (signal.SIGINT, signal.SIGTERM) else 128 + int(signum)
+
+
+def interrupted_message(exc: BaseException) -> str:
+    """``gearcalc: interrupted``, naming the signal when it was not SIGINT or SIGTERM."""
+    import signal
+
+    signum = getattr(exc, "signum", signal.SIGINT)
+    if signum in (signal.SIGINT, signal.SIGTERM):
+        return "gearcalc: interrupted"
+    return f"gearcalc: interrupted ({signal.Signals(signum).name})"
+
+
 def main() -> None:
     """Run ``gearcalc`` with the arguments of the process and leave with its exit status."""
+    open_standard_streams()
+    try:
+        _main()
+    except KeyboardInterrupt as exc:  # before the CLI's own handling (while importing, parsing)
+        _say(interrupted_message(exc))
+        _leave(interrupted_status(exc))
+
+
+def _say(line: str) -> None:
+    try:
+        sys.stderr.write(line + "\n")
+    except (OSError, ValueError, AttributeError):
+        pass
+
+
+def _main() -> None:
     args = sys.argv[1:]
     one_blas_thread()
     if args in (["--help"], ["-h"]) and _standard_width() and os.path.isfile(HELP_FILE):
@@ -58,6 +230,7 @@ def main() -> None:
         from . import __version__
 
         _leave(_write(f"gearcalc {__version__}\n"))
+    catch_stop_signals()  # before the CLI (and any file it makes); the fast paths above make none
     from .cli import main as cli_main
 
     try:

@@ -164,7 +164,7 @@ def _read_bytes(source: str, where: str) -> bytes:
     if from_folder:
         flags |= getattr(os, "O_NONBLOCK", 0)  # a FIFO put there after the listing must not block
     try:
-        fd = os.open(source, flags)
+        fd = _open_input(source, flags, where)
     except FileNotFoundError:
         extra = " (a broken symbolic link)" if os.path.islink(source) else ""
         raise InputError([f"{where}: no such file{extra}"]) from None
@@ -184,6 +184,38 @@ def _read_bytes(source: str, where: str) -> bytes:
         raise InputError([f"{where}: cannot be read ({exc.strerror or exc})"]) from None
     finally:
         os.close(fd)
+
+
+FIFO_WAIT = 1.0
+"""Seconds a named FIFO may keep its reader waiting for a writer before gearcalc says it waits."""
+
+
+def _open_input(source: str, flags: int, where: str) -> int:
+    """``os.open``; opening a FIFO waits for a writer, and after :data:`FIFO_WAIT` seconds stderr says so
+    (``gearcalc run d/*.toml`` with a FIFO among the files would otherwise wait silently)."""
+    try:
+        fifo = not flags & getattr(os, "O_NONBLOCK", 0) and stat.S_ISFIFO(os.stat(source).st_mode)
+    except (OSError, ValueError):
+        fifo = False
+    if not fifo:
+        return os.open(source, flags)
+    import threading
+
+    def say() -> None:
+        if sys.stderr is not None:
+            try:
+                print(f"{where}: a FIFO; waiting for a program to write to it (Ctrl-C to stop)", file=sys.stderr,
+                      flush=True)
+            except (OSError, ValueError):
+                pass
+
+    timer = threading.Timer(FIFO_WAIT, say)
+    timer.daemon = True
+    timer.start()
+    try:
+        return os.open(source, flags)
+    finally:
+        timer.cancel()
 
 
 # A chain of dotted-key parts (bare or quoted) at a key position: line start, a table header, or

@@ -372,10 +372,22 @@ def size_of(axes: dict[str, list[Any]]) -> int:
 def ignore_sigint() -> None:
     """Initializer of ``--jobs`` worker processes: they ignore Ctrl-C (SIGINT goes to the whole process
     group), so that the main process alone reports "interrupted" and shuts the pool down, without a
-    KeyboardInterrupt traceback from every worker."""
+    KeyboardInterrupt traceback from every worker.  The other stop signals: SIGQUIT (from the keyboard
+    too) is ignored likewise; SIGTERM, SIGHUP and SIGUSR1 end the worker at once and quietly (the default
+    action: a forked worker would otherwise inherit the main process's handler, which raises), and the
+    main process, signalled with its process group, cleans up and reports."""
     import signal
 
     signal.signal(signal.SIGINT, signal.SIG_IGN)
+    for name, action in (("SIGQUIT", signal.SIG_IGN), ("SIGTERM", signal.SIG_DFL), ("SIGHUP", signal.SIG_DFL),
+                         ("SIGUSR1", signal.SIG_DFL)):
+        signum = getattr(signal, name, None)
+        if signum is not None and (name == "SIGTERM" or signal.getsignal(signum) != signal.SIG_IGN):
+            signal.signal(signum, action)  # SIGTERM always: the pool stops its workers with it
+    if hasattr(signal, "pthread_sigmask"):  # forked with them blocked (WorkerPool.submit): now they may come
+        from .console import stop_signal_numbers
+
+        signal.pthread_sigmask(signal.SIG_UNBLOCK, stop_signal_numbers())
 
 
 _MALLOC_TUNED = False
@@ -508,9 +520,30 @@ def worker_pool(jobs: int, keep_memory: bool = False, slots: Slots | None = None
     chunks first.  ``keep_memory``: the workers keep the memory they free (:func:`keep_freed_memory`);
     ``slots``: the :class:`Slots` they share with this process (with ``keep_memory``; ``context`` the
     multiprocessing context whose start method forks)."""
-    from concurrent.futures import ProcessPoolExecutor
+    from concurrent.futures import Future, ProcessPoolExecutor
+
+    class QuietFuture(Future):
+        """A future that takes no exception once it is done (cancelled). Python 3.11's pool marks every pending
+        future broken when a worker dies (``terminate_broken``) without asking whether it was cancelled
+        meanwhile, and the InvalidStateError ends its manager thread with a traceback on stderr: seen when
+        SIGTERM or SIGHUP to the process group ended the workers while the main process cancelled its futures
+        (CPython 3.11.7)."""
+
+        def set_exception(self, exception) -> None:
+            with self._condition:
+                if not self.done():
+                    super().set_exception(exception)
 
     class WorkerPool(ProcessPoolExecutor):
+        def submit(self, fn, /, *args, **kwargs):
+            # the workers are forked here (at the first submit) with the stop signals held: see held_signals
+            from .console import held_signals
+
+            with held_signals():
+                future = super().submit(fn, *args, **kwargs)
+            future.__class__ = QuietFuture  # the same object the pool's manager thread holds
+            return future
+
         def _stop_workers(self) -> None:
             for proc in list((getattr(self, "_processes", None) or {}).values()):
                 if proc.is_alive():

@@ -38,6 +38,10 @@ import sys
 
 STDOUT = "-"
 
+STDOUT_CLOSED = False
+"""Set by :func:`gearcalc.console.open_standard_streams` when the process started with standard output closed
+(``>&-``): a command whose data would go there is refused before computing (exit 74, ``EBADF``)."""
+
 PLOT_FORMATS = ("png", "pdf", "svg", "svgz", "eps", "ps", "jpg", "jpeg", "tif", "tiff", "webp", "pgf")
 """The formats matplotlib's Agg-based savefig writes (checked without importing matplotlib)."""
 
@@ -104,7 +108,13 @@ def check(path: str, option: str = "-o", inputs=(), other=None, plot: bool = Fal
     """Fail before any computation when ``path`` cannot be written (UsageError, OutputError)."""
     if plot and is_stdout(path) and not to_file(other):
         raise UsageError(f"{option} -: standard output already carries the results; add -o FILE")
+    if path is not None and os.fspath(path) == "":  # -o "$UNSET": not standard output by accident
+        raise UsageError(f"{option} '': empty output path (use - for standard output)")
     if not to_file(path):
+        if STDOUT_CLOSED and not plot:  # the data would go to a closed standard output (>&-): say it now
+            import errno
+
+            raise OutputError("standard output", OSError(errno.EBADF, os.strerror(errno.EBADF)))
         return
     path = os.fspath(path)
     if plot:
@@ -136,8 +146,66 @@ def check(path: str, option: str = "-o", inputs=(), other=None, plot: bool = Fal
         raise UsageError(f"{option} {path}: the folder {folder} does not exist")
     if os.path.isdir(target):
         raise UsageError(f"{option} {path}: is a directory")
+    if _names_a_folder(path):
+        raise UsageError(f"{option} {path}: not a directory (a trailing '/' names a folder; drop it to write a file)")
+    _check_length(path, option, target, folder)
+    _check_writable(path, target)
     if not os.access(folder, os.W_OK):
         raise OutputError(path, _folder_error(folder))
+
+
+def _names_a_folder(path: str) -> bool:
+    """Whether ``path`` ends like a folder's name (``out.csv/``, ``out.csv/.``), which the shell's ``>`` refuses
+    for anything but a directory ("Not a directory")."""
+    return path.endswith(os.sep) or os.path.basename(path) in (".", "..")
+
+
+NAME_MAX = 255
+"""The longest file name (one path component, in bytes) where the system does not say (Linux, macOS: 255)."""
+
+PATH_MAX = 4096
+"""The longest path (in bytes) where the system does not say (Linux: 4096)."""
+
+
+def _check_length(path: str, option: str, target: str, folder: str) -> None:
+    """A file name longer than the folder's file system holds (``NAME_MAX``, 255 bytes on Linux) or a path
+    longer than ``PATH_MAX`` is refused before any computation (exit 2), as it would be at the end otherwise."""
+    name = os.fsencode(os.path.basename(target))
+    try:
+        name_max = os.pathconf(folder, "PC_NAME_MAX")
+    except (OSError, ValueError, AttributeError):
+        name_max = NAME_MAX
+    if name_max and name_max > 0 and len(name) > name_max:
+        raise UsageError(f"{option} {_short(path)}: file name too long ({len(name)} bytes; the file system "
+                         f"holds names of at most {name_max})")
+    try:
+        path_max = os.pathconf(folder, "PC_PATH_MAX")
+    except (OSError, ValueError, AttributeError):
+        path_max = PATH_MAX
+    if path_max and path_max > 0 and len(os.fsencode(target)) >= path_max:
+        raise UsageError(f"{option} {_short(path)}: path too long ({len(os.fsencode(target))} bytes; at most "
+                         f"{path_max - 1})")
+
+
+def _short(path: str, keep: int = 60) -> str:
+    return path if len(path) <= keep else path[:keep // 2] + "…" + path[-keep // 2:]
+
+
+def _check_writable(path: str, target: str) -> None:
+    """An existing regular file that the shell's ``>`` could not open for writing is not replaced: a file with
+    no write permission bit at all (``chmod a-w``, 0444), whoever runs gearcalc (root too, by the mode bits), or
+    one this user may not write (as the shell decides). Exit status 74, "Permission denied", before computing."""
+    try:
+        st = os.stat(target)
+    except OSError:
+        return  # a new file
+    if not stat.S_ISREG(st.st_mode):
+        return
+    if not st.st_mode & (stat.S_IWUSR | stat.S_IWGRP | stat.S_IWOTH) or not os.access(target, os.W_OK):
+        import errno
+
+        raise OutputError(path, PermissionError(errno.EACCES, os.strerror(errno.EACCES)
+                                                + " (the file is read-only; gearcalc does not replace it)"))
 
 
 def _folder_error(folder: str) -> OSError:
@@ -163,10 +231,24 @@ def _same(a: str, b: str) -> bool:
 def _check_not_inputs(path: str, option: str, inputs) -> None:
     for inp in inputs or ():
         inp = os.fspath(inp)
-        if inp == STDOUT or descriptor(inp) is not None:
-            continue  # standard input: nothing on disk to protect
+        fd = 0 if inp == STDOUT else descriptor(inp)
+        if fd is not None:  # standard input or a descriptor: the file behind it (`- < design.toml`), if any
+            if _same_as_descriptor(path, fd):
+                what = "standard input" if inp == STDOUT else inp
+                raise UsageError(f"{option} {path}: is the file read from {what}; it would be overwritten")
+            continue
         if _same(path, inp):
             raise UsageError(f"{option} {path}: is the input design file {inp}; it would be overwritten")
+
+
+def _same_as_descriptor(path: str, fd: int) -> bool:
+    """Whether the regular file open on descriptor ``fd`` (standard input redirected from a file) is ``path``."""
+    try:
+        opened = os.fstat(fd)
+        st = os.stat(path)
+    except OSError:
+        return False
+    return stat.S_ISREG(opened.st_mode) and (opened.st_dev, opened.st_ino) == (st.st_dev, st.st_ino)
 
 
 def write(path: str, data) -> None:
@@ -291,9 +373,20 @@ class stream:  # noqa: N801 - used as a context manager, like open()
     exception (Ctrl-C included). ``path`` None or ``-``: standard output."""
 
     def __init__(self, path: str | None):
-        self.sink = Sink(path)
+        self.path, self.sink = path, None
 
     def __enter__(self) -> Sink:
+        # a stop signal while the temporary file is made is held until its name is known, then raised here, and
+        # the file removed (raised between the file's creation and its registration, it would stay behind)
+        from .console import held_signals
+
+        try:
+            with held_signals():
+                self.sink = Sink(self.path)
+        except BaseException:
+            if self.sink is not None:
+                self.sink.abort()
+            raise
         return self.sink
 
     def __exit__(self, kind, value, tb) -> bool:
@@ -312,6 +405,8 @@ def _open_temporary(target: str):
     except FileNotFoundError:
         old = None
     flags = os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_CLOEXEC", 0)
+    while len(os.fsencode(f".{name}.123456789abc.tmp")) > NAME_MAX and len(name) > 1:
+        name = name[:-1]  # a long name's temporary file takes the start of it (the name itself is checked)
     for _ in range(100):
         tmp = os.path.join(folder, f".{name}.{os.urandom(6).hex()}.tmp")
         try:

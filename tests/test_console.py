@@ -72,3 +72,42 @@ def test_console_keeps_every_exit_code_and_all_output(write, tmp_path):
     r = cli_proc("run", FIG3, "-o", out)
     assert r.code == cli("run", FIG3, "-o", tmp_path / "ref.json").code
     assert json.loads(out.read_text()) and out.read_text() == (tmp_path / "ref.json").read_text()
+
+
+def closed(redirect, *args, cwd=None):
+    """``gearcalc ARGS`` with a standard descriptor closed by the shell (``>&-``, ``2>&-``); the other two piped."""
+    return subprocess.run(["sh", "-c", f'exec "$@" {redirect}', "sh", sys.executable, "-m", "gearcalc",
+                           *map(str, args)], capture_output=True, text=True, timeout=120, cwd=cwd)
+
+
+EBADF = "gearcalc: cannot write standard output: Bad file descriptor\n"  # os.strerror(errno.EBADF) on Linux
+
+
+@pytest.mark.parametrize("args", [["run", FIG3], ["sweep", FIG3, "--vary", "rows.count=1,2"], ["new", "rows"],
+                                  ["check", FIG3], ["--version"]])
+def test_closed_stdout_is_exit_74_with_one_line(args):
+    # `gearcalc ... >&-`: data has nowhere to go: one line on stderr, exit 74 (EX_IOERR), never a traceback
+    # (coreutils: `echo x >&-` says "write error: Bad file descriptor", exit 1; 74 is gearcalc's cannot-write)
+    p = closed(">&-", *args)
+    assert (p.returncode, p.stderr) == (74, EBADF)
+
+
+def test_closed_stdout_with_an_output_file_is_a_good_run(tmp_path):
+    # the data goes to -o: a closed standard output is not needed; the file is written and the run exits 0
+    p = closed(">&-", "run", FIG3, "-o", "out.csv", cwd=tmp_path)
+    assert (p.returncode, p.stderr) == (0, "")
+    assert (tmp_path / "out.csv").read_text() == cli("run", FIG3, "-f", "csv").out
+    assert os.listdir(tmp_path) == ["out.csv"]  # the output did not take descriptor 1's number either
+
+
+def test_closed_stderr_keeps_the_exit_status_and_stdout_clean(write):
+    # `2>&-`: a good run exits 0 with its data alone on stdout; messages are dropped, never mixed into the data
+    good = closed("2>&-", "run", FIG3, "-f", "csv")
+    assert (good.returncode, good.stdout) == (0, cli("run", FIG3, "-f", "csv").out)
+    warned = CONFIGS / "zstk_merko_A_gap.toml"  # a design with a warning on stderr (no allowable stress)
+    ref = cli("run", warned, "-f", "csv")
+    assert ref.err  # the warning that must not reach stdout
+    p = closed("2>&-", "run", warned, "-f", "csv")
+    assert (p.returncode, p.stdout) == (ref.code, ref.out)
+    bad = closed("2>&-", "run", write("kind = 'rows'\n[rows]\ncount = 3\n"))
+    assert (bad.returncode, bad.stdout) == (2, "")

@@ -142,6 +142,11 @@ def exit_codes() -> set[int]:
     codes = {v for k, v in vars(cli).items() if k.startswith("EXIT_") and isinstance(v, int)}
     codes.update(int(c) for c in re.findall(r"\bcode = (\d+)\b", src))
     codes.update(int(c) for c in re.findall(r"sys\.exit\((\d+)\)", src))
+    from gearcalc.console import STOP_SIGNALS, Interrupted, interrupted_status  # finish(): a stop signal's status
+    import signal
+
+    codes.add(interrupted_status(KeyboardInterrupt()))
+    codes.update(interrupted_status(Interrupted(getattr(signal, n))) for n in STOP_SIGNALS if hasattr(signal, n))
     return codes
 
 

@@ -151,6 +151,70 @@ def test_output_naming_an_input_is_refused(tmp_path):
     assert design.read_bytes() == before and link.is_symlink()
 
 
+@pytest.mark.parametrize("command", [["run", "-"], ["rows", "-"], ["sweep", "-", "--vary", "rows.count=1,2"]])
+def test_output_naming_the_file_on_standard_input_is_refused(tmp_path, command):
+    # `gearcalc run - -o v.toml < v.toml`: the design comes through descriptor 0, the file behind it is protected
+    design = tmp_path / "v.toml"
+    design.write_text(FIG3.read_text())
+    before = design.read_bytes()
+    with open(design, "rb") as stdin:
+        p = subprocess.run([sys.executable, "-m", "gearcalc", *command, "-o", str(design)], stdin=stdin,
+                           capture_output=True, text=True, timeout=120)
+    assert p.returncode == 2 and "is the file read from standard input" in p.stderr, p.stderr
+    assert design.read_bytes() == before and files_in(tmp_path) == ["v.toml"]
+    with open(design, "rb") as stdin:  # another file as output: a normal run
+        p = subprocess.run([sys.executable, "-m", "gearcalc", *command, "-o", str(tmp_path / "o.csv")], stdin=stdin,
+                           capture_output=True, text=True, timeout=120)
+    assert p.returncode == 0, p.stderr
+
+
+@pytest.mark.parametrize("option", ["-o", "--plot"])
+def test_empty_output_path_is_refused(tmp_path, option):
+    # `-o "$UNSET"` must not quietly become standard output (the file the script wanted would be lost)
+    extra = ["-o", tmp_path / "x.csv"] if option == "--plot" else []
+    r = cli("run", FIG3, *extra, option, "")
+    assert r.code == 2 and f"{option} '': empty output path" in r.err and r.out == ""
+    assert files_in(tmp_path) == []
+
+
+def test_trailing_slash_names_a_folder(tmp_path):
+    # as the shell's `> new.csv/` ("Not a directory"): not a file new.csv, nor a replaced old.csv
+    r = cli("run", FIG3, "-o", f"{tmp_path}/new.csv/")
+    assert r.code == 2 and "not a directory" in r.err
+    old = tmp_path / "old.csv"
+    old.write_text("old\n")
+    for name in (f"{old}/", f"{old}/."):
+        r = cli("run", FIG3, "-o", name)
+        assert r.code == 2 and "not a directory" in r.err
+    assert files_in(tmp_path) == ["old.csv"] and old.read_text() == "old\n"
+
+
+def test_read_only_file_is_not_replaced(tmp_path):
+    # the shell's `>` cannot open a 0444 file for writing: gearcalc does not replace it either, judged by the mode
+    # bits (so as root too, who could write it), before computing: exit 74, Permission denied
+    out = tmp_path / "ro.csv"
+    out.write_text("keep\n")
+    out.chmod(0o444)
+    for args in (["run", FIG3], ["sweep", FIG3, "--vary", "rows.count=1,2"], ["new", "rows"]):
+        r = cli(*args, "-o", out)
+        assert r.code == 74 and f"cannot write {out}: Permission denied" in r.err, r
+    assert out.read_text() == "keep\n" and stat.S_IMODE(out.stat().st_mode) == 0o444
+    assert files_in(tmp_path) == ["ro.csv"]
+    out.chmod(0o644)  # writable again: replaced as before
+    assert cli("run", FIG3, "-o", out).code == 0 and out.read_text() == reference_csv()
+
+
+def test_too_long_file_name_is_refused_before_computing(tmp_path):
+    # NAME_MAX (255 bytes on Linux): said before the designs are read (the missing design is never reported)
+    name = "x" * 296 + ".csv"
+    r = cli("run", tmp_path / "missing.toml", "-o", tmp_path / name)
+    assert r.code == 2 and "file name too long (300 bytes" in r.err and "missing.toml" not in r.err, r
+    longest = "y" * (os.pathconf(tmp_path, "PC_NAME_MAX") - 4) + ".csv"  # the longest name the folder holds
+    r = cli("run", FIG3, "-o", tmp_path / longest)  # its temporary file's name is shortened to fit
+    assert r.code == 0, r
+    assert files_in(tmp_path) == [longest] and (tmp_path / longest).read_text() == reference_csv()
+
+
 def test_output_and_plot_naming_the_same_file_is_refused(tmp_path):
     out = tmp_path / "x.png"
     r = cli("rows", FIG3, "-o", out, "--plot", out)
