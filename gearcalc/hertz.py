@@ -41,9 +41,9 @@ LINE_LOAD_EXPONENT = 10.0 / 9.0
 
 
 def iso_roller_stiffness(length):
-    """Load-deflection constant of a steel roller's two line contacts in series (ISO/TS 16281).
+    r"""Load-deflection constant of a steel roller's two line contacts in series (ISO/TS 16281).
 
-    .. math:: c_L = 35948\\, l^{8/9} \\quad [N/mm^{10/9}], \\qquad Q = c_L \\delta^{10/9}
+    .. math:: c_L = 35948\, l^{8/9} \quad [N/mm^{10/9}], \qquad Q = c_L \delta^{10/9}
 
     Parameters
     ----------
@@ -64,9 +64,9 @@ def iso_roller_stiffness(length):
 
 
 def iso_contact_stiffness(face_width):
-    """Load-deflection constant of one steel line contact (ISO/TS 16281 roller constant for one contact).
+    r"""Load-deflection constant of one steel line contact (ISO/TS 16281 roller constant for one contact).
 
-    .. math:: c = 35948 \\cdot 2^{10/9}\\, b^{8/9} \\quad [N/mm^{10/9}], \\qquad F = c\\,\\delta^{10/9}
+    .. math:: c = 35948 \cdot 2^{10/9}\, b^{8/9} \quad [N/mm^{10/9}], \qquad F = c\,\delta^{10/9}
 
     Parameters
     ----------
@@ -86,9 +86,9 @@ def iso_contact_stiffness(face_width):
 
 
 def line_pressure_constant(poisson):
-    """The Hertz line-contact pressure constant for two bodies of one material.
+    r"""The Hertz line-contact pressure constant for two bodies of one material.
 
-    .. math:: C_H = \\left(2\\pi(1-\\nu^2)\\right)^{-1/2}, \\qquad p_0 = C_H \\sqrt{F E / (b \\rho)}
+    .. math:: C_H = \left(2\pi(1-\nu^2)\right)^{-1/2}, \qquad p_0 = C_H \sqrt{F E / (b \rho)}
 
     0.418 for nu = 0.3 (the constant of the seed paper 004's mass formula).
 
@@ -281,19 +281,19 @@ def max_subsurface_shear(p0):
 
 
 def tresca_shear_ratio(poisson):
-    """Maximum (Tresca) shear stress of a plane-strain line contact over p0, and its depth over b.
+    r"""Maximum (Tresca) shear stress of a plane-strain line contact over p0, and its depth over b.
 
     Along the axis of the contact (Johnson 1985, eqs. 4.47-4.48, t = z/b, s = sqrt(1 + t²)) the
     principal stresses are sigma_z = -p0/s, sigma_x = -p0((1 + 2t²)/s - 2t) and, in plane strain,
     sigma_y = nu(sigma_x + sigma_z); sigma_z is the most compressive.  The largest shear is the larger
     of two maxima over depth:
 
-    .. math:: \\tau_1 = \\tfrac12(\\sigma_x - \\sigma_z) = p_0 (t - t^2/s): \\quad \\max = t_1^5\\,p_0 = 0.30028\\,p_0
-              \\text{ at } t_1 = \\sqrt{(\\sqrt5 - 1)/2} = 0.78615
+    .. math:: \tau_1 = \tfrac12(\sigma_x - \sigma_z) = p_0 (t - t^2/s): \quad \max = t_1^5\,p_0 = 0.30028\,p_0
+              \text{ at } t_1 = \sqrt{(\sqrt5 - 1)/2} = 0.78615
 
-    .. math:: \\tau_y = \\tfrac12(\\sigma_y - \\sigma_z) = \\tfrac{p_0}2 (1/s - 2\\nu(s - t)): \\quad
-              \\max = \\tfrac12 (1 - u)\\sqrt{1 - u^2}\\,p_0 \\text{ at } t = u/\\sqrt{1 - u^2},\\;
-              u = \\tfrac12(\\sqrt{1 + 8\\nu} - 1)
+    .. math:: \tau_y = \tfrac12(\sigma_y - \sigma_z) = \tfrac{p_0}2 (1/s - 2\nu(s - t)): \quad
+              \max = \tfrac12 (1 - u)\sqrt{1 - u^2}\,p_0 \text{ at } t = u/\sqrt{1 - u^2},\;
+              u = \tfrac12(\sqrt{1 + 8\nu} - 1)
 
     (d tau_y/dt = 0 with u = t/s gives u(1 + u) = 2 nu).  tau_y governs for nu <
     :data:`TRESCA_POISSON_CROSSOVER` = 0.24227: 0.330 p0 at nu = 0.2, 0.408 p0 at 0.1; above it the

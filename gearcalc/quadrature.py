@@ -180,7 +180,8 @@ def sign_change_breakpoints(g, a: float, b: float, n_scan: int, xtol: float) -> 
 
 def _kronrod_table(xk, wk, wg):
     """(nodes, Kronrod weights, Gauss weights) on [-1, 1], ascending, from the non-negative half (0 last); the
-    Gauss nodes are every second Kronrod node from the second."""
+    Gauss nodes are every second Kronrod node from the second.
+    """
     xk, wk, wg = (np.asarray(v, dtype=float) for v in (xk, wk, wg))
     t = np.concatenate((-xk[:-1], xk[::-1]))
     w = np.concatenate((wk[:-1], wk[::-1]))
@@ -460,7 +461,8 @@ def richardson_mean(w, w_half):
 
 def _double(f, act, a, b, n_piece, mid_p, trap, e_last, e_prev, lev, p):
     """One doubling of the pieces ``act`` of :func:`integrate_adaptive` (its arrays updated in place): the new (odd)
-    nodes evaluated, the trapezoid sums, the last two differences and the levels."""
+    nodes evaluated, the trapezoid sums, the last two differences and the levels.
+    """
     cnt = n_piece[act]
     pc = np.repeat(act, cnt)
     st = np.concatenate(([0], np.cumsum(cnt)[:-1]))
@@ -593,7 +595,8 @@ def _carried_on_grid(kept, n0, piece_level):
     ``kept``: per evaluation, (piece, k, level, rows): node k of its piece's grid of that level (n0 2^level
     intervals); ``piece_level``: the final level of each piece's owner.  On the final grid of level L the
     node is k 2^(L - level) when level <= L; nodes not on it (of finer grids) are dropped.  Every node of
-    the final grid was evaluated once."""
+    the final grid was evaluated once.
+    """
     if not kept:
         return None
     counts = n0 * 2 ** piece_level + 1
@@ -901,7 +904,8 @@ def _one_owner(evaluate, a, b, length, mid_p, owner, n0, N0: int, cap: int, tol,
 
 def _sum_in_order(values) -> float:
     """Sum of floats from 0.0 in the given order (as ``np.bincount`` accumulates; Python 3.12's ``sum`` would
-    compensate)."""
+    compensate).
+    """
     total = 0.0
     for v in values:
         total += v

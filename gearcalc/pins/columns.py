@@ -45,7 +45,8 @@ def words_equal(words, word, one: bool):
 
 def operating(v, one: bool = False) -> dict:
     """The operating point's values (:data:`OPERATING`) over points: float arrays (NaN: absent) and lists of
-    words; with ``one``, the single point's scalars (numpy float64, NaN where absent; the word)."""
+    words; with ``one``, the single point's scalars (numpy float64, NaN where absent; the word).
+    """
     out = {}
     for name in OPERATING:
         vals = v[name]
@@ -58,7 +59,8 @@ def operating(v, one: bool = False) -> dict:
 
 def friction_models(models, aliases, default: str) -> tuple[list, list]:
     """The friction model per point (:func:`gearcalc.pins.checks.friction_model`; "consistent" where the alias
-    contradicts it) and per point None or the DesignError of that contradiction."""
+    contradicts it) and per point None or the DesignError of that contradiction.
+    """
     out, errors = [], []
     for m, a in zip(models, aliases):
         name, contradiction = friction_model(m, a, default)
@@ -69,7 +71,8 @@ def friction_models(models, aliases, default: str) -> tuple[list, list]:
 
 def formula_columns(v) -> dict:
     """The paper's eqs. (3)-(7) over designs or points (pins.md §3, :func:`~gearcalc.pins.formula.formula_losses`):
-    columns of :data:`~gearcalc.pins.report.FORMULA_KEYS` (None without a per-pin load; P_tr_fixed_W needs f)."""
+    columns of :data:`~gearcalc.pins.report.FORMULA_KEYS` (None without a per-pin load; P_tr_fixed_W needs f).
+    """
     res = formula_losses(floats(v["force"]), floats(v["pin_speed"]), floats(v["load_pin_radius"]),
                          floats(v["load_axle_radius"]), floats(v["rolling"]), floats(v["axle"]),
                          paper_pi=np.array([bool(x) for x in v["paper_pi"]]), sliding_friction=floats(v["sliding"]))

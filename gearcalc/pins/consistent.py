@@ -332,7 +332,8 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
 
 def _seq_sums(rows):
     """Sums of each row of a 2-D array from 0.0 in node order (as ``np.bincount`` accumulates; a cumulative sum is
-    sequential, unlike numpy's pairwise ``sum``)."""
+    sequential, unlike numpy's pairwise ``sum``).
+    """
     return np.cumsum(rows, axis=1)[:, -1]
 
 
@@ -341,7 +342,8 @@ def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> Consisten
 
     The same formulas, sums (in node order) and acceptance, operation for operation, so the same numbers bit for
     bit; the bookkeeping runs on Python scalars and the per-node values are computed once for both modes (a
-    design computed alone: a few hundred nodes, where numpy's cost per call dominates)."""
+    design computed alone: a few hundred nodes, where numpy's cost per call dominates).
+    """
     sums, w, t = cyc.grid_sums, cyc.grid_weights, cyc.grid_t
     G = cyc.table
     r_p1, z2, n0 = float(G.r_p1[0]), int(G.z2[0]), int(cyc.n_crank[0])
@@ -433,7 +435,8 @@ def _refine_one(G: _GearTable, pieces, n_piece, w, mu: float, sigma: list, lam, 
     intervals ``n_piece`` on the final grid, weights ``w``) for one friction ``mu`` and the modes ``sigma`` (a
     list; ``lam``: their lambda at the grid's nodes, shape (K, nodes)): the same nodes, sums and acceptance,
     operation for operation (the same numbers, bit for bit), with the bookkeeping on Python scalars.  Returns
-    lists over the modes: value, E, accepted, intervals, jammed."""
+    lists over the modes: value, E, accepted, intervals, jammed.
+    """
     z2 = int(G.z2[0])
     rb, omk, r_p1 = G.R_b[0], G.omk[0], G.r_p1[0]
     a, b = pieces[0].tolist(), pieces[1].tolist()
@@ -504,7 +507,8 @@ def _refine_consistent(cyc: IdealCycles, slot: int, t, t_mid, w, mu, sigma, lam,
 
     ``t, t_mid, w``: the gear's final grid (nodes piece by piece) and its trapezoid weights at levels L, L-1;
     ``mu, sigma``: per pair, shape (K,); ``lam``: lambda at the grid's nodes, shape (K, nodes).  Returns
-    arrays over the pairs: Richardson value, E, accepted, intervals, jammed (D <= 0 at a new node)."""
+    arrays over the pairs: Richardson value, E, accepted, intervals, jammed (D <= 0 at a new node).
+    """
     G = cyc.table
     z2 = int(G.z2[slot])
     new_piece = np.empty(t.size, dtype=bool)

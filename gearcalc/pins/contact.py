@@ -315,7 +315,8 @@ def cycle_at_torque(case: ContactCase, multiplier: bool, friction_in_equilibrium
 class _TorquePasses:
     """The passes of the torque fixed point of one design in one mode (:func:`cycle_at_torque`): its set-up (the
     case, mode, friction in the balance, tolerance, quadrature rule, settings and the cycle mean's grid) and the
-    model and cycle of each pass."""
+    model and cycle of each pass.
+    """
 
     def __init__(self, case: ContactCase, multiplier: bool, friction_in_equilibrium: bool, tol: float,
                  seed: "ContactModel | None", rule: str, settings: ContactSettings | None):
@@ -342,14 +343,16 @@ class _TorquePasses:
     def settles(self, remainder, history, cyc):
         """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing, or, when
         the cycle mean itself did not converge (its quadrature at the cap of its angles: the tolerance is not met
-        whatever the torque), below that mean's own error (more passes would refine what that error swamps)."""
+        whatever the torque), below that mean's own error (more passes would refine what that error swamps).
+        """
         tol = self.tol
         return (remainder <= max(0.1 * tol * abs(history[-1]), 1e-15) or fixed_point_settled(history[-2:], tol)
                 or (not cyc.converged and remainder <= cyc.loss_ratio_err))
 
     def run(self, T_V, prev, window_only=False, n_initial=None):
         """A full pass at T_V: its model (from the last pass's, or the other mode's seed, mirrored) and cycle mean
-        (``window_only``: the coarse value of the window scan instead)."""
+        (``window_only``: the coarse value of the window scan instead).
+        """
         st, seed = self.st, self.seed
         model = self.make(T_V)
         if prev is not None:
@@ -457,7 +460,8 @@ def _fixed_point_error(cyc, history, remainder: float, unsettled: bool) -> float
     ran out or stalled, or the multiplier locked on the way (a stalled reducer has no fixed point: its loss ratio is
     the last pass's, with that pass's quadrature error): the remainder is not known to be small; the spread of all
     passes (the last change at least) is in the error (never less): a loss ratio that jumps with the torque takes
-    any of those values near the torques the passes tried."""
+    any of those values near the torques the passes tried.
+    """
     if unsettled:
         spread = max(history) - min(history) if len(history) >= 3 else 0.0
         remainder = max(remainder if math.isfinite(remainder) else 0.0, spread,
@@ -521,7 +525,8 @@ def equilibrium_residual(runs, tol: float) -> tuple[float, float]:
     """The largest equilibrium residual of the cycles' moment balances relative to the torque, and its largest
     ratio to the limit: 1/100 of ``tol`` (inner tolerances 100x tighter, pins.md §6), or 100x the round-off floor
     of the penetrations (stiff contacts: deflections of 1e-7 mm on R_p); above 1 the balance is not met
-    (pins.md §5.5).  ``runs``: :class:`TorqueCycle` objects."""
+    (pins.md §5.5).  ``runs``: :class:`TorqueCycle` objects.
+    """
     residual, excess = 0.0, 0.0
     for t in runs:
         r = np.abs(t.cycle.sol.residual) / t.model.torque_sat
@@ -691,7 +696,8 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
 class ContactOperating:
     """Losses and speeds of a contact cycle at a crank speed (:func:`operating_values`): loss_mean, loss_peak,
     loss_max, loss_bound [W]; loss_phase [deg]; spin_abs_max, spin_min, spin_max [rpm]; sliding_speed_max
-    [m/s]."""
+    [m/s].
+    """
 
     loss_mean: float
     loss_peak: float

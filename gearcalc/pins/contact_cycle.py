@@ -108,7 +108,8 @@ def _components(s: Solution, rolls: bool):
     values and slopes (c, n) over the crank angles of ``s``; the slope is known for the penetrations only (NaN
     else), which come first (n_delta rows).  A component that is NaN at a crank angle has no sign there.  Over the
     state's rows (:attr:`Solution.rows`; the other pins are never candidates over the period: no contact, no sign):
-    the states of one cycle share them."""
+    the states of one cycle share them.
+    """
     n = s.theta.size
     force, v_t, cand = s.force, s.v_t, s.cand
     delta = s.delta
@@ -131,7 +132,8 @@ def _components(s: Solution, rolls: bool):
 class BreakpointRoots:
     """The located sign changes of one cycle (:func:`cycle_breakpoints`): roots [rad] and whether each is a contact
     entry or exit (a penetration's), sorted by root; ``scanned``: located by the full scan and taken as it is (False:
-    a coarse scan or moved roots, which the quadrature's nodes must confirm, :func:`mean_loss_ratio`)."""
+    a coarse scan or moved roots, which the quadrature's nodes must confirm, :func:`mean_loss_ratio`).
+    """
 
     roots: np.ndarray
     contact: np.ndarray
@@ -141,7 +143,8 @@ class BreakpointRoots:
 
 def _breakpoint_state(model: ContactModel):
     """A one-entry cache of the solved states of the last crank angles (the refinement evaluates the same ones
-    for the values and the slopes)."""
+    for the values and the slopes).
+    """
     memo: dict = {}
 
     def state(x):
@@ -158,7 +161,8 @@ def _breakpoint_state(model: ContactModel):
 
 def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, checked: bool = False) -> BreakpointRoots:
     """Every sign change of the components on an ``n_scan`` grid of one period, refined (:func:`cycle_breakpoints`);
-    ``checked``: a coarse scan whose result the quadrature's nodes must confirm (:func:`mean_loss_ratio`)."""
+    ``checked``: a coarse scan whose result the quadrature's nodes must confirm (:func:`mean_loss_ratio`).
+    """
     Tp = model.g.period
     state = _breakpoint_state(model)
     xtol = 1e-12 * Tp
@@ -268,7 +272,8 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     and the components' sign changes between the bracket ends refined as in :func:`_scan_roots` (one root found in
     two overlapping brackets counted once).  None (the full scan is needed) unless every bracket holds a sign change
     and their number is the prior's: a root that left its widest bracket, or a pair that appeared or vanished in
-    it.  Changes elsewhere are caught on the quadrature's nodes (:func:`mean_loss_ratio`)."""
+    it.  Changes elsewhere are caught on the quadrature's nodes (:func:`mean_loss_ratio`).
+    """
     Tp = model.g.period
     if prior.roots.size == 0:
         return BreakpointRoots(np.empty(0), np.zeros(0, dtype=bool), False)
@@ -320,7 +325,8 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
 
 def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarray:
     """The piece ends from the located roots: the period's ends, the roots, and the geometric gradings
-    (:func:`cycle_breakpoints`)."""
+    (:func:`cycle_breakpoints`).
+    """
     Tp = model.g.period
     xtol = 1e-12 * Tp
     contact_bp = found.roots[found.contact]      # the contact entries and exits (a penetration changes sign)
@@ -376,7 +382,8 @@ class RootStops:
     """Where :func:`_refine_sign_changes` stops (its parameter object): ``xtol`` the location tolerance of a root;
     ``jump_xtol`` (default ``xtol``) of a jump; ``step_tol`` (default ``xtol``) a Newton or secant step below which a
     bracket stops at the stepped point; ``maxiter`` calls at most; a bracket that Newton or the secant cannot narrow
-    is cut into ``sections`` parts per call (``settings.sections``)."""
+    is cut into ``sections`` parts per call (``settings.sections``).
+    """
 
     xtol: float
     jump_xtol: float | None = None
@@ -1025,7 +1032,8 @@ def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
 
 def piece_places(ps):
     """Of nodes sorted by piece (``ps`` their pieces): each run's first position ``start`` and node count ``count``,
-    and per node its run ``piece`` and its place ``j`` in it (0 at the piece's first node)."""
+    and per node its run ``piece`` and its place ``j`` in it (0 at the piece's first node).
+    """
     start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
     count = np.diff(np.append(start, ps.size))
     piece = np.repeat(np.arange(start.size), count)
@@ -1036,7 +1044,8 @@ def _strided(xs, ps, stride: int):
     """Every ``stride``-th node of each piece and both its ends (nodes sorted by piece, then theta; ``ps`` their
     pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves it
     at least 4 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it in
-    its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node)."""
+    its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node).
+    """
     start, count, piece, j = piece_places(ps)
     k = np.ones(start.size, dtype=np.int64)
     s = 2
@@ -1055,7 +1064,8 @@ def _strided(xs, ps, stride: int):
 
 def _trapezoid_weights(xs, ps):
     """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by
-    piece."""
+    piece.
+    """
     h = np.where(ps[1:] == ps[:-1], np.diff(xs), 0.0)
     w = np.zeros(xs.size)
     w[:-1] += 0.5 * h
@@ -1066,7 +1076,8 @@ def _trapezoid_weights(xs, ps):
 def nested_trapezoid_weights(xs, ps):
     """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece,
     over all nodes and over every other node of each piece (its ends kept): (w, w_half), the levels N and N/2 of a
-    piece of N intervals (an odd N: the half level's last interval is the one that is left)."""
+    piece of N intervals (an odd N: the half level's last interval is the one that is left).
+    """
     _, count, piece, j = piece_places(ps)
     half = (j % 2 == 0) | (j == count[piece] - 1)
     w_half = np.zeros(xs.size)
@@ -1080,7 +1091,8 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     weight ``t`` on ``hi``); the sets (branch, candidates, the friction forces' directions), the phases, the residual
     and the contact geometry (nx, ny, wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are
     clipped at 0, a value that is not finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both
-    over the same rows)."""
+    over the same rows).
+    """
     n = sol.theta.size
     rest = np.ones(n, dtype=bool)
     rest[kept] = False
@@ -1146,7 +1158,8 @@ def _interior_states(found: BreakpointRoots, mids, period: float, margin: float)
     concatenated.
     The components keep their signs over the stretch, so that state has the piece's active set, branches and
     friction directions, as its midpoint's would (pins.md §6; a sign change the located ones missed is caught on the
-    nodes, :func:`_pieces_hold`)."""
+    nodes, :func:`_pieces_hold`).
+    """
     seen = [s for s in found.seen if s.theta.size]
     if not seen:
         return np.full(mids.size, -1), None
@@ -1168,7 +1181,8 @@ def _interior_states(found: BreakpointRoots, mids, period: float, margin: float)
 
 def piece_keys(edges, x, mid):
     """The nodes' places 2 p + (x - a_p)/(b_p - a_p) in [2 p, 2 p + 1], p the piece of the midpoint ``mid`` (edges
-    sorted): the keys of two pieces never meet, so the piece ends are told apart from their neighbours'."""
+    sorted): the keys of two pieces never meet, so the piece ends are told apart from their neighbours'.
+    """
     p = np.minimum(np.maximum(edges.searchsorted(mid) - 1, 0), edges.size - 2)
     a, b = edges[p], edges[p + 1]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -1180,7 +1194,8 @@ def piece_guess(keys, tau, dtau, key, x, edges):
     """Warm starts of tau at the nodes ``key`` (:func:`piece_keys`) from the solved nodes of the same piece around
     each (keys sorted): the cubic Hermite interpolant of tau and d tau/d theta (one-sided at the piece's ends, from
     inside it), error O(h^4) in their spacing h; NaN where the piece has no solved node on either side (then the
-    model's own warm start, :meth:`ContactModel.state`).  None when nothing is solved yet."""
+    model's own warm start, :meth:`ContactModel.state`).  None when nothing is solved yet.
+    """
     if keys.size < 2:
         return None
     j = np.minimum(np.maximum(keys.searchsorted(key), 1), keys.size - 1)
@@ -1206,7 +1221,8 @@ def _pieces_hold(nodes, ref_sols, edges, rolls: bool, tol: float, period: float,
     moved through since the nodes were placed, :func:`relinearised_cycle`).  ``floor``: a contradiction counts only
     where the node's value and the piece's both exceed ``floor`` times the component's largest |value| over the nodes
     (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance).  ``nodes``:
-    (cache, mids), the nodes' states and their pieces' midpoints."""
+    (cache, mids), the nodes' states and their pieces' midpoints.
+    """
     cache, mids = nodes
     rm = np.concatenate([r.theta for r in ref_sols])
     rv = np.concatenate([_components(r, rolls)[0] for r in ref_sols], axis=1)

@@ -61,7 +61,8 @@ class ContactLaw:
 
     def force_on(self, delta, active):
         """F on a fixed active set: the law's smooth extension on the ``active`` pairs (a linear law goes on
-        linearly below delta = 0), 0 elsewhere.  Used for one-sided derivatives at contact entry/exit."""
+        linearly below delta = 0), 0 elsewhere.  Used for one-sided derivatives at contact entry/exit.
+        """
         if self.exponent == 1.0:
             return np.where(active, self.constant * np.asarray(delta, dtype=float), 0.0)
         return np.where(active, self.force(delta), 0.0)
@@ -117,7 +118,8 @@ The design key ``contact.law`` chooses among them (its choices in :mod:`gearcalc
 
 def register_contact_law(name: str, make) -> None:
     """Add a contact law by name: ``make(face_width, stiffness)`` returns its :class:`ContactLaw` (a new law is one
-    function plus this call; the design key's choices are in :mod:`gearcalc.pins.schema`)."""
+    function plus this call; the design key's choices are in :mod:`gearcalc.pins.schema`).
+    """
     CONTACT_LAWS[name] = make
 
 

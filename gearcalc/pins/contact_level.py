@@ -110,7 +110,8 @@ def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: floa
 
 def backlash_deg(model, play_free: bool) -> float:
     """The satellite's play at no load [deg] (pins.md §5.3): 0 where the profile has none by construction
-    (an unmodified cycloid, the zero-backlash tooth circle), else :func:`gearcalc.pins.contact.backlash`."""
+    (an unmodified cycloid, the zero-backlash tooth circle), else :func:`gearcalc.pins.contact.backlash`.
+    """
     return 0.0 if play_free else math.degrees(pc.backlash(model))
 
 
@@ -148,7 +149,8 @@ class ContactLevel:
 class ContactDesign:
     """One design at the contact level (the parameter object of :func:`contact_level`): the gear ``g``, its
     ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating`` pins on axles of radius
-    ``axle_radius`` [mm] (None: fixed pins)."""
+    ``axle_radius`` [mm] (None: fixed pins).
+    """
 
     g: Cycloid
     profile: object

@@ -32,7 +32,8 @@ __all__ = ["NoEquilibrium", "Jam", "Solution", "ContactModel", "EPS"]
 
 def _doubling_bracket(G, n: int, h0: float, limit: float):
     """Brackets of the roots of a decreasing G(tau) (n,) about tau = 0, by doubling a step from h0 on the side of
-    sign(G(0)) up to ``limit``: (a, b, open), open where no sign change lies within +-limit."""
+    sign(G(0)) up to ``limit``: (a, b, open), open where no sign change lies within +-limit.
+    """
     G0 = G(np.zeros(n))
     direction = np.where(G0 > 0.0, 1.0, -1.0)            # G decreasing: root on the side of sign(G0)
     lo, hi = np.zeros(n), np.zeros(n)
@@ -58,7 +59,8 @@ def _bracket_root(G, theta, a, b, xtol: float):
     :func:`gearcalc.roots.find_root`); :class:`NoEquilibrium` at the angles whose ends no longer hold a sign change:
     for a rotation far beyond a deflection the contact geometry depends on the search's path (a cycloidal pin's foot
     point can jump to another flank between evaluations), so a bracket found by one search need not hold for the
-    next (pins.md §5.5, §7)."""
+    next (pins.md §5.5, §7).
+    """
     try:
         return find_root(G, a, b, xtol=xtol, rtol=0.0).root
     except BracketError as exc:
@@ -67,7 +69,8 @@ def _bracket_root(G, theta, a, b, xtol: float):
 
 def _window_range(tau) -> tuple[float, float]:
     """The candidate window's range of tau from a scan's: each end twice as far from 0, or half as near when the
-    range does not reach 0 (:meth:`ContactModel.set_window`)."""
+    range does not reach 0 (:meth:`ContactModel.set_window`).
+    """
     lo, hi = float(np.min(tau)), float(np.max(tau))
     return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
 
@@ -151,7 +154,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         needs only the contacts at tau = 0: bracketed by doubling from h0 and narrowed to 1e-6 of the bracket.
         Its error is that of the linearisation, |d^2 delta/d tau^2| tau^2/2 <= (R_p + e) tau^2/2, ~1e-3 of tau at
         deflection-sized rotations: Newton on the true balance then needs about three rounds.  On the ``n_scan``
-        crank angles of :meth:`_nominal`."""
+        crank angles of :meth:`_nominal`.
+        """
         n = n_scan
         _, d0, arm = self._nominal(n_scan)
 
@@ -169,7 +173,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         The analytic G_tau (:meth:`_balance`); a step that leaves the bracket of sign changes met so far
         is replaced by bisection; stops at |d tau| <= xtol (pins.md §5.5).  Angles without a guess, or
         where Newton cannot proceed (G_tau >= 0 with one side unbracketed, no convergence), are solved
-        by the bracketed root finder (:meth:`solve`)."""
+        by the bracketed root finder (:meth:`solve`).
+        """
         n = pose.theta.size
         if guess is None:
             return self._bracketed(pose, traction, xtol)
@@ -310,7 +315,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         whose start is farther takes a full Newton step (G_tau < 0, |s| <= |tau|/2) and is evaluated again, at most
         ``rounds`` times; the others are solved by :meth:`_solve` from there.  None without a guess.  At the
         quadrature's nodes the cubic Hermite warm start between solved neighbours (:func:`piece_guess`) is usually
-        that close: one balance per node instead of two or more (pins.md §5.5)."""
+        that close: one balance per node instead of two or more (pins.md §5.5).
+        """
         if guess is None:
             return None
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -347,7 +353,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
 
     def _friction_solve(self, pose: Pose, traction, tau, ref) -> Solution:
         """The equilibrium with the friction forces ``traction`` from the start ``tau``; :class:`Jam` when
-        no rotation balances the torque with them."""
+        no rotation balances the torque with them.
+        """
         try:
             tau = self._solve(pose, traction, tau)
         except NoEquilibrium as exc:
@@ -362,7 +369,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         or, without one (or where that start leaves a contact set without stiffness), from the
         frictionless equilibrium (``start``: already solved on ``pose``).  ``guess`` = (tau, d tau/d theta) (n,) or
         tau, optional: the warm start instead of the memory's (NaN: the memory's).  The first directions are those of
-        the sliding speeds at the warm start with its interpolated d tau/d theta (:meth:`_sliding_at`: no balance)."""
+        the sliding speeds at the warm start with its interpolated d tau/d theta (:meth:`_sliding_at`: no balance).
+        """
         sol = start
         if start is None:
             memo = self._guess(theta, 1, slope=True)
@@ -402,7 +410,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
 
     def phases(self, theta, rows=None):
         """(phase, zeta) of the pins ``rows`` (None: all) at crank angles theta (R, n): the load-side phase of the
-        mode and the time phase theta - phi_j wrapped to [-pi, pi) [rad]."""
+        mode and the time phase theta - phi_j wrapped to [-pi, pi) [rad].
+        """
         g = self.g
         th = np.atleast_1d(np.asarray(theta, dtype=float))[None, :]
         pins = self.pins if rows is None else rows[:, None]
@@ -441,7 +450,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         """tau at theta from the solved angles around it: the cubic Hermite interpolant of tau and
         d tau/d theta between the two neighbours (the tangent line of the nearer one where they coincide
         or lie on one side only), or None when nothing is solved yet.  ``slope``: (tau, d tau/d theta) of that
-        interpolant."""
+        interpolant.
+        """
         memo = self._memo[key] if key == 0 or self.friction is not None else None
         if memo is None:
             return None

@@ -39,7 +39,8 @@ class NoEquilibrium(ValueError):
 class Jam(NoEquilibrium):
     """With the friction forces in the moment balance, no positive contact force balances the torque at
     some crank angle although the frictionless balance has a solution: the mode jams (self-locks) there
-    (pins.md §4.9, §5.5)."""
+    (pins.md §4.9, §5.5).
+    """
 
 
 @dataclass(frozen=True, eq=False)
@@ -103,7 +104,8 @@ class SolverState:
 class ContactCaches:
     """What the contact models of one design share (a later torque's and the other mode's models inherit it):
     nominal : n_scan -> the nominal scan's (psi, delta, arm) (:meth:`~gearcalc.pins.contact_model.ContactModel.
-    set_window`)."""
+    set_window`).
+    """
 
     nominal: dict = field(default_factory=dict)
 

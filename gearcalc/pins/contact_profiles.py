@@ -122,7 +122,8 @@ def _first_root(fun, grid, values, xtol):
     """First sign change (from > 0 to <= 0) of sampled values, refined by safeguarded Newton.
 
     ``fun(x)`` returns (value, slope) at a scalar x; a Newton step that leaves the bracket is replaced
-    by bisection; stops when the step or the bracket is below ``xtol``."""
+    by bisection; stops when the step or the bracket is below ``xtol``.
+    """
     below = np.nonzero(values <= 0.0)[0]
     if below.size == 0 or below[0] == 0:
         return None
@@ -314,7 +315,8 @@ class CircularProfile:
 
     def prepare(self, pose: Pose, trig=None, sides=None) -> None:
         """The centres of the teeth each pin meets, (c, m, n): c = 0 the tooth just below the pin's polar angle, 1 the
-        one above; ``sides`` (indices into them, optional): only these (:attr:`ContactModel.sides`)."""
+        one above; ``sides`` (indices into them, optional): only these (:attr:`ContactModel.sides`).
+        """
         z1 = self.g.z1
         gam = np.arctan2(pose.y0, pose.x0)
         m = np.floor((gam * z1 / math.pi - 1.0) / 2.0)          # tooth with chi_m just below gamma
@@ -424,7 +426,8 @@ class CycloidProfile:
 
     def _newton(self, beta, fam, x, y, steps, tol=None):
         """Newton steps on the foot point: ``steps`` of them, or with ``tol`` until the largest step is
-        below it (at most ``steps``)."""
+        below it (at most ``steps``).
+        """
         return self._newton_trig(beta, fam, x, y, steps, tol)[0]
 
     def _newton_trig(self, beta, fam, x, y, steps, tol=None, start=None):
@@ -434,7 +437,8 @@ class CycloidProfile:
         The first step is Halley's, s = (g/g')/(1 - s_N g''/(2 g')) with the Newton step s_N = g/g' and
         g'' = 3 c'.c'' + (c - X).c''' (Newton's where |s_N g''/(2 g')| > 1/2): from the nominal foot point, a
         rotation's ~2e-4 rad away, Newton leaves ~1e-6 rad and a third step was needed before one below 1e-7 rad
-        (``tol``); Halley's error is cubic in the step, so the second one is below it."""
+        (``tol``); Halley's error is cubic in the step, so the second one is below it.
+        """
         trig, change = None, None
         d = self.design
         e3 = d.e * (d.z2 / d.k) ** 3
@@ -511,7 +515,8 @@ class CycloidProfile:
         ``trig``, optional: cos and sin of beta0 and of the crank-arm angle a = z2 theta/z1 of the pose, which are
         those of :meth:`_trig` at beta0 (Z_e beta0 - 2 pi b/k = a + 2 pi floor(j/k)).  Without a radial
         modification the nominal pin centre lies on the design curve, so its foot point is beta0 itself, and the
-        Newton steps of :meth:`contacts` start from these values (no new cos/sin)."""
+        Newton steps of :meth:`contacts` start from these values (no new cos/sin).
+        """
         k, idx = self.g.k, pose.aux["idx"]
         # the family j mod k (a bitwise and for k a power of two: an integer modulo over every pair costs 4x as much)
         fam = idx & (k - 1) if k & (k - 1) == 0 else np.mod(idx, k)
@@ -528,7 +533,8 @@ class CycloidProfile:
 
     def switch(self, psi_f):
         """The crest components (2, 1, z2, n) of :attr:`Contacts.switch` from the foot points' flank phases psi_f:
-        psi* - psi_f and psi_f + psi* (a pin passes to the crest corner where one changes sign)."""
+        psi* - psi_f and psi_f + psi* (a pin passes to the crest corner where one changes sign).
+        """
         out = np.empty((2, 1) + psi_f.shape)
         np.subtract(self.psi_star, psi_f, out=out[0, 0])
         np.add(psi_f, self.psi_star, out=out[1, 0])
@@ -543,7 +549,8 @@ class CycloidProfile:
         B_j = 2 pi j (1 + k/z1)/z2 and w the turns by which psi = phi_j - theta was wrapped (theta cancels); a shift
         of beta by -2 pi k w/z1 turns the profile by that angle (z2 = z1 + k), so the corners are the pin's two
         corners at w = 0 (a table over the pins), turned by -2 pi k w/z1 (a table over the teeth): every turned corner
-        is tabulated once (2 z2 z1 entries), a pair's corner is looked up."""
+        is tabulated once (2 z2 z1 entries), a pair's corner is looked up.
+        """
         g = self.g
         z1, z2, k = g.z1, g.z2, g.k
         if self._corner_table is None:
@@ -621,7 +628,8 @@ class CycloidProfile:
 
 class InadmissibleProfile(ValueError):
     """A satellite profile the contact level cannot run (pins.md §5.2-5.3, §9): ``reason`` names the rule
-    (one of :data:`PROFILE_RULES`), ``values`` the numbers a message needs."""
+    (one of :data:`PROFILE_RULES`), ``values`` the numbers a message needs.
+    """
 
     def __init__(self, reason: str, **values):
         super().__init__(reason)
@@ -751,7 +759,8 @@ def cycloid_profile(g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float 
 def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
     """The factory of the profile "circular" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`circular_profile`
     from a design's values (``params``: :class:`gearcalc.pins.profiles.ProfileParams`; "full" and
-    "zero_backlash" as None), marked play-free on the zero-backlash tooth circle."""
+    "zero_backlash" as None), marked play-free on the zero-backlash tooth circle.
+    """
     prof, overlap = circular_profile(g, None if params.tooth_radius == "full" else params.tooth_radius,
                                      None if params.tooth_circle_radius == "zero_backlash"
                                      else params.tooth_circle_radius)
@@ -761,5 +770,6 @@ def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
 
 def cycloidal_profile(g: Cycloid, params) -> tuple[CycloidProfile, bool]:
     """The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`cycloid_profile`
-    with the design's modifications; no overlap."""
+    with the design's modifications; no overlap.
+    """
     return cycloid_profile(g, params.radial_mod, params.equidistant_mod), False

@@ -79,7 +79,8 @@ class Solution:
 
     def over_pins(self, z2: int) -> "Solution":
         """This state over all ``z2`` pins in order, to index its per-pin arrays by pin number: the rows scattered,
-        every other pin out of reach (no contact; phases None where not held: :meth:`ContactModel.phases`)."""
+        every other pin out of reach (no contact; phases None where not held: :meth:`ContactModel.phases`).
+        """
         return relayout(self, None, z2)
 
 
@@ -154,7 +155,8 @@ def put_states(sol: Solution, part: Solution, sel) -> None:
 
 def sorted_places(thetas: list) -> list:
     """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order); one
-    part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice)."""
+    part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice).
+    """
     if len(thetas) == 1 and not (thetas[0][1:] < thetas[0][:-1]).any():
         return [slice(None)]
     theta = np.concatenate(thetas)
@@ -166,7 +168,8 @@ def sorted_places(thetas: list) -> list:
 
 def merged(arrays: list, places: list, axis: int):
     """The arrays written at their ``places`` (:func:`sorted_places`) along ``axis``, the last one: the sorted
-    concatenation in one pass."""
+    concatenation in one pass.
+    """
     a0 = arrays[0]
     shape = list(a0.shape)
     shape[axis] = sum(a.shape[axis] for a in arrays)
@@ -179,7 +182,8 @@ def merged(arrays: list, places: list, axis: int):
 
 def concat_states(parts: list[Solution]) -> Solution:
     """The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
-    parts' rows differ, :func:`relayout`)."""
+    parts' rows differ, :func:`relayout`).
+    """
     rows = parts[0].rows
     if not all(same_rows(p.rows, rows) for p in parts):
         full = [p for p in parts if p.rows is None]
@@ -215,7 +219,8 @@ def same_rows(a, b) -> bool:
 def relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
     """``sol`` over the pins ``rows`` (sorted; None: all ``z2``): each per-pin array's rows of these pins, a pin that
     ``sol`` does not hold with the values of a pin out of reach (no contact; :data:`PIN_FILL`; phases then None, to
-    be computed, :meth:`ContactModel.phases`)."""
+    be computed, :meth:`ContactModel.phases`).
+    """
     if same_rows(sol.rows, rows):
         return sol
     n_src = sol.force.shape[-2]
@@ -236,7 +241,8 @@ def relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
 
 def over_rows(a, src, dst, fill):
     """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted): a
-    pin that ``a`` does not hold gets ``fill``."""
+    pin that ``a`` does not hold gets ``fill``.
+    """
     at = np.minimum(np.maximum(src.searchsorted(dst), 0), src.size - 1)
     have = src[at] == dst
     if have.all():
@@ -248,5 +254,6 @@ def over_rows(a, src, dst, fill):
 
 def contact_index(profile, sides):
     """The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
-    when ``sides`` is None; :attr:`ContactModel.sides`)."""
+    when ``sides`` is None; :attr:`ContactModel.sides`).
+    """
     return (np.arange(profile.contacts_per_pin) if sides is None else np.asarray(sides))[:, None, None]

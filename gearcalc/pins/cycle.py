@@ -175,7 +175,8 @@ class CycleDetail:
     Per node: theta [deg], loss_ratio (all discs) [-], loss (all discs) [W] or None, loaded (pins of the
     first disc).  Per loaded contact of the first disc (row-major by node, then pin): contact_theta [deg],
     pin (index of the fixed ring), phase [deg], force [N] or None, sliding_speed [m/s] or None,
-    pin_speed [rpm] or None, contact_loss [W] or None.  None: the torque or the crank speed is not known."""
+    pin_speed [rpm] or None, contact_loss [W] or None.  None: the torque or the crank speed is not known.
+    """
 
     theta: np.ndarray
     loss_ratio: np.ndarray

@@ -29,7 +29,8 @@ def contact_detail(g, sol, cyc, T_V, w_H, n_d, crank=None, consistent: bool = Fa
     """Detail tables of the contact level (pins.md §8): ``crank`` and ``contacts`` rows of the final grid
     (first disc; piece ends appear twice, the one-sided limits).  ``crank``: the
     :class:`~gearcalc.pins.contact.CrankBearing` of the cycle (the crank torque of all discs, friction-consistent
-    forces only (``consistent``), and one disc's bearing force), or None."""
+    forces only (``consistent``), and one disc's bearing force), or None.
+    """
     theta_deg = np.degrees(sol.theta)
     have_P = w_H is not None
     lam = cyc.lam
@@ -74,7 +75,8 @@ def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist
     arm, outward) and tangential components, direction from the crank arm) and ``contacts`` (one per
     loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides).
     ``hist``: :func:`~gearcalc.pins.consistent.crank_history` at the nodes; with ``consistent`` the forces are the
-    friction-consistent ones (pins.md §4.9)."""
+    friction-consistent ones (pins.md §4.9).
+    """
     d = cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d,
                           denominator=hist["D"] if consistent else None)
     cols = {"theta_deg": d.theta, "TE_arcsec": np.zeros(d.theta.size), "loss_ratio": d.loss_ratio,
@@ -102,7 +104,8 @@ def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, o
 
     With ``consistent`` the forces are the friction-consistent ones, and the satellite torque follows from
     ``torque_V`` [N·m], the torque on V of the friction-consistent efficiency (pins.md §4.9; None: self-locking);
-    else ``torque_sat`` [N·mm] (None without a torque).  omega_V [rad/s] or None (no crank speed)."""
+    else ``torque_sat`` [N·mm] (None without a torque).  omega_V [rad/s] or None (no crank speed).
+    """
     from .consistent import crank_history
     from .cycle import cycle_state
     from .outputs import satellite_torque

@@ -111,7 +111,8 @@ class FormulaLosses:
     """Per-pin maximum losses of the paper (eqs. 3-7): forces [N], powers [W] (floats or arrays).
 
     ``P_tr_fixed`` is the fixed-pin variant (:func:`fixed_pin_formula_loss`), None unless the sliding
-    friction was given."""
+    friction was given.
+    """
 
     F_tr1: float
     F_tr2: float

@@ -271,7 +271,8 @@ class PinFriction(NamedTuple):
     def sign_components(force, v_t, loaded):
         """The rolling-pin rule's own sign changes over two contacts per pin (pins.md §6): the lead's switch
         (F_0 - F_1 where both are loaded, else NaN) and the other contact's sliding speed relative to the lead
-        (v_t - v_lead on the loaded non-lead contact, else NaN); (2 arrays, shapes (R, n) and (2, R, n))."""
+        (v_t - v_lead on the loaded non-lead contact, else NaN); (2 arrays, shapes (R, n) and (2, R, n)).
+        """
         lead = (force[1] > force[0]).astype(np.intp)          # np.argmax over the two contacts (ties: the first)
         v_lead = np.where(lead == 1, v_t[1], v_t[0])[None]
         other = loaded & (np.arange(2)[:, None, None] != lead[None])

@@ -98,7 +98,8 @@ class GeometryViolations:
 
     Boolean masks: teeth (z2 <= z1), overflow (R_p = e z2/(k K1) not finite), curtate (K1 >= 1 for a
     cycloid), overlap (R_b >= R_p sin(pi/z2)), axle (rotating pins with r >= R_b); and the pin circle
-    R_p [mm], K1 [-] and the overlap limit R_p sin(pi/z2) [mm] they were decided on."""
+    R_p [mm], K1 [-] and the overlap limit R_p sin(pi/z2) [mm] they were decided on.
+    """
 
     teeth: np.ndarray
     overflow: np.ndarray
@@ -338,7 +339,8 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
 
     def h(psi, trig=None):
         """epsilon(psi) + pi/z1 in half-angle form (contact_angle_offset scaled by 1/R_p; two sines); ``trig``:
-        the gear-independent u = 1 - cos psi, sin psi, u/2 and 1 - u when known (:func:`_first_scan`)."""
+        the gear-independent u = 1 - cos psi, sin psi, u/2 and 1 - u when known (:func:`_first_scan`).
+        """
         if trig is None:
             u, w = _half_angle_terms(psi)                        # 1 - cos psi, sin psi
             hu, cu = 0.5 * u, 1.0 - u
@@ -401,7 +403,8 @@ _FIRST_SCANS: dict[int, tuple] = {}
 def _first_scan(n: int):
     """The first scan of :func:`crest_cutoffs` on (0, pi], the same for every gear: its points
     lo + (hi - lo) (k/n) with lo = 0, hi = pi, their :func:`_half_angle_terms` u = 1 - cos psi and sin psi, and
-    u/2 and 1 - u (cached: read-only)."""
+    u/2 and 1 - u (cached: read-only).
+    """
     have = _FIRST_SCANS.get(n)
     if have is None:
         x = 0.0 + (math.pi - 0.0) * _scan_fractions(n)

@@ -218,7 +218,8 @@ class EfficiencyTorques:
     """Efficiencies, self-locking and shaft torques per operating point (:func:`efficiency_torques`).
 
     NaN marks an undefined value (no multiplier efficiency when it self-locks, no T_V when it self-locks
-    with the torque given on H).  Torques in the unit of the torque given (N·m in the product)."""
+    with the torque given on H).  Torques in the unit of the torque given (N·m in the product).
+    """
 
     locked: object
     eta_vh: object
@@ -300,7 +301,8 @@ class ScaledCycle:
     torque_sat [N·mm per disc]; omega_V, |omega_V| [rad/s]; loss_mean, loss_peak, loss_max (one pin),
     loss_bound [W]; force_max [N]; force_phase, loss_phase [deg] (NaN where the force or loss is);
     spin_abs_max, spin_min, spin_max [rpm] (0 for pins that do not roll); spin_reversals (int);
-    sliding_speed_max [m/s] (0 for rolling pins)."""
+    sliding_speed_max [m/s] (0 for rolling pins).
+    """
 
     torque_sat: object
     omega_V: object

@@ -47,7 +47,8 @@ class ConsistentEfficiencies:
     """Both modes' friction-consistent efficiencies (:func:`consistent_efficiencies`); NaN: the mode self-locks.
 
     eta_vh, eta_vh_err : multiplier efficiency and its error [-]; eta_hv, eta_hv_err : the reducer's;
-    locked_vh, locked_hv : the mode self-locks (jams, or eta_VH <= 0)."""
+    locked_vh, locked_hv : the mode self-locks (jams, or eta_VH <= 0).
+    """
 
     eta_vh: object
     eta_vh_err: object
@@ -232,7 +233,8 @@ class ConsistentPoint:
     force_phase [deg], loss_max, loss_peak, loss_bound [W], loss_phase [deg].  pins.md §8: crank_torque_mean,
     crank_torque_ripple [N·m] (all discs; NaN for first-order points), bearing_force_max, bearing_force_mean [N]
     (one disc), contact_stress_max [MPa], axle_pressure_max [MPa] (NaN for fixed pins).  torque_scale: T_sat
-    of the friction-consistent over the first-order efficiency [-]."""
+    of the friction-consistent over the first-order efficiency [-].
+    """
 
     eta_vh: object
     eta_vh_err: object
@@ -486,7 +488,8 @@ class CrankDetail:
     """The crank torque and crank-bearing force over a cycle grid, ordered by crank angle (:func:`crank_detail`).
 
     crank_torque [N·m] (all discs, along the power flow); bearing_force, bearing_radial (along the crank arm,
-    outward), bearing_tangential [N] (one disc); bearing_angle [deg] (from the crank arm)."""
+    outward), bearing_tangential [N] (one disc); bearing_angle [deg] (from the crank arm).
+    """
 
     crank_torque: np.ndarray
     bearing_force: np.ndarray

@@ -72,7 +72,8 @@ class IdealPoints:
 
     def field(self, name: str):
         """An :class:`~gearcalc.pins.ideal.IdealCycles` field per point: an array over points, or the one
-        point's Python scalar."""
+        point's Python scalar.
+        """
         arr = getattr(self.cyc, name)
         return arr.item(0) if self.one else arr[self.gi]
 

@@ -81,7 +81,8 @@ class ProfileParams:
 class ProfileEntry:
     """Where a profile lives: ``module`` (in :mod:`gearcalc.pins`) holds ``factory(g, params) -> (profile,
     overlap)`` (``overlap``: a warning-worthy overlap of adjacent teeth); ``ideal``: the ideal level computes the
-    profile when it is not modified (the paper's cycloid); else it needs the contact level."""
+    profile when it is not modified (the paper's cycloid); else it needs the contact level.
+    """
 
     module: str      # a module of gearcalc.pins, or a dotted absolute name
     factory: str
@@ -114,7 +115,8 @@ def profile_entry(name: str) -> ProfileEntry:
 def make_profile(name: str, g, params: ProfileParams | None = None):
     """(profile, overlap) of profile ``name`` on gear ``g`` with the design's ``params``: the factory of its
     :data:`PROFILES` entry (which raises :class:`gearcalc.pins.contact_profiles.InadmissibleProfile` for a profile
-    the contact level cannot run)."""
+    the contact level cannot run).
+    """
     entry = profile_entry(name)
     module = importlib.import_module(entry.module if "." in entry.module else f"{__package__}.{entry.module}")
     return getattr(module, entry.factory)(g, ProfileParams() if params is None else params)

@@ -429,7 +429,8 @@ def size_bridges_batch(rows: int, planets_per_row, sun_diameter, module, rim_wid
 
 def _widths(compliance, need, length, thickness, youngs_modulus, poisson):
     """:func:`bridge_width_for_compliance` of the spans ``need`` (P, n), each design's Newton iteration stopped
-    when all its spans have converged (as :func:`size_bridges` stops it for one design)."""
+    when all its spans have converged (as :func:`size_bridges` stops it for one design).
+    """
     Eh = youngs_modulus * thickness * compliance
     p = 2.4 * (1.0 + poisson) * length / Eh
     q = length**3 / Eh

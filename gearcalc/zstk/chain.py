@@ -26,9 +26,9 @@ from .geometry import INTEGER_TOL, broadcast, centre_distance, roller_radius
 
 # ----------------------------------------------------------------------------- §3.2 closure
 def fractional_roller_number(outer_radius, inner_radius, eccentricity, gap):
-    """Fractional roller number N* that closes the nominal chain (Steiner chain condition).
+    r"""Fractional roller number N* that closes the nominal chain (Steiner chain condition).
 
-    .. math:: \\sin^2(\\pi/N^*) = \\frac{(W - e)(W + e)}{(S - e)(S + e)}, \\quad W = R_H - R_B + c,\\ S = R_H + R_B
+    .. math:: \sin^2(\pi/N^*) = \frac{(W - e)(W + e)}{(S - e)(S + e)}, \quad W = R_H - R_B + c,\ S = R_H + R_B
 
     sin²(pi/N*) = (W - e)(W + e) / ((S - e)(S + e)),  W = R_H - R_B + c,  S = R_H + R_B.
 
@@ -60,10 +60,10 @@ def fractional_roller_number(outer_radius, inner_radius, eccentricity, gap):
 
 
 def corrected_outer_radius(n, inner_radius, eccentricity, gap):
-    """Outer raceway radius R_H' that closes a chain of exactly N rollers (correction "outer").
+    r"""Outer raceway radius R_H' that closes a chain of exactly N rollers (correction "outer").
 
-    .. math:: R_H' = \\frac{R_B(1 + s^2) - c + \\sqrt{s^2 (2 R_B - c)^2 + e^2 k^4}}{k^2}, \\quad s =
-              \\sin(\\pi/N),\\ k = \\cos(\\pi/N)
+    .. math:: R_H' = \frac{R_B(1 + s^2) - c + \sqrt{s^2 (2 R_B - c)^2 + e^2 k^4}}{k^2}, \quad s =
+              \sin(\pi/N),\ k = \cos(\pi/N)
 
     R_H' = [R_B(1 + s²) - c + sqrt(s²(2R_B - c)² + e² k⁴)] / k²,  s = sin(pi/N), k = cos(pi/N).
 
@@ -93,9 +93,9 @@ def corrected_outer_radius(n, inner_radius, eccentricity, gap):
 
 
 def corrected_inner_radius(n, outer_radius, eccentricity, gap):
-    """Inner raceway radius R_B' that closes a chain of exactly N rollers (correction "inner").
+    r"""Inner raceway radius R_B' that closes a chain of exactly N rollers (correction "inner").
 
-    .. math:: R_B' = \\frac{R_H(1 + s^2) + c - \\sqrt{s^2 (2 R_H + c)^2 + e^2 k^4}}{k^2}
+    .. math:: R_B' = \frac{R_H(1 + s^2) + c - \sqrt{s^2 (2 R_H + c)^2 + e^2 k^4}}{k^2}
 
     R_B' = [R_H(1 + s²) + c - sqrt(s²(2R_H + c)² + e² k⁴)] / k².
 
@@ -123,9 +123,9 @@ def corrected_inner_radius(n, outer_radius, eccentricity, gap):
 
 
 def corrected_gap(n, outer_radius, inner_radius, eccentricity):
-    """Roller gap c' that closes a chain of exactly N rollers (correction "gap").
+    r"""Roller gap c' that closes a chain of exactly N rollers (correction "gap").
 
-    .. math:: c' = \\sqrt{S^2 \\sin^2(\\pi/N) + e^2 \\cos^2(\\pi/N)} - (R_H - R_B)
+    .. math:: c' = \sqrt{S^2 \sin^2(\pi/N) + e^2 \cos^2(\pi/N)} - (R_H - R_B)
 
     c' = sqrt(S² s² + e² k²) - (R_H - R_B).
 
@@ -152,10 +152,10 @@ def corrected_gap(n, outer_radius, inner_radius, eccentricity):
 
 
 def roller_number_limit(correct, outer_radius, inner_radius, eccentricity, gap):
-    """The bound N_max of the admissible roller numbers 3 <= N < N_max (N <= N_max for "gap").
+    r"""The bound N_max of the admissible roller numbers 3 <= N < N_max (N <= N_max for "gap").
 
-    .. math:: \\text{outer: } \\sin^2(\\pi/N_{max}) = \\frac{c (2e + c)}{4 R_B (R_B + e)}, \\quad
-              \\text{inner: } \\frac{c (2e + c)}{4 R_H (R_H - e)}, \\quad \\text{gap: } \\frac{D^2 - e^2}{S^2
+    .. math:: \text{outer: } \sin^2(\pi/N_{max}) = \frac{c (2e + c)}{4 R_B (R_B + e)}, \quad
+              \text{inner: } \frac{c (2e + c)}{4 R_H (R_H - e)}, \quad \text{gap: } \frac{D^2 - e^2}{S^2
               - e^2}
 
     "outer": sin²(pi/N_max) = c(2e + c)/(4 R_B (R_B + e));  "inner": ... /(4 R_H (R_H - e));
@@ -375,10 +375,10 @@ def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer
 
 # ----------------------------------------------------------------------------- §4 positions
 def limiting_point_ratio(outer_radius, inner_radius, eccentricity, gap):
-    """q = x_s/X, with x_s the limiting point of the inflated circles inside the inner one.
+    r"""q = x_s/X, with x_s the limiting point of the inflated circles inside the inner one.
 
-    .. math:: q = \\frac{x_s}{X}, \\quad x_s = \\frac{2 X^2 e}{X^2 - A^2 + e^2 + \\sqrt{((X - e)^2 - A^2)((X + e)^2 -
-              A^2)}}, \\quad X = R_H + c/2,\\ A = R_B - c/2
+    .. math:: q = \frac{x_s}{X}, \quad x_s = \frac{2 X^2 e}{X^2 - A^2 + e^2 + \sqrt{((X - e)^2 - A^2)((X + e)^2 -
+              A^2)}}, \quad X = R_H + c/2,\ A = R_B - c/2
 
     x_s = 2X²e / (X² - A² + e² + sqrt(((X - e)² - A²)((X + e)² - A²))),  X = R_H + c/2,
     A = R_B - c/2.  q = 0 for e = 0 (no division by e).
@@ -441,9 +441,9 @@ def chain_phases(n, q, scheme, mid_gap, angle, theta0):
 
 
 def theta_of_phi(phi, q):
-    """Polar angle theta of a roller centre from its uniformising angle phi.
+    r"""Polar angle theta of a roller centre from its uniformising angle phi.
 
-    .. math:: \\theta = \\varphi - 2 \\operatorname{atan2}(q \\sin\\varphi,\\ 1 + q \\cos\\varphi)
+    .. math:: \theta = \varphi - 2 \operatorname{atan2}(q \sin\varphi,\ 1 + q \cos\varphi)
 
     theta = phi - 2 atan2(q sin phi, 1 + q cos phi).
 
@@ -479,9 +479,9 @@ def phi_of_theta(theta, q):
 
 
 def roller_angles(phase, n, q, pitch=None):
-    """Polar angles theta_k = theta(phi_0 + 2 pi k/N) of the N roller centres, k = 0 ... N-1.
+    r"""Polar angles theta_k = theta(phi_0 + 2 pi k/N) of the N roller centres, k = 0 ... N-1.
 
-    .. math:: \\theta_k = \\theta(\\varphi_0 + 2\\pi k / N), \\quad k = 0 \\ldots N - 1
+    .. math:: \theta_k = \theta(\varphi_0 + 2\pi k / N), \quad k = 0 \ldots N - 1
 
     Parameters
     ----------

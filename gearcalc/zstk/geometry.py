@@ -86,10 +86,10 @@ def wrap_angle(angle):
 
 # ----------------------------------------------------------------------------- §3.1 geometry
 def roller_radius(theta, outer_radius, inner_radius, eccentricity):
-    """Radius of the roller tangent to both raceways whose centre lies at polar angle theta.
+    r"""Radius of the roller tangent to both raceways whose centre lies at polar angle theta.
 
-    .. math:: r(\\theta) = \\frac{(D - e)(S - e) + 4 R_H e \\sin^2(\\theta/2)}{2[(S - e) + 2 e \\sin^2(\\theta/2)]},
-              \\quad S = R_H + R_B,\\ D = R_H - R_B
+    .. math:: r(\theta) = \frac{(D - e)(S - e) + 4 R_H e \sin^2(\theta/2)}{2[(S - e) + 2 e \sin^2(\theta/2)]},
+              \quad S = R_H + R_B,\ D = R_H - R_B
 
     r(theta) = [(D - e)(S - e) + 4 R_H e sin²(theta/2)] / [2((S - e) + 2 e sin²(theta/2))],
     with S = R_H + R_B and D = R_H - R_B; every term is non-negative (no cancellation).
@@ -121,9 +121,9 @@ def roller_radius(theta, outer_radius, inner_radius, eccentricity):
 
 
 def extreme_roller_radii(outer_radius, inner_radius, eccentricity):
-    """The smallest and the largest roller radius, at the narrowest and the widest point of the gap.
+    r"""The smallest and the largest roller radius, at the narrowest and the widest point of the gap.
 
-    .. math:: r_{min} = r(0) = \\frac{R_H - R_B - e}{2}, \\qquad r_{max} = r(\\pi) = \\frac{R_H - R_B + e}{2}
+    .. math:: r_{min} = r(0) = \frac{R_H - R_B - e}{2}, \qquad r_{max} = r(\pi) = \frac{R_H - R_B + e}{2}
 
     Parameters
     ----------
@@ -149,9 +149,9 @@ def extreme_roller_radii(outer_radius, inner_radius, eccentricity):
 
 
 def centre_distance(theta, outer_radius, inner_radius, eccentricity):
-    """Distance h = |O_H P| of the roller centre from the outer-ring centre.
+    r"""Distance h = |O_H P| of the roller centre from the outer-ring centre.
 
-    .. math:: h(\\theta) = \\frac{S^2 - e^2}{2 (S - e \\cos\\theta)} = R_H - r(\\theta)
+    .. math:: h(\theta) = \frac{S^2 - e^2}{2 (S - e \cos\theta)} = R_H - r(\theta)
 
     h(theta) = (S² - e²) / (2 (S - e cos theta)) = R_H - r(theta).
 
@@ -177,10 +177,10 @@ def centre_distance(theta, outer_radius, inner_radius, eccentricity):
 
 
 def normal_angle_offset(theta, outer_radius, inner_radius, eccentricity):
-    """Signed angle beta_s from the outer normal n_H to the inner normal n_B (counter-clockwise).
+    r"""Signed angle beta_s from the outer normal n_H to the inner normal n_B (counter-clockwise).
 
-    .. math:: \\beta_s = \\operatorname{atan2}(e \\sin\\theta,\\ h - e \\cos\\theta), \\quad \\sin\\beta = e
-              |\\sin\\theta| / (R_B + r)
+    .. math:: \beta_s = \operatorname{atan2}(e \sin\theta,\ h - e \cos\theta), \quad \sin\beta = e
+              |\sin\theta| / (R_B + r)
 
     beta_s = atan2(e sin theta, h - e cos theta); |beta_s| = beta = angle O_B P O_H, and the
     polar angle of n_B = (P - O_B)/|P - O_B| is theta + beta_s.
@@ -207,9 +207,9 @@ def normal_angle_offset(theta, outer_radius, inner_radius, eccentricity):
 
 
 def reduced_radii(roller_r, centre_dist, inner_radius, outer_radius):
-    """Reduced radii of the inner and outer contact of each roller (the paper's eqs. 4, 5).
+    r"""Reduced radii of the inner and outer contact of each roller (the paper's eqs. 4, 5).
 
-    .. math:: \\rho_B = \\frac{r R_B}{R_B + r}, \\qquad \\rho_H = \\frac{r R_H}{R_H - r} = \\frac{r R_H}{h}
+    .. math:: \rho_B = \frac{r R_B}{R_B + r}, \qquad \rho_H = \frac{r R_H}{R_H - r} = \frac{r R_H}{h}
 
     rho_B = r R_B/(R_B + r) (convex on convex);  rho_H = r R_H/(R_H - r) = r R_H/h (convex in
     concave), formed with h so that no R_H - r is subtracted.

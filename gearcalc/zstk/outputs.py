@@ -106,7 +106,8 @@ class RollerDetail:
     """The per-roller quantities of G designs (arrays (G, N)): rollers (the state, or the inner contacts'
     envelope rows: theta, radius, psi, beta), contacts (:func:`gearcalc.zstk.roller_contacts`); approach delta_i
     [mm] of a single placement, or gamma_inner, gamma_outer [rad], the load directions of each contact's
-    envelope; worst : the largest b/rho above the limit, -inf where none, (G,)."""
+    envelope; worst : the largest b/rho above the limit, -inf where none, (G,).
+    """
 
     rollers: object
     contacts: Contacts

@@ -163,7 +163,8 @@ def prepare(d: Designs, size: int, max_rollers: int, default_allowable: float) -
 class Stack:
     """G solved designs of one roller count N: chain, mats (arrays (G,)), state (arrays (G, N)); gamma [rad],
     load [N], clearance [mm], symmetric (solved in closed form), allowable [MPa], allowable_default, scheme,
-    arrays (G,); stepping: the explicit-stepping residual (G,) [mm] of the reference level, else None."""
+    arrays (G,); stepping: the explicit-stepping residual (G,) [mm] of the reference level, else None.
+    """
 
     chain: Chain
     mats: Materials
@@ -235,7 +236,8 @@ class Sweeping:
     """A "cycle" and/or "envelope" design solved (:func:`solve_sweeping`): the critical placement's stack
     (G = 1), the placement (its sweeps), the per-contact envelope rows (d_B, d_H, gamma_B, gamma_H) of
     "envelope" or None, the allowable radial load, and the sweeps' maximum (None without a direction sweep)
-    and error estimate [MPa], arrays (1,)."""
+    and error estimate [MPa], arrays (1,).
+    """
 
     stack: Stack
     placement: Placement

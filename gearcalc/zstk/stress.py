@@ -76,10 +76,10 @@ class State:
 
 def evaluate(chain: Chain, mats: Materials, theta, gamma, load, clearance=0.0, symmetric=False,
              fixed_direction=False) -> State:
-    """Loads and Hertz stresses of every roller for roller angles theta and load directions gamma.
+    r"""Loads and Hertz stresses of every roller for roller angles theta and load directions gamma.
 
-    .. math:: F_{iH} = F_{iB} \\cos\\beta_i, \\qquad \\sigma_{i(B,H)} = \\sqrt{\\frac{F_{i(B,H)}
-              E^*_{(B,H)}}{\\pi\\, l\\, \\rho_{i(B,H)}}}
+    .. math:: F_{iH} = F_{iB} \cos\beta_i, \qquad \sigma_{i(B,H)} = \sqrt{\frac{F_{i(B,H)}
+              E^*_{(B,H)}}{\pi\, l\, \rho_{i(B,H)}}}
 
     F_iH = F_iB cos beta_i (separator equilibrium); sigma = sqrt(F E*/(pi l rho)), the paper's
     eq. (3) (= Johnson's p0).
@@ -451,7 +451,8 @@ def safety_factor(sigma_max, allowable):
 class Contacts:
     """Per-roller contact quantities (arrays (G, N)) of the inner (B) and outer (H) contacts: force [N],
     peak stress [MPa], reduced radius [mm], Hertz semi-width b [mm], maximum (Tresca) subsurface shear [MPa]
-    and its depth below the contact centre [mm]."""
+    and its depth below the contact centre [mm].
+    """
 
     force_inner: np.ndarray
     force_outer: np.ndarray
