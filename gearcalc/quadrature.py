@@ -179,8 +179,9 @@ def sign_change_breakpoints(g, a: float, b: float, n_scan: int, xtol: float) -> 
 
 
 def _kronrod_table(xk, wk, wg):
-    """(nodes, Kronrod weights, Gauss weights) on [-1, 1], ascending, from the non-negative half (0 last); the
-    Gauss nodes are every second Kronrod node from the second.
+    """(nodes, Kronrod weights, Gauss weights) on [-1, 1], ascending, from the non-negative half (0 last).
+
+    The Gauss nodes are every second Kronrod node from the second.
     """
     xk, wk, wg = (np.asarray(v, dtype=float) for v in (xk, wk, wg))
     t = np.concatenate((-xk[:-1], xk[::-1]))
@@ -447,7 +448,9 @@ def piece_errors(e_last, e_prev):
 
 
 def richardson_mean(w, w_half):
-    """Richardson-corrected quadrature weights from a nested grid's trapezoid weights at levels N (``w``) and N/2
+    """Richardson-corrected quadrature weights from a nested grid's trapezoid weights.
+
+    Richardson-corrected quadrature weights from a nested grid's trapezoid weights at levels N (``w``) and N/2
     (``w_half``, 0 at the nodes it does not hold): T_N + (T_N - T_N/2)/3 = sum ((4 w - w_half)/3) f, Simpson's rule
     on every piece (pins.md §6, §8).
 
@@ -460,8 +463,9 @@ def richardson_mean(w, w_half):
 
 
 def _double(f, act, a, b, n_piece, mid_p, trap, e_last, e_prev, lev, p):
-    """One doubling of the pieces ``act`` of :func:`integrate_adaptive` (its arrays updated in place): the new (odd)
-    nodes evaluated, the trapezoid sums, the last two differences and the levels.
+    """One doubling of the pieces ``act`` of :func:`integrate_adaptive` (its arrays updated in place).
+
+    The new (odd) nodes evaluated, the trapezoid sums, the last two differences and the levels.
     """
     cnt = n_piece[act]
     pc = np.repeat(act, cnt)
@@ -903,7 +907,9 @@ def _one_owner(evaluate, a, b, length, mid_p, owner, n0, N0: int, cap: int, tol,
 
 
 def _sum_in_order(values) -> float:
-    """Sum of floats from 0.0 in the given order (as ``np.bincount`` accumulates; Python 3.12's ``sum`` would
+    """Sum of floats from 0.0 in the given order.
+
+    Sum of floats from 0.0 in the given order (as ``np.bincount`` accumulates; Python 3.12's ``sum`` would
     compensate).
     """
     total = 0.0

@@ -59,8 +59,10 @@ def modified(equidistant_mod, radial_mod) -> bool:
 
 
 def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | None]:
-    """The level a design runs and the rule (of :data:`gearcalc.pins.report.PROBLEMS`) a forced level breaks,
-    else None (pins.md §3-5).
+    """The level a design runs and the rule a forced level breaks.
+
+    The level a design runs and the rule (of :data:`gearcalc.pins.report.PROBLEMS`) a forced level breaks, else None
+    (pins.md §3-5).
 
     Without ``model`` the cheapest level the design needs: "formula" without a gear, "contact" for a circular
     profile, a modified cycloid or a contact law, else "ideal".  A forced level: the formula level needs a
@@ -100,8 +102,9 @@ def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | 
 
 
 def contact_law_problem(law: str, face_width, stiffness):
-    """The rule a contact law's missing constant breaks (pins.md §5.4, §7): the Hertz and Palmgren laws need
-    the face width b [mm], the linear law its stiffness k_lin [N/mm]; else None.
+    """The rule a contact law's missing constant breaks (pins.md §5.4, §7).
+
+    The Hertz and Palmgren laws need the face width b [mm], the linear law its stiffness k_lin [N/mm]; else None.
 
     >>> contact_law_problem("hertz", None, None), contact_law_problem("linear", None, 1e5)
     ('face_width', None)
@@ -187,8 +190,9 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
 
 
 def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
-    """(R_p [mm], K1, 1 - K1) of one gear from whichever of R_p and K1 is given (the other None): K1 as given,
-    else e z2/(k R_p) (:func:`~gearcalc.pins.operating.pin_circle`, pins.md §4.1, §7).
+    """(R_p [mm], K1, 1 - K1) of one gear from whichever of R_p and K1 is given (the other None).
+
+    K1 as given, else e z2/(k R_p) (:func:`~gearcalc.pins.operating.pin_circle`, pins.md §4.1, §7).
 
     >>> pin_circle_curtate(20, 22, 3.9, None, 0.75)
     (57.199999999999996, 0.75, 0.25)
@@ -207,12 +211,13 @@ def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
 
 def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rotating, profile, tooth_radius,
                     tooth_circle_radius, is_modified, load_pin_radius, load_axle_radius) -> list:
-    """The cross-key problems of one design (pins.md §5.3, §7, §9) in the order ``gearcalc check`` reports
-    them: (severity "error" or "warn", rule of :data:`gearcalc.pins.report.PROBLEMS` or the name of a
-    warning, the numbers of its message).  ``bad``: :func:`violations` of the design (arrays of one);
-    ``tables``: the design's tables among "gearing", "pin_load", "load"; ``Rp``, ``K1``: as given (None: not).
-    The list ends early without a gear (the gear's rules and the level's do not apply) and at a curtate ratio
-    that overflows R_p (the rules after it cannot be evaluated): ``gearcalc check`` stops there too.
+    """The cross-key problems of one design (pins.md §5.3, §7, §9) in the order ``gearcalc check`` reports them.
+
+    (severity "error" or "warn", rule of :data:`gearcalc.pins.report.PROBLEMS` or the name of a warning, the numbers
+    of its message).  ``bad``: :func:`violations` of the design (arrays of one); ``tables``: the design's tables
+    among "gearing", "pin_load", "load"; ``Rp``, ``K1``: as given (None: not). The list ends early without a gear
+    (the gear's rules and the level's do not apply) and at a curtate ratio that overflows R_p (the rules after it
+    cannot be evaluated): ``gearcalc check`` stops there too.
 
     >>> bad = violations([20], [22], [3.9], [None], [0.75], [9.0], [None], [False], ["cycloidal"], [0.1],
     ...                  [None], [None])
@@ -269,7 +274,8 @@ def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rota
 
 
 def ideal_admissibility(z1: int, z2: int, e: float, Rp, K1, Rb: float):
-    """(status, psi* [rad], min rho_c [mm], K1) of one gear at the ideal level (pins.md §4.2, §12.10):
+    """(status, psi* [rad], min rho_c [mm], K1) of one gear at the ideal level (pins.md §4.2, §12.10).
+
     :func:`~gearcalc.pins.ideal.admissibility`, the rule the ideal level's solve applies to every gear; ``Rp``,
     ``K1`` as given (None: not), K1 = e z2/(k R_p) as that level computes it.
 
@@ -290,7 +296,8 @@ def ideal_admissibility(z1: int, z2: int, e: float, Rp, K1, Rb: float):
 
 
 def ideal_over_budget(z2, n_discs):
-    """Whether the ideal level's cost z2 n_d exceeds :data:`~gearcalc.pins.schema.IDEAL_WORK_MAX` (pins.md §9);
+    """Whether the ideal level's cost z2 n_d exceeds :data:`~gearcalc.pins.schema.IDEAL_WORK_MAX` (pins.md §9).
+
     scalars or arrays.
 
     >>> ideal_over_budget(10_000, 20), ideal_over_budget(10_000, 21)
@@ -305,7 +312,9 @@ def contact_passes(torque_on_V: bool) -> int:
 
 
 def contact_over_budget(z2: int, torque_on_V: bool) -> bool:
-    """Whether the contact level's z2 x CONTACT_NODES_MAX x passes pin-contact solves exceed
+    """Whether the contact level's work exceeds its limit (pins.md §9).
+
+    Whether the contact level's z2 x CONTACT_NODES_MAX x passes pin-contact solves exceed
     :data:`~gearcalc.pins.schema.CONTACT_WORK_MAX` (pins.md §9).
 
     >>> contact_over_budget(114, False), contact_over_budget(115, False), contact_over_budget(344, True)
@@ -315,8 +324,9 @@ def contact_over_budget(z2: int, torque_on_V: bool) -> bool:
 
 
 def computed_alone(z2: int, n_discs: int, tol: float) -> bool:
-    """Whether a batch computes an ideal-level design alone rather than in a group (memory, pins.md §6): more
-    pin-discs than :data:`~gearcalc.pins.schema.GROUP_PINS_MAX`, or a --tol below
+    """Whether a batch computes an ideal-level design alone rather than in a group (memory, pins.md §6).
+
+    more pin-discs than :data:`~gearcalc.pins.schema.GROUP_PINS_MAX`, or a --tol below
     :data:`~gearcalc.pins.schema.GROUP_TOL_MIN`.
 
     >>> computed_alone(22, 1, 1e-6), computed_alone(22, 10, 1e-6), computed_alone(22, 1, 1e-12)

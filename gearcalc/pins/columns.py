@@ -44,8 +44,10 @@ def words_equal(words, word, one: bool):
 
 
 def operating(v, one: bool = False) -> dict:
-    """The operating point's values (:data:`OPERATING`) over points: float arrays (NaN: absent) and lists of
-    words; with ``one``, the single point's scalars (numpy float64, NaN where absent; the word).
+    """The operating point's values (:data:`OPERATING`) over points.
+
+    float arrays (NaN: absent) and lists of words; with ``one``, the single point's scalars (numpy float64, NaN
+    where absent; the word).
     """
     out = {}
     for name in OPERATING:
@@ -58,7 +60,9 @@ def operating(v, one: bool = False) -> dict:
 
 
 def friction_models(models, aliases, default: str) -> tuple[list, list]:
-    """The friction model per point (:func:`gearcalc.pins.checks.friction_model`; "consistent" where the alias
+    """The friction model per point and the error of a contradicting alias.
+
+    The friction model per point (:func:`gearcalc.pins.checks.friction_model`; "consistent" where the alias
     contradicts it) and per point None or the DesignError of that contradiction.
     """
     out, errors = [], []
@@ -70,7 +74,8 @@ def friction_models(models, aliases, default: str) -> tuple[list, list]:
 
 
 def formula_columns(v) -> dict:
-    """The paper's eqs. (3)-(7) over designs or points (pins.md §3, :func:`~gearcalc.pins.formula.formula_losses`):
+    """The paper's eqs. (3)-(7) over designs or points (pins.md §3, :func:`~gearcalc.pins.formula.formula_losses`).
+
     columns of :data:`~gearcalc.pins.report.FORMULA_KEYS` (None without a per-pin load; P_tr_fixed_W needs f).
     """
     res = formula_losses(floats(v["force"]), floats(v["pin_speed"]), floats(v["load_pin_radius"]),
@@ -94,6 +99,7 @@ class IdealColumns:
         self.__dict__.update(kw)
 
     def detail(self, i: int) -> dict:
+        """The detail tables of point ``i`` (pins.md §8), built on demand."""
         from .detail import ideal_detail
 
         k, cyc = int(self.gi[i]), self.cyc
@@ -187,9 +193,11 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
 
 
 def level_columns(v, level: str, names: list, tol: float, pin_load: bool, default_model: str):
-    """Every summary field (:data:`~gearcalc.pins.schema.SUMMARY_KEYS`, in order) over the points of one level,
-    "formula" or "ideal", and the :class:`IdealColumns` (None at the other levels; at the contact level only
-    the names, the level and the formula's columns, which :mod:`gearcalc.pins.contact_level` completes).
+    """Every summary field over the points of one level, and the ideal level's columns.
+
+    Every summary field (:data:`~gearcalc.pins.schema.SUMMARY_KEYS`, in order) over the points of one level,
+    "formula" or "ideal", and the :class:`IdealColumns` (None at the other levels; at the contact level only the
+    names, the level and the formula's columns, which :mod:`gearcalc.pins.contact_level` completes).
 
     ``v``: the points' values by name; ``names``: their names; ``pin_load``: some point has a per-pin load (the
     formula's columns, :func:`formula_columns`); ``default_model``: the friction model of a point that names

@@ -331,7 +331,9 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
 
 
 def _seq_sums(rows):
-    """Sums of each row of a 2-D array from 0.0 in node order (as ``np.bincount`` accumulates; a cumulative sum is
+    """Sums of each row of a 2-D array in node order.
+
+    Sums of each row of a 2-D array from 0.0 in node order (as ``np.bincount`` accumulates; a cumulative sum is
     sequential, unlike numpy's pairwise ``sum``).
     """
     return np.cumsum(rows, axis=1)[:, -1]
@@ -431,11 +433,13 @@ def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> Consisten
 
 
 def _refine_one(G: _GearTable, pieces, n_piece, w, mu: float, sigma: list, lam, tol: float):
-    """:func:`_refine_consistent` of one gear solved alone (its table ``G``, its ``pieces`` (a, b, owner) and their
-    intervals ``n_piece`` on the final grid, weights ``w``) for one friction ``mu`` and the modes ``sigma`` (a
-    list; ``lam``: their lambda at the grid's nodes, shape (K, nodes)): the same nodes, sums and acceptance,
-    operation for operation (the same numbers, bit for bit), with the bookkeeping on Python scalars.  Returns
-    lists over the modes: value, E, accepted, intervals, jammed.
+    """The consistent refinement of one gear solved alone, on Python scalars.
+
+    :func:`_refine_consistent` of one gear solved alone (its table ``G``, its ``pieces`` (a, b, owner) and their
+    intervals ``n_piece`` on the final grid, weights ``w``) for one friction ``mu`` and the modes ``sigma`` (a list;
+    ``lam``: their lambda at the grid's nodes, shape (K, nodes)): the same nodes, sums and acceptance, operation for
+    operation (the same numbers, bit for bit), with the bookkeeping on Python scalars.  Returns lists over the
+    modes: value, E, accepted, intervals, jammed.
     """
     z2 = int(G.z2[0])
     rb, omk, r_p1 = G.R_b[0], G.omk[0], G.r_p1[0]
@@ -495,15 +499,17 @@ def _refine_one(G: _GearTable, pieces, n_piece, w, mu: float, sigma: list, lam, 
 
 
 def _ratio_of(G: _GearTable, slot):
-    """u = z1/k of the gears at ``slot`` of the table (Z_e - 1 = z1/k)."""
+    """The ratio u = z1/k of the gears at ``slot`` of the table (Z_e - 1 = z1/k)."""
     return G.Ze[slot] - 1.0
 
 
 def _refine_consistent(cyc: IdealCycles, slot: int, t, t_mid, w, mu, sigma, lam, tol: float):
-    """Continue the doubling of the cycle quadrature (pins.md §6) of the friction-consistent lambda beyond the
-    final grid of the first-order solve, for several (friction, mode) pairs of one gear at once, evaluating
-    only the new nodes (their friction-free sums once for all pairs), until the rule accepts each pair
-    (E <= max(tol |Q|, 1e-14) on two successive doublings) or :data:`CONSISTENT_N_MAX`.
+    """Continue the cycle quadrature's doubling of the friction-consistent lambda.
+
+    Continue the doubling of the cycle quadrature (pins.md §6) of the friction-consistent lambda beyond the final
+    grid of the first-order solve, for several (friction, mode) pairs of one gear at once, evaluating only the new
+    nodes (their friction-free sums once for all pairs), until the rule accepts each pair (E <= max(tol |Q|, 1e-14)
+    on two successive doublings) or :data:`CONSISTENT_N_MAX`.
 
     ``t, t_mid, w``: the gear's final grid (nodes piece by piece) and its trapezoid weights at levels L, L-1;
     ``mu, sigma``: per pair, shape (K,); ``lam``: lambda at the grid's nodes, shape (K, nodes).  Returns

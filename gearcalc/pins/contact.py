@@ -101,8 +101,10 @@ class Unresolvable(ValueError):
 
 
 def fixed_point_settled(history, tol: float) -> bool:
-    """Whether the torque fixed point has settled: the remaining error c |d_n|/(1 - c) of the last loss
-    ratio, with the contraction c = |d_n/d_(n-1)| of the last two changes d, is below tol/10 of it.
+    """Whether the torque fixed point has settled.
+
+    The remaining error c |d_n|/(1 - c) of the last loss ratio, with the contraction c = |d_n/d_(n-1)| of the last
+    two changes d, is below tol/10 of it.
 
     Examples
     --------
@@ -204,9 +206,11 @@ def _fixed_point_step(history, torques, uT: float, a: float):
 
 
 def fixed_point_stalls(history) -> bool:
-    """Whether the torque fixed point's passes stopped contracting: after four passes, the last change is not below
-    half of the change two passes before (a converging secant iteration shrinks its changes far faster; a loss ratio
-    that jumps with the torque, a contact that comes and goes, makes the passes wander; pins.md §7).
+    """Whether the torque fixed point's passes stopped contracting.
+
+    after four passes, the last change is not below half of the change two passes before (a converging secant
+    iteration shrinks its changes far faster; a loss ratio that jumps with the torque, a contact that comes and
+    goes, makes the passes wander; pins.md §7).
 
     Examples
     --------
@@ -221,8 +225,9 @@ def fixed_point_stalls(history) -> bool:
 
 @dataclass(frozen=True)
 class ContactCase:
-    """One design's contact level at one operating point: the parameter object of :func:`cycle_at_torque` and
-    :func:`solve_modes`.
+    """One design's contact level at one operating point.
+
+    The parameter object of :func:`cycle_at_torque` and :func:`solve_modes`.
 
     g : Cycloid, the pin gear; profile : a :class:`~gearcalc.pins.profiles.ToothProfile`; law : ContactLaw;
     n_discs : n_d, discs sharing the torque; friction : :class:`~gearcalc.pins.friction.PinFriction` (mu_eff, f,
@@ -238,6 +243,7 @@ class ContactCase:
     torque_on_V: bool
 
     def __post_init__(self):
+        """Turn a plain (law, f) pair given as ``friction`` into a :class:`PinFriction`."""
         if not isinstance(self.friction, PinFriction):
             object.__setattr__(self, "friction", PinFriction(*self.friction))
 
@@ -313,9 +319,10 @@ def cycle_at_torque(case: ContactCase, multiplier: bool, friction_in_equilibrium
 
 
 class _TorquePasses:
-    """The passes of the torque fixed point of one design in one mode (:func:`cycle_at_torque`): its set-up (the
-    case, mode, friction in the balance, tolerance, quadrature rule, settings and the cycle mean's grid) and the
-    model and cycle of each pass.
+    """The passes of the torque fixed point of one design in one mode (:func:`cycle_at_torque`).
+
+    Its set-up (the case, mode, friction in the balance, tolerance, quadrature rule, settings and the cycle mean's
+    grid) and the model and cycle of each pass.
     """
 
     def __init__(self, case: ContactCase, multiplier: bool, friction_in_equilibrium: bool, tol: float,
@@ -341,17 +348,21 @@ class _TorquePasses:
         return ContactModel(c.g, c.profile, c.law, self.nm_to_nmm(T_V) / c.n_discs, self.sigma, self.friction, self.st)
 
     def settles(self, remainder, history, cyc):
-        """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing, or, when
-        the cycle mean itself did not converge (its quadrature at the cap of its angles: the tolerance is not met
-        whatever the torque), below that mean's own error (more passes would refine what that error swamps).
+        """The fixed point's stop.
+
+        The remaining change below tol/10 of lambda, or lambda no longer changing, or, when the cycle mean
+        itself did not converge (its quadrature at the cap of its angles: the tolerance is not met whatever the
+        torque), below that mean's own error (more passes would refine what that error swamps).
         """
         tol = self.tol
         return (remainder <= max(0.1 * tol * abs(history[-1]), 1e-15) or fixed_point_settled(history[-2:], tol)
                 or (not cyc.converged and remainder <= cyc.loss_ratio_err))
 
     def run(self, T_V, prev, window_only=False, n_initial=None):
-        """A full pass at T_V: its model (from the last pass's, or the other mode's seed, mirrored) and cycle mean
-        (``window_only``: the coarse value of the window scan instead).
+        """A full pass at T_V.
+
+        Its model (from the last pass's, or the other mode's seed, mirrored) and cycle mean (``window_only``:
+        the coarse value of the window scan instead).
         """
         st, seed = self.st, self.seed
         model = self.make(T_V)
@@ -456,11 +467,13 @@ class _TorquePasses:
 
 
 def _fixed_point_error(cyc, history, remainder: float, unsettled: bool) -> float:
-    """The torque cycle's error: the quadrature's plus the fixed point's remaining change.  ``unsettled``: the passes
-    ran out or stalled, or the multiplier locked on the way (a stalled reducer has no fixed point: its loss ratio is
-    the last pass's, with that pass's quadrature error): the remainder is not known to be small; the spread of all
-    passes (the last change at least) is in the error (never less): a loss ratio that jumps with the torque takes
-    any of those values near the torques the passes tried.
+    """The torque cycle's error.
+
+    The quadrature's plus the fixed point's remaining change.  ``unsettled``: the passes ran out or stalled, or the
+    multiplier locked on the way (a stalled reducer has no fixed point: its loss ratio is the last pass's, with that
+    pass's quadrature error): the remainder is not known to be small; the spread of all passes (the last change at
+    least) is in the error (never less): a loss ratio that jumps with the torque takes any of those values near the
+    torques the passes tried.
     """
     if unsettled:
         spread = max(history) - min(history) if len(history) >= 3 else 0.0
@@ -487,8 +500,10 @@ class ModeCycles:
 
 def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: float = 1e-6, rule: str = "trapezoid",
                 settings: ContactSettings | None = None) -> ModeCycles:
-    """The contact cycle of each mode with its own forces (friction-consistent model), or of the requested
-    mode with frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
+    """The contact cycle of each mode at the torque fixed point (pins.md §4.9, §5.5, §7).
+
+    The contact cycle of each mode with its own forces (friction-consistent model), or of the requested mode with
+    frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
 
     With ``consistent`` both modes are solved with the friction forces in the moment balance, the other mode
     starting from the requested one's solution; a mode that jams (:class:`Jam`) is recorded in ``jams``, and
@@ -522,10 +537,12 @@ def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: floa
 
 
 def equilibrium_residual(runs, tol: float) -> tuple[float, float]:
-    """The largest equilibrium residual of the cycles' moment balances relative to the torque, and its largest
-    ratio to the limit: 1/100 of ``tol`` (inner tolerances 100x tighter, pins.md §6), or 100x the round-off floor
-    of the penetrations (stiff contacts: deflections of 1e-7 mm on R_p); above 1 the balance is not met
-    (pins.md §5.5).  ``runs``: :class:`TorqueCycle` objects.
+    """The largest equilibrium residual of the cycles' moment balances and its ratio to the limit.
+
+    The largest equilibrium residual of the cycles' moment balances relative to the torque, and its largest ratio to
+    the limit: 1/100 of ``tol`` (inner tolerances 100x tighter, pins.md §6), or 100x the round-off floor of the
+    penetrations (stiff contacts: deflections of 1e-7 mm on R_p); above 1 the balance is not met (pins.md §5.5).
+    ``runs``: :class:`TorqueCycle` objects.
     """
     residual, excess = 0.0, 0.0
     for t in runs:
@@ -598,7 +615,9 @@ def effective_radius(R_b, delta, inv_D):
 
 
 def richardson_weights(theta, pieces):
-    r"""Weights w of the cycle mean sum w_i v_i / (theta_n - theta_0) over a trapezoid's final grid,
+    r"""Richardson-corrected weights of the cycle mean over a trapezoid's final grid.
+
+    Weights w of the cycle mean sum w_i v_i / (theta_n - theta_0) over a trapezoid's final grid,
     Richardson-corrected piece by piece (pins.md §6, §8): per piece of 2N uniform intervals, T_2N + (T_2N - T_N)/3,
     T_N over every other node (Simpson's rule on the piece).  ``theta`` sorted (piece ends twice, one-sided),
     ``pieces`` each node's piece key (its midpoint, :attr:`ContactCycle.nodes`).  None when a piece has an odd count
@@ -694,9 +713,10 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
 
 @dataclass
 class ContactOperating:
-    """Losses and speeds of a contact cycle at a crank speed (:func:`operating_values`): loss_mean, loss_peak,
-    loss_max, loss_bound [W]; loss_phase [deg]; spin_abs_max, spin_min, spin_max [rpm]; sliding_speed_max
-    [m/s].
+    """Losses and speeds of a contact cycle at a crank speed (:func:`operating_values`).
+
+    loss_mean, loss_peak, loss_max, loss_bound [W]; loss_phase [deg]; spin_abs_max, spin_min, spin_max [rpm];
+    sliding_speed_max [m/s].
     """
 
     loss_mean: float
@@ -712,8 +732,10 @@ class ContactOperating:
 
 def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: float, omega_H: float,
                      mu_eff: float, sliding_friction: float, rolls: bool) -> ContactOperating:
-    r"""The mean and peak losses and the pin and sliding speeds of a contact cycle at crank speed omega_H
-    (pins.md §4.6, §5.6, §8): the cycle's quantities are per unit crank speed, so they scale with omega_H.
+    r"""The mean and peak losses and the speeds of a contact cycle at crank speed omega_H.
+
+    The mean and peak losses and the pin and sliding speeds of a contact cycle at crank speed omega_H (pins.md §4.6,
+    §5.6, §8): the cycle's quantities are per unit crank speed, so they scale with omega_H.
 
     .. math:: P_{mean} = \bar\lambda\,T_V\,\omega_H k/z_1, \qquad
               P_{bound} = \mu\,F_{max}\,v_{max}\,\omega_H

@@ -37,8 +37,9 @@ __all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoin
 # ============================================================ losses (pins.md §5.6)
 
 def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool):
-    """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6): the rolling-pin rule of
-    :meth:`gearcalc.pins.friction.PinFriction.losses`.
+    """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
+
+    The rolling-pin rule of :meth:`gearcalc.pins.friction.PinFriction.losses`.
 
     Fixed pins: every loaded contact slides at |v_t| with mu_eff = f.  Rolling pins: the contact with
     the larger force sets the spin omega_pin = v_t/R_b and loses mu_rot F |v_t|; another loaded
@@ -104,11 +105,12 @@ class ContactCycle:
 
 
 def _components(s: Solution, rolls: bool):
-    """The sign-change components of the cycle at the solved states ``s`` (pins.md §6): (values, slopes, n_delta),
-    values and slopes (c, n) over the crank angles of ``s``; the slope is known for the penetrations only (NaN
-    else), which come first (n_delta rows).  A component that is NaN at a crank angle has no sign there.  Over the
-    state's rows (:attr:`Solution.rows`; the other pins are never candidates over the period: no contact, no sign):
-    the states of one cycle share them.
+    """The sign-change components of the cycle at the solved states ``s`` (pins.md §6).
+
+    (values, slopes, n_delta), values and slopes (c, n) over the crank angles of ``s``; the slope is known for the
+    penetrations only (NaN else), which come first (n_delta rows).  A component that is NaN at a crank angle has no
+    sign there.  Over the state's rows (:attr:`Solution.rows`; the other pins are never candidates over the period:
+    no contact, no sign): the states of one cycle share them.
     """
     n = s.theta.size
     force, v_t, cand = s.force, s.v_t, s.cand
@@ -130,9 +132,11 @@ def _components(s: Solution, rolls: bool):
 
 @dataclass
 class BreakpointRoots:
-    """The located sign changes of one cycle (:func:`cycle_breakpoints`): roots [rad] and whether each is a contact
-    entry or exit (a penetration's), sorted by root; ``scanned``: located by the full scan and taken as it is (False:
-    a coarse scan or moved roots, which the quadrature's nodes must confirm, :func:`mean_loss_ratio`).
+    """The located sign changes of one cycle (:func:`cycle_breakpoints`).
+
+    roots [rad] and whether each is a contact entry or exit (a penetration's), sorted by root; ``scanned``: located
+    by the full scan and taken as it is (False: a coarse scan or moved roots, which the quadrature's nodes must
+    confirm, :func:`mean_loss_ratio`).
     """
 
     roots: np.ndarray
@@ -142,8 +146,10 @@ class BreakpointRoots:
 
 
 def _breakpoint_state(model: ContactModel):
-    """A one-entry cache of the solved states of the last crank angles (the refinement evaluates the same ones
-    for the values and the slopes).
+    """A one-entry cache of the solved states of the last crank angles.
+
+    A one-entry cache of the solved states of the last crank angles (the refinement evaluates the same ones for the
+    values and the slopes).
     """
     memo: dict = {}
 
@@ -160,7 +166,8 @@ def _breakpoint_state(model: ContactModel):
 
 
 def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, checked: bool = False) -> BreakpointRoots:
-    """Every sign change of the components on an ``n_scan`` grid of one period, refined (:func:`cycle_breakpoints`);
+    """Every sign change of the components on an ``n_scan`` grid of one period, refined (:func:`cycle_breakpoints`).
+
     ``checked``: a coarse scan whose result the quadrature's nodes must confirm (:func:`mean_loss_ratio`).
     """
     Tp = model.g.period
@@ -201,12 +208,13 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
 
 
 def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: float):
-    """First points and step tolerances of the refinement of the scan's sign changes (:func:`_refine_sign_changes`):
+    """First points and step tolerances of the refinement of the scan's sign changes (:func:`_refine_sign_changes`).
+
     for a penetration (its slope known), the root of the cubic Hermite interpolant of the two scan points below zero
-    next to the sign change (value and slope each), extrapolated over the bracket, and backed off into the side below
-    zero by half the step tolerance; NaN (the scan's linear interpolation, the global step tolerance) where the slope
-    is unknown, the next point out is not below zero too, another component changes sign on the way or in the
-    bracket, or the far end lies above the cubic (below).
+    next to the sign change (value and slope each), extrapolated over the bracket, and backed off into the side
+    below zero by half the step tolerance; NaN (the scan's linear interpolation, the global step tolerance) where
+    the slope is unknown, the next point out is not below zero too, another component changes sign on the way or in
+    the bracket, or the far end lies above the cubic (below).
 
     Below zero the pin is clear of its tooth and the state is smooth in theta; above, the contact's force bends the
     penetration ((theta - theta0)^(10/9) under the Hertz law), so the linear interpolation across the root and Newton
@@ -267,12 +275,13 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: floa
 
 def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float, tol: float,
                        rolls: bool, max_width: float | None = None) -> BreakpointRoots | None:
-    """The roots of ``prior`` (the same design's cycle at a nearby torque) moved to this
-    model: each is bracketed by +-``width`` (widened 4x, up to ``max_width``, where its bracket holds no sign change),
-    and the components' sign changes between the bracket ends refined as in :func:`_scan_roots` (one root found in
-    two overlapping brackets counted once).  None (the full scan is needed) unless every bracket holds a sign change
-    and their number is the prior's: a root that left its widest bracket, or a pair that appeared or vanished in
-    it.  Changes elsewhere are caught on the quadrature's nodes (:func:`mean_loss_ratio`).
+    """The roots of ``prior`` (the same design's cycle at a nearby torque) moved to this model.
+
+    Each is bracketed by +-``width`` (widened 4x, up to ``max_width``, where its bracket holds no sign change), and
+    the components' sign changes between the bracket ends refined as in :func:`_scan_roots` (one root found in two
+    overlapping brackets counted once).  None (the full scan is needed) unless every bracket holds a sign change and
+    their number is the prior's: a root that left its widest bracket, or a pair that appeared or vanished in it.
+    Changes elsewhere are caught on the quadrature's nodes (:func:`mean_loss_ratio`).
     """
     Tp = model.g.period
     if prior.roots.size == 0:
@@ -324,8 +333,9 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
 
 
 def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarray:
-    """The piece ends from the located roots: the period's ends, the roots, and the geometric gradings
-    (:func:`cycle_breakpoints`).
+    """The piece ends from the located roots.
+
+    The period's ends, the roots, and the geometric gradings (:func:`cycle_breakpoints`).
     """
     Tp = model.g.period
     xtol = 1e-12 * Tp
@@ -379,10 +389,11 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
 
 @dataclass(frozen=True)
 class RootStops:
-    """Where :func:`_refine_sign_changes` stops (its parameter object): ``xtol`` the location tolerance of a root;
-    ``jump_xtol`` (default ``xtol``) of a jump; ``step_tol`` (default ``xtol``) a Newton or secant step below which a
-    bracket stops at the stepped point; ``maxiter`` calls at most; a bracket that Newton or the secant cannot narrow
-    is cut into ``sections`` parts per call (``settings.sections``).
+    """Where :func:`_refine_sign_changes` stops (its parameter object).
+
+    ``xtol`` the location tolerance of a root; ``jump_xtol`` (default ``xtol``) of a jump; ``step_tol`` (default
+    ``xtol``) a Newton or secant step below which a bracket stops at the stepped point; ``maxiter`` calls at most; a
+    bracket that Newton or the secant cannot narrow is cut into ``sections`` parts per call (``settings.sections``).
     """
 
     xtol: float
@@ -393,12 +404,13 @@ class RootStops:
 
 
 def _refine_sign_changes(h, brackets, stops: RootStops, x0=None, bent_above: bool = False, step_tols=None):
-    """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
-    slope, secant otherwise, and where a step leaves the bracket the bracket cut into ``sections`` equal parts by
-    as many points minus one in the next call (pins.md §6: breakpoints to 1e-12 T_p).  ``h(x, k)`` returns (values,
-    slopes) of the brackets ``k`` (indices, repeated for several points of one bracket) at x, a slope NaN where
-    unknown; only the brackets not yet done are evaluated.  Stops bracket by bracket when the step or the bracket is
-    below ``xtol`` or h is exactly 0.
+    """Sign changes of a vectorised h on the brackets [a, b].
+
+    safeguarded Newton where ``h`` gives a slope, secant otherwise, and where a step leaves the bracket the bracket
+    cut into ``sections`` equal parts by as many points minus one in the next call (pins.md §6: breakpoints to 1e-12
+    T_p).  ``h(x, k)`` returns (values, slopes) of the brackets ``k`` (indices, repeated for several points of one
+    bracket) at x, a slope NaN where unknown; only the brackets not yet done are evaluated.  Stops bracket by
+    bracket when the step or the bracket is below ``xtol`` or h is exactly 0.
 
     A bracket whose end values stay 100x above what the scan's slope |fb - fa|/(b - a) allows over the
     shrunken bracket (after shrinking it 1000x) holds a jump, not a root (e.g. the tangential speed
@@ -530,8 +542,10 @@ def _merge(points, gap):
 
 
 def _lagrange_matrix(nodes, points):
-    """The Lagrange basis of ``nodes`` at ``points``: L (len(points), len(nodes)), sum_k L[j, k] f(nodes[k]) is the
-    interpolating polynomial at points[j] (barycentric weights; exact for polynomials of degree < len(nodes)).
+    """The Lagrange basis of ``nodes`` at ``points``.
+
+    L (len(points), len(nodes)), sum_k L[j, k] f(nodes[k]) is the interpolating polynomial at points[j] (barycentric
+    weights; exact for polynomials of degree < len(nodes)).
 
     >>> t = np.array([-1.0, 0.0, 1.0]); bool(np.allclose(_lagrange_matrix(t, np.array([0.5])) @ t**2, 0.25))
     True
@@ -648,7 +662,9 @@ class CycleGrid:
 def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: CycleGrid | None = None,
                     n_initial=None, rule: str = "trapezoid", prior: "BreakpointRoots | None" = None,
                     prior_width: float = 1e-2) -> ContactCycle:
-    """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
+    """Cycle mean of lambda(theta) over one period, with an honest error.
+
+    Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
     quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least ``settings.inner_share`` tol |lambda_bar|).
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
@@ -801,7 +817,9 @@ def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: Cycl
 
 def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactModel, tol: float,
                        stride: int | None = None) -> "ContactCycle | None":
-    r"""The cycle at the torque of ``model`` from the final grid of ``cyc`` (solved with ``prev``, a torque a few 1e-5
+    r"""The cycle at the torque of ``model`` from the final grid of ``cyc``.
+
+    The cycle at the torque of ``model`` from the final grid of ``cyc`` (solved with ``prev``, a torque a few 1e-5
     away): the next pass of the torque fixed point without locating the breakpoints again (pins.md §6(6), §7).
 
     Every node keeps its crank angle and its piece's sets and is solved at the new torque from the Newton step
@@ -989,8 +1007,10 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
 
 
 def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
-    r"""(left, right): 1 where a side's change counts in the bound of a breakpoint's strip (:func:`relinearised_cycle`),
-    0 where it does not, per breakpoint (m,).
+    r"""(left, right).
+
+    1 where a side's change counts in the bound of a breakpoint's strip (:func:`relinearised_cycle`), 0 where it
+    does not, per breakpoint (m,).
 
     A node's forces are its own equilibrium's; its piece's sets enter only the one-sided derivatives (d tau/d theta,
     so the sliding speeds).  A contact entry or exit alone (one sign-changing component, a penetration, both sides'
@@ -1031,8 +1051,10 @@ def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
 
 
 def piece_places(ps):
-    """Of nodes sorted by piece (``ps`` their pieces): each run's first position ``start`` and node count ``count``,
-    and per node its run ``piece`` and its place ``j`` in it (0 at the piece's first node).
+    """Of nodes sorted by piece (``ps`` their pieces).
+
+    Each run's first position ``start`` and node count ``count``, and per node its run ``piece`` and its place ``j``
+    in it (0 at the piece's first node).
     """
     start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
     count = np.diff(np.append(start, ps.size))
@@ -1041,10 +1063,12 @@ def piece_places(ps):
 
 
 def _strided(xs, ps, stride: int):
-    """Every ``stride``-th node of each piece and both its ends (nodes sorted by piece, then theta; ``ps`` their
-    pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves it
-    at least 4 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it in
-    its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node).
+    """Every ``stride``-th node of each piece and both its ends.
+
+    Every ``stride``-th node of each piece and both its ends (nodes sorted by piece, then theta; ``ps`` their
+    pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves
+    it at least 4 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it
+    in its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node).
     """
     start, count, piece, j = piece_places(ps)
     k = np.ones(start.size, dtype=np.int64)
@@ -1063,9 +1087,7 @@ def _strided(xs, ps, stride: int):
 
 
 def _trapezoid_weights(xs, ps):
-    """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by
-    piece.
-    """
+    """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece."""
     h = np.where(ps[1:] == ps[:-1], np.diff(xs), 0.0)
     w = np.zeros(xs.size)
     w[:-1] += 0.5 * h
@@ -1074,7 +1096,9 @@ def _trapezoid_weights(xs, ps):
 
 
 def nested_trapezoid_weights(xs, ps):
-    """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece,
+    """The composite trapezoid's weights at the levels N and N/2 of each piece.
+
+    The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece,
     over all nodes and over every other node of each piece (its ends kept): (w, w_half), the levels N and N/2 of a
     piece of N intervals (an odd N: the half level's last interval is the one that is left).
     """
@@ -1086,12 +1110,14 @@ def nested_trapezoid_weights(xs, ps):
 
 
 def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
-    """``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change
-    part - sol interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``;
-    weight ``t`` on ``hi``); the sets (branch, candidates, the friction forces' directions), the phases, the residual
-    and the contact geometry (nx, ny, wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are
-    clipped at 0, a value that is not finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both
-    over the same rows).
+    """``sol`` with the states ``part`` at the kept nodes, relinearised at the others.
+
+    ``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change part - sol
+    interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``; weight ``t``
+    on ``hi``); the sets (branch, candidates, the friction forces' directions), the phases, the residual and the
+    contact geometry (nx, ny, wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are clipped
+    at 0, a value that is not finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both over
+    the same rows).
     """
     n = sol.theta.size
     rest = np.ones(n, dtype=bool)
@@ -1152,13 +1178,13 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
 
 
 def _interior_states(found: BreakpointRoots, mids, period: float, margin: float):
-    """For the pieces with midpoints ``mids``: the column of a state solved while the sign changes ``found`` were
-    located (``found.seen``) that lies in the same stretch between two of them as the midpoint, farther than
-    ``settings.interior_margin`` T_p from both (the nearest such to the midpoint), else -1; and those states
-    concatenated.
-    The components keep their signs over the stretch, so that state has the piece's active set, branches and
-    friction directions, as its midpoint's would (pins.md §6; a sign change the located ones missed is caught on the
-    nodes, :func:`_pieces_hold`).
+    """For the pieces with midpoints ``mids``.
+
+    The column of a state solved while the sign changes ``found`` were located (``found.seen``) that lies in the
+    same stretch between two of them as the midpoint, farther than ``settings.interior_margin`` T_p from both (the
+    nearest such to the midpoint), else -1; and those states concatenated. The components keep their signs over the
+    stretch, so that state has the piece's active set, branches and friction directions, as its midpoint's would
+    (pins.md §6; a sign change the located ones missed is caught on the nodes, :func:`_pieces_hold`).
     """
     seen = [s for s in found.seen if s.theta.size]
     if not seen:
@@ -1180,7 +1206,9 @@ def _interior_states(found: BreakpointRoots, mids, period: float, margin: float)
 
 
 def piece_keys(edges, x, mid):
-    """The nodes' places 2 p + (x - a_p)/(b_p - a_p) in [2 p, 2 p + 1], p the piece of the midpoint ``mid`` (edges
+    """The nodes' places within the piece of their midpoint, as sortable keys.
+
+    The nodes' places 2 p + (x - a_p)/(b_p - a_p) in [2 p, 2 p + 1], p the piece of the midpoint ``mid`` (edges
     sorted): the keys of two pieces never meet, so the piece ends are told apart from their neighbours'.
     """
     p = np.minimum(np.maximum(edges.searchsorted(mid) - 1, 0), edges.size - 2)
@@ -1191,8 +1219,10 @@ def piece_keys(edges, x, mid):
 
 
 def piece_guess(keys, tau, dtau, key, x, edges):
-    """Warm starts of tau at the nodes ``key`` (:func:`piece_keys`) from the solved nodes of the same piece around
-    each (keys sorted): the cubic Hermite interpolant of tau and d tau/d theta (one-sided at the piece's ends, from
+    """Warm starts of tau at the nodes ``key`` from the solved nodes of the same piece.
+
+    Warm starts of tau at the nodes ``key`` (:func:`piece_keys`) from the solved nodes of the same piece around each
+    (keys sorted): the cubic Hermite interpolant of tau and d tau/d theta (one-sided at the piece's ends, from
     inside it), error O(h^4) in their spacing h; NaN where the piece has no solved node on either side (then the
     model's own warm start, :meth:`ContactModel.state`).  None when nothing is solved yet.
     """
@@ -1213,15 +1243,16 @@ def piece_guess(keys, tau, dtau, key, x, edges):
 
 def _pieces_hold(nodes, ref_sols, edges, rolls: bool, tol: float, period: float, away=None,
                  floor: float = 0.0) -> bool:
-    """Whether every evaluated node lies on its piece's side of every sign change: no component has the
-    opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's ends (where a
-    located jump may lie within 1e-3 tol T_p of its place, :func:`_scan_roots`).  A stricter test than the full
-    scan's (the nodes are denser than its 256 intervals), used for the incrementally moved breakpoints.
+    """Whether every evaluated node lies on its piece's side of every sign change.
+
+    no component has the opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's
+    ends (where a located jump may lie within 1e-3 tol T_p of its place, :func:`_scan_roots`).  A stricter test than
+    the full scan's (the nodes are denser than its 256 intervals), used for the incrementally moved breakpoints.
     ``away`` = (points, width): nor at a node within ``width`` of a point (sorted; the strips a breakpoint may have
     moved through since the nodes were placed, :func:`relinearised_cycle`).  ``floor``: a contradiction counts only
-    where the node's value and the piece's both exceed ``floor`` times the component's largest |value| over the nodes
-    (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance).  ``nodes``:
-    (cache, mids), the nodes' states and their pieces' midpoints.
+    where the node's value and the piece's both exceed ``floor`` times the component's largest |value| over the
+    nodes (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance).
+    ``nodes``: (cache, mids), the nodes' states and their pieces' midpoints.
     """
     cache, mids = nodes
     rm = np.concatenate([r.theta for r in ref_sols])
@@ -1409,8 +1440,10 @@ def cycle_peaks(cyc: ContactCycle, g: Cycloid, n_discs: int, rolls: bool) -> Cyc
 
 
 def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.0, 1.0)):
-    """Angular free play of the unloaded satellite at crank angles theta: (tau_minus, tau_plus) [rad] (``sides``:
-    only these of the two directions, in this order, -1.0 for tau_minus and 1.0 for tau_plus).
+    """Angular free play of the unloaded satellite at crank angles theta.
+
+    (tau_minus, tau_plus) [rad] (``sides``: only these of the two directions, in this order, -1.0 for tau_minus and
+    1.0 for tau_plus).
 
     tau_plus > 0 (tau_minus < 0) is the rotation from nominal at which the first pair touches, the root of
     max_j delta_j(tau) = 0; 0 where a pair already touches or interferes at nominal; +-``limit`` (default pi/z1)
@@ -1535,8 +1568,10 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
 
 
 def pin_travel(tau, g: Cycloid) -> float:
-    r"""The largest travel of a pin centre relative to the satellite's nominal (rigid conjugate) pose under the load,
-    as a share of the pin radius: :math:`\max|\tau| (R_p + e)/R_b` [-] (pins.md §7).
+    r"""The largest travel of a pin centre under the load, as a share of the pin radius.
+
+    The largest travel of a pin centre relative to the satellite's nominal (rigid conjugate) pose under the load, as
+    a share of the pin radius: :math:`\max|\tau| (R_p + e)/R_b` [-] (pins.md §7).
 
     The contact model holds the satellite's rotation tau to be deflection-sized; a pin centre that moves by a good
     part of its radius (a profile with large free play, on few teeth) meets its tooth far from its nominal place,
@@ -1554,8 +1589,9 @@ def pin_travel(tau, g: Cycloid) -> float:
 
 
 def deflection_sized(tau, g: Cycloid, travel_max: float = DEFAULT_SETTINGS.travel_max) -> bool:
-    """Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized: :func:`pin_travel` at most
-    ``settings.travel_max`` (else the contact level's results are flagged, pins.md §7).
+    """Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized.
+
+    :func:`pin_travel` at most ``settings.travel_max`` (else the contact level's results are flagged, pins.md §7).
 
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> deflection_sized(np.array([1e-3]), g), deflection_sized(np.array([0.1]), g)

@@ -60,18 +60,22 @@ class ContactLaw:
         return out
 
     def force_on(self, delta, active):
-        """F on a fixed active set: the law's smooth extension on the ``active`` pairs (a linear law goes on
-        linearly below delta = 0), 0 elsewhere.  Used for one-sided derivatives at contact entry/exit.
+        """F on a fixed active set.
+
+        The law's smooth extension on the ``active`` pairs (a linear law goes on linearly below delta = 0), 0
+        elsewhere.  Used for one-sided derivatives at contact entry/exit.
         """
         if self.exponent == 1.0:
             return np.where(active, self.constant * np.asarray(delta, dtype=float), 0.0)
         return np.where(active, self.force(delta), 0.0)
 
     def force_stiffness(self, delta, active=None):
-        """(F, dF/d delta) [N, N/mm] together: :meth:`force` and its stiffness c p delta^(p-1) (0 for delta <= 0), or
-        on a fixed ``active`` set :meth:`force_on` and its derivative (the smooth extension: a linear law keeps c
-        below delta = 0).  Under a power law the stiffness is p F/delta on the touching pairs (one power for both:
-        the equilibrium evaluates them at every pair of every iteration).
+        """(F, dF/d delta) [N, N/mm] together.
+
+        :meth:`force` and its stiffness c p delta^(p-1) (0 for delta <= 0), or on a fixed ``active`` set
+        :meth:`force_on` and its derivative (the smooth extension: a linear law keeps c below delta = 0).  Under
+        a power law the stiffness is p F/delta on the touching pairs (one power for both: the equilibrium
+        evaluates them at every pair of every iteration).
 
         Examples
         --------
@@ -117,15 +121,18 @@ The design key ``contact.law`` chooses among them (its choices in :mod:`gearcalc
 
 
 def register_contact_law(name: str, make) -> None:
-    """Add a contact law by name: ``make(face_width, stiffness)`` returns its :class:`ContactLaw` (a new law is one
-    function plus this call; the design key's choices are in :mod:`gearcalc.pins.schema`).
+    """Add a contact law by name.
+
+    ``make(face_width, stiffness)`` returns its :class:`ContactLaw` (a new law is one function plus this call; the
+    design key's choices are in :mod:`gearcalc.pins.schema`).
     """
     CONTACT_LAWS[name] = make
 
 
 def contact_law(name: str, face_width=None, stiffness=None) -> ContactLaw:
-    """The law of a design by name (:data:`CONTACT_LAWS`): hertz/palmgren need the face width b [mm], linear the
-    stiffness k_lin [N/mm].
+    """The law of a design by name (:data:`CONTACT_LAWS`).
+
+    hertz/palmgren need the face width b [mm], linear the stiffness k_lin [N/mm].
 
     Raises
     ------

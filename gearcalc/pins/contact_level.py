@@ -33,14 +33,15 @@ __all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "Con
 
 
 def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
-    """The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6): the composite trapezoid per
-    smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the Gauss-Kronrod pair ``"gk7"``
-    (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's interpolated states on the final grid,
-    :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured 2026-11-27 on the eight paper designs, CPU time of
-    both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time (each solve's fixed numpy overhead outweighs gk7's 2-3x
-    fewer angles); at 1e-7 gk7 takes 0.77x the trapezoid's in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8 it
-    meets the tolerance where the trapezoid reaches its cap of 2^12 intervals on 3 designs, at 1e-9 on the three designs
-    tried (0.13-0.45 s against 0.24-0.54 s).
+    """The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6).
+
+    The composite trapezoid per smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the
+    Gauss-Kronrod pair ``"gk7"`` (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's
+    interpolated states on the final grid, :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured
+    2026-11-27 on the eight paper designs, CPU time of both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time
+    (each solve's fixed numpy overhead outweighs gk7's 2-3x fewer angles); at 1e-7 gk7 takes 0.77x the trapezoid's
+    in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8 it meets the tolerance where the trapezoid reaches its
+    cap of 2^12 intervals on 3 designs, at 1e-9 on the three designs tried (0.13-0.45 s against 0.24-0.54 s).
 
     >>> contact_rule(1e-6), contact_rule(1e-9)
     ('trapezoid', 'gk7')
@@ -49,7 +50,8 @@ def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
 
 
 def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
-    """(the gear, R_p [mm]) from whichever of R_p and K1 is given (the other None; pins.md §4.1, §7):
+    """(the gear, R_p [mm]) from whichever of R_p and K1 is given (the other None; pins.md §4.1, §7).
+
     :class:`~gearcalc.pins.geometry.Cycloid` with 1 - K1 from :func:`gearcalc.pins.checks.pin_circle_curtate`.
 
     >>> g, Rp = gear(20, 22, 3.9, None, 0.75, 1.95)
@@ -91,7 +93,8 @@ def satellite_profile(g, profile: str, tooth_radius, tooth_circle_radius, radial
 
 
 def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: float, axle: float):
-    r"""(mu_eff, rolls, rolling condition) of one operating point as arrays of one (pins.md §4.5-4.6):
+    r"""(mu_eff, rolls, rolling condition) of one operating point as arrays of one (pins.md §4.5-4.6).
+
     :func:`~gearcalc.pins.friction.friction_regime`; the condition is None for fixed pins.
 
     .. math:: \mu_{eff} = (f_c r + f_k)/R_b \text{ where } f R_b \ge f_c r + f_k, \text{ else } f
@@ -109,8 +112,10 @@ def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: floa
 
 
 def backlash_deg(model, play_free: bool) -> float:
-    """The satellite's play at no load [deg] (pins.md §5.3): 0 where the profile has none by construction
-    (an unmodified cycloid, the zero-backlash tooth circle), else :func:`gearcalc.pins.contact.backlash`.
+    """The satellite's play at no load [deg] (pins.md §5.3).
+
+    0 where the profile has none by construction (an unmodified cycloid, the zero-backlash tooth circle), else
+    :func:`gearcalc.pins.contact.backlash`.
     """
     return 0.0 if play_free else math.degrees(pc.backlash(model))
 
@@ -147,9 +152,10 @@ class ContactLevel:
 
 @dataclass(frozen=True)
 class ContactDesign:
-    """One design at the contact level (the parameter object of :func:`contact_level`): the gear ``g``, its
-    ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating`` pins on axles of radius
-    ``axle_radius`` [mm] (None: fixed pins).
+    """One design at the contact level (the parameter object of :func:`contact_level`).
+
+    The gear ``g``, its ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating``
+    pins on axles of radius ``axle_radius`` [mm] (None: fixed pins).
     """
 
     g: Cycloid

@@ -31,7 +31,9 @@ from .geometry import REDUCER, Cycloid
 __all__ = ["NoEquilibrium", "Jam", "Solution", "ContactModel", "EPS"]
 
 def _doubling_bracket(G, n: int, h0: float, limit: float):
-    """Brackets of the roots of a decreasing G(tau) (n,) about tau = 0, by doubling a step from h0 on the side of
+    """Brackets of the roots of a decreasing G(tau) about tau = 0.
+
+    Brackets of the roots of a decreasing G(tau) (n,) about tau = 0, by doubling a step from h0 on the side of
     sign(G(0)) up to ``limit``: (a, b, open), open where no sign change lies within +-limit.
     """
     G0 = G(np.zeros(n))
@@ -55,7 +57,9 @@ def _doubling_bracket(G, n: int, h0: float, limit: float):
 
 
 def _bracket_root(G, theta, a, b, xtol: float):
-    """The roots of the moment balance G on the brackets [a, b] at crank angles theta (by
+    """The roots of the moment balance G on the brackets [a, b] at crank angles theta.
+
+    The roots of the moment balance G on the brackets [a, b] at crank angles theta (by
     :func:`gearcalc.roots.find_root`); :class:`NoEquilibrium` at the angles whose ends no longer hold a sign change:
     for a rotation far beyond a deflection the contact geometry depends on the search's path (a cycloidal pin's foot
     point can jump to another flank between evaluations), so a bracket found by one search need not hold for the
@@ -68,8 +72,9 @@ def _bracket_root(G, theta, a, b, xtol: float):
 
 
 def _window_range(tau) -> tuple[float, float]:
-    """The candidate window's range of tau from a scan's: each end twice as far from 0, or half as near when the
-    range does not reach 0 (:meth:`ContactModel.set_window`).
+    """The candidate window's range of tau from a scan's.
+
+    Each end twice as far from 0, or half as near when the range does not reach 0 (:meth:`ContactModel.set_window`).
     """
     lo, hi = float(np.min(tau)), float(np.max(tau))
     return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
@@ -127,7 +132,9 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
 
     # -- equilibrium ------------------------------------------------------------------------------
     def solve(self, theta, xtol: float = 1e-15, traction=None, pose=None):
-        """tau at crank angles theta from M(tau) = M_req: bracket by doubling from 1e-9 rad, then Chandrupatla.
+        """The rotation tau at crank angles theta from M(tau) = M_req.
+
+        Bracket by doubling from 1e-9 rad, then Chandrupatla.
 
         M does not increase with tau for deflection-sized rotations; the solver relies only on the
         sign change (pins.md §5.5).  Raises :class:`NoEquilibrium` when no sign change exists within
@@ -147,7 +154,9 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return self._solve(pose, traction, 0.5 * (a + b), xtol, bracket=(a, b))
 
     def _linearised_tau(self, n_scan: int, h0: float):
-        r"""tau balancing the torque with the penetrations linearised about the nominal pose (no friction), or None
+        r"""The rotation tau balancing the torque with the penetrations linearised about the nominal pose.
+
+        tau balancing the torque with the penetrations linearised about the nominal pose (no friction), or None
         where that balance has no root within +-pi/z1: a start for the first scan's Newton (:meth:`set_window`).
 
         With d delta/d tau = -(X x n) (:meth:`set_window`), the balance sum F(delta_0 - (X x n) tau) (X x n) = M_req
@@ -168,7 +177,7 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return find_root(G, a, b, xtol=1e-3 * float(np.abs(np.concatenate((a, b))).max()), rtol=0.0).root
 
     def _solve(self, pose: Pose, traction=None, guess=None, xtol: float = 1e-15, maxiter: int = 40, bracket=None):
-        """tau from G(tau) = 0 at every crank angle of ``pose``: safeguarded Newton from ``guess``.
+        """The rotation tau from G(tau) = 0 at every crank angle of ``pose``: safeguarded Newton from ``guess``.
 
         The analytic G_tau (:meth:`_balance`); a step that leaves the bracket of sign changes met so far
         is replaced by bisection; stops at |d tau| <= xtol (pins.md §5.5).  Angles without a guess, or
@@ -310,12 +319,14 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return sol
 
     def _warm(self, pose: Pose, guess, traction, ref, rounds: int = 2) -> "Solution | None":
-        """The state from the warm start ``guess`` by Newton steps, each with one balance (:meth:`_kinematics` with
-        ``step``: the last step, one :meth:`_solve` would stop after, moves the state without a new balance); an angle
-        whose start is farther takes a full Newton step (G_tau < 0, |s| <= |tau|/2) and is evaluated again, at most
-        ``rounds`` times; the others are solved by :meth:`_solve` from there.  None without a guess.  At the
-        quadrature's nodes the cubic Hermite warm start between solved neighbours (:func:`piece_guess`) is usually
-        that close: one balance per node instead of two or more (pins.md §5.5).
+        """The state from the warm start ``guess`` by Newton steps, each with one balance.
+
+        The state from the warm start ``guess`` by Newton steps, each with one balance (:meth:`_kinematics` with
+        ``step``: the last step, one :meth:`_solve` would stop after, moves the state without a new balance); an
+        angle whose start is farther takes a full Newton step (G_tau < 0, |s| <= |tau|/2) and is evaluated
+        again, at most ``rounds`` times; the others are solved by :meth:`_solve` from there.  None without a
+        guess.  At the quadrature's nodes the cubic Hermite warm start between solved neighbours
+        (:func:`piece_guess`) is usually that close: one balance per node instead of two or more (pins.md §5.5).
         """
         if guess is None:
             return None
@@ -352,8 +363,9 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return sol
 
     def _friction_solve(self, pose: Pose, traction, tau, ref) -> Solution:
-        """The equilibrium with the friction forces ``traction`` from the start ``tau``; :class:`Jam` when
-        no rotation balances the torque with them.
+        """The equilibrium with the friction forces ``traction`` from the start ``tau``.
+
+        :class:`Jam` when no rotation balances the torque with them.
         """
         try:
             tau = self._solve(pose, traction, tau)
@@ -409,8 +421,9 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return sol
 
     def phases(self, theta, rows=None):
-        """(phase, zeta) of the pins ``rows`` (None: all) at crank angles theta (R, n): the load-side phase of the
-        mode and the time phase theta - phi_j wrapped to [-pi, pi) [rad].
+        """(phase, zeta) of the pins ``rows`` (None: all) at crank angles theta (R, n).
+
+        The load-side phase of the mode and the time phase theta - phi_j wrapped to [-pi, pi) [rad].
         """
         g = self.g
         th = np.atleast_1d(np.asarray(theta, dtype=float))[None, :]
@@ -447,10 +460,11 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         self._gtau[key] = None if gt is None else gt[order]
 
     def _guess(self, theta, key, slope: bool = False):
-        """tau at theta from the solved angles around it: the cubic Hermite interpolant of tau and
-        d tau/d theta between the two neighbours (the tangent line of the nearer one where they coincide
-        or lie on one side only), or None when nothing is solved yet.  ``slope``: (tau, d tau/d theta) of that
-        interpolant.
+        """The rotation tau at theta from the solved angles around it.
+
+        The cubic Hermite interpolant of tau and d tau/d theta between the two neighbours (the tangent line of
+        the nearer one where they coincide or lie on one side only), or None when nothing is solved yet.
+        ``slope``: (tau, d tau/d theta) of that interpolant.
         """
         memo = self._memo[key] if key == 0 or self.friction is not None else None
         if memo is None:

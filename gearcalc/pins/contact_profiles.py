@@ -180,7 +180,7 @@ _TOOTH_CACHE: dict = {}
 """full_tooth results by (z1, z2, e, R_p, R_b): a pure function of them, reused by repeated runs."""
 
 
-def full_tooth(g: Cycloid) -> tuple[float, float] | None:
+def full_tooth(g: Cycloid) -> tuple[float, float] | None:  # noqa: D103 (the docstring of _full_tooth, below)
     key = (g.z1, g.z2, g.e, g.R_p, g.R_b)
     if key not in _TOOTH_CACHE:
         if len(_TOOTH_CACHE) > 256:
@@ -257,6 +257,7 @@ class Pose:
 
     @property
     def psi(self) -> np.ndarray:
+        """Pin phase phi_j - theta wrapped to (-pi, pi] [rad], computed when first read."""
         if self._psi is None:
             psi = pin_phase(self.aux["idx"], self.theta[None, :], self.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
             self._psi = np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
@@ -314,8 +315,10 @@ class CircularProfile:
         return {"tooth_radius_mm": self.rho_t, "tooth_circle_radius_mm": self.R_t}
 
     def prepare(self, pose: Pose, trig=None, sides=None) -> None:
-        """The centres of the teeth each pin meets, (c, m, n): c = 0 the tooth just below the pin's polar angle, 1 the
-        one above; ``sides`` (indices into them, optional): only these (:attr:`ContactModel.sides`).
+        """The centres of the teeth each pin meets, (c, m, n).
+
+        c = 0 the tooth just below the pin's polar angle, 1 the one above; ``sides`` (indices into them,
+        optional): only these (:attr:`ContactModel.sides`).
         """
         z1 = self.g.z1
         gam = np.arctan2(pose.y0, pose.x0)
@@ -325,6 +328,7 @@ class CircularProfile:
         pose.aux["tx"], pose.aux["ty"] = self.R_t * np.cos(chi), self.R_t * np.sin(chi)
 
     def contacts(self, pose: Pose, x, y, branch=None) -> Contacts:
+        """The pin-tooth pairs at satellite-frame pin centres (x, y) (:meth:`Profile.contacts`)."""
         tx, ty = pose.aux["tx"], pose.aux["ty"]
         dx, dy = tx - x, ty - y
         dist = np.hypot(dx, dy)
@@ -370,16 +374,17 @@ class CycloidProfile:
         return {}
 
     def _trig(self, beta, fam):
-        """cos and sin of beta and of a = Z_e beta - 2 pi b/k."""
+        """Cosine and sine of beta and of a = Z_e beta - 2 pi b/k."""
         d = self.design
         a = (d.z2 / d.k) * beta - 2.0 * math.pi * fam / d.k
         return np.cos(beta), np.sin(beta), np.cos(a), np.sin(a)
 
     def _turned(self, trig, s, beta, fam):
-        """:meth:`_trig` at beta (= the old beta + s) from its values at the old beta: the angle sums with cos and sin
-        of the small angles s and Z_e s by their Taylor series, exact to round-off while |Z_e s| <= 1e-3 (the terms
-        left out are below 1e-19 of the kept ones; to the third order while |Z_e s| <= 1e-5, below 1e-21 then);
-        otherwise evaluated anew.
+        """:meth:`_trig` at beta (= the old beta + s) from its values at the old beta.
+
+        The angle sums with cos and sin of the small angles s and Z_e s by their Taylor series, exact to
+        round-off while |Z_e s| <= 1e-3 (the terms left out are below 1e-19 of the kept ones; to the third order
+        while |Z_e s| <= 1e-5, below 1e-21 then); otherwise evaluated anew.
 
         Examples
         --------
@@ -425,14 +430,17 @@ class CycloidProfile:
         return self._curve_of(self._trig(beta, fam))
 
     def _newton(self, beta, fam, x, y, steps, tol=None):
-        """Newton steps on the foot point: ``steps`` of them, or with ``tol`` until the largest step is
-        below it (at most ``steps``).
+        """Newton steps on the foot point.
+
+        ``steps`` of them, or with ``tol`` until the largest step is below it (at most ``steps``).
         """
         return self._newton_trig(beta, fam, x, y, steps, tol)[0]
 
     def _newton_trig(self, beta, fam, x, y, steps, tol=None, start=None):
-        """:meth:`_newton`, also returning :meth:`_trig` at the beta before the last step and that step (signed, the
-        change of beta).  ``start``: :meth:`_trig` at the first beta, when known.
+        """:meth:`_newton`, also returning the last step.
+
+        :meth:`_newton`, also returning :meth:`_trig` at the beta before the last step and that step (signed,
+        the change of beta).  ``start``: :meth:`_trig` at the first beta, when known.
 
         The first step is Halley's, s = (g/g')/(1 - s_N g''/(2 g')) with the Newton step s_N = g/g' and
         g'' = 3 c'.c'' + (c - X).c''' (Newton's where |s_N g''/(2 g')| > 1/2): from the nominal foot point, a
@@ -510,6 +518,7 @@ class CycloidProfile:
 
     def prepare(self, pose: Pose, trig=None, sides=None) -> None:
         """The pins' families and their foot points on the design curve at the nominal pose.
+
         ``sides``: one contact per pin, nothing to choose (:attr:`ContactModel.sides`).
 
         ``trig``, optional: cos and sin of beta0 and of the crank-arm angle a = z2 theta/z1 of the pose, which are
@@ -532,7 +541,8 @@ class CycloidProfile:
             pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0, tol=1e-7)
 
     def switch(self, psi_f):
-        """The crest components (2, 1, z2, n) of :attr:`Contacts.switch` from the foot points' flank phases psi_f:
+        """The crest components (2, 1, z2, n) of :attr:`Contacts.switch` from the foot points' flank phases psi_f.
+
         psi* - psi_f and psi_f + psi* (a pin passes to the crest corner where one changes sign).
         """
         out = np.empty((2, 1) + psi_f.shape)
@@ -541,9 +551,11 @@ class CycloidProfile:
         return out
 
     def _crest_corners(self, pose: Pose, at, corner):
-        """The crest corners of the tooth spaces that the pins at the flat indices ``at`` of the pose's (m, n) arrays
-        face, ``corner`` 0 (psi = +psi*) or 1 (-psi*) for each, x and y [mm] (only where a pin faces a crest: 7-15 %
-        of the pairs on the paper's k = 2 cycloids, :meth:`contacts`).
+        """The crest corners of the tooth spaces that the pins at the flat indices ``at`` face.
+
+        The crest corners of the tooth spaces that the pins at the flat indices ``at`` of the pose's (m, n)
+        arrays face, ``corner`` 0 (psi = +psi*) or 1 (-psi*) for each, x and y [mm] (only where a pin faces a
+        crest: 7-15 % of the pairs on the paper's k = 2 cycloids, :meth:`contacts`).
 
         On the tooth profile they lie at beta0 + psi/z_d -+ psi*/z_d = B_j - 2 pi k w/z1 -+ psi*/z_d, with
         B_j = 2 pi j (1 + k/z1)/z2 and w the turns by which psi = phi_j - theta was wrapped (theta cancels); a shift
@@ -627,8 +639,9 @@ class CycloidProfile:
 
 
 class InadmissibleProfile(ValueError):
-    """A satellite profile the contact level cannot run (pins.md §5.2-5.3, §9): ``reason`` names the rule
-    (one of :data:`PROFILE_RULES`), ``values`` the numbers a message needs.
+    """A satellite profile the contact level cannot run (pins.md §5.2-5.3, §9).
+
+    ``reason`` names the rule (one of :data:`PROFILE_RULES`), ``values`` the numbers a message needs.
     """
 
     def __init__(self, reason: str, **values):
@@ -757,9 +770,10 @@ def cycloid_profile(g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float 
 # ============================================================ the registered factories (gearcalc.pins.profiles)
 
 def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
-    """The factory of the profile "circular" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`circular_profile`
-    from a design's values (``params``: :class:`gearcalc.pins.profiles.ProfileParams`; "full" and
-    "zero_backlash" as None), marked play-free on the zero-backlash tooth circle.
+    """The factory of the profile "circular" (:data:`gearcalc.pins.profiles.PROFILES`).
+
+    :func:`circular_profile` from a design's values (``params``: :class:`gearcalc.pins.profiles.ProfileParams`;
+    "full" and "zero_backlash" as None), marked play-free on the zero-backlash tooth circle.
     """
     prof, overlap = circular_profile(g, None if params.tooth_radius == "full" else params.tooth_radius,
                                      None if params.tooth_circle_radius == "zero_backlash"
@@ -769,7 +783,9 @@ def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
 
 
 def cycloidal_profile(g: Cycloid, params) -> tuple[CycloidProfile, bool]:
-    """The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`cycloid_profile`
-    with the design's modifications; no overlap.
+    """The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`).
+
+    The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`cycloid_profile` with
+    the design's modifications; no overlap.
     """
     return cycloid_profile(g, params.radial_mod, params.equidistant_mod), False

@@ -1,5 +1,6 @@
-"""KHV pin gearing, level ``contact``: the solved contact states and the helpers that take, put, merge and re-lay them
-(pins.md §5.5, §5.6, §6).
+"""KHV pin gearing, level ``contact``.
+
+The solved contact states and the helpers that take, put, merge and re-lay them (pins.md §5.5, §5.6, §6).
 
 :class:`Solution` is the state of the satellite at given crank angles, per contact and pin; the functions here take
 states at some angles (:func:`take_states`), write them back (:func:`put_states`), concatenate them sorted by angle
@@ -78,8 +79,10 @@ class Solution:
     traction: np.ndarray | None = None
 
     def over_pins(self, z2: int) -> "Solution":
-        """This state over all ``z2`` pins in order, to index its per-pin arrays by pin number: the rows scattered,
-        every other pin out of reach (no contact; phases None where not held: :meth:`ContactModel.phases`).
+        """The state over all ``z2`` pins in order, to index its per-pin arrays by pin number.
+
+        The rows scattered, every other pin out of reach (no contact; phases None where not held:
+        :meth:`ContactModel.phases`).
         """
         return relayout(self, None, z2)
 
@@ -154,8 +157,9 @@ def put_states(sol: Solution, part: Solution, sel) -> None:
 
 
 def sorted_places(thetas: list) -> list:
-    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order); one
-    part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice).
+    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order).
+
+    One part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice).
     """
     if len(thetas) == 1 and not (thetas[0][1:] < thetas[0][:-1]).any():
         return [slice(None)]
@@ -167,8 +171,9 @@ def sorted_places(thetas: list) -> list:
 
 
 def merged(arrays: list, places: list, axis: int):
-    """The arrays written at their ``places`` (:func:`sorted_places`) along ``axis``, the last one: the sorted
-    concatenation in one pass.
+    """The arrays written at their ``places`` (:func:`sorted_places`) along ``axis``, the last one.
+
+    The sorted concatenation in one pass.
     """
     a0 = arrays[0]
     shape = list(a0.shape)
@@ -181,7 +186,9 @@ def merged(arrays: list, places: list, axis: int):
 
 
 def concat_states(parts: list[Solution]) -> Solution:
-    """The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
+    """The states of ``parts`` together, sorted by theta (stable).
+
+    The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
     parts' rows differ, :func:`relayout`).
     """
     rows = parts[0].rows
@@ -217,9 +224,10 @@ def same_rows(a, b) -> bool:
 
 
 def relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
-    """``sol`` over the pins ``rows`` (sorted; None: all ``z2``): each per-pin array's rows of these pins, a pin that
-    ``sol`` does not hold with the values of a pin out of reach (no contact; :data:`PIN_FILL`; phases then None, to
-    be computed, :meth:`ContactModel.phases`).
+    """``sol`` over the pins ``rows`` (sorted; None: all ``z2``).
+
+    Each per-pin array's rows of these pins, a pin that ``sol`` does not hold with the values of a pin out of reach
+    (no contact; :data:`PIN_FILL`; phases then None, to be computed, :meth:`ContactModel.phases`).
     """
     if same_rows(sol.rows, rows):
         return sol
@@ -240,8 +248,9 @@ def relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
 
 
 def over_rows(a, src, dst, fill):
-    """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted): a
-    pin that ``a`` does not hold gets ``fill``.
+    """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted).
+
+    A pin that ``a`` does not hold gets ``fill``.
     """
     at = np.minimum(np.maximum(src.searchsorted(dst), 0), src.size - 1)
     have = src[at] == dst
@@ -253,7 +262,9 @@ def over_rows(a, src, dst, fill):
 
 
 def contact_index(profile, sides):
-    """The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
+    """The contacts of each pin that a state holds, as an index (c, 1, 1).
+
+    The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
     when ``sides`` is None; :attr:`ContactModel.sides`).
     """
     return (np.arange(profile.contacts_per_pin) if sides is None else np.asarray(sides))[:, None, None]

@@ -21,8 +21,10 @@ __all__ = ["CandidateWindow"]
 
 
 def _window_range(tau) -> tuple[float, float]:
-    """The candidate window's range of tau from a scan's: each end twice as far from 0, or half as near when the
-    range does not reach 0 (:meth:`CandidateWindow.set_window`).
+    """The candidate window's range of tau from a scan's.
+
+    Each end twice as far from 0, or half as near when the range does not reach 0
+    (:meth:`CandidateWindow.set_window`).
     """
     lo, hi = float(np.min(tau)), float(np.max(tau))
     return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
@@ -47,10 +49,11 @@ class CandidateWindow:
 
     @property
     def sides(self):
-        """The contacts of each pin that the states evaluate (indices into the profile's c per pin), or None (all):
-        with a candidate window, those that can touch for its range of tau (:meth:`_window_for`; circular teeth: the
-        tooth on the side the torque presses the pins against, the other one cannot touch at that rotation).  The
-        states' arrays hold every contact all the same (:meth:`_full`: the others out of reach).
+        """The contacts of each pin that the states evaluate (indices into the profile's c per pin), or None (all).
+
+        With a candidate window, those that can touch for its range of tau (:meth:`_window_for`; circular teeth:
+        the tooth on the side the torque presses the pins against, the other one cannot touch at that rotation).
+        The states' arrays hold every contact all the same (:meth:`_full`: the others out of reach).
         """
         s = self._sides
         return s[1] if s is not None and self.window is not None and s[0] == self.window else None
@@ -134,7 +137,9 @@ class CandidateWindow:
         return self.state(theta, scan=start if np.isfinite(first.dtau).all() else None)
 
     def _nominal(self, n_scan: int = 64):
-        """(psi, delta, arm) of every pin at the nominal pose (tau = 0) on ``n_scan`` crank angles of one period
+        """(psi, delta, arm) of every pin at the nominal pose on ``n_scan`` crank angles.
+
+        (psi, delta, arm) of every pin at the nominal pose (tau = 0) on ``n_scan`` crank angles of one period
         (:class:`Pose`, :class:`Contacts`): the window's and the linearised balance's data (:meth:`_window_for`,
         :meth:`_linearised_tau`).  They depend on the design only (not on the torque or the mode): computed once
         and shared with the models that inherit or mirror this one.
@@ -147,10 +152,12 @@ class CandidateWindow:
         return nom
 
     def _window_for(self, t_lo: float, t_hi: float, n_scan: int = 64) -> None:
-        """Set the candidate window to the pins that can touch for tau in [t_lo, t_hi] (see :meth:`set_window`;
-        None when every pin can).  The pin set depends on the tau range: a window taken over from another
-        torque or mode (:meth:`inherit`, :meth:`mirror`) with its tau range scaled must be recomputed for the
-        scaled range, else pins that touch only at the larger |tau| are left out (and the range check of
+        """Set the candidate window to the pins that can touch for tau in [t_lo, t_hi].
+
+        Set the candidate window to the pins that can touch for tau in [t_lo, t_hi] (see :meth:`set_window`;
+        None when every pin can).  The pin set depends on the tau range: a window taken over from another torque
+        or mode (:meth:`inherit`, :meth:`mirror`) with its tau range scaled must be recomputed for the scaled
+        range, else pins that touch only at the larger |tau| are left out (and the range check of
         :func:`mean_loss_ratio` still passes).
         """
         g = self.g
@@ -176,8 +183,9 @@ class CandidateWindow:
                 self._sides = (self.window, np.flatnonzero(can)) if can.any() and not can.all() else None
 
     def period_pins(self):
-        """The pins the candidate window can hold at crank angles in [0, T_p] (sorted), or None (every pin): the
-        rows of the states' per-pin arrays (:meth:`layout`).
+        """The pins the candidate window can hold at crank angles in [0, T_p] (sorted), or None (every pin).
+
+        The rows of the states' per-pin arrays (:meth:`layout`).
 
         The window's first pin j0(theta) does not decrease with theta and grows by one over a period, so the
         pins of its two ends hold every one in between.
@@ -188,9 +196,11 @@ class CandidateWindow:
         return None if rows.size >= self.g.z2 else rows
 
     def layout(self):
-        """(rows, pos): the pins the per-pin arrays of this model's states hold (:attr:`Solution.rows`: the candidate
-        window's over one period, :meth:`period_pins`; None: all z2), and each pin's row there (z2,), -1 for a pin
-        they do not hold.  Fixed while the window is (a cycle's states share it).
+        """(rows, pos).
+
+        The pins the per-pin arrays of this model's states hold (:attr:`Solution.rows`: the candidate window's
+        over one period, :meth:`period_pins`; None: all z2), and each pin's row there (z2,), -1 for a pin they
+        do not hold.  Fixed while the window is (a cycle's states share it).
         """
         if self._layout is None or self._layout[0] != self.window:
             rows = self.period_pins()
@@ -202,9 +212,12 @@ class CandidateWindow:
         return self._layout[1], self._layout[2]
 
     def window_holds(self, tau, theta=None, prev: "CandidateWindow | None" = None) -> bool:
-        """Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
+        """Whether the solved tau stay within what the candidate window allows.
+
+        Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
         their crank angles ``theta``, the pins next to the window on either side do not touch there (penetration
-        <= 0 at tau: ``settings.window_margin``), nor the contacts of the window's pins that :attr:`sides` leaves out.
+        <= 0 at tau: ``settings.window_margin``), nor the contacts of the window's pins that :attr:`sides`
+        leaves out.
 
         The smallest clearance -delta of those pairs is kept (:attr:`clearance`).  ``prev``: a model checked at the
         same crank angles with the same candidate pins and sides (the torque pass before): where its clearance c exceeds

@@ -69,7 +69,7 @@ def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.nd
 
 
 def _exit_count(g, psi_star):
-    """c = psi* z2/(2 pi), exact for k = 1."""
+    """The count c = psi* z2/(2 pi), exact for k = 1."""
     return g.z2 / 2.0 if g.k == 1 else psi_star * g.z2 / (2.0 * math.pi)
 
 
@@ -112,7 +112,7 @@ def cycle_state(t, t_mid, g: Cycloid, psi_star: float) -> CycleState:
 
 
 def cycle_loss_ratio(t, t_mid, g: Cycloid, psi_star: float, mu_eff: float):
-    """lambda at nodes t of the cycle (one-sided at piece ends)  (pins.md §4.6).
+    """The loss ratio lambda at nodes t of the cycle (one-sided at piece ends) (pins.md §4.6).
 
     Examples
     --------
@@ -127,7 +127,7 @@ def cycle_loss_ratio(t, t_mid, g: Cycloid, psi_star: float, mu_eff: float):
 
 
 def state_loss_ratio(st: CycleState, g: Cycloid, mu_eff, n_discs: int = 1):
-    r"""lambda at the nodes of a :class:`CycleState`, averaged over n_d discs (pins.md §4.6, §12.7).
+    r"""The loss ratio lambda at the nodes of a :class:`CycleState`, averaged over n_d discs (pins.md §4.6, §12.7).
 
     .. math::
 

@@ -26,10 +26,11 @@ __all__ = ["rows", "detail_tables", "contact_detail"]
 
 
 def contact_detail(g, sol, cyc, T_V, w_H, n_d, crank=None, consistent: bool = False):
-    """Detail tables of the contact level (pins.md §8): ``crank`` and ``contacts`` rows of the final grid
-    (first disc; piece ends appear twice, the one-sided limits).  ``crank``: the
-    :class:`~gearcalc.pins.contact.CrankBearing` of the cycle (the crank torque of all discs, friction-consistent
-    forces only (``consistent``), and one disc's bearing force), or None.
+    """Detail tables of the contact level (pins.md §8).
+
+    ``crank`` and ``contacts`` rows of the final grid (first disc; piece ends appear twice, the one-sided limits).
+    ``crank``: the :class:`~gearcalc.pins.contact.CrankBearing` of the cycle (the crank torque of all discs,
+    friction-consistent forces only (``consistent``), and one disc's bearing force), or None.
     """
     theta_deg = np.degrees(sol.theta)
     have_P = w_H is not None
@@ -69,12 +70,13 @@ def rows(columns: dict) -> list[dict]:
 
 
 def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist=None, consistent=False):
-    """Rows of the final grid (pins.md §8, :func:`~gearcalc.pins.cycle.cycle_detail`): ``crank`` (one per crank
-    angle: the loss ratio and loss of all discs, the loaded pins of the first, the crank torque of all discs
-    along the power flow and the crank-bearing force of the first disc: magnitude, radial (along the crank
-    arm, outward) and tangential components, direction from the crank arm) and ``contacts`` (one per
-    loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides).
-    ``hist``: :func:`~gearcalc.pins.consistent.crank_history` at the nodes; with ``consistent`` the forces are the
+    """Rows of the final grid (pins.md §8, :func:`~gearcalc.pins.cycle.cycle_detail`).
+
+    ``crank`` (one per crank angle: the loss ratio and loss of all discs, the loaded pins of the first, the crank
+    torque of all discs along the power flow and the crank-bearing force of the first disc: magnitude, radial (along
+    the crank arm, outward) and tangential components, direction from the crank arm) and ``contacts`` (one per
+    loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides). ``hist``:
+    :func:`~gearcalc.pins.consistent.crank_history` at the nodes; with ``consistent`` the forces are the
     friction-consistent ones (pins.md §4.9).
     """
     d = cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d,
@@ -99,8 +101,9 @@ def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist
 
 def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, omega_V, rolls, n_discs,
                  torque_V=None):
-    """The ideal level's detail tables of one gear (pins.md §8) on its final grid ``t`` (piece midpoints
-    ``t_mid``): :func:`detail_tables` with the crank history of :func:`~gearcalc.pins.consistent.crank_history`.
+    """The ideal level's detail tables of one gear (pins.md §8) on its final grid ``t`` (piece midpoints ``t_mid``).
+
+    :func:`detail_tables` with the crank history of :func:`~gearcalc.pins.consistent.crank_history`.
 
     With ``consistent`` the forces are the friction-consistent ones, and the satellite torque follows from
     ``torque_V`` [N·m], the torque on V of the friction-consistent efficiency (pins.md §4.9; None: self-locking);

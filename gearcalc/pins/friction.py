@@ -1,5 +1,6 @@
-r"""KHV pin gearing: the friction at the pin-tooth contacts, written once for every level (pins.md §4.5, §4.6, §5.5,
-§5.6).
+r"""KHV pin gearing.
+
+The friction at the pin-tooth contacts, written once for every level (pins.md §4.5, §4.6, §5.5, §5.6).
 
 Two pieces, each an extension point:
 
@@ -54,6 +55,7 @@ class FrictionLaw(Protocol):
     constant: bool
 
     def coefficient(self, speed, pressure=None):
+        """The friction coefficient mu [-] at the sliding speeds and contact pressures, elementwise."""
         ...
 
 
@@ -73,7 +75,7 @@ class Coulomb(NamedTuple):
     constant: bool = True
 
     def coefficient(self, speed, pressure=None):
-        """f (a float: it broadcasts against any speeds and pressures)."""
+        """The friction coefficient f (a float: it broadcasts against any speeds and pressures)."""
         return self.f
 
 
@@ -209,8 +211,9 @@ def contact_loss_power(force, speed, mu_eff):
 # ============================================================ the rule at the contact level (pins.md §5.5, §5.6)
 
 class PinFriction(NamedTuple):
-    """The friction of one operating point at the contact level (pins.md §5.5, §5.6): (mu_eff, f, rolls), as the
-    tuple it replaces (it unpacks the same).
+    """The friction of one operating point at the contact level (pins.md §5.5, §5.6).
+
+    (mu_eff, f, rolls), as the tuple it replaces (it unpacks the same).
 
     mu_eff : mu_rot where the pins roll, else f [-]; sliding : f [-]; rolls : the pins roll;
     law : the sliding contacts' :class:`FrictionLaw` (None: Coulomb with f, the coefficient of fixed pins mu_eff).
@@ -269,9 +272,11 @@ class PinFriction(NamedTuple):
 
     @staticmethod
     def sign_components(force, v_t, loaded):
-        """The rolling-pin rule's own sign changes over two contacts per pin (pins.md §6): the lead's switch
-        (F_0 - F_1 where both are loaded, else NaN) and the other contact's sliding speed relative to the lead
-        (v_t - v_lead on the loaded non-lead contact, else NaN); (2 arrays, shapes (R, n) and (2, R, n)).
+        """The rolling-pin rule's own sign changes over two contacts per pin (pins.md §6).
+
+        The lead's switch (F_0 - F_1 where both are loaded, else NaN) and the other contact's sliding speed
+        relative to the lead (v_t - v_lead on the loaded non-lead contact, else NaN); (2 arrays, shapes (R, n)
+        and (2, R, n)).
         """
         lead = (force[1] > force[0]).astype(np.intp)          # np.argmax over the two contacts (ties: the first)
         v_lead = np.where(lead == 1, v_t[1], v_t[0])[None]

@@ -53,11 +53,13 @@ class Cycloid:
 
     @classmethod
     def from_pin_circle(cls, z1, z2, e, R_p, R_b):
+        """The gear from its pin circle radius R_p [mm], with 1 - K1 = (k R_p - e z2)/(k R_p)."""
         k = z2 - z1
         return cls(z1, z2, float(e), float(R_p), float(R_b), (k * R_p - e * z2) / (k * R_p))
 
     @classmethod
     def from_curtate_ratio(cls, z1, z2, e, K1, R_b):
+        """The gear from its curtate ratio K1, with R_p = e z2/(k K1) [mm]."""
         k = z2 - z1
         return cls(z1, z2, float(e), e * z2 / (k * K1), float(R_b), 1.0 - K1)
 
@@ -338,8 +340,9 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
     q0, e0, zr, offset = R_b / R_p, e / R_p, z2 / z1, math.pi / z1
 
     def h(psi, trig=None):
-        """epsilon(psi) + pi/z1 in half-angle form (contact_angle_offset scaled by 1/R_p; two sines); ``trig``:
-        the gear-independent u = 1 - cos psi, sin psi, u/2 and 1 - u when known (:func:`_first_scan`).
+        """epsilon(psi) + pi/z1 in half-angle form (contact_angle_offset scaled by 1/R_p; two sines); ``trig``.
+
+        The gear-independent u = 1 - cos psi, sin psi, u/2 and 1 - u when known (:func:`_first_scan`).
         """
         if trig is None:
             u, w = _half_angle_terms(psi)                        # 1 - cos psi, sin psi
@@ -401,9 +404,10 @@ _FIRST_SCANS: dict[int, tuple] = {}
 
 
 def _first_scan(n: int):
-    """The first scan of :func:`crest_cutoffs` on (0, pi], the same for every gear: its points
-    lo + (hi - lo) (k/n) with lo = 0, hi = pi, their :func:`_half_angle_terms` u = 1 - cos psi and sin psi, and
-    u/2 and 1 - u (cached: read-only).
+    """The first scan of :func:`crest_cutoffs` on (0, pi], the same for every gear.
+
+    Its points lo + (hi - lo) (k/n) with lo = 0, hi = pi, their :func:`_half_angle_terms` u = 1 - cos psi and sin
+    psi, and u/2 and 1 - u (cached: read-only).
     """
     have = _FIRST_SCANS.get(n)
     if have is None:

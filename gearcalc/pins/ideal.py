@@ -74,8 +74,10 @@ class _GearTable:
                    np.asarray(g.R_b, dtype=float), e * z1 / k, c, Ze=z2 / k)
 
     def rows(self, z2: int, n: int):
-        """(j, sin(pi j/z2), cos(pi j/z2)) for the rows j = 0 .. n-1, as columns (cached per z2; the values
-        do not depend on how many rows were computed).
+        """(j, sin(pi j/z2), cos(pi j/z2)) for the rows j = 0 .. n-1, as columns.
+
+        (j, sin(pi j/z2), cos(pi j/z2)) for the rows j = 0 .. n-1, as columns (cached per z2; the values do not
+        depend on how many rows were computed).
         """
         have = self.trig.get(z2)
         if have is None or have[0].shape[0] < n:
@@ -106,8 +108,10 @@ tight --tol is evaluated a few gears at a time (cut at gear boundaries, so the n
 
 
 def _bounded_blocks(blocks, gi, starts, rows: int):
-    """The (slice, z2) blocks cut at gear boundaries into runs of at most FINAL_BLOCK_CELLS nodes x rows
-    (a gear larger than that alone).  ``starts``: first node of each gear.
+    """The (slice, z2) blocks cut into runs of at most FINAL_BLOCK_CELLS cells.
+
+    The (slice, z2) blocks cut at gear boundaries into runs of at most FINAL_BLOCK_CELLS nodes x rows (a gear larger
+    than that alone).  ``starts``: first node of each gear.
     """
     limit = max(1, FINAL_BLOCK_CELLS // max(rows, 1))
     for sl, zz in blocks:
@@ -126,10 +130,12 @@ def _bounded_blocks(blocks, gi, starts, rows: int):
 
 
 def _colsum(a):
-    """Sums over the rows (axis 0) in row order, so that a column's sum does not depend on the padding
-    rows (zeros) or on the other columns.  numpy reduces a C-ordered array over its outer axis row by
-    row (sequentially) when there are several columns; a single column is a contiguous reduction, which
-    numpy sums pairwise, so that case takes the (sequential) cumulative sum.
+    """Sums over the rows (axis 0) in row order.
+
+    Sums over the rows (axis 0) in row order, so that a column's sum does not depend on the padding rows (zeros) or
+    on the other columns.  numpy reduces a C-ordered array over its outer axis row by row (sequentially) when there
+    are several columns; a single column is a contiguous reduction, which numpy sums pairwise, so that case takes
+    the (sequential) cumulative sum.
     """
     return a.sum(axis=0) if a.shape[1] > 1 else np.cumsum(a, axis=0)[-1]
 
@@ -252,8 +258,10 @@ def _grid_rows(J, lev, rel):
 
 
 def _alone_rows(J, lev, rho, sh2, s, G: _GearTable, peaks: bool = True):
-    """The rows of :func:`_grid_rows` and then of :func:`_node_sums` of one gear, by the very operations of those
-    two (the same numbers, bit for bit), with the products and sums they share computed once.
+    """The rows of :func:`_grid_rows` and :func:`_node_sums` of one gear, fused.
+
+    The rows of :func:`_grid_rows` and then of :func:`_node_sums` of one gear, by the very operations of those two
+    (the same numbers, bit for bit), with the products and sums they share computed once.
 
     Without ``peaks`` the rows of the friction-free peaks (force, loss, total: :data:`GRID_ROWS` 1-3) are NaN
     (the friction-consistent model has its own peaks, pins.md §4.9).
@@ -357,8 +365,10 @@ def first_levels(tol: float, z2=None):
 
 
 def _one_gear_pieces(z1: int, z2: int, psi_star: float, psi_0: float, one_minus_K1: float):
-    """:func:`cycle_pieces` of one gear on Python floats (the same operations), or None when the gear needs
-    a geometric grading (the vectorised code then calls :func:`cycle_breakpoints`).
+    """:func:`cycle_pieces` of one gear on Python floats.
+
+    :func:`cycle_pieces` of one gear on Python floats (the same operations), or None when the gear needs a geometric
+    grading (the vectorised code then calls :func:`cycle_breakpoints`).
     """
     c = z2 / 2.0 if z2 - z1 == 1 else psi_star * z2 / (2.0 * math.pi)
     pts = [0.0, 1.0, c - math.floor(c)]
@@ -515,9 +525,10 @@ REFINE_SAMPLES = 32
 
 
 def _peak_values(u, mid, gi, row, kind, G: _GearTable):
-    """A peak candidate's quantity at crank angles u: kind 0 the force of contact ``row``, 1 its loss,
-    2 the total loss of the node; with the load-side phase of contact ``row`` [rad].  The points are
-    ordered by gear.
+    """A peak candidate's quantity at crank angles u.
+
+    kind 0 the force of contact ``row``, 1 its loss, 2 the total loss of the node; with the load-side phase of
+    contact ``row`` [rad].  The points are ordered by gear.
     """
     val, ph = np.empty(u.size), np.empty(u.size)
     for sl, z2 in G.blocks(gi):
@@ -613,9 +624,11 @@ def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows, refine: bool = True) ->
 
 
 def _min_curvature_radius_one(g: Cycloid, psi_star: float):
-    """:func:`min_curvature_radius` of one gear (fields of one element) on Python floats, operation for operation
-    (the transcendental functions as the same numpy ufuncs, which round as they do on arrays), or None where a
-    value is not finite (the array code then decides, with its NaN rules).
+    """:func:`min_curvature_radius` of one gear on Python floats.
+
+    :func:`min_curvature_radius` of one gear (fields of one element) on Python floats, operation for operation (the
+    transcendental functions as the same numpy ufuncs, which round as they do on arrays), or None where a value is
+    not finite (the array code then decides, with its NaN rules).
     """
     z1, z2 = int(np.asarray(g.z1).flat[0]), int(np.asarray(g.z2).flat[0])
     e, R_p, omk = (float(np.asarray(v).flat[0]) for v in (g.e, g.R_p, g.one_minus_K1))
@@ -669,10 +682,12 @@ _ADMISSIBLE_KEEP = 256
 
 
 def admissibility(g: Cycloid):
-    """(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)): status 0, TOO_FEW_TEETH
-    (psi* <= 2 pi/z2, pins.md §12.10) or UNDERCUT (R_b >= min rho_c over the loaded arc, §4.2).  The ideal
-    level's checks, also run by ``gearcalc check`` (:func:`gearcalc.pins.checks.ideal_admissibility`).  One gear's
-    result is remembered: loading a design checks it, and its solve asks again (:data:`_ADMISSIBLE_ONE`).
+    """(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)).
+
+    status 0, TOO_FEW_TEETH (psi* <= 2 pi/z2, pins.md §12.10) or UNDERCUT (R_b >= min rho_c over the loaded arc,
+    §4.2).  The ideal level's checks, also run by ``gearcalc check``
+    (:func:`gearcalc.pins.checks.ideal_admissibility`).  One gear's result is remembered: loading a design checks
+    it, and its solve asks again (:data:`_ADMISSIBLE_ONE`).
     """
     if np.size(g.z2) == 1:
         key = tuple(float(np.asarray(v).flat[0]) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1))
@@ -908,8 +923,9 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
 
 def _ideal_alone(g: Cycloid, status, psi_star, rho_c, psi_0, tol: float, n_max: int, n_start: int,
                  first_order_peaks: bool) -> IdealCycles:
-    """:func:`ideal_cycles` of one admissible gear with one disc (a design computed alone): the same steps and
-    numbers as there, without the bookkeeping of many gears (fields of one element).
+    """:func:`ideal_cycles` of one admissible gear with one disc (a design computed alone).
+
+    The same steps and numbers as there, without the bookkeeping of many gears (fields of one element).
     """
     fields = (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)
     gk = g if all(isinstance(v, np.ndarray) and v.ndim == 1 for v in fields) else Cycloid(*map(np.atleast_1d, fields))
@@ -936,10 +952,12 @@ def _ideal_alone(g: Cycloid, status, psi_star, rho_c, psi_0, tol: float, n_max: 
 
 
 def _grid_weights(t, piece, n_piece=None):
-    """Trapezoid weights of a final grid's nodes (piece by piece, ends on every piece) at its level L and at
-    L-1 and L-2 (every 2nd and 4th node of each piece; a final level has at least 4 intervals a piece,
-    pins.md §6, §12.6), shape (3, nodes).  ``n_piece``: the intervals of each piece when they are known (one
-    gear: the pieces are filled one by one, the same numbers).
+    """Trapezoid weights of a final grid's nodes at its levels L, L-1 and L-2.
+
+    Trapezoid weights of a final grid's nodes (piece by piece, ends on every piece) at its level L and at L-1 and
+    L-2 (every 2nd and 4th node of each piece; a final level has at least 4 intervals a piece, pins.md §6, §12.6),
+    shape (3, nodes).  ``n_piece``: the intervals of each piece when they are known (one gear: the pieces are filled
+    one by one, the same numbers).
     """
     w = np.zeros((3, t.size))
     if t.size == 0:

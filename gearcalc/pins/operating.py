@@ -24,8 +24,9 @@ __all__ = ["floats", "SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime",
 
 
 def floats(vals):
-    """A float array from a list of numbers and None (NaN): a column of design values (:mod:`gearcalc.pins.columns`,
-    :mod:`gearcalc.pins.checks`).
+    """A float array from a list of numbers and None (NaN).
+
+    A column of design values (:mod:`gearcalc.pins.columns`, :mod:`gearcalc.pins.checks`).
 
     >>> floats([1, None]).tolist()
     [1.0, nan]

@@ -270,7 +270,9 @@ class ConsistentPoint:
 def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V, axle_radius, rotating,
                      rolls, z1, k, n_discs, face_width, sliding_friction, rel_abs, torque, torque_on_V,
                      xp=ARRAY_OPS) -> ConsistentPoint:
-    r"""Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points, from their
+    r"""Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points.
+
+    Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points, from their
     friction-consistent unit cycles (pins.md §4.9).
 
     Consistent points (``consistent``) take everything from the friction-consistent model; first-order points

@@ -51,15 +51,19 @@ class ToothProfile(Protocol):
     play_free: bool
 
     def prepare(self, pose, trig=None, sides=None) -> None:
+        """Store the profile's own data of a nominal pose in ``pose.aux``."""
         ...
 
     def contacts(self, pose, x, y, branch=None):
+        """The pin-tooth pairs at satellite-frame pin centres (x, y)."""
         ...
 
     def switch(self, psi_f):
+        """The sign-change quantities of a change of the contact's geometry."""
         ...
 
     def summary_fields(self) -> dict:
+        """The profile's own summary fields (pins.md §8), {} when it has none."""
         ...
 
 
@@ -79,9 +83,11 @@ class ProfileParams:
 
 @dataclass(frozen=True)
 class ProfileEntry:
-    """Where a profile lives: ``module`` (in :mod:`gearcalc.pins`) holds ``factory(g, params) -> (profile,
-    overlap)`` (``overlap``: a warning-worthy overlap of adjacent teeth); ``ideal``: the ideal level computes the
-    profile when it is not modified (the paper's cycloid); else it needs the contact level.
+    """Where a profile lives.
+
+    ``module`` (in :mod:`gearcalc.pins`) holds ``factory(g, params) -> (profile, overlap)`` (``overlap``: a
+    warning-worthy overlap of adjacent teeth); ``ideal``: the ideal level computes the profile when it is not
+    modified (the paper's cycloid); else it needs the contact level.
     """
 
     module: str      # a module of gearcalc.pins, or a dotted absolute name
@@ -113,9 +119,10 @@ def profile_entry(name: str) -> ProfileEntry:
 
 
 def make_profile(name: str, g, params: ProfileParams | None = None):
-    """(profile, overlap) of profile ``name`` on gear ``g`` with the design's ``params``: the factory of its
-    :data:`PROFILES` entry (which raises :class:`gearcalc.pins.contact_profiles.InadmissibleProfile` for a profile
-    the contact level cannot run).
+    """(profile, overlap) of profile ``name`` on gear ``g`` with the design's ``params``.
+
+    The factory of its :data:`PROFILES` entry (which raises
+    :class:`gearcalc.pins.contact_profiles.InadmissibleProfile` for a profile the contact level cannot run).
     """
     entry = profile_entry(name)
     module = importlib.import_module(entry.module if "." in entry.module else f"{__package__}.{entry.module}")
@@ -125,7 +132,7 @@ def make_profile(name: str, g, params: ProfileParams | None = None):
 # ============================================================ the circular teeth's numpy-free rule
 
 def tooth_too_large(Rb, tooth_radius, Rp, e):
-    r"""Whether a circular tooth is too large for any zero-backlash tooth circle (pins.md §5.3, §9):
+    r"""Whether a circular tooth is too large for any zero-backlash tooth circle (pins.md §5.3, §9).
 
     .. math:: R_b + \rho_t \ge R_p - e
 

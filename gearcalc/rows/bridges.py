@@ -1,5 +1,6 @@
-"""The compliant carrier and its equalising bridges: the carrier's axle displacements, the guided
-Timoshenko beam compliance, and the bridge sizing of eq. (2) (rows.md §5).
+"""The compliant carrier and its equalising bridges.
+
+The carrier's axle displacements, the guided Timoshenko beam compliance, and the bridge sizing of eq. (2) (rows.md §5).
 
 Pure functions over floats and numpy arrays; units N, mm, N·mm, MPa (= N/mm²), rad.
 
@@ -346,9 +347,10 @@ def largest_feasible_width(relative_width, *args, iterations: int = 40, **kwargs
 # ----------------------------------------------------------------------------- a batch of designs (rows.md §9)
 def size_bridges_batch(rows: int, planets_per_row, sun_diameter, module, rim_width, cheek, pressure_angle, ratio,
                        axle_diameter, bridge_thickness, youngs_modulus, poisson, polar_moment, first_span=None):
-    """:func:`size_bridges` over a batch of P designs with the same number of rows n (rows.md §9): the march
-    loops over spans, over arrays of designs; Newton's iteration for the widths runs, for each design, until
-    every width of that design has converged (as one design alone does), the converged designs masked out.
+    """:func:`size_bridges` over a batch of P designs with the same number of rows n (rows.md §9).
+
+    The march loops over spans, over arrays of designs; Newton's iteration for the widths runs, for each design,
+    until every width of that design has converged (as one design alone does), the converged designs masked out.
 
     Parameters
     ----------
@@ -428,8 +430,10 @@ def size_bridges_batch(rows: int, planets_per_row, sun_diameter, module, rim_wid
 
 
 def _widths(compliance, need, length, thickness, youngs_modulus, poisson):
-    """:func:`bridge_width_for_compliance` of the spans ``need`` (P, n), each design's Newton iteration stopped
-    when all its spans have converged (as :func:`size_bridges` stops it for one design).
+    """:func:`bridge_width_for_compliance` over a batch of spans.
+
+    :func:`bridge_width_for_compliance` of the spans ``need`` (P, n), each design's Newton iteration stopped when
+    all its spans have converged (as :func:`size_bridges` stops it for one design).
     """
     Eh = youngs_modulus * thickness * compliance
     p = 2.4 * (1.0 + poisson) * length / Eh
@@ -477,8 +481,10 @@ def carrier_compliance_batch(lever_radius, planets_per_row, stiffness, rows: int
 
 
 def verify_carrier_batch(kappa, cheek_ratio, rows: int, carrier):
-    """:func:`verify_carrier` over a batch: (valid, shares (P, n), unloaded (P, n), converged, K) with K NaN where
-    :attr:`Verification.K` is None (κ ≥ 8 with n ≥ 2, or an unsettled active set).
+    """:func:`verify_carrier` over a batch.
+
+    (valid, shares (P, n), unloaded (P, n), converged, K) with K NaN where :attr:`Verification.K` is None (κ ≥ 8
+    with n ≥ 2, or an unsettled active set).
 
     Examples
     --------
@@ -517,8 +523,9 @@ SCAN_BISECTIONS = 24
 def fits_batch(relative_width, rows: int, planets_per_row, sun_teeth, module, pressure_angle, ratio, youngs_modulus,
                poisson, polar_moment, cheek_ratio=0.25, cheek=None, axle_diameter=None, bridge_thickness=None,
                first_span=None):
-    """:func:`bridges_fit` at every relative width of an array (one batch of :func:`size_bridges_batch`): the
-    rims fit, every span's flag is ``ok`` and a first span in mm fits within H_max.
+    """:func:`bridges_fit` at every relative width of an array (one batch of :func:`size_bridges_batch`).
+
+    The rims fit, every span's flag is ``ok`` and a first span in mm fits within H_max.
 
     Examples
     --------
@@ -547,8 +554,10 @@ def fits_batch(relative_width, rows: int, planets_per_row, sun_teeth, module, pr
 
 
 def feasible_widths(relative_width, rows: int, *args, **kwargs) -> list:
-    """The windows of relative width [B_lo, B_hi] in which every bridge fits (:func:`fits_batch`) at this number
-    of rows, nearest to the given B first (rows.md §5.5).
+    """The windows of relative width [B_lo, B_hi] in which every bridge fits.
+
+    The windows of relative width [B_lo, B_hi] in which every bridge fits (:func:`fits_batch`) at this number of
+    rows, nearest to the given B first (rows.md §5.5).
 
     Feasibility is not monotone in B (the paper's capped cell fits only for 2.666 <= B <= 2.973: narrower rows
     need a bridge wider than H_max in span 2, wider ones in span 3), so the widths from B/:data:`SCAN_SPAN` to
@@ -604,8 +613,10 @@ def feasible_widths(relative_width, rows: int, *args, **kwargs) -> list:
 
 
 def feasible_rows(relative_width, rows: int, *args, span: int = 10, **kwargs):
-    """The number of rows nearest to ``rows`` (2 to ``rows + span``, at most 1000) at which some relative width
-    makes every bridge fit, and its windows (:func:`feasible_widths`); (None, []) when none has one.
+    """The number of rows nearest to ``rows`` at which every bridge can fit.
+
+    The number of rows nearest to ``rows`` (2 to ``rows + span``, at most 1000) at which some relative width makes
+    every bridge fit, and its windows (:func:`feasible_widths`); (None, []) when none has one.
 
     Examples
     --------

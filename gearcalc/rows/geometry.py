@@ -1,5 +1,7 @@
-"""Dimensions of the multi-row planetary gear and the rules they must satisfy
-(rows.md §1 "Notation", §2.3, §2.4, §5.4, §7, §10).
+"""Dimensions of the multi-row planetary gear and the rules they must satisfy.
+
+Dimensions of the multi-row planetary gear and the rules they must satisfy (rows.md §1 "Notation", §2.3, §2.4, §5.4, §7,
+§10).
 
 Pure functions over floats and numpy arrays alike, written with arithmetic operators only: this module
 imports no numpy, so ``gearcalc check`` (which derives the face widths) stays light.  The one
@@ -421,8 +423,10 @@ def rims_fit(rim_width):
 
 
 def bore_fits(bore, *diameters):
-    """True where the bore is smaller than every given diameter (rows.md §10: d_0 < min(d_f, d_I); the
-    bridge sizing diameter likewise).
+    """True where the bore is smaller than every given diameter.
+
+    True where the bore is smaller than every given diameter (rows.md §10: d_0 < min(d_f, d_I); the bridge sizing
+    diameter likewise).
 
     Examples
     --------
@@ -441,8 +445,10 @@ def bore_fits(bore, *diameters):
 
 
 def rim_too_thin(root_diameter, bore, module):
-    """True where a hollow sun's rim under the roots is thinner than 1.2 tooth depths, ``(d_f - d_0)/2 < 2.7 m``
-    [ISO 6336-3] (rows.md §10).
+    """True where a hollow sun's rim under the roots is too thin (rows.md §10).
+
+    True where a hollow sun's rim under the roots is thinner than 1.2 tooth depths, ``(d_f - d_0)/2 < 2.7 m`` [ISO
+    6336-3] (rows.md §10).
 
     Examples
     --------
@@ -458,8 +464,9 @@ def rim_too_thin(root_diameter, bore, module):
 
 
 def planets_collide(sun_teeth, planet_teeth, planets_per_row):
-    """True where neighbouring planets of a row collide: ``z_g + 2 >= (z_a + z_g) sin(π/n_w)`` for n_w >= 2
-    (the adjacency condition; rows.md §10).
+    """True where neighbouring planets of a row collide.
+
+    ``z_g + 2 >= (z_a + z_g) sin(π/n_w)`` for n_w >= 2 (the adjacency condition; rows.md §10).
 
     Examples
     --------

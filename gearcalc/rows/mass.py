@@ -1,5 +1,4 @@
-"""Relative mass M(i) of the multi-row planetary gear per output torque and the ratio that
-minimises it (rows.md §6).
+"""Relative mass M(i) of the multi-row planetary gear per output torque and the ratio that minimises it (rows.md §6).
 
 Pure functions over floats and numpy arrays; M in kg/(kN·m), ρ in kg/m³, E and σ_HP in MPa.
 

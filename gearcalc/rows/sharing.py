@@ -1,5 +1,7 @@
-"""Load sharing between the rows: the sun as a torsion shaft (I_p, kappa) and the three model levels
-(stepwise, exact, continuous), with the active-set solver for a compliant carrier (rows.md §2, §3, §5.5).
+"""Load sharing between the rows.
+
+The sun as a torsion shaft (I_p, kappa) and the three model levels (stepwise, exact, continuous), with the active-set
+solver for a compliant carrier (rows.md §2, §3, §5.5).
 
 Pure functions over floats and numpy arrays; units N, mm, N·mm, MPa (= N/mm²), rad.  Every function
 that takes a torsion parameter ``kappa`` broadcasts over a batch of designs (arrays of any shape); row
@@ -304,7 +306,7 @@ def exact_k_no_gap(kappa, rows: int):
 
 
 def x_coth_x(x):
-    """x coth x, stable for small x (1 + x²/3 below 1e-4) and large x.
+    """The function x coth x, stable for small x (1 + x²/3 below 1e-4) and large x.
 
     Examples
     --------
@@ -562,8 +564,10 @@ def mean_line_load(sun_torque, rows, base_radius, rim_width, planets_per_row):
 
 
 def twist_from_shares(shares, mean_load, mesh_stiffness, base_radius):
-    """Sun twist between row 1 and row N from the solved loads, ``φ_{N-1} = 2 (w_1 - w_N) / (C r_ba)`` [rad]
-    (the twist identity, rows.md §2.2).
+    """Sun twist between row 1 and row N from the solved loads [rad].
+
+    Sun twist between row 1 and row N from the solved loads, ``φ_{N-1} = 2 (w_1 - w_N) / (C r_ba)`` [rad] (the twist
+    identity, rows.md §2.2).
 
     Parameters
     ----------

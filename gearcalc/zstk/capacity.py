@@ -252,8 +252,9 @@ def placement_value(placement: Placement):
 def allowable_load_sweeping(chain, mats: Materials, load, clearance, allowable, placement: Placement, *, phase=None,
                             gamma=None, tol, refine_rtol, grid=SweepGrid(), fixed_direction=False,
                             maxiter=8) -> AllowableLoad:
-    r"""Allowable radial load of a "cycle" and/or "envelope" design: the load at which the swept maximum reaches
-    [sigma_H] (spec §5.4, §8).
+    r"""Allowable radial load of a "cycle" and/or "envelope" design.
+
+    The load at which the swept maximum reaches [sigma_H] (spec §5.4, §8).
 
     .. math:: \max_{\varphi_0, \gamma} \sigma_{max}(Q_{allow}; \varphi_0, \gamma) = [\sigma_H]
 

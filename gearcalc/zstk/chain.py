@@ -281,6 +281,7 @@ class Chain:
 
     @property
     def limiting_ratio(self):
+        """The limiting-point ratio q = x_s/X of the chain (:func:`limiting_point_ratio`)."""
         q = limiting_point_ratio(self.outer_radius, self.inner_radius, self.eccentricity, self.gap)
         return float(q) if np.ndim(q) == 0 else q
 
@@ -375,7 +376,7 @@ def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer
 
 # ----------------------------------------------------------------------------- §4 positions
 def limiting_point_ratio(outer_radius, inner_radius, eccentricity, gap):
-    r"""q = x_s/X, with x_s the limiting point of the inflated circles inside the inner one.
+    r"""The ratio q = x_s/X, with x_s the limiting point of the inflated circles inside the inner one.
 
     .. math:: q = \frac{x_s}{X}, \quad x_s = \frac{2 X^2 e}{X^2 - A^2 + e^2 + \sqrt{((X - e)^2 - A^2)((X + e)^2 -
               A^2)}}, \quad X = R_H + c/2,\ A = R_B - c/2
@@ -426,8 +427,10 @@ def limiting_ratios(chain: Chain, valid):
 
 
 def chain_phases(n, q, scheme, mid_gap, angle, theta0):
-    """Chain phases phi_0 of stacked designs [rad] (spec §4.2-4.3): 0 or pi/N for a symmetric scheme
-    (``scheme``; ``mid_gap`` for C and D), phi(theta_0) for a given angle of roller 0 (``angle``), else 0.
+    """Chain phases phi_0 of stacked designs [rad] (spec §4.2-4.3).
+
+    0 or pi/N for a symmetric scheme (``scheme``; ``mid_gap`` for C and D), phi(theta_0) for a given angle of roller
+    0 (``angle``), else 0.
 
     Examples
     --------

@@ -46,8 +46,9 @@ class Outputs:
 
 def stack_outputs(stack, fixed_direction=False, sweep_value=None, sweep_err=None, inner=None,
                   capacity=None) -> Outputs:
-    r"""The summary quantities of a solved stack (spec §10): sigma_max and its error, the strength check, the
-    allowable radial load, the maximum shear, the separator forces.
+    r"""The summary quantities of a solved stack (spec §10).
+
+    sigma_max and its error, the strength check, the allowable radial load, the maximum shear, the separator forces.
 
     .. math:: S = [\sigma_H] / \sigma_{max}, \qquad F_{iS} = F_{iB} \sin\beta_i, \qquad
               r_{min,max} = (R_H - R_B \mp e)/2
@@ -103,10 +104,12 @@ def stack_outputs(stack, fixed_direction=False, sweep_value=None, sweep_err=None
 
 @dataclass(frozen=True)
 class RollerDetail:
-    """The per-roller quantities of G designs (arrays (G, N)): rollers (the state, or the inner contacts'
-    envelope rows: theta, radius, psi, beta), contacts (:func:`gearcalc.zstk.roller_contacts`); approach delta_i
-    [mm] of a single placement, or gamma_inner, gamma_outer [rad], the load directions of each contact's
-    envelope; worst : the largest b/rho above the limit, -inf where none, (G,).
+    """The per-roller quantities of G designs (arrays (G, N)).
+
+    Rollers (the state, or the inner contacts' envelope rows: theta, radius, psi, beta), contacts
+    (:func:`gearcalc.zstk.roller_contacts`); approach delta_i [mm] of a single placement, or gamma_inner,
+    gamma_outer [rad], the load directions of each contact's envelope; worst : the largest b/rho above the limit,
+    -inf where none, (G,).
     """
 
     rollers: object
@@ -118,8 +121,9 @@ class RollerDetail:
 
 
 def roller_detail(state, mats, clearance, envelope=None, width_limit=0.1) -> RollerDetail:
-    r"""Hertz semi-widths, shear and approach of every roller (spec §2, §5.2, §10); the separator forces are
-    :attr:`Outputs.separator`.
+    r"""Hertz semi-widths, shear and approach of every roller (spec §2, §5.2, §10).
+
+    The separator forces are :attr:`Outputs.separator`.
 
     .. math:: b = \sqrt{4 F \rho / (\pi l E^*)}, \qquad \delta_i = \delta \cos(\theta_{n_{Bi}} - \alpha) - s/2
 

@@ -34,8 +34,7 @@ from .validity import Validity, check_designs
 
 
 class Designs(NamedTuple):
-    """P designs held column-wise: each field is one value shared by every design, or a list with one value
-    per design.
+    """P designs held column-wise: each field is one value shared by every design, or a list with one value per design.
 
     outer, inner, eccentricity, gap, length : nominal R_H, R_B, e, c and the roller length l [mm];
     rollers : N, or "auto"; correct : "outer" | "inner" | "gap"; scheme : "A"-"D", "cycle", or the polar
@@ -119,7 +118,7 @@ def prepare(d: Designs, size: int, max_rollers: int, default_allowable: float) -
     docs/spec/zstk.md §3.2-3.3 (closure, validity), §4 (phase), §5.3 (direction), §5.5 (separator).
     """
     def per(v, fn, dtype=bool):
-        """fn of each design's value (once when the value is shared by every design)."""
+        """The function fn of each design's value (once when the value is shared by every design)."""
         if isinstance(v, list):
             return np.array([fn(x) for x in v], dtype=dtype)
         return np.full(size, fn(v), dtype=dtype)
@@ -161,9 +160,11 @@ def prepare(d: Designs, size: int, max_rollers: int, default_allowable: float) -
 
 @dataclass(frozen=True)
 class Stack:
-    """G solved designs of one roller count N: chain, mats (arrays (G,)), state (arrays (G, N)); gamma [rad],
-    load [N], clearance [mm], symmetric (solved in closed form), allowable [MPa], allowable_default, scheme,
-    arrays (G,); stepping: the explicit-stepping residual (G,) [mm] of the reference level, else None.
+    """G solved designs of one roller count N.
+
+    chain, mats (arrays (G,)), state (arrays (G, N)); gamma [rad], load [N], clearance [mm], symmetric (solved in
+    closed form), allowable [MPa], allowable_default, scheme, arrays (G,); stepping: the explicit-stepping residual
+    (G,) [mm] of the reference level, else None.
     """
 
     chain: Chain
@@ -203,8 +204,10 @@ def solve_stack(p: Prepared, idx, fixed_direction=False, reference=False) -> lis
 
 
 def stack_order(idx, groups):
-    """The permutation that puts the concatenated results of ``groups`` (index arrays that partition ``idx``)
-    back in the order of ``idx``.
+    """The permutation that restores the order of ``idx`` after grouping.
+
+    The permutation that puts the concatenated results of ``groups`` (index arrays that partition ``idx``) back in
+    the order of ``idx``.
 
     Examples
     --------
@@ -233,10 +236,11 @@ def gather(lists, back) -> list:
 
 @dataclass(frozen=True)
 class Sweeping:
-    """A "cycle" and/or "envelope" design solved (:func:`solve_sweeping`): the critical placement's stack
-    (G = 1), the placement (its sweeps), the per-contact envelope rows (d_B, d_H, gamma_B, gamma_H) of
-    "envelope" or None, the allowable radial load, and the sweeps' maximum (None without a direction sweep)
-    and error estimate [MPa], arrays (1,).
+    """A "cycle" and/or "envelope" design solved (:func:`solve_sweeping`).
+
+    The critical placement's stack (G = 1), the placement (its sweeps), the per-contact envelope rows (d_B, d_H,
+    gamma_B, gamma_H) of "envelope" or None, the allowable radial load, and the sweeps' maximum (None without a
+    direction sweep) and error estimate [MPa], arrays (1,).
     """
 
     stack: Stack
@@ -248,7 +252,9 @@ class Sweeping:
 
 
 def solve_sweeping(p: Prepared, tol: float, grid: SweepGrid, fixed_direction=False, reference=False) -> Sweeping:
-    """The critical placement of the one design of ``p`` over its phase and/or load direction
+    """The critical placement of the one design of ``p`` and its allowable radial load.
+
+    The critical placement of the one design of ``p`` over its phase and/or load direction
     (:func:`gearcalc.zstk.critical_placement`), its allowable radial load, and the placement evaluated.
 
     The refinements aim at 0.01 sqrt(tol) relative (1e-12 at the reference level, which also closes the chain

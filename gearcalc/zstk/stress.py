@@ -41,6 +41,7 @@ class Materials:
 
     @classmethod
     def from_elastic(cls, length, roller_e, roller_nu, inner_e, inner_nu, outer_e, outer_nu):
+        """The materials from the roller length [mm] and the elastic constants E [MPa] and nu [-] of each body."""
         eb = hertz.contact_modulus(roller_e, roller_nu, inner_e, inner_nu)
         eh = hertz.contact_modulus(roller_e, roller_nu, outer_e, outer_nu)
         stiffness = roller_stiffness(length, eb, eh)
@@ -225,8 +226,10 @@ to about 1e-12 relative; estimates of 0 or 4 eps fell below the actual differenc
 
 
 def roller_field(rollers, name):
-    """A per-roller quantity (``"theta"``, ``"force_inner"``, ...) of a :class:`State` or of the per-contact
-    envelope rows of :func:`gearcalc.zstk.roller_envelope` (a mapping), arrays (G, N).
+    """A per-roller quantity of a state or of envelope rows, arrays (G, N).
+
+    A per-roller quantity (``"theta"``, ``"force_inner"``, ...) of a :class:`State` or of the per-contact envelope
+    rows of :func:`gearcalc.zstk.roller_envelope` (a mapping), arrays (G, N).
 
     Examples
     --------
@@ -237,8 +240,10 @@ def roller_field(rollers, name):
 
 
 def separator_forces(force_inner, beta):
-    r"""Force of the separator on each roller (spec §5 item 2): the tangential reaction that keeps the roller
-    in place, perpendicular to O_H P_i, [N] (>= 0; zero on the line of centres and when e = 0).
+    r"""Force of the separator on each roller (spec §5 item 2).
+
+    The tangential reaction that keeps the roller in place, perpendicular to O_H P_i, [N] (>= 0; zero on the line of
+    centres and when e = 0).
 
     .. math:: F_{iS} = F_{iB} \sin\beta_i
 
@@ -449,9 +454,10 @@ def safety_factor(sigma_max, allowable):
 
 @dataclass
 class Contacts:
-    """Per-roller contact quantities (arrays (G, N)) of the inner (B) and outer (H) contacts: force [N],
-    peak stress [MPa], reduced radius [mm], Hertz semi-width b [mm], maximum (Tresca) subsurface shear [MPa]
-    and its depth below the contact centre [mm].
+    """Per-roller contact quantities (arrays (G, N)) of the inner (B) and outer (H) contacts.
+
+    Force [N], peak stress [MPa], reduced radius [mm], Hertz semi-width b [mm], maximum (Tresca) subsurface shear
+    [MPa] and its depth below the contact centre [mm].
     """
 
     force_inner: np.ndarray
@@ -521,8 +527,10 @@ def roller_contacts(inner, outer, mats: Materials) -> Contacts:
 
 
 def roller_approach(state: State, clearance):
-    r"""Elastic approach of each roller's contacts (spec §5.2): the displacement's component along its
-    inner normal less half the clearance, [mm], arrays (G, N); <= 0 for an unloaded roller.
+    r"""Elastic approach of each roller's contacts (spec §5.2).
+
+    The displacement's component along its inner normal less half the clearance, [mm], arrays (G, N); <= 0 for an
+    unloaded roller.
 
     .. math:: \delta_i = \delta \cos(\theta_{n_{Bi}} - \alpha) - s/2
 
@@ -545,8 +553,10 @@ def roller_approach(state: State, clearance):
 
 
 def worst_width_ratio(contacts: Contacts, limit):
-    """The largest b/rho of a loaded contact above ``limit`` per configuration, -inf where none is
-    (Hertz's small-contact assumption, spec §9).
+    """The largest b/rho of a loaded contact above ``limit`` per configuration.
+
+    The largest b/rho of a loaded contact above ``limit`` per configuration, -inf where none is (Hertz's
+    small-contact assumption, spec §9).
 
     Examples
     --------

@@ -119,9 +119,10 @@ class Validity:
         return []
 
     def problems(self, k: int, scheme, rollers) -> list:
-        """(quantity, message) of each violated rule of design k; quantity one of "outer", "inner",
-        "eccentricity", "gap", "rollers", "clearance".  ``scheme`` and ``rollers`` are the design's
-        values as given (for the messages).
+        """(quantity, message) of each violated rule of design k.
+
+        Quantity one of "outer", "inner", "eccentricity", "gap", "rollers", "clearance".  ``scheme`` and
+        ``rollers`` are the design's values as given (for the messages).
         """
         v = {name: (x[k] if np.ndim(x) else x) for name, x in self.inputs.items()}
         out = []
