@@ -469,7 +469,7 @@ def continuous_x(kappa, cheek_ratio, rows):
 def continuous_k(kappa, cheek_ratio, rows):
     r"""K of the continuous (homogenised) model [-].
 
-    .. math:: K = X \coth X, \qquad X = \lambda_{eff}\,b_a \ \text{(:func:`continuous_x`)}
+    .. math:: K = X \coth X, \qquad X = \lambda_{eff}\,b_a
 
     The torsional Winkler-foundation result.
 
@@ -658,7 +658,7 @@ class SharingBatch:
 def row_sharing_mixed(kappa, cheek_ratio, rows, level: str = "stepwise") -> SharingBatch:
     r""":func:`row_sharing` over a batch of designs whose numbers of rows differ.
 
-    .. math:: K = \max_j u_j \quad \text{per design (:func:`row_sharing`)}
+    .. math:: K = \max_j u_j \quad \text{per design}
 
     The designs are grouped by n and each group is one batch of :func:`row_sharing`: no loop over designs.
 
