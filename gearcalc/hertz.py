@@ -249,7 +249,7 @@ def reduced_radius(radius1, radius2):
 
     References
     ----------
-    .. [1] K. L. Johnson, Contact Mechanics, Cambridge University Press, 1985, §4.2 (the relative curvature of two cylinders).
+    .. [1] K. L. Johnson, Contact Mechanics, Cambridge University Press, 1985, §4.2 (two cylinders' relative curvature).
     """
     return radius1 * radius2 / (radius1 + radius2)
 
