@@ -24,8 +24,26 @@ INTEGER_TOL = 1e-9
 def broadcast(a, shape):
     """``np.broadcast_to`` that returns an array already of the shape unchanged (cheap on hot paths).
 
+    Parameters
+    ----------
+    a : array_like
+        The values.
+    shape : tuple of int
+        The shape wanted.
+
+    Returns
+    -------
+    out : ndarray
+        ``a`` itself when it has the shape, else a read-only broadcast view.
+
+    Examples
+    --------
     >>> broadcast(2.0, (3,)).tolist()
     [2.0, 2.0, 2.0]
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked along leading axes).
     """
     a = np.asarray(a)
     return a if a.shape == shape else np.broadcast_to(a, shape)
@@ -34,9 +52,27 @@ def broadcast(a, shape):
 def take(obj, idx):
     """A dataclass of arrays over designs (Chain, Materials) restricted to the designs ``idx``.
 
+    Parameters
+    ----------
+    obj : dataclass
+        Every field an array over designs.
+    idx : array_like of int
+        The designs kept.
+
+    Returns
+    -------
+    out : same type as obj
+        The fields indexed by ``idx``.
+
+    Examples
+    --------
     >>> from gearcalc.zstk import close_chains
     >>> take(close_chains(np.array([100.0, 90.0]), 50.0, 6.0, 6.0, np.array([8, 8])), [1]).outer_radius.shape
     (1,)
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked along leading axes).
     """
     import dataclasses
 
@@ -46,9 +82,25 @@ def take(obj, idx):
 def single(obj):
     """A dataclass of arrays of shape (1,) (Chain, Materials) as one design with Python scalars.
 
+    Parameters
+    ----------
+    obj : dataclass
+        Every field an array of shape (1,).
+
+    Returns
+    -------
+    out : same type as obj
+        The fields as Python scalars.
+
+    Examples
+    --------
     >>> from gearcalc.zstk import close_chains
     >>> single(close_chains(np.array([100.0]), 50.0, 6.0, 6.0, np.array([8]))).n
     8
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked along leading axes).
     """
     import dataclasses
 
@@ -60,14 +112,32 @@ def single(obj):
 
 
 def remainder_360(x):
-    """math.remainder(x, 360) element-wise, exactly: x - 360 k, k the integer nearest to x/360 (ties even) [deg].
+    r"""``math.remainder(x, 360)`` element-wise, exactly [deg].
 
+    .. math:: r = x - 360\,k, \qquad k = \operatorname{round}(x/360) \ \text{(ties to even)}, \qquad -180 \le r \le 180
+
+    Parameters
+    ----------
+    x : ndarray
+        Angles, [deg].
+
+    Returns
+    -------
+    r : ndarray
+        The angles reduced to [-180, 180], [deg].
+
+    Examples
+    --------
     >>> remainder_360(np.array([540.0, -190.0, 90.0])).tolist()
     [-180.0, 170.0, 90.0]
     >>> import math
     >>> remainder_360(np.array([1.3266152821258527e+39, 1e300, 900.0])).tolist() == [
     ...     math.remainder(v, 360.0) for v in (1.3266152821258527e+39, 1e300, 900.0)]
     True
+
+    References
+    ----------
+    .. [1] IEEE 754-2019, Standard for Floating-Point Arithmetic, §5.3.1 (remainder); docs/spec/zstk.md §4.3.
     """
     x = np.fmod(x, 720.0)  # exact for any float, and keeps the parity of the ties: |x| < 720 below
     r = x - 360.0 * np.round(x / 360.0)  # exact: |r| <= 180 and 360 k is a multiple of 8
@@ -76,10 +146,28 @@ def remainder_360(x):
 
 
 def wrap_angle(angle):
-    """Angle wrapped to (-pi, pi] [rad].
+    r"""Angle wrapped to (-pi, pi] [rad].
 
+    .. math:: \operatorname{wrap}(\alpha) = \pi - \operatorname{mod}(\pi - \alpha,\ 2\pi)
+
+    Parameters
+    ----------
+    angle : float or array_like
+        Angle, [rad].
+
+    Returns
+    -------
+    wrapped : ndarray
+        The angle in (-pi, pi], [rad].
+
+    Examples
+    --------
     >>> float(wrap_angle(np.pi)), float(wrap_angle(-np.pi)), round(float(wrap_angle(3 * np.pi / 2)), 12)
     (3.141592653589793, 3.141592653589793, -1.570796326795)
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §3.1 (the frame and its angles).
     """
     return np.pi - np.mod(np.pi - np.asarray(angle, dtype=float), 2.0 * np.pi)
 
