@@ -387,7 +387,11 @@ def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e
 
 def solve_loads(normal_angle, gamma, load, stiffness, clearance=0.0, symmetric=False,
                 fixed_direction=False):
-    """Dispatch to the load model (spec §5, §8): closed form, direction root, 1-D or Newton solve.
+    r"""Dispatch to the load model (spec §5, §8): closed form, direction root, 1-D or Newton solve.
+
+    .. math:: \sum_i F_{iB}\,n_{Bi} = Q\,u, \qquad F_{iB} = c_L \max(v \cdot n_{Bi} - s/2,\ 0)^{10/9}
+
+    (closed form F_iB = Q cos^(10/9) psi_i / sum cos^(19/9) psi_j for a symmetric configuration without clearance).
 
     Parameters
     ----------

@@ -105,6 +105,22 @@ def prepare(d: Designs, size: int, max_rollers: int, default_allowable: float) -
     a design without a separator is invalid too (spec §5.5).  Phases: :func:`gearcalc.zstk.chain_phases`
     (spec §4); directions and theta_0 are reduced exactly to (-180, 180] degrees first.
 
+    Parameters
+    ----------
+    d : Designs
+        The designs, held column-wise.
+    size : int
+        The number of designs P.
+    max_rollers : int
+        The largest N accepted, [-].
+    default_allowable : float
+        [sigma_H] of a design that gives none, [MPa].
+
+    Returns
+    -------
+    prepared : Prepared
+        Chains, materials, validity, phases, directions, loads and allowable stresses, arrays (P,).
+
     Examples
     --------
     >>> d = Designs(100.0, 50.0, [6.0, 60.0], 6.0, 20.0, "auto", "outer", "A", True, 1e4, 0.0, 0.0,
@@ -186,6 +202,30 @@ def solve_stack(p: Prepared, idx, fixed_direction=False, reference=False) -> lis
     Returns a list of (indices into ``p``, :class:`Stack`), one per roller count N, in increasing N
     (:func:`stack_order` and :func:`gather` put their results back in the order of ``idx``).
 
+    Parameters
+    ----------
+    p : Prepared
+        The prepared designs.
+    idx : ndarray of int
+        The designs to solve.
+    fixed_direction : bool, optional
+        The ``fixed-direction`` level (v parallel to u everywhere).
+    reference : bool, optional
+        The reference level (explicit stepping of the chain too).
+
+    Returns
+    -------
+    stacks : list of tuple
+        (indices into ``p``, :class:`Stack`), one per roller count N, in increasing N.
+
+    Examples
+    --------
+    >>> d = Designs(100.0, 50.0, [6.0, 60.0], 6.0, 20.0, "auto", "outer", "A", True, 1e4, 0.0, 0.0,
+    ...             2.1e5, 0.3, 2.1e5, 0.3, None, None, None, None, None)
+    >>> [(k.tolist(), round(float(s.state.sigma_inner.max()), 3)) for k, s in solve_stack(prepare(d, 2, 2000, 4000.0),
+    ...                                                                                    np.array([0]))]
+    [([0], 748.936)]
+
     References
     ----------
     docs/spec/zstk.md §4-§5, §8 (stacked designs).
@@ -204,15 +244,33 @@ def solve_stack(p: Prepared, idx, fixed_direction=False, reference=False) -> lis
 
 
 def stack_order(idx, groups):
-    """The permutation that restores the order of ``idx`` after grouping.
+    r"""The permutation that restores the order of ``idx`` after grouping.
 
     The permutation that puts the concatenated results of ``groups`` (index arrays that partition ``idx``) back in
     the order of ``idx``.
+
+    .. math:: \text{back} = \operatorname{argsort}(\text{concat}(\text{groups})) \ \text{in the order of idx}
+
+    Parameters
+    ----------
+    idx : ndarray of int
+        The designs in their order.
+    groups : list of ndarray of int
+        Index arrays that partition ``idx``.
+
+    Returns
+    -------
+    back : ndarray of int
+        The permutation of the concatenated results.
 
     Examples
     --------
     >>> stack_order(np.array([4, 7, 9]), [np.array([7]), np.array([4, 9])]).tolist()
     [1, 0, 2]
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked by N).
     """
     order = np.concatenate(groups)
     where = np.empty(int(idx.max()) + 1, dtype=np.int64)
@@ -223,10 +281,26 @@ def stack_order(idx, groups):
 def gather(lists, back) -> list:
     """Concatenate lists and reorder them by the permutation ``back`` (:func:`stack_order`).
 
+    Parameters
+    ----------
+    lists : list of list
+        The results of each group.
+    back : ndarray of int
+        The permutation of :func:`stack_order`.
+
+    Returns
+    -------
+    out : list
+        The results in the order of the designs.
+
     Examples
     --------
     >>> gather([["b"], ["a", "c"]], np.array([1, 0, 2]))
     ['a', 'b', 'c']
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked by N).
     """
     flat = [v for part in lists for v in part]
     if len(flat) == 1:
@@ -259,6 +333,33 @@ def solve_sweeping(p: Prepared, tol: float, grid: SweepGrid, fixed_direction=Fal
 
     The refinements aim at 0.01 sqrt(tol) relative (1e-12 at the reference level, which also closes the chain
     by explicit stepping); a fixed direction or phase is the design's own.
+
+    Parameters
+    ----------
+    p : Prepared
+        One prepared design ("cycle" and/or "envelope").
+    tol : float
+        The relative tolerance of the results.
+    grid : SweepGrid
+        The sweeps' grids.
+    fixed_direction : bool, optional
+        The ``fixed-direction`` level.
+    reference : bool, optional
+        The reference level.
+
+    Returns
+    -------
+    sweeping : Sweeping
+        The critical placement's stack, the placement, the envelope rows, the allowable radial load, the maximum
+        and its error, arrays (1,).
+
+    Examples
+    --------
+    >>> d = Designs(100.0, 50.0, 6.0, 6.0, 20.0, "auto", "outer", "cycle", True, 1e4, 0.0, 0.0,
+    ...             2.1e5, 0.3, 2.1e5, 0.3, None, None, None, None, None)
+    >>> s = solve_sweeping(prepare(d, 1, 2000, 4000.0), 1e-6, SweepGrid())
+    >>> round(float(s.stack.state.sigma_inner.max()), 3), round(float(s.capacity.load[0]) / 1e3, 3)
+    (748.936, 285.253)
 
     References
     ----------
