@@ -1,0 +1,255 @@
+"""One docstring form on every public physics function: numpydoc, checked by ruff and here (issue 35 item 5).
+
+The physics modules are gearcalc/rows, gearcalc/zstk and gearcalc/pins but their schema, report, plot and figure
+modules, and gearcalc/hertz.py, roots.py and quadrature.py (pyproject.toml selects ruff's pydocstyle rules, the
+numpy convention, for the same files).  Each public (no leading underscore) module-level function's docstring
+holds the sections Parameters, Returns, Examples and References and a ``.. math::`` block, but the functions of
+:data:`NOT_A_FORMULA` (no math: each with its reason) and of :data:`NOT_YET` (not converted yet: the list may only
+shrink).  ``python benchmarks/docstrings.py`` prints the shares.
+"""
+import ast
+import importlib.util
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+NOT_PHYSICS = {"__init__", "schema", "report", "plot", "figure"}
+SHARED = ("gearcalc/hertz.py", "gearcalc/roots.py", "gearcalc/quadrature.py")
+SECTIONS = ("Parameters", "Returns", "Examples", "References")
+
+NOT_A_FORMULA = {
+    # module:function -> why its docstring has no .. math:: block
+    "gearcalc.zstk.geometry:broadcast": "array helper (np.broadcast_to without a copy)",
+    "gearcalc.zstk.geometry:take": "array helper (designs selected from a dataclass of arrays)",
+    "gearcalc.zstk.geometry:single": "array helper (one design's arrays as scalars)",
+    "gearcalc.zstk.solve:prepare": "driver: calls the closure, validity and phase functions, each with its math",
+    "gearcalc.zstk.solve:solve_stack": "driver: groups designs by N and calls the load and stress functions",
+    "gearcalc.zstk.solve:gather": "array helper (results put back in the designs' order)",
+    "gearcalc.zstk.solve:solve_sweeping": "driver: calls critical_placement and the allowable-load solver",
+}
+
+NOT_YET = {
+    "gearcalc.pins.batching:run_batch",
+    "gearcalc.pins.checks:computed_alone",
+    "gearcalc.pins.checks:contact_law_problem",
+    "gearcalc.pins.checks:contact_over_budget",
+    "gearcalc.pins.checks:contact_passes",
+    "gearcalc.pins.checks:design_problems",
+    "gearcalc.pins.checks:friction_model",
+    "gearcalc.pins.checks:ideal_admissibility",
+    "gearcalc.pins.checks:ideal_over_budget",
+    "gearcalc.pins.checks:modified",
+    "gearcalc.pins.checks:pin_circle_curtate",
+    "gearcalc.pins.checks:points_pass",
+    "gearcalc.pins.checks:select_level",
+    "gearcalc.pins.checks:violations",
+    "gearcalc.pins.columns:float64",
+    "gearcalc.pins.columns:formula_columns",
+    "gearcalc.pins.columns:friction_models",
+    "gearcalc.pins.columns:ideal_columns",
+    "gearcalc.pins.columns:level_columns",
+    "gearcalc.pins.columns:operating",
+    "gearcalc.pins.columns:words_equal",
+    "gearcalc.pins.consistent:consistent_cycles",
+    "gearcalc.pins.consistent:crank_history",
+    "gearcalc.pins.contact:crank_bearing",
+    "gearcalc.pins.contact:effective_radius",
+    "gearcalc.pins.contact:equilibrium_residual",
+    "gearcalc.pins.contact:fixed_point_settled",
+    "gearcalc.pins.contact:fixed_point_stalls",
+    "gearcalc.pins.contact:mode_efficiencies",
+    "gearcalc.pins.contact:operating_values",
+    "gearcalc.pins.contact:reducer_stalls",
+    "gearcalc.pins.contact:richardson_weights",
+    "gearcalc.pins.contact:solve_modes",
+    "gearcalc.pins.contact_cycle:contact_losses",
+    "gearcalc.pins.contact_cycle:cycle_breakpoints",
+    "gearcalc.pins.contact_cycle:deflection_sized",
+    "gearcalc.pins.contact_cycle:engagement_metrics",
+    "gearcalc.pins.contact_cycle:free_play",
+    "gearcalc.pins.contact_cycle:gk_interpolated",
+    "gearcalc.pins.contact_cycle:mean_loss_ratio",
+    "gearcalc.pins.contact_cycle:nested_trapezoid_weights",
+    "gearcalc.pins.contact_cycle:piece_guess",
+    "gearcalc.pins.contact_cycle:piece_keys",
+    "gearcalc.pins.contact_cycle:piece_places",
+    "gearcalc.pins.contact_cycle:pin_travel",
+    "gearcalc.pins.contact_cycle:relinearised_cycle",
+    "gearcalc.pins.contact_law:contact_law",
+    "gearcalc.pins.contact_law:palmgren_line_constant",
+    "gearcalc.pins.contact_law:register_contact_law",
+    "gearcalc.pins.contact_level:backlash_deg",
+    "gearcalc.pins.contact_level:contact_friction",
+    "gearcalc.pins.contact_level:contact_level",
+    "gearcalc.pins.contact_level:contact_rule",
+    "gearcalc.pins.contact_level:gear",
+    "gearcalc.pins.contact_level:satellite_profile",
+    "gearcalc.pins.contact_profiles:circular_profile",
+    "gearcalc.pins.contact_profiles:circular_teeth",
+    "gearcalc.pins.contact_profiles:cycloid_profile",
+    "gearcalc.pins.contact_profiles:cycloidal_profile",
+    "gearcalc.pins.contact_profiles:full_tooth",
+    "gearcalc.pins.contact_profiles:tooth_centre_distance",
+    "gearcalc.pins.contact_profiles:zero_backlash_tooth_circle",
+    "gearcalc.pins.contact_states:concat_states",
+    "gearcalc.pins.contact_states:contact_index",
+    "gearcalc.pins.contact_states:distance_to",
+    "gearcalc.pins.contact_states:filled",
+    "gearcalc.pins.contact_states:hermite",
+    "gearcalc.pins.contact_states:hermite_slope",
+    "gearcalc.pins.contact_states:merged",
+    "gearcalc.pins.contact_states:over_rows",
+    "gearcalc.pins.contact_states:put_states",
+    "gearcalc.pins.contact_states:relayout",
+    "gearcalc.pins.contact_states:same_rows",
+    "gearcalc.pins.contact_states:sorted_places",
+    "gearcalc.pins.contact_states:sub_pose",
+    "gearcalc.pins.contact_states:take_states",
+    "gearcalc.pins.cycle:cycle_breakpoints",
+    "gearcalc.pins.cycle:cycle_loss_ratio",
+    "gearcalc.pins.cycle:cycle_state",
+    "gearcalc.pins.cycle:disc_offsets",
+    "gearcalc.pins.cycle:disc_sum_peak",
+    "gearcalc.pins.cycle:sum_over_discs",
+    "gearcalc.pins.detail:contact_detail",
+    "gearcalc.pins.detail:detail_tables",
+    "gearcalc.pins.detail:ideal_detail",
+    "gearcalc.pins.detail:rows",
+    "gearcalc.pins.efficiency:efficiency_multiplier",
+    "gearcalc.pins.efficiency:efficiency_reducer",
+    "gearcalc.pins.efficiency:pin_spin",
+    "gearcalc.pins.efficiency:sliding_speed",
+    "gearcalc.pins.efficiency:willis_efficiencies",
+    "gearcalc.pins.forces:full_circle_lever_sum",
+    "gearcalc.pins.forces:lever_sum",
+    "gearcalc.pins.forces:loss_ratio",
+    "gearcalc.pins.forces:pin_forces",
+    "gearcalc.pins.forces:pin_phase",
+    "gearcalc.pins.formula:axle_friction_force",
+    "gearcalc.pins.formula:fixed_pin_formula_loss",
+    "gearcalc.pins.formula:friction_power",
+    "gearcalc.pins.formula:pin_angular_speed",
+    "gearcalc.pins.formula:rolling_friction_force",
+    "gearcalc.pins.friction:contact_loss_power",
+    "gearcalc.pins.friction:friction_law",
+    "gearcalc.pins.friction:peak_coefficient",
+    "gearcalc.pins.friction:register_friction_law",
+    "gearcalc.pins.friction:rolling_condition",
+    "gearcalc.pins.friction:rotating_loss_coefficient",
+    "gearcalc.pins.geometry:as_arrays",
+    "gearcalc.pins.geometry:contact_angle_offset",
+    "gearcalc.pins.geometry:contact_point",
+    "gearcalc.pins.geometry:crest_cutoff",
+    "gearcalc.pins.geometry:crest_cutoffs",
+    "gearcalc.pins.geometry:curvature_radius",
+    "gearcalc.pins.geometry:lever_arm",
+    "gearcalc.pins.geometry:min_curvature_radius",
+    "gearcalc.pins.geometry:pin_centre_curve",
+    "gearcalc.pins.geometry:pitch_distance",
+    "gearcalc.pins.geometry:s_factor",
+    "gearcalc.pins.geometry:spin_reversal_phase",
+    "gearcalc.pins.geometry:spin_reversal_phases",
+    "gearcalc.pins.geometry:tooth_profile",
+    "gearcalc.pins.ideal:admissibility",
+    "gearcalc.pins.ideal:cycle_pieces",
+    "gearcalc.pins.ideal:first_levels",
+    "gearcalc.pins.ideal:ideal_cycles",
+    "gearcalc.pins.ideal:mean_loss_ratio",
+    "gearcalc.pins.operating:efficiency_reducer_err",
+    "gearcalc.pins.operating:floats",
+    "gearcalc.pins.outputs:axle_pressure",
+    "gearcalc.pins.outputs:consistent_outputs",
+    "gearcalc.pins.outputs:crank_torque",
+    "gearcalc.pins.outputs:pin_loss_bound",
+    "gearcalc.pins.outputs:satellite_torque",
+    "gearcalc.pins.profiles:make_profile",
+    "gearcalc.pins.profiles:profile_entry",
+    "gearcalc.pins.profiles:tooth_too_large",
+    "gearcalc.roots:bisect",
+    "gearcalc.roots:find_root",
+    "gearcalc.roots:minimize_golden",
+    "gearcalc.zstk.envelope:sweep_grid",
+    "gearcalc.zstk.envelope:sweep_work",
+}
+"""The public physics functions whose docstrings are not numpydoc yet (issue 35 item 5 open for them)."""
+
+
+def physics_modules():
+    out = []
+    for pkg in ("rows", "zstk", "pins"):
+        out += [p for p in sorted((ROOT / "gearcalc" / pkg).glob("*.py")) if p.stem not in NOT_PHYSICS]
+    return out + [ROOT / s for s in SHARED]
+
+
+def public_functions():
+    """{"module:function": docstring} of the public module-level functions of the physics modules."""
+    out = {}
+    for path in physics_modules():
+        mod = ".".join(path.relative_to(ROOT).with_suffix("").parts)
+        tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
+        for node in tree.body:
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and not node.name.startswith("_"):
+                out[f"{mod}:{node.name}"] = ast.get_docstring(node) or ""
+    return out
+
+
+def missing(doc: str, formula: bool = True) -> list:
+    """The numpydoc parts ``doc`` lacks: sections (a title underlined by dashes) and the math block."""
+    lines = [s.strip() for s in doc.splitlines()]
+    have = {a for a, b in zip(lines, lines[1:]) if b and set(b) == {"-"}}
+    out = [s for s in SECTIONS if s not in have]
+    if formula and ".. math::" not in doc:
+        out.append(".. math::")
+    return out
+
+
+def test_the_physics_functions_are_found():
+    # a guard that the walk finds the modules: hundreds of public physics functions
+    assert len(public_functions()) > 250
+
+
+def test_every_public_physics_function_has_the_numpydoc_sections():
+    bad = {}
+    for name, doc in public_functions().items():
+        if name in NOT_YET:
+            continue
+        lack = missing(doc, formula=name not in NOT_A_FORMULA)
+        if lack:
+            bad[name] = lack
+    assert not bad, "docstrings without numpydoc sections: " + "; ".join(f"{k} lacks {v}" for k, v in bad.items())
+
+
+def test_the_lists_of_exceptions_are_current():
+    funcs = public_functions()
+    gone = sorted((NOT_YET | set(NOT_A_FORMULA)) - set(funcs))
+    assert not gone, f"listed functions that no longer exist: {gone}"
+    done = sorted(n for n in NOT_YET if not missing(funcs[n], formula=n not in NOT_A_FORMULA))
+    assert not done, f"converted: take them off NOT_YET: {done}"
+    assert not NOT_YET & set(NOT_A_FORMULA)
+
+
+def _configured_rules():
+    import tomllib
+
+    lint = tomllib.loads((ROOT / "pyproject.toml").read_text(encoding="utf-8"))["tool"]["ruff"]["lint"]
+    assert lint["pydocstyle"]["convention"] == "numpy"
+    return lint["select"]
+
+
+def test_the_physics_docstrings_pass_ruff_pydocstyle():
+    assert "D" in _configured_rules()
+    if importlib.util.find_spec("ruff") is not None:
+        ruff = [sys.executable, "-m", "ruff"]
+    elif shutil.which("ruff"):
+        ruff = [shutil.which("ruff")]
+    else:
+        pytest.skip("ruff is not installed (it is in the test extra: pip install -e .[test])")
+    files = [str(p.relative_to(ROOT)) for p in physics_modules()]
+    # the rules of pyproject.toml: pydocstyle's (D) with the numpy convention among them (a --select on the
+    # command line would drop the configured ignores)
+    r = subprocess.run(ruff + ["check", "--no-cache", *files], cwd=ROOT, capture_output=True, text=True)
+    assert r.returncode == 0, r.stdout + r.stderr
