@@ -33,6 +33,8 @@ NOT_A_FORMULA = {
     "gearcalc.pins.friction:friction_law": "registry look-up of a law by name",
     "gearcalc.pins.friction:register_friction_law": "registry entry of a law by name",
     "gearcalc.pins.contact_law:register_contact_law": "registry entry of a law by name",
+    "gearcalc.pins.profiles:make_profile": "registry: the factory of a profile by name",
+    "gearcalc.pins.profiles:profile_entry": "registry look-up of a profile by name",
 }
 
 NOT_YET = {
@@ -125,9 +127,6 @@ NOT_YET = {
     "gearcalc.pins.outputs:crank_torque",
     "gearcalc.pins.outputs:pin_loss_bound",
     "gearcalc.pins.outputs:satellite_torque",
-    "gearcalc.pins.profiles:make_profile",
-    "gearcalc.pins.profiles:profile_entry",
-    "gearcalc.pins.profiles:tooth_too_large",
     "gearcalc.roots:bisect",
     "gearcalc.roots:find_root",
     "gearcalc.roots:minimize_golden",
