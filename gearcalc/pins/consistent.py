@@ -152,7 +152,7 @@ def _point_nodes(cyc: IdealCycles, gear):
 
 def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, mode=None,
                       chunk_nodes: int = CONSISTENT_CHUNK_NODES) -> ConsistentCycles:
-    """The friction-consistent efficiency model (pins.md §4.9) of operating points, both modes.
+    r"""The friction-consistent efficiency model (pins.md §4.9) of operating points, both modes.
 
     Every point has a solved gear (``gear``: its index in the gears of ``cyc``, which must be admissible)
     and an effective friction mu_eff.  The friction-free node sums that :func:`ideal_cycles` keeps on its
@@ -164,6 +164,9 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     continues from the final grid, evaluating only the new nodes (:func:`_refine_consistent`), up to
     :data:`CONSISTENT_N_MAX`.  A mode jams where D <= 0 at some node.  One point with one disc on the whole grid
     of a gear solved alone takes a shorter path to the same numbers, bit for bit (:func:`_one_point`).
+
+    .. math:: Q = Q_L + \frac{Q_L - Q_{L-1}}{3}, \qquad E = |Q_L - Q_{L-1}| \le \max(\text{tol}\,|Q|,\ 10^{-14}),
+        \qquad \text{jam where } D \le 0
 
     Parameters
     ----------
@@ -584,6 +587,24 @@ def crank_history(g: Cycloid, psi_star: float, t, t_mid, mu_eff: float, sigma: i
     false the forces are the friction-free ones of §4.4 (D = S; the bearing force then has no friction
     part either).  t = theta/T_p in the cycle variable of :func:`cycle_state` (multiplier theta = T_p t,
     reducer theta = T_p (1 - t)).
+
+    .. math:: F_i = \frac{T_{sat}\,|l_i|}{D}, \qquad B = -\sum_i F_i\,(n_i + q_i\,z \times n_i), \qquad
+        \frac{T_H}{T_{sat}} = \sigma\,e\,B_y
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    psi_star : float
+        End of the loaded arc, [rad].
+    t, t_mid : ndarray
+        Nodes t = theta/T_p and the midpoints of their pieces, [-].
+    mu_eff : float
+        Effective friction coefficient, [-].
+    sigma : int
+        +1 reducer, -1 multiplier.
+    consistent : bool, optional
+        The friction-consistent forces (else the friction-free ones).
 
     Returns
     -------

@@ -101,15 +101,34 @@ class Unresolvable(ValueError):
 
 
 def fixed_point_settled(history, tol: float) -> bool:
-    """Whether the torque fixed point has settled.
+    r"""Whether the torque fixed point has settled.
 
     The remaining error c |d_n|/(1 - c) of the last loss ratio, with the contraction c = |d_n/d_(n-1)| of the last
     two changes d, is below tol/10 of it.
+
+    .. math:: \frac{c\,|d_n|}{1 - c} < \frac{\text{tol}}{10}\,|\lambda_n|, \qquad c = \left|\frac{d_n}{d_{n-1}}\right|,
+        \quad d_n = \lambda_n - \lambda_{n-1}
+
+    Parameters
+    ----------
+    history : list of float
+        The loss ratio of each pass, [-].
+    tol : float
+        The relative tolerance, [-].
+
+    Returns
+    -------
+    settled : bool
+        True when the remaining error is below tol/10.
 
     Examples
     --------
     >>> fixed_point_settled([0.1, 0.11, 0.1101], 1e-3), fixed_point_settled([0.1, 0.2], 1e-6)
     (True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (the torque fixed point).
     """
     if len(history) < 2:
         return False
@@ -155,12 +174,33 @@ def reducer_stalls(history, torques, uT: float) -> bool:
     torque (a preload plus a loss proportional to the load is linear) the line lies below T + L(T) for T below
     both passes, so no positive root is missed; the plain iteration would only halve T_V pass after pass.
 
+    .. math:: T + L(T) = u\,T_H, \qquad L(T) = \lambda(T)\,T; \quad \text{stalls when } L(T_{n-1}), L(T_n) \ge u\,T_H
+        \text{ and the secant through them has no root } T > 0
+
+    Parameters
+    ----------
+    history : list of float
+        The loss ratio of each pass, [-].
+    torques : list of float
+        T_V of each pass, in the units of ``uT``.
+    uT : float
+        u T_H, the input torque seen on V.
+
+    Returns
+    -------
+    stalls : bool
+        True when no positive T_V balances the losses.
+
     Examples
     --------
     >>> reducer_stalls([70.0, 7000.0], [1.0, 0.01], 10.0)      # L = 70 at both torques: 70 > u T_H = 10
     True
     >>> reducer_stalls([0.1, 0.1001], [9.0, 9.09], 10.0)       # an ordinary reducer, L ~ 0.9 << 10
     False
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7.
     """
     if len(history) < 2 or torques[-1] == torques[-2]:
         return False
@@ -206,16 +246,32 @@ def _fixed_point_step(history, torques, uT: float, a: float):
 
 
 def fixed_point_stalls(history) -> bool:
-    """Whether the torque fixed point's passes stopped contracting.
+    r"""Whether the torque fixed point's passes stopped contracting.
 
     after four passes, the last change is not below half of the change two passes before (a converging secant
     iteration shrinks its changes far faster; a loss ratio that jumps with the torque, a contact that comes and
     goes, makes the passes wander; pins.md §7).
 
+    .. math:: n \ge 4 \quad\text{and}\quad |d_n| \ge \tfrac12\,|d_{n-2}|, \qquad d_n = \lambda_n - \lambda_{n-1}
+
+    Parameters
+    ----------
+    history : list of float
+        The loss ratio of each pass, [-].
+
+    Returns
+    -------
+    stalls : bool
+        True when the passes wander.
+
     Examples
     --------
     >>> fixed_point_stalls([0.1303, 0.1295, 0.1193, 0.1224]), fixed_point_stalls([0.2, 0.21, 0.2101, 0.21010001])
     (True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7.
     """
     if len(history) < 4:
         return False
@@ -602,6 +658,11 @@ def effective_radius(R_b, delta, inv_D):
     inv_D : array_like
         1/D [1/mm].
 
+    Returns
+    -------
+    R_eff : ndarray
+        Reduced radius of the contact, [mm].
+
     Examples
     --------
     >>> float(effective_radius(2.0, 0.0, 1.0 / (2.0 + 6.0)))    # pin 2 mm on a convex 6 mm tooth: 2*6/8
@@ -623,6 +684,21 @@ def richardson_weights(theta, pieces):
     ``pieces`` each node's piece key (its midpoint, :attr:`ContactCycle.nodes`).  None when a piece has an odd count
     of intervals (not the nested grid of :func:`~gearcalc.quadrature.integrate_adaptive`): the plain trapezoid then.
 
+    .. math:: \bar v = \frac{\sum_i w_i v_i}{\theta_n - \theta_0}, \qquad
+        R_{2N} = T_{2N} + \frac{T_{2N} - T_N}{3} \ \text{per piece}
+
+    Parameters
+    ----------
+    theta : ndarray
+        Nodes sorted, piece ends twice (one-sided), [rad].
+    pieces : ndarray
+        Each node's piece key (its midpoint), [rad].
+
+    Returns
+    -------
+    w : ndarray or None
+        The weights, [rad]; None when a piece has an odd count of intervals.
+
     Examples
     --------
     Two pieces of 4 and 2 intervals; the cubic x^3 is integrated exactly (Simpson):
@@ -631,6 +707,11 @@ def richardson_weights(theta, pieces):
     >>> w = richardson_weights(x, np.array([0.5] * 5 + [1.5] * 3))
     >>> round(float(np.sum(w * x ** 3)), 12)
     4.0
+
+    References
+    ----------
+    .. [1] W. Romberg, Vereinfachte numerische Integration, Det Kongelige Norske Videnskabers Selskab
+       Forhandlinger 28 (7), 1955; docs/spec/pins.md §6, §8.
     """
     order = np.lexsort((theta, pieces))
     xs, ps = theta[order], pieces[order]

@@ -24,12 +24,30 @@ __all__ = ["floats", "SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime",
 
 
 def floats(vals):
-    """A float array from a list of numbers and None (NaN).
+    r"""A float array from a list of numbers and None (NaN).
 
     A column of design values (:mod:`gearcalc.pins.columns`, :mod:`gearcalc.pins.checks`).
 
+    .. math:: x_i = \text{float}(v_i), \qquad x_i = \text{NaN} \ \text{where } v_i \text{ is None}
+
+    Parameters
+    ----------
+    vals : list
+        Numbers and None.
+
+    Returns
+    -------
+    x : ndarray
+        Floats, NaN for None.
+
+    Examples
+    --------
     >>> floats([1, None]).tolist()
     [1.0, nan]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (absent design values).
     """
     return np.array([np.nan if v is None else v for v in vals], dtype=float)
 
@@ -139,6 +157,8 @@ def efficiency_reducer_err(loss_ratio_mean, loss_ratio_err):
     r"""Error of the reducer efficiency from that of the loss ratio, E_HV = E/(1 + lambda_bar)^2  (pins.md §4.7).
 
     The first-order propagation of E through eta_HV = 1/(1 + lambda_bar) (|d eta_HV/d lambda_bar| E).
+
+    .. math:: E_{HV} = \left|\frac{d\eta_{HV}}{d\bar\lambda}\right| E = \frac{E}{(1 + \bar\lambda)^2}
 
     Parameters
     ----------
