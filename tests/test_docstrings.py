@@ -38,6 +38,7 @@ NOT_A_FORMULA = {
     "gearcalc.pins.checks:select_level": "rule dispatch: the level a design's tables and profile call for",
     "gearcalc.pins.checks:design_problems": "rule dispatch: the problems of check in their order",
     "gearcalc.pins.checks:points_pass": "rule dispatch: the rules of design_problems over sweep points",
+    "gearcalc.pins.outputs:consistent_outputs": "driver: runs consistent_cycles and consistent_point",
 }
 
 NOT_YET = {
@@ -98,16 +99,6 @@ NOT_YET = {
     "gearcalc.pins.detail:detail_tables",
     "gearcalc.pins.detail:ideal_detail",
     "gearcalc.pins.detail:rows",
-    "gearcalc.pins.ideal:admissibility",
-    "gearcalc.pins.ideal:cycle_pieces",
-    "gearcalc.pins.ideal:first_levels",
-    "gearcalc.pins.ideal:ideal_cycles",
-    "gearcalc.pins.ideal:mean_loss_ratio",
-    "gearcalc.pins.outputs:axle_pressure",
-    "gearcalc.pins.outputs:consistent_outputs",
-    "gearcalc.pins.outputs:crank_torque",
-    "gearcalc.pins.outputs:pin_loss_bound",
-    "gearcalc.pins.outputs:satellite_torque",
     "gearcalc.roots:bisect",
     "gearcalc.roots:find_root",
     "gearcalc.roots:minimize_golden",

@@ -335,7 +335,7 @@ FIRST_LEVELS_MAX = 6
 
 
 def first_levels(tol: float, z2=None):
-    """Doublings evaluated in the first round of the cycle quadrature (speed only, never a result).
+    r"""Doublings evaluated in the first round of the cycle quadrature (speed only, never a result).
 
     A typical gear needs E ~ 3e-5 4^-L at level L, so L = 1 + ceil(log_4(3e-5/tol)), at least 2, and at
     most :data:`FIRST_LEVELS_MAX`: a round costs about as much as evaluating a few hundred nodes, so
@@ -346,12 +346,31 @@ def first_levels(tol: float, z2=None):
     of z2 beyond 28, since the intervals a gear needs fall about as 1/z2 (the loss ratio of many loaded
     pins varies less within a period: z2 = 56-80 needs one level less than z2 = 24-40, z2 = 100 two).
 
+    .. math:: L = \min\!\left(6,\ \max\!\left(2,\ 1 + \left\lceil \log_4 \frac{3 \cdot 10^{-5}}{\text{tol}} \right\rceil
+        - \left\lfloor \log_2 \frac{\max(z_2, 28)}{28} \right\rfloor\right)\right)
+
+    Parameters
+    ----------
+    tol : float
+        Relative accuracy target, [-].
+    z2 : int or array_like, optional
+        Pins per gear, [-].
+
+    Returns
+    -------
+    levels : int or ndarray
+        Doublings of the first round.
+
     Examples
     --------
     >>> [first_levels(t) for t in (1e-3, 1e-6, 1e-9)]
     [2, 4, 6]
     >>> first_levels(1e-6, np.array([22, 62, 120])).tolist()
     [4, 3, 2]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.6.
     """
     base = 1 + math.ceil(math.log(3e-5 / tol, 4))
     if isinstance(z2, (int, np.integer)):
@@ -389,7 +408,7 @@ def _one_gear_pieces(z1: int, z2: int, psi_star: float, psi_0: float, one_minus_
 
 
 def cycle_pieces(g: Cycloid, psi_star, psi_0):
-    """Smooth pieces of the cycle integrand of many gears in t = theta/T_p: (a, b, owner), gear by gear.
+    r"""Smooth pieces of the cycle integrand of many gears in t = theta/T_p: (a, b, owner), gear by gear.
 
     The breakpoints are those of :func:`cycle_breakpoints`: 0, 1, the exit frac(psi* z2/2 pi) and the
     spin reversal frac(psi_0 z2/2 pi) when psi_0 < psi*, computed for all gears at once; a gear that
@@ -401,12 +420,26 @@ def cycle_pieces(g: Cycloid, psi_star, psi_0):
     g : gears with array fields, shape (m,).
     psi_star : psi* per gear [rad]; psi_0 : spin reversal phase per gear, NaN where none [rad].
 
+    .. math:: t \in \{0,\ 1,\ \operatorname{frac}(\psi^* z_2 / 2\pi),\ \operatorname{frac}(\psi_0 z_2 / 2\pi)\},
+        \qquad t = \theta / T_p
+
+    Returns
+    -------
+    a, b : ndarray
+        Piece ends, [-].
+    owner : ndarray of int
+        Each piece's gear.
+
     Examples
     --------
     >>> g = as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> a, b, owner = cycle_pieces(g, crest_cutoffs(g), np.array([np.nan]))
     >>> a.size, float(a[0]), float(b[-1]), owner.tolist()
     (2, 0.0, 1.0, [0, 0])
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.12.
     """
     z1, z2 = np.asarray(g.z1), np.asarray(g.z2)
     psi_star, psi_0 = np.asarray(psi_star, dtype=float), np.asarray(psi_0, dtype=float)
@@ -682,12 +715,40 @@ _ADMISSIBLE_KEEP = 256
 
 
 def admissibility(g: Cycloid):
-    """(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)).
+    r"""(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)).
 
     status 0, TOO_FEW_TEETH (psi* <= 2 pi/z2, pins.md §12.10) or UNDERCUT (R_b >= min rho_c over the loaded arc,
     §4.2).  The ideal level's checks, also run by ``gearcalc check``
     (:func:`gearcalc.pins.checks.ideal_admissibility`).  One gear's result is remembered: loading a design checks
     it, and its solve asks again (:data:`_ADMISSIBLE_ONE`).
+
+    .. math:: \text{TOO\_FEW\_TEETH}: \ \psi^* \le \frac{2\pi}{z_2}, \qquad
+        \text{UNDERCUT}: \ R_b \ge \min_{0 \le \psi \le \psi^*} \rho_c(\psi)
+
+    Parameters
+    ----------
+    g : Cycloid
+        Gears whose fields are arrays of shape (m,).
+
+    Returns
+    -------
+    status : ndarray of int
+        0, TOO_FEW_TEETH or UNDERCUT per gear.
+    psi_star : ndarray
+        End of the loaded arc, [rad].
+    rho_c : ndarray
+        Least radius of curvature of the pin-centre curve over the loaded arc, [mm].
+
+    Examples
+    --------
+    >>> g = as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> status, psi_star, rho_c = admissibility(g)
+    >>> status.tolist(), psi_star.round(6).tolist(), rho_c.round(6).tolist()
+    ([0], [2.028497], [14.955298])
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.2, §12.10.
     """
     if np.size(g.z2) == 1:
         key = tuple(float(np.asarray(v).flat[0]) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1))
@@ -719,7 +780,7 @@ def _admissibility(g: Cycloid):
 
 def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n_start: int = 16,
                  first_order_peaks: bool = True) -> IdealCycles:
-    """Solve the ideal level (pins.md §4, §6) of many cycloidal gears at once, in unit scalings.
+    r"""Solve the ideal level (pins.md §4, §6) of many cycloidal gears at once, in unit scalings.
 
     For every gear: psi* (:func:`crest_cutoffs`), the admissibility checks (pins.md §4.2, §12.10),
     the spin reversal, the cycle mean of the loss ratio at mu = 1 (:func:`cycle_pieces` and the
@@ -740,6 +801,10 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     final grid, so the grid is not evaluated again, and :func:`_one_gear_peaks` refines the peaks with scalar
     bookkeeping.  The quadrature's first round guesses its levels from tol and z2 (:func:`first_levels`; speed
     only).
+
+    .. math:: \bar\lambda_1 = \frac{1}{T_p} \int_0^{T_p}
+        \frac{\sum_{i \in L} |l_i|\,|\rho_i - R_b|}{\sum_{i \in L} l_i^2}\,d\theta \ \ (\mu = 1), \qquad
+        F_{max} = \max_\theta \frac{T_{sat}\,r_{p1}}{S(\theta)}
 
     Parameters
     ----------
@@ -1004,11 +1069,14 @@ class CycleIntegral:
 
 def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: float, tol: float = 1e-6,
                     n_max: int = 2 ** 20, n_start: int = 16, n_initial=None) -> CycleIntegral:
-    """Cycle mean lambda_bar = (1/T_p) integral of lambda over one period, with an honest error.
+    r"""Cycle mean lambda_bar = (1/T_p) integral of lambda over one period, with an honest error.
 
     Piecewise trapezoid between the breakpoints of :func:`cycle_pieces` (those of
     :func:`cycle_breakpoints`), doubled to ``tol`` (pins.md §6), with the integrator and integrand
     of :func:`ideal_cycles` (one gear).  mu_eff = 0 short-circuits to exactly 0 with error 0.
+
+    .. math:: \bar\lambda = \frac{1}{T_p} \int_0^{T_p} \lambda(\theta)\,d\theta, \qquad
+        \lambda = \mu_{eff}\,\frac{\sum_{i \in L} |l_i|\,|\rho_i - R_b|}{\sum_{i \in L} l_i^2}
 
     Parameters
     ----------
@@ -1030,6 +1098,12 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
     >>> r = mean_loss_ratio(g, crest_cutoff(g), None, 0.1)
     >>> bool(r.converged and r.loss_ratio_err < 1e-6 * r.loss_ratio)
     True
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.6, §6.
     """
     if mu_eff == 0.0:
         return CycleIntegral(0.0, 0.0, True, 0, None)

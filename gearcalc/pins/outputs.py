@@ -111,6 +111,20 @@ def consistent_efficiencies(loss_ratio_reducer, loss_ratio_multiplier, err_reduc
 def satellite_torque(torque_V, n_discs):
     r"""Torque on one satellite disc, T_sat = T_V/n_d [N·mm] from T_V [N·m] (pins.md §4.4, §12.7).
 
+    .. math:: T_{sat} = \frac{10^3\,T_V}{n_d}
+
+    Parameters
+    ----------
+    torque_V : float or array_like
+        Output torque T_V, [N·m].
+    n_discs : int or array_like
+        Discs n_d, [-].
+
+    Returns
+    -------
+    T_sat : float or ndarray
+        Torque on one disc, [N·mm].
+
     Examples
     --------
     >>> satellite_torque(800.0, 2)
@@ -127,6 +141,18 @@ def crank_torque(torque_sat, unit_crank_torque):
     r"""Crank torque T_H [N·m] from T_sat [N·mm] and the unit-torque crank torque T_H/T_sat [-] (pins.md §4.9).
 
     .. math::  T_H = \sigma e B_y = T_{sat} \hat T_H
+
+    Parameters
+    ----------
+    torque_sat : float or array_like
+        Torque on one satellite disc T_sat, [N·mm].
+    unit_crank_torque : float or array_like
+        T_H/T_sat, [-].
+
+    Returns
+    -------
+    T_H : float or ndarray
+        Crank torque, [N·m].
 
     Examples
     --------
@@ -179,6 +205,8 @@ def contact_stress(torque_sat, unit_stress, face_width, e_star):
 def axle_pressure(force, axle_radius, face_width):
     r"""Mean bushing-axle pressure of a rotating pin on the projected area, p = F/(2 r b) [MPa] (pins.md §8).
 
+    .. math:: p = \frac{F}{2\,r\,b}
+
     Parameters
     ----------
     force : float or array_like
@@ -187,6 +215,11 @@ def axle_pressure(force, axle_radius, face_width):
         r [mm].
     face_width : float or array_like
         b [mm].
+
+    Returns
+    -------
+    p : float or ndarray
+        Mean pressure, [MPa].
 
     Examples
     --------
@@ -210,6 +243,11 @@ def pin_loss_bound(mu_eff, rolls, sliding_friction, force_max, speed_max, xp=ARR
     mu_eff : float or array_like [-]; rolls : bool or array_like (the pins roll); sliding_friction : f [-].
     force_max : F_max [N]; speed_max : the peak contact speed (|omega_V| |rho - R_b|) [mm/s].
     xp : :data:`gearcalc.pins.ARRAY_OPS` or :data:`gearcalc.pins.SCALAR_OPS`
+
+    Returns
+    -------
+    P : float or ndarray
+        The bound, [W].
 
     Examples
     --------
