@@ -16,6 +16,8 @@ import sys
 NOT_PHYSICS = {"__init__", "schema", "report", "plot", "figure"}
 SHARED = ("gearcalc/hertz.py", "gearcalc/roots.py", "gearcalc/quadrature.py")
 SECTIONS = ("Parameters", "Returns", "Examples", "References")
+DOC_OF = {("contact_profiles", "full_tooth"): "_full_tooth"}
+"""Public functions whose docstring is another's, assigned at run time (``f.__doc__ = g.__doc__``)."""
 
 
 def physics_modules(root: str | pathlib.Path = ".") -> list:
@@ -30,8 +32,9 @@ def physics_modules(root: str | pathlib.Path = ".") -> list:
 def public_functions(path: pathlib.Path) -> list:
     """(name, docstring) of the public module-level functions of the module at ``path``."""
     tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
-    return [(n.name, ast.get_docstring(n) or "") for n in tree.body
-            if isinstance(n, (ast.FunctionDef, ast.AsyncFunctionDef)) and not n.name.startswith("_")]
+    docs = {n.name: ast.get_docstring(n) or "" for n in tree.body if isinstance(n, (ast.FunctionDef,
+                                                                                   ast.AsyncFunctionDef))}
+    return [(name, docs[DOC_OF.get((path.stem, name), name)]) for name in docs if not name.startswith("_")]
 
 
 def has_section(doc: str, name: str) -> bool:

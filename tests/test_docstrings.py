@@ -41,6 +41,11 @@ NOT_A_FORMULA = {
     "gearcalc.pins.outputs:consistent_outputs": "driver: runs consistent_cycles and consistent_point",
 }
 
+DOC_OF = {
+    # module:function -> the function whose docstring it is given at run time (f.__doc__ = g.__doc__)
+    "gearcalc.pins.contact_profiles:full_tooth": "_full_tooth",
+}
+
 NOT_YET = {
     "gearcalc.pins.batching:run_batch",
     "gearcalc.pins.columns:float64",
@@ -74,13 +79,6 @@ NOT_YET = {
     "gearcalc.pins.contact_level:contact_rule",
     "gearcalc.pins.contact_level:gear",
     "gearcalc.pins.contact_level:satellite_profile",
-    "gearcalc.pins.contact_profiles:circular_profile",
-    "gearcalc.pins.contact_profiles:circular_teeth",
-    "gearcalc.pins.contact_profiles:cycloid_profile",
-    "gearcalc.pins.contact_profiles:cycloidal_profile",
-    "gearcalc.pins.contact_profiles:full_tooth",
-    "gearcalc.pins.contact_profiles:tooth_centre_distance",
-    "gearcalc.pins.contact_profiles:zero_backlash_tooth_circle",
     "gearcalc.pins.contact_states:concat_states",
     "gearcalc.pins.contact_states:contact_index",
     "gearcalc.pins.contact_states:distance_to",
@@ -118,12 +116,17 @@ def physics_modules():
 def public_functions():
     """{"module:function": docstring} of the public module-level functions of the physics modules."""
     out = {}
+    docs = {}
     for path in physics_modules():
         mod = ".".join(path.relative_to(ROOT).with_suffix("").parts)
         tree = ast.parse(path.read_text(encoding="utf-8"), str(path))
         for node in tree.body:
-            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) and not node.name.startswith("_"):
-                out[f"{mod}:{node.name}"] = ast.get_docstring(node) or ""
+            if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                docs[f"{mod}:{node.name}"] = ast.get_docstring(node) or ""
+                if not node.name.startswith("_"):
+                    out[f"{mod}:{node.name}"] = docs[f"{mod}:{node.name}"]
+    for name, other in DOC_OF.items():
+        out[name] = docs[name.split(":")[0] + ":" + other]
     return out
 
 

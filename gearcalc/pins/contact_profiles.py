@@ -35,11 +35,14 @@ def _unit(a):
 
 
 def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64, with_slope: bool = False, max_newton: int = 50):
-    """D(R_t): least distance from the tooth centre T_0 = R_t u(pi/z1) to the nominal pin-centre curves [mm].
+    r"""D(R_t): least distance from the tooth centre T_0 = R_t u(pi/z1) to the nominal pin-centre curves [mm].
 
     Minimum over every family b and over the curve parameter beta within two tooth pitches of the
     tooth: a dense scan, then golden-section refinement between the neighbouring samples
     (vectorised over R_t).  D(0) = R_p - e (pins.md §5.3).
+
+    .. math:: D(R_t) = \min_{b,\ \beta} \left|c_b(\beta) - T_0\right|, \qquad T_0 = R_t\,u(\pi/z_1), \qquad
+        \frac{dD}{dR_t} = -\frac{(c - T_0) \cdot u(\pi/z_1)}{D}
 
     Parameters
     ----------
@@ -58,6 +61,11 @@ def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64, with_slope: bool = 
     >>> g = Cycloid.from_pin_circle(20, 22, 3.9, 57.2, 2.75)
     >>> round(float(tooth_centre_distance(0.0, g)), 9)     # R_p - e
     53.3
+
+    References
+    ----------
+    .. [1] B. Chen, T. Fang, C. Li, S. Wang, Gear geometry of cycloid drives, Science in China Series E:
+       Technological Sciences 51, 2008 (the pin-centre curves c_b); docs/spec/pins.md §5.3.
     """
     shape = np.shape(R_t)
     R_t = np.atleast_1d(np.asarray(R_t, dtype=float)).ravel()
@@ -151,11 +159,27 @@ def _first_root(fun, grid, values, xtol):
 
 
 def zero_backlash_tooth_circle(g: Cycloid, tooth_radius: float, grid=None) -> float | None:
-    """R_t for zero backlash: the smallest root of D(R_t) = R_b + rho_t, or None if there is none [mm].
+    r"""R_t for zero backlash: the smallest root of D(R_t) = R_b + rho_t, or None if there is none [mm].
 
     D(R_t) is scanned outward from 0 on a grid finer than (R_b + rho_t)/4 and the first sign change
     is refined by the bracketed root finder to 1e-13 R_p (pins.md §5.3; D is not monotone in
     general).  ``grid`` may pass a precomputed (R_t, D) scan.
+
+    .. math:: D(R_t) = R_b + \rho_t \quad \text{(smallest root)}
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    tooth_radius : float
+        Circular tooth radius rho_t, [mm].
+    grid : tuple of ndarray, optional
+        A precomputed scan (R_t, D), [mm].
+
+    Returns
+    -------
+    R_t : float or None
+        Radius of the circle of tooth centres, [mm], or None.
 
     Examples
     --------
@@ -163,6 +187,10 @@ def zero_backlash_tooth_circle(g: Cycloid, tooth_radius: float, grid=None) -> fl
     >>> R_t = zero_backlash_tooth_circle(g, 5.0)
     >>> round(float(tooth_centre_distance(R_t, g)), 9)      # = R_b + rho_t
     7.75
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3.
     """
     target = g.R_b + tooth_radius
     if tooth_too_large(g.R_b, tooth_radius, g.R_p, g.e):
@@ -190,11 +218,22 @@ def full_tooth(g: Cycloid) -> tuple[float, float] | None:  # noqa: D103 (the doc
 
 
 def _full_tooth(g: Cycloid) -> tuple[float, float] | None:
-    """The "full" circular tooth: rho_t = R_t(rho_t) sin(pi/z1) (adjacent teeth tangent at the root).
+    r"""The "full" circular tooth: rho_t = R_t(rho_t) sin(pi/z1) (adjacent teeth tangent at the root).
 
-    Solved as the first root of D(R_t) - R_b - R_t sin(pi/z1) on the outward scan (the same root as
-    the nested definition of pins.md §5.3 when the zero-backlash root of that rho_t is the first
-    crossing, which is checked).  Returns (rho_t, R_t) [mm], or None when no tooth fits.
+    .. math:: D(R_t) - R_b - R_t \sin\frac{\pi}{z_1} = 0 \ \text{(first root)}, \qquad \rho_t = R_t \sin\frac{\pi}{z_1}
+
+    Solved as the first root on the outward scan (the same root as the nested definition of pins.md §5.3 when the
+    zero-backlash root of that rho_t is the first crossing, which is checked).
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    tooth : tuple of float or None
+        (rho_t, R_t), [mm], or None when no tooth fits.
 
     Examples
     --------
@@ -202,6 +241,10 @@ def _full_tooth(g: Cycloid) -> tuple[float, float] | None:
     >>> rho, R_t = full_tooth(g)
     >>> bool(abs(rho - R_t * np.sin(np.pi / 20)) < 1e-9)
     True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3.
     """
     s = math.sin(math.pi / g.z1)
     if g.R_b >= g.R_p - g.e:
@@ -662,6 +705,9 @@ def circular_profile(g: Cycloid, tooth_radius=None, tooth_circle_radius=None):
     circle of :func:`zero_backlash_tooth_circle`).  A tooth must fit, :math:`R_b + \rho_t < R_p - e`, and a given
     R_t must not make the teeth interfere with the pins' nominal paths.
 
+    .. math:: \rho_t = R_t \sin\frac{\pi}{z_1} \ \text{(full tooth)}, \qquad D(R_t) = R_b + \rho_t \
+        \text{(zero backlash)}, \qquad R_b + \rho_t < R_p - e
+
     Parameters
     ----------
     g : Cycloid
@@ -725,6 +771,9 @@ def cycloid_profile(g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float 
     loaded arc psi* must exceed the pin pitch 2 pi/z2, and R_b + Delta R_b must stay below the least radius of
     curvature of the design curve over the loaded arc (no undercut).
 
+    .. math:: K_1 = \frac{e\,z_2}{k\,(R_p + \Delta R_p)} < 1, \quad R_b + \Delta R_b > 0,
+        \quad \psi^* > \frac{2\pi}{z_2}, \quad R_b + \Delta R_b < \min_{0 \le \psi \le \psi^*} \rho_c(\psi)
+
     Parameters
     ----------
     g : Cycloid
@@ -770,10 +819,39 @@ def cycloid_profile(g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float 
 # ============================================================ the registered factories (gearcalc.pins.profiles)
 
 def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
-    """The factory of the profile "circular" (:data:`gearcalc.pins.profiles.PROFILES`).
+    r"""The factory of the profile "circular" (:data:`gearcalc.pins.profiles.PROFILES`).
 
     :func:`circular_profile` from a design's values (``params``: :class:`gearcalc.pins.profiles.ProfileParams`;
     "full" and "zero_backlash" as None), marked play-free on the zero-backlash tooth circle.
+
+    .. math:: \rho_t = R_t \sin\frac{\pi}{z_1} \ \text{("full")}, \qquad
+        D(R_t) = R_b + \rho_t \ \text{("zero\_backlash")}
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    params : ProfileParams
+        The design's tooth radius rho_t and tooth circle R_t, [mm], or "full" and "zero_backlash".
+
+    Returns
+    -------
+    profile : CircularProfile
+        The profile.
+    overlap : bool
+        Whether adjacent tooth circles overlap.
+
+    Examples
+    --------
+    >>> from gearcalc.pins.profiles import ProfileParams
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> p, overlap = circular_teeth(g, ProfileParams(tooth_radius=5.0))
+    >>> round(p.R_t, 2), overlap, p.play_free
+    (111.35, False, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3, §7.
     """
     prof, overlap = circular_profile(g, None if params.tooth_radius == "full" else params.tooth_radius,
                                      None if params.tooth_circle_radius == "zero_backlash"
@@ -783,9 +861,37 @@ def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
 
 
 def cycloidal_profile(g: Cycloid, params) -> tuple[CycloidProfile, bool]:
-    """The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`).
+    r"""The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`).
 
     The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`cycloid_profile` with
     the design's modifications; no overlap.
+
+    .. math:: c_b(\beta) \ \text{of } R_p + \Delta R_p, \quad \text{pin radius } R_b + \Delta R_b
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    params : ProfileParams
+        The design's modifications Delta R_p and Delta R_b, [mm].
+
+    Returns
+    -------
+    profile : CycloidProfile
+        The profile.
+    overlap : bool
+        Always False.
+
+    Examples
+    --------
+    >>> from gearcalc.pins.profiles import ProfileParams
+    >>> p, overlap = cycloidal_profile(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95),
+    ...                                ProfileParams(equidistant_mod=0.01))
+    >>> round(p.design.R_b, 2), overlap
+    (1.96, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.2, §7.
     """
     return cycloid_profile(g, params.radial_mod, params.equidistant_mod), False
