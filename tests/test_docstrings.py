@@ -39,6 +39,10 @@ NOT_A_FORMULA = {
     "gearcalc.pins.checks:design_problems": "rule dispatch: the problems of check in their order",
     "gearcalc.pins.checks:points_pass": "rule dispatch: the rules of design_problems over sweep points",
     "gearcalc.pins.outputs:consistent_outputs": "driver: runs consistent_cycles and consistent_point",
+    "gearcalc.pins.batching:run_batch": "driver: the batch contract (results or exceptions, in order)",
+    "gearcalc.pins.columns:float64": "value conversion (None as NaN)",
+    "gearcalc.pins.columns:words_equal": "comparison of a column of words",
+    "gearcalc.pins.detail:rows": "table helper (rows from columns)",
 }
 
 DOC_OF = {
@@ -47,14 +51,11 @@ DOC_OF = {
 }
 
 NOT_YET = {
-    "gearcalc.pins.batching:run_batch",
-    "gearcalc.pins.columns:float64",
     "gearcalc.pins.columns:formula_columns",
     "gearcalc.pins.columns:friction_models",
     "gearcalc.pins.columns:ideal_columns",
     "gearcalc.pins.columns:level_columns",
     "gearcalc.pins.columns:operating",
-    "gearcalc.pins.columns:words_equal",
     "gearcalc.pins.contact:crank_bearing",
     "gearcalc.pins.contact:equilibrium_residual",
     "gearcalc.pins.contact:mode_efficiencies",
@@ -74,10 +75,7 @@ NOT_YET = {
     "gearcalc.pins.contact_cycle:pin_travel",
     "gearcalc.pins.contact_cycle:relinearised_cycle",
     "gearcalc.pins.contact_level:backlash_deg",
-    "gearcalc.pins.contact_level:contact_friction",
     "gearcalc.pins.contact_level:contact_level",
-    "gearcalc.pins.contact_level:contact_rule",
-    "gearcalc.pins.contact_level:gear",
     "gearcalc.pins.contact_level:satellite_profile",
     "gearcalc.pins.contact_states:concat_states",
     "gearcalc.pins.contact_states:contact_index",
@@ -96,7 +94,6 @@ NOT_YET = {
     "gearcalc.pins.detail:contact_detail",
     "gearcalc.pins.detail:detail_tables",
     "gearcalc.pins.detail:ideal_detail",
-    "gearcalc.pins.detail:rows",
     "gearcalc.roots:bisect",
     "gearcalc.roots:find_root",
     "gearcalc.roots:minimize_golden",

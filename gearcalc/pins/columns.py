@@ -34,12 +34,56 @@ _WORDS = ("mode", "shaft")
 
 
 def float64(v):
-    """A value as a numpy float64 scalar (NaN where absent)."""
+    """A value as a numpy float64 scalar (NaN where absent).
+
+    Parameters
+    ----------
+    v : float or None
+        The value.
+
+    Returns
+    -------
+    x : numpy.float64
+        The value, NaN for None.
+
+    Examples
+    --------
+    >>> float(float64(2)), bool(np.isnan(float64(None)))
+    (2.0, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (absent design values).
+    """
     return np.float64(math.nan if v is None else v)
 
 
 def words_equal(words, word, one: bool):
-    """Whether each word of a column is ``word`` (one point: a bool; else an array)."""
+    """Whether each word of a column is ``word`` (one point: a bool; else an array).
+
+    Parameters
+    ----------
+    words : list of str or str
+        The column (one point: its word).
+    word : str
+        The word looked for.
+    one : bool
+        One point.
+
+    Returns
+    -------
+    equal : bool or ndarray of bool
+        Per point.
+
+    Examples
+    --------
+    >>> words_equal(["reducer", "multiplier"], "reducer", False).tolist(), words_equal("reducer", "reducer", True)
+    ([True, False], True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (words of the design keys).
+    """
     return words == word if one else np.array([w == word for w in words])
 
 

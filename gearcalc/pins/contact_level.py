@@ -33,7 +33,7 @@ __all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "Con
 
 
 def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
-    """The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6).
+    r"""The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6).
 
     The composite trapezoid per smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the
     Gauss-Kronrod pair ``"gk7"`` (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's
@@ -43,20 +43,70 @@ def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
     in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8 it meets the tolerance where the trapezoid reaches its
     cap of 2^12 intervals on 3 designs, at 1e-9 on the three designs tried (0.13-0.45 s against 0.24-0.54 s).
 
+    .. math:: \text{rule} = \text{"trapezoid"} \ (\text{tol} \ge 3 \cdot 10^{-7}), \qquad
+        \text{"gk7"} \ \text{otherwise}
+
+    Parameters
+    ----------
+    tol : float
+        Relative accuracy target, [-].
+    settings : ContactSettings, optional
+        The contact level's settings (``gk_below``).
+
+    Returns
+    -------
+    rule : str
+        "trapezoid" or "gk7".
+
+    Examples
+    --------
     >>> contact_rule(1e-6), contact_rule(1e-9)
     ('trapezoid', 'gk7')
+
+    References
+    ----------
+    .. [1] A. S. Kronrod, Nodes and Weights of Quadrature Formulas, Consultants Bureau, New York, 1965;
+       docs/spec/pins.md §6.
     """
     return "gk7" if tol < (DEFAULT_SETTINGS if settings is None else settings).gk_below else "trapezoid"
 
 
 def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
-    """(the gear, R_p [mm]) from whichever of R_p and K1 is given (the other None; pins.md §4.1, §7).
+    r"""(the gear, R_p [mm]) from whichever of R_p and K1 is given (the other None; pins.md §4.1, §7).
 
     :class:`~gearcalc.pins.geometry.Cycloid` with 1 - K1 from :func:`gearcalc.pins.checks.pin_circle_curtate`.
 
+    .. math:: R_p = \frac{e\,z_2}{k\,K_1} \ \text{(K1 given)}, \qquad K_1 = \frac{e\,z_2}{k\,R_p} \ \text{(R_p given)}
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Teeth and pins, [-].
+    e : float
+        Eccentricity, [mm].
+    Rp : float or None
+        Pin circle radius, [mm].
+    K1 : float or None
+        Curtate ratio, [-].
+    Rb : float
+        Pin radius, [mm].
+
+    Returns
+    -------
+    g : Cycloid
+        The gear.
+    Rp : float
+        Pin circle radius, [mm].
+
+    Examples
+    --------
     >>> g, Rp = gear(20, 22, 3.9, None, 0.75, 1.95)
     >>> round(Rp, 9), g.R_b
     (57.2, 1.95)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.1, §7.
     """
     Rp, _, omk = pin_circle_curtate(z1, z2, e, Rp, K1)
     return Cycloid(z1, z2, float(e), float(Rp), float(Rb), float(omk)), Rp
@@ -99,9 +149,39 @@ def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: floa
 
     .. math:: \mu_{eff} = (f_c r + f_k)/R_b \text{ where } f R_b \ge f_c r + f_k, \text{ else } f
 
+    Parameters
+    ----------
+    rotating : bool
+        Rotating pins.
+    Rb, r : float
+        Pin and axle radii, [mm].
+    sliding : float
+        Sliding friction f, [-].
+    rolling : float
+        Rolling friction f_k, [mm].
+    axle : float
+        Axle friction f_c, [-].
+
+    Returns
+    -------
+    mu_eff : ndarray
+        Effective coefficient, [-], shape (1,).
+    rolls : ndarray of bool
+        The pins roll, shape (1,).
+    condition : ndarray of bool or None
+        The rolling condition (None for fixed pins).
+
+    Examples
+    --------
     >>> mu, rolls, ok = contact_friction(True, 1.95, 0.95, 0.1, 0.01, 0.1)
     >>> round(float(mu[0]), 12), bool(rolls[0]), bool(ok[0])
     (0.053846153846, True, True)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.5-4.6.
     """
     f = np.array([sliding], dtype=float)
     if not rotating:

@@ -61,7 +61,27 @@ def contact_detail(g, sol, cyc, T_V, w_H, n_d, crank=None, consistent: bool = Fa
 
 
 def rows(columns: dict) -> list[dict]:
-    """Rows (dicts) from equal-length columns; a None column stays None in every row."""
+    """Rows (dicts) from equal-length columns; a None column stays None in every row.
+
+    Parameters
+    ----------
+    columns : dict
+        Name -> a list or array, or None.
+
+    Returns
+    -------
+    rows : list of dict
+        One dict per row.
+
+    Examples
+    --------
+    >>> rows({"a": [1, 2], "b": None})
+    [{'a': 1, 'b': None}, {'a': 2, 'b': None}]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §8 (the detail tables).
+    """
     n = max(len(v) for v in columns.values() if v is not None)
     cols = {k: (v.tolist() if hasattr(v, "tolist") else v) if v is not None else [None] * n
             for k, v in columns.items()}
