@@ -43,6 +43,11 @@ NOT_A_FORMULA = {
     "gearcalc.pins.columns:float64": "value conversion (None as NaN)",
     "gearcalc.pins.columns:words_equal": "comparison of a column of words",
     "gearcalc.pins.detail:rows": "table helper (rows from columns)",
+    "gearcalc.pins.contact_states:filled": "array helper (np.full without its wrapper)",
+    "gearcalc.pins.contact_states:sorted_places": "array helper (places of parts in a stable sort)",
+    "gearcalc.pins.contact_states:merged": "array helper (a sorted concatenation)",
+    "gearcalc.pins.contact_states:same_rows": "comparison of two pin sets",
+    "gearcalc.pins.contact_states:over_rows": "array helper (per-pin rows re-indexed)",
 }
 
 DOC_OF = {
@@ -79,16 +84,8 @@ NOT_YET = {
     "gearcalc.pins.contact_level:satellite_profile",
     "gearcalc.pins.contact_states:concat_states",
     "gearcalc.pins.contact_states:contact_index",
-    "gearcalc.pins.contact_states:distance_to",
-    "gearcalc.pins.contact_states:filled",
-    "gearcalc.pins.contact_states:hermite",
-    "gearcalc.pins.contact_states:hermite_slope",
-    "gearcalc.pins.contact_states:merged",
-    "gearcalc.pins.contact_states:over_rows",
     "gearcalc.pins.contact_states:put_states",
     "gearcalc.pins.contact_states:relayout",
-    "gearcalc.pins.contact_states:same_rows",
-    "gearcalc.pins.contact_states:sorted_places",
     "gearcalc.pins.contact_states:sub_pose",
     "gearcalc.pins.contact_states:take_states",
     "gearcalc.pins.detail:contact_detail",

@@ -99,7 +99,31 @@ PIN_FILL = {"delta": -np.inf, "force": 0.0, "v_t": 0.0, "switch": np.nan, "branc
 
 
 def filled(shape, value, dtype=float):
-    """np.full without its Python wrapper (the scatters of every solve call it): an empty array filled in place."""
+    """``np.full`` without its Python wrapper (the scatters of every solve call it): an empty array filled in place.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        The array's shape.
+    value : scalar
+        The fill value.
+    dtype : dtype, optional
+        The array's type.
+
+    Returns
+    -------
+    out : ndarray
+        The filled array.
+
+    Examples
+    --------
+    >>> filled((2,), 1.5).tolist()
+    [1.5, 1.5]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.6 (the contact level's solves, vectorised).
+    """
     out = np.empty(shape, dtype)
     out.fill(value)
     return out
@@ -112,28 +136,98 @@ def sub_pose(pose: Pose, sel) -> Pose:
 
 
 def distance_to(points, x):
-    """The distance from each of ``x`` to the nearest of ``points`` (sorted, not empty).
+    r"""The distance from each of ``x`` to the nearest of ``points`` (sorted, not empty).
 
+    .. math:: d_j = \min_i |x_j - p_i|
+
+    Parameters
+    ----------
+    points : ndarray
+        Sorted points, not empty.
+    x : ndarray
+        The query points.
+
+    Returns
+    -------
+    d : ndarray
+        The distances, in the unit of x.
+
+    Examples
+    --------
     >>> distance_to(np.array([0.0, 1.0]), np.array([-1.0, 0.25, 0.5, 3.0])).tolist()
     [1.0, 0.25, 0.5, 2.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (margins from the located sign changes).
     """
     k = np.minimum(np.maximum(points.searchsorted(x), 1), points.size)
     return np.minimum(np.abs(x - points[k - 1]), np.abs(x - points[np.minimum(k, points.size - 1)]))
 
 
 def hermite(t, h, fa, da, fb, db):
-    """The cubic Hermite interpolant at t = (x - x_a)/h in [0, 1] of values f and slopes d at x_a and x_a + h."""
+    r"""The cubic Hermite interpolant at t = (x - x_a)/h in [0, 1] of values f and slopes d at x_a and x_a + h.
+
+    .. math:: p(t) = (2t^3 - 3t^2 + 1)\,f_a + (t^3 - 2t^2 + t)\,h\,d_a + (-2t^3 + 3t^2)\,f_b + (t^3 - t^2)\,h\,d_b
+
+    Parameters
+    ----------
+    t : float or ndarray
+        Place in the interval, [-].
+    h : float or ndarray
+        Interval width, in the unit of x.
+    fa, da, fb, db : float or ndarray
+        Values and slopes at both ends.
+
+    Returns
+    -------
+    p : float or ndarray
+        The interpolant.
+
+    Examples
+    --------
+    >>> hermite(0.5, 2.0, 1.0, 0.0, 3.0, 0.0)   # flat at both ends: the mean at the midpoint
+    2.0
+
+    References
+    ----------
+    .. [1] R. L. Burden, J. D. Faires, Numerical Analysis, 9th ed., Brooks/Cole, 2011, §3.4 (Hermite
+       interpolation); docs/spec/pins.md §12.6 (warm starts).
+    """
     t2, t3 = t * t, t * t * t
     return ((2 * t3 - 3 * t2 + 1) * fa + (t3 - 2 * t2 + t) * h * da + (-2 * t3 + 3 * t2) * fb + (t3 - t2) * h * db)
 
 
 def hermite_slope(t, h, fa, da, fb, db):
-    """The derivative d/dx of :func:`hermite` at t = (x - x_a)/h.
+    r"""The derivative d/dx of :func:`hermite` at t = (x - x_a)/h.
 
+    .. math:: p'(x) = \frac{(6t^2 - 6t)(f_a - f_b)}{h} + (3t^2 - 4t + 1)\,d_a + (3t^2 - 2t)\,d_b
+
+    Parameters
+    ----------
+    t : float or ndarray
+        Place in the interval, [-].
+    h : float or ndarray
+        Interval width, in the unit of x.
+    fa, da, fb, db : float or ndarray
+        Values and slopes at both ends.
+
+    Returns
+    -------
+    dp : float or ndarray
+        The slope.
+
+    Examples
+    --------
     >>> bool(abs(hermite_slope(0.3, 2.0, 1.0, -0.5, 4.0, 2.0)
     ...          - (hermite(0.3 + 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0) - hermite(0.3 - 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0))
     ...          / 4e-7) < 1e-8)
     True
+
+    References
+    ----------
+    .. [1] R. L. Burden, J. D. Faires, Numerical Analysis, 9th ed., Brooks/Cole, 2011, §3.4 (Hermite
+       interpolation); docs/spec/pins.md §12.6 (warm starts).
     """
     t2 = t * t
     return (6.0 * t2 - 6.0 * t) * (fa - fb) / h + (3.0 * t2 - 4.0 * t + 1.0) * da + (3.0 * t2 - 2.0 * t) * db
@@ -160,6 +254,25 @@ def sorted_places(thetas: list) -> list:
     """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order).
 
     One part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice).
+
+    Parameters
+    ----------
+    thetas : list of ndarray
+        The crank angles of each part, [rad].
+
+    Returns
+    -------
+    places : list
+        Per part, the positions of its angles in the sorted whole (a slice for one sorted part).
+
+    Examples
+    --------
+    >>> sorted_places([np.array([0.0, 2.0]), np.array([1.0])])
+    [array([0, 2]), array([1])]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (the cycle's nodes sorted by crank angle).
     """
     if len(thetas) == 1 and not (thetas[0][1:] < thetas[0][:-1]).any():
         return [slice(None)]
@@ -174,6 +287,30 @@ def merged(arrays: list, places: list, axis: int):
     """The arrays written at their ``places`` (:func:`sorted_places`) along ``axis``, the last one.
 
     The sorted concatenation in one pass.
+
+    Parameters
+    ----------
+    arrays : list of ndarray
+        The parts.
+    places : list
+        Their places (:func:`sorted_places`).
+    axis : int
+        The axis of the crank angles.
+
+    Returns
+    -------
+    out : ndarray
+        The parts together, sorted.
+
+    Examples
+    --------
+    >>> parts = [np.array([0.0, 2.0]), np.array([1.0])]
+    >>> merged(parts, sorted_places(parts), 0).tolist()
+    [0.0, 1.0, 2.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6.
     """
     a0 = arrays[0]
     shape = list(a0.shape)
@@ -219,7 +356,27 @@ def concat_states(parts: list[Solution]) -> Solution:
 
 
 def same_rows(a, b) -> bool:
-    """Whether two :attr:`Solution.rows` are the same pins."""
+    """Whether two :attr:`Solution.rows` are the same pins.
+
+    Parameters
+    ----------
+    a, b : ndarray of int or None
+        Pin indices (None: all pins).
+
+    Returns
+    -------
+    same : bool
+        True for the same pins.
+
+    Examples
+    --------
+    >>> same_rows(None, None), same_rows(np.array([1, 2]), np.array([1, 3]))
+    (True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.6 (the candidate window's pins).
+    """
     return (a is None and b is None) or (a is not None and b is not None and np.array_equal(a, b))
 
 
@@ -251,6 +408,29 @@ def over_rows(a, src, dst, fill):
     """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted).
 
     A pin that ``a`` does not hold gets ``fill``.
+
+    Parameters
+    ----------
+    a : ndarray
+        Per-pin values, shape (..., len(src), n).
+    src, dst : ndarray of int
+        The pins held and the pins wanted, sorted.
+    fill : scalar
+        The value of a pin ``a`` does not hold.
+
+    Returns
+    -------
+    b : ndarray
+        Shape (..., len(dst), n).
+
+    Examples
+    --------
+    >>> over_rows(np.array([[1.0], [2.0]]), np.array([0, 3]), np.array([0, 1, 3]), -1.0).tolist()
+    [[1.0], [-1.0], [2.0]]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.6 (the candidate window's pins).
     """
     at = np.minimum(np.maximum(src.searchsorted(dst), 0), src.size - 1)
     have = src[at] == dst
