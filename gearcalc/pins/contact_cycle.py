@@ -1051,10 +1051,31 @@ def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
 
 
 def piece_places(ps):
-    """Of nodes sorted by piece (``ps`` their pieces).
+    r"""Of nodes sorted by piece (``ps`` their pieces).
 
     Each run's first position ``start`` and node count ``count``, and per node its run ``piece`` and its place ``j``
     in it (0 at the piece's first node).
+
+    .. math:: j = k - \text{start}_{\text{piece}(k)}
+
+    Parameters
+    ----------
+    ps : ndarray
+        Each node's piece key, sorted by piece.
+
+    Returns
+    -------
+    start, count, piece, j : ndarray of int
+        Each run's first position and node count; each node's run and place in it.
+
+    Examples
+    --------
+    >>> [a.tolist() for a in piece_places(np.array([0.5, 0.5, 0.5, 1.5, 1.5]))]
+    [[0, 3], [3, 2], [0, 0, 0, 1, 1], [0, 1, 2, 0, 1]]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6.
     """
     start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
     count = np.diff(np.append(start, ps.size))
@@ -1096,11 +1117,36 @@ def _trapezoid_weights(xs, ps):
 
 
 def nested_trapezoid_weights(xs, ps):
-    """The composite trapezoid's weights at the levels N and N/2 of each piece.
+    r"""The composite trapezoid's weights at the levels N and N/2 of each piece.
 
     The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece,
     over all nodes and over every other node of each piece (its ends kept): (w, w_half), the levels N and N/2 of a
     piece of N intervals (an odd N: the half level's last interval is the one that is left).
+
+    .. math:: w_k = \tfrac12 (h_{k-1} + h_k) \ \text{within a piece (level N)}, \qquad
+        w_{1/2} \ \text{likewise over every other node (level N/2)}
+
+    Parameters
+    ----------
+    xs : ndarray
+        Nodes sorted by piece, then theta, [rad].
+    ps : ndarray
+        Their piece keys.
+
+    Returns
+    -------
+    w, w_half : ndarray
+        The weights at the levels N and N/2, [rad] (0 at the nodes the half level does not hold).
+
+    Examples
+    --------
+    >>> w, w_half = nested_trapezoid_weights(np.array([0.0, 0.5, 1.0, 1.0, 2.0]), np.array([0.5, 0.5, 0.5, 1.5, 1.5]))
+    >>> w.tolist(), w_half.tolist()
+    ([0.25, 0.5, 0.25, 0.5, 0.5], [0.5, 0.0, 0.5, 0.5, 0.5])
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §8.
     """
     _, count, piece, j = piece_places(ps)
     half = (j % 2 == 0) | (j == count[piece] - 1)
@@ -1206,10 +1252,36 @@ def _interior_states(found: BreakpointRoots, mids, period: float, margin: float)
 
 
 def piece_keys(edges, x, mid):
-    """The nodes' places within the piece of their midpoint, as sortable keys.
+    r"""The nodes' places within the piece of their midpoint, as sortable keys.
 
     The nodes' places 2 p + (x - a_p)/(b_p - a_p) in [2 p, 2 p + 1], p the piece of the midpoint ``mid`` (edges
     sorted): the keys of two pieces never meet, so the piece ends are told apart from their neighbours'.
+
+    .. math:: \text{key} = 2p + \frac{x - a_p}{b_p - a_p} \in [2p,\ 2p + 1], \qquad p = \text{the piece of } mid
+
+    Parameters
+    ----------
+    edges : ndarray
+        Piece ends, sorted, [rad].
+    x : ndarray
+        Nodes, [rad].
+    mid : ndarray
+        The midpoints of their pieces, [rad].
+
+    Returns
+    -------
+    keys : ndarray
+        Sortable keys, [-].
+
+    Examples
+    --------
+    >>> piece_keys(np.array([0.0, 1.0, 2.0]), np.array([0.0, 0.5, 1.0, 1.0, 2.0]),
+    ...            np.array([0.5, 0.5, 0.5, 1.5, 1.5])).tolist()
+    [0.0, 0.5, 1.0, 2.0, 3.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.6.
     """
     p = np.minimum(np.maximum(edges.searchsorted(mid) - 1, 0), edges.size - 2)
     a, b = edges[p], edges[p + 1]
@@ -1579,22 +1651,62 @@ def pin_travel(tau, g: Cycloid) -> float:
     designs disagreed with the crank angles solved one by one by up to 10 %, below it (0.004-0.23, the paper designs
     0.004-0.042) they agreed to the reference's own error.
 
+    .. math:: \frac{\max|\tau|\,(R_p + e)}{R_b}
+
+    Parameters
+    ----------
+    tau : ndarray
+        The satellite's rotations under the load, [rad].
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    travel : float
+        The largest travel over the pin radius, [-].
+
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> round(pin_travel(np.array([1e-3, -2e-3]), g) * g.R_b / (g.R_p + g.e), 12)
     0.002
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7.
     """
     return float(np.max(np.abs(tau))) * (g.R_p + g.e) / g.R_b
 
 
 def deflection_sized(tau, g: Cycloid, travel_max: float = DEFAULT_SETTINGS.travel_max) -> bool:
-    """Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized.
+    r"""Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized.
 
     :func:`pin_travel` at most ``settings.travel_max`` (else the contact level's results are flagged, pins.md §7).
 
+    .. math:: \frac{\max|\tau|\,(R_p + e)}{R_b} \le \text{travel\_max}
+
+    Parameters
+    ----------
+    tau : ndarray
+        The satellite's rotations under the load, [rad].
+    g : Cycloid
+        The gear.
+    travel_max : float, optional
+        The largest travel over the pin radius, [-] (default 0.25).
+
+    Returns
+    -------
+    sized : bool
+        True when the rotation is deflection-sized.
+
+    Examples
+    --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> deflection_sized(np.array([1e-3]), g), deflection_sized(np.array([0.1]), g)
     (True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7.
     """
     return pin_travel(tau, g) <= travel_max
