@@ -662,13 +662,16 @@ class CycleGrid:
 def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: CycleGrid | None = None,
                     n_initial=None, rule: str = "trapezoid", prior: "BreakpointRoots | None" = None,
                     prior_width: float = 1e-2) -> ContactCycle:
-    """Cycle mean of lambda(theta) over one period, with an honest error.
+    r"""Cycle mean of lambda(theta) over one period, with an honest error.
 
     Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
     quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least ``settings.inner_share`` tol |lambda_bar|).
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
     the summary and the detail tables (pins.md §5.6, §6).
+
+    .. math:: \bar\lambda = \frac{1}{T_p} \int_0^{T_p} \lambda(\theta)\,d\theta, \qquad
+        \lambda(\theta) = \frac{\sum_j P_j(\theta)}{T_{sat}\,\omega_H\,k/z_1}
 
     Parameters
     ----------
@@ -692,6 +695,28 @@ def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: Cycl
     ``grid.coarse_scan`` checks a coarse scan the same way (:class:`CycleGrid`); ``grid.at_once`` solves the first
     level's doublings in one call, as with ``n_initial`` from the last pass, whose final grid the first call then
     solves at once.
+
+    Returns
+    -------
+    cycle : ContactCycle
+        The cycle mean and its error, the solved states on the final grid, the breakpoints and the losses.
+
+    Examples
+    --------
+    Stiff contacts reproduce the rigid ideal level (pins.md §5.7; 0.174820 at the ideal level):
+
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e9), 1e4, MULTIPLIER)
+    >>> c = mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-6)
+    >>> c.converged, round(c.loss_ratio, 6)
+    (True, 0.17482)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §5.6, §6.
     """
     grid = CycleGrid() if grid is None else grid
     friction = friction if isinstance(friction, PinFriction) else PinFriction(*friction)
@@ -865,6 +890,24 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     ``settings.relinearise_share`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling
     pins'
     lead switch, flipping friction forces).
+
+    Parameters
+    ----------
+    model : ContactModel
+        The model at the new torque (its window inherited, :meth:`ContactModel.inherit`).
+    cyc : ContactCycle
+        The cycle at the torque of ``prev``.
+    prev : ContactModel
+        The model ``cyc`` was solved with.
+    tol : float
+        Relative accuracy target, [-].
+    stride : int, optional
+        Every stride-th node of each piece is solved anew, the others moved by the change interpolated.
+
+    Returns
+    -------
+    cycle : ContactCycle or None
+        The cycle at the new torque, or None when a piece's sets do not hold (recompute in full).
 
     Examples
     --------
@@ -1291,12 +1334,42 @@ def piece_keys(edges, x, mid):
 
 
 def piece_guess(keys, tau, dtau, key, x, edges):
-    """Warm starts of tau at the nodes ``key`` from the solved nodes of the same piece.
+    r"""Warm starts of tau at the nodes ``key`` from the solved nodes of the same piece.
 
     Warm starts of tau at the nodes ``key`` (:func:`piece_keys`) from the solved nodes of the same piece around each
     (keys sorted): the cubic Hermite interpolant of tau and d tau/d theta (one-sided at the piece's ends, from
     inside it), error O(h^4) in their spacing h; NaN where the piece has no solved node on either side (then the
     model's own warm start, :meth:`ContactModel.state`).  None when nothing is solved yet.
+
+    .. math:: \tau(x) \approx p\!\left(\frac{x - x_a}{h}\right), \qquad h = x_b - x_a \quad \text{(cubic Hermite)}
+
+    Parameters
+    ----------
+    keys : ndarray
+        The solved nodes' keys (:func:`piece_keys`), sorted.
+    tau, dtau : ndarray
+        tau [rad] and d tau/d theta [-] at the solved nodes.
+    key : ndarray
+        The keys of the nodes to start.
+    x : ndarray
+        Their crank angles, [rad].
+    edges : ndarray
+        Piece ends, [rad].
+
+    Returns
+    -------
+    guess : ndarray or None
+        Warm starts, [rad] (NaN without solved nodes on both sides in the piece), or None.
+
+    Examples
+    --------
+    >>> piece_guess(np.array([0.0, 1.0]), np.array([0.0, 1.0]), np.array([1.0, 1.0]), np.array([0.5, 2.5]),
+    ...             np.array([0.5, 1.5]), np.array([0.0, 1.0, 2.0])).tolist()   # tau = theta; no node in piece 2
+    [0.5, nan]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.5, §12.6 (warm starts).
     """
     if keys.size < 2:
         return None
