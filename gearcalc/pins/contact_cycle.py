@@ -37,7 +37,7 @@ __all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoin
 # ============================================================ losses (pins.md §5.6)
 
 def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool):
-    """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
+    r"""Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
 
     The rolling-pin rule of :meth:`gearcalc.pins.friction.PinFriction.losses`.
 
@@ -45,12 +45,42 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
     the larger force sets the spin omega_pin = v_t/R_b and loses mu_rot F |v_t|; another loaded
     contact on the same pin slides at |v_t - omega_pin R_b| with f.
 
+    .. math:: P = \mu F |v_t| \ \text{(fixed pins)}; \qquad \omega_{pin} = \frac{v_{t,lead}}{R_b}, \quad
+        P_{lead} = \mu_{rot} F |v_t|, \quad P_{other} = f F |v_t - \omega_{pin} R_b| \ \text{(rolling pins)}
+
+    Parameters
+    ----------
+    sol : Solution
+        The solved states.
+    R_b : float
+        Pin radius, [mm].
+    mu_eff : float
+        Effective coefficient (mu_rot for rolling pins, else f), [-].
+    sliding_friction : float
+        Sliding friction f, [-].
+    rolls : bool
+        The pins roll.
+
     Returns
     -------
     loss : mu F |v| per contact [N·mm/s per rad/s] (c, R, n) (times 1e-3 omega_H gives W);
     spin : omega_pin per unit crank speed [-] (R, n) (0 for fixed pins and unloaded pins);
     slide : sliding speed per contact [mm/s per rad/s] (c, R, n);
     over the state's rows (:attr:`Solution.rows`: R pins; every other pin carries no force).
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> loss, spin, slide = contact_losses(sol, g.R_b, 0.1, 0.1, False)   # fixed pins: mu F |v_t|, no spin
+    >>> bool(np.allclose(loss, 0.1 * sol.force * np.abs(sol.v_t))), bool(np.all(spin == 0.0))
+    (True, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.6, §5.6.
     """
     return PinFriction(mu_eff, sliding_friction, rolls).losses(sol.force, sol.v_t, R_b)
 
@@ -359,7 +389,7 @@ def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarra
 
 def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6, rolls: bool = False,
                       roots: bool = False):
-    """Breakpoints in [0, T_p] of the contact level's cycle integrand (pins.md §6, §12.9, §12.12).
+    r"""Breakpoints in [0, T_p] of the contact level's cycle integrand (pins.md §6, §12.9, §12.12).
 
     * the ends 0 and T_p;
     * every sign change of a penetration (a contact enters or leaves), of the tangential speed at
@@ -379,6 +409,40 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
     The scan's sign changes are refined by safeguarded Newton (the penetrations, with the slope
     d delta/d theta of the solution) or secant steps (the others) to 1e-12 T_p.  ``roots``: also return the
     located sign changes (:class:`BreakpointRoots`, for the incremental location of a later pass).
+
+    .. math:: \{0,\ T_p\} \cup \{\theta : \delta_j(\theta) = 0\} \cup \{\theta : v_{t,j}(\theta) = 0,\ F_j > 0\}
+        \cup \text{gradings}, \qquad T_p = \frac{2\pi}{z_2}
+
+    Parameters
+    ----------
+    model : ContactModel
+        The contact model.
+    n_scan : int, optional
+        Scan intervals per period.
+    tol : float, optional
+        Relative accuracy target, [-].
+    rolls : bool, optional
+        The pins roll.
+    roots : bool, optional
+        Also return the located sign changes.
+
+    Returns
+    -------
+    breakpoints : ndarray
+        Sorted, in [0, T_p], [rad]; with ``roots`` also the :class:`BreakpointRoots`.
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> bp = cycle_breakpoints(model)
+    >>> float(bp[0]), bool(bp[-1] == 2 * np.pi / 22)   # from 0 to the pin period T_p
+    (0.0, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.9, §12.12.
     """
     found = _scan_roots(model, n_scan, tol, rolls)
     edges = _edges(model, found, tol)
@@ -1585,7 +1649,7 @@ def cycle_peaks(cyc: ContactCycle, g: Cycloid, n_discs: int, rolls: bool) -> Cyc
 
 
 def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.0, 1.0)):
-    """Angular free play of the unloaded satellite at crank angles theta.
+    r"""Angular free play of the unloaded satellite at crank angles theta.
 
     (tau_minus, tau_plus) [rad] (``sides``: only these of the two directions, in this order, -1.0 for tau_minus and
     1.0 for tau_plus).
@@ -1599,6 +1663,37 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
     touches (a profile's curvature turns the normal), the root is found in [0, start].  Before 2026-11-27 the
     doubling started at 1e-12 rad: ~30 more contact evaluations per side, the same roots to 1e-15 rad.  The
     backlash is min over theta of tau_plus - tau_minus (:func:`backlash`).
+
+    .. math:: \tau_+ = \min\{\tau > 0 : \max_j \delta_j(\tau) = 0\}, \qquad
+        \tau_- = \max\{\tau < 0 : \max_j \delta_j(\tau) = 0\}
+
+    Parameters
+    ----------
+    model : ContactModel
+        The contact model (its profile and gear).
+    theta : ndarray
+        Crank angles, [rad].
+    limit : float, optional
+        The largest rotation searched, [rad] (default pi/z1).
+    sides : tuple of float, optional
+        Only these directions (-1.0, 1.0).
+
+    Returns
+    -------
+    tau_minus, tau_plus : ndarray
+        The free play each way, [rad].
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> [abs(float(t[0])) for t in free_play(model, np.array([0.1]))]   # an unmodified cycloid: no play
+    [0.0, 0.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3 (backlash), §8.
     """
     pose = model.pose(theta)
     n = pose.theta.size
