@@ -48,6 +48,11 @@ NOT_A_FORMULA = {
     "gearcalc.pins.contact_states:merged": "array helper (a sorted concatenation)",
     "gearcalc.pins.contact_states:same_rows": "comparison of two pin sets",
     "gearcalc.pins.contact_states:over_rows": "array helper (per-pin rows re-indexed)",
+    "gearcalc.pins.contact_states:take_states": "array helper (states at some crank angles)",
+    "gearcalc.pins.contact_states:put_states": "array helper (states written at some crank angles)",
+    "gearcalc.pins.contact_states:concat_states": "array helper (states sorted together)",
+    "gearcalc.pins.contact_states:relayout": "array helper (states over other pins)",
+    "gearcalc.pins.contact_states:contact_index": "array helper (an index of contacts)",
 }
 
 DOC_OF = {
@@ -71,12 +76,7 @@ NOT_YET = {
     "gearcalc.pins.contact_level:backlash_deg",
     "gearcalc.pins.contact_level:contact_level",
     "gearcalc.pins.contact_level:satellite_profile",
-    "gearcalc.pins.contact_states:concat_states",
-    "gearcalc.pins.contact_states:contact_index",
-    "gearcalc.pins.contact_states:put_states",
-    "gearcalc.pins.contact_states:relayout",
     "gearcalc.pins.contact_states:sub_pose",
-    "gearcalc.pins.contact_states:take_states",
     "gearcalc.pins.detail:contact_detail",
     "gearcalc.pins.detail:detail_tables",
     "gearcalc.pins.detail:ideal_detail",

@@ -234,7 +234,35 @@ def hermite_slope(t, h, fa, da, fb, db):
 
 
 def take_states(sol: Solution, sel) -> Solution:
-    """The states of ``sol`` at the crank angles ``sel`` (an index or slice over the last axis)."""
+    """The states of ``sol`` at the crank angles ``sel`` (an index or slice over the last axis).
+
+    Parameters
+    ----------
+    sol : Solution
+        Solved states.
+    sel : int, slice or ndarray of int
+        The crank angles taken.
+
+    Returns
+    -------
+    part : Solution
+        The states there.
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> part = take_states(sol, slice(0, 3))
+    >>> bool(np.array_equal(part.theta, sol.theta[:3]) and np.array_equal(part.force, sol.force[..., :3]))
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.5, §6 (states over crank angles).
+    """
     n = sol.theta.size
     return Solution(**{f.name: (v[..., sel] if isinstance(v, np.ndarray) and v.shape[-1:] == (n,) and f.name != "rows"
                                 else v)
@@ -242,7 +270,36 @@ def take_states(sol: Solution, sel) -> Solution:
 
 
 def put_states(sol: Solution, part: Solution, sel) -> None:
-    """The states of ``part`` written into ``sol`` at the crank angles ``sel`` (in place; theta is not written)."""
+    """The states of ``part`` written into ``sol`` at the crank angles ``sel`` (in place; theta is not written).
+
+    Parameters
+    ----------
+    sol : Solution
+        Solved states, changed in place.
+    part : Solution
+        The states written.
+    sel : int, slice or ndarray of int
+        Where.
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> put_states(sol, take_states(sol, slice(3, 6)), slice(0, 3))
+    >>> bool(np.array_equal(sol.force[..., :3], sol.force[..., 3:6]))
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.5, §6.
+    """
     n = sol.theta.size
     for f in dataclasses.fields(sol):
         a = getattr(sol, f.name)
@@ -327,6 +384,31 @@ def concat_states(parts: list[Solution]) -> Solution:
 
     The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
     parts' rows differ, :func:`relayout`).
+
+    Parameters
+    ----------
+    parts : list of Solution
+        The parts.
+
+    Returns
+    -------
+    sol : Solution
+        Every state, sorted by theta.
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> both = concat_states([take_states(sol, slice(3, 5)), take_states(sol, slice(0, 3))])
+    >>> bool(np.array_equal(both.theta, sol.theta[:5]))
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (the cycle's nodes sorted by crank angle).
     """
     rows = parts[0].rows
     if not all(same_rows(p.rows, rows) for p in parts):
@@ -385,6 +467,34 @@ def relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
 
     Each per-pin array's rows of these pins, a pin that ``sol`` does not hold with the values of a pin out of reach
     (no contact; :data:`PIN_FILL`; phases then None, to be computed, :meth:`ContactModel.phases`).
+
+    Parameters
+    ----------
+    sol : Solution
+        Solved states.
+    rows : ndarray of int or None
+        The pins wanted, sorted (None: all).
+    z2 : int, optional
+        Pins of the gear (for ``rows`` None).
+
+    Returns
+    -------
+    out : Solution
+        The states over those pins.
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> relayout(sol, np.array([0, 1]), 22).force.shape[1]
+    2
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.6 (the candidate window's pins).
     """
     if same_rows(sol.rows, rows):
         return sol
@@ -446,5 +556,28 @@ def contact_index(profile, sides):
 
     The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
     when ``sides`` is None; :attr:`ContactModel.sides`).
+
+    Parameters
+    ----------
+    profile : Profile
+        The satellite profile (its ``contacts_per_pin``).
+    sides : array_like of int or None
+        Only these contacts (None: all).
+
+    Returns
+    -------
+    index : ndarray of int
+        Shape (c, 1, 1).
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import Cycloid, CycloidProfile
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> contact_index(CycloidProfile(g, 0.0, 0.0), None).ravel().tolist()   # a cycloid: one contact per pin
+    [0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.2, §5.3.
     """
     return (np.arange(profile.contacts_per_pin) if sides is None else np.asarray(sides))[:, None, None]
