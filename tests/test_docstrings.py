@@ -53,6 +53,7 @@ NOT_A_FORMULA = {
     "gearcalc.pins.contact_states:concat_states": "array helper (states sorted together)",
     "gearcalc.pins.contact_states:relayout": "array helper (states over other pins)",
     "gearcalc.pins.contact_states:contact_index": "array helper (an index of contacts)",
+    "gearcalc.pins.contact_level:satellite_profile": "registry: the profile by name (circular_profile's math)",
 }
 
 DOC_OF = {
@@ -73,9 +74,7 @@ NOT_YET = {
     "gearcalc.pins.contact:solve_modes",
     "gearcalc.pins.contact_cycle:engagement_metrics",
     "gearcalc.pins.contact_cycle:gk_interpolated",
-    "gearcalc.pins.contact_level:backlash_deg",
     "gearcalc.pins.contact_level:contact_level",
-    "gearcalc.pins.contact_level:satellite_profile",
     "gearcalc.pins.contact_states:sub_pose",
     "gearcalc.pins.detail:contact_detail",
     "gearcalc.pins.detail:detail_tables",

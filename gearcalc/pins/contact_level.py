@@ -138,6 +138,19 @@ def satellite_profile(g, profile: str, tooth_radius, tooth_circle_radius, radial
     Raises
     ------
     gearcalc.pins.contact.InadmissibleProfile
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> p, overlap = satellite_profile(g, "circular", 5.0, "zero_backlash", 0.0, 0.0)
+    >>> type(p).__name__, round(p.R_t, 2), overlap   # circular_profile's example
+    ('CircularProfile', 111.35, False)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       its circular-arc teeth; docs/spec/pins.md §5.2, §5.3, §7.
     """
     return make_profile(profile, g, ProfileParams(tooth_radius, tooth_circle_radius, radial_mod, equidistant_mod))
 
@@ -192,10 +205,36 @@ def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: floa
 
 
 def backlash_deg(model, play_free: bool) -> float:
-    """The satellite's play at no load [deg] (pins.md §5.3).
+    r"""The satellite's play at no load [deg] (pins.md §5.3).
 
     0 where the profile has none by construction (an unmodified cycloid, the zero-backlash tooth circle), else
     :func:`gearcalc.pins.contact.backlash`.
+
+    .. math:: \Delta\varphi = \frac{180}{\pi} \min_\theta \left(\tau_+(\theta) - \tau_-(\theta)\right)
+
+    Parameters
+    ----------
+    model : ContactModel
+        The contact model (its profile and gear).
+    play_free : bool
+        The profile has no play by construction.
+
+    Returns
+    -------
+    backlash : float
+        The play, [deg].
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> p, _ = satellite_profile(g, "circular", 5.0, 110.0, 0.0, 0.0)   # R_t below the zero-backlash 111.35 mm
+    >>> round(backlash_deg(ContactModel(g, p, contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER), False), 3)
+    6.286
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3, §8.
     """
     return 0.0 if play_free else math.degrees(pc.backlash(model))
 
