@@ -750,9 +750,23 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
     pieces : ndarray, optional
         each node's piece key (the trapezoid's final grid, :attr:`ContactCycle.nodes`): Richardson-corrected means.
 
+    .. math:: B = -\sum_i F_i\,(n_i + q_i\,z \times n_i), \qquad T_H = \sigma\,e\,B_t, \qquad
+        \text{stress factor} = \max \frac{F}{R_{eff}}
+
     Returns
     -------
     CrankBearing
+
+    Examples
+    --------
+    Friction-free forces: the crank torque's mean is T_sat/u (u = z1/k = 21):
+
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> cb = crank_bearing(model, cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol, None, 1)
+    >>> round(cb.crank_torque_mean * 1e3 * 21 / 1e4, 9)
+    1.0
 
     References
     ----------
@@ -839,6 +853,16 @@ def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: fl
     Returns
     -------
     ContactOperating
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> cyc = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5)
+    >>> op = operating_values(cc.cycle_peaks(cyc, g, 1, False), g, cyc.loss_ratio, 10.0, 100.0, 0.1, 0.1, False)
+    >>> bool(abs(op.loss_mean - cyc.loss_ratio * 10.0 * 100.0 / 21) < 1e-12)   # lambda_bar T_V omega_H k/z1
+    True
 
     References
     ----------
