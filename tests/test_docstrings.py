@@ -54,6 +54,7 @@ NOT_A_FORMULA = {
     "gearcalc.pins.contact_states:relayout": "array helper (states over other pins)",
     "gearcalc.pins.contact_states:contact_index": "array helper (an index of contacts)",
     "gearcalc.pins.contact_level:satellite_profile": "registry: the profile by name (circular_profile's math)",
+    "gearcalc.pins.contact:solve_modes": "driver: runs cycle_at_torque for each mode (its math there)",
 }
 
 DOC_OF = {
@@ -67,9 +68,6 @@ NOT_YET = {
     "gearcalc.pins.columns:ideal_columns",
     "gearcalc.pins.columns:level_columns",
     "gearcalc.pins.columns:operating",
-    "gearcalc.pins.contact:equilibrium_residual",
-    "gearcalc.pins.contact:mode_efficiencies",
-    "gearcalc.pins.contact:solve_modes",
     "gearcalc.pins.contact_cycle:engagement_metrics",
     "gearcalc.pins.contact_cycle:gk_interpolated",
     "gearcalc.pins.contact_level:contact_level",

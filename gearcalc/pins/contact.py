@@ -569,9 +569,33 @@ def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: floa
     Parameters are those of :func:`cycle_at_torque`; ``multiplier``: the requested mode; ``rule``: the cycle
     mean's quadrature rule (:func:`mean_loss_ratio`).
 
+    Parameters
+    ----------
+    case : ContactCase
+        The gear, profile, law, discs, friction and torque [N·m].
+    multiplier : bool
+        The requested mode.
+    consistent : bool
+        The friction-consistent model (both modes, friction in the balance); else first-order.
+    tol : float, optional
+        Relative accuracy target, [-].
+    rule : str, optional
+        The cycle mean's quadrature rule.
+    settings : ContactSettings, optional
+        The contact level's settings.
+
     Returns
     -------
     ModeCycles
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> case = ContactCase(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1, (0.1, 0.1, False),
+    ...                    10.0, True)
+    >>> modes = solve_modes(case, True, True, tol=1e-4)
+    >>> {m: round(t.loss_ratio, 4) for m, t in modes.runs.items()}, modes.jams   # multiplier True, reducer False
+    ({True: 0.1536, False: 0.2028}, {})
 
     References
     ----------
@@ -593,12 +617,44 @@ def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: floa
 
 
 def equilibrium_residual(runs, tol: float) -> tuple[float, float]:
-    """The largest equilibrium residual of the cycles' moment balances and its ratio to the limit.
+    r"""The largest equilibrium residual of the cycles' moment balances and its ratio to the limit.
 
     The largest equilibrium residual of the cycles' moment balances relative to the torque, and its largest ratio to
     the limit: 1/100 of ``tol`` (inner tolerances 100x tighter, pins.md §6), or 100x the round-off floor of the
     penetrations (stiff contacts: deflections of 1e-7 mm on R_p); above 1 the balance is not met (pins.md §5.5).
     ``runs``: :class:`TorqueCycle` objects.
+
+    .. math:: r = \max \frac{|M - M_{req}|}{T_{sat}}, \qquad
+        \text{excess} = \max \frac{r}{\max(\text{tol}/100,\ 100\,\varepsilon_M / T_{sat})}
+
+    (ε_M the round-off floor of the residual, :attr:`Solution.noise`).
+
+    Parameters
+    ----------
+    runs : iterable of TorqueCycle
+        The solved cycles.
+    tol : float
+        Relative accuracy target, [-].
+
+    Returns
+    -------
+    residual : float
+        The largest residual relative to the torque, [-].
+    excess : float
+        Its largest ratio to the limit, [-] (above 1: the balance is not met).
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> case = ContactCase(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1, (0.1, 0.1, False),
+    ...                    10.0, True)
+    >>> residual, excess = equilibrium_residual(solve_modes(case, True, True, tol=1e-4).runs.values(), 1e-4)
+    >>> residual < 1e-12, excess < 1.0
+    (True, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.5, §6.
     """
     residual, excess = 0.0, 0.0
     for t in runs:
@@ -882,11 +938,26 @@ def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: fl
 
 
 def mode_efficiencies(modes: ModeCycles, consistent: bool, torque, ratio: float, multiplier, torque_on_V):
-    """The efficiencies and shaft torques of both modes from the contact cycles (pins.md §4.7, §4.9).
+    r"""The efficiencies and shaft torques of both modes from the contact cycles (pins.md §4.7, §4.9).
 
     Friction-consistent: each mode from its own loss ratio (a jammed mode self-locks); first-order: both from
     the requested mode's.  ``torque``, ``multiplier``, ``torque_on_V``: arrays of one operating point, as
     :func:`~gearcalc.pins.operating.efficiency_torques` takes them.
+
+    .. math:: \eta_{VH} = 1 - \bar\lambda_{VH}, \qquad \eta_{HV} = \frac{1}{1 + \bar\lambda_{HV}}
+
+    Parameters
+    ----------
+    modes : ModeCycles
+        :func:`solve_modes` of the operating point.
+    consistent : bool
+        The friction-consistent model.
+    torque : ndarray
+        The torque T, [N·m], shape (1,).
+    ratio : float
+        The ratio u = z1/k, [-].
+    multiplier, torque_on_V : ndarray of bool
+        The mode and the shaft of the torque, shape (1,).
 
     Returns
     -------
@@ -894,6 +965,21 @@ def mode_efficiencies(modes: ModeCycles, consistent: bool, torque, ratio: float,
         Of the multiplier's and the reducer's loss ratio.
     locked : dict
         {multiplier (bool): whether that mode self-locks}.
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> case = ContactCase(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1, (0.1, 0.1, False),
+    ...                    10.0, True)
+    >>> modes = solve_modes(case, True, True, tol=1e-4)
+    >>> et_m, et_r, locked = mode_efficiencies(modes, True, np.array([10.0]), g.ratio, np.array([True]),
+    ...                                        np.array([True]))
+    >>> round(float(et_m.eta_vh[0]), 4), round(float(et_r.eta_hv[0]), 4)   # 1 - 0.1536, 1/(1 + 0.2028)
+    (0.8464, 0.8314)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.7, §4.9.
     """
     from .operating import efficiency_torques
 
