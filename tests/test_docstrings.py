@@ -55,6 +55,8 @@ NOT_A_FORMULA = {
     "gearcalc.pins.contact_states:contact_index": "array helper (an index of contacts)",
     "gearcalc.pins.contact_level:satellite_profile": "registry: the profile by name (circular_profile's math)",
     "gearcalc.pins.contact:solve_modes": "driver: runs cycle_at_torque for each mode (its math there)",
+    "gearcalc.pins.columns:operating": "value conversion (the operating point's columns)",
+    "gearcalc.pins.columns:friction_models": "rule dispatch: the friction model per point",
 }
 
 DOC_OF = {
@@ -63,11 +65,6 @@ DOC_OF = {
 }
 
 NOT_YET = {
-    "gearcalc.pins.columns:formula_columns",
-    "gearcalc.pins.columns:friction_models",
-    "gearcalc.pins.columns:ideal_columns",
-    "gearcalc.pins.columns:level_columns",
-    "gearcalc.pins.columns:operating",
     "gearcalc.pins.contact_cycle:engagement_metrics",
     "gearcalc.pins.contact_cycle:gk_interpolated",
     "gearcalc.pins.contact_level:contact_level",
