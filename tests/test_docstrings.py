@@ -65,13 +65,10 @@ DOC_OF = {
 }
 
 NOT_YET = {
-    "gearcalc.pins.contact_cycle:engagement_metrics",
     "gearcalc.pins.contact_cycle:gk_interpolated",
-    "gearcalc.pins.contact_level:contact_level",
     "gearcalc.pins.contact_states:sub_pose",
     "gearcalc.pins.detail:contact_detail",
     "gearcalc.pins.detail:detail_tables",
-    "gearcalc.pins.detail:ideal_detail",
     "gearcalc.roots:bisect",
     "gearcalc.roots:find_root",
     "gearcalc.roots:minimize_golden",

@@ -1501,17 +1501,44 @@ def _pieces_hold(nodes, ref_sols, edges, rolls: bool, tol: float, period: float,
 # ============================================================ cycle metrics (pins.md §5.7, §8)
 
 def engagement_metrics(sol: Solution, spin, low: float = 0.1):
-    """The paper's circular-profile metrics from one period of all pins (pins.md §5.7(b)).
+    r"""The paper's circular-profile metrics from one period of all pins (pins.md §5.7(b)).
 
     All pins' samples together cover one full engagement (a pin's history has period 2 pi, the pins
     are T_p apart).  They are ordered by zeta = theta - phi_j (time order).  The loaded interval is the
     longest run of consecutive samples with a loaded contact.
+
+    .. math:: \frac{\max_{second\ half} F}{\max_{first\ half} F}, \qquad \zeta = \theta - \varphi_j
+
+    Parameters
+    ----------
+    sol : Solution
+        The states over one period.
+    spin : ndarray
+        Pin spin per unit crank speed, [-] (:func:`contact_losses`).
+    low : float, optional
+        The share of max |spin| below which the spin is low, [-].
 
     Returns
     -------
     dict: exit_entry_force_ratio (max F in the second half of the loaded interval / max in the first),
     spin_reversals (sign changes of the spin in the interval), low_spin_fraction (share of the interval
     with |spin| < low max|spin|; None when the pins do not spin), loaded_from, loaded_to (zeta ends) [rad].
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> m = engagement_metrics(sol, contact_losses(sol, g.R_b, 0.1, 0.1, False)[1])
+    >>> m["spin_reversals"], m["low_spin_fraction"], round(m["loaded_to"] - m["loaded_from"], 3)   # k = 1: about pi
+    (0, None, 3.142)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       its circular-profile findings; docs/spec/pins.md §5.7(b).
     """
     F = sol.force.max(axis=0).ravel()
     z = sol.zeta.ravel()

@@ -317,6 +317,19 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     settings : ContactSettings or None
         The numerical settings (:mod:`gearcalc.pins.contact_settings`; None: the defaults).
 
+    Examples
+    --------
+    The paper's cycloidal u = 10 design with fixed pins, multiplier, T_H = 100 N·m (pins.md §10), Hertz contacts
+    (0.87363 at the rigid ideal level):
+
+    >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    >>> prof, _ = satellite_profile(g, "cycloidal", "full", "zero_backlash", 0.0, 0.0)
+    >>> design = ContactDesign(g, prof, pc.contact_law("hertz", face_width=10.0), 1, False, None)
+    >>> point = dict(sliding=0.1, rolling=None, axle=None, mode="multiplier", shaft="H", torque=100.0, speed=None)
+    >>> et = contact_level(design, point, "consistent", 1e-5, True).et_multiplier
+    >>> round(float(et.efficiency[0]), 3), round(float(et.T_V[0] * et.eta_vh[0]), 6)   # eta T_V = u T_H = 1000 N·m
+    (0.874, 1000.0)
+
     Returns
     -------
     ContactLevel
@@ -324,6 +337,12 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     Raises
     ------
     gearcalc.pins.contact.NoEquilibrium, gearcalc.pins.contact.Jam, gearcalc.pins.contact.Unresolvable
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.7, §4.9, §5, §7, §10.
     """
     g, n_discs = design.g, design.n_discs
     mu_a, rolls_a, rolling_ok = contact_friction(design.rotating, g.R_b, design.axle_radius, point["sliding"],

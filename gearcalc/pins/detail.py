@@ -121,13 +121,60 @@ def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist
 
 def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, omega_V, rolls, n_discs,
                  torque_V=None):
-    """The ideal level's detail tables of one gear (pins.md §8) on its final grid ``t`` (piece midpoints ``t_mid``).
+    r"""The ideal level's detail tables of one gear (pins.md §8) on its final grid ``t`` (piece midpoints ``t_mid``).
 
     :func:`detail_tables` with the crank history of :func:`~gearcalc.pins.consistent.crank_history`.
 
     With ``consistent`` the forces are the friction-consistent ones, and the satellite torque follows from
     ``torque_V`` [N·m], the torque on V of the friction-consistent efficiency (pins.md §4.9; None: self-locking);
     else ``torque_sat`` [N·mm] (None without a torque).  omega_V [rad/s] or None (no crank speed).
+
+    .. math:: F_i = \frac{T_{sat}\,|l_i|}{D}, \qquad B = -\sum_i F_i\,(n_i + q_i\,z \times n_i)
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    psi_star : float
+        End of the loaded arc, [rad].
+    t, t_mid : ndarray
+        The final grid's nodes t = theta/T_p and their pieces' midpoints, [-].
+    mu_eff : float
+        Effective friction coefficient, [-].
+    sigma : int
+        +1 reducer, -1 multiplier.
+    consistent : bool
+        The friction-consistent forces.
+    torque_sat : float or None
+        Torque on one disc, [N·mm].
+    omega_V : float or None
+        Output speed, [rad/s].
+    rolls : bool
+        The pins roll.
+    n_discs : int
+        Discs, [-].
+    torque_V : float, optional
+        Torque on V, [N·m].
+
+    Returns
+    -------
+    tables : dict
+        ``crank`` and ``contacts``: lists of rows (dicts).
+
+    Examples
+    --------
+    Friction-free forces: the bearing's tangential force is T_H/e = T_sat k/(z1 e) = 1e4 x 2/(20 x 3.9) N:
+
+    >>> from gearcalc.pins.geometry import Cycloid, crest_cutoff
+    >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    >>> d = ideal_detail(g, crest_cutoff(g), np.array([0.0, 0.5]), np.array([0.5, 0.5]), 0.1, -1, False, 1e4, None,
+    ...                  False, 1, None)
+    >>> round(d["crank"][0]["bearing_tangential_N"], 6), d["crank"][0]["loaded_pins"]
+    (-256.410256, 7)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.9, §8.
     """
     from .consistent import crank_history
     from .cycle import cycle_state
