@@ -226,3 +226,125 @@ def minimize_golden(f, a, b, rtol: float = 1e-6, xtol: float = 0.0, maxiter: int
     err = np.maximum(0.5 * (hi - lo), floor * np.abs(x))
     on_bound = (np.abs(x - a0) <= err) | (np.abs(x - b0) <= err) | (k >= 2)
     return MinResult(x, err, fun, on_bound, it)
+
+
+
+@dataclass
+class MaxBoundResult:
+    """Maximisers with a bound on what each bracket can still hide.
+
+    x : best point found; value : f(x); bound : value + bound >= the maximum of f over the bracket when f is
+    concave there (:func:`maximize_bracketed`); converged : bound <= the target (else the bracket reached the
+    round-off of x first, or the iteration cap); iterations : the most any element used; evaluations : points
+    of f evaluated, summed over the elements.
+    """
+
+    x: np.ndarray
+    value: np.ndarray
+    bound: np.ndarray
+    converged: np.ndarray
+    iterations: int
+    evaluations: int
+
+
+
+SECTIONS = 8
+"""New points per bracket and iteration of :func:`maximize_bracketed` (one call of f)."""
+
+
+def _drop_bound(xl, xb, xr, fl, fb, fr):
+    """The tangent bound of a concave f over [xl, xr] above its best sample fb at xb (xl < xb < xr)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        b = np.maximum((fb - fl) * (xr - xb) / (xb - xl), (fb - fr) * (xb - xl) / (xr - xb))
+    return np.where((xb > xl) & (xr > xb) & np.isfinite(b), np.maximum(b, 0.0), np.inf)
+
+
+def maximize_bracketed(f, a, b, fa, fb, target, maxiter: int = 60, sections: int = SECTIONS) -> MaxBoundResult:
+    r"""Maxima of ``f`` on the brackets ``[a, b]`` (element-wise), each refined only until the bound on what its
+    bracket can still hide is <= ``target``.
+
+    Each iteration evaluates ``sections`` new points per bracket in one call of f, sorts them with the bracket
+    ends and the best point so far, and keeps the neighbours x_{i-1} < x_i < x_{i+1} of the best sample x_i as
+    the next bracket.  The points: the cell centres of ``sections`` equal cells of the bracket, or, once the
+    parabola through the bracket and its best point is concave with curvature K, the cell centres of a box
+    around its vertex with cells of width sqrt(target/K)/2 (so a smooth maximum is resolved in a few calls; a box
+    that misses it leaves a bracket that still holds it, and the next step samples that bracket: the bracket
+    shrinks at least 4-fold every two calls).
+
+    The bound: for f concave on [x_{i-1}, x_{i+1}], f'(x_i) lies between the secant slopes on either side, so
+    the maximum is at most
+
+    .. math:: f_i + \max\Big((f_i - f_{i-1})\frac{x_{i+1} - x_i}{x_i - x_{i-1}},\
+              (f_i - f_{i+1})\frac{x_i - x_{i-1}}{x_{i+1} - x_i}\Big)
+
+    (with equal spacing, the larger drop to a neighbour).  It holds at a kink where f peaks (f is concave
+    across it); a convex kink (f the larger of two smooth pieces) is never a maximum and leaves the bracket as
+    it shrinks.  An element whose bracket reaches the round-off of x (16 eps (|a| + |b| + b - a)) before its
+    bound meets the target stops there, ``converged`` False, with the bound it reached.
+
+    Parameters
+    ----------
+    f : callable ``f(x, idx)``: x of shape (len(idx), k), the points of the elements ``idx`` (1-D integer array)
+        still refined; returns f there, the shape of x.
+    a, b : bracket ends (1-D, a < b); fa, fb : f there.
+    target : the bound wanted [unit of f], scalar or per element.
+    maxiter : iteration cap.
+    sections : new points per iteration.
+
+    Returns
+    -------
+    MaxBoundResult
+
+    Examples
+    --------
+    >>> r = maximize_bracketed(lambda x, i: -(x - 0.3) ** 2, np.array([0.0]), np.array([1.0]),
+    ...                        np.array([-0.09]), np.array([-0.49]), 1e-12)
+    >>> bool(r.converged[0]), bool(r.value[0] <= 0.0 <= r.value[0] + r.bound[0] <= 1e-12)
+    (True, True)
+    """
+    lo, hi = np.asarray(a, dtype=float).copy(), np.asarray(b, dtype=float).copy()
+    flo, fhi = np.asarray(fa, dtype=float).copy(), np.asarray(fb, dtype=float).copy()
+    target = np.broadcast_to(np.asarray(target, dtype=float), lo.shape)
+    scale = np.abs(lo) + np.abs(hi) + (hi - lo)  # the round-off of x: 16 eps of this (also about x = 0)
+    k = int(sections)
+    cells = (np.arange(k) + 0.5) / k
+    x, value = 0.5 * (lo + hi), np.maximum(flo, fhi)  # the first iteration: no best interior point yet
+    first, shrunk = np.ones(lo.shape, bool), np.ones(lo.shape, bool)
+    bound = np.full(lo.shape, np.inf)
+    act = np.arange(lo.size)
+    evaluations, it = 0, 0
+    while act.size and it < maxiter:
+        it += 1
+        lft, h, xb = lo[act], hi[act], x[act]
+        fl, fh, fbest = flo[act], fhi[act], value[act]
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            s_l, s_r = (fbest - fl) / (xb - lft), (fh - fbest) / (h - xb)
+            curv = 2.0 * (s_l - s_r) / (h - lft)  # -f'' of the parabola through (lft, xb, h)
+            vertex = xb - 0.5 * ((xb - lft) ** 2 * (fbest - fh) - (h - xb) ** 2 * (fbest - fl)) / (
+                (xb - lft) * (fbest - fh) + (h - xb) * (fbest - fl))
+            width = 0.5 * k * np.sqrt(target[act] / curv)  # two samples tied about a maximum: bound K w^2 <= target/4
+        zoom = ~first[act] & shrunk[act] & (curv > 0) & np.isfinite(vertex) & (width < 0.5 * (h - lft))
+        zl = np.clip(vertex - 0.5 * width, lft, h - width)
+        zl = np.where(zoom, zl, lft)
+        zw = np.where(zoom, width, h - lft)
+        pts = zl[:, None] + zw[:, None] * cells[None, :]
+        vals = np.asarray(f(pts, act), dtype=float)
+        evaluations += pts.size
+        fresh = first[act]  # no best point yet: its slot repeats the left end
+        allx = np.concatenate([lft[:, None], pts, np.where(fresh, lft, xb)[:, None], h[:, None]], axis=1)
+        allf = np.concatenate([fl[:, None], vals, np.where(fresh, fl, fbest)[:, None], fh[:, None]], axis=1)
+        order = np.argsort(allx, axis=1, kind="stable")
+        allx, allf = np.take_along_axis(allx, order, 1), np.take_along_axis(allf, order, 1)
+        inner = allf.copy()
+        inner[:, 0] = inner[:, -1] = -np.inf
+        i = np.argmax(inner, axis=1)
+        rows = np.arange(act.size)
+        xl, xi, xr = allx[rows, i - 1], allx[rows, i], allx[rows, i + 1]
+        fl2, fi, fr2 = allf[rows, i - 1], allf[rows, i], allf[rows, i + 1]
+        x[act], value[act], first[act] = xi, fi, False
+        bound[act] = _drop_bound(xl, xi, xr, fl2, fi, fr2)
+        shrunk[act] = (xr - xl) <= 0.25 * (h - lft)  # else (a box that missed) the next step samples the bracket
+        lo[act], hi[act], flo[act], fhi[act] = xl, xr, fl2, fr2
+        stalled = (xr - xl) <= 16 * EPS * scale[act]
+        act = act[~((bound[act] <= target[act]) | stalled)]
+    return MaxBoundResult(x, value, bound, bound <= target, it, evaluations)

@@ -94,6 +94,45 @@ def test_pins_ideal_level_is_the_stiff_contact_limit():
     assert r["model_error"] is not None and r["model_error"] < 1e-4
 
 
+def test_pins_contact_high_resolution_run_is_independent(monkeypatch):
+    # issue 34 B: the contact level at tol 1e-9 was compared with itself at tol 1e-9 (error 0 by construction); its
+    # high-resolution run is now 100x tighter than any tol of the report, with another quadrature rule than the
+    # level's own at any tol (trapezoid at tol >= 3e-7, gk7 below, pins.md §6)
+    from gearcalc.pins import contact_level
+
+    seen = []
+    real = A._rerun
+
+    def spy(design, level, tol):
+        seen.append((level, tol, contact_level.contact_rule(tol)))
+        return real(design, level, tol)
+
+    monkeypatch.setattr(A, "_rerun", spy)
+    A._CACHE.clear()
+    (r,) = A.report(["pins"], (1e-9,), budget=0, levels={"contact"}, cases={"typical_circ_u10_fixed"},
+                    references=False)
+    high = [(tol, rule) for level, tol, rule in seen if level == "contact"]
+    assert high == [(A.HIGH_TOL_CONTACT_CHECK, A.HIGH_RULE_CONTACT)]
+    assert A.HIGH_TOL_CONTACT_CHECK <= 1e-9 / 100
+    assert A.HIGH_RULE_CONTACT not in {contact_level.contact_rule(t) for t in A.TOLS}
+    assert contact_level.contact_rule(1e-9) == "gk7"          # the patch is undone
+    assert r["value_high"] != r["value"] or r["error"] == 0.0  # a real comparison (equal only by chance)
+    A._CACHE.clear()
+
+
+def test_suite_has_the_band_designs():
+    # issue 34 B: the circular-arc band designs (configs/pins_circ_band_u10.toml, _u30.toml), where the contact
+    # level's quadrature is hardest, are in the pins suite, verbatim
+    from pathlib import Path
+
+    names = {name for name, _, _ in A.suite("pins")}
+    assert {"hard_band_u10", "hard_band_u30"} <= names
+    configs = Path(__file__).resolve().parent.parent / "configs"
+    for u in ("u10", "u30"):
+        shipped = (configs / f"pins_circ_band_{u}.toml").read_text()
+        assert (A.SUITE / f"pins_hard_band_{u}.toml").read_text().endswith(shipped)
+
+
 def test_pins_contact_estimate_is_honest_on_a_circular_design():
     _check_honest(A.report(["pins"], (1e-3,), budget=0, levels={"contact"}, cases={"typical_circ_u10_fixed"}))
 

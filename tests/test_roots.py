@@ -89,3 +89,30 @@ def test_golden_vectorised():
     x0 = np.array([1.0, 2.5, 4.0])
     r = minimize_golden(lambda x: (x - x0) ** 2, 0.0, 5.0, rtol=1e-9)
     assert np.all(np.abs(r.x - x0) <= r.err)
+
+
+# a smooth peak (reference: scipy's bounded Brent on the negated function; accurate to round-off in value at a
+# smooth maximum), a flat-topped (quartic) peak, a concave kink and sin near the bracket end (exact maxima 0, 0, 1)
+MAX_CASES = [
+    (lambda x: np.cos(3 * x) + 0.1 * np.sin(7 * x), -0.5, 0.5, None),
+    (lambda x: -(x - 0.2) ** 4, -1.0, 1.0, 0.0),
+    (lambda x: -np.abs(x - 0.3) * 5 - (x - 0.3) ** 2, 0.0, 1.0, 0.0),
+    (lambda x: np.sin(x), 0.0, 1.6, 1.0),
+]
+
+
+@pytest.mark.parametrize("f,a,b,exact", MAX_CASES)
+@pytest.mark.parametrize("target", [1e-6, 1e-12])
+def test_maximize_bracketed_bound_covers_the_maximum(f, a, b, exact, target):
+    from scipy.optimize import minimize_scalar
+
+    from gearcalc.roots import maximize_bracketed
+
+    ref = exact
+    if ref is None:
+        ref = -minimize_scalar(lambda x: -float(f(x)), bounds=(a, b), method="bounded", options={"xatol": 1e-13}).fun
+    r = maximize_bracketed(lambda x, i: f(x), np.array([a]), np.array([b]), f(np.array([a])), f(np.array([b])),
+                           target)
+    assert bool(r.converged[0]) and r.bound[0] <= target
+    assert r.value[0] <= ref + 1e-15 and ref <= r.value[0] + r.bound[0] + 1e-15
+    assert r.iterations <= 40

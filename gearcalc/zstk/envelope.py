@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..roots import minimize_golden
+from ..roots import maximize_bracketed, minimize_golden
 from .chain import Chain, close_chain, roller_angles, step_chain  # noqa: F401 (close_chain: the examples)
 from .. import hertz
 from .geometry import centre_distance, reduced_radii, roller_radius
@@ -44,7 +44,8 @@ class SweepResult:
     """Maximum of a periodic function found by grid + golden refinement + grid doubling.
 
     x : argmax [rad]; value : the maximum; err : error estimate of value; samples : the grid
-    size M of the final level; step : the grid step [rad]; capped : the M cap was reached.
+    size M of the final level; step : the grid step [rad]; capped : the target was not met (the M cap was reached,
+    or with ``floor`` the refinement reached the round-off of the angles first).
     """
 
     x: float
@@ -53,6 +54,7 @@ class SweepResult:
     samples: int
     step: float
     capped: bool = False
+    floor: bool = False
 
 
 def _refine(fun, xs, ys, period, start, rtol, top=8):
@@ -384,51 +386,72 @@ def roller_sigma(chain: Chain, mats: Materials, position, relative_direction, lo
     return out.reshape(pos.shape)
 
 
-ZOOM_POINTS = 7
-"""Points per axis of the shrinking-box refinement of :func:`position_direction_max` (the box shrinks 3-fold per
-step)."""
+JOINT_INNER_TOP = 2
+"""Local maxima over the relative direction refined per roller position (f is one bump there, spec §8; the second
+is the margin for a kink)."""
+JOINT_OUTER_TOP = 4
+"""Local maxima over the roller position (of the maximum over the directions) refined per level."""
+JOINT_INNER_SHARE = 0.02
+"""The inner (direction) maximisations' bound as a share of the outer one's target: their round-off-like error
+enters the outer tangent bound's secants."""
 
 
-def _grid_maxima(values, top):
-    """Indices (j, k) of the ``top`` largest local maxima of a grid periodic in its second axis (ends of the first
-    axis compared one-sidedly), without those that cannot reach the grid's maximum: a local maximum whose value
-    plus its largest difference to a neighbour stays below the grid maximum (refinement within one grid step
-    raises a smooth maximum by less than that)."""
-    padded = np.pad(values, ((1, 1), (0, 0)), constant_values=-np.inf)
-    peak = np.ones(values.shape, bool)
-    rise = np.zeros(values.shape)
-    for dj in (-1, 0, 1):
-        for dk in (-1, 0, 1):
-            if dj or dk:
-                nb = np.roll(padded, -dk, axis=1)[1 + dj:1 + dj + values.shape[0]]
-                peak &= values >= nb
-                rise = np.maximum(rise, np.where(np.isfinite(nb), values - nb, 0.0))
-    j, k = np.nonzero(peak)
-    if j.size == 0:
-        j, k = np.unravel_index(np.argmax(values), values.shape)
-        return np.atleast_1d(j), np.atleast_1d(k)
-    order = np.argsort(-values[j, k], kind="stable")[:top]
-    j, k = j[order], k[order]
-    keep = values[j, k] + rise[j, k] >= values[j[0], k[0]]
-    return j[keep], k[keep]
+def _inner_direction_max(f, pos, m_count, target=None, scale=None):
+    r"""g(phi) = max over rho of f(phi, rho) at each position (1-D ``pos``): a grid of ``m_count`` relative directions
+    over a turn, its :data:`JOINT_INNER_TOP` largest local maxima (periodic) refined within one grid step by
+    :func:`gearcalc.roots.maximize_bracketed` to ``target`` (None: ``scale`` times the grid's largest |f|).
+    Returns (g, the bound on what g misses at each position, rho at g, all converged, the target)."""
+    rel = 2 * np.pi * np.arange(m_count) / m_count
+    rel = np.where(rel > np.pi, rel - 2 * np.pi, rel)
+    vals = f(pos[:, None], rel[None, :])
+    if target is None:
+        target = scale * float(np.max(np.abs(vals)))
+    left, right = np.roll(vals, 1, axis=1), np.roll(vals, -1, axis=1)
+    peak = (vals >= left) & (vals >= right) & ((vals > left) | (vals > right))  # not a flat stretch (unloaded)
+    score = np.where(peak, vals, -np.inf)
+    k = np.argsort(-score, axis=1, kind="stable")[:, :JOINT_INNER_TOP]
+    rows = np.broadcast_to(np.arange(pos.size)[:, None], k.shape)
+    ok = np.isfinite(score[rows, k])
+    ok[:, 0] |= ~ok[:, 0]  # a row without a local maximum (a constant row) refines its first grid point
+    row, kk = rows[ok], k[ok]
+    h = 2 * np.pi / m_count
+    res = maximize_bracketed(lambda x, i: f(pos[row[i]][:, None], x), rel[kk] - h, rel[kk] + h,
+                             vals[row, (kk - 1) % m_count], vals[row, (kk + 1) % m_count], target)
+    at_grid = vals[row, kk]
+    better = res.value >= at_grid
+    cand_v = np.where(better, res.value, at_grid)
+    cand_x = np.where(better, res.x, rel[kk])
+    cand_u = np.maximum(cand_v, res.value + res.bound)
+    value, upper, best_x = np.full(pos.size, -np.inf), np.full(pos.size, -np.inf), np.zeros(pos.size)
+    np.maximum.at(upper, row, cand_u)
+    order = np.lexsort((cand_v, row))  # per row ascending: the last write of each row is its best candidate
+    value[row[order]], best_x[row[order]] = cand_v[order], cand_x[order]
+    return value, upper - value, best_x, bool(np.all(res.converged)), target
 
 
 def position_direction_max(chain: Chain, mats: Materials, load, clearance, *, tol, refine_rtol, grid=SweepGrid(),
-                           fixed_direction=False, top=3):
+                           fixed_direction=False, top=JOINT_OUTER_TOP):
     r"""Maximum of sigma_max over the chain phase and the load direction together ("cycle" with "envelope",
     spec §8, §11.8), as the maximum of one roller's stress over its position and the relative load direction.
 
-    .. math:: \max_{\varphi_0, \gamma} \sigma_{max} = \max_{\varphi \in [0, \pi]} \max_{\rho} f(\varphi, \rho)
+    .. math:: \max_{\varphi_0, \gamma} \sigma_{max} = \max_{\varphi \in [0, \pi]} g(\varphi), \quad
+              g(\varphi) = \max_{\rho} f(\varphi, \rho)
 
-    (:func:`roller_sigma`; [0, pi] by the mirror symmetry).  Each level evaluates f on a grid of
-    P + 1 positions over [0, pi] and M relative directions over a turn, refines the ``top`` largest local
-    maxima of the grid by a shrinking-box search (a 7 x 7 grid within one grid step of the candidate,
-    recentred on its best point and shrunk 3-fold, down to the tolerance), then doubles P and M; the
-    error estimate is the change of the maximum plus the refinement error (how much f moves one final
-    step away from the refined point), repeated until it is <= tol·max.  The
-    direction grid is relative to the roller's normal, where f is one smooth bump (kinks where rollers
-    enter or leave the load zone): far fewer configurations than a phase grid per pitch times a
-    direction grid per turn (the nested sweep of :func:`direction_maxima`).
+    (:func:`roller_sigma`; [0, pi] by the mirror symmetry, which makes g even about 0 and pi).  Each level
+    evaluates g at P + 1 positions over [0, pi], g itself by a grid of M relative directions over a turn and a
+    bracketed maximisation of its largest local maxima (:func:`_inner_direction_max`).  The ``top`` largest local
+    maxima of g on the position grid are refined by a bracketed golden-section maximisation within one grid
+    step (:func:`gearcalc.roots.maximize_bracketed`), each only until the tangent bound on what its bracket can
+    still hide is <= tol·max/4: the refinement error is that bound (the largest over the candidates, above the
+    best value found) plus 4 times the largest inner bound (the inner maxima are low by at most that bound,
+    which also enters the outer secants).  Then P and M are doubled; the error estimate is the change of the
+    maximum plus the refinement error, repeated until it is <= tol·max.  A refinement that reaches the
+    round-off of the angles before its target stops the doubling at the next level (``capped``).
+
+    What a level cannot see: a local maximum of g narrower than two position steps, or of f narrower than two
+    direction steps, that no grid point rises toward.  The doubled level is the check of that (the change of
+    the maximum); f is one smooth bump in rho relative to the roller's normal with kinks where rollers enter or
+    leave the load zone, and g is smooth between such kinks (spec §8), so the first grids resolve them.
 
     Parameters
     ----------
@@ -438,13 +461,12 @@ def position_direction_max(chain: Chain, mats: Materials, load, clearance, *, to
     tol : float
         Relative accuracy target.
     refine_rtol : float
-        Golden-section tolerance (relative to the turn); tightened 1000-fold when the refinement error
-        dominates.
+        Unused (the refinements stop on their value bound); kept for the callers' uniform signature.
     grid : SweepGrid
         ``joint_position``, ``joint_direction`` (times ``factor``), ``cap``, ``chunk``.
     fixed_direction : bool
     top : int
-        Grid maxima refined per level.
+        Local maxima over the position refined per level.
 
     Returns
     -------
@@ -463,6 +485,7 @@ def position_direction_max(chain: Chain, mats: Materials, load, clearance, *, to
     ----------
     Merko et al. (see the module), Fig. 2; docs/spec/zstk.md §4.1, §8, §11.8.
     """
+    del refine_rtol
     gf = grid.factor
     p_count, m_count = grid.joint_position * gf, grid.joint_direction * gf
     r_h, r_b, e = chain.outer_radius, chain.inner_radius, chain.eccentricity
@@ -470,65 +493,56 @@ def position_direction_max(chain: Chain, mats: Materials, load, clearance, *, to
     def f(pos, rel):
         return roller_sigma(chain, mats, pos, rel, load, clearance, fixed_direction, grid.chunk)
 
-    offsets = np.linspace(-1.0, 1.0, ZOOM_POINTS)
-    shrink = 2.0 / (ZOOM_POINTS - 1)
-
-    def zoom(pos, rel, h_pos, h_rel, rtol):
-        """Shrinking-box search around each candidate (vectorised over candidates): a ZOOM_POINTS² grid over
-        pos ± h_pos, rel ± h_rel, recentred on its best point with the box shrunk to one grid step, until the
-        step is <= rtol · 2 pi; returns the best points, their values and how much f moves one final step
-        away from them (the refinement error)."""
-        while True:
-            pp = pos[:, None, None] + h_pos * offsets[None, :, None]
-            rr = rel[:, None, None] + h_rel * offsets[None, None, :]
-            vals = f(pp, rr).reshape(pos.size, -1)
-            b = np.argmax(vals, axis=1)
-            rows = np.arange(pos.size)
-            shape = (pos.size, ZOOM_POINTS, ZOOM_POINTS)
-            pos = np.broadcast_to(pp, shape).reshape(pos.size, -1)[rows, b]
-            rel = np.broadcast_to(rr, shape).reshape(pos.size, -1)[rows, b]
-            best = vals[rows, b]
-            step = shrink * max(h_pos, h_rel)
-            if step <= rtol * 2 * np.pi:
-                bj, bk = np.divmod(b, ZOOM_POINTS)
-                grid_v = vals.reshape(pos.size, ZOOM_POINTS, ZOOM_POINTS)
-                spread = np.zeros(pos.size)
-                for dj in (-1, 0, 1):
-                    for dk in (-1, 0, 1):
-                        jj, kk = np.clip(bj + dj, 0, ZOOM_POINTS - 1), np.clip(bk + dk, 0, ZOOM_POINTS - 1)
-                        spread = np.maximum(spread, np.abs(grid_v[rows, jj, kk] - best))
-                return pos, rel, best, spread
-            h_pos, h_rel = shrink * h_pos, shrink * h_rel
-
-    prev = None
+    prev, stalled = None, False
     while True:
-        pos_grid = np.pi * np.arange(p_count + 1) / p_count
-        rel_grid = 2 * np.pi * np.arange(m_count) / m_count
-        rel_grid = np.where(rel_grid > np.pi, rel_grid - 2 * np.pi, rel_grid)
-        values = f(pos_grid[:, None], rel_grid[None, :])
-        j, k = _grid_maxima(values, top)
-        h_pos, h_rel = np.pi / p_count, 2 * np.pi / m_count
-        pos0, rel0 = pos_grid[j], rel_grid[k]
-        z_pos, z_rel, z_val, z_spread = zoom(pos0, rel0, h_pos, h_rel, refine_rtol)
-        b = int(np.argmax(z_val))
-        pos_b, rel_b, v, err_ref = float(z_pos[b]), float(z_rel[b]), float(z_val[b]), float(z_spread[b])
-        g_j, g_k = np.unravel_index(np.argmax(values), values.shape)
-        if values[g_j, g_k] > v:
-            pos_b, rel_b, v, err_ref = float(pos_grid[g_j]), float(rel_grid[g_k]), float(values[g_j, g_k]), 0.0
+        h = np.pi / p_count
+        pos_grid = h * np.arange(p_count + 1)
+        g, gap, _, conv, t_in = _inner_direction_max(f, pos_grid, m_count, scale=0.25 * tol * JOINT_INNER_SHARE)
+        target = t_in / JOINT_INNER_SHARE
+        stalled |= not conv
+        ext = np.concatenate([g[1:2], g, g[-2:-1]])  # g is even about 0 and pi
+        peak = np.flatnonzero((g >= ext[:-2]) & (g >= ext[2:]))
+        if peak.size == 0:
+            peak = np.array([int(np.argmax(g))])
+        peak = peak[np.argsort(-g[peak], kind="stable")][:top]
+        gaps = [float(np.max(gap))]
+
+        def outer(x, i, m_count=m_count, t_in=t_in, gaps=gaps):
+            v, gp, _, c, _ = _inner_direction_max(f, x.ravel(), m_count, t_in)
+            gaps.append(float(np.max(gp)))
+            if not c:
+                nonlocal stalled
+                stalled = True
+            return v.reshape(x.shape)
+
+        res = maximize_bracketed(outer, pos_grid[peak] - h, pos_grid[peak] + h, ext[peak], ext[peak + 2], target)
+        stalled |= not bool(np.all(res.converged))
+        b = int(np.argmax(res.value))
+        g_best = int(np.argmax(g))
+        if res.value[b] >= g[g_best]:
+            pos_b, v = float(res.x[b]), float(res.value[b])
+        else:
+            pos_b, v = float(pos_grid[g_best]), float(g[g_best])
+        err_ref = max(float(np.max(res.value + res.bound)) - v, 0.0) + 4.0 * max(gaps)
         capped = 2 * m_count > grid.cap
         if prev is not None:
             err = abs(v - prev) + err_ref
-            if err <= tol * abs(v) or capped:
+            if err <= tol * abs(v) or capped or stalled:
                 break
-        if err_ref > 0.25 * tol * abs(v):
-            refine_rtol *= 1e-3
         prev = v
         p_count, m_count = 2 * p_count, 2 * m_count
+    v_b, _, rho_b, _, _ = _inner_direction_max(f, np.array([pos_b]), m_count, t_in)
+    rel_b = float(rho_b[0])
+    if v_b[0] > v:
+        v = float(v_b[0])
+    if pos_b < 0.0:  # g is even about 0: the mirror position (f(-phi, -rho) = f(phi, rho))
+        pos_b, rel_b = -pos_b, -rel_b
     t0 = float(roller_angles(pos_b, chain.n, chain.limiting_ratio)[0])
     gamma = t0 + float(np.arctan2(e * np.sin(t0), centre_distance(t0, r_h, r_b, e) - e * np.cos(t0))) + rel_b
     over = err > tol * abs(v)
-    return (pos_b, rel_b, gamma, v, SweepResult(pos_b, v, err, 2 * p_count, np.pi / p_count, over),
-            SweepResult(rel_b, v, err, m_count, 2 * np.pi / m_count, over))
+    floor = over and stalled
+    return (pos_b, rel_b, gamma, v, SweepResult(pos_b, v, err, 2 * p_count, np.pi / p_count, over, floor),
+            SweepResult(rel_b, v, err, m_count, 2 * np.pi / m_count, over, floor))
 
 
 def critical_placement(chain: Chain, mats: Materials, load, clearance, phase=None, gamma=None, *, tol,

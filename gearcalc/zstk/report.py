@@ -58,7 +58,10 @@ def sweep_fields(placement, cap: int) -> tuple[dict, list]:
     for what, per, sw in (("phase", "pitch", placement.phase_sweep), ("direction", "turn", placement.direction_sweep)):
         fields[f"{what}_samples"] = None if sw is None else sw.samples
         fields[f"{what}_step_deg"] = None if sw is None else float(rad_to_deg(sw.step))
-        if sw is not None and sw.capped:
+        if sw is not None and sw.capped and getattr(sw, "floor", False):
+            notes.append(f"{what} sweep's refinement reached the round-off of the angles with error "
+                         f"{sw.err:.3g} MPa above the target")
+        elif sw is not None and sw.capped:
             notes.append(f"{what} sweep stopped at the cap of {cap} points per {per} with error "
                          f"{sw.err:.3g} MPa above the target")
     return fields, notes
