@@ -30,6 +30,7 @@ NOT_A_FORMULA = {
     "gearcalc.zstk.solve:solve_stack": "driver: groups designs by N and calls the load and stress functions",
     "gearcalc.zstk.solve:gather": "array helper (results put back in the designs' order)",
     "gearcalc.zstk.solve:solve_sweeping": "driver: calls critical_placement and the allowable-load solver",
+    "gearcalc.zstk.envelope:sweep_grid": "configuration: the sweeps' grid sizes",
     "gearcalc.pins.friction:friction_law": "registry look-up of a law by name",
     "gearcalc.pins.friction:register_friction_law": "registry entry of a law by name",
     "gearcalc.pins.contact_law:register_contact_law": "registry entry of a law by name",
@@ -69,11 +70,6 @@ NOT_YET = {
     "gearcalc.pins.contact_states:sub_pose",
     "gearcalc.pins.detail:contact_detail",
     "gearcalc.pins.detail:detail_tables",
-    "gearcalc.roots:bisect",
-    "gearcalc.roots:find_root",
-    "gearcalc.roots:minimize_golden",
-    "gearcalc.zstk.envelope:sweep_grid",
-    "gearcalc.zstk.envelope:sweep_work",
 }
 """The public physics functions whose docstrings are not numpydoc yet (issue 35 item 5 open for them)."""
 
