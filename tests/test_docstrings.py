@@ -4,8 +4,8 @@ The physics modules are gearcalc/rows, gearcalc/zstk and gearcalc/pins but their
 modules, and gearcalc/hertz.py, roots.py and quadrature.py (pyproject.toml selects ruff's pydocstyle rules, the
 numpy convention, for the same files).  Each public (no leading underscore) module-level function's docstring
 holds the sections Parameters, Returns, Examples and References and a ``.. math::`` block, but the functions of
-:data:`NOT_A_FORMULA` (no math: each with its reason) and of :data:`NOT_YET` (not converted yet: the list may only
-shrink).  ``python benchmarks/docstrings.py`` prints the shares.
+:data:`NOT_A_FORMULA` need no math (each with its reason: helpers, drivers, registries).
+``python benchmarks/docstrings.py`` prints the shares.
 """
 import ast
 import importlib.util
@@ -54,6 +54,7 @@ NOT_A_FORMULA = {
     "gearcalc.pins.contact_states:concat_states": "array helper (states sorted together)",
     "gearcalc.pins.contact_states:relayout": "array helper (states over other pins)",
     "gearcalc.pins.contact_states:contact_index": "array helper (an index of contacts)",
+    "gearcalc.pins.contact_states:sub_pose": "array helper (the pose at some crank angles)",
     "gearcalc.pins.contact_level:satellite_profile": "registry: the profile by name (circular_profile's math)",
     "gearcalc.pins.contact:solve_modes": "driver: runs cycle_at_torque for each mode (its math there)",
     "gearcalc.pins.columns:operating": "value conversion (the operating point's columns)",
@@ -65,13 +66,9 @@ DOC_OF = {
     "gearcalc.pins.contact_profiles:full_tooth": "_full_tooth",
 }
 
-NOT_YET = {
-    "gearcalc.pins.contact_cycle:gk_interpolated",
-    "gearcalc.pins.contact_states:sub_pose",
-    "gearcalc.pins.detail:contact_detail",
-    "gearcalc.pins.detail:detail_tables",
-}
-"""The public physics functions whose docstrings are not numpydoc yet (issue 35 item 5 open for them)."""
+NOT_YET: set = set()
+"""The public physics functions whose docstrings are not numpydoc yet: none (a name listed here must be one that
+lacks a section; a new public physics function comes with its numpydoc docstring)."""
 
 
 def physics_modules():

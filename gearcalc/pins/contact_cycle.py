@@ -643,6 +643,37 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     loaded interval, the detail and the check of the breakpoints (:func:`_pieces_hold`), never the mean (pins.md
     §6, §8).  Returns (the interpolated :class:`Solution`, sorted by theta; each point's piece midpoint), or None
     when the nodes are not found on ``sol``.
+
+    Parameters
+    ----------
+    sol : Solution
+        The solved states of a Gauss-Kronrod cycle.
+    q : QuadResult
+        Its quadrature (the bisected pieces).
+    rule : {"gk7", "gk15"}
+        The rule.
+    per_period : int
+        Interpolated points per period (at least 2 a piece).
+
+    Returns
+    -------
+    interpolated : tuple or None
+        (the interpolated :class:`Solution`, sorted by theta; each point's piece midpoint [rad]), or None.
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> cyc = mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5, rule="gk7")
+    >>> pts, mids = gk_interpolated(cyc.sol, cyc.quad, "gk7", 8)
+    >>> pts.theta.size, bool(np.all(np.diff(pts.theta) >= 0.0))
+    (12, True)
+
+    References
+    ----------
+    .. [1] A. S. Kronrod, Nodes and Weights of Quadrature Formulas, Consultants Bureau, New York, 1965;
+       docs/spec/pins.md §6, §8.
     """
     t = _KRONROD[rule][0]
     m = t.size

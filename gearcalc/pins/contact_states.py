@@ -130,7 +130,30 @@ def filled(shape, value, dtype=float):
 
 
 def sub_pose(pose: Pose, sel) -> Pose:
-    """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis)."""
+    """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis).
+
+    Parameters
+    ----------
+    pose : Pose
+        Nominal pose data, shape (z2, n) per pin.
+    sel : ndarray of bool or int
+        The crank angles kept.
+
+    Returns
+    -------
+    part : Pose
+        The pose there.
+
+    Examples
+    --------
+    >>> pose = Pose(np.array([0.0, 0.1, 0.2]), np.zeros((22, 3)), np.zeros((22, 3)), np.zeros((22, 3)), 22)
+    >>> sub_pose(pose, np.array([0, 2])).theta.tolist()
+    [0.0, 0.2]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.1 (the pose).
+    """
     return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.z2,
                 {k: v[..., sel] for k, v in pose.aux.items()}, None if pose._psi is None else pose._psi[:, sel])
 
