@@ -1145,7 +1145,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
 
 
 def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
-    r"""(left, right).
+    r"""(left, right): whether each side's change counts in the bound of a breakpoint's strip.
 
     1 where a side's change counts in the bound of a breakpoint's strip (:func:`relinearised_cycle`), 0 where it
     does not, per breakpoint (m,).

@@ -284,7 +284,7 @@ class ContactKinematics:
         return (sol, need) if step else sol
 
     def _picker(self, theta, rows=None):
-        """(idx, pick).
+        """(idx, pick): the candidate pins at crank angles theta and how to pick their columns.
 
         The candidate pins (m, n) at crank angles theta (all pins when there is no window) and the candidates'
         columns of an array over the pins ``rows`` (a state's :attr:`Solution.rows`; None: all z2), (c, R, n) ->

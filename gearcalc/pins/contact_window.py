@@ -196,7 +196,7 @@ class CandidateWindow:
         return None if rows.size >= self.g.z2 else rows
 
     def layout(self):
-        """(rows, pos).
+        """(rows, pos): the pins the states' per-pin arrays hold and each pin's row there.
 
         The pins the per-pin arrays of this model's states hold (:attr:`Solution.rows`: the candidate window's
         over one period, :meth:`period_pins`; None: all z2), and each pin's row there (z2,), -1 for a pin they

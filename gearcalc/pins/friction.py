@@ -1,4 +1,4 @@
-r"""KHV pin gearing.
+r"""KHV pin gearing: the friction at the pin-tooth contacts, written once for every level.
 
 The friction at the pin-tooth contacts, written once for every level (pins.md §4.5, §4.6, §5.5, §5.6).
 
