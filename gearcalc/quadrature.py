@@ -90,7 +90,10 @@ class QuadResult:
 
 
 def piece_nodes(edges, n_piece):
-    """All nodes of a piecewise uniform grid, piece by piece (ends included on every piece).
+    r"""All nodes of a piecewise uniform grid, piece by piece (ends included on every piece).
+
+    .. math:: x_{p,k} = a_p + (b_p - a_p)\,\frac{k}{n_p}, \quad k = 0, \dots, n_p, \qquad
+        m_p = \tfrac12 (a_p + b_p)
 
     Parameters
     ----------
@@ -106,6 +109,10 @@ def piece_nodes(edges, n_piece):
     >>> x, mid, piece = piece_nodes(np.array([0.0, 1.0, 3.0]), np.array([2, 2]))
     >>> x.tolist(), piece.tolist()
     ([0.0, 0.5, 1.0, 1.0, 2.0, 3.0], [0, 0, 0, 1, 1, 1])
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (the cycle quadrature's pieces and one-sided ends).
     """
     edges = np.asarray(edges, dtype=float)
     n_piece = np.asarray(n_piece, dtype=np.int64)
@@ -120,11 +127,14 @@ def piece_nodes(edges, n_piece):
 
 
 def geometric_breakpoints(x0: float, x1: float, width: float, ratio: float = 0.5) -> np.ndarray:
-    """Breakpoints grading a piece geometrically toward its end ``x0``.
+    r"""Breakpoints grading a piece geometrically toward its end ``x0``.
 
     Returns ``x0 + (x1 - x0) ratio^m`` for m = 1 ... M, M the first with a distance below
     ``width / 4`` (so a boundary layer of that width is covered by several pieces); empty when
     ``width`` is not smaller than the piece.  ``x1`` may lie on either side of ``x0``.
+
+    .. math:: x_m = x_0 + (x_1 - x_0)\,q^m, \quad m = 1, \dots, M, \qquad
+        M = \left\lceil \frac{\ln(4 |x_1 - x_0| / w)}{\ln(1/q)} \right\rceil \ (\le 200)
 
     Parameters
     ----------
@@ -133,10 +143,19 @@ def geometric_breakpoints(x0: float, x1: float, width: float, ratio: float = 0.5
     width : width of the boundary layer at x0 [unit of x], > 0.
     ratio : geometric ratio, 0 < ratio < 1.
 
+    Returns
+    -------
+    x : ndarray
+        The breakpoints, nearest to x1 first, [unit of x].
+
     Examples
     --------
     >>> geometric_breakpoints(0.0, 1.0, 0.1).tolist()
     [0.5, 0.25, 0.125, 0.0625, 0.03125, 0.015625]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (geometric grading of boundary layers), §12.6.
     """
     span = x1 - x0
     if width <= 0 or not np.isfinite(width) or abs(span) <= width:
@@ -147,12 +166,26 @@ def geometric_breakpoints(x0: float, x1: float, width: float, ratio: float = 0.5
 
 
 def sign_change_breakpoints(g, a: float, b: float, n_scan: int, xtol: float) -> np.ndarray:
-    """Locate every sign change of the components of ``g`` on [a, b] (breakpoints not known in closed form).
+    r"""Locate every sign change of the components of ``g`` on [a, b] (breakpoints not known in closed form).
 
     ``g(x)`` maps an array of x (shape (n,)) to an array (c, n) of c components (penetrations,
     tangential speeds).  Each component is scanned on ``n_scan`` uniform intervals, and each
     sign change between neighbours is refined by bisection to ``xtol``.  Changes closer together
     than the scan step can be missed: choose n_scan accordingly (the caller's responsibility).
+
+    .. math:: \{x \in (a, b) : g_c(x) = 0,\ \operatorname{sign} g_c \text{ changes}\}, \qquad
+        |x - x^*| \le \text{xtol}
+
+    Parameters
+    ----------
+    g : callable
+        g(x) maps an array of x, shape (n,), to an array (c, n) of c components.
+    a, b : float
+        The range, [unit of x].
+    n_scan : int
+        Uniform scan intervals.
+    xtol : float
+        Location tolerance of each root, [unit of x].
 
     Returns
     -------
@@ -162,6 +195,10 @@ def sign_change_breakpoints(g, a: float, b: float, n_scan: int, xtol: float) -> 
     --------
     >>> sign_change_breakpoints(lambda x: np.sin(x)[None], 0.5, 7.0, 64, 1e-13).round(10).tolist()
     [3.1415926536, 6.2831853072]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (breakpoints located numerically at the contact level).
     """
     x = np.linspace(a, b, n_scan + 1)
     v = np.atleast_2d(np.asarray(g(x), dtype=float))
@@ -179,8 +216,10 @@ def sign_change_breakpoints(g, a: float, b: float, n_scan: int, xtol: float) -> 
 
 
 def _kronrod_table(xk, wk, wg):
-    """(nodes, Kronrod weights, Gauss weights) on [-1, 1], ascending, from the non-negative half (0 last); the
-    Gauss nodes are every second Kronrod node from the second."""
+    """(nodes, Kronrod weights, Gauss weights) on [-1, 1], ascending, from the non-negative half (0 last).
+
+    The Gauss nodes are every second Kronrod node from the second.
+    """
     xk, wk, wg = (np.asarray(v, dtype=float) for v in (xk, wk, wg))
     t = np.concatenate((-xk[:-1], xk[::-1]))
     w = np.concatenate((wk[:-1], wk[::-1]))
@@ -310,6 +349,34 @@ def integrate_adaptive(f, breakpoints, tol: float = 1e-6, atol: float = 1e-14, n
     piece, ``n_piece`` the intervals per piece).  With a ``tol`` that is never met, every piece whose
     estimate is not 0 is doubled at every level, as ``n_max`` allows: the uniform doubling of pins.md §6.
 
+    Parameters
+    ----------
+    f : callable
+        The integrand f(x, mid): nodes x and the midpoints of their pieces (set membership), arrays.
+    breakpoints : array_like
+        Ends of the smooth pieces, increasing, [unit of x].
+    tol, atol : float, optional
+        Relative and absolute tolerance of the value.
+    n_start : int, optional
+        First level's intervals per range.
+    n_max : int, optional
+        Most intervals in all (Gauss-Kronrod: evaluations).
+    min_levels : int, optional
+        Doublings every piece gets.
+    n_initial : array_like, optional
+        First level's intervals per piece.
+    rule : {"trapezoid", "gk7", "gk15"}, optional
+        The rule per piece.
+    n_min : int, optional
+        Least intervals of a piece at the first level.
+    at_once : int, optional
+        Doublings evaluated in the first call of ``f``.
+
+    Returns
+    -------
+    result : QuadResult
+        The value and error of one component, the grid and the counts.
+
     Examples
     --------
     A jump at x = 1 and a kink at x = 2 (exact on the pieces), and a smooth piece:
@@ -426,6 +493,22 @@ def piece_errors(e_last, e_prev):
     E' = |sum e'_p| over the other pieces, and each piece's own estimate for refinement, |\hat e_p| or
     max(|e_p|, |e'_p|).
 
+    Parameters
+    ----------
+    e_last : ndarray
+        e_p = T_2N,p - T_N,p of each piece, [unit of the integral].
+    e_prev : ndarray
+        e'_p = T_N,p - T_N/2,p of each piece, [unit of the integral].
+
+    Returns
+    -------
+    E : float
+        The error estimate of the Richardson value, [unit of the integral].
+    E_prev : float
+        |sum e'_p| over the pieces that are not asymptotic.
+    est : ndarray
+        Each piece's own estimate for refinement.
+
     Examples
     --------
     A smooth piece (ratio 4.0, Richardson exact to its h^4 term) and a piece that is not yet asymptotic:
@@ -433,6 +516,12 @@ def piece_errors(e_last, e_prev):
     >>> E, E_prev, est = piece_errors(np.array([1e-6, 1e-6]), np.array([4.1e-6, 1e-5]))
     >>> f"{E:.4g} {E_prev:.4g} {est[0]:.4g} {est[1]:.4g}"
     '9.667e-07 1e-05 3.333e-08 1e-05'
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (rule, error estimate), §12.6.
+    .. [2] W. Romberg, Vereinfachte numerische Integration, Det Kongelige Norske Videnskabers Selskab
+       Forhandlinger 28 (7), 1955 (Richardson extrapolation of the trapezoid rule).
     """
     e_prev_f = np.where(np.isfinite(e_prev), e_prev, 0.0)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -446,21 +535,43 @@ def piece_errors(e_last, e_prev):
 
 
 def richardson_mean(w, w_half):
-    """Richardson-corrected quadrature weights from a nested grid's trapezoid weights at levels N (``w``) and N/2
-    (``w_half``, 0 at the nodes it does not hold): T_N + (T_N - T_N/2)/3 = sum ((4 w - w_half)/3) f, Simpson's rule
-    on every piece (pins.md §6, §8).
+    r"""Richardson-corrected quadrature weights from a nested grid's trapezoid weights.
 
+    .. math:: R_N = T_N + \frac{T_N - T_{N/2}}{3} = \sum_i \frac{4 w_i - w_{1/2,i}}{3}\,f_i
+
+    The trapezoid weights at levels N (``w``) and N/2 (``w_half``): Simpson's rule on every piece.
+
+    Parameters
+    ----------
+    w : ndarray
+        Trapezoid weights at level N, [unit of x].
+    w_half : ndarray
+        Trapezoid weights at level N/2, 0 at the nodes it does not hold, [unit of x].
+
+    Returns
+    -------
+    weights : ndarray
+        The Richardson (Simpson) weights, [unit of x].
+
+    Examples
+    --------
     >>> x = np.linspace(0.0, 1.0, 5)
     >>> w = richardson_mean(np.array([0.125, 0.25, 0.25, 0.25, 0.125]), np.array([0.25, 0.0, 0.5, 0.0, 0.25]))
     >>> float(np.sum(w * x ** 3))
     0.25
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §8.
     """
     return (4.0 * w - w_half) / 3.0
 
 
 def _double(f, act, a, b, n_piece, mid_p, trap, e_last, e_prev, lev, p):
-    """One doubling of the pieces ``act`` of :func:`integrate_adaptive` (its arrays updated in place): the new (odd)
-    nodes evaluated, the trapezoid sums, the last two differences and the levels."""
+    """One doubling of the pieces ``act`` of :func:`integrate_adaptive` (its arrays updated in place).
+
+    The new (odd) nodes evaluated, the trapezoid sums, the last two differences and the levels.
+    """
     cnt = n_piece[act]
     pc = np.repeat(act, cnt)
     st = np.concatenate(([0], np.cumsum(cnt)[:-1]))
@@ -521,11 +632,20 @@ class PiecewiseBatch:
 
 
 def nodes_of_pieces(a, b, n_piece):
-    """All nodes of uniform grids on pieces [a_p, b_p] with n_p intervals, piece by piece.
+    r"""All nodes of uniform grids on pieces [a_p, b_p] with n_p intervals, piece by piece.
 
     Like :func:`piece_nodes` for pieces that need not be contiguous (several integrals at once).
     Node k of piece p is ``a_p + (b_p - a_p) (k/n_p)`` (``b_p`` itself at k = n_p), the formula
     :func:`integrate_pieces` evaluates its integrand at.
+
+    .. math:: x_{p,k} = a_p + (b_p - a_p)\,\frac{k}{n_p}, \quad k = 0, \dots, n_p
+
+    Parameters
+    ----------
+    a, b : ndarray
+        Piece ends, shape (p,), [unit of x].
+    n_piece : ndarray of int
+        Intervals per piece, shape (p,).
 
     Returns
     -------
@@ -536,6 +656,10 @@ def nodes_of_pieces(a, b, n_piece):
     >>> x, mid, piece = nodes_of_pieces(np.array([0.0, 0.0]), np.array([1.0, 2.0]), np.array([2, 1]))
     >>> x.tolist(), piece.tolist()
     ([0.0, 0.5, 1.0, 0.0, 2.0], [0, 0, 0, 1, 1])
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6.
     """
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
     n_piece = np.asarray(n_piece, dtype=np.int64)
@@ -593,7 +717,8 @@ def _carried_on_grid(kept, n0, piece_level):
     ``kept``: per evaluation, (piece, k, level, rows): node k of its piece's grid of that level (n0 2^level
     intervals); ``piece_level``: the final level of each piece's owner.  On the final grid of level L the
     node is k 2^(L - level) when level <= L; nodes not on it (of finer grids) are dropped.  Every node of
-    the final grid was evaluated once."""
+    the final grid was evaluated once.
+    """
     if not kept:
         return None
     counts = n0 * 2 ** piece_level + 1
@@ -614,7 +739,7 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
                      n_start: int = 16, n_max: int = 2 ** 20, accept_levels: int = 2, min_levels: int = 2,
                      first_levels=None, n_initial=None, chunk: int = 2 ** 16,
                      max_nodes: int = 2 ** 22) -> PiecewiseBatch:
-    """Many piecewise integrals at once (one per owner), each with uniform doubling (pins.md §6, §12.6).
+    r"""Many piecewise integrals at once (one per owner), each with uniform doubling (pins.md §6, §12.6).
 
     Every owner's pieces get the first level's node counts (``n_start`` intervals shared out in proportion
     to the piece lengths, at least 2 per piece), and then all of an owner's pieces are doubled together;
@@ -644,6 +769,8 @@ def integrate_pieces(f, a, b, owner, n_owner: int | None = None, tol: float = 1e
     Each trapezoid sum is accumulated per piece and per level in node order (``np.bincount``), so an
     owner's result does not depend on the other owners integrated with it; a single owner runs its
     bookkeeping on Python scalars (the same operations, :func:`_one_owner`).
+
+    .. math:: Q = T_{2N} + \frac{T_{2N} - T_N}{3}, \qquad E = |T_{2N} - T_N| \ \text{per integral}
 
     Parameters
     ----------
@@ -900,8 +1027,11 @@ def _one_owner(evaluate, a, b, length, mid_p, owner, n0, N0: int, cap: int, tol,
 
 
 def _sum_in_order(values) -> float:
-    """Sum of floats from 0.0 in the given order (as ``np.bincount`` accumulates; Python 3.12's ``sum`` would
-    compensate)."""
+    """Sum of floats from 0.0 in the given order.
+
+    Sum of floats from 0.0 in the given order (as ``np.bincount`` accumulates; Python 3.12's ``sum`` would
+    compensate).
+    """
     total = 0.0
     for v in values:
         total += v

@@ -60,7 +60,7 @@ def _prepare(f, a, b):
 
 
 def find_root(f, a, b, xtol: float = 0.0, rtol: float = 4 * EPS, maxiter: int = 200) -> RootResult:
-    """Roots of ``f`` on the brackets ``[a, b]`` (element-wise), by Chandrupatla's method.
+    r"""Roots of ``f`` on the brackets ``[a, b]`` (element-wise), by Chandrupatla's method.
 
     Iterates until every bracket is narrower than ``2 (rtol |x| + xtol)`` or ``f`` is exactly 0.
 
@@ -76,11 +76,19 @@ def find_root(f, a, b, xtol: float = 0.0, rtol: float = 4 * EPS, maxiter: int = 
     -------
     RootResult
 
+    .. math:: f(x^*) = 0, \qquad |b_k - a_k| \le 2\,(\text{rtol}\,|x| + \text{xtol})
+
     Examples
     --------
     >>> r = find_root(lambda x: x**2 - 2.0, [0.0, 0.0], [2.0, 3.0])
     >>> bool(np.allclose(r.root, np.sqrt(2.0)))
     True
+
+    References
+    ----------
+    .. [1] T. R. Chandrupatla, A new hybrid quadratic/bisection algorithm for finding the zero of a nonlinear
+       function without using derivatives, Advances in Engineering Software 28(3):145-149, 1997; docs/spec/pins.md
+       §5.5, docs/spec/zstk.md §5.1.
     """
     rtol = max(rtol, 4 * EPS)
     x1, x2, f1, f2 = _prepare(f, a, b)
@@ -126,15 +134,41 @@ def find_root(f, a, b, xtol: float = 0.0, rtol: float = 4 * EPS, maxiter: int = 
 
 
 def bisect(f, a, b, xtol: float = 0.0, rtol: float = 4 * EPS, maxiter: int = 200) -> RootResult:
-    """Roots of ``f`` on ``[a, b]`` by bisection (element-wise); see :func:`find_root`.
+    r"""Roots of ``f`` on ``[a, b]`` by bisection (element-wise); see :func:`find_root`.
 
     Robust for functions with jumps: it returns a sign-change location within ``err``.
+
+    .. math:: f(a_k)\,f(b_k) \le 0, \qquad m = \tfrac12 (a_k + b_k), \qquad |b_k - a_k| \le 2\,(\text{rtol}\,|x| +
+        \text{xtol})
+
+    Parameters
+    ----------
+    f : callable
+        Vectorised: an array of x to f(x) of the same shape.
+    a, b : float or array_like
+        Bracket ends, [unit of x]; f(a) and f(b) must differ in sign (or be 0).
+    xtol : float, optional
+        Absolute tolerance on x, [unit of x].
+    rtol : float, optional
+        Relative tolerance on x, [-].
+    maxiter : int, optional
+        Iteration cap.
+
+    Returns
+    -------
+    result : RootResult
+        The roots, their errors and whether each converged.
 
     Examples
     --------
     >>> r = bisect(lambda x: np.cos(x), 1.0, 2.0, xtol=1e-12)
     >>> abs(float(r.root) - np.pi / 2) < 1e-12
     True
+
+    References
+    ----------
+    .. [1] R. L. Burden, J. D. Faires, Numerical Analysis, 9th ed., Brooks/Cole, 2011, §2.1 (the bisection
+       method); docs/spec/pins.md §6.
     """
     rtol = max(rtol, 2 * EPS)
     lo, hi, flo, fhi = _prepare(f, a, b)
@@ -176,7 +210,10 @@ INV_PHI = (np.sqrt(5.0) - 1.0) / 2.0
 
 
 def minimize_golden(f, a, b, rtol: float = 1e-6, xtol: float = 0.0, maxiter: int = 300) -> MinResult:
-    """Minimum of a unimodal ``f`` on ``[a, b]`` (element-wise) by golden-section search.
+    r"""Minimum of a unimodal ``f`` on ``[a, b]`` (element-wise) by golden-section search.
+
+    .. math:: x_1 = b - \varphi^{-1}(b - a), \quad x_2 = a + \varphi^{-1}(b - a), \quad \varphi = \frac{1 + \sqrt5}{2},
+        \qquad \text{err} = \max\!\left(\tfrac12 |b - a|,\ 3\sqrt{\varepsilon}\,|x|\right)
 
     Parameters
     ----------
@@ -193,6 +230,11 @@ def minimize_golden(f, a, b, rtol: float = 1e-6, xtol: float = 0.0, maxiter: int
     >>> r = minimize_golden(lambda x: (x - 3.0) ** 2, 0.0, 10.0, rtol=1e-10)
     >>> abs(float(r.x) - 3.0) <= float(r.err)
     True
+
+    References
+    ----------
+    .. [1] J. Kiefer, Sequential minimax search for a maximum, Proceedings of the American Mathematical Society
+       4(3):502-506, 1953; docs/spec/rows.md §6.
     """
     lo, hi = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
     lo, hi = lo.copy(), hi.copy()
@@ -260,8 +302,10 @@ def _drop_bound(xl, xb, xr, fl, fb, fr):
 
 
 def maximize_bracketed(f, a, b, fa, fb, target, maxiter: int = 60, sections: int = SECTIONS) -> MaxBoundResult:
-    r"""Maxima of ``f`` on the brackets ``[a, b]`` (element-wise), each refined only until the bound on what its
-    bracket can still hide is <= ``target``.
+    r"""Maxima of ``f`` on the brackets ``[a, b]`` (element-wise), each refined to a bound.
+
+    Maxima of ``f`` on the brackets ``[a, b]`` (element-wise), each refined only until the bound on what its bracket
+    can still hide is <= ``target``.
 
     Each iteration evaluates ``sections`` new points per bracket in one call of f, sorts them with the bracket
     ends and the best point so far, and keeps the neighbours x_{i-1} < x_i < x_{i+1} of the best sample x_i as
@@ -301,6 +345,10 @@ def maximize_bracketed(f, a, b, fa, fb, target, maxiter: int = 60, sections: int
     ...                        np.array([-0.09]), np.array([-0.49]), 1e-12)
     >>> bool(r.converged[0]), bool(r.value[0] <= 0.0 <= r.value[0] + r.bound[0] <= 1e-12)
     (True, True)
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8, §11.8 (the joint maximum over phase and direction and its bound).
     """
     lo, hi = np.asarray(a, dtype=float).copy(), np.asarray(b, dtype=float).copy()
     flo, fhi = np.asarray(fa, dtype=float).copy(), np.asarray(fb, dtype=float).copy()

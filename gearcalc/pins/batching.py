@@ -29,11 +29,20 @@ def run_batch(designs, level_of, alone, compute_one, compute_group) -> list:
     compute_group : callable
         ``compute_group(designs, level)``: per design its result or exception, computed together.
 
+    Returns
+    -------
+    results : list
+        Per design, in order, its result or the exception computing it raised.
+
     Examples
     --------
     >>> run_batch([1, 2, 3], lambda d: "ideal" if d < 3 else "contact", lambda d, level: False,
     ...           lambda d: f"alone {d}", lambda ds, level: [f"{level} {d}" for d in ds])
     ['ideal 1', 'ideal 2', 'alone 3']
+
+    References
+    ----------
+    .. [1] docs/spec/interface.md (batches: every design computed, a bad one reported and passed over).
     """
     results: list = [None] * len(designs)
     groups: dict[str, list[int]] = {level: [] for level in GROUPED_LEVELS}

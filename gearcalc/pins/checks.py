@@ -25,7 +25,7 @@ __all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVE
 
 
 def friction_model(model, alias, default: str) -> tuple[str, bool]:
-    """The friction model of a design (pins.md §4.9, §7) and whether its alias contradicts it.
+    r"""The friction model of a design (pins.md §4.9, §7) and whether its alias contradicts it.
 
     Parameters
     ----------
@@ -40,10 +40,16 @@ def friction_model(model, alias, default: str) -> tuple[str, bool]:
     -------
     (name, contradiction)
 
+    .. math:: \text{name} = \text{model, else (alias ? "consistent" : "first-order"), else default}
+
     Examples
     --------
     >>> friction_model(None, None, "consistent"), friction_model("consistent", False, "consistent")
     (('consistent', False), ('first-order', True))
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.9, §7.
     """
     if alias is None:
         return model or default, False
@@ -52,17 +58,39 @@ def friction_model(model, alias, default: str) -> tuple[str, bool]:
 
 
 def modified(equidistant_mod, radial_mod) -> bool:
-    """Whether a cycloid carries a profile modification Delta R_b or Delta R_p [mm] (pins.md §5.2).
+    r"""Whether a cycloid carries a profile modification Delta R_b or Delta R_p [mm] (pins.md §5.2).
 
+    .. math:: \Delta R_b \ne 0 \ \lor\ \Delta R_p \ne 0
+
+    Parameters
+    ----------
+    equidistant_mod : float
+        Equidistant modification Delta R_b, [mm].
+    radial_mod : float
+        Radial modification Delta R_p, [mm].
+
+    Returns
+    -------
+    modified : bool
+        True for a modified cycloid.
+
+    Examples
+    --------
     >>> modified(0.0, 0.0), modified(0.01, 0.0)
     (False, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.2.
     """
     return equidistant_mod != 0.0 or radial_mod != 0.0
 
 
 def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | None]:
-    """The level a design runs and the rule (of :data:`gearcalc.pins.report.PROBLEMS`) a forced level breaks,
-    else None (pins.md §3-5).
+    """The level a design runs and the rule a forced level breaks.
+
+    The level a design runs and the rule (of :data:`gearcalc.pins.report.PROBLEMS`) a forced level breaks, else None
+    (pins.md §3-5).
 
     Without ``model`` the cheapest level the design needs: "formula" without a gear, "contact" for a circular
     profile, a modified cycloid or a contact law, else "ideal".  A forced level: the formula level needs a
@@ -80,12 +108,23 @@ def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | 
     is_modified : bool
         A cycloid with a profile modification (:func:`modified`).
 
+    Returns
+    -------
+    level : str
+        "formula", "ideal" or "contact".
+    rule : str or None
+        The rule a forced level breaks, else None.
+
     Examples
     --------
     >>> select_level(None, {"pin_load"}, None, False), select_level(None, {"gearing"}, "cycloidal", False)
     (('formula', None), ('ideal', None))
     >>> select_level(None, {"gearing"}, "circular", False), select_level("ideal", {"gearing"}, "circular", False)
     (('contact', None), ('ideal', 'ideal_profile'))
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §3-5, §7.
     """
     entry = PROFILES.get(profile)
     has_g, contact_only = "gearing" in tables, entry is not None and not entry.ideal    # circular teeth
@@ -115,8 +154,30 @@ friction alias) does not change the level; the ideal level gives the Hertz stres
 def level_reason(model, tables, profile, is_modified: bool) -> str:
     """Why a design runs at the level :func:`select_level` gives it, in words (the summary's ``model_reason``).
 
+    Parameters
+    ----------
+    model : str or None
+        The level forced by the caller, else None.
+    tables : set of str
+        The design's tables.
+    profile : str or None
+        The tooth profile's name.
+    is_modified : bool
+        A modified cycloid (equidistant or radial modification).
+
+    Returns
+    -------
+    str
+        The reason.
+
+    Examples
+    --------
     >>> level_reason(None, {"gearing", "load"}, "cycloidal", False), level_reason("contact", {"gearing"}, None, False)
     ('an unmodified cycloidal profile (rigid contacts)', '--model contact')
+
+    References
+    ----------
+    .. [1] gearcalc specification docs/spec/pins.md §7 (design keys: the level each table calls for), §8.
     """
     if model is not None:
         return f"--model {model}"
@@ -132,14 +193,37 @@ def level_reason(model, tables, profile, is_modified: bool) -> str:
 
 
 def contact_law_problem(law: str, face_width, stiffness):
-    """The rule a contact law's missing constant breaks (pins.md §5.4, §7): the Hertz and Palmgren laws need
-    the face width b [mm], the linear law its stiffness k_lin [N/mm]; else None.
+    r"""The rule a contact law's missing constant breaks (pins.md §5.4, §7).
 
+    The Hertz and Palmgren laws need the face width b [mm], the linear law its stiffness k_lin [N/mm]; else None.
+
+    .. math:: b \ \text{given (hertz, palmgren)}, \qquad k_{lin} \ \text{given (linear)}
+
+    Parameters
+    ----------
+    law : str
+        The contact law's name.
+    face_width : float or None
+        Contact length b, [mm].
+    stiffness : float or None
+        Linear stiffness k_lin, [N/mm].
+
+    Returns
+    -------
+    rule : str or None
+        The missing key's rule, else None.
+
+    Examples
+    --------
     >>> contact_law_problem("hertz", None, None), contact_law_problem("linear", None, 1e5)
     ('face_width', None)
 
     A name that is not a law (:data:`LAW_NEEDS`, the names of :data:`gearcalc.pins.contact_law.CONTACT_LAWS`) is a
     ValueError listing the known ones.
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.4, §7.
     """
     try:
         need = LAW_NEEDS[law]
@@ -201,6 +285,12 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
     ...                [1.95], [2.0])
     >>> v.pin_load_axle.tolist(), v.no_sliding.tolist(), v.one_circle.tolist(), v.no_axle.tolist()
     ([True], [True], [False], [True])
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §3, §4.2, §7, §9.
     """
     import numpy as np
 
@@ -219,11 +309,36 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
 
 
 def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
-    """(R_p [mm], K1, 1 - K1) of one gear from whichever of R_p and K1 is given (the other None): K1 as given,
-    else e z2/(k R_p) (:func:`~gearcalc.pins.operating.pin_circle`, pins.md §4.1, §7).
+    r"""(R_p [mm], K1, 1 - K1) of one gear from whichever of R_p and K1 is given (the other None).
 
+    K1 as given, else e z2/(k R_p) (:func:`~gearcalc.pins.operating.pin_circle`, pins.md §4.1, §7).
+
+    .. math:: K_1 = \frac{e\,z_2}{k\,R_p}, \qquad R_p = \frac{e\,z_2}{k\,K_1}, \qquad k = z_2 - z_1
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Teeth and pins, [-].
+    e : float
+        Eccentricity, [mm].
+    Rp : float or None
+        Pin circle radius R_p, [mm], or None.
+    K1 : float or None
+        Curtate ratio, [-], or None.
+
+    Returns
+    -------
+    Rp, K1, one_minus_K1 : float
+        R_p [mm], K1 [-] and 1 - K1 [-].
+
+    Examples
+    --------
     >>> pin_circle_curtate(20, 22, 3.9, None, 0.75)
     (57.199999999999996, 0.75, 0.25)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.1, §7.
     """
     import math
 
@@ -239,18 +354,51 @@ def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
 
 def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rotating, profile, tooth_radius,
                     tooth_circle_radius, is_modified, load_pin_radius, load_axle_radius) -> list:
-    """The cross-key problems of one design (pins.md §5.3, §7, §9) in the order ``gearcalc check`` reports
-    them: (severity "error" or "warn", rule of :data:`gearcalc.pins.report.PROBLEMS` or the name of a
-    warning, the numbers of its message).  ``bad``: :func:`violations` of the design (arrays of one);
-    ``tables``: the design's tables among "gearing", "pin_load", "load"; ``Rp``, ``K1``: as given (None: not).
-    The list ends early without a gear (the gear's rules and the level's do not apply) and at a curtate ratio
-    that overflows R_p (the rules after it cannot be evaluated): ``gearcalc check`` stops there too.
+    """The cross-key problems of one design (pins.md §5.3, §7, §9) in the order ``gearcalc check`` reports them.
 
+    (severity "error" or "warn", rule of :data:`gearcalc.pins.report.PROBLEMS` or the name of a warning, the numbers
+    of its message).  ``bad``: :func:`violations` of the design (arrays of one); ``tables``: the design's tables
+    among "gearing", "pin_load", "load"; ``Rp``, ``K1``: as given (None: not). The list ends early without a gear
+    (the gear's rules and the level's do not apply) and at a curtate ratio that overflows R_p (the rules after it
+    cannot be evaluated): ``gearcalc check`` stops there too.
+
+    Parameters
+    ----------
+    bad : Violations
+        :func:`violations` of the design (arrays of one).
+    tables : set of str
+        The design's tables.
+    z1, z2 : int or None
+        Teeth and pins, [-].
+    e, Rp, K1, Rb, r : float or None
+        Eccentricity [mm], pin circle [mm], curtate ratio [-], pin and axle radii [mm], as given.
+    rotating : bool
+        Rotating pins.
+    profile : str
+        "cycloidal" or "circular".
+    tooth_radius, tooth_circle_radius : float or str
+        rho_t and R_t [mm], or "full" and "zero_backlash".
+    is_modified : bool
+        A modified cycloid.
+    load_pin_radius, load_axle_radius : float or None
+        R and r of the per-pin load, [mm].
+
+    Returns
+    -------
+    problems : list of tuple
+        (severity, rule, numbers of its message).
+
+    Examples
+    --------
     >>> bad = violations([20], [22], [3.9], [None], [0.75], [9.0], [None], [False], ["cycloidal"], [0.1],
     ...                  [None], [None])
     >>> [(s, rule) for s, rule, _ in design_problems(bad, {"gearing", "load"}, 20, 22, 3.9, None, 0.75, 9.0, None,
     ...                                               False, "cycloidal", "full", "zero_backlash", False, None, None)]
     [('error', 'overlap')]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3, §7, §9.
     """
     if not tables & {"gearing", "pin_load"}:
         return [("error", "no_tables", {})]
@@ -301,13 +449,47 @@ def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rota
 
 
 def ideal_admissibility(z1: int, z2: int, e: float, Rp, K1, Rb: float):
-    """(status, psi* [rad], min rho_c [mm], K1) of one gear at the ideal level (pins.md §4.2, §12.10):
+    r"""(status, psi* [rad], min rho_c [mm], K1) of one gear at the ideal level (pins.md §4.2, §12.10).
+
     :func:`~gearcalc.pins.ideal.admissibility`, the rule the ideal level's solve applies to every gear; ``Rp``,
     ``K1`` as given (None: not), K1 = e z2/(k R_p) as that level computes it.
 
+    .. math:: \psi^* > \frac{2\pi}{z_2} \ \text{(enough teeth)}, \qquad R_b < \min_{0 \le \psi \le \psi^*} \rho_c(\psi)
+        \ \text{(no undercut)}, \qquad K_1 = \frac{e\,z_2}{k\,R_p}
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Teeth and pins, [-].
+    e : float
+        Eccentricity, [mm].
+    Rp : float or None
+        Pin circle radius, [mm], or None.
+    K1 : float or None
+        Curtate ratio, [-], or None.
+    Rb : float
+        Pin radius, [mm].
+
+    Returns
+    -------
+    status : int
+        0, TOO_FEW_TEETH or UNDERCUT.
+    psi_star : float
+        End of the loaded arc, [rad].
+    rho_c : float
+        Least radius of curvature, [mm].
+    K1 : float
+        Curtate ratio, [-].
+
+    Examples
+    --------
     >>> status, psi_star, rho_c, K1 = ideal_admissibility(20, 22, 3.9, None, 0.75, 1.95)
     >>> status, round(K1, 12)
     (0, 0.75)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.2, §12.10.
     """
     import numpy as np
 
@@ -322,49 +504,171 @@ def ideal_admissibility(z1: int, z2: int, e: float, Rp, K1, Rb: float):
 
 
 def ideal_over_budget(z2, n_discs):
-    """Whether the ideal level's cost z2 n_d exceeds :data:`~gearcalc.pins.schema.IDEAL_WORK_MAX` (pins.md §9);
+    r"""Whether the ideal level's cost z2 n_d exceeds :data:`~gearcalc.pins.schema.IDEAL_WORK_MAX` (pins.md §9).
+
     scalars or arrays.
 
+    .. math:: z_2\,n_d > W_{ideal} = 200\,000
+
+    Parameters
+    ----------
+    z2 : int or array_like
+        Pins, [-].
+    n_discs : int or array_like
+        Discs n_d, [-].
+
+    Returns
+    -------
+    over : bool or ndarray of bool
+        True over the budget.
+
+    Examples
+    --------
     >>> ideal_over_budget(10_000, 20), ideal_over_budget(10_000, 21)
     (False, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §9.
     """
     return z2 * n_discs > IDEAL_WORK_MAX
 
 
 def contact_passes(torque_on_V: bool) -> int:
-    """Passes of the contact level's torque fixed point: 1 with the torque on V, 3 on H (pins.md §7)."""
+    r"""Passes of the contact level's torque fixed point: 1 with the torque on V, 3 on H.
+
+    .. math:: n_{passes} = 1 \ \text{(torque on V)}, \qquad n_{passes} = 3 \ \text{(torque on H)}
+
+    Parameters
+    ----------
+    torque_on_V : bool
+        The design's torque is given on the output shaft V.
+
+    Returns
+    -------
+    passes : int
+        The passes budgeted.
+
+    Examples
+    --------
+    >>> contact_passes(True), contact_passes(False)
+    (1, 3)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7, §9.
+    """
     return 1 if torque_on_V else 3
 
 
 def contact_over_budget(z2: int, torque_on_V: bool) -> bool:
-    """Whether the contact level's z2 x CONTACT_NODES_MAX x passes pin-contact solves exceed
+    r"""Whether the contact level's work exceeds its limit (pins.md §9).
+
+    Whether the contact level's z2 x CONTACT_NODES_MAX x passes pin-contact solves exceed
     :data:`~gearcalc.pins.schema.CONTACT_WORK_MAX` (pins.md §9).
 
+    .. math:: z_2 \cdot N_{nodes} \cdot n_{passes} > W_{contact}, \qquad N_{nodes} = 4352,\ W_{contact} = 1.5 \cdot 10^6
+
+    Parameters
+    ----------
+    z2 : int
+        Pins, [-].
+    torque_on_V : bool
+        The torque is given on V (one pass) rather than on H (three).
+
+    Returns
+    -------
+    over : bool
+        True over the budget.
+
+    Examples
+    --------
     >>> contact_over_budget(114, False), contact_over_budget(115, False), contact_over_budget(344, True)
     (False, True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7, §9.
     """
     return z2 * CONTACT_NODES_MAX * contact_passes(torque_on_V) > CONTACT_WORK_MAX
 
 
 def computed_alone(z2: int, n_discs: int, tol: float) -> bool:
-    """Whether a batch computes an ideal-level design alone rather than in a group (memory, pins.md §6): more
-    pin-discs than :data:`~gearcalc.pins.schema.GROUP_PINS_MAX`, or a --tol below
+    r"""Whether a batch computes an ideal-level design alone rather than in a group (memory, pins.md §6).
+
+    more pin-discs than :data:`~gearcalc.pins.schema.GROUP_PINS_MAX`, or a --tol below
     :data:`~gearcalc.pins.schema.GROUP_TOL_MIN`.
 
+    .. math:: z_2\,n_d > 200 \quad\lor\quad \text{tol} < 10^{-9}
+
+    Parameters
+    ----------
+    z2 : int
+        Pins, [-].
+    n_discs : int
+        Discs n_d, [-].
+    tol : float
+        The relative tolerance (--tol), [-].
+
+    Returns
+    -------
+    alone : bool
+        True when the design is computed alone.
+
+    Examples
+    --------
     >>> computed_alone(22, 1, 1e-6), computed_alone(22, 10, 1e-6), computed_alone(22, 1, 1e-12)
     (False, True, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6.
     """
     return tol < GROUP_TOL_MIN or z2 * n_discs > GROUP_PINS_MAX
 
 
 def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d, e, Rb, K1, Rp) -> bool:
-    """Whether every point of a vectorised sweep passes the rules its varied keys can break (pins.md §7, §9).
+    """Whether every point of a vectorised sweep passes the rules its varied keys can break.
 
     ``bad``: :func:`violations` of the points; ``formula``: the sweep runs the formula level; the gear as lists
     per point (None: not given).  The rules of :func:`design_problems` as arrays (the per-pin load's axle; at
     the ideal level f given, k >= 1, one of R_p and K1, the gear's geometry, the axle) and the cost budgets:
     :func:`ideal_over_budget` per point, and :data:`~gearcalc.pins.schema.IDEAL_SWEEP_WORK_MAX` pin-discs over
     the distinct geometries (solved together; a larger grid runs point by point, bounded memory).
+
+    Parameters
+    ----------
+    bad : Violations
+        :func:`violations` of the points.
+    formula : bool
+        The sweep runs the formula level.
+    has_pin_load : bool
+        The design has a per-pin load.
+    z1, z2, n_d : list of int or None
+        Teeth, pins and discs per point, [-].
+    e, Rb : list of float or None
+        Eccentricity and pin radius per point, [mm].
+    K1 : list of float or None
+        Curtate ratio per point, [-].
+    Rp : list of float or None
+        Pin circle radius per point, [mm].
+
+    Returns
+    -------
+    ok : bool
+        True when every point passes.
+
+    Examples
+    --------
+    >>> bad = violations([20, 20], [22, 22], [3.9, 3.9], [None, None], [0.75, 0.75], [1.95, 9.0], [None, None],
+    ...                  [False, False], ["cycloidal"] * 2, [0.1, 0.1], [None, None], [None, None])
+    >>> points_pass(bad, False, False, [20, 20], [22, 22], [1, 1], [3.9, 3.9], [1.95, 9.0], [0.75, 0.75],
+    ...             [None, None])   # the second point's pins overlap
+    False
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7, §9.
     """
     import numpy as np
 

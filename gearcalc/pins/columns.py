@@ -35,18 +35,89 @@ _WORDS = ("mode", "shaft")
 
 
 def float64(v):
-    """A value as a numpy float64 scalar (NaN where absent)."""
+    """A value as a numpy float64 scalar (NaN where absent).
+
+    Parameters
+    ----------
+    v : float or None
+        The value.
+
+    Returns
+    -------
+    x : numpy.float64
+        The value, NaN for None.
+
+    Examples
+    --------
+    >>> float(float64(2)), bool(np.isnan(float64(None)))
+    (2.0, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (absent design values).
+    """
     return np.float64(math.nan if v is None else v)
 
 
 def words_equal(words, word, one: bool):
-    """Whether each word of a column is ``word`` (one point: a bool; else an array)."""
+    """Whether each word of a column is ``word`` (one point: a bool; else an array).
+
+    Parameters
+    ----------
+    words : list of str or str
+        The column (one point: its word).
+    word : str
+        The word looked for.
+    one : bool
+        One point.
+
+    Returns
+    -------
+    equal : bool or ndarray of bool
+        Per point.
+
+    Examples
+    --------
+    >>> words_equal(["reducer", "multiplier"], "reducer", False).tolist(), words_equal("reducer", "reducer", True)
+    ([True, False], True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (words of the design keys).
+    """
     return words == word if one else np.array([w == word for w in words])
 
 
 def operating(v, one: bool = False) -> dict:
-    """The operating point's values (:data:`OPERATING`) over points: float arrays (NaN: absent) and lists of
-    words; with ``one``, the single point's scalars (numpy float64, NaN where absent; the word)."""
+    """The operating point's values (:data:`OPERATING`) over points.
+
+    float arrays (NaN: absent) and lists of words; with ``one``, the single point's scalars (numpy float64, NaN
+    where absent; the word).
+
+    Parameters
+    ----------
+    v : dict
+        The points' values by name, lists over the points (None: absent).
+    one : bool, optional
+        One point: scalars.
+
+    Returns
+    -------
+    op : dict
+        f, f_k [mm], f_c, T [N·m], n_H [rpm] as floats; the mode and the torque's shaft as words.
+
+    Examples
+    --------
+    >>> v = {"sliding": [0.1], "rolling": [None], "axle": [None], "mode": ["multiplier"], "shaft": ["V"],
+    ...      "torque": [10.0], "speed": [None]}
+    >>> op = operating(v, one=True)
+    >>> float(op["sliding"]), op["mode"], bool(np.isnan(op["rolling"]))
+    (0.1, 'multiplier', True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (the operating point's keys).
+    """
     out = {}
     for name in OPERATING:
         vals = v[name]
@@ -58,8 +129,37 @@ def operating(v, one: bool = False) -> dict:
 
 
 def friction_models(models, aliases, default: str) -> tuple[list, list]:
-    """The friction model per point (:func:`gearcalc.pins.checks.friction_model`; "consistent" where the alias
-    contradicts it) and per point None or the DesignError of that contradiction."""
+    """The friction model per point and the error of a contradicting alias.
+
+    The friction model per point (:func:`gearcalc.pins.checks.friction_model`; "consistent" where the alias
+    contradicts it) and per point None or the DesignError of that contradiction.
+
+    Parameters
+    ----------
+    models : list of str or None
+        "consistent", "first-order" or None per point.
+    aliases : list of bool or None
+        The alias per point.
+    default : str
+        The model of a point that names none.
+
+    Returns
+    -------
+    names : list of str
+        The model per point.
+    errors : list
+        Per point None or the DesignError of a contradiction.
+
+    Examples
+    --------
+    >>> names, errors = friction_models([None, "first-order"], [None, True], "consistent")
+    >>> names, errors[0], type(errors[1]).__name__
+    (['consistent', 'consistent'], None, 'DesignError')
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.9, §7.
+    """
     out, errors = [], []
     for m, a in zip(models, aliases):
         name, contradiction = friction_model(m, a, default)
@@ -69,8 +169,36 @@ def friction_models(models, aliases, default: str) -> tuple[list, list]:
 
 
 def formula_columns(v) -> dict:
-    """The paper's eqs. (3)-(7) over designs or points (pins.md §3, :func:`~gearcalc.pins.formula.formula_losses`):
-    columns of :data:`~gearcalc.pins.report.FORMULA_KEYS` (None without a per-pin load; P_tr_fixed_W needs f)."""
+    r"""The paper's eqs. (3)-(7) over designs or points (pins.md §3, :func:`~gearcalc.pins.formula.formula_losses`).
+
+    .. math:: F_{tr1} = \frac{f_k F_n}{R}, \quad F_{tr2} = f_c F_n, \quad P_{tr} = (F_{tr1} R + F_{tr2} r)\,
+        \frac{\pi n_{pin}}{30} \cdot 10^{-3}
+
+    Columns of :data:`~gearcalc.pins.report.FORMULA_KEYS` (None without a per-pin load; P_tr_fixed_W needs f).
+
+    Parameters
+    ----------
+    v : dict
+        The points' values: force, pin_speed, load_pin_radius, load_axle_radius, rolling, axle, paper_pi, sliding.
+
+    Returns
+    -------
+    columns : dict
+        F_tr1_N, F_tr2_N [N], P_tr1_W, P_tr2_W, P_tr_W, P_tr_fixed_W [W], lists over the points.
+
+    Examples
+    --------
+    >>> v = {"force": [1920.0], "pin_speed": [14.0], "load_pin_radius": [1.95], "load_axle_radius": [0.95],
+    ...      "rolling": [0.01], "axle": [0.1], "paper_pi": [True], "sliding": [None]}
+    >>> round(formula_columns(v)["P_tr_W"][0], 3)   # the paper's cycloidal u = 10 case (Fig. 8): 0.295 W
+    0.295
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       eqs. (3)-(7); docs/spec/pins.md §3.
+    """
     res = formula_losses(floats(v["force"]), floats(v["pin_speed"]), floats(v["load_pin_radius"]),
                          floats(v["load_axle_radius"]), floats(v["rolling"]), floats(v["axle"]),
                          paper_pi=np.array([bool(x) for x in v["paper_pi"]]), sliding_friction=floats(v["sliding"]))
@@ -92,6 +220,7 @@ class IdealColumns:
         self.__dict__.update(kw)
 
     def detail(self, i: int) -> dict:
+        """The detail tables of point ``i`` (pins.md §8), built on demand."""
         from .detail import ideal_detail
 
         k, cyc = int(self.gi[i]), self.cyc
@@ -118,13 +247,49 @@ def _gear(v, one: bool):
 
 
 def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> IdealColumns:
-    """The ideal level (pins.md §4) of n designs or sweep points, numpy over them.
+    r"""The ideal level (pins.md §4) of n designs or sweep points, numpy over them.
+
+    .. math:: \bar\lambda = \mu_{eff}\,\bar\lambda_1, \qquad \eta_{VH} = 1 - \bar\lambda, \qquad
+        \eta_{HV} = \frac{1}{1 + \bar\lambda} \ \text{(first-order; the friction-consistent model of pins.md §4.9
+        by default)}
 
     The distinct geometries are solved once each, together (:func:`~gearcalc.pins.points.ideal_points`, unit
     scalings); every point then scales its geometry's solution by its friction, torque, speed and mode.  One
     point (a design computed alone) runs the same formulas on scalars (``SCALAR_OPS``): the same numbers, bit
     for bit, without the cost of numpy calls on arrays of one element.  ``models``, ``model_errors``:
     :func:`friction_models` of the points.
+
+    Parameters
+    ----------
+    v : dict
+        The points' values by name (gear, operating point, face width).
+    n : int
+        The number of points.
+    tol : float
+        Relative accuracy target, [-].
+    models : list of str
+        The friction model per point.
+    model_errors : list
+        Per point None or the DesignError of a contradicting alias.
+
+    Returns
+    -------
+    ideal : IdealColumns
+        The summary columns, the errors and warnings per point, and the detail tables on demand.
+
+    Examples
+    --------
+    >>> v = dict(z1=[20], z2=[22], e=[3.9], Rp=[None], K1=[0.75], Rb=[1.95], r=[None], rotating=[False], n_d=[1],
+    ...          sliding=[0.1], rolling=[None], axle=[None], mode=["multiplier"], shaft=["V"], torque=[10.0],
+    ...          speed=[None], face_width=[None])
+    >>> round(ideal_columns(v, 1, 1e-6, ["consistent"], [None]).columns["efficiency"][0], 5)   # paper cyc u10, fixed
+    0.87363
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4, §4.9, §8, §10.
     """
     one = n == 1
     z1, z2, n_d, e, Rb, K1g, Rpg, rot, r = _gear(v, one)
@@ -185,14 +350,55 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
 
 
 def level_columns(v, level: str, names: list, tol: float, pin_load: bool, default_model: str):
-    """Every summary field (:data:`~gearcalc.pins.schema.SUMMARY_KEYS`, in order) over the points of one level,
-    "formula" or "ideal", and the :class:`IdealColumns` (None at the other levels; at the contact level only
-    the names, the level and the formula's columns, which :mod:`gearcalc.pins.contact_level` completes).
+    r"""Every summary field over the points of one level, and the ideal level's columns.
+
+    .. math:: \eta_{VH} = 1 - \bar\lambda, \qquad \eta_{HV} = \frac{1}{1 + \bar\lambda}
+
+    Every summary field (:data:`~gearcalc.pins.schema.SUMMARY_KEYS`, in order) over the points of one level,
+    "formula" or "ideal", and the :class:`IdealColumns` (None at the other levels; at the contact level only the
+    names, the level and the formula's columns, which :mod:`gearcalc.pins.contact_level` completes).
 
     ``v``: the points' values by name; ``names``: their names; ``pin_load``: some point has a per-pin load (the
     formula's columns, :func:`formula_columns`); ``default_model``: the friction model of a point that names
     none (:func:`friction_models`).  None where a field is not computed; the formula level is the paper's
     rotating-pin loss.
+
+    Parameters
+    ----------
+    v : dict
+        The points' values by name.
+    level : str
+        "formula", "ideal" or "contact".
+    names : list of str
+        The points' names.
+    tol : float
+        Relative accuracy target, [-].
+    pin_load : bool
+        Some point has a per-pin load.
+    default_model : str
+        The friction model of a point that names none.
+
+    Returns
+    -------
+    columns : dict
+        Every summary field, lists over the points.
+    ideal : IdealColumns or None
+        The ideal level's columns.
+
+    Examples
+    --------
+    >>> v = dict(z1=[20], z2=[22], e=[3.9], Rp=[None], K1=[0.75], Rb=[1.95], r=[None], rotating=[False], n_d=[1],
+    ...          sliding=[0.1], rolling=[None], axle=[None], mode=["multiplier"], shaft=["V"], torque=[10.0],
+    ...          speed=[None], face_width=[None], model=[None], alias=[None])
+    >>> cols, ideal = level_columns(v, "ideal", ["cyc_u10"], 1e-6, False, "consistent")
+    >>> round(cols["efficiency_multiplier"][0], 5), round(cols["efficiency_reducer"][0], 5)
+    (0.87363, 0.86061)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §3, §4, §8.
     """
     n = len(names)
     out = {key: [None] * n for key in SUMMARY_KEYS}

@@ -152,7 +152,7 @@ def _point_nodes(cyc: IdealCycles, gear):
 
 def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, mode=None,
                       chunk_nodes: int = CONSISTENT_CHUNK_NODES) -> ConsistentCycles:
-    """The friction-consistent efficiency model (pins.md §4.9) of operating points, both modes.
+    r"""The friction-consistent efficiency model (pins.md §4.9) of operating points, both modes.
 
     Every point has a solved gear (``gear``: its index in the gears of ``cyc``, which must be admissible)
     and an effective friction mu_eff.  The friction-free node sums that :func:`ideal_cycles` keeps on its
@@ -164,6 +164,9 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     continues from the final grid, evaluating only the new nodes (:func:`_refine_consistent`), up to
     :data:`CONSISTENT_N_MAX`.  A mode jams where D <= 0 at some node.  One point with one disc on the whole grid
     of a gear solved alone takes a shorter path to the same numbers, bit for bit (:func:`_one_point`).
+
+    .. math:: Q = Q_L + \frac{Q_L - Q_{L-1}}{3}, \qquad E = |Q_L - Q_{L-1}| \le \max(\text{tol}\,|Q|,\ 10^{-14}),
+        \qquad \text{jam where } D \le 0
 
     Parameters
     ----------
@@ -331,8 +334,11 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
 
 
 def _seq_sums(rows):
-    """Sums of each row of a 2-D array from 0.0 in node order (as ``np.bincount`` accumulates; a cumulative sum is
-    sequential, unlike numpy's pairwise ``sum``)."""
+    """Sums of each row of a 2-D array in node order.
+
+    Sums of each row of a 2-D array from 0.0 in node order (as ``np.bincount`` accumulates; a cumulative sum is
+    sequential, unlike numpy's pairwise ``sum``).
+    """
     return np.cumsum(rows, axis=1)[:, -1]
 
 
@@ -341,7 +347,8 @@ def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> Consisten
 
     The same formulas, sums (in node order) and acceptance, operation for operation, so the same numbers bit for
     bit; the bookkeeping runs on Python scalars and the per-node values are computed once for both modes (a
-    design computed alone: a few hundred nodes, where numpy's cost per call dominates)."""
+    design computed alone: a few hundred nodes, where numpy's cost per call dominates).
+    """
     sums, w, t = cyc.grid_sums, cyc.grid_weights, cyc.grid_t
     G = cyc.table
     r_p1, z2, n0 = float(G.r_p1[0]), int(G.z2[0]), int(cyc.n_crank[0])
@@ -429,11 +436,14 @@ def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> Consisten
 
 
 def _refine_one(G: _GearTable, pieces, n_piece, w, mu: float, sigma: list, lam, tol: float):
-    """:func:`_refine_consistent` of one gear solved alone (its table ``G``, its ``pieces`` (a, b, owner) and their
-    intervals ``n_piece`` on the final grid, weights ``w``) for one friction ``mu`` and the modes ``sigma`` (a
-    list; ``lam``: their lambda at the grid's nodes, shape (K, nodes)): the same nodes, sums and acceptance,
-    operation for operation (the same numbers, bit for bit), with the bookkeeping on Python scalars.  Returns
-    lists over the modes: value, E, accepted, intervals, jammed."""
+    """The consistent refinement of one gear solved alone, on Python scalars.
+
+    :func:`_refine_consistent` of one gear solved alone (its table ``G``, its ``pieces`` (a, b, owner) and their
+    intervals ``n_piece`` on the final grid, weights ``w``) for one friction ``mu`` and the modes ``sigma`` (a list;
+    ``lam``: their lambda at the grid's nodes, shape (K, nodes)): the same nodes, sums and acceptance, operation for
+    operation (the same numbers, bit for bit), with the bookkeeping on Python scalars.  Returns lists over the
+    modes: value, E, accepted, intervals, jammed.
+    """
     z2 = int(G.z2[0])
     rb, omk, r_p1 = G.R_b[0], G.omk[0], G.r_p1[0]
     a, b = pieces[0].tolist(), pieces[1].tolist()
@@ -492,19 +502,22 @@ def _refine_one(G: _GearTable, pieces, n_piece, w, mu: float, sigma: list, lam, 
 
 
 def _ratio_of(G: _GearTable, slot):
-    """u = z1/k of the gears at ``slot`` of the table (Z_e - 1 = z1/k)."""
+    """The ratio u = z1/k of the gears at ``slot`` of the table (Z_e - 1 = z1/k)."""
     return G.Ze[slot] - 1.0
 
 
 def _refine_consistent(cyc: IdealCycles, slot: int, t, t_mid, w, mu, sigma, lam, tol: float):
-    """Continue the doubling of the cycle quadrature (pins.md §6) of the friction-consistent lambda beyond the
-    final grid of the first-order solve, for several (friction, mode) pairs of one gear at once, evaluating
-    only the new nodes (their friction-free sums once for all pairs), until the rule accepts each pair
-    (E <= max(tol |Q|, 1e-14) on two successive doublings) or :data:`CONSISTENT_N_MAX`.
+    """Continue the cycle quadrature's doubling of the friction-consistent lambda.
+
+    Continue the doubling of the cycle quadrature (pins.md §6) of the friction-consistent lambda beyond the final
+    grid of the first-order solve, for several (friction, mode) pairs of one gear at once, evaluating only the new
+    nodes (their friction-free sums once for all pairs), until the rule accepts each pair (E <= max(tol |Q|, 1e-14)
+    on two successive doublings) or :data:`CONSISTENT_N_MAX`.
 
     ``t, t_mid, w``: the gear's final grid (nodes piece by piece) and its trapezoid weights at levels L, L-1;
     ``mu, sigma``: per pair, shape (K,); ``lam``: lambda at the grid's nodes, shape (K, nodes).  Returns
-    arrays over the pairs: Richardson value, E, accepted, intervals, jammed (D <= 0 at a new node)."""
+    arrays over the pairs: Richardson value, E, accepted, intervals, jammed (D <= 0 at a new node).
+    """
     G = cyc.table
     z2 = int(G.z2[slot])
     new_piece = np.empty(t.size, dtype=bool)
@@ -574,6 +587,24 @@ def crank_history(g: Cycloid, psi_star: float, t, t_mid, mu_eff: float, sigma: i
     false the forces are the friction-free ones of §4.4 (D = S; the bearing force then has no friction
     part either).  t = theta/T_p in the cycle variable of :func:`cycle_state` (multiplier theta = T_p t,
     reducer theta = T_p (1 - t)).
+
+    .. math:: F_i = \frac{T_{sat}\,|l_i|}{D}, \qquad B = -\sum_i F_i\,(n_i + q_i\,z \times n_i), \qquad
+        \frac{T_H}{T_{sat}} = \sigma\,e\,B_y
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    psi_star : float
+        End of the loaded arc, [rad].
+    t, t_mid : ndarray
+        Nodes t = theta/T_p and the midpoints of their pieces, [-].
+    mu_eff : float
+        Effective friction coefficient, [-].
+    sigma : int
+        +1 reducer, -1 multiplier.
+    consistent : bool, optional
+        The friction-consistent forces (else the friction-free ones).
 
     Returns
     -------

@@ -101,13 +101,34 @@ class Unresolvable(ValueError):
 
 
 def fixed_point_settled(history, tol: float) -> bool:
-    """Whether the torque fixed point has settled: the remaining error c |d_n|/(1 - c) of the last loss
-    ratio, with the contraction c = |d_n/d_(n-1)| of the last two changes d, is below tol/10 of it.
+    r"""Whether the torque fixed point has settled.
+
+    The remaining error c |d_n|/(1 - c) of the last loss ratio, with the contraction c = |d_n/d_(n-1)| of the last
+    two changes d, is below tol/10 of it.
+
+    .. math:: \frac{c\,|d_n|}{1 - c} < \frac{\text{tol}}{10}\,|\lambda_n|, \qquad c = \left|\frac{d_n}{d_{n-1}}\right|,
+        \quad d_n = \lambda_n - \lambda_{n-1}
+
+    Parameters
+    ----------
+    history : list of float
+        The loss ratio of each pass, [-].
+    tol : float
+        The relative tolerance, [-].
+
+    Returns
+    -------
+    settled : bool
+        True when the remaining error is below tol/10.
 
     Examples
     --------
     >>> fixed_point_settled([0.1, 0.11, 0.1101], 1e-3), fixed_point_settled([0.1, 0.2], 1e-6)
     (True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (the torque fixed point).
     """
     if len(history) < 2:
         return False
@@ -153,12 +174,33 @@ def reducer_stalls(history, torques, uT: float) -> bool:
     torque (a preload plus a loss proportional to the load is linear) the line lies below T + L(T) for T below
     both passes, so no positive root is missed; the plain iteration would only halve T_V pass after pass.
 
+    .. math:: T + L(T) = u\,T_H, \qquad L(T) = \lambda(T)\,T; \quad \text{stalls when } L(T_{n-1}), L(T_n) \ge u\,T_H
+        \text{ and the secant through them has no root } T > 0
+
+    Parameters
+    ----------
+    history : list of float
+        The loss ratio of each pass, [-].
+    torques : list of float
+        T_V of each pass, in the units of ``uT``.
+    uT : float
+        u T_H, the input torque seen on V.
+
+    Returns
+    -------
+    stalls : bool
+        True when no positive T_V balances the losses.
+
     Examples
     --------
     >>> reducer_stalls([70.0, 7000.0], [1.0, 0.01], 10.0)      # L = 70 at both torques: 70 > u T_H = 10
     True
     >>> reducer_stalls([0.1, 0.1001], [9.0, 9.09], 10.0)       # an ordinary reducer, L ~ 0.9 << 10
     False
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7.
     """
     if len(history) < 2 or torques[-1] == torques[-2]:
         return False
@@ -204,14 +246,32 @@ def _fixed_point_step(history, torques, uT: float, a: float):
 
 
 def fixed_point_stalls(history) -> bool:
-    """Whether the torque fixed point's passes stopped contracting: after four passes, the last change is not below
-    half of the change two passes before (a converging secant iteration shrinks its changes far faster; a loss ratio
-    that jumps with the torque, a contact that comes and goes, makes the passes wander; pins.md §7).
+    r"""Whether the torque fixed point's passes stopped contracting.
+
+    after four passes, the last change is not below half of the change two passes before (a converging secant
+    iteration shrinks its changes far faster; a loss ratio that jumps with the torque, a contact that comes and
+    goes, makes the passes wander; pins.md §7).
+
+    .. math:: n \ge 4 \quad\text{and}\quad |d_n| \ge \tfrac12\,|d_{n-2}|, \qquad d_n = \lambda_n - \lambda_{n-1}
+
+    Parameters
+    ----------
+    history : list of float
+        The loss ratio of each pass, [-].
+
+    Returns
+    -------
+    stalls : bool
+        True when the passes wander.
 
     Examples
     --------
     >>> fixed_point_stalls([0.1303, 0.1295, 0.1193, 0.1224]), fixed_point_stalls([0.2, 0.21, 0.2101, 0.21010001])
     (True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7.
     """
     if len(history) < 4:
         return False
@@ -221,8 +281,9 @@ def fixed_point_stalls(history) -> bool:
 
 @dataclass(frozen=True)
 class ContactCase:
-    """One design's contact level at one operating point: the parameter object of :func:`cycle_at_torque` and
-    :func:`solve_modes`.
+    """One design's contact level at one operating point.
+
+    The parameter object of :func:`cycle_at_torque` and :func:`solve_modes`.
 
     g : Cycloid, the pin gear; profile : a :class:`~gearcalc.pins.profiles.ToothProfile`; law : ContactLaw;
     n_discs : n_d, discs sharing the torque; friction : :class:`~gearcalc.pins.friction.PinFriction` (mu_eff, f,
@@ -238,6 +299,7 @@ class ContactCase:
     torque_on_V: bool
 
     def __post_init__(self):
+        """Turn a plain (law, f) pair given as ``friction`` into a :class:`PinFriction`."""
         if not isinstance(self.friction, PinFriction):
             object.__setattr__(self, "friction", PinFriction(*self.friction))
 
@@ -313,9 +375,11 @@ def cycle_at_torque(case: ContactCase, multiplier: bool, friction_in_equilibrium
 
 
 class _TorquePasses:
-    """The passes of the torque fixed point of one design in one mode (:func:`cycle_at_torque`): its set-up (the
-    case, mode, friction in the balance, tolerance, quadrature rule, settings and the cycle mean's grid) and the
-    model and cycle of each pass."""
+    """The passes of the torque fixed point of one design in one mode (:func:`cycle_at_torque`).
+
+    Its set-up (the case, mode, friction in the balance, tolerance, quadrature rule, settings and the cycle mean's
+    grid) and the model and cycle of each pass.
+    """
 
     def __init__(self, case: ContactCase, multiplier: bool, friction_in_equilibrium: bool, tol: float,
                  seed: "ContactModel | None", rule: str, settings: ContactSettings | None):
@@ -340,16 +404,22 @@ class _TorquePasses:
         return ContactModel(c.g, c.profile, c.law, self.nm_to_nmm(T_V) / c.n_discs, self.sigma, self.friction, self.st)
 
     def settles(self, remainder, history, cyc):
-        """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing, or, when
-        the cycle mean itself did not converge (its quadrature at the cap of its angles: the tolerance is not met
-        whatever the torque), below that mean's own error (more passes would refine what that error swamps)."""
+        """The fixed point's stop.
+
+        The remaining change below tol/10 of lambda, or lambda no longer changing, or, when the cycle mean
+        itself did not converge (its quadrature at the cap of its angles: the tolerance is not met whatever the
+        torque), below that mean's own error (more passes would refine what that error swamps).
+        """
         tol = self.tol
         return (remainder <= max(0.1 * tol * abs(history[-1]), 1e-15) or fixed_point_settled(history[-2:], tol)
                 or (not cyc.converged and remainder <= cyc.loss_ratio_err))
 
     def run(self, T_V, prev, window_only=False, n_initial=None):
-        """A full pass at T_V: its model (from the last pass's, or the other mode's seed, mirrored) and cycle mean
-        (``window_only``: the coarse value of the window scan instead)."""
+        """A full pass at T_V.
+
+        Its model (from the last pass's, or the other mode's seed, mirrored) and cycle mean (``window_only``:
+        the coarse value of the window scan instead).
+        """
         st, seed = self.st, self.seed
         model = self.make(T_V)
         if prev is not None:
@@ -453,11 +523,14 @@ class _TorquePasses:
 
 
 def _fixed_point_error(cyc, history, remainder: float, unsettled: bool) -> float:
-    """The torque cycle's error: the quadrature's plus the fixed point's remaining change.  ``unsettled``: the passes
-    ran out or stalled, or the multiplier locked on the way (a stalled reducer has no fixed point: its loss ratio is
-    the last pass's, with that pass's quadrature error): the remainder is not known to be small; the spread of all
-    passes (the last change at least) is in the error (never less): a loss ratio that jumps with the torque takes
-    any of those values near the torques the passes tried."""
+    """The torque cycle's error.
+
+    The quadrature's plus the fixed point's remaining change.  ``unsettled``: the passes ran out or stalled, or the
+    multiplier locked on the way (a stalled reducer has no fixed point: its loss ratio is the last pass's, with that
+    pass's quadrature error): the remainder is not known to be small; the spread of all passes (the last change at
+    least) is in the error (never less): a loss ratio that jumps with the torque takes any of those values near the
+    torques the passes tried.
+    """
     if unsettled:
         spread = max(history) - min(history) if len(history) >= 3 else 0.0
         remainder = max(remainder if math.isfinite(remainder) else 0.0, spread,
@@ -483,8 +556,10 @@ class ModeCycles:
 
 def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: float = 1e-6, rule: str = "trapezoid",
                 settings: ContactSettings | None = None) -> ModeCycles:
-    """The contact cycle of each mode with its own forces (friction-consistent model), or of the requested
-    mode with frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
+    """The contact cycle of each mode at the torque fixed point (pins.md §4.9, §5.5, §7).
+
+    The contact cycle of each mode with its own forces (friction-consistent model), or of the requested mode with
+    frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
 
     With ``consistent`` both modes are solved with the friction forces in the moment balance, the other mode
     starting from the requested one's solution; a mode that jams (:class:`Jam`) is recorded in ``jams``, and
@@ -494,9 +569,33 @@ def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: floa
     Parameters are those of :func:`cycle_at_torque`; ``multiplier``: the requested mode; ``rule``: the cycle
     mean's quadrature rule (:func:`mean_loss_ratio`).
 
+    Parameters
+    ----------
+    case : ContactCase
+        The gear, profile, law, discs, friction and torque [N·m].
+    multiplier : bool
+        The requested mode.
+    consistent : bool
+        The friction-consistent model (both modes, friction in the balance); else first-order.
+    tol : float, optional
+        Relative accuracy target, [-].
+    rule : str, optional
+        The cycle mean's quadrature rule.
+    settings : ContactSettings, optional
+        The contact level's settings.
+
     Returns
     -------
     ModeCycles
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> case = ContactCase(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1, (0.1, 0.1, False),
+    ...                    10.0, True)
+    >>> modes = solve_modes(case, True, True, tol=1e-4)
+    >>> {m: round(t.loss_ratio, 4) for m, t in modes.runs.items()}, modes.jams   # multiplier True, reducer False
+    ({True: 0.1536, False: 0.2028}, {})
 
     References
     ----------
@@ -518,10 +617,45 @@ def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: floa
 
 
 def equilibrium_residual(runs, tol: float) -> tuple[float, float]:
-    """The largest equilibrium residual of the cycles' moment balances relative to the torque, and its largest
-    ratio to the limit: 1/100 of ``tol`` (inner tolerances 100x tighter, pins.md §6), or 100x the round-off floor
-    of the penetrations (stiff contacts: deflections of 1e-7 mm on R_p); above 1 the balance is not met
-    (pins.md §5.5).  ``runs``: :class:`TorqueCycle` objects."""
+    r"""The largest equilibrium residual of the cycles' moment balances and its ratio to the limit.
+
+    The largest equilibrium residual of the cycles' moment balances relative to the torque, and its largest ratio to
+    the limit: 1/100 of ``tol`` (inner tolerances 100x tighter, pins.md §6), or 100x the round-off floor of the
+    penetrations (stiff contacts: deflections of 1e-7 mm on R_p); above 1 the balance is not met (pins.md §5.5).
+    ``runs``: :class:`TorqueCycle` objects.
+
+    .. math:: r = \max \frac{|M - M_{req}|}{T_{sat}}, \qquad
+        \text{excess} = \max \frac{r}{\max(\text{tol}/100,\ 100\,\varepsilon_M / T_{sat})}
+
+    (ε_M the round-off floor of the residual, :attr:`Solution.noise`).
+
+    Parameters
+    ----------
+    runs : iterable of TorqueCycle
+        The solved cycles.
+    tol : float
+        Relative accuracy target, [-].
+
+    Returns
+    -------
+    residual : float
+        The largest residual relative to the torque, [-].
+    excess : float
+        Its largest ratio to the limit, [-] (above 1: the balance is not met).
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> case = ContactCase(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1, (0.1, 0.1, False),
+    ...                    10.0, True)
+    >>> residual, excess = equilibrium_residual(solve_modes(case, True, True, tol=1e-4).runs.values(), 1e-4)
+    >>> residual < 1e-12, excess < 1.0
+    (True, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.5, §6.
+    """
     residual, excess = 0.0, 0.0
     for t in runs:
         r = np.abs(t.cycle.sol.residual) / t.model.torque_sat
@@ -580,6 +714,11 @@ def effective_radius(R_b, delta, inv_D):
     inv_D : array_like
         1/D [1/mm].
 
+    Returns
+    -------
+    R_eff : ndarray
+        Reduced radius of the contact, [mm].
+
     Examples
     --------
     >>> float(effective_radius(2.0, 0.0, 1.0 / (2.0 + 6.0)))    # pin 2 mm on a convex 6 mm tooth: 2*6/8
@@ -593,11 +732,28 @@ def effective_radius(R_b, delta, inv_D):
 
 
 def richardson_weights(theta, pieces):
-    r"""Weights w of the cycle mean sum w_i v_i / (theta_n - theta_0) over a trapezoid's final grid,
+    r"""Richardson-corrected weights of the cycle mean over a trapezoid's final grid.
+
+    Weights w of the cycle mean sum w_i v_i / (theta_n - theta_0) over a trapezoid's final grid,
     Richardson-corrected piece by piece (pins.md §6, §8): per piece of 2N uniform intervals, T_2N + (T_2N - T_N)/3,
     T_N over every other node (Simpson's rule on the piece).  ``theta`` sorted (piece ends twice, one-sided),
     ``pieces`` each node's piece key (its midpoint, :attr:`ContactCycle.nodes`).  None when a piece has an odd count
     of intervals (not the nested grid of :func:`~gearcalc.quadrature.integrate_adaptive`): the plain trapezoid then.
+
+    .. math:: \bar v = \frac{\sum_i w_i v_i}{\theta_n - \theta_0}, \qquad
+        R_{2N} = T_{2N} + \frac{T_{2N} - T_N}{3} \ \text{per piece}
+
+    Parameters
+    ----------
+    theta : ndarray
+        Nodes sorted, piece ends twice (one-sided), [rad].
+    pieces : ndarray
+        Each node's piece key (its midpoint), [rad].
+
+    Returns
+    -------
+    w : ndarray or None
+        The weights, [rad]; None when a piece has an odd count of intervals.
 
     Examples
     --------
@@ -607,6 +763,11 @@ def richardson_weights(theta, pieces):
     >>> w = richardson_weights(x, np.array([0.5] * 5 + [1.5] * 3))
     >>> round(float(np.sum(w * x ** 3)), 12)
     4.0
+
+    References
+    ----------
+    .. [1] W. Romberg, Vereinfachte numerische Integration, Det Kongelige Norske Videnskabers Selskab
+       Forhandlinger 28 (7), 1955; docs/spec/pins.md §6, §8.
     """
     order = np.lexsort((theta, pieces))
     xs, ps = theta[order], pieces[order]
@@ -645,9 +806,23 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
     pieces : ndarray, optional
         each node's piece key (the trapezoid's final grid, :attr:`ContactCycle.nodes`): Richardson-corrected means.
 
+    .. math:: B = -\sum_i F_i\,(n_i + q_i\,z \times n_i), \qquad T_H = \sigma\,e\,B_t, \qquad
+        \text{stress factor} = \max \frac{F}{R_{eff}}
+
     Returns
     -------
     CrankBearing
+
+    Examples
+    --------
+    Friction-free forces: the crank torque's mean is T_sat/u (u = z1/k = 21):
+
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> cb = crank_bearing(model, cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol, None, 1)
+    >>> round(cb.crank_torque_mean * 1e3 * 21 / 1e4, 9)
+    1.0
 
     References
     ----------
@@ -689,9 +864,11 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
 
 @dataclass
 class ContactOperating:
-    """Losses and speeds of a contact cycle at a crank speed (:func:`operating_values`): loss_mean, loss_peak,
-    loss_max, loss_bound [W]; loss_phase [deg]; spin_abs_max, spin_min, spin_max [rpm]; sliding_speed_max
-    [m/s]."""
+    """Losses and speeds of a contact cycle at a crank speed (:func:`operating_values`).
+
+    loss_mean, loss_peak, loss_max, loss_bound [W]; loss_phase [deg]; spin_abs_max, spin_min, spin_max [rpm];
+    sliding_speed_max [m/s].
+    """
 
     loss_mean: float
     loss_peak: float
@@ -706,8 +883,10 @@ class ContactOperating:
 
 def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: float, omega_H: float,
                      mu_eff: float, sliding_friction: float, rolls: bool) -> ContactOperating:
-    r"""The mean and peak losses and the pin and sliding speeds of a contact cycle at crank speed omega_H
-    (pins.md §4.6, §5.6, §8): the cycle's quantities are per unit crank speed, so they scale with omega_H.
+    r"""The mean and peak losses and the speeds of a contact cycle at crank speed omega_H.
+
+    The mean and peak losses and the pin and sliding speeds of a contact cycle at crank speed omega_H (pins.md §4.6,
+    §5.6, §8): the cycle's quantities are per unit crank speed, so they scale with omega_H.
 
     .. math:: P_{mean} = \bar\lambda\,T_V\,\omega_H k/z_1, \qquad
               P_{bound} = \mu\,F_{max}\,v_{max}\,\omega_H
@@ -731,6 +910,16 @@ def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: fl
     -------
     ContactOperating
 
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> cyc = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5)
+    >>> op = operating_values(cc.cycle_peaks(cyc, g, 1, False), g, cyc.loss_ratio, 10.0, 100.0, 0.1, 0.1, False)
+    >>> bool(abs(op.loss_mean - cyc.loss_ratio * 10.0 * 100.0 / 21) < 1e-12)   # lambda_bar T_V omega_H k/z1
+    True
+
     References
     ----------
     .. [1] pins.md §4.6 (losses), §5.6, §8 (loss_mean_W, loss_peak_W, pin_loss_bound_W, speeds).
@@ -749,11 +938,26 @@ def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: fl
 
 
 def mode_efficiencies(modes: ModeCycles, consistent: bool, torque, ratio: float, multiplier, torque_on_V):
-    """The efficiencies and shaft torques of both modes from the contact cycles (pins.md §4.7, §4.9).
+    r"""The efficiencies and shaft torques of both modes from the contact cycles (pins.md §4.7, §4.9).
 
     Friction-consistent: each mode from its own loss ratio (a jammed mode self-locks); first-order: both from
     the requested mode's.  ``torque``, ``multiplier``, ``torque_on_V``: arrays of one operating point, as
     :func:`~gearcalc.pins.operating.efficiency_torques` takes them.
+
+    .. math:: \eta_{VH} = 1 - \bar\lambda_{VH}, \qquad \eta_{HV} = \frac{1}{1 + \bar\lambda_{HV}}
+
+    Parameters
+    ----------
+    modes : ModeCycles
+        :func:`solve_modes` of the operating point.
+    consistent : bool
+        The friction-consistent model.
+    torque : ndarray
+        The torque T, [N·m], shape (1,).
+    ratio : float
+        The ratio u = z1/k, [-].
+    multiplier, torque_on_V : ndarray of bool
+        The mode and the shaft of the torque, shape (1,).
 
     Returns
     -------
@@ -761,6 +965,21 @@ def mode_efficiencies(modes: ModeCycles, consistent: bool, torque, ratio: float,
         Of the multiplier's and the reducer's loss ratio.
     locked : dict
         {multiplier (bool): whether that mode self-locks}.
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> case = ContactCase(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1, (0.1, 0.1, False),
+    ...                    10.0, True)
+    >>> modes = solve_modes(case, True, True, tol=1e-4)
+    >>> et_m, et_r, locked = mode_efficiencies(modes, True, np.array([10.0]), g.ratio, np.array([True]),
+    ...                                        np.array([True]))
+    >>> round(float(et_m.eta_vh[0]), 4), round(float(et_r.eta_hv[0]), 4)   # 1 - 0.1536, 1/(1 + 0.2028)
+    (0.8464, 0.8314)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.7, §4.9.
     """
     from .operating import efficiency_torques
 

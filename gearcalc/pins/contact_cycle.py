@@ -37,12 +37,29 @@ __all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoin
 # ============================================================ losses (pins.md §5.6)
 
 def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool):
-    """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6): the rolling-pin rule of
-    :meth:`gearcalc.pins.friction.PinFriction.losses`.
+    r"""Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
+
+    The rolling-pin rule of :meth:`gearcalc.pins.friction.PinFriction.losses`.
 
     Fixed pins: every loaded contact slides at |v_t| with mu_eff = f.  Rolling pins: the contact with
     the larger force sets the spin omega_pin = v_t/R_b and loses mu_rot F |v_t|; another loaded
     contact on the same pin slides at |v_t - omega_pin R_b| with f.
+
+    .. math:: P = \mu F |v_t| \ \text{(fixed pins)}; \qquad \omega_{pin} = \frac{v_{t,lead}}{R_b}, \quad
+        P_{lead} = \mu_{rot} F |v_t|, \quad P_{other} = f F |v_t - \omega_{pin} R_b| \ \text{(rolling pins)}
+
+    Parameters
+    ----------
+    sol : Solution
+        The solved states.
+    R_b : float
+        Pin radius, [mm].
+    mu_eff : float
+        Effective coefficient (mu_rot for rolling pins, else f), [-].
+    sliding_friction : float
+        Sliding friction f, [-].
+    rolls : bool
+        The pins roll.
 
     Returns
     -------
@@ -50,6 +67,20 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
     spin : omega_pin per unit crank speed [-] (R, n) (0 for fixed pins and unloaded pins);
     slide : sliding speed per contact [mm/s per rad/s] (c, R, n);
     over the state's rows (:attr:`Solution.rows`: R pins; every other pin carries no force).
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> loss, spin, slide = contact_losses(sol, g.R_b, 0.1, 0.1, False)   # fixed pins: mu F |v_t|, no spin
+    >>> bool(np.allclose(loss, 0.1 * sol.force * np.abs(sol.v_t))), bool(np.all(spin == 0.0))
+    (True, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.6, §5.6.
     """
     return PinFriction(mu_eff, sliding_friction, rolls).losses(sol.force, sol.v_t, R_b)
 
@@ -104,11 +135,13 @@ class ContactCycle:
 
 
 def _components(s: Solution, rolls: bool):
-    """The sign-change components of the cycle at the solved states ``s`` (pins.md §6): (values, slopes, n_delta),
-    values and slopes (c, n) over the crank angles of ``s``; the slope is known for the penetrations only (NaN
-    else), which come first (n_delta rows).  A component that is NaN at a crank angle has no sign there.  Over the
-    state's rows (:attr:`Solution.rows`; the other pins are never candidates over the period: no contact, no sign):
-    the states of one cycle share them."""
+    """The sign-change components of the cycle at the solved states ``s`` (pins.md §6).
+
+    (values, slopes, n_delta), values and slopes (c, n) over the crank angles of ``s``; the slope is known for the
+    penetrations only (NaN else), which come first (n_delta rows).  A component that is NaN at a crank angle has no
+    sign there.  Over the state's rows (:attr:`Solution.rows`; the other pins are never candidates over the period:
+    no contact, no sign): the states of one cycle share them.
+    """
     n = s.theta.size
     force, v_t, cand = s.force, s.v_t, s.cand
     delta = s.delta
@@ -129,9 +162,12 @@ def _components(s: Solution, rolls: bool):
 
 @dataclass
 class BreakpointRoots:
-    """The located sign changes of one cycle (:func:`cycle_breakpoints`): roots [rad] and whether each is a contact
-    entry or exit (a penetration's), sorted by root; ``scanned``: located by the full scan and taken as it is (False:
-    a coarse scan or moved roots, which the quadrature's nodes must confirm, :func:`mean_loss_ratio`)."""
+    """The located sign changes of one cycle (:func:`cycle_breakpoints`).
+
+    roots [rad] and whether each is a contact entry or exit (a penetration's), sorted by root; ``scanned``: located
+    by the full scan and taken as it is (False: a coarse scan or moved roots, which the quadrature's nodes must
+    confirm, :func:`mean_loss_ratio`).
+    """
 
     roots: np.ndarray
     contact: np.ndarray
@@ -140,8 +176,11 @@ class BreakpointRoots:
 
 
 def _breakpoint_state(model: ContactModel):
-    """A one-entry cache of the solved states of the last crank angles (the refinement evaluates the same ones
-    for the values and the slopes)."""
+    """A one-entry cache of the solved states of the last crank angles.
+
+    A one-entry cache of the solved states of the last crank angles (the refinement evaluates the same ones for the
+    values and the slopes).
+    """
     memo: dict = {}
 
     def state(x):
@@ -157,8 +196,10 @@ def _breakpoint_state(model: ContactModel):
 
 
 def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, checked: bool = False) -> BreakpointRoots:
-    """Every sign change of the components on an ``n_scan`` grid of one period, refined (:func:`cycle_breakpoints`);
-    ``checked``: a coarse scan whose result the quadrature's nodes must confirm (:func:`mean_loss_ratio`)."""
+    """Every sign change of the components on an ``n_scan`` grid of one period, refined (:func:`cycle_breakpoints`).
+
+    ``checked``: a coarse scan whose result the quadrature's nodes must confirm (:func:`mean_loss_ratio`).
+    """
     Tp = model.g.period
     state = _breakpoint_state(model)
     xtol = 1e-12 * Tp
@@ -197,12 +238,13 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
 
 
 def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: float):
-    """First points and step tolerances of the refinement of the scan's sign changes (:func:`_refine_sign_changes`):
+    """First points and step tolerances of the refinement of the scan's sign changes (:func:`_refine_sign_changes`).
+
     for a penetration (its slope known), the root of the cubic Hermite interpolant of the two scan points below zero
-    next to the sign change (value and slope each), extrapolated over the bracket, and backed off into the side below
-    zero by half the step tolerance; NaN (the scan's linear interpolation, the global step tolerance) where the slope
-    is unknown, the next point out is not below zero too, another component changes sign on the way or in the
-    bracket, or the far end lies above the cubic (below).
+    next to the sign change (value and slope each), extrapolated over the bracket, and backed off into the side
+    below zero by half the step tolerance; NaN (the scan's linear interpolation, the global step tolerance) where
+    the slope is unknown, the next point out is not below zero too, another component changes sign on the way or in
+    the bracket, or the far end lies above the cubic (below).
 
     Below zero the pin is clear of its tooth and the state is smooth in theta; above, the contact's force bends the
     penetration ((theta - theta0)^(10/9) under the Hertz law), so the linear interpolation across the root and Newton
@@ -263,12 +305,14 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: floa
 
 def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float, tol: float,
                        rolls: bool, max_width: float | None = None) -> BreakpointRoots | None:
-    """The roots of ``prior`` (the same design's cycle at a nearby torque) moved to this
-    model: each is bracketed by +-``width`` (widened 4x, up to ``max_width``, where its bracket holds no sign change),
-    and the components' sign changes between the bracket ends refined as in :func:`_scan_roots` (one root found in
-    two overlapping brackets counted once).  None (the full scan is needed) unless every bracket holds a sign change
-    and their number is the prior's: a root that left its widest bracket, or a pair that appeared or vanished in
-    it.  Changes elsewhere are caught on the quadrature's nodes (:func:`mean_loss_ratio`)."""
+    """The roots of ``prior`` (the same design's cycle at a nearby torque) moved to this model.
+
+    Each is bracketed by +-``width`` (widened 4x, up to ``max_width``, where its bracket holds no sign change), and
+    the components' sign changes between the bracket ends refined as in :func:`_scan_roots` (one root found in two
+    overlapping brackets counted once).  None (the full scan is needed) unless every bracket holds a sign change and
+    their number is the prior's: a root that left its widest bracket, or a pair that appeared or vanished in it.
+    Changes elsewhere are caught on the quadrature's nodes (:func:`mean_loss_ratio`).
+    """
     Tp = model.g.period
     if prior.roots.size == 0:
         return BreakpointRoots(np.empty(0), np.zeros(0, dtype=bool), False)
@@ -319,8 +363,10 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
 
 
 def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarray:
-    """The piece ends from the located roots: the period's ends, the roots, and the geometric gradings
-    (:func:`cycle_breakpoints`)."""
+    """The piece ends from the located roots.
+
+    The period's ends, the roots, and the geometric gradings (:func:`cycle_breakpoints`).
+    """
     Tp = model.g.period
     xtol = 1e-12 * Tp
     contact_bp = found.roots[found.contact]      # the contact entries and exits (a penetration changes sign)
@@ -343,7 +389,7 @@ def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarra
 
 def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6, rolls: bool = False,
                       roots: bool = False):
-    """Breakpoints in [0, T_p] of the contact level's cycle integrand (pins.md §6, §12.9, §12.12).
+    r"""Breakpoints in [0, T_p] of the contact level's cycle integrand (pins.md §6, §12.9, §12.12).
 
     * the ends 0 and T_p;
     * every sign change of a penetration (a contact enters or leaves), of the tangential speed at
@@ -363,6 +409,40 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
     The scan's sign changes are refined by safeguarded Newton (the penetrations, with the slope
     d delta/d theta of the solution) or secant steps (the others) to 1e-12 T_p.  ``roots``: also return the
     located sign changes (:class:`BreakpointRoots`, for the incremental location of a later pass).
+
+    .. math:: \{0,\ T_p\} \cup \{\theta : \delta_j(\theta) = 0\} \cup \{\theta : v_{t,j}(\theta) = 0,\ F_j > 0\}
+        \cup \text{gradings}, \qquad T_p = \frac{2\pi}{z_2}
+
+    Parameters
+    ----------
+    model : ContactModel
+        The contact model.
+    n_scan : int, optional
+        Scan intervals per period.
+    tol : float, optional
+        Relative accuracy target, [-].
+    rolls : bool, optional
+        The pins roll.
+    roots : bool, optional
+        Also return the located sign changes.
+
+    Returns
+    -------
+    breakpoints : ndarray
+        Sorted, in [0, T_p], [rad]; with ``roots`` also the :class:`BreakpointRoots`.
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> bp = cycle_breakpoints(model)
+    >>> float(bp[0]), bool(bp[-1] == 2 * np.pi / 22)   # from 0 to the pin period T_p
+    (0.0, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.9, §12.12.
     """
     found = _scan_roots(model, n_scan, tol, rolls)
     edges = _edges(model, found, tol)
@@ -373,10 +453,12 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
 
 @dataclass(frozen=True)
 class RootStops:
-    """Where :func:`_refine_sign_changes` stops (its parameter object): ``xtol`` the location tolerance of a root;
-    ``jump_xtol`` (default ``xtol``) of a jump; ``step_tol`` (default ``xtol``) a Newton or secant step below which a
-    bracket stops at the stepped point; ``maxiter`` calls at most; a bracket that Newton or the secant cannot narrow
-    is cut into ``sections`` parts per call (``settings.sections``)."""
+    """Where :func:`_refine_sign_changes` stops (its parameter object).
+
+    ``xtol`` the location tolerance of a root; ``jump_xtol`` (default ``xtol``) of a jump; ``step_tol`` (default
+    ``xtol``) a Newton or secant step below which a bracket stops at the stepped point; ``maxiter`` calls at most; a
+    bracket that Newton or the secant cannot narrow is cut into ``sections`` parts per call (``settings.sections``).
+    """
 
     xtol: float
     jump_xtol: float | None = None
@@ -386,12 +468,13 @@ class RootStops:
 
 
 def _refine_sign_changes(h, brackets, stops: RootStops, x0=None, bent_above: bool = False, step_tols=None):
-    """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
-    slope, secant otherwise, and where a step leaves the bracket the bracket cut into ``sections`` equal parts by
-    as many points minus one in the next call (pins.md §6: breakpoints to 1e-12 T_p).  ``h(x, k)`` returns (values,
-    slopes) of the brackets ``k`` (indices, repeated for several points of one bracket) at x, a slope NaN where
-    unknown; only the brackets not yet done are evaluated.  Stops bracket by bracket when the step or the bracket is
-    below ``xtol`` or h is exactly 0.
+    """Sign changes of a vectorised h on the brackets [a, b].
+
+    safeguarded Newton where ``h`` gives a slope, secant otherwise, and where a step leaves the bracket the bracket
+    cut into ``sections`` equal parts by as many points minus one in the next call (pins.md §6: breakpoints to 1e-12
+    T_p).  ``h(x, k)`` returns (values, slopes) of the brackets ``k`` (indices, repeated for several points of one
+    bracket) at x, a slope NaN where unknown; only the brackets not yet done are evaluated.  Stops bracket by
+    bracket when the step or the bracket is below ``xtol`` or h is exactly 0.
 
     A bracket whose end values stay 100x above what the scan's slope |fb - fa|/(b - a) allows over the
     shrunken bracket (after shrinking it 1000x) holds a jump, not a root (e.g. the tangential speed
@@ -523,8 +606,10 @@ def _merge(points, gap):
 
 
 def _lagrange_matrix(nodes, points):
-    """The Lagrange basis of ``nodes`` at ``points``: L (len(points), len(nodes)), sum_k L[j, k] f(nodes[k]) is the
-    interpolating polynomial at points[j] (barycentric weights; exact for polynomials of degree < len(nodes)).
+    """The Lagrange basis of ``nodes`` at ``points``.
+
+    L (len(points), len(nodes)), sum_k L[j, k] f(nodes[k]) is the interpolating polynomial at points[j] (barycentric
+    weights; exact for polynomials of degree < len(nodes)).
 
     >>> t = np.array([-1.0, 0.0, 1.0]); bool(np.allclose(_lagrange_matrix(t, np.array([0.5])) @ t**2, 0.25))
     True
@@ -558,6 +643,37 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     loaded interval, the detail and the check of the breakpoints (:func:`_pieces_hold`), never the mean (pins.md
     §6, §8).  Returns (the interpolated :class:`Solution`, sorted by theta; each point's piece midpoint), or None
     when the nodes are not found on ``sol``.
+
+    Parameters
+    ----------
+    sol : Solution
+        The solved states of a Gauss-Kronrod cycle.
+    q : QuadResult
+        Its quadrature (the bisected pieces).
+    rule : {"gk7", "gk15"}
+        The rule.
+    per_period : int
+        Interpolated points per period (at least 2 a piece).
+
+    Returns
+    -------
+    interpolated : tuple or None
+        (the interpolated :class:`Solution`, sorted by theta; each point's piece midpoint [rad]), or None.
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> cyc = mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5, rule="gk7")
+    >>> pts, mids = gk_interpolated(cyc.sol, cyc.quad, "gk7", 8)
+    >>> pts.theta.size, bool(np.all(np.diff(pts.theta) >= 0.0))
+    (12, True)
+
+    References
+    ----------
+    .. [1] A. S. Kronrod, Nodes and Weights of Quadrature Formulas, Consultants Bureau, New York, 1965;
+       docs/spec/pins.md §6, §8.
     """
     t = _KRONROD[rule][0]
     m = t.size
@@ -641,11 +757,16 @@ class CycleGrid:
 def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: CycleGrid | None = None,
                     n_initial=None, rule: str = "trapezoid", prior: "BreakpointRoots | None" = None,
                     prior_width: float = 1e-2) -> ContactCycle:
-    """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
+    r"""Cycle mean of lambda(theta) over one period, with an honest error.
+
+    Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
     quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least ``settings.inner_share`` tol |lambda_bar|).
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
     the summary and the detail tables (pins.md §5.6, §6).
+
+    .. math:: \bar\lambda = \frac{1}{T_p} \int_0^{T_p} \lambda(\theta)\,d\theta, \qquad
+        \lambda(\theta) = \frac{\sum_j P_j(\theta)}{T_{sat}\,\omega_H\,k/z_1}
 
     Parameters
     ----------
@@ -669,6 +790,28 @@ def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: Cycl
     ``grid.coarse_scan`` checks a coarse scan the same way (:class:`CycleGrid`); ``grid.at_once`` solves the first
     level's doublings in one call, as with ``n_initial`` from the last pass, whose final grid the first call then
     solves at once.
+
+    Returns
+    -------
+    cycle : ContactCycle
+        The cycle mean and its error, the solved states on the final grid, the breakpoints and the losses.
+
+    Examples
+    --------
+    Stiff contacts reproduce the rigid ideal level (pins.md §5.7; 0.174820 at the ideal level):
+
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e9), 1e4, MULTIPLIER)
+    >>> c = mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-6)
+    >>> c.converged, round(c.loss_ratio, 6)
+    (True, 0.17482)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §5.6, §6.
     """
     grid = CycleGrid() if grid is None else grid
     friction = friction if isinstance(friction, PinFriction) else PinFriction(*friction)
@@ -794,7 +937,9 @@ def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: Cycl
 
 def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactModel, tol: float,
                        stride: int | None = None) -> "ContactCycle | None":
-    r"""The cycle at the torque of ``model`` from the final grid of ``cyc`` (solved with ``prev``, a torque a few 1e-5
+    r"""The cycle at the torque of ``model`` from the final grid of ``cyc``.
+
+    The cycle at the torque of ``model`` from the final grid of ``cyc`` (solved with ``prev``, a torque a few 1e-5
     away): the next pass of the torque fixed point without locating the breakpoints again (pins.md §6(6), §7).
 
     Every node keeps its crank angle and its piece's sets and is solved at the new torque from the Newton step
@@ -840,6 +985,24 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     ``settings.relinearise_share`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling
     pins'
     lead switch, flipping friction forces).
+
+    Parameters
+    ----------
+    model : ContactModel
+        The model at the new torque (its window inherited, :meth:`ContactModel.inherit`).
+    cyc : ContactCycle
+        The cycle at the torque of ``prev``.
+    prev : ContactModel
+        The model ``cyc`` was solved with.
+    tol : float
+        Relative accuracy target, [-].
+    stride : int, optional
+        Every stride-th node of each piece is solved anew, the others moved by the change interpolated.
+
+    Returns
+    -------
+    cycle : ContactCycle or None
+        The cycle at the new torque, or None when a piece's sets do not hold (recompute in full).
 
     Examples
     --------
@@ -982,8 +1145,10 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
 
 
 def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
-    r"""(left, right): 1 where a side's change counts in the bound of a breakpoint's strip (:func:`relinearised_cycle`),
-    0 where it does not, per breakpoint (m,).
+    r"""(left, right): whether each side's change counts in the bound of a breakpoint's strip.
+
+    1 where a side's change counts in the bound of a breakpoint's strip (:func:`relinearised_cycle`), 0 where it
+    does not, per breakpoint (m,).
 
     A node's forces are its own equilibrium's; its piece's sets enter only the one-sided derivatives (d tau/d theta,
     so the sliding speeds).  A contact entry or exit alone (one sign-changing component, a penetration, both sides'
@@ -1024,8 +1189,32 @@ def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
 
 
 def piece_places(ps):
-    """Of nodes sorted by piece (``ps`` their pieces): each run's first position ``start`` and node count ``count``,
-    and per node its run ``piece`` and its place ``j`` in it (0 at the piece's first node)."""
+    r"""Of nodes sorted by piece (``ps`` their pieces).
+
+    Each run's first position ``start`` and node count ``count``, and per node its run ``piece`` and its place ``j``
+    in it (0 at the piece's first node).
+
+    .. math:: j = k - \text{start}_{\text{piece}(k)}
+
+    Parameters
+    ----------
+    ps : ndarray
+        Each node's piece key, sorted by piece.
+
+    Returns
+    -------
+    start, count, piece, j : ndarray of int
+        Each run's first position and node count; each node's run and place in it.
+
+    Examples
+    --------
+    >>> [a.tolist() for a in piece_places(np.array([0.5, 0.5, 0.5, 1.5, 1.5]))]
+    [[0, 3], [3, 2], [0, 0, 0, 1, 1], [0, 1, 2, 0, 1]]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6.
+    """
     start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
     count = np.diff(np.append(start, ps.size))
     piece = np.repeat(np.arange(start.size), count)
@@ -1033,10 +1222,13 @@ def piece_places(ps):
 
 
 def _strided(xs, ps, stride: int):
-    """Every ``stride``-th node of each piece and both its ends (nodes sorted by piece, then theta; ``ps`` their
-    pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves it
-    at least 4 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it in
-    its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node)."""
+    """Every ``stride``-th node of each piece and both its ends.
+
+    Every ``stride``-th node of each piece and both its ends (nodes sorted by piece, then theta; ``ps`` their
+    pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves
+    it at least 4 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it
+    in its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node).
+    """
     start, count, piece, j = piece_places(ps)
     k = np.ones(start.size, dtype=np.int64)
     s = 2
@@ -1054,8 +1246,7 @@ def _strided(xs, ps, stride: int):
 
 
 def _trapezoid_weights(xs, ps):
-    """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by
-    piece."""
+    """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece."""
     h = np.where(ps[1:] == ps[:-1], np.diff(xs), 0.0)
     w = np.zeros(xs.size)
     w[:-1] += 0.5 * h
@@ -1064,9 +1255,37 @@ def _trapezoid_weights(xs, ps):
 
 
 def nested_trapezoid_weights(xs, ps):
-    """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece,
+    r"""The composite trapezoid's weights at the levels N and N/2 of each piece.
+
+    The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece,
     over all nodes and over every other node of each piece (its ends kept): (w, w_half), the levels N and N/2 of a
-    piece of N intervals (an odd N: the half level's last interval is the one that is left)."""
+    piece of N intervals (an odd N: the half level's last interval is the one that is left).
+
+    .. math:: w_k = \tfrac12 (h_{k-1} + h_k) \ \text{within a piece (level N)}, \qquad
+        w_{1/2} \ \text{likewise over every other node (level N/2)}
+
+    Parameters
+    ----------
+    xs : ndarray
+        Nodes sorted by piece, then theta, [rad].
+    ps : ndarray
+        Their piece keys.
+
+    Returns
+    -------
+    w, w_half : ndarray
+        The weights at the levels N and N/2, [rad] (0 at the nodes the half level does not hold).
+
+    Examples
+    --------
+    >>> w, w_half = nested_trapezoid_weights(np.array([0.0, 0.5, 1.0, 1.0, 2.0]), np.array([0.5, 0.5, 0.5, 1.5, 1.5]))
+    >>> w.tolist(), w_half.tolist()
+    ([0.25, 0.5, 0.25, 0.5, 0.5], [0.5, 0.0, 0.5, 0.5, 0.5])
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §8.
+    """
     _, count, piece, j = piece_places(ps)
     half = (j % 2 == 0) | (j == count[piece] - 1)
     w_half = np.zeros(xs.size)
@@ -1075,12 +1294,15 @@ def nested_trapezoid_weights(xs, ps):
 
 
 def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
-    """``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change
-    part - sol interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``;
-    weight ``t`` on ``hi``); the sets (branch, candidates, the friction forces' directions), the phases, the residual
-    and the contact geometry (nx, ny, wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are
-    clipped at 0, a value that is not finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both
-    over the same rows)."""
+    """``sol`` with the states ``part`` at the kept nodes, relinearised at the others.
+
+    ``sol`` with the states ``part`` at its crank angles ``kept`` and, at the others, moved by the change part - sol
+    interpolated linearly between the kept nodes around each (``lo``, ``hi``: their places in ``kept``; weight ``t``
+    on ``hi``); the sets (branch, candidates, the friction forces' directions), the phases, the residual and the
+    contact geometry (nx, ny, wx, wy) stay those of ``sol`` there (not solved at the new torque), forces are clipped
+    at 0, a value that is not finite (a pin out of reach) is left as it is (:func:`relinearised_cycle`; both over
+    the same rows).
+    """
     n = sol.theta.size
     rest = np.ones(n, dtype=bool)
     rest[kept] = False
@@ -1140,13 +1362,14 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
 
 
 def _interior_states(found: BreakpointRoots, mids, period: float, margin: float):
-    """For the pieces with midpoints ``mids``: the column of a state solved while the sign changes ``found`` were
-    located (``found.seen``) that lies in the same stretch between two of them as the midpoint, farther than
-    ``settings.interior_margin`` T_p from both (the nearest such to the midpoint), else -1; and those states
-    concatenated.
-    The components keep their signs over the stretch, so that state has the piece's active set, branches and
-    friction directions, as its midpoint's would (pins.md §6; a sign change the located ones missed is caught on the
-    nodes, :func:`_pieces_hold`)."""
+    """For the pieces with midpoints ``mids``.
+
+    The column of a state solved while the sign changes ``found`` were located (``found.seen``) that lies in the
+    same stretch between two of them as the midpoint, farther than ``settings.interior_margin`` T_p from both (the
+    nearest such to the midpoint), else -1; and those states concatenated. The components keep their signs over the
+    stretch, so that state has the piece's active set, branches and friction directions, as its midpoint's would
+    (pins.md §6; a sign change the located ones missed is caught on the nodes, :func:`_pieces_hold`).
+    """
     seen = [s for s in found.seen if s.theta.size]
     if not seen:
         return np.full(mids.size, -1), None
@@ -1167,8 +1390,37 @@ def _interior_states(found: BreakpointRoots, mids, period: float, margin: float)
 
 
 def piece_keys(edges, x, mid):
-    """The nodes' places 2 p + (x - a_p)/(b_p - a_p) in [2 p, 2 p + 1], p the piece of the midpoint ``mid`` (edges
-    sorted): the keys of two pieces never meet, so the piece ends are told apart from their neighbours'."""
+    r"""The nodes' places within the piece of their midpoint, as sortable keys.
+
+    The nodes' places 2 p + (x - a_p)/(b_p - a_p) in [2 p, 2 p + 1], p the piece of the midpoint ``mid`` (edges
+    sorted): the keys of two pieces never meet, so the piece ends are told apart from their neighbours'.
+
+    .. math:: \text{key} = 2p + \frac{x - a_p}{b_p - a_p} \in [2p,\ 2p + 1], \qquad p = \text{the piece of } mid
+
+    Parameters
+    ----------
+    edges : ndarray
+        Piece ends, sorted, [rad].
+    x : ndarray
+        Nodes, [rad].
+    mid : ndarray
+        The midpoints of their pieces, [rad].
+
+    Returns
+    -------
+    keys : ndarray
+        Sortable keys, [-].
+
+    Examples
+    --------
+    >>> piece_keys(np.array([0.0, 1.0, 2.0]), np.array([0.0, 0.5, 1.0, 1.0, 2.0]),
+    ...            np.array([0.5, 0.5, 0.5, 1.5, 1.5])).tolist()
+    [0.0, 0.5, 1.0, 2.0, 3.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.6.
+    """
     p = np.minimum(np.maximum(edges.searchsorted(mid) - 1, 0), edges.size - 2)
     a, b = edges[p], edges[p + 1]
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -1177,10 +1429,43 @@ def piece_keys(edges, x, mid):
 
 
 def piece_guess(keys, tau, dtau, key, x, edges):
-    """Warm starts of tau at the nodes ``key`` (:func:`piece_keys`) from the solved nodes of the same piece around
-    each (keys sorted): the cubic Hermite interpolant of tau and d tau/d theta (one-sided at the piece's ends, from
+    r"""Warm starts of tau at the nodes ``key`` from the solved nodes of the same piece.
+
+    Warm starts of tau at the nodes ``key`` (:func:`piece_keys`) from the solved nodes of the same piece around each
+    (keys sorted): the cubic Hermite interpolant of tau and d tau/d theta (one-sided at the piece's ends, from
     inside it), error O(h^4) in their spacing h; NaN where the piece has no solved node on either side (then the
-    model's own warm start, :meth:`ContactModel.state`).  None when nothing is solved yet."""
+    model's own warm start, :meth:`ContactModel.state`).  None when nothing is solved yet.
+
+    .. math:: \tau(x) \approx p\!\left(\frac{x - x_a}{h}\right), \qquad h = x_b - x_a \quad \text{(cubic Hermite)}
+
+    Parameters
+    ----------
+    keys : ndarray
+        The solved nodes' keys (:func:`piece_keys`), sorted.
+    tau, dtau : ndarray
+        tau [rad] and d tau/d theta [-] at the solved nodes.
+    key : ndarray
+        The keys of the nodes to start.
+    x : ndarray
+        Their crank angles, [rad].
+    edges : ndarray
+        Piece ends, [rad].
+
+    Returns
+    -------
+    guess : ndarray or None
+        Warm starts, [rad] (NaN without solved nodes on both sides in the piece), or None.
+
+    Examples
+    --------
+    >>> piece_guess(np.array([0.0, 1.0]), np.array([0.0, 1.0]), np.array([1.0, 1.0]), np.array([0.5, 2.5]),
+    ...             np.array([0.5, 1.5]), np.array([0.0, 1.0, 2.0])).tolist()   # tau = theta; no node in piece 2
+    [0.5, nan]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.5, §12.6 (warm starts).
+    """
     if keys.size < 2:
         return None
     j = np.minimum(np.maximum(keys.searchsorted(key), 1), keys.size - 1)
@@ -1198,15 +1483,17 @@ def piece_guess(keys, tau, dtau, key, x, edges):
 
 def _pieces_hold(nodes, ref_sols, edges, rolls: bool, tol: float, period: float, away=None,
                  floor: float = 0.0) -> bool:
-    """Whether every evaluated node lies on its piece's side of every sign change: no component has the
-    opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's ends (where a
-    located jump may lie within 1e-3 tol T_p of its place, :func:`_scan_roots`).  A stricter test than the full
-    scan's (the nodes are denser than its 256 intervals), used for the incrementally moved breakpoints.
+    """Whether every evaluated node lies on its piece's side of every sign change.
+
+    no component has the opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's
+    ends (where a located jump may lie within 1e-3 tol T_p of its place, :func:`_scan_roots`).  A stricter test than
+    the full scan's (the nodes are denser than its 256 intervals), used for the incrementally moved breakpoints.
     ``away`` = (points, width): nor at a node within ``width`` of a point (sorted; the strips a breakpoint may have
     moved through since the nodes were placed, :func:`relinearised_cycle`).  ``floor``: a contradiction counts only
-    where the node's value and the piece's both exceed ``floor`` times the component's largest |value| over the nodes
-    (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance).  ``nodes``:
-    (cache, mids), the nodes' states and their pieces' midpoints."""
+    where the node's value and the piece's both exceed ``floor`` times the component's largest |value| over the
+    nodes (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance).
+    ``nodes``: (cache, mids), the nodes' states and their pieces' midpoints.
+    """
     cache, mids = nodes
     rm = np.concatenate([r.theta for r in ref_sols])
     rv = np.concatenate([_components(r, rolls)[0] for r in ref_sols], axis=1)
@@ -1245,17 +1532,44 @@ def _pieces_hold(nodes, ref_sols, edges, rolls: bool, tol: float, period: float,
 # ============================================================ cycle metrics (pins.md §5.7, §8)
 
 def engagement_metrics(sol: Solution, spin, low: float = 0.1):
-    """The paper's circular-profile metrics from one period of all pins (pins.md §5.7(b)).
+    r"""The paper's circular-profile metrics from one period of all pins (pins.md §5.7(b)).
 
     All pins' samples together cover one full engagement (a pin's history has period 2 pi, the pins
     are T_p apart).  They are ordered by zeta = theta - phi_j (time order).  The loaded interval is the
     longest run of consecutive samples with a loaded contact.
+
+    .. math:: \frac{\max_{second\ half} F}{\max_{first\ half} F}, \qquad \zeta = \theta - \varphi_j
+
+    Parameters
+    ----------
+    sol : Solution
+        The states over one period.
+    spin : ndarray
+        Pin spin per unit crank speed, [-] (:func:`contact_losses`).
+    low : float, optional
+        The share of max |spin| below which the spin is low, [-].
 
     Returns
     -------
     dict: exit_entry_force_ratio (max F in the second half of the loaded interval / max in the first),
     spin_reversals (sign changes of the spin in the interval), low_spin_fraction (share of the interval
     with |spin| < low max|spin|; None when the pins do not spin), loaded_from, loaded_to (zeta ends) [rad].
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> m = engagement_metrics(sol, contact_losses(sol, g.R_b, 0.1, 0.1, False)[1])
+    >>> m["spin_reversals"], m["low_spin_fraction"], round(m["loaded_to"] - m["loaded_from"], 3)   # k = 1: about pi
+    (0, None, 3.142)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       its circular-profile findings; docs/spec/pins.md §5.7(b).
     """
     F = sol.force.max(axis=0).ravel()
     z = sol.zeta.ravel()
@@ -1393,8 +1707,10 @@ def cycle_peaks(cyc: ContactCycle, g: Cycloid, n_discs: int, rolls: bool) -> Cyc
 
 
 def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.0, 1.0)):
-    """Angular free play of the unloaded satellite at crank angles theta: (tau_minus, tau_plus) [rad] (``sides``:
-    only these of the two directions, in this order, -1.0 for tau_minus and 1.0 for tau_plus).
+    r"""Angular free play of the unloaded satellite at crank angles theta.
+
+    (tau_minus, tau_plus) [rad] (``sides``: only these of the two directions, in this order, -1.0 for tau_minus and
+    1.0 for tau_plus).
 
     tau_plus > 0 (tau_minus < 0) is the rotation from nominal at which the first pair touches, the root of
     max_j delta_j(tau) = 0; 0 where a pair already touches or interferes at nominal; +-``limit`` (default pi/z1)
@@ -1405,6 +1721,37 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
     touches (a profile's curvature turns the normal), the root is found in [0, start].  Before 2026-11-27 the
     doubling started at 1e-12 rad: ~30 more contact evaluations per side, the same roots to 1e-15 rad.  The
     backlash is min over theta of tau_plus - tau_minus (:func:`backlash`).
+
+    .. math:: \tau_+ = \min\{\tau > 0 : \max_j \delta_j(\tau) = 0\}, \qquad
+        \tau_- = \max\{\tau < 0 : \max_j \delta_j(\tau) = 0\}
+
+    Parameters
+    ----------
+    model : ContactModel
+        The contact model (its profile and gear).
+    theta : ndarray
+        Crank angles, [rad].
+    limit : float, optional
+        The largest rotation searched, [rad] (default pi/z1).
+    sides : tuple of float, optional
+        Only these directions (-1.0, 1.0).
+
+    Returns
+    -------
+    tau_minus, tau_plus : ndarray
+        The free play each way, [rad].
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, CycloidProfile, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> [abs(float(t[0])) for t in free_play(model, np.array([0.1]))]   # an unmodified cycloid: no play
+    [0.0, 0.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3 (backlash), §8.
     """
     pose = model.pose(theta)
     n = pose.theta.size
@@ -1519,8 +1866,10 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
 
 
 def pin_travel(tau, g: Cycloid) -> float:
-    r"""The largest travel of a pin centre relative to the satellite's nominal (rigid conjugate) pose under the load,
-    as a share of the pin radius: :math:`\max|\tau| (R_p + e)/R_b` [-] (pins.md §7).
+    r"""The largest travel of a pin centre under the load, as a share of the pin radius.
+
+    The largest travel of a pin centre relative to the satellite's nominal (rigid conjugate) pose under the load, as
+    a share of the pin radius: :math:`\max|\tau| (R_p + e)/R_b` [-] (pins.md §7).
 
     The contact model holds the satellite's rotation tau to be deflection-sized; a pin centre that moves by a good
     part of its radius (a profile with large free play, on few teeth) meets its tooth far from its nominal place,
@@ -1528,21 +1877,62 @@ def pin_travel(tau, g: Cycloid) -> float:
     designs disagreed with the crank angles solved one by one by up to 10 %, below it (0.004-0.23, the paper designs
     0.004-0.042) they agreed to the reference's own error.
 
+    .. math:: \frac{\max|\tau|\,(R_p + e)}{R_b}
+
+    Parameters
+    ----------
+    tau : ndarray
+        The satellite's rotations under the load, [rad].
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    travel : float
+        The largest travel over the pin radius, [-].
+
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> round(pin_travel(np.array([1e-3, -2e-3]), g) * g.R_b / (g.R_p + g.e), 12)
     0.002
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7.
     """
     return float(np.max(np.abs(tau))) * (g.R_p + g.e) / g.R_b
 
 
 def deflection_sized(tau, g: Cycloid, travel_max: float = DEFAULT_SETTINGS.travel_max) -> bool:
-    """Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized: :func:`pin_travel` at most
-    ``settings.travel_max`` (else the contact level's results are flagged, pins.md §7).
+    r"""Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized.
 
+    :func:`pin_travel` at most ``settings.travel_max`` (else the contact level's results are flagged, pins.md §7).
+
+    .. math:: \frac{\max|\tau|\,(R_p + e)}{R_b} \le \text{travel\_max}
+
+    Parameters
+    ----------
+    tau : ndarray
+        The satellite's rotations under the load, [rad].
+    g : Cycloid
+        The gear.
+    travel_max : float, optional
+        The largest travel over the pin radius, [-] (default 0.25).
+
+    Returns
+    -------
+    sized : bool
+        True when the rotation is deflection-sized.
+
+    Examples
+    --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> deflection_sized(np.array([1e-3]), g), deflection_sized(np.array([0.1]), g)
     (True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7.
     """
     return pin_travel(tau, g) <= travel_max

@@ -1,5 +1,6 @@
-"""KHV pin gearing, level ``contact``: the geometry, moment balance and speeds of a contact model (pins.md §5.1,
-§5.5, §5.6).
+"""KHV pin gearing, level ``contact``.
+
+The geometry, moment balance and speeds of a contact model (pins.md §5.1, §5.5, §5.6).
 
 :class:`ContactKinematics` is the part of :class:`~gearcalc.pins.contact_model.ContactModel` that evaluates a pose:
 the nominal pin positions, the contacts and penetrations (the profile's), the moment balance G(tau) and its slope,
@@ -37,9 +38,11 @@ class ContactKinematics:
 
     # -- geometry -------------------------------------------------------------------------------
     def pose(self, theta, idx=None, sides=None) -> Pose:
-        """Nominal satellite-frame pin positions at crank angles theta (tau = 0); ``idx`` (m, n): only
-        these pins (default: all, shape (z2, n)); ``sides``: only these of each pin's contacts (default: all;
-        :attr:`sides`)."""
+        """Nominal satellite-frame pin positions at crank angles theta (tau = 0); ``idx`` (m, n).
+
+        only these pins (default: all, shape (z2, n)); ``sides``: only these of each pin's contacts (default:
+        all; :attr:`sides`).
+        """
         g = self.g
         theta = np.atleast_1d(np.asarray(theta, dtype=float))
         sel = self.pins if idx is None else idx
@@ -88,7 +91,8 @@ class ContactKinematics:
 
             G_\tau = \sum -F'(\delta)\,(X\times n)\,A + F\,(1 + w\cdot X_\tau)(X\cdot n - q\,X\times n)
 
-        Returns (G, G_tau, ct, F, Fp, A, q, x, y, G_geo), G_geo the part of G_tau at fixed deflections."""
+        Returns (G, G_tau, ct, F, Fp, A, q, x, y, G_geo), G_geo the part of G_tau at fixed deflections.
+        """
         c, s = np.cos(tau), np.sin(tau)
         x = c * pose.x0 + s * pose.y0
         y = -s * pose.x0 + c * pose.y0
@@ -104,19 +108,24 @@ class ContactKinematics:
         return G, G_tau, ct, F, Fp, A, q, x, y, G_geo
 
     def _moment_slope(self, ct: Contacts, F, Fp, A, q, x, y):
-        """(G, G_tau, G_geo) of :meth:`_balance` from the contact data; G_geo: the part of G_tau from the turning
-        geometry at fixed deflections, sum F (1 + w.X_tau)(X.n - q X x n)."""
+        """(G, G_tau, G_geo) of :meth:`_balance` from the contact data; G_geo.
+
+        The part of G_tau from the turning geometry at fixed deflections, sum F (1 + w.X_tau)(X.n - q X x n).
+        """
         G = (F * A).sum(axis=(0, 1)) - self.M_req
         one = 1.0 + (ct.wx * y - ct.wy * x)
         G_geo = (F * one * (ct.xn - q * ct.arm)).sum(axis=(0, 1))
         return G, (-Fp * ct.arm * A).sum(axis=(0, 1)) + G_geo, G_geo
 
     def _sliding_at(self, pose: Pose, tau, dtau):
-        """The contacts' forces and sliding speeds v_t at the rotations ``tau`` with the turning rate d tau/d theta
+        """The contacts' forces and sliding speeds at given rotations, without an equilibrium.
+
+        The contacts' forces and sliding speeds v_t at the rotations ``tau`` with the turning rate d tau/d theta
         ``dtau`` given (a warm start's interpolant, :meth:`_guess`), without an equilibrium: the first friction
         directions of :meth:`_friction_fixed_point` (:meth:`traction` reads ``force`` and ``v_t``), as
         :meth:`_kinematics` gives them but for its own d tau/d theta (v_t = O1'.n + (d tau/d theta - k/z1)(C.n),
-        pins.md §5.6).  Returns a :class:`Solution` holding tau, d tau/d theta, the forces and v_t."""
+        pins.md §5.6).  Returns a :class:`Solution` holding tau, d tau/d theta, the forces and v_t.
+        """
         g = self.g
         ct = self.contacts(pose, tau)
         ang = (g.z2 / g.z1) * pose.theta - tau
@@ -124,18 +133,23 @@ class ContactKinematics:
         return Solution(pose.theta, tau, dtau, None, ct.delta, self.law.force(ct.delta), v_t, None, None)
 
     def _tangential_speed(self, ca, sa, ct: Contacts, dtau):
-        """The sliding speed v_t of every contact per unit crank speed [mm/rad] (pins.md §5.6): with omega_H = 1,
-        v = z x O1' + w1 z x (C - O1) and v_t = v.(z x n) = O1'.n + w1 (C.n), O1' = e u(theta - phi), C = X + R_b n
-        in the satellite axes and w1 = d tau/d theta - k/z1; ``ca``, ``sa``: cos and sin of z2 theta/z1 - tau."""
+        """The sliding speed v_t of every contact per unit crank speed [mm/rad] (pins.md §5.6).
+
+        With omega_H = 1, v = z x O1' + w1 z x (C - O1) and v_t = v.(z x n) = O1'.n + w1 (C.n), O1' = e u(theta
+        - phi), C = X + R_b n in the satellite axes and w1 = d tau/d theta - k/z1; ``ca``, ``sa``: cos and sin
+        of z2 theta/z1 - tau.
+        """
         g = self.g
         return g.e * (ca * ct.nx + sa * ct.ny) + (-(g.k / g.z1) + dtau) * (ct.xn + g.R_b)
 
     def _full(self, sol: Solution, idx, sides=None) -> Solution:
-        """The solution over the rows of :meth:`layout`: the candidates' values scattered, the others untouched by
-        contact (a state at crank angles outside [0, T_p] whose candidates the layout does not hold: over the union
-        of both); solved on some contacts of each pin only (``sides``, :attr:`sides`): over all of them, the others
-        out of reach like the pins out of the window (their normals and turning rates over the candidates 0: they
-        carry no force)."""
+        """The solution over the rows of :meth:`layout`.
+
+        The candidates' values scattered, the others untouched by contact (a state at crank angles outside [0,
+        T_p] whose candidates the layout does not hold: over the union of both); solved on some contacts of each
+        pin only (``sides``, :attr:`sides`): over all of them, the others out of reach like the pins out of the
+        window (their normals and turning rates over the candidates 0: they carry no force).
+        """
         if idx is None:
             return sol
         rows, pos = self.layout()
@@ -177,8 +191,11 @@ class ContactKinematics:
                         rows, scatter(sol.traction, 0.0))
 
     def reference(self, theta):
-        """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
-        midpoints (traction: the friction forces' directions with friction in the balance, else None)."""
+        """(active, branch, traction) of the solved state at theta.
+
+        The fixed sets of the pieces with these midpoints (traction: the friction forces' directions with
+        friction in the balance, else None).
+        """
         sol = self.state(theta, phases=False)
         return sol.force > 0.0, sol.branch, None if self.friction is None else self.traction(sol)
 
@@ -267,9 +284,12 @@ class ContactKinematics:
         return (sol, need) if step else sol
 
     def _picker(self, theta, rows=None):
-        """(idx, pick): the candidate pins (m, n) at crank angles theta (all pins when there is no window) and the
-        candidates' columns of an array over the pins ``rows`` (a state's :attr:`Solution.rows`; None: all z2),
-        (c, R, n) -> (c, m, n) (scalars and None unchanged)."""
+        """(idx, pick): the candidate pins at crank angles theta and how to pick their columns.
+
+        The candidate pins (m, n) at crank angles theta (all pins when there is no window) and the candidates'
+        columns of an array over the pins ``rows`` (a state's :attr:`Solution.rows`; None: all z2), (c, R, n) ->
+        (c, m, n) (scalars and None unchanged).
+        """
         idx = self.candidates(theta)
         if idx is None:
             idx = np.broadcast_to(self.pins, (self.g.z2, np.size(theta)))
@@ -286,19 +306,24 @@ class ContactKinematics:
         return idx, pick
 
     def solved_contacts(self, sol: Solution):
-        """The contacts of a solved state (theta, tau, branches) over the candidate pins, and ``pick``: the
-        candidates' columns of an array over its rows (c, R, n) -> (c, m, n) (scalars and None unchanged)."""
+        """The contacts of a solved state (theta, tau, branches) over the candidate pins, and ``pick``.
+
+        The candidates' columns of an array over its rows (c, R, n) -> (c, m, n) (scalars and None unchanged).
+        """
         idx, pick = self._picker(sol.theta, sol.rows)
         return self.contacts(self.pose(sol.theta, idx), sol.tau, pick(sol.branch)), pick
 
     def kept_contacts(self, sol: Solution):
-        """:meth:`solved_contacts` from the normals the solution kept (:class:`Solution`: nx, ny, wx, wy over its
+        """:meth:`solved_contacts` from the normals the solution kept, when they fit.
+
+        :meth:`solved_contacts` from the normals the solution kept (:class:`Solution`: nx, ny, wx, wy over its
         ``pins``) when they are over this model's candidate pins at every angle; else evaluated anew.
 
         At a piece end (a crank angle held twice, one-sided) they are evaluated anew all the same: where a
         cycloidal pin passes to a crest corner its foot point on the design curve jumps there, and the kept one
         may be the other side's (the profile's corner, whose curvature radius is 0); anew, from the nominal foot
-        point, with the state's branch."""
+        point, with the state's branch.
+        """
         if sol.pins is None or sol.nx is None:
             return self.solved_contacts(sol)
         theta = sol.theta
@@ -320,7 +345,8 @@ class ContactKinematics:
         """Force B of the crank bearing on the satellite (crank-frame axes turned by phi) [N], (2, n).
 
         Satellite equilibrium: B = -sum (F n + q F (z x n)) (the coupling gives a pure torque); ``ct``, ``pick``: the
-        state's :meth:`solved_contacts`, when known."""
+        state's :meth:`solved_contacts`, when known.
+        """
         if ct is None:
             ct, pick = self.solved_contacts(sol)
         F, q = pick(sol.force), 0.0 if traction is None else pick(traction)

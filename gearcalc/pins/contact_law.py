@@ -22,12 +22,30 @@ HERTZ_EXPONENT = hertz.LINE_LOAD_EXPONENT
 
 
 def palmgren_line_constant(face_width):
-    """Palmgren's line contact solved for the force: F = c delta^(10/9), c = b^(8/9)/3.84e-5^(10/9).
+    r"""Palmgren's line-contact deflection law solved for the force: its load-deflection constant [N/mm^(10/9)].
+
+    .. math:: \delta = 3.84 \cdot 10^{-5}\,\frac{F^{0.9}}{b^{0.8}} \quad\Longrightarrow\quad
+        F = c\,\delta^{10/9}, \qquad c = \frac{b^{8/9}}{(3.84 \cdot 10^{-5})^{10/9}}
+
+    Parameters
+    ----------
+    face_width : float or array_like
+        Contact length b, [mm].
+
+    Returns
+    -------
+    c : float or ndarray
+        Load-deflection constant, [N/mm^(10/9)].
 
     Examples
     --------
     >>> 1.03 < palmgren_line_constant(10.0) / hertz.iso_contact_stiffness(10.0) < 1.05   # pins.md: within ~4 %
     True
+
+    References
+    ----------
+    .. [1] T. A. Harris, M. N. Kotzalas, Essential Concepts of Bearing Technology, 5th ed., CRC Press, Boca Raton,
+       2006 (Palmgren's line-contact deflection); docs/spec/pins.md §5.4.
     """
     return face_width ** (8.0 / 9.0) / PALMGREN_COEFFICIENT ** HERTZ_EXPONENT
 
@@ -60,17 +78,22 @@ class ContactLaw:
         return out
 
     def force_on(self, delta, active):
-        """F on a fixed active set: the law's smooth extension on the ``active`` pairs (a linear law goes on
-        linearly below delta = 0), 0 elsewhere.  Used for one-sided derivatives at contact entry/exit."""
+        """F on a fixed active set.
+
+        The law's smooth extension on the ``active`` pairs (a linear law goes on linearly below delta = 0), 0
+        elsewhere.  Used for one-sided derivatives at contact entry/exit.
+        """
         if self.exponent == 1.0:
             return np.where(active, self.constant * np.asarray(delta, dtype=float), 0.0)
         return np.where(active, self.force(delta), 0.0)
 
     def force_stiffness(self, delta, active=None):
-        """(F, dF/d delta) [N, N/mm] together: :meth:`force` and its stiffness c p delta^(p-1) (0 for delta <= 0), or
-        on a fixed ``active`` set :meth:`force_on` and its derivative (the smooth extension: a linear law keeps c
-        below delta = 0).  Under a power law the stiffness is p F/delta on the touching pairs (one power for both:
-        the equilibrium evaluates them at every pair of every iteration).
+        """(F, dF/d delta) [N, N/mm] together.
+
+        :meth:`force` and its stiffness c p delta^(p-1) (0 for delta <= 0), or on a fixed ``active`` set
+        :meth:`force_on` and its derivative (the smooth extension: a linear law keeps c below delta = 0).  Under
+        a power law the stiffness is p F/delta on the touching pairs (one power for both: the equilibrium
+        evaluates them at every pair of every iteration).
 
         Examples
         --------
@@ -116,14 +139,55 @@ The design key ``contact.law`` chooses among them (its choices in :mod:`gearcalc
 
 
 def register_contact_law(name: str, make) -> None:
-    """Add a contact law by name: ``make(face_width, stiffness)`` returns its :class:`ContactLaw` (a new law is one
-    function plus this call; the design key's choices are in :mod:`gearcalc.pins.schema`)."""
+    """Add a contact law by name.
+
+    ``make(face_width, stiffness)`` returns its :class:`ContactLaw` (a new law is one function plus this call; the
+    design key's choices are in :mod:`gearcalc.pins.schema`).
+
+    Parameters
+    ----------
+    name : str
+        The law's name in :data:`CONTACT_LAWS`.
+    make : callable
+        Its factory, (face_width [mm], stiffness [N/mm]) -> :class:`ContactLaw`.
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> register_contact_law("linear", CONTACT_LAWS["linear"])   # the law already registered, registered again
+    >>> contact_law("linear", stiffness=1e5).force(np.array([1e-3])).tolist()
+    [100.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.4 (the contact law by name).
+    """
     CONTACT_LAWS[name] = make
 
 
 def contact_law(name: str, face_width=None, stiffness=None) -> ContactLaw:
-    """The law of a design by name (:data:`CONTACT_LAWS`): hertz/palmgren need the face width b [mm], linear the
-    stiffness k_lin [N/mm].
+    r"""The law of a design by name (:data:`CONTACT_LAWS`).
+
+    .. math:: F = c\,\max(\delta, 0)^p: \quad c = 35948 \cdot 2^{10/9}\,b^{8/9},\ p = \tfrac{10}{9} \ \text{(hertz)};
+        \quad c = \frac{b^{8/9}}{(3.84 \cdot 10^{-5})^{10/9}},\ p = \tfrac{10}{9} \ \text{(palmgren)};
+        \quad c = k_{lin},\ p = 1 \ \text{(linear)}
+
+    Parameters
+    ----------
+    name : {"hertz", "palmgren", "linear"}
+        The law's name (or one registered).
+    face_width : float, optional
+        Contact length b, [mm] (hertz, palmgren).
+    stiffness : float, optional
+        Linear stiffness k_lin, [N/mm] (linear).
+
+    Returns
+    -------
+    law : ContactLaw
+        The law F(δ), [N] for δ in [mm].
 
     Raises
     ------
@@ -138,6 +202,13 @@ def contact_law(name: str, face_width=None, stiffness=None) -> ContactLaw:
     Traceback (most recent call last):
         ...
     ValueError: unknown contact law 'hertzz'; known: hertz, palmgren, linear
+
+    References
+    ----------
+    .. [1] ISO/TS 16281:2008, Rolling bearings - Methods for calculating the modified reference rating life for
+       universally loaded bearings, ISO, Geneva, 2008 (the roller constant).
+    .. [2] T. A. Harris, M. N. Kotzalas, Essential Concepts of Bearing Technology, 5th ed., CRC Press, Boca Raton,
+       2006 (Palmgren); docs/spec/pins.md §5.4.
     """
     try:
         make = CONTACT_LAWS[name]

@@ -33,28 +33,80 @@ __all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "Con
 
 
 def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
-    """The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6): the composite trapezoid per
-    smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the Gauss-Kronrod pair ``"gk7"``
-    (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's interpolated states on the final grid,
-    :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured 2026-11-27 on the eight paper designs, CPU time of
-    both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time (each solve's fixed numpy overhead outweighs gk7's 2-3x
-    fewer angles); at 1e-7 gk7 takes 0.77x the trapezoid's in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8 it
-    meets the tolerance where the trapezoid reaches its cap of 2^12 intervals on 3 designs, at 1e-9 on the three designs
-    tried (0.13-0.45 s against 0.24-0.54 s).
+    r"""The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6).
 
+    The composite trapezoid per smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the
+    Gauss-Kronrod pair ``"gk7"`` (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's
+    interpolated states on the final grid, :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured
+    2026-11-27 on the eight paper designs, CPU time of both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time
+    (each solve's fixed numpy overhead outweighs gk7's 2-3x fewer angles); at 1e-7 gk7 takes 0.77x the trapezoid's
+    in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8 it meets the tolerance where the trapezoid reaches its
+    cap of 2^12 intervals on 3 designs, at 1e-9 on the three designs tried (0.13-0.45 s against 0.24-0.54 s).
+
+    .. math:: \text{rule} = \text{"trapezoid"} \ (\text{tol} \ge 3 \cdot 10^{-7}), \qquad
+        \text{"gk7"} \ \text{otherwise}
+
+    Parameters
+    ----------
+    tol : float
+        Relative accuracy target, [-].
+    settings : ContactSettings, optional
+        The contact level's settings (``gk_below``).
+
+    Returns
+    -------
+    rule : str
+        "trapezoid" or "gk7".
+
+    Examples
+    --------
     >>> contact_rule(1e-6), contact_rule(1e-9)
     ('trapezoid', 'gk7')
+
+    References
+    ----------
+    .. [1] A. S. Kronrod, Nodes and Weights of Quadrature Formulas, Consultants Bureau, New York, 1965;
+       docs/spec/pins.md §6.
     """
     return "gk7" if tol < (DEFAULT_SETTINGS if settings is None else settings).gk_below else "trapezoid"
 
 
 def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
-    """(the gear, R_p [mm]) from whichever of R_p and K1 is given (the other None; pins.md §4.1, §7):
+    r"""(the gear, R_p [mm]) from whichever of R_p and K1 is given (the other None; pins.md §4.1, §7).
+
     :class:`~gearcalc.pins.geometry.Cycloid` with 1 - K1 from :func:`gearcalc.pins.checks.pin_circle_curtate`.
 
+    .. math:: R_p = \frac{e\,z_2}{k\,K_1} \ \text{(K1 given)}, \qquad K_1 = \frac{e\,z_2}{k\,R_p} \ \text{(R_p given)}
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Teeth and pins, [-].
+    e : float
+        Eccentricity, [mm].
+    Rp : float or None
+        Pin circle radius, [mm].
+    K1 : float or None
+        Curtate ratio, [-].
+    Rb : float
+        Pin radius, [mm].
+
+    Returns
+    -------
+    g : Cycloid
+        The gear.
+    Rp : float
+        Pin circle radius, [mm].
+
+    Examples
+    --------
     >>> g, Rp = gear(20, 22, 3.9, None, 0.75, 1.95)
     >>> round(Rp, 9), g.R_b
     (57.2, 1.95)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.1, §7.
     """
     Rp, _, omk = pin_circle_curtate(z1, z2, e, Rp, K1)
     return Cycloid(z1, z2, float(e), float(Rp), float(Rb), float(omk)), Rp
@@ -86,19 +138,63 @@ def satellite_profile(g, profile: str, tooth_radius, tooth_circle_radius, radial
     Raises
     ------
     gearcalc.pins.contact.InadmissibleProfile
+
+    Examples
+    --------
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> p, overlap = satellite_profile(g, "circular", 5.0, "zero_backlash", 0.0, 0.0)
+    >>> type(p).__name__, round(p.R_t, 2), overlap   # circular_profile's example
+    ('CircularProfile', 111.35, False)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       its circular-arc teeth; docs/spec/pins.md §5.2, §5.3, §7.
     """
     return make_profile(profile, g, ProfileParams(tooth_radius, tooth_circle_radius, radial_mod, equidistant_mod))
 
 
 def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: float, axle: float):
-    r"""(mu_eff, rolls, rolling condition) of one operating point as arrays of one (pins.md §4.5-4.6):
+    r"""(mu_eff, rolls, rolling condition) of one operating point as arrays of one (pins.md §4.5-4.6).
+
     :func:`~gearcalc.pins.friction.friction_regime`; the condition is None for fixed pins.
 
     .. math:: \mu_{eff} = (f_c r + f_k)/R_b \text{ where } f R_b \ge f_c r + f_k, \text{ else } f
 
+    Parameters
+    ----------
+    rotating : bool
+        Rotating pins.
+    Rb, r : float
+        Pin and axle radii, [mm].
+    sliding : float
+        Sliding friction f, [-].
+    rolling : float
+        Rolling friction f_k, [mm].
+    axle : float
+        Axle friction f_c, [-].
+
+    Returns
+    -------
+    mu_eff : ndarray
+        Effective coefficient, [-], shape (1,).
+    rolls : ndarray of bool
+        The pins roll, shape (1,).
+    condition : ndarray of bool or None
+        The rolling condition (None for fixed pins).
+
+    Examples
+    --------
     >>> mu, rolls, ok = contact_friction(True, 1.95, 0.95, 0.1, 0.01, 0.1)
     >>> round(float(mu[0]), 12), bool(rolls[0]), bool(ok[0])
     (0.053846153846, True, True)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.5-4.6.
     """
     f = np.array([sliding], dtype=float)
     if not rotating:
@@ -109,8 +205,37 @@ def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: floa
 
 
 def backlash_deg(model, play_free: bool) -> float:
-    """The satellite's play at no load [deg] (pins.md §5.3): 0 where the profile has none by construction
-    (an unmodified cycloid, the zero-backlash tooth circle), else :func:`gearcalc.pins.contact.backlash`."""
+    r"""The satellite's play at no load [deg] (pins.md §5.3).
+
+    0 where the profile has none by construction (an unmodified cycloid, the zero-backlash tooth circle), else
+    :func:`gearcalc.pins.contact.backlash`.
+
+    .. math:: \Delta\varphi = \frac{180}{\pi} \min_\theta \left(\tau_+(\theta) - \tau_-(\theta)\right)
+
+    Parameters
+    ----------
+    model : ContactModel
+        The contact model (its profile and gear).
+    play_free : bool
+        The profile has no play by construction.
+
+    Returns
+    -------
+    backlash : float
+        The play, [deg].
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> p, _ = satellite_profile(g, "circular", 5.0, 110.0, 0.0, 0.0)   # R_t below the zero-backlash 111.35 mm
+    >>> round(backlash_deg(ContactModel(g, p, contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER), False), 3)
+    6.286
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3, §8.
+    """
     return 0.0 if play_free else math.degrees(pc.backlash(model))
 
 
@@ -146,9 +271,11 @@ class ContactLevel:
 
 @dataclass(frozen=True)
 class ContactDesign:
-    """One design at the contact level (the parameter object of :func:`contact_level`): the gear ``g``, its
-    ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating`` pins on axles of radius
-    ``axle_radius`` [mm] (None: fixed pins)."""
+    """One design at the contact level (the parameter object of :func:`contact_level`).
+
+    The gear ``g``, its ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating``
+    pins on axles of radius ``axle_radius`` [mm] (None: fixed pins).
+    """
 
     g: Cycloid
     profile: object
@@ -190,6 +317,19 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     settings : ContactSettings or None
         The numerical settings (:mod:`gearcalc.pins.contact_settings`; None: the defaults).
 
+    Examples
+    --------
+    The paper's cycloidal u = 10 design with fixed pins, multiplier, T_H = 100 N·m (pins.md §10), Hertz contacts
+    (0.87363 at the rigid ideal level):
+
+    >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    >>> prof, _ = satellite_profile(g, "cycloidal", "full", "zero_backlash", 0.0, 0.0)
+    >>> design = ContactDesign(g, prof, pc.contact_law("hertz", face_width=10.0), 1, False, None)
+    >>> point = dict(sliding=0.1, rolling=None, axle=None, mode="multiplier", shaft="H", torque=100.0, speed=None)
+    >>> et = contact_level(design, point, "consistent", 1e-5, True).et_multiplier
+    >>> round(float(et.efficiency[0]), 3), round(float(et.T_V[0] * et.eta_vh[0]), 6)   # eta T_V = u T_H = 1000 N·m
+    (0.874, 1000.0)
+
     Returns
     -------
     ContactLevel
@@ -197,6 +337,12 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     Raises
     ------
     gearcalc.pins.contact.NoEquilibrium, gearcalc.pins.contact.Jam, gearcalc.pins.contact.Unresolvable
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.7, §4.9, §5, §7, §10.
     """
     g, n_discs = design.g, design.n_discs
     mu_a, rolls_a, rolling_ok = contact_friction(design.rotating, g.R_b, design.axle_radius, point["sliding"],

@@ -31,8 +31,11 @@ from .geometry import REDUCER, Cycloid
 __all__ = ["NoEquilibrium", "Jam", "Solution", "ContactModel", "EPS"]
 
 def _doubling_bracket(G, n: int, h0: float, limit: float):
-    """Brackets of the roots of a decreasing G(tau) (n,) about tau = 0, by doubling a step from h0 on the side of
-    sign(G(0)) up to ``limit``: (a, b, open), open where no sign change lies within +-limit."""
+    """Brackets of the roots of a decreasing G(tau) about tau = 0.
+
+    Brackets of the roots of a decreasing G(tau) (n,) about tau = 0, by doubling a step from h0 on the side of
+    sign(G(0)) up to ``limit``: (a, b, open), open where no sign change lies within +-limit.
+    """
     G0 = G(np.zeros(n))
     direction = np.where(G0 > 0.0, 1.0, -1.0)            # G decreasing: root on the side of sign(G0)
     lo, hi = np.zeros(n), np.zeros(n)
@@ -54,11 +57,14 @@ def _doubling_bracket(G, n: int, h0: float, limit: float):
 
 
 def _bracket_root(G, theta, a, b, xtol: float):
-    """The roots of the moment balance G on the brackets [a, b] at crank angles theta (by
+    """The roots of the moment balance G on the brackets [a, b] at crank angles theta.
+
+    The roots of the moment balance G on the brackets [a, b] at crank angles theta (by
     :func:`gearcalc.roots.find_root`); :class:`NoEquilibrium` at the angles whose ends no longer hold a sign change:
     for a rotation far beyond a deflection the contact geometry depends on the search's path (a cycloidal pin's foot
     point can jump to another flank between evaluations), so a bracket found by one search need not hold for the
-    next (pins.md §5.5, §7)."""
+    next (pins.md §5.5, §7).
+    """
     try:
         return find_root(G, a, b, xtol=xtol, rtol=0.0).root
     except BracketError as exc:
@@ -66,8 +72,10 @@ def _bracket_root(G, theta, a, b, xtol: float):
 
 
 def _window_range(tau) -> tuple[float, float]:
-    """The candidate window's range of tau from a scan's: each end twice as far from 0, or half as near when the
-    range does not reach 0 (:meth:`ContactModel.set_window`)."""
+    """The candidate window's range of tau from a scan's.
+
+    Each end twice as far from 0, or half as near when the range does not reach 0 (:meth:`ContactModel.set_window`).
+    """
     lo, hi = float(np.min(tau)), float(np.max(tau))
     return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
 
@@ -124,7 +132,9 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
 
     # -- equilibrium ------------------------------------------------------------------------------
     def solve(self, theta, xtol: float = 1e-15, traction=None, pose=None):
-        """tau at crank angles theta from M(tau) = M_req: bracket by doubling from 1e-9 rad, then Chandrupatla.
+        """The rotation tau at crank angles theta from M(tau) = M_req.
+
+        Bracket by doubling from 1e-9 rad, then Chandrupatla.
 
         M does not increase with tau for deflection-sized rotations; the solver relies only on the
         sign change (pins.md §5.5).  Raises :class:`NoEquilibrium` when no sign change exists within
@@ -144,14 +154,17 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return self._solve(pose, traction, 0.5 * (a + b), xtol, bracket=(a, b))
 
     def _linearised_tau(self, n_scan: int, h0: float):
-        r"""tau balancing the torque with the penetrations linearised about the nominal pose (no friction), or None
+        r"""The rotation tau balancing the torque with the penetrations linearised about the nominal pose.
+
+        tau balancing the torque with the penetrations linearised about the nominal pose (no friction), or None
         where that balance has no root within +-pi/z1: a start for the first scan's Newton (:meth:`set_window`).
 
         With d delta/d tau = -(X x n) (:meth:`set_window`), the balance sum F(delta_0 - (X x n) tau) (X x n) = M_req
         needs only the contacts at tau = 0: bracketed by doubling from h0 and narrowed to 1e-6 of the bracket.
         Its error is that of the linearisation, |d^2 delta/d tau^2| tau^2/2 <= (R_p + e) tau^2/2, ~1e-3 of tau at
         deflection-sized rotations: Newton on the true balance then needs about three rounds.  On the ``n_scan``
-        crank angles of :meth:`_nominal`."""
+        crank angles of :meth:`_nominal`.
+        """
         n = n_scan
         _, d0, arm = self._nominal(n_scan)
 
@@ -164,12 +177,13 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return find_root(G, a, b, xtol=1e-3 * float(np.abs(np.concatenate((a, b))).max()), rtol=0.0).root
 
     def _solve(self, pose: Pose, traction=None, guess=None, xtol: float = 1e-15, maxiter: int = 40, bracket=None):
-        """tau from G(tau) = 0 at every crank angle of ``pose``: safeguarded Newton from ``guess``.
+        """The rotation tau from G(tau) = 0 at every crank angle of ``pose``: safeguarded Newton from ``guess``.
 
         The analytic G_tau (:meth:`_balance`); a step that leaves the bracket of sign changes met so far
         is replaced by bisection; stops at |d tau| <= xtol (pins.md §5.5).  Angles without a guess, or
         where Newton cannot proceed (G_tau >= 0 with one side unbracketed, no convergence), are solved
-        by the bracketed root finder (:meth:`solve`)."""
+        by the bracketed root finder (:meth:`solve`).
+        """
         n = pose.theta.size
         if guess is None:
             return self._bracketed(pose, traction, xtol)
@@ -305,12 +319,15 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return sol
 
     def _warm(self, pose: Pose, guess, traction, ref, rounds: int = 2) -> "Solution | None":
-        """The state from the warm start ``guess`` by Newton steps, each with one balance (:meth:`_kinematics` with
-        ``step``: the last step, one :meth:`_solve` would stop after, moves the state without a new balance); an angle
-        whose start is farther takes a full Newton step (G_tau < 0, |s| <= |tau|/2) and is evaluated again, at most
-        ``rounds`` times; the others are solved by :meth:`_solve` from there.  None without a guess.  At the
-        quadrature's nodes the cubic Hermite warm start between solved neighbours (:func:`piece_guess`) is usually
-        that close: one balance per node instead of two or more (pins.md §5.5)."""
+        """The state from the warm start ``guess`` by Newton steps, each with one balance.
+
+        The state from the warm start ``guess`` by Newton steps, each with one balance (:meth:`_kinematics` with
+        ``step``: the last step, one :meth:`_solve` would stop after, moves the state without a new balance); an
+        angle whose start is farther takes a full Newton step (G_tau < 0, |s| <= |tau|/2) and is evaluated
+        again, at most ``rounds`` times; the others are solved by :meth:`_solve` from there.  None without a
+        guess.  At the quadrature's nodes the cubic Hermite warm start between solved neighbours
+        (:func:`piece_guess`) is usually that close: one balance per node instead of two or more (pins.md §5.5).
+        """
         if guess is None:
             return None
         with np.errstate(divide="ignore", invalid="ignore"):
@@ -346,8 +363,10 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return sol
 
     def _friction_solve(self, pose: Pose, traction, tau, ref) -> Solution:
-        """The equilibrium with the friction forces ``traction`` from the start ``tau``; :class:`Jam` when
-        no rotation balances the torque with them."""
+        """The equilibrium with the friction forces ``traction`` from the start ``tau``.
+
+        :class:`Jam` when no rotation balances the torque with them.
+        """
         try:
             tau = self._solve(pose, traction, tau)
         except NoEquilibrium as exc:
@@ -362,7 +381,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         or, without one (or where that start leaves a contact set without stiffness), from the
         frictionless equilibrium (``start``: already solved on ``pose``).  ``guess`` = (tau, d tau/d theta) (n,) or
         tau, optional: the warm start instead of the memory's (NaN: the memory's).  The first directions are those of
-        the sliding speeds at the warm start with its interpolated d tau/d theta (:meth:`_sliding_at`: no balance)."""
+        the sliding speeds at the warm start with its interpolated d tau/d theta (:meth:`_sliding_at`: no balance).
+        """
         sol = start
         if start is None:
             memo = self._guess(theta, 1, slope=True)
@@ -401,8 +421,10 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         return sol
 
     def phases(self, theta, rows=None):
-        """(phase, zeta) of the pins ``rows`` (None: all) at crank angles theta (R, n): the load-side phase of the
-        mode and the time phase theta - phi_j wrapped to [-pi, pi) [rad]."""
+        """(phase, zeta) of the pins ``rows`` (None: all) at crank angles theta (R, n).
+
+        The load-side phase of the mode and the time phase theta - phi_j wrapped to [-pi, pi) [rad].
+        """
         g = self.g
         th = np.atleast_1d(np.asarray(theta, dtype=float))[None, :]
         pins = self.pins if rows is None else rows[:, None]
@@ -438,10 +460,12 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
         self._gtau[key] = None if gt is None else gt[order]
 
     def _guess(self, theta, key, slope: bool = False):
-        """tau at theta from the solved angles around it: the cubic Hermite interpolant of tau and
-        d tau/d theta between the two neighbours (the tangent line of the nearer one where they coincide
-        or lie on one side only), or None when nothing is solved yet.  ``slope``: (tau, d tau/d theta) of that
-        interpolant."""
+        """The rotation tau at theta from the solved angles around it.
+
+        The cubic Hermite interpolant of tau and d tau/d theta between the two neighbours (the tangent line of
+        the nearer one where they coincide or lie on one side only), or None when nothing is solved yet.
+        ``slope``: (tau, d tau/d theta) of that interpolant.
+        """
         memo = self._memo[key] if key == 0 or self.friction is not None else None
         if memo is None:
             return None

@@ -37,9 +37,11 @@ class NoEquilibrium(ValueError):
 
 
 class Jam(NoEquilibrium):
-    """With the friction forces in the moment balance, no positive contact force balances the torque at
-    some crank angle although the frictionless balance has a solution: the mode jams (self-locks) there
-    (pins.md §4.9, §5.5)."""
+    """A mode that jams (self-locks) with the friction forces in the moment balance.
+
+    With the friction forces in the moment balance, no positive contact force balances the torque at some crank
+    angle although the frictionless balance has a solution: the mode jams (self-locks) there (pins.md §4.9, §5.5).
+    """
 
 
 @dataclass(frozen=True, eq=False)
@@ -63,6 +65,7 @@ class ContactSetup:
     pins: np.ndarray = field(init=False, repr=False)
 
     def __post_init__(self):
+        """Store the torque as a float and the required moment M_req, signed by the mode."""
         torque = float(self.torque_sat)
         object.__setattr__(self, "torque_sat", torque)
         object.__setattr__(self, "M_req", -torque if self.sigma == REDUCER else torque)
@@ -73,7 +76,9 @@ class ContactSetup:
 
 @dataclass(eq=False)
 class SolverState:
-    """What a contact model's solves change (none of it changes a result, only where the solves start and which pins
+    """What a contact model's solves change.
+
+    What a contact model's solves change (none of it changes a result, only where the solves start and which pins
     they evaluate).
 
     window : (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all; sides : (window, sides): the
@@ -101,9 +106,11 @@ class SolverState:
 
 @dataclass(eq=False)
 class ContactCaches:
-    """What the contact models of one design share (a later torque's and the other mode's models inherit it):
+    """What the contact models of one design share (a later torque's and the other mode's models inherit it).
+
     nominal : n_scan -> the nominal scan's (psi, delta, arm) (:meth:`~gearcalc.pins.contact_model.ContactModel.
-    set_window`)."""
+    set_window`).
+    """
 
     nominal: dict = field(default_factory=dict)
 

@@ -35,11 +35,14 @@ def _unit(a):
 
 
 def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64, with_slope: bool = False, max_newton: int = 50):
-    """D(R_t): least distance from the tooth centre T_0 = R_t u(pi/z1) to the nominal pin-centre curves [mm].
+    r"""D(R_t): least distance from the tooth centre T_0 = R_t u(pi/z1) to the nominal pin-centre curves [mm].
 
     Minimum over every family b and over the curve parameter beta within two tooth pitches of the
     tooth: a dense scan, then golden-section refinement between the neighbouring samples
     (vectorised over R_t).  D(0) = R_p - e (pins.md §5.3).
+
+    .. math:: D(R_t) = \min_{b,\ \beta} \left|c_b(\beta) - T_0\right|, \qquad T_0 = R_t\,u(\pi/z_1), \qquad
+        \frac{dD}{dR_t} = -\frac{(c - T_0) \cdot u(\pi/z_1)}{D}
 
     Parameters
     ----------
@@ -58,6 +61,11 @@ def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64, with_slope: bool = 
     >>> g = Cycloid.from_pin_circle(20, 22, 3.9, 57.2, 2.75)
     >>> round(float(tooth_centre_distance(0.0, g)), 9)     # R_p - e
     53.3
+
+    References
+    ----------
+    .. [1] B. Chen, T. Fang, C. Li, S. Wang, Gear geometry of cycloid drives, Science in China Series E:
+       Technological Sciences 51, 2008 (the pin-centre curves c_b); docs/spec/pins.md §5.3.
     """
     shape = np.shape(R_t)
     R_t = np.atleast_1d(np.asarray(R_t, dtype=float)).ravel()
@@ -122,7 +130,8 @@ def _first_root(fun, grid, values, xtol):
     """First sign change (from > 0 to <= 0) of sampled values, refined by safeguarded Newton.
 
     ``fun(x)`` returns (value, slope) at a scalar x; a Newton step that leaves the bracket is replaced
-    by bisection; stops when the step or the bracket is below ``xtol``."""
+    by bisection; stops when the step or the bracket is below ``xtol``.
+    """
     below = np.nonzero(values <= 0.0)[0]
     if below.size == 0 or below[0] == 0:
         return None
@@ -150,11 +159,27 @@ def _first_root(fun, grid, values, xtol):
 
 
 def zero_backlash_tooth_circle(g: Cycloid, tooth_radius: float, grid=None) -> float | None:
-    """R_t for zero backlash: the smallest root of D(R_t) = R_b + rho_t, or None if there is none [mm].
+    r"""R_t for zero backlash: the smallest root of D(R_t) = R_b + rho_t, or None if there is none [mm].
 
     D(R_t) is scanned outward from 0 on a grid finer than (R_b + rho_t)/4 and the first sign change
     is refined by the bracketed root finder to 1e-13 R_p (pins.md §5.3; D is not monotone in
     general).  ``grid`` may pass a precomputed (R_t, D) scan.
+
+    .. math:: D(R_t) = R_b + \rho_t \quad \text{(smallest root)}
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    tooth_radius : float
+        Circular tooth radius rho_t, [mm].
+    grid : tuple of ndarray, optional
+        A precomputed scan (R_t, D), [mm].
+
+    Returns
+    -------
+    R_t : float or None
+        Radius of the circle of tooth centres, [mm], or None.
 
     Examples
     --------
@@ -162,6 +187,10 @@ def zero_backlash_tooth_circle(g: Cycloid, tooth_radius: float, grid=None) -> fl
     >>> R_t = zero_backlash_tooth_circle(g, 5.0)
     >>> round(float(tooth_centre_distance(R_t, g)), 9)      # = R_b + rho_t
     7.75
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3.
     """
     target = g.R_b + tooth_radius
     if tooth_too_large(g.R_b, tooth_radius, g.R_p, g.e):
@@ -179,7 +208,7 @@ _TOOTH_CACHE: dict = {}
 """full_tooth results by (z1, z2, e, R_p, R_b): a pure function of them, reused by repeated runs."""
 
 
-def full_tooth(g: Cycloid) -> tuple[float, float] | None:
+def full_tooth(g: Cycloid) -> tuple[float, float] | None:  # noqa: D103 (the docstring of _full_tooth, below)
     key = (g.z1, g.z2, g.e, g.R_p, g.R_b)
     if key not in _TOOTH_CACHE:
         if len(_TOOTH_CACHE) > 256:
@@ -189,11 +218,22 @@ def full_tooth(g: Cycloid) -> tuple[float, float] | None:
 
 
 def _full_tooth(g: Cycloid) -> tuple[float, float] | None:
-    """The "full" circular tooth: rho_t = R_t(rho_t) sin(pi/z1) (adjacent teeth tangent at the root).
+    r"""The "full" circular tooth: rho_t = R_t(rho_t) sin(pi/z1) (adjacent teeth tangent at the root).
 
-    Solved as the first root of D(R_t) - R_b - R_t sin(pi/z1) on the outward scan (the same root as
-    the nested definition of pins.md §5.3 when the zero-backlash root of that rho_t is the first
-    crossing, which is checked).  Returns (rho_t, R_t) [mm], or None when no tooth fits.
+    .. math:: D(R_t) - R_b - R_t \sin\frac{\pi}{z_1} = 0 \ \text{(first root)}, \qquad \rho_t = R_t \sin\frac{\pi}{z_1}
+
+    Solved as the first root on the outward scan (the same root as the nested definition of pins.md §5.3 when the
+    zero-backlash root of that rho_t is the first crossing, which is checked).
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    tooth : tuple of float or None
+        (rho_t, R_t), [mm], or None when no tooth fits.
 
     Examples
     --------
@@ -201,6 +241,10 @@ def _full_tooth(g: Cycloid) -> tuple[float, float] | None:
     >>> rho, R_t = full_tooth(g)
     >>> bool(abs(rho - R_t * np.sin(np.pi / 20)) < 1e-9)
     True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3.
     """
     s = math.sin(math.pi / g.z1)
     if g.R_b >= g.R_p - g.e:
@@ -256,6 +300,7 @@ class Pose:
 
     @property
     def psi(self) -> np.ndarray:
+        """Pin phase phi_j - theta wrapped to (-pi, pi] [rad], computed when first read."""
         if self._psi is None:
             psi = pin_phase(self.aux["idx"], self.theta[None, :], self.z2, REDUCER)   # phi_j - theta in (0, 2 pi]
             self._psi = np.where(psi > math.pi, psi - 2.0 * math.pi, psi)
@@ -313,8 +358,11 @@ class CircularProfile:
         return {"tooth_radius_mm": self.rho_t, "tooth_circle_radius_mm": self.R_t}
 
     def prepare(self, pose: Pose, trig=None, sides=None) -> None:
-        """The centres of the teeth each pin meets, (c, m, n): c = 0 the tooth just below the pin's polar angle, 1 the
-        one above; ``sides`` (indices into them, optional): only these (:attr:`ContactModel.sides`)."""
+        """The centres of the teeth each pin meets, (c, m, n).
+
+        c = 0 the tooth just below the pin's polar angle, 1 the one above; ``sides`` (indices into them,
+        optional): only these (:attr:`ContactModel.sides`).
+        """
         z1 = self.g.z1
         gam = np.arctan2(pose.y0, pose.x0)
         m = np.floor((gam * z1 / math.pi - 1.0) / 2.0)          # tooth with chi_m just below gamma
@@ -323,6 +371,7 @@ class CircularProfile:
         pose.aux["tx"], pose.aux["ty"] = self.R_t * np.cos(chi), self.R_t * np.sin(chi)
 
     def contacts(self, pose: Pose, x, y, branch=None) -> Contacts:
+        """The pin-tooth pairs at satellite-frame pin centres (x, y) (:meth:`Profile.contacts`)."""
         tx, ty = pose.aux["tx"], pose.aux["ty"]
         dx, dy = tx - x, ty - y
         dist = np.hypot(dx, dy)
@@ -368,16 +417,17 @@ class CycloidProfile:
         return {}
 
     def _trig(self, beta, fam):
-        """cos and sin of beta and of a = Z_e beta - 2 pi b/k."""
+        """Cosine and sine of beta and of a = Z_e beta - 2 pi b/k."""
         d = self.design
         a = (d.z2 / d.k) * beta - 2.0 * math.pi * fam / d.k
         return np.cos(beta), np.sin(beta), np.cos(a), np.sin(a)
 
     def _turned(self, trig, s, beta, fam):
-        """:meth:`_trig` at beta (= the old beta + s) from its values at the old beta: the angle sums with cos and sin
-        of the small angles s and Z_e s by their Taylor series, exact to round-off while |Z_e s| <= 1e-3 (the terms
-        left out are below 1e-19 of the kept ones; to the third order while |Z_e s| <= 1e-5, below 1e-21 then);
-        otherwise evaluated anew.
+        """:meth:`_trig` at beta (= the old beta + s) from its values at the old beta.
+
+        The angle sums with cos and sin of the small angles s and Z_e s by their Taylor series, exact to
+        round-off while |Z_e s| <= 1e-3 (the terms left out are below 1e-19 of the kept ones; to the third order
+        while |Z_e s| <= 1e-5, below 1e-21 then); otherwise evaluated anew.
 
         Examples
         --------
@@ -423,18 +473,23 @@ class CycloidProfile:
         return self._curve_of(self._trig(beta, fam))
 
     def _newton(self, beta, fam, x, y, steps, tol=None):
-        """Newton steps on the foot point: ``steps`` of them, or with ``tol`` until the largest step is
-        below it (at most ``steps``)."""
+        """Newton steps on the foot point.
+
+        ``steps`` of them, or with ``tol`` until the largest step is below it (at most ``steps``).
+        """
         return self._newton_trig(beta, fam, x, y, steps, tol)[0]
 
     def _newton_trig(self, beta, fam, x, y, steps, tol=None, start=None):
-        """:meth:`_newton`, also returning :meth:`_trig` at the beta before the last step and that step (signed, the
-        change of beta).  ``start``: :meth:`_trig` at the first beta, when known.
+        """:meth:`_newton`, also returning the last step.
+
+        :meth:`_newton`, also returning :meth:`_trig` at the beta before the last step and that step (signed,
+        the change of beta).  ``start``: :meth:`_trig` at the first beta, when known.
 
         The first step is Halley's, s = (g/g')/(1 - s_N g''/(2 g')) with the Newton step s_N = g/g' and
         g'' = 3 c'.c'' + (c - X).c''' (Newton's where |s_N g''/(2 g')| > 1/2): from the nominal foot point, a
         rotation's ~2e-4 rad away, Newton leaves ~1e-6 rad and a third step was needed before one below 1e-7 rad
-        (``tol``); Halley's error is cubic in the step, so the second one is below it."""
+        (``tol``); Halley's error is cubic in the step, so the second one is below it.
+        """
         trig, change = None, None
         d = self.design
         e3 = d.e * (d.z2 / d.k) ** 3
@@ -506,12 +561,14 @@ class CycloidProfile:
 
     def prepare(self, pose: Pose, trig=None, sides=None) -> None:
         """The pins' families and their foot points on the design curve at the nominal pose.
+
         ``sides``: one contact per pin, nothing to choose (:attr:`ContactModel.sides`).
 
         ``trig``, optional: cos and sin of beta0 and of the crank-arm angle a = z2 theta/z1 of the pose, which are
         those of :meth:`_trig` at beta0 (Z_e beta0 - 2 pi b/k = a + 2 pi floor(j/k)).  Without a radial
         modification the nominal pin centre lies on the design curve, so its foot point is beta0 itself, and the
-        Newton steps of :meth:`contacts` start from these values (no new cos/sin)."""
+        Newton steps of :meth:`contacts` start from these values (no new cos/sin).
+        """
         k, idx = self.g.k, pose.aux["idx"]
         # the family j mod k (a bitwise and for k a power of two: an integer modulo over every pair costs 4x as much)
         fam = idx & (k - 1) if k & (k - 1) == 0 else np.mod(idx, k)
@@ -527,23 +584,28 @@ class CycloidProfile:
             pose.aux["beta"] = self.foot_point(pose.beta0, fam, pose.x0, pose.y0, tol=1e-7)
 
     def switch(self, psi_f):
-        """The crest components (2, 1, z2, n) of :attr:`Contacts.switch` from the foot points' flank phases psi_f:
-        psi* - psi_f and psi_f + psi* (a pin passes to the crest corner where one changes sign)."""
+        """The crest components (2, 1, z2, n) of :attr:`Contacts.switch` from the foot points' flank phases psi_f.
+
+        psi* - psi_f and psi_f + psi* (a pin passes to the crest corner where one changes sign).
+        """
         out = np.empty((2, 1) + psi_f.shape)
         np.subtract(self.psi_star, psi_f, out=out[0, 0])
         np.add(psi_f, self.psi_star, out=out[1, 0])
         return out
 
     def _crest_corners(self, pose: Pose, at, corner):
-        """The crest corners of the tooth spaces that the pins at the flat indices ``at`` of the pose's (m, n) arrays
-        face, ``corner`` 0 (psi = +psi*) or 1 (-psi*) for each, x and y [mm] (only where a pin faces a crest: 7-15 %
-        of the pairs on the paper's k = 2 cycloids, :meth:`contacts`).
+        """The crest corners of the tooth spaces that the pins at the flat indices ``at`` face.
+
+        The crest corners of the tooth spaces that the pins at the flat indices ``at`` of the pose's (m, n)
+        arrays face, ``corner`` 0 (psi = +psi*) or 1 (-psi*) for each, x and y [mm] (only where a pin faces a
+        crest: 7-15 % of the pairs on the paper's k = 2 cycloids, :meth:`contacts`).
 
         On the tooth profile they lie at beta0 + psi/z_d -+ psi*/z_d = B_j - 2 pi k w/z1 -+ psi*/z_d, with
         B_j = 2 pi j (1 + k/z1)/z2 and w the turns by which psi = phi_j - theta was wrapped (theta cancels); a shift
         of beta by -2 pi k w/z1 turns the profile by that angle (z2 = z1 + k), so the corners are the pin's two
         corners at w = 0 (a table over the pins), turned by -2 pi k w/z1 (a table over the teeth): every turned corner
-        is tabulated once (2 z2 z1 entries), a pair's corner is looked up."""
+        is tabulated once (2 z2 z1 entries), a pair's corner is looked up.
+        """
         g = self.g
         z1, z2, k = g.z1, g.z2, g.k
         if self._corner_table is None:
@@ -620,8 +682,10 @@ class CycloidProfile:
 
 
 class InadmissibleProfile(ValueError):
-    """A satellite profile the contact level cannot run (pins.md §5.2-5.3, §9): ``reason`` names the rule
-    (one of :data:`PROFILE_RULES`), ``values`` the numbers a message needs."""
+    """A satellite profile the contact level cannot run (pins.md §5.2-5.3, §9).
+
+    ``reason`` names the rule (one of :data:`PROFILE_RULES`), ``values`` the numbers a message needs.
+    """
 
     def __init__(self, reason: str, **values):
         super().__init__(reason)
@@ -640,6 +704,9 @@ def circular_profile(g: Cycloid, tooth_radius=None, tooth_circle_radius=None):
     or :func:`full_tooth` when R_t is not given either); R_t = ``tooth_circle_radius`` (None: the zero-backlash
     circle of :func:`zero_backlash_tooth_circle`).  A tooth must fit, :math:`R_b + \rho_t < R_p - e`, and a given
     R_t must not make the teeth interfere with the pins' nominal paths.
+
+    .. math:: \rho_t = R_t \sin\frac{\pi}{z_1} \ \text{(full tooth)}, \qquad D(R_t) = R_b + \rho_t \
+        \text{(zero backlash)}, \qquad R_b + \rho_t < R_p - e
 
     Parameters
     ----------
@@ -704,6 +771,9 @@ def cycloid_profile(g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float 
     loaded arc psi* must exceed the pin pitch 2 pi/z2, and R_b + Delta R_b must stay below the least radius of
     curvature of the design curve over the loaded arc (no undercut).
 
+    .. math:: K_1 = \frac{e\,z_2}{k\,(R_p + \Delta R_p)} < 1, \quad R_b + \Delta R_b > 0,
+        \quad \psi^* > \frac{2\pi}{z_2}, \quad R_b + \Delta R_b < \min_{0 \le \psi \le \psi^*} \rho_c(\psi)
+
     Parameters
     ----------
     g : Cycloid
@@ -749,9 +819,40 @@ def cycloid_profile(g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float 
 # ============================================================ the registered factories (gearcalc.pins.profiles)
 
 def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
-    """The factory of the profile "circular" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`circular_profile`
-    from a design's values (``params``: :class:`gearcalc.pins.profiles.ProfileParams`; "full" and
-    "zero_backlash" as None), marked play-free on the zero-backlash tooth circle."""
+    r"""The factory of the profile "circular" (:data:`gearcalc.pins.profiles.PROFILES`).
+
+    :func:`circular_profile` from a design's values (``params``: :class:`gearcalc.pins.profiles.ProfileParams`;
+    "full" and "zero_backlash" as None), marked play-free on the zero-backlash tooth circle.
+
+    .. math:: \rho_t = R_t \sin\frac{\pi}{z_1} \ \text{("full")}, \qquad
+        D(R_t) = R_b + \rho_t \ \text{("zero\_backlash")}
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    params : ProfileParams
+        The design's tooth radius rho_t and tooth circle R_t, [mm], or "full" and "zero_backlash".
+
+    Returns
+    -------
+    profile : CircularProfile
+        The profile.
+    overlap : bool
+        Whether adjacent tooth circles overlap.
+
+    Examples
+    --------
+    >>> from gearcalc.pins.profiles import ProfileParams
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> p, overlap = circular_teeth(g, ProfileParams(tooth_radius=5.0))
+    >>> round(p.R_t, 2), overlap, p.play_free
+    (111.35, False, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.3, §7.
+    """
     prof, overlap = circular_profile(g, None if params.tooth_radius == "full" else params.tooth_radius,
                                      None if params.tooth_circle_radius == "zero_backlash"
                                      else params.tooth_circle_radius)
@@ -760,6 +861,37 @@ def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
 
 
 def cycloidal_profile(g: Cycloid, params) -> tuple[CycloidProfile, bool]:
-    """The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`cycloid_profile`
-    with the design's modifications; no overlap."""
+    r"""The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`).
+
+    The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`cycloid_profile` with
+    the design's modifications; no overlap.
+
+    .. math:: c_b(\beta) \ \text{of } R_p + \Delta R_p, \quad \text{pin radius } R_b + \Delta R_b
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    params : ProfileParams
+        The design's modifications Delta R_p and Delta R_b, [mm].
+
+    Returns
+    -------
+    profile : CycloidProfile
+        The profile.
+    overlap : bool
+        Always False.
+
+    Examples
+    --------
+    >>> from gearcalc.pins.profiles import ProfileParams
+    >>> p, overlap = cycloidal_profile(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95),
+    ...                                ProfileParams(equidistant_mod=0.01))
+    >>> round(p.design.R_b, 2), overlap
+    (1.96, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.2, §7.
+    """
     return cycloid_profile(g, params.radial_mod, params.equidistant_mod), False

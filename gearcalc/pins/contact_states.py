@@ -1,5 +1,6 @@
-"""KHV pin gearing, level ``contact``: the solved contact states and the helpers that take, put, merge and re-lay them
-(pins.md §5.5, §5.6, §6).
+"""KHV pin gearing, level ``contact``.
+
+The solved contact states and the helpers that take, put, merge and re-lay them (pins.md §5.5, §5.6, §6).
 
 :class:`Solution` is the state of the satellite at given crank angles, per contact and pin; the functions here take
 states at some angles (:func:`take_states`), write them back (:func:`put_states`), concatenate them sorted by angle
@@ -78,8 +79,11 @@ class Solution:
     traction: np.ndarray | None = None
 
     def over_pins(self, z2: int) -> "Solution":
-        """This state over all ``z2`` pins in order, to index its per-pin arrays by pin number: the rows scattered,
-        every other pin out of reach (no contact; phases None where not held: :meth:`ContactModel.phases`)."""
+        """The state over all ``z2`` pins in order, to index its per-pin arrays by pin number.
+
+        The rows scattered, every other pin out of reach (no contact; phases None where not held:
+        :meth:`ContactModel.phases`).
+        """
         return relayout(self, None, z2)
 
 
@@ -95,48 +99,193 @@ PIN_FILL = {"delta": -np.inf, "force": 0.0, "v_t": 0.0, "switch": np.nan, "branc
 
 
 def filled(shape, value, dtype=float):
-    """np.full without its Python wrapper (the scatters of every solve call it): an empty array filled in place."""
+    """``np.full`` without its Python wrapper (the scatters of every solve call it): an empty array filled in place.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        The array's shape.
+    value : scalar
+        The fill value.
+    dtype : dtype, optional
+        The array's type.
+
+    Returns
+    -------
+    out : ndarray
+        The filled array.
+
+    Examples
+    --------
+    >>> filled((2,), 1.5).tolist()
+    [1.5, 1.5]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.6 (the contact level's solves, vectorised).
+    """
     out = np.empty(shape, dtype)
     out.fill(value)
     return out
 
 
 def sub_pose(pose: Pose, sel) -> Pose:
-    """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis)."""
+    """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis).
+
+    Parameters
+    ----------
+    pose : Pose
+        Nominal pose data, shape (z2, n) per pin.
+    sel : ndarray of bool or int
+        The crank angles kept.
+
+    Returns
+    -------
+    part : Pose
+        The pose there.
+
+    Examples
+    --------
+    >>> pose = Pose(np.array([0.0, 0.1, 0.2]), np.zeros((22, 3)), np.zeros((22, 3)), np.zeros((22, 3)), 22)
+    >>> sub_pose(pose, np.array([0, 2])).theta.tolist()
+    [0.0, 0.2]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.1 (the pose).
+    """
     return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.z2,
                 {k: v[..., sel] for k, v in pose.aux.items()}, None if pose._psi is None else pose._psi[:, sel])
 
 
 def distance_to(points, x):
-    """The distance from each of ``x`` to the nearest of ``points`` (sorted, not empty).
+    r"""The distance from each of ``x`` to the nearest of ``points`` (sorted, not empty).
 
+    .. math:: d_j = \min_i |x_j - p_i|
+
+    Parameters
+    ----------
+    points : ndarray
+        Sorted points, not empty.
+    x : ndarray
+        The query points.
+
+    Returns
+    -------
+    d : ndarray
+        The distances, in the unit of x.
+
+    Examples
+    --------
     >>> distance_to(np.array([0.0, 1.0]), np.array([-1.0, 0.25, 0.5, 3.0])).tolist()
     [1.0, 0.25, 0.5, 2.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (margins from the located sign changes).
     """
     k = np.minimum(np.maximum(points.searchsorted(x), 1), points.size)
     return np.minimum(np.abs(x - points[k - 1]), np.abs(x - points[np.minimum(k, points.size - 1)]))
 
 
 def hermite(t, h, fa, da, fb, db):
-    """The cubic Hermite interpolant at t = (x - x_a)/h in [0, 1] of values f and slopes d at x_a and x_a + h."""
+    r"""The cubic Hermite interpolant at t = (x - x_a)/h in [0, 1] of values f and slopes d at x_a and x_a + h.
+
+    .. math:: p(t) = (2t^3 - 3t^2 + 1)\,f_a + (t^3 - 2t^2 + t)\,h\,d_a + (-2t^3 + 3t^2)\,f_b + (t^3 - t^2)\,h\,d_b
+
+    Parameters
+    ----------
+    t : float or ndarray
+        Place in the interval, [-].
+    h : float or ndarray
+        Interval width, in the unit of x.
+    fa, da, fb, db : float or ndarray
+        Values and slopes at both ends.
+
+    Returns
+    -------
+    p : float or ndarray
+        The interpolant.
+
+    Examples
+    --------
+    >>> hermite(0.5, 2.0, 1.0, 0.0, 3.0, 0.0)   # flat at both ends: the mean at the midpoint
+    2.0
+
+    References
+    ----------
+    .. [1] R. L. Burden, J. D. Faires, Numerical Analysis, 9th ed., Brooks/Cole, 2011, §3.4 (Hermite
+       interpolation); docs/spec/pins.md §12.6 (warm starts).
+    """
     t2, t3 = t * t, t * t * t
     return ((2 * t3 - 3 * t2 + 1) * fa + (t3 - 2 * t2 + t) * h * da + (-2 * t3 + 3 * t2) * fb + (t3 - t2) * h * db)
 
 
 def hermite_slope(t, h, fa, da, fb, db):
-    """The derivative d/dx of :func:`hermite` at t = (x - x_a)/h.
+    r"""The derivative d/dx of :func:`hermite` at t = (x - x_a)/h.
 
+    .. math:: p'(x) = \frac{(6t^2 - 6t)(f_a - f_b)}{h} + (3t^2 - 4t + 1)\,d_a + (3t^2 - 2t)\,d_b
+
+    Parameters
+    ----------
+    t : float or ndarray
+        Place in the interval, [-].
+    h : float or ndarray
+        Interval width, in the unit of x.
+    fa, da, fb, db : float or ndarray
+        Values and slopes at both ends.
+
+    Returns
+    -------
+    dp : float or ndarray
+        The slope.
+
+    Examples
+    --------
     >>> bool(abs(hermite_slope(0.3, 2.0, 1.0, -0.5, 4.0, 2.0)
     ...          - (hermite(0.3 + 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0) - hermite(0.3 - 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0))
     ...          / 4e-7) < 1e-8)
     True
+
+    References
+    ----------
+    .. [1] R. L. Burden, J. D. Faires, Numerical Analysis, 9th ed., Brooks/Cole, 2011, §3.4 (Hermite
+       interpolation); docs/spec/pins.md §12.6 (warm starts).
     """
     t2 = t * t
     return (6.0 * t2 - 6.0 * t) * (fa - fb) / h + (3.0 * t2 - 4.0 * t + 1.0) * da + (3.0 * t2 - 2.0 * t) * db
 
 
 def take_states(sol: Solution, sel) -> Solution:
-    """The states of ``sol`` at the crank angles ``sel`` (an index or slice over the last axis)."""
+    """The states of ``sol`` at the crank angles ``sel`` (an index or slice over the last axis).
+
+    Parameters
+    ----------
+    sol : Solution
+        Solved states.
+    sel : int, slice or ndarray of int
+        The crank angles taken.
+
+    Returns
+    -------
+    part : Solution
+        The states there.
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> part = take_states(sol, slice(0, 3))
+    >>> bool(np.array_equal(part.theta, sol.theta[:3]) and np.array_equal(part.force, sol.force[..., :3]))
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.5, §6 (states over crank angles).
+    """
     n = sol.theta.size
     return Solution(**{f.name: (v[..., sel] if isinstance(v, np.ndarray) and v.shape[-1:] == (n,) and f.name != "rows"
                                 else v)
@@ -144,7 +293,36 @@ def take_states(sol: Solution, sel) -> Solution:
 
 
 def put_states(sol: Solution, part: Solution, sel) -> None:
-    """The states of ``part`` written into ``sol`` at the crank angles ``sel`` (in place; theta is not written)."""
+    """The states of ``part`` written into ``sol`` at the crank angles ``sel`` (in place; theta is not written).
+
+    Parameters
+    ----------
+    sol : Solution
+        Solved states, changed in place.
+    part : Solution
+        The states written.
+    sel : int, slice or ndarray of int
+        Where.
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> put_states(sol, take_states(sol, slice(3, 6)), slice(0, 3))
+    >>> bool(np.array_equal(sol.force[..., :3], sol.force[..., 3:6]))
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.5, §6.
+    """
     n = sol.theta.size
     for f in dataclasses.fields(sol):
         a = getattr(sol, f.name)
@@ -153,8 +331,29 @@ def put_states(sol: Solution, part: Solution, sel) -> None:
 
 
 def sorted_places(thetas: list) -> list:
-    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order); one
-    part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice)."""
+    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order).
+
+    One part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice).
+
+    Parameters
+    ----------
+    thetas : list of ndarray
+        The crank angles of each part, [rad].
+
+    Returns
+    -------
+    places : list
+        Per part, the positions of its angles in the sorted whole (a slice for one sorted part).
+
+    Examples
+    --------
+    >>> sorted_places([np.array([0.0, 2.0]), np.array([1.0])])
+    [array([0, 2]), array([1])]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (the cycle's nodes sorted by crank angle).
+    """
     if len(thetas) == 1 and not (thetas[0][1:] < thetas[0][:-1]).any():
         return [slice(None)]
     theta = np.concatenate(thetas)
@@ -165,8 +364,34 @@ def sorted_places(thetas: list) -> list:
 
 
 def merged(arrays: list, places: list, axis: int):
-    """The arrays written at their ``places`` (:func:`sorted_places`) along ``axis``, the last one: the sorted
-    concatenation in one pass."""
+    """The arrays written at their ``places`` (:func:`sorted_places`) along ``axis``, the last one.
+
+    The sorted concatenation in one pass.
+
+    Parameters
+    ----------
+    arrays : list of ndarray
+        The parts.
+    places : list
+        Their places (:func:`sorted_places`).
+    axis : int
+        The axis of the crank angles.
+
+    Returns
+    -------
+    out : ndarray
+        The parts together, sorted.
+
+    Examples
+    --------
+    >>> parts = [np.array([0.0, 2.0]), np.array([1.0])]
+    >>> merged(parts, sorted_places(parts), 0).tolist()
+    [0.0, 1.0, 2.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6.
+    """
     a0 = arrays[0]
     shape = list(a0.shape)
     shape[axis] = sum(a.shape[axis] for a in arrays)
@@ -178,8 +403,36 @@ def merged(arrays: list, places: list, axis: int):
 
 
 def concat_states(parts: list[Solution]) -> Solution:
-    """The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
-    parts' rows differ, :func:`relayout`)."""
+    """The states of ``parts`` together, sorted by theta (stable).
+
+    The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
+    parts' rows differ, :func:`relayout`).
+
+    Parameters
+    ----------
+    parts : list of Solution
+        The parts.
+
+    Returns
+    -------
+    sol : Solution
+        Every state, sorted by theta.
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> both = concat_states([take_states(sol, slice(3, 5)), take_states(sol, slice(0, 3))])
+    >>> bool(np.array_equal(both.theta, sol.theta[:5]))
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (the cycle's nodes sorted by crank angle).
+    """
     rows = parts[0].rows
     if not all(same_rows(p.rows, rows) for p in parts):
         full = [p for p in parts if p.rows is None]
@@ -208,14 +461,64 @@ def concat_states(parts: list[Solution]) -> Solution:
 
 
 def same_rows(a, b) -> bool:
-    """Whether two :attr:`Solution.rows` are the same pins."""
+    """Whether two :attr:`Solution.rows` are the same pins.
+
+    Parameters
+    ----------
+    a, b : ndarray of int or None
+        Pin indices (None: all pins).
+
+    Returns
+    -------
+    same : bool
+        True for the same pins.
+
+    Examples
+    --------
+    >>> same_rows(None, None), same_rows(np.array([1, 2]), np.array([1, 3]))
+    (True, False)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.6 (the candidate window's pins).
+    """
     return (a is None and b is None) or (a is not None and b is not None and np.array_equal(a, b))
 
 
 def relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
-    """``sol`` over the pins ``rows`` (sorted; None: all ``z2``): each per-pin array's rows of these pins, a pin that
-    ``sol`` does not hold with the values of a pin out of reach (no contact; :data:`PIN_FILL`; phases then None, to
-    be computed, :meth:`ContactModel.phases`)."""
+    """``sol`` over the pins ``rows`` (sorted; None: all ``z2``).
+
+    Each per-pin array's rows of these pins, a pin that ``sol`` does not hold with the values of a pin out of reach
+    (no contact; :data:`PIN_FILL`; phases then None, to be computed, :meth:`ContactModel.phases`).
+
+    Parameters
+    ----------
+    sol : Solution
+        Solved states.
+    rows : ndarray of int or None
+        The pins wanted, sorted (None: all).
+    z2 : int, optional
+        Pins of the gear (for ``rows`` None).
+
+    Returns
+    -------
+    out : Solution
+        The states over those pins.
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> sol = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5).sol
+    >>> relayout(sol, np.array([0, 1]), 22).force.shape[1]
+    2
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.6 (the candidate window's pins).
+    """
     if same_rows(sol.rows, rows):
         return sol
     n_src = sol.force.shape[-2]
@@ -235,8 +538,33 @@ def relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
 
 
 def over_rows(a, src, dst, fill):
-    """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted): a
-    pin that ``a`` does not hold gets ``fill``."""
+    """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted).
+
+    A pin that ``a`` does not hold gets ``fill``.
+
+    Parameters
+    ----------
+    a : ndarray
+        Per-pin values, shape (..., len(src), n).
+    src, dst : ndarray of int
+        The pins held and the pins wanted, sorted.
+    fill : scalar
+        The value of a pin ``a`` does not hold.
+
+    Returns
+    -------
+    b : ndarray
+        Shape (..., len(dst), n).
+
+    Examples
+    --------
+    >>> over_rows(np.array([[1.0], [2.0]]), np.array([0, 3]), np.array([0, 1, 3]), -1.0).tolist()
+    [[1.0], [-1.0], [2.0]]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.6 (the candidate window's pins).
+    """
     at = np.minimum(np.maximum(src.searchsorted(dst), 0), src.size - 1)
     have = src[at] == dst
     if have.all():
@@ -247,6 +575,32 @@ def over_rows(a, src, dst, fill):
 
 
 def contact_index(profile, sides):
-    """The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
-    when ``sides`` is None; :attr:`ContactModel.sides`)."""
+    """The contacts of each pin that a state holds, as an index (c, 1, 1).
+
+    The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
+    when ``sides`` is None; :attr:`ContactModel.sides`).
+
+    Parameters
+    ----------
+    profile : Profile
+        The satellite profile (its ``contacts_per_pin``).
+    sides : array_like of int or None
+        Only these contacts (None: all).
+
+    Returns
+    -------
+    index : ndarray of int
+        Shape (c, 1, 1).
+
+    Examples
+    --------
+    >>> from gearcalc.pins.contact import Cycloid, CycloidProfile
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> contact_index(CycloidProfile(g, 0.0, 0.0), None).ravel().tolist()   # a cycloid: one contact per pin
+    [0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.2, §5.3.
+    """
     return (np.arange(profile.contacts_per_pin) if sides is None else np.asarray(sides))[:, None, None]

@@ -21,8 +21,11 @@ __all__ = ["CandidateWindow"]
 
 
 def _window_range(tau) -> tuple[float, float]:
-    """The candidate window's range of tau from a scan's: each end twice as far from 0, or half as near when the
-    range does not reach 0 (:meth:`CandidateWindow.set_window`)."""
+    """The candidate window's range of tau from a scan's.
+
+    Each end twice as far from 0, or half as near when the range does not reach 0
+    (:meth:`CandidateWindow.set_window`).
+    """
     lo, hi = float(np.min(tau)), float(np.max(tau))
     return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
 
@@ -34,7 +37,8 @@ class CandidateWindow:
         """Pin indices (m, n) of the candidate window at crank angles theta, or None (all pins).
 
         Pin j has the time phase zeta_j = theta - 2 pi j/z2 (mod 2 pi); the window holds the m
-        consecutive pins from the first with zeta_j <= z_hi, which covers [z_lo, z_hi]."""
+        consecutive pins from the first with zeta_j <= z_hi, which covers [z_lo, z_hi].
+        """
         if self.window is None:
             return None
         _, z_hi, m, _ = self.window
@@ -45,10 +49,12 @@ class CandidateWindow:
 
     @property
     def sides(self):
-        """The contacts of each pin that the states evaluate (indices into the profile's c per pin), or None (all):
-        with a candidate window, those that can touch for its range of tau (:meth:`_window_for`; circular teeth: the
-        tooth on the side the torque presses the pins against, the other one cannot touch at that rotation).  The
-        states' arrays hold every contact all the same (:meth:`_full`: the others out of reach)."""
+        """The contacts of each pin that the states evaluate (indices into the profile's c per pin), or None (all).
+
+        With a candidate window, those that can touch for its range of tau (:meth:`_window_for`; circular teeth:
+        the tooth on the side the torque presses the pins against, the other one cannot touch at that rotation).
+        The states' arrays hold every contact all the same (:meth:`_full`: the others out of reach).
+        """
         s = self._sides
         return s[1] if s is not None and self.window is not None and s[0] == self.window else None
 
@@ -69,7 +75,8 @@ class CandidateWindow:
         every other pair, widened by ``settings.window_margin`` scan spacings on each side (the scan's resolution in
         zeta).
         :func:`mean_loss_ratio` checks the tau range on the final grid.  Returns the scan's solution
-        (all pins' phases), which also seeds the warm starts."""
+        (all pins' phases), which also seeds the warm starts.
+        """
         g = self.g
         theta = np.arange(n_scan) * (g.period / n_scan)
         if getattr(self, "_mirrored", False) and self.window is not None:
@@ -130,10 +137,13 @@ class CandidateWindow:
         return self.state(theta, scan=start if np.isfinite(first.dtau).all() else None)
 
     def _nominal(self, n_scan: int = 64):
-        """(psi, delta, arm) of every pin at the nominal pose (tau = 0) on ``n_scan`` crank angles of one period
+        """(psi, delta, arm) of every pin at the nominal pose on ``n_scan`` crank angles.
+
+        (psi, delta, arm) of every pin at the nominal pose (tau = 0) on ``n_scan`` crank angles of one period
         (:class:`Pose`, :class:`Contacts`): the window's and the linearised balance's data (:meth:`_window_for`,
         :meth:`_linearised_tau`).  They depend on the design only (not on the torque or the mode): computed once
-        and shared with the models that inherit or mirror this one."""
+        and shared with the models that inherit or mirror this one.
+        """
         nom = self._nominal_cache.get(n_scan)
         if nom is None:
             pose = self.pose(np.arange(n_scan) * (self.g.period / n_scan))
@@ -142,11 +152,14 @@ class CandidateWindow:
         return nom
 
     def _window_for(self, t_lo: float, t_hi: float, n_scan: int = 64) -> None:
-        """Set the candidate window to the pins that can touch for tau in [t_lo, t_hi] (see :meth:`set_window`;
-        None when every pin can).  The pin set depends on the tau range: a window taken over from another
-        torque or mode (:meth:`inherit`, :meth:`mirror`) with its tau range scaled must be recomputed for the
-        scaled range, else pins that touch only at the larger |tau| are left out (and the range check of
-        :func:`mean_loss_ratio` still passes)."""
+        """Set the candidate window to the pins that can touch for tau in [t_lo, t_hi].
+
+        Set the candidate window to the pins that can touch for tau in [t_lo, t_hi] (see :meth:`set_window`;
+        None when every pin can).  The pin set depends on the tau range: a window taken over from another torque
+        or mode (:meth:`inherit`, :meth:`mirror`) with its tau range scaled must be recomputed for the scaled
+        range, else pins that touch only at the larger |tau| are left out (and the range check of
+        :func:`mean_loss_ratio` still passes).
+        """
         g = self.g
         self.window = None
         psi, delta, arm = self._nominal(n_scan)
@@ -170,20 +183,25 @@ class CandidateWindow:
                 self._sides = (self.window, np.flatnonzero(can)) if can.any() and not can.all() else None
 
     def period_pins(self):
-        """The pins the candidate window can hold at crank angles in [0, T_p] (sorted), or None (every pin): the
-        rows of the states' per-pin arrays (:meth:`layout`).
+        """The pins the candidate window can hold at crank angles in [0, T_p] (sorted), or None (every pin).
+
+        The rows of the states' per-pin arrays (:meth:`layout`).
 
         The window's first pin j0(theta) does not decrease with theta and grows by one over a period, so the
-        pins of its two ends hold every one in between."""
+        pins of its two ends hold every one in between.
+        """
         if self.window is None:
             return None
         rows = np.union1d(*self.candidates(np.array([0.0, self.g.period])).T)
         return None if rows.size >= self.g.z2 else rows
 
     def layout(self):
-        """(rows, pos): the pins the per-pin arrays of this model's states hold (:attr:`Solution.rows`: the candidate
-        window's over one period, :meth:`period_pins`; None: all z2), and each pin's row there (z2,), -1 for a pin
-        they do not hold.  Fixed while the window is (a cycle's states share it)."""
+        """(rows, pos): the pins the states' per-pin arrays hold and each pin's row there.
+
+        The pins the per-pin arrays of this model's states hold (:attr:`Solution.rows`: the candidate window's
+        over one period, :meth:`period_pins`; None: all z2), and each pin's row there (z2,), -1 for a pin they
+        do not hold.  Fixed while the window is (a cycle's states share it).
+        """
         if self._layout is None or self._layout[0] != self.window:
             rows = self.period_pins()
             pos = np.arange(self.g.z2)
@@ -194,14 +212,18 @@ class CandidateWindow:
         return self._layout[1], self._layout[2]
 
     def window_holds(self, tau, theta=None, prev: "CandidateWindow | None" = None) -> bool:
-        """Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
+        """Whether the solved tau stay within what the candidate window allows.
+
+        Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
         their crank angles ``theta``, the pins next to the window on either side do not touch there (penetration
-        <= 0 at tau: ``settings.window_margin``), nor the contacts of the window's pins that :attr:`sides` leaves out.
+        <= 0 at tau: ``settings.window_margin``), nor the contacts of the window's pins that :attr:`sides`
+        leaves out.
 
         The smallest clearance -delta of those pairs is kept (:attr:`clearance`).  ``prev``: a model checked at the
         same crank angles with the same candidate pins and sides (the torque pass before): where its clearance c exceeds
         (R_p + e)(d + d^2/2), d = max |tau - tau_prev|, no pair can have closed it (|d delta/d tau| = |X x n| <=
-        R_p + e, |d^2 delta/d tau^2| <= R_p + e) and nothing is evaluated."""
+        R_p + e, |d^2 delta/d tau^2| <= R_p + e) and nothing is evaluated.
+        """
         self.clearance = None
         if self.window is None:
             return True
@@ -242,7 +264,8 @@ class CandidateWindow:
         Without friction in the balance the reducer is the multiplier run backwards (pins.md §4.8(5),
         §5.7): tau_R(-theta) = -tau_M(theta), so the time phases zeta, the tau range and tau change
         sign and d tau/d theta keeps it; scaled by the torque ratio like :meth:`inherit`.  With friction
-        this is a warm start only (the window's tau range is checked on the final grid)."""
+        this is a warm start only (the window's tau range is checked on the final grid).
+        """
         r = (self.torque_sat / other.torque_sat) ** (1.0 / self.law.exponent)
         self.caches, self.scan_n = other.caches, other.scan_n      # the same design
         if other.window is not None:
@@ -270,7 +293,8 @@ class CandidateWindow:
         """Start from the candidate window and the solved angles of the same design at another torque.
 
         tau scales about as the deflection, (T/T_prev)^(1/p) for the law F ~ delta^p: the warm starts
-        and the window's tau range are scaled by it (the range is checked on the final grid)."""
+        and the window's tau range are scaled by it (the range is checked on the final grid).
+        """
         r = (self.torque_sat / prev.torque_sat) ** (1.0 / self.law.exponent)
         self.caches, self.scan_n = prev.caches, prev.scan_n        # the same design
         if prev.window is not None:

@@ -35,7 +35,7 @@ def _loaded_count(t_mid, c):
 
 
 def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.ndarray:
-    """Breakpoints of the cycle integrand in t = theta/T_p in [0, 1]  (pins.md §6, §12.12).
+    r"""Breakpoints of the cycle integrand in t = theta/T_p in [0, 1]  (pins.md §6, §12.12).
 
     0 and 1 (entry at psi~ = 0), the exit frac(psi* z2/2 pi), the spin reversal
     frac(psi_0 z2/2 pi) when psi_0 < psi*, and two geometric gradings:
@@ -46,11 +46,32 @@ def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.nd
     * a piece where a single pin carries the load (psi* barely above 2 pi/z2): lambda ~ 1/psi there,
       so toward that piece's start, down to its own distance from the entry.
 
+    .. math:: t \in \{0,\ 1,\ \operatorname{frac}(\psi^* z_2 / 2\pi),\ \operatorname{frac}(\psi_0 z_2 / 2\pi)\}
+        \cup \text{gradings}, \qquad t = \theta / T_p, \quad T_p = \frac{2\pi}{z_2}
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    psi_star : float
+        End of the loaded arc, [rad].
+    psi_0 : float or None
+        Spin-reversal phase, [rad], or None.
+
+    Returns
+    -------
+    t : ndarray
+        The sorted breakpoints in [0, 1], [-].
+
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)   # k = 1, z2 even: exit at t = 0
     >>> cycle_breakpoints(g, np.pi, None).tolist()
     [0.0, 1.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.12.
     """
     c = _exit_count(g, psi_star)
     pts = [0.0, 1.0, c - math.floor(c)]
@@ -69,7 +90,7 @@ def cycle_breakpoints(g: Cycloid, psi_star: float, psi_0: float | None) -> np.nd
 
 
 def _exit_count(g, psi_star):
-    """c = psi* z2/(2 pi), exact for k = 1."""
+    """The count c = psi* z2/(2 pi), exact for k = 1."""
     return g.z2 / 2.0 if g.k == 1 else psi_star * g.z2 / (2.0 * math.pi)
 
 
@@ -89,7 +110,26 @@ class CycleState:
 
 
 def cycle_state(t, t_mid, g: Cycloid, psi_star: float) -> CycleState:
-    """Loaded-pin geometry at nodes t of pieces with midpoints t_mid (one-sided at piece ends).
+    r"""Loaded-pin geometry at nodes t of pieces with midpoints t_mid (one-sided at piece ends).
+
+    .. math:: \tilde\psi_i(t), \quad \text{loaded: } 0 < \tilde\psi_i < \psi^* \text{ at } t_{mid}, \quad
+        l_i = \frac{r_{p1} \sin\tilde\psi_i}{s(\tilde\psi_i)}, \quad \rho_i = R_p\,s(\tilde\psi_i)
+
+    Parameters
+    ----------
+    t : ndarray
+        Nodes, t = theta/T_p, [-].
+    t_mid : ndarray
+        Midpoints of their pieces, [-].
+    g : Cycloid
+        The gear.
+    psi_star : float
+        End of the loaded arc, [rad].
+
+    Returns
+    -------
+    state : CycleState
+        Phases [rad], loaded flags, |lever arms| [mm], pitch distances [mm] and S = sum l² [mm²] at the nodes.
 
     Examples
     --------
@@ -97,6 +137,10 @@ def cycle_state(t, t_mid, g: Cycloid, psi_star: float) -> CycleState:
     >>> st = cycle_state(np.array([0.0, 1.0]), np.array([0.5, 0.5]), g, np.pi)
     >>> st.loaded.sum(axis=0).tolist()    # k = 1: half the pins
     [11, 11]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.3, §4.4, §6.
     """
     t = np.asarray(t, dtype=float)
     c = _exit_count(g, psi_star)
@@ -112,7 +156,28 @@ def cycle_state(t, t_mid, g: Cycloid, psi_star: float) -> CycleState:
 
 
 def cycle_loss_ratio(t, t_mid, g: Cycloid, psi_star: float, mu_eff: float):
-    """lambda at nodes t of the cycle (one-sided at piece ends)  (pins.md §4.6).
+    r"""The loss ratio lambda at nodes t of the cycle (one-sided at piece ends) (pins.md §4.6).
+
+    .. math:: \lambda(t) = \mu_{eff}\,\frac{\sum_{i \in L} |l_i|\,|\rho_i - R_b|}{\sum_{i \in L} l_i^2}, \qquad
+        L = \text{the loaded pins of the piece with midpoint } t_{mid}
+
+    Parameters
+    ----------
+    t : ndarray
+        Nodes, t = theta/T_p, [-].
+    t_mid : ndarray
+        Midpoints of their pieces, [-].
+    g : Cycloid
+        The gear.
+    psi_star : float
+        End of the loaded arc, [rad].
+    mu_eff : float
+        Effective friction coefficient, [-].
+
+    Returns
+    -------
+    lam : ndarray
+        Loss ratio at each node, [-].
 
     Examples
     --------
@@ -122,12 +187,18 @@ def cycle_loss_ratio(t, t_mid, g: Cycloid, psi_star: float, mu_eff: float):
     >>> b = loss_ratio([0.3 * 2 * np.pi / 22], g, np.pi, 0.1, MULTIPLIER)
     >>> bool(abs(a[0] - b[0]) < 1e-13)
     True
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.6, §6.
     """
     return state_loss_ratio(cycle_state(t, t_mid, g, psi_star), g, mu_eff)
 
 
 def state_loss_ratio(st: CycleState, g: Cycloid, mu_eff, n_discs: int = 1):
-    r"""lambda at the nodes of a :class:`CycleState`, averaged over n_d discs (pins.md §4.6, §12.7).
+    r"""The loss ratio lambda at the nodes of a :class:`CycleState`, averaged over n_d discs (pins.md §4.6, §12.7).
 
     .. math::
 
@@ -175,7 +246,8 @@ class CycleDetail:
     Per node: theta [deg], loss_ratio (all discs) [-], loss (all discs) [W] or None, loaded (pins of the
     first disc).  Per loaded contact of the first disc (row-major by node, then pin): contact_theta [deg],
     pin (index of the fixed ring), phase [deg], force [N] or None, sliding_speed [m/s] or None,
-    pin_speed [rpm] or None, contact_loss [W] or None.  None: the torque or the crank speed is not known."""
+    pin_speed [rpm] or None, contact_loss [W] or None.  None: the torque or the crank speed is not known.
+    """
 
     theta: np.ndarray
     loss_ratio: np.ndarray
@@ -269,19 +341,39 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
 
 
 def disc_offsets(n_discs: int, z2: int) -> np.ndarray:
-    """Shifts in t = theta/T_p of the discs' cycles, frac(d z2/n_d), d = 0 .. n_d-1  (pins.md §12.7).
+    r"""Shifts in t = theta/T_p of the discs' cycles, frac(d z2/n_d), d = 0 .. n_d-1  (pins.md §12.7).
+
+    .. math:: \Delta t_d = \operatorname{frac}\!\left(\frac{d\,z_2}{n_d}\right), \qquad d = 0, \dots, n_d - 1
+
+    Parameters
+    ----------
+    n_discs : int
+        Number of discs n_d, [-].
+    z2 : int
+        Number of pins, [-].
+
+    Returns
+    -------
+    shifts : ndarray
+        The shifts, [-] (in units of T_p).
 
     Examples
     --------
     >>> disc_offsets(2, 22).tolist()
     [0.0, 0.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.7.
     """
     d = np.arange(n_discs)
     return np.mod(d * z2, n_discs) / n_discs
 
 
 def sum_over_discs(x, values, shifts, period, origin: float = 0.0, zero_outside: bool = False):
-    """Sum over discs of a sampled periodic history, sum_d v(x + shift_d), by linear interpolation.
+    r"""Sum over discs of a sampled periodic history, sum_d v(x + shift_d), by linear interpolation.
+
+    .. math:: V(x) = \sum_d v(x + s_d), \qquad v \text{ linear between the samples, periodic with the period}
 
     Parameters
     ----------
@@ -300,6 +392,10 @@ def sum_over_discs(x, values, shifts, period, origin: float = 0.0, zero_outside:
     --------
     >>> sum_over_discs(np.array([0.0, 0.5, 1.0]), np.array([0.0, 1.0, 0.0]), [0.0, 0.5], 1.0).tolist()
     [1.0, 1.0, 1.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §12.7.
     """
     x = np.asarray(x, dtype=float)
     values = np.asarray(values, dtype=float)
@@ -312,10 +408,13 @@ def sum_over_discs(x, values, shifts, period, origin: float = 0.0, zero_outside:
 
 
 def disc_sum_peak(phase, values, n_d: int):
-    """Peak over the cycle and the pins of a per-contact quantity summed over n_d discs, and its phase.
+    r"""Peak over the cycle and the pins of a per-contact quantity summed over n_d discs, and its phase.
 
     The discs are 2 pi/n_d apart: a pin's history at phase psi is sum_d v(psi - 2 pi d/n_d) (pins.md
     §12.7), interpolated linearly between the samples (error O(h^2)).
+
+    .. math:: V(\psi) = \sum_{d=0}^{n_d - 1} v\!\left(\psi - \frac{2\pi d}{n_d}\right), \qquad
+        \text{peak} = \max_\psi V(\psi)
 
     Parameters
     ----------
@@ -331,6 +430,10 @@ def disc_sum_peak(phase, values, n_d: int):
     --------
     >>> disc_sum_peak(np.array([0.0, 1.0, 2.0]), np.array([0.0, 1.0, 0.0]), 1)
     (1.0, 1.0)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §8, §12.7.
     """
     x, val = np.asarray(phase, dtype=float), np.asarray(values, dtype=float)
     order = np.argsort(x, kind="stable")

@@ -26,10 +26,53 @@ __all__ = ["rows", "detail_tables", "contact_detail"]
 
 
 def contact_detail(g, sol, cyc, T_V, w_H, n_d, crank=None, consistent: bool = False):
-    """Detail tables of the contact level (pins.md §8): ``crank`` and ``contacts`` rows of the final grid
-    (first disc; piece ends appear twice, the one-sided limits).  ``crank``: the
-    :class:`~gearcalc.pins.contact.CrankBearing` of the cycle (the crank torque of all discs, friction-consistent
-    forces only (``consistent``), and one disc's bearing force), or None."""
+    r"""Detail tables of the contact level (pins.md §8).
+
+    ``crank`` and ``contacts`` rows of the final grid (first disc; piece ends appear twice, the one-sided limits).
+    ``crank``: the :class:`~gearcalc.pins.contact.CrankBearing` of the cycle (the crank torque of all discs,
+    friction-consistent forces only (``consistent``), and one disc's bearing force), or None.
+
+    .. math:: \lambda(\theta) = \frac{\sum_j P_j(\theta)}{T_{sat}\,\omega_H\,k/z_1}, \qquad
+        \text{TE} = \tau(\theta) \ \text{[arcsec]}
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    sol : Solution
+        The states of the final grid.
+    cyc : ContactCycle
+        The cycle (its losses and loss ratios per node).
+    T_V : float
+        Torque on V, [N·m].
+    w_H : float or None
+        Crank speed, [rad/s].
+    n_d : int
+        Discs, [-].
+    crank : CrankBearing, optional
+        The crank torque and bearing force.
+    consistent : bool, optional
+        The friction-consistent forces.
+
+    Returns
+    -------
+    tables : dict
+        ``crank`` and ``contacts``: lists of rows (dicts).
+
+    Examples
+    --------
+    >>> from gearcalc.pins import contact_cycle as cc
+    >>> from gearcalc.pins.contact import MULTIPLIER, Cycloid, CycloidProfile, ContactModel, contact_law
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    >>> model = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, MULTIPLIER)
+    >>> cyc = cc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-5)
+    >>> len(contact_detail(g, cyc.sol, cyc, 10.0, None, 1)["crank"]) == cyc.sol.theta.size   # a row per node
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.6, §8.
+    """
     theta_deg = np.degrees(sol.theta)
     have_P = w_H is not None
     lam = cyc.lam
@@ -59,7 +102,27 @@ def contact_detail(g, sol, cyc, T_V, w_H, n_d, crank=None, consistent: bool = Fa
 
 
 def rows(columns: dict) -> list[dict]:
-    """Rows (dicts) from equal-length columns; a None column stays None in every row."""
+    """Rows (dicts) from equal-length columns; a None column stays None in every row.
+
+    Parameters
+    ----------
+    columns : dict
+        Name -> a list or array, or None.
+
+    Returns
+    -------
+    rows : list of dict
+        One dict per row.
+
+    Examples
+    --------
+    >>> rows({"a": [1, 2], "b": None})
+    [{'a': 1, 'b': None}, {'a': 2, 'b': None}]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §8 (the detail tables).
+    """
     n = max(len(v) for v in columns.values() if v is not None)
     cols = {k: (v.tolist() if hasattr(v, "tolist") else v) if v is not None else [None] * n
             for k, v in columns.items()}
@@ -68,13 +131,64 @@ def rows(columns: dict) -> list[dict]:
 
 
 def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist=None, consistent=False):
-    """Rows of the final grid (pins.md §8, :func:`~gearcalc.pins.cycle.cycle_detail`): ``crank`` (one per crank
-    angle: the loss ratio and loss of all discs, the loaded pins of the first, the crank torque of all discs
-    along the power flow and the crank-bearing force of the first disc: magnitude, radial (along the crank
-    arm, outward) and tangential components, direction from the crank arm) and ``contacts`` (one per
-    loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides).
-    ``hist``: :func:`~gearcalc.pins.consistent.crank_history` at the nodes; with ``consistent`` the forces are the
-    friction-consistent ones (pins.md §4.9)."""
+    r"""Rows of the final grid (pins.md §8, :func:`~gearcalc.pins.cycle.cycle_detail`).
+
+    ``crank`` (one per crank angle: the loss ratio and loss of all discs, the loaded pins of the first, the crank
+    torque of all discs along the power flow and the crank-bearing force of the first disc: magnitude, radial (along
+    the crank arm, outward) and tangential components, direction from the crank arm) and ``contacts`` (one per
+    loaded contact of the first disc); piece ends appear twice (the one-sided limits of both sides). ``hist``:
+    :func:`~gearcalc.pins.consistent.crank_history` at the nodes; with ``consistent`` the forces are the
+    friction-consistent ones (pins.md §4.9).
+
+    .. math:: \lambda = \mu_{eff}\,\frac{\sum_{i \in L} |l_i|\,|\rho_i - R_b|}{S}, \qquad
+        F_i = \frac{T_{sat}\,|l_i|}{S}, \qquad S = \sum_{i \in L} l_i^2
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    sigma : int
+        +1 reducer, -1 multiplier.
+    st : CycleState
+        The loaded contacts at the nodes (:func:`~gearcalc.pins.cycle.cycle_state`).
+    t : ndarray
+        Nodes t = theta/T_p, [-].
+    mu : float
+        Effective friction coefficient, [-].
+    T_sat : float or None
+        Torque on one disc, [N·mm].
+    omega_V : float or None
+        Output speed, [rad/s].
+    rolls : bool
+        The pins roll.
+    n_d : int, optional
+        Discs, [-].
+    hist : dict, optional
+        :func:`~gearcalc.pins.consistent.crank_history` at the nodes.
+    consistent : bool, optional
+        The friction-consistent forces.
+
+    Returns
+    -------
+    tables : dict
+        ``crank`` and ``contacts``: lists of rows (dicts).
+
+    Examples
+    --------
+    >>> from gearcalc.pins.cycle import cycle_state
+    >>> from gearcalc.pins.geometry import Cycloid, crest_cutoff
+    >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    >>> t = np.array([0.0, 0.5])
+    >>> d = detail_tables(g, -1, cycle_state(t, np.array([0.5, 0.5]), g, crest_cutoff(g)), t, 0.1, 1e4, None, False)
+    >>> round(d["crank"][0]["loss_ratio"], 6), d["crank"][0]["loaded_pins"]
+    (0.132085, 7)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.4, §4.6, §8.
+    """
     d = cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d,
                           denominator=hist["D"] if consistent else None)
     cols = {"theta_deg": d.theta, "TE_arcsec": np.zeros(d.theta.size), "loss_ratio": d.loss_ratio,
@@ -97,12 +211,61 @@ def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist
 
 def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, omega_V, rolls, n_discs,
                  torque_V=None):
-    """The ideal level's detail tables of one gear (pins.md §8) on its final grid ``t`` (piece midpoints
-    ``t_mid``): :func:`detail_tables` with the crank history of :func:`~gearcalc.pins.consistent.crank_history`.
+    r"""The ideal level's detail tables of one gear (pins.md §8) on its final grid ``t`` (piece midpoints ``t_mid``).
+
+    :func:`detail_tables` with the crank history of :func:`~gearcalc.pins.consistent.crank_history`.
 
     With ``consistent`` the forces are the friction-consistent ones, and the satellite torque follows from
     ``torque_V`` [N·m], the torque on V of the friction-consistent efficiency (pins.md §4.9; None: self-locking);
-    else ``torque_sat`` [N·mm] (None without a torque).  omega_V [rad/s] or None (no crank speed)."""
+    else ``torque_sat`` [N·mm] (None without a torque).  omega_V [rad/s] or None (no crank speed).
+
+    .. math:: F_i = \frac{T_{sat}\,|l_i|}{D}, \qquad B = -\sum_i F_i\,(n_i + q_i\,z \times n_i)
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+    psi_star : float
+        End of the loaded arc, [rad].
+    t, t_mid : ndarray
+        The final grid's nodes t = theta/T_p and their pieces' midpoints, [-].
+    mu_eff : float
+        Effective friction coefficient, [-].
+    sigma : int
+        +1 reducer, -1 multiplier.
+    consistent : bool
+        The friction-consistent forces.
+    torque_sat : float or None
+        Torque on one disc, [N·mm].
+    omega_V : float or None
+        Output speed, [rad/s].
+    rolls : bool
+        The pins roll.
+    n_discs : int
+        Discs, [-].
+    torque_V : float, optional
+        Torque on V, [N·m].
+
+    Returns
+    -------
+    tables : dict
+        ``crank`` and ``contacts``: lists of rows (dicts).
+
+    Examples
+    --------
+    Friction-free forces: the bearing's tangential force is T_H/e = T_sat k/(z1 e) = 1e4 x 2/(20 x 3.9) N:
+
+    >>> from gearcalc.pins.geometry import Cycloid, crest_cutoff
+    >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    >>> d = ideal_detail(g, crest_cutoff(g), np.array([0.0, 0.5]), np.array([0.5, 0.5]), 0.1, -1, False, 1e4, None,
+    ...                  False, 1, None)
+    >>> round(d["crank"][0]["bearing_tangential_N"], 6), d["crank"][0]["loaded_pins"]
+    (-256.410256, 7)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.9, §8.
+    """
     from .consistent import crank_history
     from .cycle import cycle_state
     from .outputs import satellite_torque

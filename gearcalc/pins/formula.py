@@ -24,12 +24,19 @@ PAPER_PI = 3.14
 
 
 def pin_angular_speed(pin_speed_rpm, paper_pi: bool = False):
-    """Pin spin omega = pi n/30 [rad/s], optionally with the paper's pi = 3.14.
+    r"""Pin spin omega = pi n/30 [rad/s], optionally with the paper's pi = 3.14.
 
     Parameters
     ----------
     pin_speed_rpm : n_pin [rpm].
     paper_pi : use pi = 3.14 as the paper did.
+
+    .. math:: \omega = \frac{\pi\,n_{pin}}{30} \quad (\pi \to 3.14 \text{ with paper\_pi})
+
+    Returns
+    -------
+    omega : float or ndarray
+        Pin angular speed, [rad/s].
 
     Examples
     --------
@@ -37,6 +44,12 @@ def pin_angular_speed(pin_speed_rpm, paper_pi: bool = False):
     3.14
     >>> pin_angular_speed(np.array([30.0, 30.0]), np.array([True, False])).round(4).tolist()
     [3.14, 3.1416]
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       eqs. (5)-(6) (π = 3.14 in its printed values); docs/spec/pins.md §3.
     """
     omega = units.rpm_to_rad_s(pin_speed_rpm)
     if np.ndim(paper_pi):                       # per element
@@ -45,7 +58,9 @@ def pin_angular_speed(pin_speed_rpm, paper_pi: bool = False):
 
 
 def rolling_friction_force(normal_force, rolling_coefficient, bushing_radius):
-    """Rolling-resistance force between tooth and bushing, F_tr1 = f_k F_n / R  (paper eq. 3).
+    r"""Rolling-resistance force between tooth and bushing, F_tr1 = f_k F_n / R  (paper eq. 3).
+
+    .. math:: F_{tr1} = \frac{f_k\,F_n}{R}
 
     Parameters
     ----------
@@ -61,12 +76,20 @@ def rolling_friction_force(normal_force, rolling_coefficient, bushing_radius):
     --------
     >>> round(rolling_friction_force(1920.0, 0.01, 1.95), 2)   # paper: 9.85 N
     9.85
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       eq. (3); docs/spec/pins.md §3.
     """
     return rolling_coefficient * normal_force / bushing_radius
 
 
 def axle_friction_force(normal_force, axle_friction):
-    """Sliding friction between bushing and axle, F_tr2 = f_c F_n  (paper eq. 4).
+    r"""Sliding friction between bushing and axle, F_tr2 = f_c F_n  (paper eq. 4).
+
+    .. math:: F_{tr2} = f_c\,F_n
 
     Parameters
     ----------
@@ -81,12 +104,20 @@ def axle_friction_force(normal_force, axle_friction):
     --------
     >>> axle_friction_force(1920.0, 0.1)   # paper: 192 N
     192.0
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       eq. (4); docs/spec/pins.md §3.
     """
     return axle_friction * normal_force
 
 
 def friction_power(force, angular_speed, radius):
-    """Power of a friction force acting at a radius of a spinning part, P = F omega R 1e-3  (eqs. 5, 6).
+    r"""Power of a friction force acting at a radius of a spinning part, P = F omega R 1e-3  (eqs. 5, 6).
+
+    .. math:: P = F\,\omega\,R \cdot 10^{-3}
 
     Parameters
     ----------
@@ -102,6 +133,12 @@ def friction_power(force, angular_speed, radius):
     --------
     >>> friction_power(10.0, 2.0, 3.0)
     0.06
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       eqs. (5), (6); docs/spec/pins.md §3.
     """
     return force * angular_speed * radius * 1e-3
 
@@ -111,7 +148,8 @@ class FormulaLosses:
     """Per-pin maximum losses of the paper (eqs. 3-7): forces [N], powers [W] (floats or arrays).
 
     ``P_tr_fixed`` is the fixed-pin variant (:func:`fixed_pin_formula_loss`), None unless the sliding
-    friction was given."""
+    friction was given.
+    """
 
     F_tr1: float
     F_tr2: float
@@ -178,7 +216,9 @@ def formula_losses(normal_force, pin_speed_rpm, bushing_radius, axle_radius, rol
 
 
 def fixed_pin_formula_loss(normal_force, pin_speed_rpm, bushing_radius, sliding_friction, paper_pi=False):
-    """Fixed-pin variant of eq. (7): P = f F_n v_s 1e-3 with v_s = (pi n_eq/30) R  (pins.md §3).
+    r"""Fixed-pin variant of eq. (7): P = f F_n v_s 1e-3 with v_s = (pi n_eq/30) R  (pins.md §3).
+
+    .. math:: P_{tr,fix} = f\,F_n\,v_s \cdot 10^{-3}, \qquad v_s = \frac{\pi\,n_{eq}}{30}\,R
 
     Parameters
     ----------
@@ -196,6 +236,12 @@ def fixed_pin_formula_loss(normal_force, pin_speed_rpm, bushing_radius, sliding_
     --------
     >>> round(fixed_pin_formula_loss(1920, 14, 1.95, 0.1, paper_pi=True), 4)
     0.5486
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       eq. (7) (the rotating-pin form); docs/spec/pins.md §3 (the fixed-pin variant, derived).
     """
     return friction_power(sliding_friction * normal_force, pin_angular_speed(pin_speed_rpm, paper_pi),
                           bushing_radius)

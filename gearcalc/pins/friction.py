@@ -1,5 +1,6 @@
-r"""KHV pin gearing: the friction at the pin-tooth contacts, written once for every level (pins.md §4.5, §4.6, §5.5,
-§5.6).
+r"""KHV pin gearing: the friction at the pin-tooth contacts, written once for every level.
+
+The friction at the pin-tooth contacts, written once for every level (pins.md §4.5, §4.6, §5.5, §5.6).
 
 Two pieces, each an extension point:
 
@@ -54,6 +55,7 @@ class FrictionLaw(Protocol):
     constant: bool
 
     def coefficient(self, speed, pressure=None):
+        """The friction coefficient mu [-] at the sliding speeds and contact pressures, elementwise."""
         ...
 
 
@@ -73,7 +75,7 @@ class Coulomb(NamedTuple):
     constant: bool = True
 
     def coefficient(self, speed, pressure=None):
-        """f (a float: it broadcasts against any speeds and pressures)."""
+        """The friction coefficient f (a float: it broadcasts against any speeds and pressures)."""
         return self.f
 
 
@@ -83,12 +85,46 @@ FRICTION_LAWS = {"coulomb": Coulomb}
 
 
 def register_friction_law(name: str, make) -> None:
-    """Add a friction law by name: ``make(**params)`` returns a :class:`FrictionLaw` (one module plus this call)."""
+    """Add a friction law by name: ``make(**params)`` returns a :class:`FrictionLaw` (one module plus this call).
+
+    Parameters
+    ----------
+    name : str
+        The law's name in :data:`FRICTION_LAWS`.
+    make : callable
+        Its factory.
+
+    Returns
+    -------
+    None
+
+    Examples
+    --------
+    >>> register_friction_law("coulomb", Coulomb)   # the law already registered, registered again
+    >>> friction_law("coulomb", 0.2).coefficient(3.0)
+    0.2
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.5 (the friction law by name, the extension point).
+    """
     FRICTION_LAWS[name] = make
 
 
 def friction_law(name: str, *args, **params) -> FrictionLaw:
     """The friction law ``name`` (:data:`FRICTION_LAWS`) with its parameters.
+
+    Parameters
+    ----------
+    name : str
+        The law's name.
+    *args, **params
+        The law's parameters (Coulomb: f, [-]).
+
+    Returns
+    -------
+    law : FrictionLaw
+        The law; ``law.coefficient(speed, pressure)`` gives mu, [-].
 
     Raises
     ------
@@ -103,6 +139,10 @@ def friction_law(name: str, *args, **params) -> FrictionLaw:
     Traceback (most recent call last):
         ...
     ValueError: unknown friction law 'coulmb'; known: coulomb
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.5, §5.5.
     """
     try:
         make = FRICTION_LAWS[name]
@@ -114,23 +154,71 @@ def friction_law(name: str, *args, **params) -> FrictionLaw:
 # ============================================================ the rolling-pin rule (pins.md §4.5-4.6)
 
 def rolling_condition(sliding_friction, bushing_radius, axle_friction, axle_radius, rolling_coefficient) -> bool:
-    """Whether contact friction can drive the bushing: f R_b >= f_c r + f_k  (pins.md §4.5).
+    r"""Whether contact friction can drive the bushing against its resistance.
+
+    .. math:: f\,R_b \ge f_c\,r + f_k
+
+    Parameters
+    ----------
+    sliding_friction : float or array_like
+        Tooth-pin sliding friction f, [-].
+    bushing_radius : float or array_like
+        Bushing radius R_b, [mm].
+    axle_friction : float or array_like
+        Bushing-axle friction f_c, [-].
+    axle_radius : float or array_like
+        Axle radius r, [mm] (NaN: fixed pins, False).
+    rolling_coefficient : float or array_like
+        Rolling friction f_k, [mm].
+
+    Returns
+    -------
+    rolls : bool or ndarray of bool
+        True where the bushing turns.
 
     Examples
     --------
     >>> rolling_condition(0.1, 1.95, 0.1, 0.95, 0.01)
     True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.5 (derived).
     """
     return sliding_friction * bushing_radius >= axle_friction * axle_radius + rolling_coefficient
 
 
 def rotating_loss_coefficient(axle_friction, axle_radius, rolling_coefficient, bushing_radius):
-    """Equivalent friction coefficient of a rolling bushing, mu_rot = (f_c r + f_k)/R_b  (pins.md §4.6).
+    r"""Equivalent friction coefficient of a rolling bushing [-].
+
+    .. math:: \mu_{rot} = \frac{f_c\,r + f_k}{R_b}
+
+    Parameters
+    ----------
+    axle_friction : float or array_like
+        Bushing-axle friction f_c, [-].
+    axle_radius : float or array_like
+        Axle radius r, [mm].
+    rolling_coefficient : float or array_like
+        Rolling friction f_k, [mm].
+    bushing_radius : float or array_like
+        Bushing radius R_b, [mm].
+
+    Returns
+    -------
+    mu_rot : float or ndarray
+        Equivalent coefficient, [-].
 
     Examples
     --------
     >>> round(rotating_loss_coefficient(0.1, 0.95, 0.01, 1.95), 12)
     0.053846153846
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       eqs. (3)-(7) (the rolling and axle losses); docs/spec/pins.md §4.6.
     """
     return (axle_friction * axle_radius + rolling_coefficient) / bushing_radius
 
@@ -185,23 +273,65 @@ def friction_regime(rotating, bushing_radius, axle_radius, sliding_friction, rol
 
 
 def peak_coefficient(mu_eff, rolls, sliding_friction, xp=None):
-    """The coefficient of a pin's peak loss bound (pins.md §8): mu_eff where the pins roll, else f.
+    r"""The coefficient of a pin's peak loss bound: mu_eff where the pins roll, else f [-].
+
+    .. math:: \mu_{peak} = \mu_{eff} \ \text{(rolling pins)}, \qquad \mu_{peak} = f \ \text{otherwise}
+
+    Parameters
+    ----------
+    mu_eff : float or array_like
+        Effective coefficient, [-].
+    rolls : bool or array_like of bool
+        The pins roll.
+    sliding_friction : float or array_like
+        Sliding friction f, [-].
+    xp : optional
+        :data:`gearcalc.pins.operating.ARRAY_OPS` or :data:`~gearcalc.pins.operating.SCALAR_OPS`; None: numpy.
+
+    Returns
+    -------
+    mu : float or ndarray
+        The coefficient, [-].
 
     Examples
     --------
     >>> peak_coefficient(np.array([0.05, 0.05]), np.array([True, False]), 0.1).tolist()
     [0.05, 0.1]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §8.
     """
     return (np.where if xp is None else xp.where)(rolls, mu_eff, sliding_friction)
 
 
 def contact_loss_power(force, speed, mu_eff):
-    """Loss at one contact, P = mu_eff F v 1e-3 [W] (F [N], v [mm/s])  (pins.md §4.6).
+    r"""Loss at one contact [W].
+
+    .. math:: P = \mu_{eff}\,F\,v \cdot 10^{-3}
+
+    Parameters
+    ----------
+    force : float or array_like
+        Normal force F, [N].
+    speed : float or array_like
+        Sliding speed v, [mm/s].
+    mu_eff : float or array_like
+        Effective friction coefficient, [-].
+
+    Returns
+    -------
+    P : ndarray
+        Loss, [W].
 
     Examples
     --------
     >>> float(contact_loss_power(100.0, 1000.0, 0.1))
     10.0
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.6.
     """
     return mu_eff * np.asarray(force) * np.asarray(speed) * 1e-3
 
@@ -209,8 +339,9 @@ def contact_loss_power(force, speed, mu_eff):
 # ============================================================ the rule at the contact level (pins.md §5.5, §5.6)
 
 class PinFriction(NamedTuple):
-    """The friction of one operating point at the contact level (pins.md §5.5, §5.6): (mu_eff, f, rolls), as the
-    tuple it replaces (it unpacks the same).
+    """The friction of one operating point at the contact level (pins.md §5.5, §5.6).
+
+    (mu_eff, f, rolls), as the tuple it replaces (it unpacks the same).
 
     mu_eff : mu_rot where the pins roll, else f [-]; sliding : f [-]; rolls : the pins roll;
     law : the sliding contacts' :class:`FrictionLaw` (None: Coulomb with f, the coefficient of fixed pins mu_eff).
@@ -269,9 +400,12 @@ class PinFriction(NamedTuple):
 
     @staticmethod
     def sign_components(force, v_t, loaded):
-        """The rolling-pin rule's own sign changes over two contacts per pin (pins.md §6): the lead's switch
-        (F_0 - F_1 where both are loaded, else NaN) and the other contact's sliding speed relative to the lead
-        (v_t - v_lead on the loaded non-lead contact, else NaN); (2 arrays, shapes (R, n) and (2, R, n))."""
+        """The rolling-pin rule's own sign changes over two contacts per pin (pins.md §6).
+
+        The lead's switch (F_0 - F_1 where both are loaded, else NaN) and the other contact's sliding speed
+        relative to the lead (v_t - v_lead on the loaded non-lead contact, else NaN); (2 arrays, shapes (R, n)
+        and (2, R, n)).
+        """
         lead = (force[1] > force[0]).astype(np.intp)          # np.argmax over the two contacts (ties: the first)
         v_lead = np.where(lead == 1, v_t[1], v_t[0])[None]
         other = loaded & (np.arange(2)[:, None, None] != lead[None])

@@ -53,11 +53,13 @@ class Cycloid:
 
     @classmethod
     def from_pin_circle(cls, z1, z2, e, R_p, R_b):
+        """The gear from its pin circle radius R_p [mm], with 1 - K1 = (k R_p - e z2)/(k R_p)."""
         k = z2 - z1
         return cls(z1, z2, float(e), float(R_p), float(R_b), (k * R_p - e * z2) / (k * R_p))
 
     @classmethod
     def from_curtate_ratio(cls, z1, z2, e, K1, R_b):
+        """The gear from its curtate ratio K1, with R_p = e z2/(k K1) [mm]."""
         k = z2 - z1
         return cls(z1, z2, float(e), e * z2 / (k * K1), float(R_b), 1.0 - K1)
 
@@ -98,7 +100,8 @@ class GeometryViolations:
 
     Boolean masks: teeth (z2 <= z1), overflow (R_p = e z2/(k K1) not finite), curtate (K1 >= 1 for a
     cycloid), overlap (R_b >= R_p sin(pi/z2)), axle (rotating pins with r >= R_b); and the pin circle
-    R_p [mm], K1 [-] and the overlap limit R_p sin(pi/z2) [mm] they were decided on."""
+    R_p [mm], K1 [-] and the overlap limit R_p sin(pi/z2) [mm] they were decided on.
+    """
 
     teeth: np.ndarray
     overflow: np.ndarray
@@ -180,7 +183,7 @@ def geometry_violations(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, 
 
 
 def s_factor(psi, K1, one_minus_K1):
-    """s(psi) = sqrt((1 - K1)^2 + 4 K1 sin^2(psi/2)) = |A - P|/R_p, cancellation-free (pins.md §4.2).
+    r"""s(psi) = sqrt((1 - K1)^2 + 4 K1 sin^2(psi/2)) = |A - P|/R_p, cancellation-free (pins.md §4.2).
 
     Parameters
     ----------
@@ -188,42 +191,104 @@ def s_factor(psi, K1, one_minus_K1):
     K1 : curtate ratio [-].
     one_minus_K1 : 1 - K1, given separately [-].
 
+    .. math:: s(\psi) = \sqrt{(1 - K_1)^2 + 4 K_1 \sin^2(\psi/2)} = \sqrt{1 + K_1^2 - 2 K_1 \cos\psi}
+        = \frac{|A - P|}{R_p}
+
+    Returns
+    -------
+    s : ndarray
+        The factor, [-].
+
     Examples
     --------
     >>> round(float(s_factor(np.pi, 0.75, 0.25)), 12)
     1.75
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.2.
     """
     sh = np.sin(0.5 * np.asarray(psi, dtype=float))
     return np.sqrt(one_minus_K1 * one_minus_K1 + 4.0 * K1 * sh * sh)
 
 
 def pitch_distance(psi, g: Cycloid):
-    """rho(psi) = |A - P| = R_p s(psi): pin centre to pitch point [mm]  (pins.md §4.2).
+    r"""rho(psi) = |A - P| = R_p s(psi): pin centre to pitch point [mm]  (pins.md §4.2).
+
+    .. math:: \rho(\psi) = |A - P| = R_p\,s(\psi)
+
+    Parameters
+    ----------
+    psi : float or array_like
+        Pin phase, [rad].
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    rho : ndarray
+        Pin centre to pitch point, [mm].
 
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> round(float(pitch_distance(0.0, g)), 12)   # R_p (1 - K1)
     14.3
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.2.
     """
     return g.R_p * s_factor(psi, g.K1, g.one_minus_K1)
 
 
 def lever_arm(psi, g: Cycloid):
-    """Signed lever arm of the normal through P about O1, l = r_p1 sin(psi)/s(psi) [mm]  (pins.md §4.4).
+    r"""Signed lever arm of the normal through P about O1, l = r_p1 sin(psi)/s(psi) [mm]  (pins.md §4.4).
+
+    .. math:: l = \frac{r_{p1} \sin\psi}{s(\psi)}
+
+    Parameters
+    ----------
+    psi : float or array_like
+        Pin phase, [rad].
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    l : ndarray
+        Signed lever arm, [mm].
 
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> round(float(lever_arm(np.pi / 2, g)), 9)   # 39 / sqrt(1 + 0.75^2)
     31.2
+
+    References
+    ----------
+    .. [1] S. K. Malhotra, M. A. Parameswaran, Analysis of a cycloid speed reducer, Mechanism and Machine Theory
+       18(6):491-499, 1983 (k = 1); docs/spec/pins.md §4.4 (general k, derived).
     """
     psi = np.asarray(psi, dtype=float)
     return g.r_p1 * np.sin(psi) / s_factor(psi, g.K1, g.one_minus_K1)
 
 
 def contact_point(psi, g: Cycloid):
-    """Contact point C = A - R_b (A - P)/rho in the crank frame (O1 = (e, 0), P = (r_p2, 0)) [mm].
+    r"""Contact point C = A - R_b (A - P)/rho in the crank frame (O1 = (e, 0), P = (r_p2, 0)) [mm].
+
+    .. math:: C = A - R_b\,\frac{A - P}{\rho}, \qquad A = R_p\,(\cos\psi, \sin\psi), \quad P = (r_{p2}, 0)
+
+    Parameters
+    ----------
+    psi : float or array_like
+        Pin phase, [rad].
+    g : Cycloid
+        The gear.
 
     Returns
     -------
@@ -234,6 +299,12 @@ def contact_point(psi, g: Cycloid):
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> [round(float(c), 9) for c in contact_point(np.pi, g)]
     [-55.25, 0.0]
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.2.
     """
     psi = np.asarray(psi, dtype=float)
     rho = pitch_distance(psi, g)
@@ -244,31 +315,69 @@ def contact_point(psi, g: Cycloid):
 
 
 def contact_angle_offset(psi, g: Cycloid):
-    """epsilon(psi): polar angle of the contact point on the satellite from its tooth-space axis [rad].
+    r"""epsilon(psi): polar angle of the contact point on the satellite from its tooth-space axis [rad].
 
     epsilon = atan2(C_y, C_x - e) - (z2/z1) psi; a pin leaves its flank at epsilon = -pi/z1
     (pins.md §4.3).
+
+    .. math:: \varepsilon(\psi) = \operatorname{atan2}(C_y,\ C_x - e) - \frac{z_2}{z_1}\,\psi
+
+    Parameters
+    ----------
+    psi : float or array_like
+        Pin phase, [rad].
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    epsilon : ndarray
+        Polar angle of the contact point from the tooth-space axis, [rad].
 
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)   # k = 1: the crest is at psi = pi
     >>> abs(round(float(contact_angle_offset(np.pi, g)) + np.pi / 21, 12))
     0.0
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.3.
     """
     cx, cy = contact_point(psi, g)
     return np.arctan2(cy, cx - g.e) - (g.z2 / g.z1) * np.asarray(psi, dtype=float)
 
 
 def crest_cutoff(g: Cycloid) -> float:
-    """End of the loaded arc psi* [rad]: pi for k = 1, else the first root of epsilon(psi) = -pi/z1.
+    r"""End of the loaded arc psi* [rad]: pi for k = 1, else the first root of epsilon(psi) = -pi/z1.
 
     One gear of :func:`crest_cutoffs` (pins.md §4.3, §12.11).
+
+    .. math:: \psi^* = \pi \ (k = 1), \qquad \varepsilon(\psi^*) = -\frac{\pi}{z_1} \ \text{(first root, } k \ge 2)
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    psi_star : float
+        End of the loaded arc, [rad].
 
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> 0 < crest_cutoff(g) < np.pi
     True
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.3, §12.11.
     """
     if g.k == 1:
         return math.pi
@@ -276,7 +385,29 @@ def crest_cutoff(g: Cycloid) -> float:
 
 
 def as_arrays(g: Cycloid) -> Cycloid:
-    """The same gear with every field a one-element array (for the functions vectorised over gears)."""
+    r"""The same gear with every field a one-element array (for the functions vectorised over gears).
+
+    .. math:: \text{every field } v \mapsto \text{atleast\_1d}(v)
+
+    Parameters
+    ----------
+    g : Cycloid
+        A gear with scalar fields.
+
+    Returns
+    -------
+    g1 : Cycloid
+        The same gear, every field an array of shape (1,).
+
+    Examples
+    --------
+    >>> as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)).z2.tolist()
+    [22]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.2 (the gear's fields).
+    """
     return Cycloid(*(np.atleast_1d(v) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
 
 
@@ -284,7 +415,7 @@ _as_arrays = as_arrays          # its former name (issue 35 made it public): for
 
 
 def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: int = 2) -> np.ndarray:
-    """psi* of many gears at once [rad]: pi where k = 1, else the first root of h = epsilon + pi/z1.
+    r"""psi* of many gears at once [rad]: pi where k = 1, else the first root of h = epsilon + pi/z1.
 
     h(psi) = epsilon(psi) + pi/z1 is positive at psi = 0 (epsilon(0) = 0).  It is scanned on
     ``n_scan`` points of (0, pi], and its first sign change located; the bracketing cell is scanned
@@ -299,6 +430,9 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
     :mod:`gearcalc.roots` needs 5-8 iterations of about 40 array operations each, which dominated
     the ideal level's time per design.  The first scan's points (0, pi] and their trigonometry are the
     same for every gear and are computed once (:func:`_first_scan`; the same numbers).
+
+    .. math:: h(\psi) = \varepsilon(\psi) + \frac{\pi}{z_1}, \qquad \psi^* = \min\{\psi \in (0, \pi] : h(\psi) \le 0\}
+        \ (k \ge 2), \qquad \psi^* = \pi \ (k = 1)
 
     Parameters
     ----------
@@ -337,8 +471,10 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
     q0, e0, zr, offset = R_b / R_p, e / R_p, z2 / z1, math.pi / z1
 
     def h(psi, trig=None):
-        """epsilon(psi) + pi/z1 in half-angle form (contact_angle_offset scaled by 1/R_p; two sines); ``trig``:
-        the gear-independent u = 1 - cos psi, sin psi, u/2 and 1 - u when known (:func:`_first_scan`)."""
+        """epsilon(psi) + pi/z1 in half-angle form (contact_angle_offset scaled by 1/R_p; two sines); ``trig``.
+
+        The gear-independent u = 1 - cos psi, sin psi, u/2 and 1 - u when known (:func:`_first_scan`).
+        """
         if trig is None:
             u, w = _half_angle_terms(psi)                        # 1 - cos psi, sin psi
             hu, cu = 0.5 * u, 1.0 - u
@@ -399,9 +535,11 @@ _FIRST_SCANS: dict[int, tuple] = {}
 
 
 def _first_scan(n: int):
-    """The first scan of :func:`crest_cutoffs` on (0, pi], the same for every gear: its points
-    lo + (hi - lo) (k/n) with lo = 0, hi = pi, their :func:`_half_angle_terms` u = 1 - cos psi and sin psi, and
-    u/2 and 1 - u (cached: read-only)."""
+    """The first scan of :func:`crest_cutoffs` on (0, pi], the same for every gear.
+
+    Its points lo + (hi - lo) (k/n) with lo = 0, hi = pi, their :func:`_half_angle_terms` u = 1 - cos psi and sin
+    psi, and u/2 and 1 - u (cached: read-only).
+    """
     have = _FIRST_SCANS.get(n)
     if have is None:
         x = 0.0 + (math.pi - 0.0) * _scan_fractions(n)
@@ -469,24 +607,54 @@ def _first_root_of_scan(h, h0: float, n_scan: int, n_refine: int, stages: int) -
 
 
 def spin_reversal_phase(g: Cycloid) -> float | None:
-    """Phase psi_0 where rho(psi_0) = R_b (the pin's spin reverses), or None when R_b <= R_p (1 - K1).
+    r"""Phase psi_0 where rho(psi_0) = R_b (the pin's spin reverses), or None when R_b <= R_p (1 - K1).
 
     One gear of :func:`spin_reversal_phases` (pins.md §4.5, §6).
+
+    .. math:: \rho(\psi_0) = R_b, \qquad \sin\frac{\psi_0}{2} = \sqrt{\frac{(R_b/R_p)^2 - (1 - K_1)^2}{4 K_1}}
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    psi_0 : float or None
+        The phase, [rad], or None.
 
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> spin_reversal_phase(g) is None
     True
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.5, §6.
     """
     psi_0 = float(spin_reversal_phases(as_arrays(g))[0])
     return None if math.isnan(psi_0) else psi_0
 
 
 def spin_reversal_phases(g: Cycloid) -> np.ndarray:
-    """Spin-reversal phases psi_0 of many gears (NaN where R_b <= R_p (1 - K1): none) [rad].
+    r"""Spin-reversal phases psi_0 of many gears (NaN where R_b <= R_p (1 - K1): none) [rad].
 
     sin(psi_0/2) = sqrt(((R_b/R_p)^2 - (1 - K1)^2)/(4 K1))  (pins.md §4.5, §6).
+
+    .. math:: \sin\frac{\psi_0}{2} = \sqrt{\frac{(R_b/R_p)^2 - (1 - K_1)^2}{4 K_1}}
+
+    Parameters
+    ----------
+    g : Cycloid
+        Gears whose fields are arrays of one shape (m,).
+
+    Returns
+    -------
+    psi_0 : ndarray
+        The phases, [rad], shape (m,); NaN where there is none.
 
     Examples
     --------
@@ -494,6 +662,12 @@ def spin_reversal_phases(g: Cycloid) -> np.ndarray:
     >>> p = float(spin_reversal_phases(as_arrays(g))[0])
     >>> round(float(pitch_distance(p, g)), 12)     # rho(psi_0) = R_b
     0.1
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.5, §6.
     """
     q = np.asarray(g.R_b) / np.asarray(g.R_p)
     omk = np.asarray(g.one_minus_K1)
@@ -503,16 +677,36 @@ def spin_reversal_phases(g: Cycloid) -> np.ndarray:
 
 
 def curvature_radius(psi, g: Cycloid):
-    """Radius of curvature of the pin-centre curve, rho_c = R_p s^3/D  (pins.md §4.2) [mm].
+    r"""Radius of curvature of the pin-centre curve, rho_c = R_p s^3/D  (pins.md §4.2) [mm].
 
     D = 1 + K1^2 Z_e - K1 (1 + Z_e) cos(psi), Z_e = z2/k; D > 0 on the convex part.  Returns
     the signed value (negative on the concave part).
+
+    .. math:: \rho_c = \frac{R_p\,s^3}{D}, \qquad D = 1 + K_1^2 Z_e - K_1\,(1 + Z_e) \cos\psi, \quad Z_e = \frac{z_2}{k}
+
+    Parameters
+    ----------
+    psi : float or array_like
+        Pin phase, [rad].
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    rho_c : ndarray
+        Signed radius of curvature, [mm] (negative on the concave part).
 
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> round(float(curvature_radius(np.pi, g)), 6)     # 57.2 * 1.75**3 / 16.1875
     18.937838
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.2 (admissibility, derived).
     """
     psi = np.asarray(psi, dtype=float)
     K1, Ze = g.K1, g.z2 / g.k
@@ -523,7 +717,7 @@ def curvature_radius(psi, g: Cycloid):
 
 
 def min_curvature_radius(g: Cycloid, psi_star, n_scan=None):
-    """Least radius of curvature of the convex part of the pin-centre curve over 0 <= psi <= psi* [mm].
+    r"""Least radius of curvature of the convex part of the pin-centre curve over 0 <= psi <= psi* [mm].
 
     Closed form.  With c = cos(psi), s^2 = A - B c and D = p - q c, where A = 1 + K1^2, B = 2 K1,
     p = 1 + K1^2 Z_e and q = K1 (1 + Z_e), so rho_c = R_p (A - B c)^(3/2)/(p - q c), and
@@ -536,6 +730,9 @@ def min_curvature_radius(g: Cycloid, psi_star, n_scan=None):
     at psi = arccos(c) with the cancellation-free :func:`curvature_radius` (the clipped ends are
     psi* and 0 exactly).  inf where no part of the range is convex.  The profile has no loops
     (undercut) when R_b < this value (pins.md §4.2).  Works element-wise on gears of arrays.
+
+    .. math:: \rho_c = \frac{R_p\,(A - B c)^{3/2}}{p - q c}, \qquad c^* = \frac{3 p}{q} - \frac{A}{K_1}, \qquad
+        \min \rho_c = \rho_c\big(\operatorname{clip}(c^*,\ \cos\psi^*,\ 1)\big)
 
     Parameters
     ----------
@@ -552,6 +749,12 @@ def min_curvature_radius(g: Cycloid, psi_star, n_scan=None):
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> round(min_curvature_radius(g, np.pi), 3) <= round(float(curvature_radius(np.pi, g)), 3)
     True
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.2 (admissibility, derived).
     """
     K1, Ze = g.K1, np.asarray(g.z2) / np.asarray(g.k)
     psi_star = np.asarray(psi_star, dtype=float)
@@ -570,7 +773,10 @@ def min_curvature_radius(g: Cycloid, psi_star, n_scan=None):
 
 
 def pin_centre_curve(beta, family: int, g: Cycloid):
-    """Pin-centre curve of family b in the satellite frame, c_b(beta) = R_p u(beta) - e u(Z_e beta - 2 pi b/k) [mm].
+    r"""Pin-centre curve of family b in the satellite frame, c_b(beta) = R_p u(beta) - e u(Z_e beta - 2 pi b/k) [mm].
+
+    .. math:: c_b(\beta) = R_p\,u(\beta) - e\,u\!\left(Z_e \beta - \frac{2\pi b}{k}\right), \qquad
+        u(x) = (\cos x, \sin x), \quad Z_e = \frac{z_2}{k}
 
     Parameters
     ----------
@@ -587,6 +793,11 @@ def pin_centre_curve(beta, family: int, g: Cycloid):
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> [round(float(c), 9) for c in pin_centre_curve(0.0, 0, g)]   # R_p - e
     [53.3, 0.0]
+
+    References
+    ----------
+    .. [1] B. Chen, T. Fang, C. Li, S. Wang, Gear geometry of cycloid drives, Science in China Series E:
+       Technological Sciences 51, 2008, eqs. (10)-(11) (counter-clockwise form); docs/spec/pins.md §4.2.
     """
     beta = np.asarray(beta, dtype=float)
     ze = g.z2 / g.k
@@ -595,13 +806,35 @@ def pin_centre_curve(beta, family: int, g: Cycloid):
 
 
 def tooth_profile(beta, family: int, g: Cycloid):
-    """Tooth profile Gamma_b(beta) = c_b - R_b (c_b - p_b)/|c_b - p_b|, p_b = r_p1 u(Z_e beta - 2 pi b/k) [mm].
+    r"""Tooth profile Gamma_b(beta) = c_b - R_b (c_b - p_b)/|c_b - p_b|, p_b = r_p1 u(Z_e beta - 2 pi b/k) [mm].
+
+    .. math:: \Gamma_b(\beta) = c_b - R_b\,\frac{c_b - p_b}{|c_b - p_b|}, \qquad
+        p_b = r_{p1}\,u\!\left(Z_e \beta - \frac{2\pi b}{k}\right)
+
+    Parameters
+    ----------
+    beta : float or array_like
+        Curve parameter (= phi_i + k theta/z1), [rad].
+    family : int
+        b = i mod k.
+    g : Cycloid
+        The gear.
+
+    Returns
+    -------
+    x, y : ndarray
+        The profile point in the satellite frame, [mm].
 
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     >>> [round(float(c), 9) for c in tooth_profile(0.0, 0, g)]   # R_p - e - R_b
     [51.35, 0.0]
+
+    References
+    ----------
+    .. [1] B. Chen, T. Fang, C. Li, S. Wang, Gear geometry of cycloid drives, Science in China Series E:
+       Technological Sciences 51, 2008, eqs. (10)-(11); docs/spec/pins.md §4.2.
     """
     cx, cy = pin_centre_curve(beta, family, g)
     a = (g.z2 / g.k) * np.asarray(beta, dtype=float) - 2.0 * math.pi * family / g.k

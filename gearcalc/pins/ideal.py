@@ -74,8 +74,11 @@ class _GearTable:
                    np.asarray(g.R_b, dtype=float), e * z1 / k, c, Ze=z2 / k)
 
     def rows(self, z2: int, n: int):
-        """(j, sin(pi j/z2), cos(pi j/z2)) for the rows j = 0 .. n-1, as columns (cached per z2; the values
-        do not depend on how many rows were computed)."""
+        """(j, sin(pi j/z2), cos(pi j/z2)) for the rows j = 0 .. n-1, as columns.
+
+        (j, sin(pi j/z2), cos(pi j/z2)) for the rows j = 0 .. n-1, as columns (cached per z2; the values do not
+        depend on how many rows were computed).
+        """
         have = self.trig.get(z2)
         if have is None or have[0].shape[0] < n:
             j = np.arange(max(n, int(np.ceil(self.c.max())) + 1))[:, None]
@@ -105,8 +108,11 @@ tight --tol is evaluated a few gears at a time (cut at gear boundaries, so the n
 
 
 def _bounded_blocks(blocks, gi, starts, rows: int):
-    """The (slice, z2) blocks cut at gear boundaries into runs of at most FINAL_BLOCK_CELLS nodes x rows
-    (a gear larger than that alone).  ``starts``: first node of each gear."""
+    """The (slice, z2) blocks cut into runs of at most FINAL_BLOCK_CELLS cells.
+
+    The (slice, z2) blocks cut at gear boundaries into runs of at most FINAL_BLOCK_CELLS nodes x rows (a gear larger
+    than that alone).  ``starts``: first node of each gear.
+    """
     limit = max(1, FINAL_BLOCK_CELLS // max(rows, 1))
     for sl, zz in blocks:
         lo, hi = sl.start or 0, gi.size if sl.stop is None else sl.stop
@@ -124,10 +130,13 @@ def _bounded_blocks(blocks, gi, starts, rows: int):
 
 
 def _colsum(a):
-    """Sums over the rows (axis 0) in row order, so that a column's sum does not depend on the padding
-    rows (zeros) or on the other columns.  numpy reduces a C-ordered array over its outer axis row by
-    row (sequentially) when there are several columns; a single column is a contiguous reduction, which
-    numpy sums pairwise, so that case takes the (sequential) cumulative sum."""
+    """Sums over the rows (axis 0) in row order.
+
+    Sums over the rows (axis 0) in row order, so that a column's sum does not depend on the padding rows (zeros) or
+    on the other columns.  numpy reduces a C-ordered array over its outer axis row by row (sequentially) when there
+    are several columns; a single column is a contiguous reduction, which numpy sums pairwise, so that case takes
+    the (sequential) cumulative sum.
+    """
     return a.sum(axis=0) if a.shape[1] > 1 else np.cumsum(a, axis=0)[-1]
 
 
@@ -168,7 +177,8 @@ def _contacts_geo(x, mid, gi, G: _GearTable, z2: int):
     """:func:`_contacts` with the squared half-phase sine and s(psi) that the friction-consistent sums need.
 
     Returns J, lever |l| [mm], rho [mm], sin^2(psi~/2) and s (rows j, nodes); lever and rho by the very
-    operations of :func:`_contacts` (the same numbers, bit for bit)."""
+    operations of :func:`_contacts` (the same numbers, bit for bit).
+    """
     J, _, _, lev, rho, sh2, s = _contact_rows(x, mid, gi, G, z2)
     return J, lev, rho, sh2, s
 
@@ -194,7 +204,8 @@ def _node_sums(J, lev, rho, sh2, s, G: _GearTable, gi):
     Also the largest |l| and |l| |rel| of a contact with their rows (the force and loss peaks), and the
     largest |l|/R_eff, R_eff = R_b (1 - R_b/rho_c) the reduced radius of pin and tooth (the contact stress;
     rho_c = R_p s^3/D_c of :func:`curvature_radius`, signed: the formula holds on both the convex and the
-    concave part of the profile).  Padding rows (lever 0) add nothing."""
+    concave part of the profile).  Padding rows (lever 0) add nothing.
+    """
     rb = G.take("R_b", gi)
     r_p1 = G.take("r_p1", gi)
     rel = rho - rb
@@ -231,7 +242,8 @@ def _grid_rows(J, lev, rel):
     Per node, from its contacts (J loaded, lever arms |l|, rel = rho - R_b; pins.md §4.4-4.6, unit
     scalings): lambda/mu_eff, the largest force F/T_sat and the largest loss P/(T_sat |omega_V|) of a
     contact, the total loss, rho - R_b at the first and the last loaded contact, and J.  The same
-    operations as the vectorised code for many gears (:func:`ideal_cycles`)."""
+    operations as the vectorised code for many gears (:func:`ideal_cycles`).
+    """
     S = _colsum(lev * lev)
     arel = np.abs(rel)
     out = np.empty((len(GRID_ROWS), J.size))
@@ -246,11 +258,14 @@ def _grid_rows(J, lev, rel):
 
 
 def _alone_rows(J, lev, rho, sh2, s, G: _GearTable, peaks: bool = True):
-    """The rows of :func:`_grid_rows` and then of :func:`_node_sums` of one gear, by the very operations of those
-    two (the same numbers, bit for bit), with the products and sums they share computed once.
+    """The rows of :func:`_grid_rows` and :func:`_node_sums` of one gear, fused.
+
+    The rows of :func:`_grid_rows` and then of :func:`_node_sums` of one gear, by the very operations of those two
+    (the same numbers, bit for bit), with the products and sums they share computed once.
 
     Without ``peaks`` the rows of the friction-free peaks (force, loss, total: :data:`GRID_ROWS` 1-3) are NaN
-    (the friction-consistent model has its own peaks, pins.md §4.9)."""
+    (the friction-consistent model has its own peaks, pins.md §4.9).
+    """
     rb, r_p1 = G.R_b[0], G.r_p1[0]
     n = J.size
     rel = rho - rb
@@ -294,7 +309,8 @@ def _unit_loss_ratio(G: _GearTable, piece_owner, grid_rows: bool = False, peaks:
 
     With ``grid_rows`` (one gear), the rows of :func:`_grid_rows` and :func:`_node_sums` follow it
     (:func:`_alone_rows`; without ``peaks`` those of the friction-free peaks are NaN), which the quadrature
-    carries to its final grid (the peaks need them there)."""
+    carries to its final grid (the peaks need them there).
+    """
     if grid_rows:
         z2 = int(G.z2[0])
 
@@ -319,7 +335,7 @@ FIRST_LEVELS_MAX = 6
 
 
 def first_levels(tol: float, z2=None):
-    """Doublings evaluated in the first round of the cycle quadrature (speed only, never a result).
+    r"""Doublings evaluated in the first round of the cycle quadrature (speed only, never a result).
 
     A typical gear needs E ~ 3e-5 4^-L at level L, so L = 1 + ceil(log_4(3e-5/tol)), at least 2, and at
     most :data:`FIRST_LEVELS_MAX`: a round costs about as much as evaluating a few hundred nodes, so
@@ -330,12 +346,31 @@ def first_levels(tol: float, z2=None):
     of z2 beyond 28, since the intervals a gear needs fall about as 1/z2 (the loss ratio of many loaded
     pins varies less within a period: z2 = 56-80 needs one level less than z2 = 24-40, z2 = 100 two).
 
+    .. math:: L = \min\!\left(6,\ \max\!\left(2,\ 1 + \left\lceil \log_4 \frac{3 \cdot 10^{-5}}{\text{tol}} \right\rceil
+        - \left\lfloor \log_2 \frac{\max(z_2, 28)}{28} \right\rfloor\right)\right)
+
+    Parameters
+    ----------
+    tol : float
+        Relative accuracy target, [-].
+    z2 : int or array_like, optional
+        Pins per gear, [-].
+
+    Returns
+    -------
+    levels : int or ndarray
+        Doublings of the first round.
+
     Examples
     --------
     >>> [first_levels(t) for t in (1e-3, 1e-6, 1e-9)]
     [2, 4, 6]
     >>> first_levels(1e-6, np.array([22, 62, 120])).tolist()
     [4, 3, 2]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.6.
     """
     base = 1 + math.ceil(math.log(3e-5 / tol, 4))
     if isinstance(z2, (int, np.integer)):
@@ -349,8 +384,11 @@ def first_levels(tol: float, z2=None):
 
 
 def _one_gear_pieces(z1: int, z2: int, psi_star: float, psi_0: float, one_minus_K1: float):
-    """:func:`cycle_pieces` of one gear on Python floats (the same operations), or None when the gear needs
-    a geometric grading (the vectorised code then calls :func:`cycle_breakpoints`)."""
+    """:func:`cycle_pieces` of one gear on Python floats.
+
+    :func:`cycle_pieces` of one gear on Python floats (the same operations), or None when the gear needs a geometric
+    grading (the vectorised code then calls :func:`cycle_breakpoints`).
+    """
     c = z2 / 2.0 if z2 - z1 == 1 else psi_star * z2 / (2.0 * math.pi)
     pts = [0.0, 1.0, c - math.floor(c)]
     if psi_0 < psi_star:                                    # False for NaN (no spin reversal)
@@ -370,7 +408,7 @@ def _one_gear_pieces(z1: int, z2: int, psi_star: float, psi_0: float, one_minus_
 
 
 def cycle_pieces(g: Cycloid, psi_star, psi_0):
-    """Smooth pieces of the cycle integrand of many gears in t = theta/T_p: (a, b, owner), gear by gear.
+    r"""Smooth pieces of the cycle integrand of many gears in t = theta/T_p: (a, b, owner), gear by gear.
 
     The breakpoints are those of :func:`cycle_breakpoints`: 0, 1, the exit frac(psi* z2/2 pi) and the
     spin reversal frac(psi_0 z2/2 pi) when psi_0 < psi*, computed for all gears at once; a gear that
@@ -382,12 +420,26 @@ def cycle_pieces(g: Cycloid, psi_star, psi_0):
     g : gears with array fields, shape (m,).
     psi_star : psi* per gear [rad]; psi_0 : spin reversal phase per gear, NaN where none [rad].
 
+    .. math:: t \in \{0,\ 1,\ \operatorname{frac}(\psi^* z_2 / 2\pi),\ \operatorname{frac}(\psi_0 z_2 / 2\pi)\},
+        \qquad t = \theta / T_p
+
+    Returns
+    -------
+    a, b : ndarray
+        Piece ends, [-].
+    owner : ndarray of int
+        Each piece's gear.
+
     Examples
     --------
     >>> g = as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> a, b, owner = cycle_pieces(g, crest_cutoffs(g), np.array([np.nan]))
     >>> a.size, float(a[0]), float(b[-1]), owner.tolist()
     (2, 0.0, 1.0, [0, 0])
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6, §12.12.
     """
     z1, z2 = np.asarray(g.z1), np.asarray(g.z2)
     psi_star, psi_0 = np.asarray(psi_star, dtype=float), np.asarray(psi_0, dtype=float)
@@ -506,9 +558,11 @@ REFINE_SAMPLES = 32
 
 
 def _peak_values(u, mid, gi, row, kind, G: _GearTable):
-    """A peak candidate's quantity at crank angles u: kind 0 the force of contact ``row``, 1 its loss,
-    2 the total loss of the node; with the load-side phase of contact ``row`` [rad].  The points are
-    ordered by gear."""
+    """A peak candidate's quantity at crank angles u.
+
+    kind 0 the force of contact ``row``, 1 its loss, 2 the total loss of the node; with the load-side phase of
+    contact ``row`` [rad].  The points are ordered by gear.
+    """
     val, ph = np.empty(u.size), np.empty(u.size)
     for sl, z2 in G.blocks(gi):
         g = gi[sl]
@@ -603,9 +657,12 @@ def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows, refine: bool = True) ->
 
 
 def _min_curvature_radius_one(g: Cycloid, psi_star: float):
-    """:func:`min_curvature_radius` of one gear (fields of one element) on Python floats, operation for operation
-    (the transcendental functions as the same numpy ufuncs, which round as they do on arrays), or None where a
-    value is not finite (the array code then decides, with its NaN rules)."""
+    """:func:`min_curvature_radius` of one gear on Python floats.
+
+    :func:`min_curvature_radius` of one gear (fields of one element) on Python floats, operation for operation (the
+    transcendental functions as the same numpy ufuncs, which round as they do on arrays), or None where a value is
+    not finite (the array code then decides, with its NaN rules).
+    """
     z1, z2 = int(np.asarray(g.z1).flat[0]), int(np.asarray(g.z2).flat[0])
     e, R_p, omk = (float(np.asarray(v).flat[0]) for v in (g.e, g.R_p, g.one_minus_K1))
     k = z2 - z1
@@ -658,10 +715,41 @@ _ADMISSIBLE_KEEP = 256
 
 
 def admissibility(g: Cycloid):
-    """(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)): status 0, TOO_FEW_TEETH
-    (psi* <= 2 pi/z2, pins.md §12.10) or UNDERCUT (R_b >= min rho_c over the loaded arc, §4.2).  The ideal
-    level's checks, also run by ``gearcalc check`` (:func:`gearcalc.pins.checks.ideal_admissibility`).  One gear's
-    result is remembered: loading a design checks it, and its solve asks again (:data:`_ADMISSIBLE_ONE`)."""
+    r"""(status, psi*, min rho_c) of many cycloidal gears (arrays of shape (m,)).
+
+    status 0, TOO_FEW_TEETH (psi* <= 2 pi/z2, pins.md §12.10) or UNDERCUT (R_b >= min rho_c over the loaded arc,
+    §4.2).  The ideal level's checks, also run by ``gearcalc check``
+    (:func:`gearcalc.pins.checks.ideal_admissibility`).  One gear's result is remembered: loading a design checks
+    it, and its solve asks again (:data:`_ADMISSIBLE_ONE`).
+
+    .. math:: \text{TOO\_FEW\_TEETH}: \ \psi^* \le \frac{2\pi}{z_2}, \qquad
+        \text{UNDERCUT}: \ R_b \ge \min_{0 \le \psi \le \psi^*} \rho_c(\psi)
+
+    Parameters
+    ----------
+    g : Cycloid
+        Gears whose fields are arrays of shape (m,).
+
+    Returns
+    -------
+    status : ndarray of int
+        0, TOO_FEW_TEETH or UNDERCUT per gear.
+    psi_star : ndarray
+        End of the loaded arc, [rad].
+    rho_c : ndarray
+        Least radius of curvature of the pin-centre curve over the loaded arc, [mm].
+
+    Examples
+    --------
+    >>> g = as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> status, psi_star, rho_c = admissibility(g)
+    >>> status.tolist(), psi_star.round(6).tolist(), rho_c.round(6).tolist()
+    ([0], [2.028497], [14.955298])
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.2, §12.10.
+    """
     if np.size(g.z2) == 1:
         key = tuple(float(np.asarray(v).flat[0]) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1))
         out = _ADMISSIBLE_ONE.get(key)
@@ -692,7 +780,7 @@ def _admissibility(g: Cycloid):
 
 def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n_start: int = 16,
                  first_order_peaks: bool = True) -> IdealCycles:
-    """Solve the ideal level (pins.md §4, §6) of many cycloidal gears at once, in unit scalings.
+    r"""Solve the ideal level (pins.md §4, §6) of many cycloidal gears at once, in unit scalings.
 
     For every gear: psi* (:func:`crest_cutoffs`), the admissibility checks (pins.md §4.2, §12.10),
     the spin reversal, the cycle mean of the loss ratio at mu = 1 (:func:`cycle_pieces` and the
@@ -713,6 +801,10 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     final grid, so the grid is not evaluated again, and :func:`_one_gear_peaks` refines the peaks with scalar
     bookkeeping.  The quadrature's first round guesses its levels from tol and z2 (:func:`first_levels`; speed
     only).
+
+    .. math:: \bar\lambda_1 = \frac{1}{T_p} \int_0^{T_p}
+        \frac{\sum_{i \in L} |l_i|\,|\rho_i - R_b|}{\sum_{i \in L} l_i^2}\,d\theta \ \ (\mu = 1), \qquad
+        F_{max} = \max_\theta \frac{T_{sat}\,r_{p1}}{S(\theta)}
 
     Parameters
     ----------
@@ -896,8 +988,10 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
 
 def _ideal_alone(g: Cycloid, status, psi_star, rho_c, psi_0, tol: float, n_max: int, n_start: int,
                  first_order_peaks: bool) -> IdealCycles:
-    """:func:`ideal_cycles` of one admissible gear with one disc (a design computed alone): the same steps and
-    numbers as there, without the bookkeeping of many gears (fields of one element)."""
+    """:func:`ideal_cycles` of one admissible gear with one disc (a design computed alone).
+
+    The same steps and numbers as there, without the bookkeeping of many gears (fields of one element).
+    """
     fields = (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)
     gk = g if all(isinstance(v, np.ndarray) and v.ndim == 1 for v in fields) else Cycloid(*map(np.atleast_1d, fields))
     G = _GearTable.of(gk, psi_star)
@@ -923,10 +1017,13 @@ def _ideal_alone(g: Cycloid, status, psi_star, rho_c, psi_0, tol: float, n_max: 
 
 
 def _grid_weights(t, piece, n_piece=None):
-    """Trapezoid weights of a final grid's nodes (piece by piece, ends on every piece) at its level L and at
-    L-1 and L-2 (every 2nd and 4th node of each piece; a final level has at least 4 intervals a piece,
-    pins.md §6, §12.6), shape (3, nodes).  ``n_piece``: the intervals of each piece when they are known (one
-    gear: the pieces are filled one by one, the same numbers)."""
+    """Trapezoid weights of a final grid's nodes at its levels L, L-1 and L-2.
+
+    Trapezoid weights of a final grid's nodes (piece by piece, ends on every piece) at its level L and at L-1 and
+    L-2 (every 2nd and 4th node of each piece; a final level has at least 4 intervals a piece, pins.md §6, §12.6),
+    shape (3, nodes).  ``n_piece``: the intervals of each piece when they are known (one gear: the pieces are filled
+    one by one, the same numbers).
+    """
     w = np.zeros((3, t.size))
     if t.size == 0:
         return w
@@ -972,11 +1069,14 @@ class CycleIntegral:
 
 def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: float, tol: float = 1e-6,
                     n_max: int = 2 ** 20, n_start: int = 16, n_initial=None) -> CycleIntegral:
-    """Cycle mean lambda_bar = (1/T_p) integral of lambda over one period, with an honest error.
+    r"""Cycle mean lambda_bar = (1/T_p) integral of lambda over one period, with an honest error.
 
     Piecewise trapezoid between the breakpoints of :func:`cycle_pieces` (those of
     :func:`cycle_breakpoints`), doubled to ``tol`` (pins.md §6), with the integrator and integrand
     of :func:`ideal_cycles` (one gear).  mu_eff = 0 short-circuits to exactly 0 with error 0.
+
+    .. math:: \bar\lambda = \frac{1}{T_p} \int_0^{T_p} \lambda(\theta)\,d\theta, \qquad
+        \lambda = \mu_{eff}\,\frac{\sum_{i \in L} |l_i|\,|\rho_i - R_b|}{\sum_{i \in L} l_i^2}
 
     Parameters
     ----------
@@ -998,6 +1098,12 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
     >>> r = mean_loss_ratio(g, crest_cutoff(g), None, 0.1)
     >>> bool(r.converged and r.loss_ratio_err < 1e-6 * r.loss_ratio)
     True
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       docs/spec/pins.md §4.6, §6.
     """
     if mu_eff == 0.0:
         return CycleIntegral(0.0, 0.0, True, 0, None)

@@ -24,11 +24,30 @@ __all__ = ["floats", "SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime",
 
 
 def floats(vals):
-    """A float array from a list of numbers and None (NaN): a column of design values (:mod:`gearcalc.pins.columns`,
-    :mod:`gearcalc.pins.checks`).
+    r"""A float array from a list of numbers and None (NaN).
 
+    A column of design values (:mod:`gearcalc.pins.columns`, :mod:`gearcalc.pins.checks`).
+
+    .. math:: x_i = \text{float}(v_i), \qquad x_i = \text{NaN} \ \text{where } v_i \text{ is None}
+
+    Parameters
+    ----------
+    vals : list
+        Numbers and None.
+
+    Returns
+    -------
+    x : ndarray
+        Floats, NaN for None.
+
+    Examples
+    --------
     >>> floats([1, None]).tolist()
     [1.0, nan]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7 (absent design values).
     """
     return np.array([np.nan if v is None else v for v in vals], dtype=float)
 
@@ -139,6 +158,8 @@ def efficiency_reducer_err(loss_ratio_mean, loss_ratio_err):
 
     The first-order propagation of E through eta_HV = 1/(1 + lambda_bar) (|d eta_HV/d lambda_bar| E).
 
+    .. math:: E_{HV} = \left|\frac{d\eta_{HV}}{d\bar\lambda}\right| E = \frac{E}{(1 + \bar\lambda)^2}
+
     Parameters
     ----------
     loss_ratio_mean : float or array_like
@@ -218,7 +239,8 @@ class EfficiencyTorques:
     """Efficiencies, self-locking and shaft torques per operating point (:func:`efficiency_torques`).
 
     NaN marks an undefined value (no multiplier efficiency when it self-locks, no T_V when it self-locks
-    with the torque given on H).  Torques in the unit of the torque given (N·m in the product)."""
+    with the torque given on H).  Torques in the unit of the torque given (N·m in the product).
+    """
 
     locked: object
     eta_vh: object
@@ -300,7 +322,8 @@ class ScaledCycle:
     torque_sat [N·mm per disc]; omega_V, |omega_V| [rad/s]; loss_mean, loss_peak, loss_max (one pin),
     loss_bound [W]; force_max [N]; force_phase, loss_phase [deg] (NaN where the force or loss is);
     spin_abs_max, spin_min, spin_max [rpm] (0 for pins that do not roll); spin_reversals (int);
-    sliding_speed_max [m/s] (0 for rolling pins)."""
+    sliding_speed_max [m/s] (0 for rolling pins).
+    """
 
     torque_sat: object
     omega_V: object

@@ -47,7 +47,8 @@ class ConsistentEfficiencies:
     """Both modes' friction-consistent efficiencies (:func:`consistent_efficiencies`); NaN: the mode self-locks.
 
     eta_vh, eta_vh_err : multiplier efficiency and its error [-]; eta_hv, eta_hv_err : the reducer's;
-    locked_vh, locked_hv : the mode self-locks (jams, or eta_VH <= 0)."""
+    locked_vh, locked_hv : the mode self-locks (jams, or eta_VH <= 0).
+    """
 
     eta_vh: object
     eta_vh_err: object
@@ -110,6 +111,20 @@ def consistent_efficiencies(loss_ratio_reducer, loss_ratio_multiplier, err_reduc
 def satellite_torque(torque_V, n_discs):
     r"""Torque on one satellite disc, T_sat = T_V/n_d [N·mm] from T_V [N·m] (pins.md §4.4, §12.7).
 
+    .. math:: T_{sat} = \frac{10^3\,T_V}{n_d}
+
+    Parameters
+    ----------
+    torque_V : float or array_like
+        Output torque T_V, [N·m].
+    n_discs : int or array_like
+        Discs n_d, [-].
+
+    Returns
+    -------
+    T_sat : float or ndarray
+        Torque on one disc, [N·mm].
+
     Examples
     --------
     >>> satellite_torque(800.0, 2)
@@ -126,6 +141,18 @@ def crank_torque(torque_sat, unit_crank_torque):
     r"""Crank torque T_H [N·m] from T_sat [N·mm] and the unit-torque crank torque T_H/T_sat [-] (pins.md §4.9).
 
     .. math::  T_H = \sigma e B_y = T_{sat} \hat T_H
+
+    Parameters
+    ----------
+    torque_sat : float or array_like
+        Torque on one satellite disc T_sat, [N·mm].
+    unit_crank_torque : float or array_like
+        T_H/T_sat, [-].
+
+    Returns
+    -------
+    T_H : float or ndarray
+        Crank torque, [N·m].
 
     Examples
     --------
@@ -178,6 +205,8 @@ def contact_stress(torque_sat, unit_stress, face_width, e_star):
 def axle_pressure(force, axle_radius, face_width):
     r"""Mean bushing-axle pressure of a rotating pin on the projected area, p = F/(2 r b) [MPa] (pins.md §8).
 
+    .. math:: p = \frac{F}{2\,r\,b}
+
     Parameters
     ----------
     force : float or array_like
@@ -186,6 +215,11 @@ def axle_pressure(force, axle_radius, face_width):
         r [mm].
     face_width : float or array_like
         b [mm].
+
+    Returns
+    -------
+    p : float or ndarray
+        Mean pressure, [MPa].
 
     Examples
     --------
@@ -210,6 +244,11 @@ def pin_loss_bound(mu_eff, rolls, sliding_friction, force_max, speed_max, xp=ARR
     force_max : F_max [N]; speed_max : the peak contact speed (|omega_V| |rho - R_b|) [mm/s].
     xp : :data:`gearcalc.pins.ARRAY_OPS` or :data:`gearcalc.pins.SCALAR_OPS`
 
+    Returns
+    -------
+    P : float or ndarray
+        The bound, [W].
+
     Examples
     --------
     >>> pin_loss_bound(0.05, True, 0.1, 1000.0, 200.0, SCALAR_OPS)   # 0.05 x 1000 N x 0.2 m/s
@@ -232,7 +271,8 @@ class ConsistentPoint:
     force_phase [deg], loss_max, loss_peak, loss_bound [W], loss_phase [deg].  pins.md §8: crank_torque_mean,
     crank_torque_ripple [N·m] (all discs; NaN for first-order points), bearing_force_max, bearing_force_mean [N]
     (one disc), contact_stress_max [MPa], axle_pressure_max [MPa] (NaN for fixed pins).  torque_scale: T_sat
-    of the friction-consistent over the first-order efficiency [-]."""
+    of the friction-consistent over the first-order efficiency [-].
+    """
 
     eta_vh: object
     eta_vh_err: object
@@ -268,7 +308,9 @@ class ConsistentPoint:
 def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V, axle_radius, rotating,
                      rolls, z1, k, n_discs, face_width, sliding_friction, rel_abs, torque, torque_on_V,
                      xp=ARRAY_OPS) -> ConsistentPoint:
-    r"""Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points, from their
+    r"""Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points.
+
+    Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points, from their
     friction-consistent unit cycles (pins.md §4.9).
 
     Consistent points (``consistent``) take everything from the friction-consistent model; first-order points
@@ -486,7 +528,8 @@ class CrankDetail:
     """The crank torque and crank-bearing force over a cycle grid, ordered by crank angle (:func:`crank_detail`).
 
     crank_torque [N·m] (all discs, along the power flow); bearing_force, bearing_radial (along the crank arm,
-    outward), bearing_tangential [N] (one disc); bearing_angle [deg] (from the crank arm)."""
+    outward), bearing_tangential [N] (one disc); bearing_angle [deg] (from the crank arm).
+    """
 
     crank_torque: np.ndarray
     bearing_force: np.ndarray

@@ -30,8 +30,7 @@ __all__ = ["IdealPoints", "ideal_points"]
 
 @dataclass
 class IdealPoints:
-    """The ideal level at n operating points (:func:`ideal_points`): arrays over the points, or the one point's
-    scalars.
+    """The ideal level at n operating points (:func:`ideal_points`): arrays over the points, or the one point's scalars.
 
     cyc : the solved geometries (:class:`~gearcalc.pins.ideal.IdealCycles`); gi : each point's geometry;
     z1, z2, e, Rp, Rb, omk, n_d, k, K1 : the points' gears (R_p and 1 - K1 from either given one);
@@ -71,8 +70,10 @@ class IdealPoints:
     multi_disc: np.ndarray
 
     def field(self, name: str):
-        """An :class:`~gearcalc.pins.ideal.IdealCycles` field per point: an array over points, or the one
-        point's Python scalar."""
+        """An :class:`~gearcalc.pins.ideal.IdealCycles` field per point.
+
+        An array over points, or the one point's Python scalar.
+        """
         arr = getattr(self.cyc, name)
         return arr.item(0) if self.one else arr[self.gi]
 

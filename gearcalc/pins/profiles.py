@@ -51,15 +51,19 @@ class ToothProfile(Protocol):
     play_free: bool
 
     def prepare(self, pose, trig=None, sides=None) -> None:
+        """Store the profile's own data of a nominal pose in ``pose.aux``."""
         ...
 
     def contacts(self, pose, x, y, branch=None):
+        """The pin-tooth pairs at satellite-frame pin centres (x, y)."""
         ...
 
     def switch(self, psi_f):
+        """The sign-change quantities of a change of the contact's geometry."""
         ...
 
     def summary_fields(self) -> dict:
+        """The profile's own summary fields (pins.md §8), {} when it has none."""
         ...
 
 
@@ -79,9 +83,12 @@ class ProfileParams:
 
 @dataclass(frozen=True)
 class ProfileEntry:
-    """Where a profile lives: ``module`` (in :mod:`gearcalc.pins`) holds ``factory(g, params) -> (profile,
-    overlap)`` (``overlap``: a warning-worthy overlap of adjacent teeth); ``ideal``: the ideal level computes the
-    profile when it is not modified (the paper's cycloid); else it needs the contact level."""
+    """Where a profile lives.
+
+    ``module`` (in :mod:`gearcalc.pins`) holds ``factory(g, params) -> (profile, overlap)`` (``overlap``: a
+    warning-worthy overlap of adjacent teeth); ``ideal``: the ideal level computes the profile when it is not
+    modified (the paper's cycloid); else it needs the contact level.
+    """
 
     module: str      # a module of gearcalc.pins, or a dotted absolute name
     factory: str
@@ -96,14 +103,35 @@ PROFILES = {
 
 
 def profile_entry(name: str) -> ProfileEntry:
-    """The registry entry of profile ``name``; ValueError listing the known names for any other.
+    """The registry entry of profile ``name``.
 
+    Parameters
+    ----------
+    name : str
+        The profile's name.
+
+    Returns
+    -------
+    entry : ProfileEntry
+        Where the profile lives and whether the ideal level computes it.
+
+    Raises
+    ------
+    ValueError
+        For any name that is not a profile; the message lists the known names.
+
+    Examples
+    --------
     >>> profile_entry("circular").ideal
     False
     >>> profile_entry("involute")
     Traceback (most recent call last):
         ...
     ValueError: unknown tooth profile 'involute'; known: cycloidal, circular
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.2, §5.3, §7.
     """
     try:
         return PROFILES[name]
@@ -112,9 +140,38 @@ def profile_entry(name: str) -> ProfileEntry:
 
 
 def make_profile(name: str, g, params: ProfileParams | None = None):
-    """(profile, overlap) of profile ``name`` on gear ``g`` with the design's ``params``: the factory of its
-    :data:`PROFILES` entry (which raises :class:`gearcalc.pins.contact_profiles.InadmissibleProfile` for a profile
-    the contact level cannot run)."""
+    """(profile, overlap) of profile ``name`` on gear ``g`` with the design's ``params``.
+
+    The factory of its :data:`PROFILES` entry (which raises
+    :class:`gearcalc.pins.contact_profiles.InadmissibleProfile` for a profile the contact level cannot run).
+
+    Parameters
+    ----------
+    name : str
+        The profile's name ("cycloidal", "circular", or one registered).
+    g : Cycloid
+        The gear.
+    params : ProfileParams, optional
+        The design's profile values (tooth radius and circle [mm], profile modifications [mm]).
+
+    Returns
+    -------
+    profile : Profile
+        The profile's penetrations and normals for the contact level.
+    overlap : bool
+        Whether adjacent teeth overlap (a warning).
+
+    Examples
+    --------
+    >>> from gearcalc.pins.geometry import Cycloid
+    >>> p, overlap = make_profile("cycloidal", Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> type(p).__name__, overlap, p.contacts_per_pin
+    ('CycloidProfile', False, 1)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §5.2, §5.3 (the profiles), §7.
+    """
     entry = profile_entry(name)
     module = importlib.import_module(entry.module if "." in entry.module else f"{__package__}.{entry.module}")
     return getattr(module, entry.factory)(g, ProfileParams() if params is None else params)
@@ -123,7 +180,7 @@ def make_profile(name: str, g, params: ProfileParams | None = None):
 # ============================================================ the circular teeth's numpy-free rule
 
 def tooth_too_large(Rb, tooth_radius, Rp, e):
-    r"""Whether a circular tooth is too large for any zero-backlash tooth circle (pins.md §5.3, §9):
+    r"""Whether a circular tooth is too large for any zero-backlash tooth circle.
 
     .. math:: R_b + \rho_t \ge R_p - e
 
@@ -131,7 +188,31 @@ def tooth_too_large(Rb, tooth_radius, Rp, e):
     :func:`gearcalc.pins.contact.zero_backlash_tooth_circle` and :func:`gearcalc.pins.checks.design_problems` call it;
     here, without numpy, for ``gearcalc check``).
 
+    Parameters
+    ----------
+    Rb : float
+        Pin radius R_b, [mm].
+    tooth_radius : float
+        Circular tooth radius rho_t, [mm].
+    Rp : float
+        Pin circle radius R_p, [mm].
+    e : float
+        Eccentricity e, [mm].
+
+    Returns
+    -------
+    too_large : bool
+        True when no tooth circle fits.
+
+    Examples
+    --------
     >>> tooth_too_large(2.75, 37.4, 44.227, 3.9), tooth_too_large(2.75, 37.6, 44.227, 3.9)
     (False, True)
+
+    References
+    ----------
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
+       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
+       its circular-arc teeth; docs/spec/pins.md §5.3, §9.
     """
     return Rb + tooth_radius >= Rp - e

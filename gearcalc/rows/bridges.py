@@ -1,5 +1,6 @@
-"""The compliant carrier and its equalising bridges: the carrier's axle displacements, the guided
-Timoshenko beam compliance, and the bridge sizing of eq. (2) (rows.md §5).
+"""The compliant carrier and its equalising bridges.
+
+The carrier's axle displacements, the guided Timoshenko beam compliance, and the bridge sizing of eq. (2) (rows.md §5).
 
 Pure functions over floats and numpy arrays; units N, mm, N·mm, MPa (= N/mm²), rad.
 
@@ -28,21 +29,28 @@ FLAGS = ("ok", "axes_too_stiff", "exceeds_max", "no_room")
 
 
 def carrier_displacements(forces, lever_radius, planets_per_row, stiffness):
-    """Axle mid-span displacements y_j of a compliant carrier under planet forces (rows.md §5.5).
+    r"""Axle mid-span displacements y_j of a compliant carrier under planet forces [mm].
 
-    ``T_c,j = n_w a_w (Σ_{k<j} F_k + F_j/2)``, ``ψ_n = 0``, ``ψ_{j-1} = ψ_j + T_c,j / k_j``,
-    ``y_j = a_w (ψ_{j-1} + ψ_j)/2``.
+    .. math::
+
+        T_{c,j} = n_w\,a_w \left(\sum_{k<j} F_k + \tfrac12 F_j\right), \qquad
+        \psi_n = 0, \quad \psi_{j-1} = \psi_j + \frac{T_{c,j}}{k_j}, \qquad y_j = a_w\,\frac{\psi_{j-1} + \psi_j}{2}
 
     Parameters
     ----------
-    forces : F_j, tangential load of one planet on its axle, per row [N]
-    lever_radius : a_w [mm]
-    planets_per_row : n_w
-    stiffness : k_j, torsional stiffness of span j [N·mm/rad]
+    forces : array_like
+        Tangential load F_j of one planet on its axle, per row, [N].
+    lever_radius : float
+        Axle radius a_w (centre distance), [mm].
+    planets_per_row : int
+        Number of planets in a row n_w, [-].
+    stiffness : array_like
+        Torsional stiffness k_j of each span, [N·mm/rad].
 
     Returns
     -------
-    y [mm], per row
+    y : ndarray
+        Displacement of each row's axles, [mm].
 
     Examples
     --------
@@ -51,8 +59,9 @@ def carrier_displacements(forces, lever_radius, planets_per_row, stiffness):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its carrier with bridges; gearcalc specification docs/spec/rows.md §5.1, §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       carrier with bridges; docs/spec/rows.md §5.1, §5.5.
     """
     F = np.asarray(forces, float)
     Tc = planets_per_row * lever_radius * (np.cumsum(F) - 0.5 * F)
@@ -63,7 +72,25 @@ def carrier_displacements(forces, lever_radius, planets_per_row, stiffness):
 
 
 def carrier_matrix(lever_radius, planets_per_row, stiffness, rows: int):
-    """Matrix Y with y = Y F for :func:`carrier_displacements` (linear in the forces).
+    r"""Matrix Y_F with y = Y_F F for :func:`carrier_displacements` [mm/N] (linear in the forces).
+
+    .. math:: y = Y_F\,F, \qquad (Y_F)_{jk} = y_j\big|_{F = e_k}
+
+    Parameters
+    ----------
+    lever_radius : float
+        Axle radius a_w, [mm].
+    planets_per_row : int
+        Number of planets in a row n_w, [-].
+    stiffness : array_like
+        Torsional stiffness k_j of each span, [N·mm/rad].
+    rows : int
+        Number of rows n, [-].
+
+    Returns
+    -------
+    Y_F : ndarray
+        Shape (n, n); column k the displacements under a unit force on row k, [mm/N].
 
     Examples
     --------
@@ -72,26 +99,38 @@ def carrier_matrix(lever_radius, planets_per_row, stiffness, rows: int):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its carrier with bridges; gearcalc specification docs/spec/rows.md §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       carrier with bridges; docs/spec/rows.md §5.5.
     """
     return np.stack([carrier_displacements(np.eye(rows)[k], lever_radius, planets_per_row, stiffness)
                      for k in range(rows)], axis=1)
 
 
 def beam_compliance(length, second_moment, area, youngs_modulus, poisson):
-    """Compliance of a guided (clamped-clamped) Timoshenko beam under relative end translation.
+    r"""Compliance of a guided (clamped-clamped) Timoshenko beam under relative end translation [mm/N].
 
-    ``δ = (l/E) [ l²/(12 I) + 2.4(1+ν)/S ]``   (rows.md §5.1; 2.4(1+ν)/E = 1.2/G, shear factor 1.2)
+    .. math:: \delta = \frac{l}{E} \left[\frac{l^2}{12\,I} + \frac{2.4\,(1 + \nu)}{S}\right]
+
+    (2.4 (1 + ν)/E = 1.2/G: shear factor 1.2).
 
     Parameters
     ----------
-    length : l [mm]; second_moment : I [mm⁴]; area : S [mm²]
-    youngs_modulus : E [MPa]; poisson : ν
+    length : float or array_like
+        Span length l, [mm].
+    second_moment : float or array_like
+        Second moment of area I, [mm⁴].
+    area : float or array_like
+        Cross-section area S, [mm²].
+    youngs_modulus : float or array_like
+        Young's modulus E, [MPa].
+    poisson : float or array_like
+        Poisson's ratio ν, [-].
 
     Returns
     -------
-    δ [mm/N]
+    delta : float or ndarray
+        Compliance, [mm/N].
 
     Examples
     --------
@@ -101,18 +140,40 @@ def beam_compliance(length, second_moment, area, youngs_modulus, poisson):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its axle and bridge compliances; gearcalc specification docs/spec/rows.md §5.1.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       axle and bridge compliances; docs/spec/rows.md §5.1.
+    .. [2] S. P. Timoshenko, J. M. Gere, Mechanics of Materials, Van Nostrand Reinhold, 1972 (shear deflection).
     """
     return length / youngs_modulus * (length**2 / (12.0 * second_moment) + 2.4 * (1.0 + poisson) / area)
 
 
 def bridge_width_for_compliance(compliance, length, thickness, youngs_modulus, poisson):
-    """Bridge width H whose compliance equals the required one (rows.md §5.3).
+    r"""Bridge width H whose compliance equals the required one [mm].
 
-    Solves ``H³ - p H² - q = 0`` with ``p = 2.4(1+ν) l/(E h δ*)``, ``q = l³/(E h δ*)`` by Newton
-    from ``H = p + q^{1/3}`` (monotone convergence: the cubic is increasing and convex right of
+    .. math:: H^3 - p\,H^2 - q = 0, \qquad p = \frac{2.4\,(1 + \nu)\,l}{E\,h\,\delta^*}, \quad
+        q = \frac{l^3}{E\,h\,\delta^*}
+
+    Solved by Newton from H = p + q^(1/3) (monotone convergence: the cubic is increasing and convex right of
     its only positive root), to a relative step of 1e-14.
+
+    Parameters
+    ----------
+    compliance : float or array_like
+        Required compliance δ*, [mm/N].
+    length : float or array_like
+        Span length l, [mm].
+    thickness : float or array_like
+        Bridge thickness h, [mm].
+    youngs_modulus : float or array_like
+        Young's modulus E, [MPa].
+    poisson : float or array_like
+        Poisson's ratio ν, [-].
+
+    Returns
+    -------
+    H : ndarray
+        Bridge width, [mm].
 
     Examples
     --------
@@ -123,8 +184,9 @@ def bridge_width_for_compliance(compliance, length, thickness, youngs_modulus, p
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.3.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (2); docs/spec/rows.md §5.3.
     """
     Eh = youngs_modulus * thickness * np.asarray(compliance, float)
     p = 2.4 * (1.0 + poisson) * length / Eh
@@ -143,31 +205,58 @@ def bridge_width_for_compliance(compliance, length, thickness, youngs_modulus, p
 def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_width, cheek, pressure_angle,
                  ratio, axle_diameter, bridge_thickness, youngs_modulus, poisson, polar_moment,
                  first_span=None):
-    """Bridge widths H_j that make the carrier follow the sun's twist (eq. (2), rows.md §5.2-5.5).
+    r"""Bridge widths H_j that make the carrier follow the sun's twist (eq. (2)).
 
-    March ``D_{j+1} = (j+0.5) / (Q (n-j) - (j-0.5)/D_j)`` from the closure ``D_1`` (``H_1 = 0``
-    by default, "axes only"), with ``Q = (1+ν) r_ba² (b_w+b) n_w / (E δ_o I_p cos α_w)``, then
-    widths from ``D_j = 1 + (δ_o/δ_hj)(a_c/a_w)²``.  Spans that cannot be met are flagged
-    (``axes_too_stiff``, ``exceeds_max``, ``no_room``) and clamped; the march continues with
-    the clamped value.
+    .. math::
+
+        D_{j+1} = \frac{j + \tfrac12}{Q\,(n - j) - (j - \tfrac12)/D_j}, \qquad
+        Q = \frac{(1 + \nu)\,r_{ba}^2\,(b_w + b)\,n_w}{E\,\delta_o\,I_p \cos\alpha_w}, \qquad
+        D_j = 1 + \frac{\delta_o}{\delta_{h,j}} \left(\frac{a_c}{a_w}\right)^2,
+
+        a_w = \tfrac14 d_a\,i, \quad a_c = \tfrac12 \left(d_a (i - 1) - 2.5\,m - h\right), \quad
+        H_{max} = \frac{2\pi\,a_c}{n_w} - m\,(z_g + 1)
+
+    The march starts from the closure D_1 (H_1 = 0 by default, "axes only"); δ_o is the axle compliance and
+    δ_h,j the bridge's (:func:`beam_compliance`, span length l = b_w).  Spans that cannot be met are flagged
+    (``axes_too_stiff``, ``exceeds_max``, ``no_room``) and clamped; the march continues with the clamped value.
 
     Parameters
     ----------
-    rows, planets_per_row : n, n_w
-    sun_diameter, module : d_a, m [mm]
-    rim_width, cheek : b_w, b [mm] (span length l = b_w)
-    pressure_angle : α_w [rad]
-    ratio : i (sun input, ring fixed, carrier output)
-    axle_diameter, bridge_thickness : d, h [mm]
-    youngs_modulus, poisson : E [MPa], ν
-    polar_moment : I_p of the sun with the sizing diameter [mm⁴]
-    first_span : H_1 [mm], or None for "axes only" (H_1 = 0)
+    rows : int
+        Number of rows n, [-].
+    planets_per_row : int
+        Number of planets in a row n_w, [-].
+    sun_diameter : float
+        Sun pitch diameter d_a, [mm].
+    module : float
+        Module m, [mm].
+    rim_width : float
+        Rim width b_w (the span length), [mm].
+    cheek : float
+        Cheek thickness b, [mm].
+    pressure_angle : float
+        Working pressure angle α_w, [rad].
+    ratio : float
+        Ratio i (sun input, ring fixed, carrier output), [-].
+    axle_diameter : float
+        Axle diameter d, [mm].
+    bridge_thickness : float
+        Bridge thickness h, [mm].
+    youngs_modulus : float
+        Young's modulus E, [MPa].
+    poisson : float
+        Poisson's ratio ν, [-].
+    polar_moment : float
+        I_p of the sun with the sizing diameter, [mm⁴].
+    first_span : float, optional
+        H_1, [mm], or None for "axes only" (H_1 = 0).
 
     Returns
     -------
-    dict with ``H`` [mm], ``H_max`` [mm], ``H_rel`` = H/H_max (0 without room), ``D``, ``flags``,
-    ``feasible`` (every flag ``ok``), ``margin`` (:func:`fit_margin`), ``Q``, ``axle_compliance`` [mm/N],
-    ``stiffness`` (k_j of every span [N·mm/rad]), ``a_w``, ``a_c`` [mm].
+    result : dict
+        ``H`` [mm], ``H_max`` [mm], ``H_rel`` = H/H_max (0 without room), ``D``, ``flags``, ``feasible`` (every
+        flag ``ok``), ``margin`` (:func:`fit_margin`), ``Q``, ``axle_compliance`` [mm/N], ``stiffness`` (k_j of
+        every span [N·mm/rad]), ``a_w``, ``a_c`` [mm], ``planet_teeth``.
 
     Examples
     --------
@@ -180,8 +269,9 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (2) and its table of H_j/H_max; gearcalc specification docs/spec/rows.md §5.2-5.6.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (2) and its table of H_j/H_max; docs/spec/rows.md §5.2-5.6.
     """
     b = size_bridges_batch(rows, planets_per_row, sun_diameter, module, rim_width, cheek, pressure_angle, ratio,
                            axle_diameter, bridge_thickness, youngs_modulus, poisson, polar_moment, first_span)
@@ -194,15 +284,34 @@ def size_bridges(rows: int, planets_per_row: int, sun_diameter, module, rim_widt
 
 # ----------------------------------------------------------------------------- verification (rows.md §5.5)
 def carrier_compliance(lever_radius, planets_per_row, stiffness, rows: int, rim_width, pressure_angle, mesh_stiffness):
-    """Dimensionless carrier compliance Y with ``C y / w̄ = Y u`` (rows.md §5.5).
+    r"""Dimensionless carrier compliance Y with C y/w̄ = Y u [-].
 
-    ``Y = C (2 b_w cos α_w) Y_F``, Y_F from :func:`carrier_matrix` (y per planet force) and
-    ``F = 2 w b_w cos α_w`` the tangential load one planet puts on its axle [paper, with b_w restored].
+    .. math:: Y = C\,(2\,b_w \cos\alpha_w)\,Y_F, \qquad F = 2\,w\,b_w \cos\alpha_w
+
+    Y_F from :func:`carrier_matrix` (y per planet force); F is the tangential load one planet puts on its
+    axle [paper, with b_w restored].
 
     Parameters
     ----------
-    lever_radius : a_w [mm]; planets_per_row : n_w; stiffness : k_j per span [N·mm/rad]; rows : n
-    rim_width : b_w [mm]; pressure_angle : α_w [rad]; mesh_stiffness : C [N/mm²]
+    lever_radius : float
+        Axle radius a_w, [mm].
+    planets_per_row : int
+        Number of planets in a row n_w, [-].
+    stiffness : array_like
+        Torsional stiffness k_j per span, [N·mm/rad].
+    rows : int
+        Number of rows n, [-].
+    rim_width : float
+        Rim width b_w, [mm].
+    pressure_angle : float
+        Working pressure angle α_w, [rad].
+    mesh_stiffness : float
+        Mesh stiffness per unit face width C, [N/mm²].
+
+    Returns
+    -------
+    Y : ndarray
+        Shape (n, n), [-].
 
     Examples
     --------
@@ -212,8 +321,9 @@ def carrier_compliance(lever_radius, planets_per_row, stiffness, rows: int, rim_
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), F = 2 w b_w cos α_w; gearcalc specification docs/spec/rows.md §5.1, §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its F
+       = 2 w b_w cos α_w; docs/spec/rows.md §5.1, §5.5.
     """
     force_per_load = 2.0 * rim_width * math.cos(pressure_angle)  # F / w [mm]
     return carrier_matrix(lever_radius, planets_per_row, stiffness, rows) * force_per_load * mesh_stiffness
@@ -239,12 +349,29 @@ class Verification:
 
 
 def verify_carrier(kappa: float, cheek_ratio: float, rows: int, carrier) -> Verification:
-    """Solve the stepwise load sharing with the carrier compliance (``K_balanced``; rows.md §5.5, §13.10).
+    r"""Solve the stepwise load sharing with the carrier compliance (``K_balanced``).
+
+    .. math:: u_j = c - \left[\kappa\,(1 + \bar b) \sum_{m < j} (n - S_m) + \frac{\kappa}{8}\,(u_1 - u_j)\right]
+        + (Y u)_1 - (Y u)_j, \qquad \sum u = n, \qquad K_{balanced} = \max_j u_j
+
+    (:func:`~gearcalc.rows.sharing.stepwise_active_set`).
 
     Parameters
     ----------
-    kappa : κ of the sun reading verified [-]; cheek_ratio : b̄ [-]; rows : n
-    carrier : Y from :func:`carrier_compliance`
+    kappa : float
+        Torsion parameter κ of the sun reading verified, [-].
+    cheek_ratio : float
+        Cheek ratio b̄, [-].
+    rows : int
+        Number of rows n, [-].
+    carrier : ndarray
+        Y from :func:`carrier_compliance`, shape (n, n), [-].
+
+    Returns
+    -------
+    verification : Verification
+        Whether the stepwise level exists (κ < 8 or n = 1), the shares, the unloaded rows, convergence, the
+        residual and K.
 
     Examples
     --------
@@ -256,8 +383,9 @@ def verify_carrier(kappa: float, cheek_ratio: float, rows: int, carrier) -> Veri
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1) with the sized carrier; gearcalc specification docs/spec/rows.md §5.5, §13.10.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1) with the sized carrier; docs/spec/rows.md §5.5, §13.10.
     """
     if rows > 1 and kappa >= KAPPA_STEPWISE_MAX:
         return Verification(False)
@@ -268,15 +396,28 @@ def verify_carrier(kappa: float, cheek_ratio: float, rows: int, carrier) -> Veri
 def bridges_fit(relative_width, rows: int, planets_per_row: int, sun_teeth, module, pressure_angle, ratio,
                 youngs_modulus, poisson, polar_moment, cheek_ratio=0.25, cheek=None, axle_diameter=None,
                 bridge_thickness=None, first_span=None) -> bool:
-    """True when every span's bridge can be sized at relative width B (all flags ``ok``; rows.md §5.5).
+    r"""True when every span's bridge can be sized at relative width B (all flags ``ok``).
+
+    .. math:: b_w > 0 \quad\text{and}\quad 1 \le D_j \le D(H_{max}) \quad \forall j \quad \text{(eq. (2))}
 
     The face is re-derived at B (:func:`~gearcalc.rows.geometry.face_geometry`); an axle diameter or
     bridge thickness of None is 0.5 b_w at that B (rows.md §7).
 
     Parameters
     ----------
-    relative_width : B [-]; the others as :func:`size_bridges` and :func:`~gearcalc.rows.geometry.face_geometry`;
-    polar_moment : I_p of the sun with the sizing diameter [mm⁴] (does not depend on B)
+    relative_width : float
+        Relative face width B, [-].
+    rows, planets_per_row, sun_teeth, module, pressure_angle, ratio, youngs_modulus, poisson
+        As :func:`size_bridges` and :func:`~gearcalc.rows.geometry.face_geometry`.
+    polar_moment : float
+        I_p of the sun with the sizing diameter, [mm⁴] (does not depend on B).
+    cheek_ratio, cheek, axle_diameter, bridge_thickness, first_span : float, optional
+        As :func:`~gearcalc.rows.geometry.face_geometry` and :func:`size_bridges`, [-] or [mm].
+
+    Returns
+    -------
+    fits : bool
+        True when every bridge fits.
 
     Examples
     --------
@@ -288,8 +429,9 @@ def bridges_fit(relative_width, rows: int, planets_per_row: int, sun_teeth, modu
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (2); docs/spec/rows.md §5.5.
     """
     return bool(fits_batch(relative_width, rows, planets_per_row, sun_teeth, module, pressure_angle, ratio,
                            youngs_modulus, poisson, polar_moment, cheek_ratio, cheek, axle_diameter, bridge_thickness,
@@ -297,19 +439,26 @@ def bridges_fit(relative_width, rows: int, planets_per_row: int, sun_teeth, modu
 
 
 def largest_feasible_width(relative_width, *args, iterations: int = 40, **kwargs):
-    """The largest relative width B (below the given one) at which every bridge can be sized (rows.md §5.5).
+    r"""The largest relative width B (below the given one) at which every bridge can be sized.
+
+    .. math:: B_{ok} = \max\{B' \le B : \text{bridges\_fit}(B')\} \quad \text{(to a relative } 10^{-6})
 
     Narrower rows twist less: scan down in 1 % steps to a tenth of B for the first width where
     :func:`bridges_fit` holds, then bisect to a relative 1e-6.
 
     Parameters
     ----------
-    relative_width : B of the design [-]
-    *args, **kwargs : the arguments of :func:`bridges_fit` after B
+    relative_width : float
+        Relative face width B of the design, [-].
+    *args, **kwargs
+        The arguments of :func:`bridges_fit` after B.
+    iterations : int, optional
+        Bisections at most.
 
     Returns
     -------
-    B_ok [-], or None when even a tenth of B does not fit
+    B_ok : float or None
+        The width, [-], or None when even a tenth of B does not fit.
 
     Examples
     --------
@@ -320,8 +469,9 @@ def largest_feasible_width(relative_width, *args, iterations: int = 40, **kwargs
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (2); docs/spec/rows.md §5.5.
     """
     def ok(B):
         return bridges_fit(B, *args, **kwargs)
@@ -346,19 +496,36 @@ def largest_feasible_width(relative_width, *args, iterations: int = 40, **kwargs
 # ----------------------------------------------------------------------------- a batch of designs (rows.md §9)
 def size_bridges_batch(rows: int, planets_per_row, sun_diameter, module, rim_width, cheek, pressure_angle, ratio,
                        axle_diameter, bridge_thickness, youngs_modulus, poisson, polar_moment, first_span=None):
-    """:func:`size_bridges` over a batch of P designs with the same number of rows n (rows.md §9): the march
-    loops over spans, over arrays of designs; Newton's iteration for the widths runs, for each design, until
-    every width of that design has converged (as one design alone does), the converged designs masked out.
+    r""":func:`size_bridges` over a batch of P designs with the same number of rows n.
+
+    .. math::
+
+        D_{j+1} = \frac{j + \tfrac12}{Q\,(n - j) - (j - \tfrac12)/D_j}, \qquad
+        Q = \frac{(1 + \nu)\,r_{ba}^2\,(b_w + b)\,n_w}{E\,\delta_o\,I_p \cos\alpha_w}, \qquad
+        D_j = 1 + \frac{\delta_o}{\delta_{h,j}} \left(\frac{a_c}{a_w}\right)^2,
+
+        k_j = n_w \left(\frac{a_w^2}{\delta_o} + \frac{a_c^2}{\delta_{h,j}}\right)
+
+    The march loops over spans, over arrays of designs; Newton's iteration for the widths runs, for each design,
+    until every width of that design has converged (as one design alone does), the converged designs masked out.
 
     Parameters
     ----------
-    rows : n; the others as :func:`size_bridges`, each a number or an array of shape (P,);
-    first_span : H_1 [mm] per design, 0 (or None) for "axes only"
+    rows : int
+        Number of rows n, [-].
+    planets_per_row, sun_diameter, module, rim_width, cheek, pressure_angle, ratio : float or ndarray
+        As :func:`size_bridges`, each a number or an array of shape (P,).
+    axle_diameter, bridge_thickness, youngs_modulus, poisson, polar_moment : float or ndarray
+        As :func:`size_bridges`, each a number or an array of shape (P,).
+    first_span : float or ndarray, optional
+        H_1 per design, [mm]; 0 (or None) for "axes only".
 
     Returns
     -------
-    dict of arrays: ``H``, ``H_rel``, ``D``, ``flags`` (codes into :data:`FLAGS`), ``stiffness`` of shape (P, n);
-    ``H_max``, ``feasible``, ``Q``, ``axle_compliance``, ``a_w``, ``a_c``, ``planet_teeth`` of shape (P,)
+    result : dict of ndarray
+        ``H`` [mm], ``H_rel``, ``D``, ``flags`` (codes into :data:`FLAGS`), ``stiffness`` [N·mm/rad] of shape
+        (P, n); ``H_max`` [mm], ``feasible``, ``Q``, ``axle_compliance`` [mm/N], ``a_w``, ``a_c`` [mm],
+        ``planet_teeth`` of shape (P,).
 
     Examples
     --------
@@ -371,8 +538,9 @@ def size_bridges_batch(rows: int, planets_per_row, sun_diameter, module, rim_wid
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (2) and its table of H_j/H_max; gearcalc specification docs/spec/rows.md §5.2-5.6, §9.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (2) and its table of H_j/H_max; docs/spec/rows.md §5.2-5.6, §9.
     """
     n = rows
     args = np.broadcast_arrays(*(np.asarray(v, float) for v in (
@@ -457,11 +625,21 @@ def fit_margin(worst, H_max, pitch_arc, feasible):
     feasible : ndarray of bool, shape (P,)
         Every span's flag ``ok``.
 
+    Returns
+    -------
+    margin : ndarray, shape (P,)
+        The bridge-fit margin [-]: >= 0 passes, < 0 fails.
+
     Examples
     --------
     >>> fit_margin(np.array([0.25, -0.5, np.inf, 0.1]), np.array([50.0, 50.0, 50.0, -5.0]), 100.0,
     ...            np.array([True, False, True, False])).tolist()
     [0.25, -0.5, 1.0, -0.05]
+
+    References
+    ----------
+    .. [1] The multi-row planetary gear paper (seed 004), eq. (2): the bridges' stiffening D_j; gearcalc
+       specification docs/spec/rows.md §5.5, §8.
     """
     m = np.where(H_max > 0, np.clip(worst, -1.0, 1.0), H_max / pitch_arc)
     tiny = np.nextafter(0.0, 1.0)
@@ -469,8 +647,11 @@ def fit_margin(worst, H_max, pitch_arc, feasible):
 
 
 def _widths(compliance, need, length, thickness, youngs_modulus, poisson):
-    """:func:`bridge_width_for_compliance` of the spans ``need`` (P, n), each design's Newton iteration stopped
-    when all its spans have converged (as :func:`size_bridges` stops it for one design)."""
+    """:func:`bridge_width_for_compliance` over a batch of spans.
+
+    :func:`bridge_width_for_compliance` of the spans ``need`` (P, n), each design's Newton iteration stopped when
+    all its spans have converged (as :func:`size_bridges` stops it for one design).
+    """
     Eh = youngs_modulus * thickness * compliance
     p = 2.4 * (1.0 + poisson) * length / Eh
     q = length**3 / Eh
@@ -492,7 +673,27 @@ def _widths(compliance, need, length, thickness, youngs_modulus, poisson):
 
 def carrier_compliance_batch(lever_radius, planets_per_row, stiffness, rows: int, rim_width, pressure_angle,
                              mesh_stiffness):
-    """:func:`carrier_compliance` over a batch: Y of shape (P, n, n) from arrays of shape (P,) (stiffness (P, n)).
+    r""":func:`carrier_compliance` over a batch of designs.
+
+    .. math:: Y = C\,(2\,b_w \cos\alpha_w)\,Y_F
+
+    Parameters
+    ----------
+    lever_radius : ndarray
+        Axle radius a_w, [mm], shape (P,).
+    planets_per_row : int or ndarray
+        Number of planets in a row n_w, [-].
+    stiffness : ndarray
+        Torsional stiffness k_j per span, [N·mm/rad], shape (P, n).
+    rows : int
+        Number of rows n, [-].
+    rim_width, pressure_angle, mesh_stiffness : float or ndarray
+        b_w [mm], α_w [rad], C [N/mm²], each a number or shape (P,).
+
+    Returns
+    -------
+    Y : ndarray
+        Shape (P, n, n), [-].
 
     Examples
     --------
@@ -502,8 +703,9 @@ def carrier_compliance_batch(lever_radius, planets_per_row, stiffness, rows: int
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), F = 2 w b_w cos α_w; gearcalc specification docs/spec/rows.md §5.1, §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its F
+       = 2 w b_w cos α_w; docs/spec/rows.md §5.1, §5.5.
     """
     a_w = np.asarray(lever_radius, float)[:, None, None]
     unit = np.eye(rows)  # row k: a unit force on row k
@@ -517,8 +719,33 @@ def carrier_compliance_batch(lever_radius, planets_per_row, stiffness, rows: int
 
 
 def verify_carrier_batch(kappa, cheek_ratio, rows: int, carrier):
-    """:func:`verify_carrier` over a batch: (valid, shares (P, n), unloaded (P, n), converged, K) with K NaN where
-    :attr:`Verification.K` is None (κ ≥ 8 with n ≥ 2, or an unsettled active set).
+    r""":func:`verify_carrier` over a batch of designs with the same number of rows.
+
+    .. math:: K_{balanced} = \max_j u_j
+
+    Parameters
+    ----------
+    kappa : ndarray
+        Torsion parameters κ, [-], shape (P,).
+    cheek_ratio : float or ndarray
+        Cheek ratio b̄, [-].
+    rows : int
+        Number of rows n, [-].
+    carrier : ndarray
+        Y of each design, shape (P, n, n), [-].
+
+    Returns
+    -------
+    valid : ndarray of bool
+        The stepwise level exists (κ < 8 or n = 1), shape (P,).
+    u : ndarray
+        Shares, shape (P, n), [-].
+    unloaded : ndarray of bool
+        The inactive rows, shape (P, n).
+    converged : ndarray of bool
+        Whether the active set settled, shape (P,).
+    K : ndarray
+        K_balanced, [-], NaN where :attr:`Verification.K` is None (κ ≥ 8 with n ≥ 2, or an unsettled active set).
 
     Examples
     --------
@@ -529,8 +756,9 @@ def verify_carrier_batch(kappa, cheek_ratio, rows: int, carrier):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1) with the sized carrier; gearcalc specification docs/spec/rows.md §5.5, §13.10.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1) with the sized carrier; docs/spec/rows.md §5.5, §13.10.
     """
     kappa = np.asarray(kappa, float)
     P = kappa.shape[0]
@@ -557,8 +785,25 @@ SCAN_BISECTIONS = 24
 def fits_batch(relative_width, rows: int, planets_per_row, sun_teeth, module, pressure_angle, ratio, youngs_modulus,
                poisson, polar_moment, cheek_ratio=0.25, cheek=None, axle_diameter=None, bridge_thickness=None,
                first_span=None):
-    """:func:`bridges_fit` at every relative width of an array (one batch of :func:`size_bridges_batch`): the
-    rims fit, every span's flag is ``ok`` and a first span in mm fits within H_max.
+    r""":func:`bridges_fit` at every relative width of an array (one batch of :func:`size_bridges_batch`).
+
+    .. math:: b_w > 0, \quad 1 \le D_j \le D(H_{max}) \ \forall j, \quad H_1 \le H_{max}
+
+    The rims fit, every span's flag is ``ok`` and a first span in mm fits within H_max.
+
+    Parameters
+    ----------
+    relative_width : array_like
+        Relative face widths B, [-].
+    rows, planets_per_row, sun_teeth, module, pressure_angle, ratio, youngs_modulus, poisson, polar_moment
+        As :func:`bridges_fit`.
+    cheek_ratio, cheek, axle_diameter, bridge_thickness, first_span : float, optional
+        As :func:`bridges_fit`.
+
+    Returns
+    -------
+    fits : ndarray of bool
+        One flag per width.
 
     Examples
     --------
@@ -569,8 +814,9 @@ def fits_batch(relative_width, rows: int, planets_per_row, sun_teeth, module, pr
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (2); docs/spec/rows.md §5.5.
     """
     B = np.atleast_1d(np.asarray(relative_width, float))
     face = face_geometry(sun_teeth, module, rows, pressure_angle, relative_width=B, cheek_ratio=cheek_ratio,
@@ -587,23 +833,29 @@ def fits_batch(relative_width, rows: int, planets_per_row, sun_teeth, module, pr
 
 
 def feasible_widths(relative_width, rows: int, *args, **kwargs) -> list:
-    """The windows of relative width [B_lo, B_hi] in which every bridge fits (:func:`fits_batch`) at this number
-    of rows, nearest to the given B first (rows.md §5.5).
+    r"""The windows of relative width [B_lo, B_hi] in which every bridge fits, nearest to the given B first.
+
+    .. math:: \{B' \in [B/30,\ 30\,B] : \text{fits}(B')\} = \bigcup_k\ [B_{lo,k},\ B_{hi,k}]
 
     Feasibility is not monotone in B (the paper's capped cell fits only for 2.666 <= B <= 2.973: narrower rows
     need a bridge wider than H_max in span 2, wider ones in span 3), so the widths from B/:data:`SCAN_SPAN` to
     B :data:`SCAN_SPAN` are scanned at :data:`SCAN_POINTS` geometric steps and each edge bisected
-    (:data:`SCAN_BISECTIONS` times, to a relative 1e-9); every step is one array of designs.
+    (:data:`SCAN_BISECTIONS` times, to a relative 1e-9); every step is one array of designs (:func:`fits_batch`).
 
     Parameters
     ----------
-    relative_width : B of the design [-]; rows : n;
-    *args, **kwargs : the arguments of :func:`fits_batch` after ``rows``
+    relative_width : float
+        Relative face width B of the design, [-].
+    rows : int
+        Number of rows n, [-].
+    *args, **kwargs
+        The arguments of :func:`fits_batch` after ``rows``.
 
     Returns
     -------
-    list of (B_lo, B_hi): each bound a width that fits, within a relative 1e-9 of the edge; None for a window
-    open beyond the scanned range
+    windows : list of tuple
+        (B_lo, B_hi), [-]: each bound a width that fits, within a relative 1e-9 of the edge; None for a window
+        open beyond the scanned range.
 
     Examples
     --------
@@ -616,8 +868,9 @@ def feasible_widths(relative_width, rows: int, *args, **kwargs) -> list:
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (2); docs/spec/rows.md §5.5.
     """
     B = np.geomspace(relative_width / SCAN_SPAN, relative_width * SCAN_SPAN, SCAN_POINTS)
     with np.errstate(all="ignore"):
@@ -644,8 +897,29 @@ def feasible_widths(relative_width, rows: int, *args, **kwargs) -> list:
 
 
 def feasible_rows(relative_width, rows: int, *args, span: int = 10, **kwargs):
-    """The number of rows nearest to ``rows`` (2 to ``rows + span``, at most 1000) at which some relative width
-    makes every bridge fit, and its windows (:func:`feasible_widths`); (None, []) when none has one.
+    r"""The number of rows nearest to ``rows`` at which every bridge can fit, and its windows.
+
+    .. math:: n^* = \arg\min_{2 \le n' \le \min(n + s,\ 1000)} |n' - n| \quad \text{over the } n' \text{ with a window}
+
+    Some relative width makes every bridge fit at n* (:func:`feasible_widths`).
+
+    Parameters
+    ----------
+    relative_width : float
+        Relative face width B of the design, [-].
+    rows : int
+        Number of rows n of the design, [-].
+    *args, **kwargs
+        The arguments of :func:`fits_batch` after ``rows``.
+    span : int, optional
+        How many rows above n to try, s.
+
+    Returns
+    -------
+    rows : int or None
+        n*, or None when no number of rows has a window.
+    windows : list of tuple
+        Its windows (B_lo, B_hi), [-] (:func:`feasible_widths`); [] with None.
 
     Examples
     --------
@@ -657,8 +931,9 @@ def feasible_rows(relative_width, rows: int, *args, span: int = 10, **kwargs):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (2); gearcalc specification docs/spec/rows.md §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (2); docs/spec/rows.md §5.5.
     """
     others = sorted((n for n in range(2, min(1000, rows + span) + 1) if n != rows), key=lambda n: (abs(n - rows), n))
     for n in others:

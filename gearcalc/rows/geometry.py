@@ -1,5 +1,7 @@
-"""Dimensions of the multi-row planetary gear and the rules they must satisfy
-(rows.md §1 "Notation", §2.3, §2.4, §5.4, §7, §10).
+"""Dimensions of the multi-row planetary gear and the rules they must satisfy.
+
+Dimensions of the multi-row planetary gear and the rules they must satisfy (rows.md §1 "Notation", §2.3, §2.4, §5.4, §7,
+§10).
 
 Pure functions over floats and numpy arrays alike, written with arithmetic operators only: this module
 imports no numpy, so ``gearcalc check`` (which derives the face widths) stays light.  The one
@@ -57,12 +59,21 @@ def _sin(x):
 
 
 def pitch_diameter(sun_teeth, module):
-    """Sun pitch diameter ``d_a = z_a m`` [mm] (rows.md §1 "Notation").
+    """Sun pitch diameter d_a [mm].
+
+    .. math:: d_a = z_a m
 
     Parameters
     ----------
-    sun_teeth : z_a [-]
-    module : m [mm]
+    sun_teeth : int or array_like
+        Number of sun teeth z_a, [-].
+    module : float or array_like
+        Module m, [mm].
+
+    Returns
+    -------
+    d_a : float or ndarray
+        Sun pitch diameter, [mm].
 
     Examples
     --------
@@ -71,14 +82,29 @@ def pitch_diameter(sun_teeth, module):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §1 Notation.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §1 "Notation".
     """
     return sun_teeth * module
 
 
 def root_diameter(pitch_diameter, module):
-    """Sun root diameter ``d_f = d_a - 2.5 m`` [mm] (rows.md §1 "Notation", §2.4).
+    r"""Sun root diameter d_f [mm].
+
+    .. math:: d_f = d_a - 2.5\,m
+
+    Parameters
+    ----------
+    pitch_diameter : float or array_like
+        Sun pitch diameter d_a, [mm].
+    module : float or array_like
+        Module m, [mm].
+
+    Returns
+    -------
+    d_f : float or ndarray
+        Sun root diameter, [mm].
 
     Examples
     --------
@@ -87,27 +113,33 @@ def root_diameter(pitch_diameter, module):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §1 Notation, §2.4.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §1 "Notation", §2.4.
     """
     return pitch_diameter - ROOT_DEPTH_MODULES * module
 
 
 def rim_width(relative_width, rows, cheek_ratio, sun_diameter):
-    """Planet rim (row) width from the relative sun face width.
+    r"""Planet rim (row) width b_w from the relative sun face width B [mm].
 
-    ``b_w = B d_a / (n + b̄ (n - 1))``  (rows.md §7; b_a = n b_w + (n-1) b, B = b_a/d_a)
+    .. math:: b_w = \frac{B\,d_a}{n + \bar b\,(n - 1)}, \qquad b_a = n\,b_w + (n - 1)\,b = B\,d_a, \quad b = \bar b\,b_w
 
     Parameters
     ----------
-    relative_width : B [-]
-    rows : n [-]
-    cheek_ratio : b̄ = b/b_w [-]
-    sun_diameter : d_a [mm]
+    relative_width : float or array_like
+        Relative sun face width B = b_a/d_a, [-].
+    rows : int or array_like
+        Number of rows n, [-].
+    cheek_ratio : float or array_like
+        Cheek ratio b̄ = b/b_w, [-].
+    sun_diameter : float or array_like
+        Sun pitch diameter d_a, [mm].
 
     Returns
     -------
-    b_w [mm]
+    b_w : float or ndarray
+        Rim width, [mm].
 
     Examples
     --------
@@ -116,25 +148,35 @@ def rim_width(relative_width, rows, cheek_ratio, sun_diameter):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its B = b_a/d_a; gearcalc specification docs/spec/rows.md §1, §7.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its B
+       = b_a/d_a; docs/spec/rows.md §1, §7.
     """
     return relative_width * sun_diameter / (rows + cheek_ratio * (rows - 1))
 
 
 def rim_width_from_cheek(relative_width, rows, cheek, sun_diameter):
-    """Rim width from the relative face width and a cheek thickness in mm (rows.md §7).
+    r"""Rim width b_w from the relative face width and a cheek thickness in mm.
 
-    ``b_a = n b_w + (n-1) b = B d_a``  so  ``b_w = (B d_a - (n-1) b) / n``; b_w <= 0 means the cheeks
-    leave no room for the rims (:func:`rims_fit`).
+    .. math:: b_w = \frac{B\,d_a - (n - 1)\,b}{n} \qquad (b_a = n\,b_w + (n - 1)\,b = B\,d_a)
+
+    b_w <= 0 means the cheeks leave no room for the rims (:func:`rims_fit`).
 
     Parameters
     ----------
-    relative_width : B [-]; rows : n [-]; cheek : b [mm]; sun_diameter : d_a [mm]
+    relative_width : float or array_like
+        Relative sun face width B, [-].
+    rows : int or array_like
+        Number of rows n, [-].
+    cheek : float or array_like
+        Cheek thickness b, [mm].
+    sun_diameter : float or array_like
+        Sun pitch diameter d_a, [mm].
 
     Returns
     -------
-    b_w [mm]
+    b_w : float or ndarray
+        Rim width, [mm].
 
     Examples
     --------
@@ -143,14 +185,33 @@ def rim_width_from_cheek(relative_width, rows, cheek, sun_diameter):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its B = b_a/d_a; gearcalc specification docs/spec/rows.md §7.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its B
+       = b_a/d_a; docs/spec/rows.md §7.
     """
     return (relative_width * sun_diameter - (rows - 1) * cheek) / rows
 
 
 def relative_width(rim_width, rows, cheek_ratio, sun_diameter):
-    """Relative sun face width ``B = b_a / d_a = (n b_w + (n-1) b̄ b_w) / d_a`` [-] (rows.md §1, §7).
+    r"""Relative sun face width B = b_a/d_a [-].
+
+    .. math:: B = \frac{b_a}{d_a} = \frac{n\,b_w + (n - 1)\,\bar b\,b_w}{d_a}
+
+    Parameters
+    ----------
+    rim_width : float or array_like
+        Rim width b_w, [mm].
+    rows : int or array_like
+        Number of rows n, [-].
+    cheek_ratio : float or array_like
+        Cheek ratio b̄ = b/b_w, [-].
+    sun_diameter : float or array_like
+        Sun pitch diameter d_a, [mm].
+
+    Returns
+    -------
+    B : float or ndarray
+        Relative face width, [-].
 
     Examples
     --------
@@ -159,8 +220,9 @@ def relative_width(rim_width, rows, cheek_ratio, sun_diameter):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its B = b_a/d_a; gearcalc specification docs/spec/rows.md §1, §2.2.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its B
+       = b_a/d_a; docs/spec/rows.md §1, §2.2.
     """
     return (rows * rim_width + (rows - 1) * cheek_ratio * rim_width) / sun_diameter
 
@@ -170,7 +232,21 @@ _relative_width = relative_width
 
 
 def cheek_ratio_of(cheek, rim_width):
-    """Cheek ratio ``b̄ = b / b_w`` [-], infinite where b_w <= 0 (no room for the rims; rows.md §7).
+    r"""Cheek ratio b̄ = b/b_w [-], infinite where b_w <= 0 (no room for the rims).
+
+    .. math:: \bar b = \frac{b}{b_w} \quad (b_w > 0), \qquad \bar b = \infty \quad (b_w \le 0)
+
+    Parameters
+    ----------
+    cheek : float or array_like
+        Cheek thickness b, [mm].
+    rim_width : float or array_like
+        Rim width b_w, [mm].
+
+    Returns
+    -------
+    b̄ : float or ndarray
+        Cheek ratio, [-].
 
     Examples
     --------
@@ -179,8 +255,9 @@ def cheek_ratio_of(cheek, rim_width):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §7.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §7.
     """
     if _is_number(rim_width):
         return cheek / rim_width if rim_width > 0 else math.inf
@@ -191,12 +268,21 @@ def cheek_ratio_of(cheek, rim_width):
 
 
 def base_radius(sun_diameter, pressure_angle):
-    """Sun base radius ``r_ba = 0.5 d_a cos α_w`` [mm] (rows.md §1 "Notation").
+    r"""Sun base radius r_ba [mm].
+
+    .. math:: r_{ba} = \tfrac12\,d_a \cos\alpha_w
 
     Parameters
     ----------
-    sun_diameter : d_a [mm]
-    pressure_angle : α_w [rad]
+    sun_diameter : float or array_like
+        Sun pitch diameter d_a, [mm].
+    pressure_angle : float or array_like
+        Working pressure angle α_w, [rad].
+
+    Returns
+    -------
+    r_ba : float or ndarray
+        Base radius, [mm].
 
     Examples
     --------
@@ -205,8 +291,9 @@ def base_radius(sun_diameter, pressure_angle):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §1 Notation.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §1 "Notation".
     """
     return 0.5 * sun_diameter * _cos(pressure_angle)
 
@@ -233,24 +320,39 @@ class Face:
 
 def face_geometry(sun_teeth, module, rows, pressure_angle, relative_width=None, rim_width=None, cheek_ratio=0.25,
                   cheek=None):
-    """The face of the sun from whichever widths were given: B or b_w, and b̄ or b (rows.md §7).
+    r"""The face of the sun from whichever widths were given: B or b_w, and b̄ or b.
 
-    ``d_a = z_a m``, ``d_f = d_a - 2.5 m``, ``r_ba = 0.5 d_a cos α_w``; with b_w given
-    ``B = (n b_w + (n-1) b̄ b_w)/d_a`` (b̄ = b/b_w when b is given); with B given
-    ``b_w = B d_a/(n + b̄(n-1))``, or ``b_w = (B d_a - (n-1) b)/n`` and ``b̄ = b/b_w`` when b is given;
-    always ``b = b̄ b_w``.
+    .. math::
+
+        d_a = z_a m, \quad d_f = d_a - 2.5\,m, \quad r_{ba} = \tfrac12 d_a \cos\alpha_w, \quad b = \bar b\,b_w,
+
+        B = \frac{n\,b_w + (n - 1)\,\bar b\,b_w}{d_a} \ \text{(b_w given)}, \qquad
+        b_w = \frac{B\,d_a}{n + \bar b\,(n - 1)} \ \text{(B given)}, \qquad
+        b_w = \frac{B\,d_a - (n - 1)\,b}{n}, \ \bar b = \frac{b}{b_w} \ \text{(B and b given)}
 
     Parameters
     ----------
-    sun_teeth : z_a [-]; module : m [mm]; rows : n [-]; pressure_angle : α_w [rad]
-    relative_width : B [-], or None when rim_width is given
-    rim_width : b_w [mm], or None
-    cheek_ratio : b̄ [-], used unless cheek is given
-    cheek : b [mm], or None
+    sun_teeth : int or array_like
+        Number of sun teeth z_a, [-].
+    module : float or array_like
+        Module m, [mm].
+    rows : int or array_like
+        Number of rows n, [-].
+    pressure_angle : float or array_like
+        Working pressure angle α_w, [rad].
+    relative_width : float or array_like, optional
+        Relative face width B, [-]; None when ``rim_width`` is given.
+    rim_width : float or array_like, optional
+        Rim width b_w, [mm], or None.
+    cheek_ratio : float or array_like, optional
+        Cheek ratio b̄, [-], used unless ``cheek`` is given (default 0.25).
+    cheek : float or array_like, optional
+        Cheek thickness b, [mm], or None.
 
     Returns
     -------
-    :class:`Face`
+    face : Face
+        d_a, d_f, b_w, b̄, b, B and r_ba [mm, -].
 
     Examples
     --------
@@ -260,8 +362,9 @@ def face_geometry(sun_teeth, module, rows, pressure_angle, relative_width=None, 
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its B = b_a/d_a; gearcalc specification docs/spec/rows.md §1, §7.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its B
+       = b_a/d_a; docs/spec/rows.md §1, §7.
     """
     d_a = pitch_diameter(sun_teeth, module)
     d_f = root_diameter(d_a, module)
@@ -283,7 +386,21 @@ def face_geometry(sun_teeth, module, rows, pressure_angle, relative_width=None, 
 
 
 def ratio_from_planet_teeth(planet_teeth, sun_teeth):
-    """Ratio ``i = 2 + 2 z_g / z_a`` (sun input, ring fixed, carrier output; rows.md §5.4, §7).
+    r"""Ratio i of the planetary stage (sun input, ring fixed, carrier output) from the teeth [-].
+
+    .. math:: i = 2 + \frac{2 z_g}{z_a}
+
+    Parameters
+    ----------
+    planet_teeth : float or array_like
+        Number of planet teeth z_g, [-].
+    sun_teeth : int or array_like
+        Number of sun teeth z_a, [-].
+
+    Returns
+    -------
+    i : float or ndarray
+        Ratio, [-].
 
     Examples
     --------
@@ -292,14 +409,29 @@ def ratio_from_planet_teeth(planet_teeth, sun_teeth):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its geometry of the bridges; gearcalc specification docs/spec/rows.md §5.4, §7.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       geometry of the bridges; docs/spec/rows.md §5.4, §7.
     """
     return 2.0 + 2.0 * planet_teeth / sun_teeth
 
 
 def planet_teeth(ratio, sun_teeth):
-    """Planet teeth ``z_g = z_a (i - 2) / 2`` [-], not necessarily an integer (rows.md §5.4).
+    r"""Planet teeth z_g for a ratio [-], not necessarily an integer.
+
+    .. math:: z_g = \frac{z_a\,(i - 2)}{2}
+
+    Parameters
+    ----------
+    ratio : float or array_like
+        Ratio i, [-].
+    sun_teeth : int or array_like
+        Number of sun teeth z_a, [-].
+
+    Returns
+    -------
+    z_g : float or ndarray
+        Number of planet teeth, [-].
 
     Examples
     --------
@@ -308,29 +440,36 @@ def planet_teeth(ratio, sun_teeth):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its geometry of the bridges; gearcalc specification docs/spec/rows.md §5.4.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       geometry of the bridges; docs/spec/rows.md §5.4.
     """
     return sun_teeth * (ratio - 2.0) / 2.0
 
 
 def torsion_diameter(reading, pitch_diameter, root_diameter):
-    """The diameter d_I of the sun's polar moment (rows.md §2.4).
+    r"""The diameter d_I of the sun's polar moment of inertia [mm].
+
+    .. math:: d_I = d_a \ \text{("pitch")}, \qquad d_I = d_f \ \text{("root")}, \qquad d_I = \text{the given diameter}
 
     Parameters
     ----------
-    reading : ``"pitch"`` (d_I = d_a), ``"root"`` (d_I = d_f) or a diameter [mm]; a list gives one
-        reading per point of a batch
-    pitch_diameter, root_diameter : d_a, d_f [mm]
+    reading : str or float or list
+        ``"pitch"``, ``"root"`` or a diameter, [mm]; a list gives one reading per point of a batch.
+    pitch_diameter : float or array_like
+        Sun pitch diameter d_a, [mm].
+    root_diameter : float or array_like
+        Sun root diameter d_f, [mm].
 
     Returns
     -------
-    d_I [mm]
+    d_I : float or ndarray
+        Torsion diameter, [mm].
 
     Raises
     ------
     ValueError
-        for an unknown reading, listing the known ones.
+        For an unknown reading, listing the known ones.
 
     Examples
     --------
@@ -339,8 +478,9 @@ def torsion_diameter(reading, pitch_diameter, root_diameter):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §2.4.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §2.4 (a decision of gearcalc).
     """
     if isinstance(reading, str):
         if reading == "pitch":
@@ -356,7 +496,21 @@ def torsion_diameter(reading, pitch_diameter, root_diameter):
 
 
 def shear_modulus(youngs_modulus, poisson):
-    """``G = E / (2 (1 + ν))`` [MPa] (rows.md §1 "Notation").
+    r"""Shear modulus G of an isotropic material [MPa].
+
+    .. math:: G = \frac{E}{2\,(1 + \nu)}
+
+    Parameters
+    ----------
+    youngs_modulus : float or array_like
+        Young's modulus E, [MPa].
+    poisson : float or array_like
+        Poisson's ratio ν, [-].
+
+    Returns
+    -------
+    G : float or ndarray
+        Shear modulus, [MPa].
 
     Examples
     --------
@@ -365,14 +519,27 @@ def shear_modulus(youngs_modulus, poisson):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §1 Notation.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §1 "Notation".
     """
     return youngs_modulus / (2.0 * (1.0 + poisson))
 
 
 def mesh_stiffness(youngs_modulus):
-    """The default mesh stiffness per unit face width ``C = 0.075 E`` [N/mm²] [paper] (rows.md §2.2).
+    r"""The default mesh stiffness per unit face width C [N/mm²].
+
+    .. math:: C = 0.075\,E
+
+    Parameters
+    ----------
+    youngs_modulus : float or array_like
+        Young's modulus E, [MPa].
+
+    Returns
+    -------
+    C : float or ndarray
+        Mesh stiffness per unit face width, [N/mm²].
 
     Examples
     --------
@@ -381,14 +548,29 @@ def mesh_stiffness(youngs_modulus):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), C = 0.075 E, citing its ref. [1]; gearcalc specification docs/spec/rows.md §2.2.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its C
+       = 0.075 E, citing its ref. [1]; docs/spec/rows.md §2.2.
     """
     return MESH_STIFFNESS_PER_E * youngs_modulus
 
 
 def rim_under_roots(root_diameter, bore):
-    """Thickness of the sun's rim under the tooth roots ``(d_f - d_0) / 2`` [mm] (rows.md §10).
+    r"""Thickness of the sun's rim under the tooth roots [mm].
+
+    .. math:: s_R = \frac{d_f - d_0}{2}
+
+    Parameters
+    ----------
+    root_diameter : float or array_like
+        Sun root diameter d_f, [mm].
+    bore : float or array_like
+        Bore diameter d_0 of a hollow sun, [mm] (0: solid).
+
+    Returns
+    -------
+    s_R : float or ndarray
+        Rim thickness, [mm].
 
     Examples
     --------
@@ -397,15 +579,30 @@ def rim_under_roots(root_diameter, bore):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §10; ISO 6336-3 rim-thickness factor.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §10.
+    .. [2] ISO 6336-3:2019, Calculation of load capacity of spur and helical gears - Part 3: Calculation of tooth
+       bending strength (rim thickness factor Y_B).
     """
     return (root_diameter - bore) / 2
 
 
 # ----------------------------------------------------------------------------- validity (rows.md §7, §10)
 def rims_fit(rim_width):
-    """True where the cheeks leave room for the rims, ``b_w > 0`` (rows.md §7).
+    """True where the cheeks leave room for the rims.
+
+    .. math:: b_w > 0
+
+    Parameters
+    ----------
+    rim_width : float or array_like
+        Rim width b_w, [mm].
+
+    Returns
+    -------
+    ok : bool or ndarray of bool
+        True where the rims fit.
 
     Examples
     --------
@@ -414,15 +611,31 @@ def rims_fit(rim_width):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §7.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §7.
     """
     return rim_width > 0
 
 
 def bore_fits(bore, *diameters):
-    """True where the bore is smaller than every given diameter (rows.md §10: d_0 < min(d_f, d_I); the
-    bridge sizing diameter likewise).
+    r"""True where the bore is smaller than every given diameter.
+
+    .. math:: d_0 < \min(d_f, d_I, \dots)
+
+    The bridge sizing diameter is checked likewise.
+
+    Parameters
+    ----------
+    bore : float or array_like
+        Bore diameter d_0, [mm].
+    *diameters : float or array_like
+        The diameters the bore must stay below (d_f, d_I, ...), [mm].
+
+    Returns
+    -------
+    ok : bool or ndarray of bool
+        True where the bore fits.
 
     Examples
     --------
@@ -431,8 +644,9 @@ def bore_fits(bore, *diameters):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §10.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §10.
     """
     ok = True
     for d in diameters:
@@ -441,8 +655,23 @@ def bore_fits(bore, *diameters):
 
 
 def rim_too_thin(root_diameter, bore, module):
-    """True where a hollow sun's rim under the roots is thinner than 1.2 tooth depths, ``(d_f - d_0)/2 < 2.7 m``
-    [ISO 6336-3] (rows.md §10).
+    r"""True where a hollow sun's rim under the roots is thinner than 1.2 tooth depths.
+
+    .. math:: d_0 > 0 \quad\text{and}\quad \frac{d_f - d_0}{2} < 2.7\,m
+
+    Parameters
+    ----------
+    root_diameter : float or array_like
+        Sun root diameter d_f, [mm].
+    bore : float or array_like
+        Bore diameter d_0, [mm] (0: solid, never too thin).
+    module : float or array_like
+        Module m, [mm].
+
+    Returns
+    -------
+    thin : bool or ndarray of bool
+        True where the rim is too thin.
 
     Examples
     --------
@@ -451,17 +680,34 @@ def rim_too_thin(root_diameter, bore, module):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §10; ISO 6336-3 rim-thickness factor.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §10.
+    .. [2] ISO 6336-3:2019, Calculation of load capacity of spur and helical gears - Part 3: Calculation of tooth
+       bending strength (rim thickness factor Y_B).
     """
     return (bore > 0) & (rim_under_roots(root_diameter, bore) < RIM_MIN_MODULES * module)
 
 
 def bore_margin(bore, *diameters):
-    r"""The bore check as a margin (rows.md §10): ``1 - d_0/min(d)``, >= 0 exactly where :func:`bore_fits` holds
-    except at d_0 = min(d) (0: the bore touches; the check, strict, fails there and the design is not valid).
+    r"""The bore check as a margin (rows.md §10): ``1 - d_0/min(d)``.
+
+    >= 0 exactly where :func:`bore_fits` holds except at d_0 = min(d) (0: the bore touches; the check, strict,
+    fails there and the design is not valid).
 
     .. math:: m_{bore} = \frac{\min(d_f, d_I, \dots) - d_0}{\min(d_f, d_I, \dots)}
+
+    Parameters
+    ----------
+    bore : float or array_like
+        The sun's bore d_0 [mm] (0: a solid sun).
+    *diameters : float or array_like
+        The diameters the bore must stay inside (root diameter d_f, torsion diameter d_I, ...) [mm].
+
+    Returns
+    -------
+    margin : float or ndarray
+        The bore margin [-]: >= 0 passes.
 
     Examples
     --------
@@ -487,10 +733,26 @@ def _minimum(a, b):
 
 
 def rim_margin(root_diameter, bore, module):
-    r"""The rim check of a hollow sun as a margin (rows.md §10): ``1 - 2.7 m/t``, t = (d_f - d_0)/2 the rim under
-    the roots; < 0 exactly where :func:`rim_too_thin`; NaN for a solid sun (d_0 = 0: no rim to check).
+    r"""The rim check of a hollow sun as a margin (rows.md §10): ``1 - 2.7 m/t``.
+
+    t = (d_f - d_0)/2 is the rim under the roots; the margin is < 0 exactly where :func:`rim_too_thin`; NaN for a
+    solid sun (d_0 = 0: no rim to check).
 
     .. math:: m_{rim} = \frac{t - 2.7\,m}{t}, \qquad t = \frac{d_f - d_0}{2}
+
+    Parameters
+    ----------
+    root_diameter : float or array_like
+        The sun's root diameter d_f [mm].
+    bore : float or array_like
+        The sun's bore d_0 [mm].
+    module : float or array_like
+        The module m [mm].
+
+    Returns
+    -------
+    margin : float or ndarray
+        The rim margin [-]: >= 0 passes; NaN for a solid sun.
 
     Examples
     --------
@@ -511,8 +773,23 @@ def rim_margin(root_diameter, bore, module):
 
 
 def planets_collide(sun_teeth, planet_teeth, planets_per_row):
-    """True where neighbouring planets of a row collide: ``z_g + 2 >= (z_a + z_g) sin(π/n_w)`` for n_w >= 2
-    (the adjacency condition; rows.md §10).
+    r"""True where neighbouring planets of a row collide (the adjacency condition).
+
+    .. math:: n_w \ge 2 \quad\text{and}\quad z_g + 2 \ge (z_a + z_g) \sin\frac{\pi}{n_w}
+
+    Parameters
+    ----------
+    sun_teeth : int or array_like
+        Number of sun teeth z_a, [-].
+    planet_teeth : float or array_like
+        Number of planet teeth z_g, [-].
+    planets_per_row : int or array_like
+        Number of planets in a row n_w, [-].
+
+    Returns
+    -------
+    collide : bool or ndarray of bool
+        True where the planets' tip circles overlap.
 
     Examples
     --------
@@ -521,16 +798,29 @@ def planets_collide(sun_teeth, planet_teeth, planets_per_row):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §10 (the adjacency condition).
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §10 (the adjacency condition).
     """
     return (planets_per_row >= 2) & ((planet_teeth + 2) >= (sun_teeth + planet_teeth) * _sin(math.pi / planets_per_row))
 
 
 def row_centres(rows, cheek_ratio):
-    """Mid-planes of the rows along the sun face, as fractions of b_a from the input side (rows.md §2.1).
+    r"""Mid-planes of the rows along the sun face, as fractions of b_a from the input side.
 
-    ``x_j / b_a = ((j - 1)(1 + b̄) + 0.5) / (n + b̄ (n - 1))``, j = 1..n
+    .. math:: \frac{x_j}{b_a} = \frac{(j - 1)(1 + \bar b) + \tfrac12}{n + \bar b\,(n - 1)}, \qquad j = 1, \dots, n
+
+    Parameters
+    ----------
+    rows : int
+        Number of rows n, [-].
+    cheek_ratio : float
+        Cheek ratio b̄ = b/b_w, [-].
+
+    Returns
+    -------
+    x : list of float
+        x_j/b_a of each row, [-].
 
     Examples
     --------
@@ -539,8 +829,9 @@ def row_centres(rows, cheek_ratio):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its twist angles at the rims' symmetry planes; gearcalc specification docs/spec/rows.md §2.1.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       twist angles at the rims' symmetry planes; docs/spec/rows.md §2.1.
     """
     length = rows + cheek_ratio * (rows - 1)
     return [(j * (1 + cheek_ratio) + 0.5) / length for j in range(rows)]

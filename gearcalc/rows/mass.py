@@ -1,5 +1,4 @@
-"""Relative mass M(i) of the multi-row planetary gear per output torque and the ratio that
-minimises it (rows.md §6).
+"""Relative mass M(i) of the multi-row planetary gear per output torque and the ratio that minimises it (rows.md §6).
 
 Pure functions over floats and numpy arrays; M in kg/(kN·m), ρ in kg/m³, E and σ_HP in MPa.
 
@@ -22,9 +21,36 @@ __all__ = ["Mass", "mass_and_optimum", "mass_bracket", "relative_mass", "mass_op
 
 
 def mass_bracket(ratio, rows, planets_per_row, wall_ratio, sun_fill, planet_fill, cheek_ratio):
-    """The paper's volume bracket {…} of the relative mass (rows.md §6), in units of π d_a² b_w / 4.
+    r"""The paper's volume bracket {…} of the relative mass, in units of π d_a² b_w/4 [-].
 
-    ``8t(i-1)²[b̄(n+1)+n+0.25] + k_a[b̄(n-1)+n] + k_g n n_w (0.5i-1)² + b̄(n+1)(0.5i)²``
+    .. math::
+
+        \{\dots\} = 8t\,(i - 1)^2 \left[\bar b\,(n + 1) + n + 0.25\right] + k_a \left[\bar b\,(n - 1) + n\right]
+        + k_g\,n\,n_w \left(\tfrac12 i - 1\right)^2 + \bar b\,(n + 1) \left(\tfrac12 i\right)^2
+
+    The terms: ring rim and housing, sun, the n n_w planets, the n + 1 cheeks.
+
+    Parameters
+    ----------
+    ratio : float or array_like
+        Ratio i, [-].
+    rows : int
+        Number of rows n, [-].
+    planets_per_row : int
+        Number of planets in a row n_w, [-].
+    wall_ratio : float
+        Wall thickness of the ring rim, housing and covers relative to the ring diameter t, [-].
+    sun_fill : float
+        Fill factor of the sun k_a, [-].
+    planet_fill : float
+        Fill factor of a planet k_g, [-].
+    cheek_ratio : float
+        Cheek ratio b̄ = b/b_w, [-].
+
+    Returns
+    -------
+    bracket : ndarray
+        The bracket, [-] (volumes in units of π d_a² b_w/4).
 
     Examples
     --------
@@ -33,8 +59,9 @@ def mass_bracket(ratio, rows, planets_per_row, wall_ratio, sun_fill, planet_fill
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its relative-mass formula (the bracket); gearcalc specification docs/spec/rows.md §6.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       relative-mass formula (the bracket); docs/spec/rows.md §6.
     """
     i = np.asarray(ratio, float)
     n, b = rows, cheek_ratio
@@ -45,10 +72,45 @@ def mass_bracket(ratio, rows, planets_per_row, wall_ratio, sun_fill, planet_fill
 def relative_mass(ratio, rows, planets_per_row, wall_ratio=0.06, sun_fill=0.7, planet_fill=1.0, cheek_ratio=0.25,
                   allowable_contact=600.0, density=7800.0, youngs_modulus=2e5, poisson=0.3, efficiency=0.95,
                   unevenness=1.0, pressure_angle=math.radians(20.0)):
-    """Relative mass M of the gear per output torque [kg/(kN·m)] (rows.md §6).
+    r"""Relative mass M of the gear per output torque [kg/(kN·m)].
 
-    ``M = 2π ρ K E {…} / [η (σ_HP/c_H)² n n_w (i-2) sin 2α_w] × 1e-3``, ``c_H = (2π(1-ν²))^(-1/2)``
-    (the OCR'd prefactor with its missing cos α_w restored; ρ in kg/m³, E and σ_HP in MPa).
+    .. math::
+
+        M = 10^{-3}\,\frac{2\pi\,\rho\,K\,E\,\{\dots\}}{\eta\,(\sigma_{HP}/c_H)^2\,n\,n_w\,(i - 2)\sin 2\alpha_w},
+        \qquad c_H = \left(2\pi\,(1 - \nu^2)\right)^{-1/2}
+
+    with the bracket {…} of :func:`mass_bracket` (the OCR'd prefactor with its missing cos α_w restored;
+    c_H = 0.418 for ν = 0.3).
+
+    Parameters
+    ----------
+    ratio : float or array_like
+        Ratio i (> 2), [-].
+    rows : int
+        Number of rows n, [-].
+    planets_per_row : int
+        Number of planets in a row n_w, [-].
+    wall_ratio, sun_fill, planet_fill, cheek_ratio : float, optional
+        t, k_a, k_g, b̄ of :func:`mass_bracket`, [-] (the paper's Fig. 5 set: 0.06, 0.7, 1.0, 0.25).
+    allowable_contact : float, optional
+        Allowable contact stress σ_HP, [MPa] (600).
+    density : float, optional
+        Density ρ, [kg/m³] (7800).
+    youngs_modulus : float, optional
+        Young's modulus E, [MPa] (2e5).
+    poisson : float, optional
+        Poisson's ratio ν, [-] (0.3).
+    efficiency : float, optional
+        Efficiency η, [-] (0.95).
+    unevenness : float, optional
+        Row unevenness factor K, [-] (1: equalised rows).
+    pressure_angle : float, optional
+        Working pressure angle α_w, [rad] (20°).
+
+    Returns
+    -------
+    M : ndarray
+        Relative mass, [kg/(kN·m)].
 
     Examples
     --------
@@ -57,9 +119,10 @@ def relative_mass(ratio, rows, planets_per_row, wall_ratio=0.06, sun_fill=0.7, p
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its relative-mass formula, prefactor rederived; K. L. Johnson, Contact Mechanics, 1985 (0.418);
-       gearcalc specification docs/spec/rows.md §6, §13.9.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       relative-mass formula, prefactor rederived; docs/spec/rows.md §6, §13.9.
+    .. [2] K. L. Johnson, Contact Mechanics, Cambridge University Press, 1985, §5.6 (Hertz line contact: 0.418).
     """
     i = np.asarray(ratio, float)
     c_h = hertz.line_pressure_constant(poisson)
@@ -69,7 +132,30 @@ def relative_mass(ratio, rows, planets_per_row, wall_ratio=0.06, sun_fill=0.7, p
 
 
 def mass_optimum_closed_form(rows, planets_per_row, wall_ratio, sun_fill, planet_fill, cheek_ratio):
-    """Minimiser of M(i) for constant K: ``i* = 2 + sqrt(C₀/A)`` (rows.md §6, x = i - 2).
+    r"""Minimiser i* of M(i) for a constant K [-].
+
+    .. math::
+
+        i^* = 2 + \sqrt{C_0/A}, \qquad A = 8t\,L_h + \tfrac14 k_g\,n\,n_w + \tfrac14 \bar b\,(n + 1), \qquad
+        C_0 = 8t\,L_h + k_a\,L_a + \bar b\,(n + 1),
+
+        L_h = \bar b\,(n + 1) + n + 0.25, \qquad L_a = \bar b\,(n - 1) + n
+
+    (with x = i - 2, M ∝ A x + B₀ + C₀/x).
+
+    Parameters
+    ----------
+    rows : int
+        Number of rows n, [-].
+    planets_per_row : int
+        Number of planets in a row n_w, [-].
+    wall_ratio, sun_fill, planet_fill, cheek_ratio : float
+        t, k_a, k_g, b̄ of :func:`mass_bracket`, [-].
+
+    Returns
+    -------
+    i_opt : ndarray
+        The optimum ratio, [-].
 
     Examples
     --------
@@ -78,8 +164,9 @@ def mass_optimum_closed_form(rows, planets_per_row, wall_ratio, sun_fill, planet
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its optimum-ratio claim i = 3.5 (not reproduced); gearcalc specification docs/spec/rows.md §6.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       optimum-ratio claim i = 3.5 (not reproduced); docs/spec/rows.md §6.
     """
     n, b, t = rows, cheek_ratio, wall_ratio
     L_h = b * (n + 1) + n + 0.25
@@ -106,16 +193,27 @@ class Mass:
 
 
 def mass_and_optimum(ratio, ratio_range, rtol, **params) -> Mass:
-    """M at the given ratio and the ratio that minimises M, by golden section to ``rtol`` (rows.md §6).
+    r"""M at the given ratio and the ratio that minimises M, by golden section to ``rtol``.
+
+    .. math:: i_{opt} = \arg\min_{i_{lo} \le i \le i_{hi}} M(i)
 
     K (``unevenness``) is held constant during the search; the search never assumes the paper's i = 3.5.
 
     Parameters
     ----------
-    ratio : i [-], or None to report M at the optimum
-    ratio_range : (i_lo, i_hi), each a float or an array [-]
-    rtol : relative accuracy of the optimum ratio
-    **params : the keyword arguments of :func:`relative_mass` after ``ratio``
+    ratio : float or array_like or None
+        Ratio i, [-], or None to report M at the optimum.
+    ratio_range : tuple of (float or array_like)
+        (i_lo, i_hi), [-].
+    rtol : float
+        Relative accuracy of the optimum ratio, [-].
+    **params
+        The keyword arguments of :func:`relative_mass` after ``ratio``.
+
+    Returns
+    -------
+    mass : Mass
+        The ratio used, M there [kg/(kN·m)], the optimum ratio, its error and whether it lies on a bound, and M there.
 
     Examples
     --------
@@ -125,9 +223,9 @@ def mass_and_optimum(ratio, ratio_range, rtol, **params) -> Mass:
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its relative-mass formula and optimum ratio; gearcalc specification docs/spec/rows.md §6,
-       §13.8.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       relative-mass formula and optimum ratio; docs/spec/rows.md §6, §13.8.
     """
     lo, hi = ratio_range
     opt = minimize_golden(lambda i: relative_mass(i, **params), lo, hi, rtol=rtol)

@@ -1,5 +1,7 @@
-"""Load sharing between the rows: the sun as a torsion shaft (I_p, kappa) and the three model levels
-(stepwise, exact, continuous), with the active-set solver for a compliant carrier (rows.md §2, §3, §5.5).
+"""Load sharing between the rows.
+
+The sun as a torsion shaft (I_p, kappa) and the three model levels (stepwise, exact, continuous), with the active-set
+solver for a compliant carrier (rows.md §2, §3, §5.5).
 
 Pure functions over floats and numpy arrays; units N, mm, N·mm, MPa (= N/mm²), rad.  Every function
 that takes a torsion parameter ``kappa`` broadcasts over a batch of designs (arrays of any shape); row
@@ -35,18 +37,21 @@ LEVELS = ("stepwise", "exact", "continuous")
 """The model levels, by name (rows.md §3)."""
 
 def polar_moment(torsion_diameter, bore=0.0):
-    """Polar second moment of area of a (hollow) round shaft.
+    r"""Polar second moment of area of a (hollow) round shaft [mm⁴].
 
-    ``I_p = pi (d_I^4 - d_0^4) / 32``
+    .. math:: I_p = \frac{\pi\,(d_I^4 - d_0^4)}{32}
 
     Parameters
     ----------
-    torsion_diameter : d_I [mm]
-    bore : d_0 [mm], 0 for a solid sun
+    torsion_diameter : float or array_like
+        Torsion diameter d_I, [mm].
+    bore : float or array_like, optional
+        Bore diameter d_0, [mm] (0: a solid sun).
 
     Returns
     -------
-    I_p [mm^4]
+    I_p : ndarray
+        Polar moment, [mm⁴].
 
     Examples
     --------
@@ -55,29 +60,37 @@ def polar_moment(torsion_diameter, bore=0.0):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §1 Notation, §2.4.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §1 "Notation", §2.4.
     """
     return math.pi * (np.asarray(torsion_diameter, float) ** 4 - np.asarray(bore, float) ** 4) / 32.0
 
 
 def torsion_parameter(mesh_stiffness, base_radius, planets_per_row, rim_width, shear_modulus, polar_moment):
-    """Torsion parameter κ of the sun (dimensionless).
+    r"""Torsion parameter κ of the sun [-].
 
-    ``kappa = 0.5 C r_ba^2 n_w b_w^2 / (G I_p)``  (rows.md §2.3)
+    .. math:: \kappa = \frac{C\,r_{ba}^2\,n_w\,b_w^2}{2\,G\,I_p}
 
     Parameters
     ----------
-    mesh_stiffness : C, per unit face width [N/mm²]
-    base_radius : r_ba = 0.5 d_a cos α_w [mm]
-    planets_per_row : n_w [-]
-    rim_width : b_w [mm]
-    shear_modulus : G [MPa]
-    polar_moment : I_p [mm⁴]
+    mesh_stiffness : float or array_like
+        Mesh stiffness per unit face width C, [N/mm²].
+    base_radius : float or array_like
+        Sun base radius r_ba = 0.5 d_a cos α_w, [mm].
+    planets_per_row : int or array_like
+        Number of planets in a row n_w, [-].
+    rim_width : float or array_like
+        Rim width b_w, [mm].
+    shear_modulus : float or array_like
+        Shear modulus G, [MPa].
+    polar_moment : float or array_like
+        Polar moment I_p, [mm⁴].
 
     Returns
     -------
-    kappa [-]
+    kappa : float or ndarray
+        Torsion parameter, [-].
 
     Examples
     --------
@@ -86,30 +99,41 @@ def torsion_parameter(mesh_stiffness, base_radius, planets_per_row, rim_width, s
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1), dimensionless; gearcalc specification docs/spec/rows.md §2.3.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1), in dimensionless form; docs/spec/rows.md §2.3.
     """
     return 0.5 * mesh_stiffness * base_radius**2 * planets_per_row * rim_width**2 / (shear_modulus * polar_moment)
 
 
 def stepwise_shares(kappa, cheek_ratio, rows: int):
-    """Row load ratios u_N = w_N / w̄ of the paper's stepwise model, by the far-end recurrence.
+    r"""Row load ratios u_N = w_N/w̄ of the paper's stepwise model, by the far-end recurrence.
 
-    Solves ``(1 - κ/8)(u_N - u_{N+1}) = κ(1+b̄) Σ_{k>N} u_k``, ``Σ u = n`` (rows.md §2.5):
-    ``v_n = 1``, ``v_N = v_{N+1} + ρ Σ_{k>N} v_k`` with ``ρ = κ(1+b̄)/(1-κ/8)``, ``u = n v/Σv``.
+    .. math::
+
+        \left(1 - \frac{\kappa}{8}\right)(u_N - u_{N+1}) = \kappa\,(1 + \bar b) \sum_{k > N} u_k,
+        \qquad \sum_N u_N = n,
+
+        v_n = 1, \quad v_N = v_{N+1} + \rho \sum_{k > N} v_k, \quad \rho = \frac{\kappa\,(1 + \bar b)}{1 - \kappa/8},
+        \quad u = \frac{n\,v}{\sum v}
+
     O(n), rescaled against overflow; valid for κ < 8 (for n ≥ 2).
 
     Parameters
     ----------
-    kappa : torsion parameter κ [-], any shape S
-    cheek_ratio : b̄ [-], broadcastable to S
-    rows : n
+    kappa : float or array_like
+        Torsion parameter κ, [-], any shape S.
+    cheek_ratio : float or array_like
+        Cheek ratio b̄, [-], broadcastable to S.
+    rows : int
+        Number of rows n, [-].
 
     Returns
     -------
-    u : array of shape S + (n,), rows from the input side; for κ ≥ 8 the entries are
-        meaningless (uniform) and ``valid`` is False.
-    valid : bool array of shape S
+    u : ndarray
+        Shares of shape S + (n,), rows from the input side, [-]; for κ ≥ 8 meaningless (uniform).
+    valid : ndarray of bool
+        Whether the stepwise level exists (κ < 8 or n = 1), shape S.
 
     Examples
     --------
@@ -119,8 +143,9 @@ def stepwise_shares(kappa, cheek_ratio, rows: int):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1); gearcalc specification docs/spec/rows.md §2.3, §2.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1); docs/spec/rows.md §2.3, §2.5.
     """
     kappa, cheek_ratio = np.broadcast_arrays(np.asarray(kappa, float), np.asarray(cheek_ratio, float))
     valid = (kappa < KAPPA_STEPWISE_MAX) | (rows == 1)
@@ -142,10 +167,31 @@ def stepwise_shares(kappa, cheek_ratio, rows: int):
 
 
 def stepwise_dense(kappa: float, cheek_ratio: float, rows: int, form: str = "paper"):
-    """Stepwise shares by a dense solve (cross-check for small n only; rows.md §2.5).
+    r"""Stepwise shares by a dense solve (a cross-check for small n only).
 
-    ``form="paper"``: the paper's system (1) in dimensionless form (rows from row 1, nested sums)
-    ``(1-κ/8)(u1-uN) = κ(1+b̄) Σ_{m<N} (n - S_m)``; ``form="difference"``: the difference form.
+    .. math::
+
+        \text{paper:}\quad \left(1 - \frac{\kappa}{8}\right)(u_1 - u_N)
+        = \kappa\,(1 + \bar b) \sum_{m < N} (n - S_m), \qquad S_m = \sum_{k \le m} u_k,
+
+        \text{difference:}\quad \left(1 - \frac{\kappa}{8}\right)(u_{N-1} - u_N)
+        = \kappa\,(1 + \bar b) \sum_{k \ge N} u_k, \qquad \sum u = n
+
+    Parameters
+    ----------
+    kappa : float
+        Torsion parameter κ, [-].
+    cheek_ratio : float
+        Cheek ratio b̄, [-].
+    rows : int
+        Number of rows n, [-].
+    form : {"paper", "difference"}, optional
+        The paper's system (1) (rows from row 1, nested sums) or the difference form.
+
+    Returns
+    -------
+    u : ndarray
+        Shares u = w/w̄, shape (n,), [-].
 
     Examples
     --------
@@ -154,8 +200,9 @@ def stepwise_dense(kappa: float, cheek_ratio: float, rows: int, form: str = "pap
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1); gearcalc specification docs/spec/rows.md §2.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1); docs/spec/rows.md §2.5.
     """
     n = rows
     A = np.zeros((n, n))
@@ -183,23 +230,38 @@ def stepwise_dense(kappa: float, cheek_ratio: float, rows: int, form: str = "pap
 
 def twist_between(loads, p: int, q: int, sun_torque, base_radius, rim_width, cheek, planets_per_row,
                   shear_modulus, polar_moment):
-    """Sun twist between the mid-planes of rows p < q (1-based) under the stepwise torque diagram.
+    r"""Sun twist between the mid-planes of rows p < q (1-based) under the stepwise torque diagram [rad].
 
-    ``I_p G φ_{p→q} = (b_w+b) Σ_{m=p}^{q-1} (T_a - r_ba b_w n_w S_m) + 0.125 n_w b_w² r_ba (w_p - w_q)``
-    (rows.md §2.1, general N and pair form).
+    .. math::
+
+        I_p\,G\,\varphi_{p \to q} = (b_w + b) \sum_{m=p}^{q-1} \left(T_a - r_{ba}\,b_w\,n_w\,S_m\right)
+        + \tfrac18\,n_w\,b_w^2\,r_{ba}\,(w_p - w_q), \qquad S_m = \sum_{k \le m} w_k
 
     Parameters
     ----------
-    loads : line loads w_1..w_n [N/mm]
-    p, q : row numbers, 1 ≤ p < q ≤ n
-    sun_torque : T_a [N·mm]
-    base_radius, rim_width, cheek : r_ba, b_w, b [mm]
-    planets_per_row : n_w
-    shear_modulus : G [MPa]; polar_moment : I_p [mm⁴]
+    loads : array_like
+        Line loads w_1..w_n, [N/mm].
+    p, q : int
+        Row numbers, 1 ≤ p < q ≤ n.
+    sun_torque : float
+        Sun torque T_a, [N·mm].
+    base_radius : float
+        Sun base radius r_ba, [mm].
+    rim_width : float
+        Rim width b_w, [mm].
+    cheek : float
+        Cheek thickness b, [mm].
+    planets_per_row : int
+        Number of planets in a row n_w, [-].
+    shear_modulus : float
+        Shear modulus G, [MPa].
+    polar_moment : float
+        Polar moment I_p, [mm⁴].
 
     Returns
     -------
-    twist [rad]
+    phi : float
+        Twist, [rad].
 
     Examples
     --------
@@ -209,8 +271,9 @@ def twist_between(loads, p: int, q: int, sun_torque, base_radius, rim_width, che
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its twist angles leading to eq. (1); gearcalc specification docs/spec/rows.md §2.1.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       twist angles leading to eq. (1); docs/spec/rows.md §2.1.
     """
     w = np.asarray(loads, float)
     S = np.cumsum(w)
@@ -221,23 +284,33 @@ def twist_between(loads, p: int, q: int, sun_torque, base_radius, rim_width, che
 
 
 def exact_shares(kappa, cheek_ratio, rows: int):
-    """Row shares and within-row peak of the piecewise exact model, by the impedance sweep.
+    r"""Row shares and within-row peak of the piecewise exact model, by the impedance sweep.
 
-    Inside a row the sun is a torsion shaft on an elastic foundation (θ'' = λ²θ, μ = λ b_w = √κ),
-    across a gap a plain shaft; T(0) = T_a, T(b_a) = 0.  The sweep propagates the dimensionless
-    stiffness r = T/(G I_p λ θ) from the free end and uses only tanh and e^(-μ), so it neither
-    overflows nor loses precision (rows.md §3b).
+    .. math::
+
+        \theta'' = \lambda^2 \theta \ \text{(in a row)}, \quad \mu = \lambda\,b_w = \sqrt\kappa, \qquad
+        r_{in} = \frac{r_{out} + \tanh\mu}{1 + r_{out}\tanh\mu}, \qquad
+        r_{out,j-1} = \frac{r_{in,j}}{1 + \bar b\,\mu\,r_{in,j}}
+
+    Inside a row the sun is a torsion shaft on an elastic foundation, across a gap a plain shaft;
+    T(0) = T_a, T(b_a) = 0.  The sweep propagates the dimensionless stiffness r = T/(G I_p λ θ) from the free
+    end (r = 0) and uses only tanh and e^(-μ), so it neither overflows nor loses precision.
 
     Parameters
     ----------
-    kappa : κ [-], any shape S
-    cheek_ratio : b̄ [-], broadcastable
-    rows : n
+    kappa : float or array_like
+        Torsion parameter κ, [-], any shape S.
+    cheek_ratio : float or array_like
+        Cheek ratio b̄, [-], broadcastable to S.
+    rows : int
+        Number of rows n, [-].
 
     Returns
     -------
-    u : shares w_j / w̄ of the row-mean loads, shape S + (n,)
-    peak_factor : w(0)/w̄, the load at the input edge of row 1 over the mean, shape S
+    u : ndarray
+        Shares w_j/w̄ of the row-mean loads, shape S + (n,), [-].
+    peak_factor : ndarray
+        w(0)/w̄, the load at the input edge of row 1 over the mean, shape S, [-].
 
     Examples
     --------
@@ -247,8 +320,9 @@ def exact_shares(kappa, cheek_ratio, rows: int):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §3b.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §3b.
     """
     kappa, cheek_ratio = np.broadcast_arrays(np.asarray(kappa, float), np.asarray(cheek_ratio, float))
     tiny = kappa < KAPPA_UNIFORM
@@ -284,10 +358,26 @@ def exact_shares(kappa, cheek_ratio, rows: int):
 
 
 def exact_k_no_gap(kappa, rows: int):
-    """K of the exact level for b = 0 in closed form (rows.md §11, exact identities).
+    r"""K of the exact level for b = 0 in closed form [-].
 
-    ``K = n [1 - sinh((n-1)μ) / sinh(nμ)]``, μ = √κ, evaluated stably as
-    ``n [1 - e^{-μ} (1 - e^{-2(n-1)μ}) / (1 - e^{-2nμ})]``.
+    .. math::
+
+        K = n \left[1 - \frac{\sinh((n - 1)\mu)}{\sinh(n\mu)}\right]
+          = n \left[1 - e^{-\mu}\,\frac{1 - e^{-2(n-1)\mu}}{1 - e^{-2n\mu}}\right], \qquad \mu = \sqrt\kappa
+
+    (the second form is the one evaluated: stable for large μ).
+
+    Parameters
+    ----------
+    kappa : float or array_like
+        Torsion parameter κ, [-].
+    rows : int
+        Number of rows n, [-].
+
+    Returns
+    -------
+    K : ndarray
+        Unevenness factor, [-].
 
     Examples
     --------
@@ -296,15 +386,28 @@ def exact_k_no_gap(kappa, rows: int):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §3b, §11.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §3b, §11 (exact identities).
     """
     mu = np.sqrt(np.asarray(kappa, float))
     return rows * (1.0 - np.exp(-mu) * -np.expm1(-2.0 * (rows - 1) * mu) / -np.expm1(-2.0 * rows * mu))
 
 
 def x_coth_x(x):
-    """x coth x, stable for small x (1 + x²/3 below 1e-4) and large x.
+    r"""The function x coth x, stable for small x and large x.
+
+    .. math:: f(x) = x \coth x, \qquad f(x) \approx 1 + \frac{x^2}{3} \quad (|x| < 10^{-4})
+
+    Parameters
+    ----------
+    x : float or array_like
+        Argument, [-].
+
+    Returns
+    -------
+    f : ndarray
+        x coth x, [-].
 
     Examples
     --------
@@ -313,8 +416,9 @@ def x_coth_x(x):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §3c.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §3c.
     """
     x = np.asarray(x, float)
     small = np.abs(x) < 1e-4
@@ -324,9 +428,26 @@ def x_coth_x(x):
 
 
 def continuous_x(kappa, cheek_ratio, rows):
-    """The continuous level's decay length ``X = λ_eff b_a`` [-] (rows.md §3c).
+    r"""The continuous level's decay length X = λ_eff b_a [-].
 
-    ``X = sqrt(κ/(1+b̄)) (n + b̄(n-1))`` for n ≥ 2 (the cheek gaps homogenised) and ``X = √κ`` for n = 1.
+    .. math:: X = \sqrt{\frac{\kappa}{1 + \bar b}}\,\left(n + \bar b\,(n - 1)\right) \quad (n \ge 2), \qquad
+        X = \sqrt\kappa \quad (n = 1)
+
+    (the cheek gaps homogenised).
+
+    Parameters
+    ----------
+    kappa : float or array_like
+        Torsion parameter κ, [-].
+    cheek_ratio : float or array_like
+        Cheek ratio b̄, [-].
+    rows : int or array_like
+        Number of rows n, [-].
+
+    Returns
+    -------
+    X : ndarray
+        Decay length over the face width, [-].
 
     Examples
     --------
@@ -335,8 +456,10 @@ def continuous_x(kappa, cheek_ratio, rows):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §3c; M. Hetényi, Beams on Elastic Foundation, 1946.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §3c.
+    .. [2] M. Hetényi, Beams on Elastic Foundation, University of Michigan Press, 1946.
     """
     kappa = np.asarray(kappa, float)
     rows = np.asarray(rows)
@@ -344,10 +467,25 @@ def continuous_x(kappa, cheek_ratio, rows):
 
 
 def continuous_k(kappa, cheek_ratio, rows):
-    """K of the continuous (homogenised) model: ``K = X coth X``, ``X = λ_eff b_a`` (rows.md §3c).
+    r"""K of the continuous (homogenised) model [-].
 
-    ``X = sqrt(κ/(1+b̄)) (n + b̄(n-1))`` for n ≥ 2 and ``X = √κ`` for n = 1 (:func:`continuous_x`; the
-    torsional Winkler-foundation result, M. Hetényi, *Beams on Elastic Foundation*, 1946).
+    .. math:: K = X \coth X, \qquad X = \lambda_{eff}\,b_a
+
+    The torsional Winkler-foundation result.
+
+    Parameters
+    ----------
+    kappa : float or array_like
+        Torsion parameter κ, [-].
+    cheek_ratio : float or array_like
+        Cheek ratio b̄, [-].
+    rows : int or array_like
+        Number of rows n, [-].
+
+    Returns
+    -------
+    K : ndarray
+        Unevenness factor, [-].
 
     Examples
     --------
@@ -356,25 +494,37 @@ def continuous_k(kappa, cheek_ratio, rows):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §3c; M. Hetényi, Beams on Elastic Foundation, 1946.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §3c.
+    .. [2] M. Hetényi, Beams on Elastic Foundation, University of Michigan Press, 1946.
     """
     return x_coth_x(continuous_x(kappa, cheek_ratio, rows))
 
 
 def continuous_profile(position, kappa, cheek_ratio, rows):
-    """Load profile of the continuous level along the face, ``u(x) = X cosh(X(1 - x/b_a)) / sinh X`` (rows.md §3c).
+    r"""Load profile u(ξ) = w(x)/w̄ of the continuous level along the face [-].
 
-    Evaluated as ``X (e^{-Xξ} + e^{-X(2-ξ)}) / (1 - e^{-2X})`` (no overflow); uniform for X ≤ 1e-6.
+    .. math:: u(\xi) = \frac{X \cosh(X (1 - \xi))}{\sinh X}
+        = \frac{X \left(e^{-X\xi} + e^{-X(2 - \xi)}\right)}{1 - e^{-2X}}, \qquad \xi = \frac{x}{b_a}
+
+    Evaluated in the second form (no overflow); uniform for X ≤ 1e-6.
 
     Parameters
     ----------
-    position : ξ = x / b_a from the input edge [-], array
-    kappa : κ [-]; cheek_ratio : b̄ [-]; rows : n
+    position : array_like
+        ξ = x/b_a from the input edge, [-].
+    kappa : float
+        Torsion parameter κ, [-].
+    cheek_ratio : float
+        Cheek ratio b̄, [-].
+    rows : int
+        Number of rows n, [-].
 
     Returns
     -------
-    u(ξ) = w(x) / w̄ [-]
+    u : ndarray
+        w(x)/w̄ at each position, [-].
 
     Examples
     --------
@@ -383,8 +533,10 @@ def continuous_profile(position, kappa, cheek_ratio, rows):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable); gearcalc specification docs/spec/rows.md §3c; M. Hetényi, Beams on Elastic Foundation, 1946.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»);
+       docs/spec/rows.md §3c.
+    .. [2] M. Hetényi, Beams on Elastic Foundation, University of Michigan Press, 1946.
     """
     xi = np.asarray(position, float)
     X = float(continuous_x(kappa, cheek_ratio, rows))
@@ -422,7 +574,9 @@ class Sharing:
 
 
 def row_sharing(kappa, cheek_ratio, rows: int, level: str = "stepwise") -> Sharing:
-    """Row shares and K at every level, and K from the level chosen by name (rows.md §3, §13.2-13.4).
+    r"""Row shares and K at every level, and K from the level chosen by name.
+
+    .. math:: K = \max_j u_j = \frac{\max_j w_j}{\bar w}
 
     All three levels are computed; ``level`` chooses the one that supplies K.  Where the stepwise level
     does not exist (κ ≥ 8, n ≥ 2) K falls back to the exact level.  For n = 1, K = 1 at every level.
@@ -432,19 +586,24 @@ def row_sharing(kappa, cheek_ratio, rows: int, level: str = "stepwise") -> Shari
 
     Parameters
     ----------
-    kappa : κ [-], any shape S
-    cheek_ratio : b̄ [-], broadcastable to S
-    rows : n
-    level : "stepwise", "exact" or "continuous"
+    kappa : float or array_like
+        Torsion parameter κ, [-], any shape S.
+    cheek_ratio : float or array_like
+        Cheek ratio b̄, [-], broadcastable to S.
+    rows : int
+        Number of rows n, [-].
+    level : {"stepwise", "exact", "continuous"}, optional
+        The level that supplies K.
 
     Returns
     -------
-    :class:`Sharing`
+    sharing : Sharing
+        The shares and K of every level, the level used and the unloaded rows.
 
     Raises
     ------
     ValueError
-        for an unknown level, listing the levels.
+        For an unknown level, listing the levels.
 
     Examples
     --------
@@ -456,8 +615,9 @@ def row_sharing(kappa, cheek_ratio, rows: int, level: str = "stepwise") -> Shari
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1) and its K = w_1/w̄; gearcalc specification docs/spec/rows.md §2.2, §3, §13.2-13.4.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1) and its K = w_1/w̄; docs/spec/rows.md §2.2, §3, §13.2-13.4.
     """
     if level not in LEVELS:
         raise ValueError(f"unknown level {level!r}; the levels are " + ", ".join(LEVELS))
@@ -496,15 +656,27 @@ class SharingBatch:
 
 
 def row_sharing_mixed(kappa, cheek_ratio, rows, level: str = "stepwise") -> SharingBatch:
-    """:func:`row_sharing` over a batch of designs whose numbers of rows differ (rows.md §9).
+    r""":func:`row_sharing` over a batch of designs whose numbers of rows differ.
+
+    .. math:: K = \max_j u_j \quad \text{per design}
 
     The designs are grouped by n and each group is one batch of :func:`row_sharing`: no loop over designs.
 
     Parameters
     ----------
-    kappa, cheek_ratio : κ, b̄ [-], arrays of shape (P,)
-    rows : n per design, integer array of shape (P,)
-    level : as :func:`row_sharing`
+    kappa : ndarray
+        Torsion parameters κ, [-], shape (P,).
+    cheek_ratio : ndarray
+        Cheek ratios b̄, [-], shape (P,).
+    rows : ndarray of int
+        Number of rows n per design, shape (P,).
+    level : {"stepwise", "exact", "continuous"}, optional
+        As :func:`row_sharing`.
+
+    Returns
+    -------
+    batch : SharingBatch
+        K of every level, the level used, the peak factor and the unloaded rows, one entry per design.
 
     Examples
     --------
@@ -514,8 +686,9 @@ def row_sharing_mixed(kappa, cheek_ratio, rows, level: str = "stepwise") -> Shar
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1); gearcalc specification docs/spec/rows.md §3, §9.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1); docs/spec/rows.md §3, §9.
     """
     from ..arrays import unique_sorted
 
@@ -542,11 +715,27 @@ def row_sharing_mixed(kappa, cheek_ratio, rows, level: str = "stepwise") -> Shar
 
 
 def mean_line_load(sun_torque, rows, base_radius, rim_width, planets_per_row):
-    """Mean line load ``w̄ = T_a / (n r_ba b_w n_w)`` [N/mm] (rows.md §2.2).
+    r"""Mean line load w̄ of the meshes [N/mm].
+
+    .. math:: \bar w = \frac{T_a}{n\,r_{ba}\,b_w\,n_w}
 
     Parameters
     ----------
-    sun_torque : T_a [N·mm]; rows : n; base_radius : r_ba [mm]; rim_width : b_w [mm]; planets_per_row : n_w
+    sun_torque : float or array_like
+        Sun torque T_a, [N·mm].
+    rows : int or array_like
+        Number of rows n, [-].
+    base_radius : float or array_like
+        Sun base radius r_ba, [mm].
+    rim_width : float or array_like
+        Rim width b_w, [mm].
+    planets_per_row : int or array_like
+        Number of planets in a row n_w, [-].
+
+    Returns
+    -------
+    w_mean : float or ndarray
+        Mean line load, [N/mm].
 
     Examples
     --------
@@ -555,19 +744,33 @@ def mean_line_load(sun_torque, rows, base_radius, rim_width, planets_per_row):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), its w̄ = T_a/(n r_ba b_w n_w); gearcalc specification docs/spec/rows.md §2.2.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); its
+       w̄ = T_a/(n r_ba b_w n_w); docs/spec/rows.md §2.2.
     """
     return sun_torque / (rows * base_radius * rim_width * planets_per_row)
 
 
 def twist_from_shares(shares, mean_load, mesh_stiffness, base_radius):
-    """Sun twist between row 1 and row N from the solved loads, ``φ_{N-1} = 2 (w_1 - w_N) / (C r_ba)`` [rad]
-    (the twist identity, rows.md §2.2).
+    r"""Sun twist between row 1 and each row from the solved loads [rad] (the twist identity).
+
+    .. math:: \varphi_{1 \to j} = \frac{2\,(w_1 - w_j)}{C\,r_{ba}} = \frac{2\,(u_1 - u_j)\,\bar w}{C\,r_{ba}}
 
     Parameters
     ----------
-    shares : u = w/w̄ per row [-]; mean_load : w̄ [N/mm]; mesh_stiffness : C [N/mm²]; base_radius : r_ba [mm]
+    shares : ndarray
+        Shares u = w/w̄ per row (last axis), [-].
+    mean_load : float or array_like
+        Mean line load w̄, [N/mm].
+    mesh_stiffness : float or array_like
+        Mesh stiffness per unit face width C, [N/mm²].
+    base_radius : float or array_like
+        Sun base radius r_ba, [mm].
+
+    Returns
+    -------
+    phi : ndarray
+        Twist of each row relative to row 1, [rad].
 
     Examples
     --------
@@ -576,27 +779,48 @@ def twist_from_shares(shares, mean_load, mesh_stiffness, base_radius):
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1); gearcalc specification docs/spec/rows.md §2.2.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1); docs/spec/rows.md §2.2.
     """
     return 2.0 * (shares[..., :1] - shares) / (mesh_stiffness * base_radius) * mean_load
 
 
 def stepwise_active_set(kappa: float, cheek_ratio: float, rows: int, carrier=None, threshold: float = 1e-12):
-    """Stepwise shares with unloaded rows handled by an active set (rows.md §2.5, §5.5).
+    r"""Stepwise shares with unloaded rows handled by an active set.
 
-    Unknowns u_1..u_n (loads over w̄) and c (the load row 1 would carry).  Active rows:
-    ``u_j = c - [κ(1+b̄) Σ_{m<j}(n - S_m) + (κ/8)(u_1 - u_j)] + (Y u)_1 - (Y u)_j``, where
-    ``Y`` (dimensionless, ``C y/w̄ = Y u``) is the carrier compliance (``None``: rigid carrier);
-    inactive rows ``u_j = 0``; equilibrium ``Σ u = n``.  Rows with u ≤ 0 are deactivated; an
-    inactive row whose implied load exceeds ``threshold`` is re-activated, the largest first.
+    .. math::
+
+        u_j = c - \left[\kappa\,(1 + \bar b) \sum_{m < j} (n - S_m) + \frac{\kappa}{8}\,(u_1 - u_j)\right]
+        + (Y u)_1 - (Y u)_j \ \ \text{(active rows)}, \qquad u_j = 0 \ \ \text{(inactive)}, \qquad \sum u = n
+
+    Unknowns u_1..u_n (loads over w̄) and c (the load row 1 would carry); Y (dimensionless, C y/w̄ = Y u) is
+    the carrier compliance.  Rows with u ≤ 0 are deactivated; an inactive row whose implied load exceeds
+    ``threshold`` is re-activated, the largest first.
+
+    Parameters
+    ----------
+    kappa : float
+        Torsion parameter κ, [-].
+    cheek_ratio : float
+        Cheek ratio b̄, [-].
+    rows : int
+        Number of rows n, [-].
+    carrier : array_like, optional
+        Dimensionless carrier compliance Y, shape (n, n); None: a rigid carrier.
+    threshold : float, optional
+        Share below which a row is unloaded, [-].
 
     Returns
     -------
-    u : shares [-]
-    unloaded : 1-based indices of the inactive rows
-    converged : False if the active set did not settle within 3n iterations
-    residual : max |A x - b| / n of the final linear solve
+    u : ndarray
+        Shares, [-].
+    unloaded : list of int
+        1-based indices of the inactive rows.
+    converged : bool
+        False if the active set did not settle within 3n iterations.
+    residual : float
+        max |A x - b|/n of the final linear solve, [-].
 
     Examples
     --------
@@ -606,9 +830,9 @@ def stepwise_active_set(kappa: float, cheek_ratio: float, rows: int, carrier=Non
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1) with contact loss and a compliant carrier; gearcalc specification docs/spec/rows.md
-       §2.5, §5.5.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1) with contact loss and a compliant carrier; docs/spec/rows.md §2.5, §5.5.
     """
     n = rows
     g = kappa * (1.0 + cheek_ratio)
@@ -656,7 +880,10 @@ def stepwise_active_set(kappa: float, cheek_ratio: float, rows: int, carrier=Non
 
 
 def stepwise_active_set_batch(kappa, cheek_ratio, rows: int, carrier=None, threshold: float = 1e-12):
-    """:func:`stepwise_active_set` over a batch of designs with the same number of rows (rows.md §5.5, §9).
+    r""":func:`stepwise_active_set` over a batch of designs with the same number of rows.
+
+    .. math:: u_j = c - \left[\kappa\,(1 + \bar b) \sum_{m < j} (n - S_m) + \frac{\kappa}{8}\,(u_1 - u_j)\right]
+        + (Y u)_1 - (Y u)_j, \qquad \sum u = n
 
     The same iteration point by point, with masks: each round, the designs still iterating are grouped by
     their active set and each group is one stacked solve of its own size, so every design meets the same
@@ -664,13 +891,25 @@ def stepwise_active_set_batch(kappa, cheek_ratio, rows: int, carrier=None, thres
 
     Parameters
     ----------
-    kappa, cheek_ratio : κ, b̄ [-], shape (P,)
-    rows : n
-    carrier : Y, shape (P, n, n), or None (rigid carriers)
+    kappa : ndarray
+        Torsion parameters κ, [-], shape (P,).
+    cheek_ratio : ndarray
+        Cheek ratios b̄, [-], shape (P,).
+    rows : int
+        Number of rows n, [-].
+    carrier : ndarray, optional
+        Dimensionless carrier compliances Y, shape (P, n, n); None: rigid carriers.
+    threshold : float, optional
+        Share below which a row is unloaded, [-].
 
     Returns
     -------
-    u : shares, shape (P, n); unloaded : the inactive rows, bool (P, n); converged : bool (P,)
+    u : ndarray
+        Shares, shape (P, n), [-].
+    unloaded : ndarray of bool
+        The inactive rows, shape (P, n).
+    converged : ndarray of bool
+        Whether each design's active set settled, shape (P,).
 
     Examples
     --------
@@ -680,9 +919,9 @@ def stepwise_active_set_batch(kappa, cheek_ratio, rows: int, carrier=None, thres
 
     References
     ----------
-    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
-       recoverable), eq. (1) with contact loss and a compliant carrier; gearcalc specification docs/spec/rows.md
-       §2.5, §5.5, §9.
+    .. [1] Seed paper 004_971077b94d8d4426.txt, an OCR of a Russian journal paper on multi-row planetary gears (title,
+       authors, journal and year not recoverable; its ref. [1]: F. I. Plekhanov, «Зубчатые планетарные передачи»); eq.
+       (1) with contact loss and a compliant carrier; docs/spec/rows.md §2.5, §5.5, §9.
     """
     kappa = np.asarray(kappa, float)
     P, n = kappa.shape[0], rows

@@ -243,7 +243,34 @@ def allowable_load(chain, mats: Materials, theta, gamma, load, clearance, sigma_
 
 
 def placement_value(placement: Placement):
-    """The maximum that a :class:`Placement`'s sweeps found [MPa] (the direction sweep's, else the phase sweep's)."""
+    r"""The maximum that a :class:`Placement`'s sweeps found [MPa] (the direction sweep's, else the phase sweep's).
+
+    .. math:: \sigma_{max} = \max_{\varphi_0,\ \gamma} \sigma_{max}(\varphi_0, \gamma)
+
+    Parameters
+    ----------
+    placement : Placement
+        The critical placement of a chain.
+
+    Returns
+    -------
+    sigma_max : float
+        The swept maximum, [MPa].
+
+    Examples
+    --------
+    >>> ch = close_chain(100.0, 50.0, 6.0, 6.0, 8)
+    >>> m = Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+    >>> round(float(placement_value(critical_placement(ch, m, 1e4, 0.0, phase=0.0, tol=1e-8, refine_rtol=1e-6))), 3)
+    748.936
+
+    References
+    ----------
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); docs/spec/zstk.md §4.3, §5.3, §8.
+    """
     if placement.value is not None:
         return placement.value
     return placement.phase_sweep.value
@@ -252,8 +279,9 @@ def placement_value(placement: Placement):
 def allowable_load_sweeping(chain, mats: Materials, load, clearance, allowable, placement: Placement, *, phase=None,
                             gamma=None, tol, refine_rtol, grid=SweepGrid(), fixed_direction=False,
                             maxiter=8) -> AllowableLoad:
-    r"""Allowable radial load of a "cycle" and/or "envelope" design: the load at which the swept maximum reaches
-    [sigma_H] (spec §5.4, §8).
+    r"""Allowable radial load of a "cycle" and/or "envelope" design.
+
+    The load at which the swept maximum reaches [sigma_H] (spec §5.4, §8).
 
     .. math:: \max_{\varphi_0, \gamma} \sigma_{max}(Q_{allow}; \varphi_0, \gamma) = [\sigma_H]
 

@@ -26,9 +26,9 @@ from .geometry import INTEGER_TOL, broadcast, centre_distance, roller_radius
 
 # ----------------------------------------------------------------------------- §3.2 closure
 def fractional_roller_number(outer_radius, inner_radius, eccentricity, gap):
-    """Fractional roller number N* that closes the nominal chain (Steiner chain condition).
+    r"""Fractional roller number N* that closes the nominal chain (Steiner chain condition).
 
-    .. math:: \\sin^2(\\pi/N^*) = \\frac{(W - e)(W + e)}{(S - e)(S + e)}, \\quad W = R_H - R_B + c,\\ S = R_H + R_B
+    .. math:: \sin^2(\pi/N^*) = \frac{(W - e)(W + e)}{(S - e)(S + e)}, \quad W = R_H - R_B + c,\ S = R_H + R_B
 
     sin²(pi/N*) = (W - e)(W + e) / ((S - e)(S + e)),  W = R_H - R_B + c,  S = R_H + R_B.
 
@@ -60,10 +60,10 @@ def fractional_roller_number(outer_radius, inner_radius, eccentricity, gap):
 
 
 def corrected_outer_radius(n, inner_radius, eccentricity, gap):
-    """Outer raceway radius R_H' that closes a chain of exactly N rollers (correction "outer").
+    r"""Outer raceway radius R_H' that closes a chain of exactly N rollers (correction "outer").
 
-    .. math:: R_H' = \\frac{R_B(1 + s^2) - c + \\sqrt{s^2 (2 R_B - c)^2 + e^2 k^4}}{k^2}, \\quad s =
-              \\sin(\\pi/N),\\ k = \\cos(\\pi/N)
+    .. math:: R_H' = \frac{R_B(1 + s^2) - c + \sqrt{s^2 (2 R_B - c)^2 + e^2 k^4}}{k^2}, \quad s =
+              \sin(\pi/N),\ k = \cos(\pi/N)
 
     R_H' = [R_B(1 + s²) - c + sqrt(s²(2R_B - c)² + e² k⁴)] / k²,  s = sin(pi/N), k = cos(pi/N).
 
@@ -93,9 +93,9 @@ def corrected_outer_radius(n, inner_radius, eccentricity, gap):
 
 
 def corrected_inner_radius(n, outer_radius, eccentricity, gap):
-    """Inner raceway radius R_B' that closes a chain of exactly N rollers (correction "inner").
+    r"""Inner raceway radius R_B' that closes a chain of exactly N rollers (correction "inner").
 
-    .. math:: R_B' = \\frac{R_H(1 + s^2) + c - \\sqrt{s^2 (2 R_H + c)^2 + e^2 k^4}}{k^2}
+    .. math:: R_B' = \frac{R_H(1 + s^2) + c - \sqrt{s^2 (2 R_H + c)^2 + e^2 k^4}}{k^2}
 
     R_B' = [R_H(1 + s²) + c - sqrt(s²(2R_H + c)² + e² k⁴)] / k².
 
@@ -123,9 +123,9 @@ def corrected_inner_radius(n, outer_radius, eccentricity, gap):
 
 
 def corrected_gap(n, outer_radius, inner_radius, eccentricity):
-    """Roller gap c' that closes a chain of exactly N rollers (correction "gap").
+    r"""Roller gap c' that closes a chain of exactly N rollers (correction "gap").
 
-    .. math:: c' = \\sqrt{S^2 \\sin^2(\\pi/N) + e^2 \\cos^2(\\pi/N)} - (R_H - R_B)
+    .. math:: c' = \sqrt{S^2 \sin^2(\pi/N) + e^2 \cos^2(\pi/N)} - (R_H - R_B)
 
     c' = sqrt(S² s² + e² k²) - (R_H - R_B).
 
@@ -152,10 +152,10 @@ def corrected_gap(n, outer_radius, inner_radius, eccentricity):
 
 
 def roller_number_limit(correct, outer_radius, inner_radius, eccentricity, gap):
-    """The bound N_max of the admissible roller numbers 3 <= N < N_max (N <= N_max for "gap").
+    r"""The bound N_max of the admissible roller numbers 3 <= N < N_max (N <= N_max for "gap").
 
-    .. math:: \\text{outer: } \\sin^2(\\pi/N_{max}) = \\frac{c (2e + c)}{4 R_B (R_B + e)}, \\quad
-              \\text{inner: } \\frac{c (2e + c)}{4 R_H (R_H - e)}, \\quad \\text{gap: } \\frac{D^2 - e^2}{S^2
+    .. math:: \text{outer: } \sin^2(\pi/N_{max}) = \frac{c (2e + c)}{4 R_B (R_B + e)}, \quad
+              \text{inner: } \frac{c (2e + c)}{4 R_H (R_H - e)}, \quad \text{gap: } \frac{D^2 - e^2}{S^2
               - e^2}
 
     "outer": sin²(pi/N_max) = c(2e + c)/(4 R_B (R_B + e));  "inner": ... /(4 R_H (R_H - e));
@@ -197,22 +197,37 @@ def roller_number_limit(correct, outer_radius, inner_radius, eccentricity, gap):
 
 
 def auto_roller_number(n_star, parity=None):
-    """The default N: the largest integer <= N* (of the scheme's parity, if one is given).
+    r"""The default N: the largest integer <= N* (of the scheme's parity, if one is given).
+
+    .. math:: N = \lfloor N^* \rfloor \ (\text{or } \operatorname{round}(N^*) \text{ within } 10^{-9}), \qquad
+        N \leftarrow N - 1 \ \text{when } N \bmod 2 \ne \text{parity}
 
     N* within :data:`INTEGER_TOL` of an integer counts as that integer (spec §11.5).
 
     Parameters
     ----------
-    n_star : N* [-]; parity : 0 (even), 1 (odd) or None (any).
+    n_star : float
+        Fractional roller number N*, [-].
+    parity : {0, 1, None}, optional
+        0 (even), 1 (odd) or None (any).
 
     Returns
     -------
-    N (int; may be < 3, which the caller reports)
+    n : int
+        Roller number N, [-]; may be < 3, which the caller reports.
 
     Examples
     --------
     >>> auto_roller_number(8.25), auto_roller_number(8.25, 1), auto_roller_number(7.9999999999, 0)
     (8, 7, 8)
+
+    References
+    ----------
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); the integer roller number of the closed chain;
+       docs/spec/zstk.md §3.2, §4.2, §11.5.
     """
     nearest = round(n_star)
     n = nearest if abs(n_star - nearest) < INTEGER_TOL else math.floor(n_star)
@@ -222,12 +237,34 @@ def auto_roller_number(n_star, parity=None):
 
 
 def auto_roller_numbers(n_star, parity):
-    """:func:`auto_roller_number` over arrays: parity 0 (even), 1 (odd) or -1 (any), element-wise.
+    r""":func:`auto_roller_number` over arrays, element-wise.
+
+    .. math:: N = \lfloor N^* \rfloor \ (\text{or } \operatorname{round}(N^*) \text{ within } 10^{-9}), \qquad
+        N \leftarrow N - 1 \ \text{when parity} \ge 0 \text{ and } N \bmod 2 \ne \text{parity}
+
+    Parameters
+    ----------
+    n_star : array_like
+        Fractional roller numbers N*, [-].
+    parity : array_like of int
+        0 (even), 1 (odd) or -1 (any), per design.
+
+    Returns
+    -------
+    n : ndarray of int
+        Roller numbers N, [-].
 
     Examples
     --------
     >>> auto_roller_numbers(np.array([8.25, 8.25, 7.9999999999]), np.array([-1, 1, 0])).tolist()
     [8, 7, 8]
+
+    References
+    ----------
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); docs/spec/zstk.md §3.2, §4.2, §11.5.
     """
     n_star = np.asarray(n_star, dtype=float)
     nearest = np.round(n_star)
@@ -237,10 +274,24 @@ def auto_roller_numbers(n_star, parity):
 
 
 def largest_admissible_n(limit, correct):
-    """The largest admissible N for the bound N_max of :func:`roller_number_limit` (None: no limit).
+    r"""The largest admissible N for the bound N_max of :func:`roller_number_limit` (None: no limit).
 
-    N < N_max for the corrections "outer" and "inner", N <= N_max for "gap" (within
-    :data:`INTEGER_TOL`); Python integers, exact for any size of the limit.
+    .. math:: N = \lceil N_{max} - 10^{-9} \rceil - 1 \ \text{("outer", "inner": } N < N_{max}), \qquad
+        N = \lfloor N_{max} + 10^{-9} \rfloor \ \text{("gap": } N \le N_{max})
+
+    Python integers, exact for any size of the limit.
+
+    Parameters
+    ----------
+    limit : float
+        The bound N_max, [-] (inf: none).
+    correct : {"outer", "inner", "gap"}
+        The corrected quantity.
+
+    Returns
+    -------
+    n : int or None
+        The largest admissible N, [-], or None without a limit.
 
     Examples
     --------
@@ -249,7 +300,10 @@ def largest_admissible_n(limit, correct):
 
     References
     ----------
-    docs/spec/zstk.md §3.3.
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); docs/spec/zstk.md §3.3.
     """
     if not math.isfinite(limit):
         return None
@@ -281,26 +335,34 @@ class Chain:
 
     @property
     def limiting_ratio(self):
+        """The limiting-point ratio q = x_s/X of the chain (:func:`limiting_point_ratio`)."""
         q = limiting_point_ratio(self.outer_radius, self.inner_radius, self.eccentricity, self.gap)
         return float(q) if np.ndim(q) == 0 else q
 
 
 def close_chains(outer_radius, inner_radius, eccentricity, gap, n, correct="outer"):
-    """Correct one parameter of each of many designs so that exactly N rollers close each chain.
+    r"""Correct one parameter of each of many designs so that exactly N rollers close each chain.
 
-    Element-wise :func:`close_chain` over arrays of shape (G,) (N and ``correct`` per design or
-    one for all).  Invalid geometries give NaN or meaningless values, never an exception: the
-    caller checks validity (:func:`geometry_problems`, :func:`chain_problems`).
+    .. math:: \sin^2\frac{\pi}{N} = \frac{(W - e)(W + e)}{(S - e)(S + e)}, \qquad W = R_H - R_B + c,\ S = R_H + R_B,
+
+    solved for R_H ("outer"), R_B ("inner") or c ("gap") (:func:`corrected_outer_radius`,
+    :func:`corrected_inner_radius`, :func:`corrected_gap`).  Element-wise :func:`close_chain` over arrays of shape
+    (G,) (N and ``correct`` per design or one for all).  Invalid geometries give NaN or meaningless values, never an
+    exception: the caller checks validity (:func:`geometry_problems`, :func:`chain_problems`).
 
     Parameters
     ----------
-    outer_radius, inner_radius, eccentricity, gap : nominal R_H, R_B, e, c [mm], shape (G,).
-    n : integer roller numbers N, shape (G,) or scalar.
-    correct : "outer" | "inner" | "gap", or an array of them (one per design).
+    outer_radius, inner_radius, eccentricity, gap : array_like
+        Nominal R_H, R_B, e, c, [mm], shape (G,).
+    n : array_like of int
+        Integer roller numbers N, shape (G,) or scalar.
+    correct : str or array_like of str
+        "outer" | "inner" | "gap", or one per design.
 
     Returns
     -------
-    Chain with array attributes of shape (G,) (``correct`` an object array of strings).
+    chain : Chain
+        Array attributes of shape (G,) (``correct`` an object array of strings).
 
     Examples
     --------
@@ -310,7 +372,11 @@ def close_chains(outer_radius, inner_radius, eccentricity, gap, n, correct="oute
 
     References
     ----------
-    spec zstk.md §3.2.
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); closure of the chain with the correction of R_H;
+       docs/spec/zstk.md §3.2.
     """
     r_h, r_b, e, c = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in
                                            (outer_radius, inner_radius, eccentricity, gap)))
@@ -341,19 +407,27 @@ def close_chains(outer_radius, inner_radius, eccentricity, gap, n, correct="oute
 
 
 def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer"):
-    """Correct one parameter so that exactly N rollers close the chain.
+    r"""Correct one parameter so that exactly N rollers close the chain.
+
+    .. math:: \sin^2\frac{\pi}{N} = \frac{(W - e)(W + e)}{(S - e)(S + e)}, \qquad W = R_H - R_B + c,\ S = R_H + R_B
+
+    solved for the corrected quantity.  When N equals N* (within :data:`INTEGER_TOL`) the correction is exactly
+    zero.  Validity (spec §3.3) is checked by :func:`chain_problems`, not here.  The same arithmetic as
+    :func:`close_chains` (one design).
 
     Parameters
     ----------
-    outer_radius, inner_radius, eccentricity, gap : nominal R_H, R_B, e, c [mm].
-    n : the integer roller number N.
-    correct : which quantity is corrected: "outer" (R_H, the paper's), "inner" (R_B), "gap" (c).
+    outer_radius, inner_radius, eccentricity, gap : float
+        Nominal R_H, R_B, e, c, [mm].
+    n : int
+        The integer roller number N, [-].
+    correct : {"outer", "inner", "gap"}, optional
+        The corrected quantity: R_H (the paper's), R_B or c.
 
     Returns
     -------
-    Chain.  When N equals N* (within :data:`INTEGER_TOL`) the correction is exactly zero.
-    Validity (spec §3.3) is checked by :func:`chain_problems`, not here.  The same arithmetic as
-    :func:`close_chains` (one design).
+    chain : Chain
+        The corrected geometry, N, N* and the nominal and corrected values, [mm].
 
     Examples
     --------
@@ -363,7 +437,11 @@ def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer
 
     References
     ----------
-    spec zstk.md §3.2.
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); closure of the chain with the correction of R_H;
+       docs/spec/zstk.md §3.2.
     """
     if correct not in ("outer", "inner", "gap"):
         raise ValueError(f"unknown correction {correct!r}")
@@ -375,10 +453,10 @@ def close_chain(outer_radius, inner_radius, eccentricity, gap, n, correct="outer
 
 # ----------------------------------------------------------------------------- §4 positions
 def limiting_point_ratio(outer_radius, inner_radius, eccentricity, gap):
-    """q = x_s/X, with x_s the limiting point of the inflated circles inside the inner one.
+    r"""The ratio q = x_s/X, with x_s the limiting point of the inflated circles inside the inner one.
 
-    .. math:: q = \\frac{x_s}{X}, \\quad x_s = \\frac{2 X^2 e}{X^2 - A^2 + e^2 + \\sqrt{((X - e)^2 - A^2)((X + e)^2 -
-              A^2)}}, \\quad X = R_H + c/2,\\ A = R_B - c/2
+    .. math:: q = \frac{x_s}{X}, \quad x_s = \frac{2 X^2 e}{X^2 - A^2 + e^2 + \sqrt{((X - e)^2 - A^2)((X + e)^2 -
+              A^2)}}, \quad X = R_H + c/2,\ A = R_B - c/2
 
     x_s = 2X²e / (X² - A² + e² + sqrt(((X - e)² - A²)((X + e)² - A²))),  X = R_H + c/2,
     A = R_B - c/2.  q = 0 for e = 0 (no division by e).
@@ -409,13 +487,31 @@ def limiting_point_ratio(outer_radius, inner_radius, eccentricity, gap):
 
 
 def limiting_ratios(chain: Chain, valid):
-    """Limiting-point ratio q of stacked chains, 0 where ``valid`` is False (where q may be undefined).
+    r"""Limiting-point ratio q of stacked chains, 0 where ``valid`` is False (where q may be undefined).
+
+    .. math:: q = \frac{x_s}{X} \ \text{where valid (as limiting\_point\_ratio)}, \qquad q = 0 \ \text{elsewhere}
+
+    Parameters
+    ----------
+    chain : Chain
+        Stacked chains, arrays of shape (G,).
+    valid : ndarray of bool
+        The valid designs, shape (G,).
+
+    Returns
+    -------
+    q : ndarray
+        Limiting-point ratios, [-], shape (G,).
 
     Examples
     --------
     >>> ch = close_chains(np.array([100.0, 100.0]), 50.0, np.array([6.0, 60.0]), 6.0, np.array([8, 8]))
     >>> np.round(limiting_ratios(ch, np.array([True, False])), 6).tolist()
     [0.070827, 0.0]
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §4.1 (derived).
     """
     if np.all(valid):
         return np.where(valid, chain.limiting_ratio, 0.0)
@@ -426,8 +522,30 @@ def limiting_ratios(chain: Chain, valid):
 
 
 def chain_phases(n, q, scheme, mid_gap, angle, theta0):
-    """Chain phases phi_0 of stacked designs [rad] (spec §4.2-4.3): 0 or pi/N for a symmetric scheme
-    (``scheme``; ``mid_gap`` for C and D), phi(theta_0) for a given angle of roller 0 (``angle``), else 0.
+    r"""Chain phases phi_0 of stacked designs [rad].
+
+    .. math:: \varphi_0 = 0 \ \text{(A, B)}, \quad \frac{\pi}{N} \ \text{(C, D)}, \quad
+        \varphi(\theta_0) \ \text{(a given angle of roller 0)}, \quad 0 \ \text{otherwise}
+
+    Parameters
+    ----------
+    n : ndarray of int
+        Roller numbers N, shape (G,).
+    q : float or ndarray
+        Limiting-point ratios, [-].
+    scheme : ndarray of bool
+        A symmetric scheme.
+    mid_gap : ndarray of bool
+        Scheme C or D (a gap at theta = 0).
+    angle : ndarray of bool
+        The angle of roller 0 is given.
+    theta0 : ndarray
+        That angle, [rad].
+
+    Returns
+    -------
+    phi0 : ndarray
+        Chain phases, [rad].
 
     Examples
     --------
@@ -435,15 +553,22 @@ def chain_phases(n, q, scheme, mid_gap, angle, theta0):
     >>> np.round(chain_phases(np.array([8, 8, 8]), 0.0, t, np.array([False, True, False]), ~t,
     ...                       np.array([0.0, 0.0, 0.5])), 6).tolist()
     [0.0, 0.392699, 0.5]
+
+    References
+    ----------
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); its schemes A-D; docs/spec/zstk.md §4.2-4.3.
     """
     return np.where(scheme, np.where(mid_gap, np.pi / np.maximum(n, 1), 0.0),
                     np.where(angle, phi_of_theta(theta0, q), 0.0))
 
 
 def theta_of_phi(phi, q):
-    """Polar angle theta of a roller centre from its uniformising angle phi.
+    r"""Polar angle theta of a roller centre from its uniformising angle phi.
 
-    .. math:: \\theta = \\varphi - 2 \\operatorname{atan2}(q \\sin\\varphi,\\ 1 + q \\cos\\varphi)
+    .. math:: \theta = \varphi - 2 \operatorname{atan2}(q \sin\varphi,\ 1 + q \cos\varphi)
 
     theta = phi - 2 atan2(q sin phi, 1 + q cos phi).
 
@@ -468,20 +593,38 @@ def theta_of_phi(phi, q):
 
 
 def phi_of_theta(theta, q):
-    """Inverse of :func:`theta_of_phi`: phi = theta + 2 atan2(q sin theta, 1 - q cos theta) [rad].
+    r"""Uniformising angle phi of a roller centre from its polar angle theta [rad]: the inverse of :func:`theta_of_phi`.
+
+    .. math:: \varphi = \theta + 2 \operatorname{atan2}(q \sin\theta,\ 1 - q \cos\theta)
+
+    Parameters
+    ----------
+    theta : float or array_like
+        Polar angle, [rad].
+    q : float or array_like
+        Limiting-point ratio, [-].
+
+    Returns
+    -------
+    phi : ndarray
+        Uniformising angle, [rad].
 
     Examples
     --------
     >>> float(phi_of_theta(np.pi, 0.5))
     3.141592653589793
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §4.1 (derived: the Möbius map of the limiting points).
     """
     return theta + 2.0 * np.arctan2(q * np.sin(theta), 1.0 - q * np.cos(theta))
 
 
 def roller_angles(phase, n, q, pitch=None):
-    """Polar angles theta_k = theta(phi_0 + 2 pi k/N) of the N roller centres, k = 0 ... N-1.
+    r"""Polar angles theta_k = theta(phi_0 + 2 pi k/N) of the N roller centres, k = 0 ... N-1.
 
-    .. math:: \\theta_k = \\theta(\\varphi_0 + 2\\pi k / N), \\quad k = 0 \\ldots N - 1
+    .. math:: \theta_k = \theta(\varphi_0 + 2\pi k / N), \quad k = 0 \ldots N - 1
 
     Parameters
     ----------
@@ -509,7 +652,21 @@ def roller_angles(phase, n, q, pitch=None):
 
 
 def scheme_phase(scheme, n):
-    """Chain phase phi_0 of a symmetric scheme [rad]: 0 for A and B, pi/N for C and D.
+    r"""Chain phase phi_0 of a symmetric scheme [rad].
+
+    .. math:: \varphi_0 = 0 \ \text{(A, B)}, \qquad \varphi_0 = \frac{\pi}{N} \ \text{(C, D)}
+
+    Parameters
+    ----------
+    scheme : {"A", "B", "C", "D"}
+        The paper's scheme.
+    n : int
+        Roller number N, [-].
+
+    Returns
+    -------
+    phi0 : float
+        Chain phase, [rad].
 
     Examples
     --------
@@ -518,19 +675,62 @@ def scheme_phase(scheme, n):
 
     References
     ----------
-    spec zstk.md §4.2.
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); its schemes A-D; docs/spec/zstk.md §4.2.
     """
     return 0.0 if scheme in ("A", "B") else math.pi / n
 
 
 def centres(theta, outer_radius, inner_radius, eccentricity):
-    """Roller centres P = h (cos theta, sin theta) [mm], shape (..., 2)."""
+    r"""Roller centres P in the frame of O_H [mm].
+
+    .. math:: P = h(\theta)\,(\cos\theta,\ \sin\theta)
+
+    with h the centre distance O_H P (:func:`~gearcalc.zstk.geometry.centre_distance`).
+
+    Parameters
+    ----------
+    theta : array_like
+        Polar angles of the roller centres, [rad].
+    outer_radius, inner_radius, eccentricity : float or array_like
+        R_H, R_B, e, [mm].
+
+    Returns
+    -------
+    P : ndarray
+        Centres, [mm], shape (..., 2).
+
+    Examples
+    --------
+    >>> np.round(centres(np.array([0.0]), 100.0, 50.0, 6.0), 9).tolist()   # h(0) = R_H - r(0) = 100 - 22
+    [[78.0, 0.0]]
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §3.1 (derived).
+    """
     h = centre_distance(theta, outer_radius, inner_radius, eccentricity)
     return np.stack([h * np.cos(theta), h * np.sin(theta)], axis=-1)
 
 
 def neighbour_gaps(theta, outer_radius, inner_radius, eccentricity):
-    """Gaps |P_{k+1} - P_k| - r_k - r_{k+1} between consecutive rollers (the last with the first) [mm].
+    """Gaps between consecutive rollers (the last with the first) [mm].
+
+    .. math:: c_k = |P_{k+1} - P_k| - r_k - r_{k+1}
+
+    Parameters
+    ----------
+    theta : ndarray
+        Polar angles of the roller centres, [rad], shape (..., N).
+    outer_radius, inner_radius, eccentricity : float or array_like
+        R_H, R_B, e, [mm].
+
+    Returns
+    -------
+    gaps : ndarray
+        c_k, [mm], shape (..., N).
 
     Examples
     --------
@@ -538,6 +738,10 @@ def neighbour_gaps(theta, outer_radius, inner_radius, eccentricity):
     >>> th = roller_angles(0.3, ch.n, ch.limiting_ratio)
     >>> bool(np.allclose(neighbour_gaps(th, ch.outer_radius, ch.inner_radius, ch.eccentricity), 6.0, atol=1e-9))
     True
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §3.2, §7.2 (the gap invariant).
     """
     p = centres(theta, outer_radius, inner_radius, eccentricity)
     r = roller_radius(theta, outer_radius, inner_radius, eccentricity)

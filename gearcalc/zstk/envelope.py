@@ -85,10 +85,10 @@ def _refine(fun, xs, ys, period, start, rtol, top=8):
 
 
 def maximise_periodic(fun, start, period, samples, tol, cap=GRID_CAP, refine_rtol=None):
-    """Maximum of a vectorised periodic function over one period (spec §8, sweeps).
+    r"""Maximum of a vectorised periodic function over one period (spec §8, sweeps).
 
-    .. math:: \\max_{x \\in [x_0, x_0 + T)} f(x), \\quad \\text{error} = |v_M - v_{M/2}| + \\text{refinement error} \\le
-              \\text{tol} \\cdot |v_M|
+    .. math:: \max_{x \in [x_0, x_0 + T)} f(x), \quad \text{error} = |v_M - v_{M/2}| + \text{refinement error} \le
+              \text{tol} \cdot |v_M|
 
     A uniform grid of M points (including ``start`` and ``start + period/2``), golden-section
     refinement of each local maximum within its two neighbouring intervals, then M doubled; the
@@ -167,13 +167,29 @@ class SweepGrid:
 
 
 def sweep_grid(reference=False) -> SweepGrid:
-    """The sweep grids of the default levels, or of the ``reference`` level (:data:`REFERENCE_GRID_FACTOR` times
+    """The sweep grids of the default levels, or of the ``reference`` level (spec §8).
+
+    The sweep grids of the default levels, or of the ``reference`` level (:data:`REFERENCE_GRID_FACTOR` times
     finer), from the constants above read at call time (spec §8).
+
+    Parameters
+    ----------
+    reference : bool, optional
+        The reference level's grids.
+
+    Returns
+    -------
+    grid : SweepGrid
+        The grids' sizes and the refinement factor.
 
     Examples
     --------
     >>> sweep_grid().phase, sweep_grid(reference=True).factor
     (64, 8)
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8.
     """
     return SweepGrid(GRID_PHASE, GRID_DIRECTION, GRID_CAP, CHUNK_ELEMENTS, REFINE_ROWS_MAX_N,
                      REFERENCE_GRID_FACTOR if reference else 1)
@@ -186,14 +202,36 @@ and box refinements cost about 3 times as much per first-grid point as the singl
 
 
 def sweep_work(n, cycle, envelope, grid=SweepGrid()):
-    """Roller-configurations of the first grids of a design's sweeps (spec §8): N x phases x directions
-    (the cost budget's measure); "cycle" with "envelope": :data:`JOINT_COST` x N x (positions + 1) x relative
-    directions of :func:`position_direction_max`'s first grid.
+    r"""Roller-configurations of the first grids of a design's sweeps (spec §8).
+
+    N x phases x directions (the cost budget's measure); "cycle" with "envelope": :data:`JOINT_COST` x N x
+    (positions + 1) x relative directions of :func:`position_direction_max`'s first grid.
+
+    .. math:: W = N\,P\,D \ \text{(the sweeps' grids, 1 where not swept)}, \qquad
+        W = c_J\,N\,(P_J + 1)\,D_J \ \text{("cycle" with "envelope")}
+
+    Parameters
+    ----------
+    n : int
+        Roller number N, [-].
+    cycle, envelope : bool
+        The phase and the direction are swept.
+    grid : SweepGrid, optional
+        The grids.
+
+    Returns
+    -------
+    work : int
+        Roller configurations of the first grids.
 
     Examples
     --------
     >>> sweep_work(8, True, False), sweep_work(8, False, True), sweep_work(8, True, True)
     (512, 5760, 6912)
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8, §9 (the cost budget).
     """
     gf = grid.factor
     if cycle and envelope:
@@ -203,9 +241,11 @@ def sweep_work(n, cycle, envelope, grid=SweepGrid()):
 
 @dataclass
 class Placement:
-    """The critical placement of a chain: phase phi_0 [rad], load direction gamma [rad], the sweeps' error
-    estimate err [MPa] and their results (None for a quantity not swept); value : the direction sweep's
-    maximum [MPa] (None without it)."""
+    """The critical placement of a chain.
+
+    phase phi_0 [rad], load direction gamma [rad], the sweeps' error estimate err [MPa] and their results (None for
+    a quantity not swept); value : the direction sweep's maximum [MPa] (None without it).
+    """
 
     phase: float
     gamma: float
@@ -330,7 +370,9 @@ def direction_maxima(chain: Chain, mats: Materials, phase, gamma_grid, load, cle
 
 def roller_sigma(chain: Chain, mats: Materials, position, relative_direction, load, clearance, fixed_direction=False,
                  chunk=CHUNK_ELEMENTS):
-    r"""The larger contact stress of roller 0 placed at the uniformising angle ``position``, under a load whose
+    r"""The larger contact stress of roller 0 at a position, under a load relative to its normal.
+
+    The larger contact stress of roller 0 placed at the uniformising angle ``position``, under a load whose
     direction is ``relative_direction`` from that roller's inner normal (spec §4.1, §8).
 
     .. math:: f(\varphi, \rho) = \max(\sigma_{0B}, \sigma_{0H}), \quad \theta_k = \theta(\varphi + 2\pi k/N),
@@ -397,10 +439,13 @@ enters the outer tangent bound's secants."""
 
 
 def _inner_direction_max(f, pos, m_count, target=None, scale=None):
-    r"""g(phi) = max over rho of f(phi, rho) at each position (1-D ``pos``): a grid of ``m_count`` relative directions
-    over a turn, its :data:`JOINT_INNER_TOP` largest local maxima (periodic) refined within one grid step by
-    :func:`gearcalc.roots.maximize_bracketed` to ``target`` (None: ``scale`` times the grid's largest |f|).
-    Returns (g, the bound on what g misses at each position, rho at g, all converged, the target)."""
+    r"""g(phi) = max over rho of f(phi, rho) at each position (1-D ``pos``).
+
+    A grid of ``m_count`` relative directions over a turn, its :data:`JOINT_INNER_TOP` largest local maxima
+    (periodic) refined within one grid step by :func:`gearcalc.roots.maximize_bracketed` to ``target`` (None:
+    ``scale`` times the grid's largest |f|). Returns (g, the bound on what g misses at each position, rho at g, all
+    converged, the target).
+    """
     rel = 2 * np.pi * np.arange(m_count) / m_count
     rel = np.where(rel > np.pi, rel - 2 * np.pi, rel)
     vals = f(pos[:, None], rel[None, :])
@@ -431,8 +476,10 @@ def _inner_direction_max(f, pos, m_count, target=None, scale=None):
 
 def position_direction_max(chain: Chain, mats: Materials, load, clearance, *, tol, refine_rtol, grid=SweepGrid(),
                            fixed_direction=False, top=JOINT_OUTER_TOP):
-    r"""Maximum of sigma_max over the chain phase and the load direction together ("cycle" with "envelope",
-    spec §8, §11.8), as the maximum of one roller's stress over its position and the relative load direction.
+    r"""Maximum of sigma_max over the chain phase and the load direction together.
+
+    Maximum of sigma_max over the chain phase and the load direction together ("cycle" with "envelope", spec §8,
+    §11.8), as the maximum of one roller's stress over its position and the relative load direction.
 
     .. math:: \max_{\varphi_0, \gamma} \sigma_{max} = \max_{\varphi \in [0, \pi]} g(\varphi), \quad
               g(\varphi) = \max_{\rho} f(\varphi, \rho)
@@ -621,8 +668,10 @@ def critical_placement(chain: Chain, mats: Materials, load, clearance, phase=Non
 
 def evaluate_placement(chain: Chain, mats: Materials, placement: Placement, load, clearance, *, refine_rtol,
                        grid=SweepGrid(), fixed_direction=False, stepping=False, rows=False):
-    r"""The chain at a placement of :func:`critical_placement`: its state, and optionally the explicit-stepping
-    residual and each roller's maxima over the load directions (spec §4.1, §5.3, §8).
+    r"""The chain at a placement of :func:`critical_placement`.
+
+    Its state, and optionally the explicit-stepping residual and each roller's maxima over the load directions (spec
+    §4.1, §5.3, §8).
 
     .. math:: \theta_k = \theta(\varphi_0 + 2\pi k/N), \quad \gamma = \gamma_{crit}
 

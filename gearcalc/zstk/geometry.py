@@ -24,8 +24,26 @@ INTEGER_TOL = 1e-9
 def broadcast(a, shape):
     """``np.broadcast_to`` that returns an array already of the shape unchanged (cheap on hot paths).
 
+    Parameters
+    ----------
+    a : array_like
+        The values.
+    shape : tuple of int
+        The shape wanted.
+
+    Returns
+    -------
+    out : ndarray
+        ``a`` itself when it has the shape, else a read-only broadcast view.
+
+    Examples
+    --------
     >>> broadcast(2.0, (3,)).tolist()
     [2.0, 2.0, 2.0]
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked along leading axes).
     """
     a = np.asarray(a)
     return a if a.shape == shape else np.broadcast_to(a, shape)
@@ -34,9 +52,27 @@ def broadcast(a, shape):
 def take(obj, idx):
     """A dataclass of arrays over designs (Chain, Materials) restricted to the designs ``idx``.
 
+    Parameters
+    ----------
+    obj : dataclass
+        Every field an array over designs.
+    idx : array_like of int
+        The designs kept.
+
+    Returns
+    -------
+    out : same type as obj
+        The fields indexed by ``idx``.
+
+    Examples
+    --------
     >>> from gearcalc.zstk import close_chains
     >>> take(close_chains(np.array([100.0, 90.0]), 50.0, 6.0, 6.0, np.array([8, 8])), [1]).outer_radius.shape
     (1,)
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked along leading axes).
     """
     import dataclasses
 
@@ -46,9 +82,25 @@ def take(obj, idx):
 def single(obj):
     """A dataclass of arrays of shape (1,) (Chain, Materials) as one design with Python scalars.
 
+    Parameters
+    ----------
+    obj : dataclass
+        Every field an array of shape (1,).
+
+    Returns
+    -------
+    out : same type as obj
+        The fields as Python scalars.
+
+    Examples
+    --------
     >>> from gearcalc.zstk import close_chains
     >>> single(close_chains(np.array([100.0]), 50.0, 6.0, 6.0, np.array([8]))).n
     8
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked along leading axes).
     """
     import dataclasses
 
@@ -60,14 +112,32 @@ def single(obj):
 
 
 def remainder_360(x):
-    """math.remainder(x, 360) element-wise, exactly: x - 360 k, k the integer nearest to x/360 (ties even) [deg].
+    r"""``math.remainder(x, 360)`` element-wise, exactly [deg].
 
+    .. math:: r = x - 360\,k, \qquad k = \operatorname{round}(x/360) \ \text{(ties to even)}, \qquad -180 \le r \le 180
+
+    Parameters
+    ----------
+    x : ndarray
+        Angles, [deg].
+
+    Returns
+    -------
+    r : ndarray
+        The angles reduced to [-180, 180], [deg].
+
+    Examples
+    --------
     >>> remainder_360(np.array([540.0, -190.0, 90.0])).tolist()
     [-180.0, 170.0, 90.0]
     >>> import math
     >>> remainder_360(np.array([1.3266152821258527e+39, 1e300, 900.0])).tolist() == [
     ...     math.remainder(v, 360.0) for v in (1.3266152821258527e+39, 1e300, 900.0)]
     True
+
+    References
+    ----------
+    .. [1] IEEE 754-2019, Standard for Floating-Point Arithmetic, §5.3.1 (remainder); docs/spec/zstk.md §4.3.
     """
     x = np.fmod(x, 720.0)  # exact for any float, and keeps the parity of the ties: |x| < 720 below
     r = x - 360.0 * np.round(x / 360.0)  # exact: |r| <= 180 and 360 k is a multiple of 8
@@ -76,20 +146,38 @@ def remainder_360(x):
 
 
 def wrap_angle(angle):
-    """Angle wrapped to (-pi, pi] [rad].
+    r"""Angle wrapped to (-pi, pi] [rad].
 
+    .. math:: \operatorname{wrap}(\alpha) = \pi - \operatorname{mod}(\pi - \alpha,\ 2\pi)
+
+    Parameters
+    ----------
+    angle : float or array_like
+        Angle, [rad].
+
+    Returns
+    -------
+    wrapped : ndarray
+        The angle in (-pi, pi], [rad].
+
+    Examples
+    --------
     >>> float(wrap_angle(np.pi)), float(wrap_angle(-np.pi)), round(float(wrap_angle(3 * np.pi / 2)), 12)
     (3.141592653589793, 3.141592653589793, -1.570796326795)
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §3.1 (the frame and its angles).
     """
     return np.pi - np.mod(np.pi - np.asarray(angle, dtype=float), 2.0 * np.pi)
 
 
 # ----------------------------------------------------------------------------- §3.1 geometry
 def roller_radius(theta, outer_radius, inner_radius, eccentricity):
-    """Radius of the roller tangent to both raceways whose centre lies at polar angle theta.
+    r"""Radius of the roller tangent to both raceways whose centre lies at polar angle theta.
 
-    .. math:: r(\\theta) = \\frac{(D - e)(S - e) + 4 R_H e \\sin^2(\\theta/2)}{2[(S - e) + 2 e \\sin^2(\\theta/2)]},
-              \\quad S = R_H + R_B,\\ D = R_H - R_B
+    .. math:: r(\theta) = \frac{(D - e)(S - e) + 4 R_H e \sin^2(\theta/2)}{2[(S - e) + 2 e \sin^2(\theta/2)]},
+              \quad S = R_H + R_B,\ D = R_H - R_B
 
     r(theta) = [(D - e)(S - e) + 4 R_H e sin²(theta/2)] / [2((S - e) + 2 e sin²(theta/2))],
     with S = R_H + R_B and D = R_H - R_B; every term is non-negative (no cancellation).
@@ -121,9 +209,9 @@ def roller_radius(theta, outer_radius, inner_radius, eccentricity):
 
 
 def extreme_roller_radii(outer_radius, inner_radius, eccentricity):
-    """The smallest and the largest roller radius, at the narrowest and the widest point of the gap.
+    r"""The smallest and the largest roller radius, at the narrowest and the widest point of the gap.
 
-    .. math:: r_{min} = r(0) = \\frac{R_H - R_B - e}{2}, \\qquad r_{max} = r(\\pi) = \\frac{R_H - R_B + e}{2}
+    .. math:: r_{min} = r(0) = \frac{R_H - R_B - e}{2}, \qquad r_{max} = r(\pi) = \frac{R_H - R_B + e}{2}
 
     Parameters
     ----------
@@ -149,9 +237,9 @@ def extreme_roller_radii(outer_radius, inner_radius, eccentricity):
 
 
 def centre_distance(theta, outer_radius, inner_radius, eccentricity):
-    """Distance h = |O_H P| of the roller centre from the outer-ring centre.
+    r"""Distance h = |O_H P| of the roller centre from the outer-ring centre.
 
-    .. math:: h(\\theta) = \\frac{S^2 - e^2}{2 (S - e \\cos\\theta)} = R_H - r(\\theta)
+    .. math:: h(\theta) = \frac{S^2 - e^2}{2 (S - e \cos\theta)} = R_H - r(\theta)
 
     h(theta) = (S² - e²) / (2 (S - e cos theta)) = R_H - r(theta).
 
@@ -177,10 +265,10 @@ def centre_distance(theta, outer_radius, inner_radius, eccentricity):
 
 
 def normal_angle_offset(theta, outer_radius, inner_radius, eccentricity):
-    """Signed angle beta_s from the outer normal n_H to the inner normal n_B (counter-clockwise).
+    r"""Signed angle beta_s from the outer normal n_H to the inner normal n_B (counter-clockwise).
 
-    .. math:: \\beta_s = \\operatorname{atan2}(e \\sin\\theta,\\ h - e \\cos\\theta), \\quad \\sin\\beta = e
-              |\\sin\\theta| / (R_B + r)
+    .. math:: \beta_s = \operatorname{atan2}(e \sin\theta,\ h - e \cos\theta), \quad \sin\beta = e
+              |\sin\theta| / (R_B + r)
 
     beta_s = atan2(e sin theta, h - e cos theta); |beta_s| = beta = angle O_B P O_H, and the
     polar angle of n_B = (P - O_B)/|P - O_B| is theta + beta_s.
@@ -207,9 +295,9 @@ def normal_angle_offset(theta, outer_radius, inner_radius, eccentricity):
 
 
 def reduced_radii(roller_r, centre_dist, inner_radius, outer_radius):
-    """Reduced radii of the inner and outer contact of each roller (the paper's eqs. 4, 5).
+    r"""Reduced radii of the inner and outer contact of each roller (the paper's eqs. 4, 5).
 
-    .. math:: \\rho_B = \\frac{r R_B}{R_B + r}, \\qquad \\rho_H = \\frac{r R_H}{R_H - r} = \\frac{r R_H}{h}
+    .. math:: \rho_B = \frac{r R_B}{R_B + r}, \qquad \rho_H = \frac{r R_H}{R_H - r} = \frac{r R_H}{h}
 
     rho_B = r R_B/(R_B + r) (convex on convex);  rho_H = r R_H/(R_H - r) = r R_H/h (convex in
     concave), formed with h so that no R_H - r is subtracted.

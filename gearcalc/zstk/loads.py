@@ -29,10 +29,10 @@ E_STAR_REF = 2.1e5 / (2.0 * (1.0 - 0.3 ** 2))
 
 # ----------------------------------------------------------------------------- materials
 def roller_stiffness(length, e_star_inner=E_STAR_REF, e_star_outer=E_STAR_REF):
-    """Roller load-deflection constant c_L of both contacts in series [N/mm^(10/9)].
+    r"""Roller load-deflection constant c_L of both contacts in series [N/mm^(10/9)].
 
-    .. math:: c_L = 35948\\, l^{8/9} \\left[\\tfrac12 \\left((E^*_{ref}/E^*_B)^{0.9} +
-              (E^*_{ref}/E^*_H)^{0.9}\\right)\\right]^{-10/9}
+    .. math:: c_L = 35948\, l^{8/9} \left[\tfrac12 \left((E^*_{ref}/E^*_B)^{0.9} +
+              (E^*_{ref}/E^*_H)^{0.9}\right)\right]^{-10/9}
 
     c_L = 35 948 l^(8/9) for steel, scaled for other materials by
     [½((E*_ref/E*_B)^0.9 + (E*_ref/E*_H)^0.9)]^(-10/9).
@@ -100,10 +100,10 @@ def _min_norm_direction(normal_angle, alpha, loaded):
 
 
 def load_zero_clearance(normal_angle, gamma, load, stiffness, symmetric=False, fixed_direction=False):
-    """Roller forces without clearance: the direction root of spec §5.1.
+    r"""Roller forces without clearance: the direction root of spec §5.1.
 
-    .. math:: \\arg G(\\alpha) = \\gamma, \\quad G = \\sum_i \\max(n_i \\cdot w, 0)^{10/9} n_i, \\qquad F_{iB} = Q
-              \\frac{a_i^{10/9}}{\\sum_j a_j^{10/9} (n_j \\cdot u)}
+    .. math:: \arg G(\alpha) = \gamma, \quad G = \sum_i \max(n_i \cdot w, 0)^{10/9} n_i, \qquad F_{iB} = Q
+              \frac{a_i^{10/9}}{\sum_j a_j^{10/9} (n_j \cdot u)}
 
     With a_i = max(n_Bi·w, 0) and G(alpha) = sum a_i^(10/9) n_Bi, solve arg G(alpha) = gamma on
     [gamma - 90°, gamma + 90°]; then F_iB = Q a_i^(10/9)/sum_j a_j^(10/9)(n_Bj·u) and
@@ -177,9 +177,9 @@ def _force_law(approach, stiffness):
 
 
 def load_along_direction(normal_angle, gamma, load, stiffness, clearance):
-    """Roller forces with clearance (or preload) and v parallel to u (spec §5.2, symmetric case).
+    r"""Roller forces with clearance (or preload) and v parallel to u (spec §5.2, symmetric case).
 
-    .. math:: f(\\delta) = \\sum_i c_L \\max(\\delta \\cos\\psi_i - s/2, 0)^{10/9} \\cos\\psi_i - Q = 0
+    .. math:: f(\delta) = \sum_i c_L \max(\delta \cos\psi_i - s/2, 0)^{10/9} \cos\psi_i - Q = 0
 
     Solves f(delta) = sum c_L max(delta cos psi_i - s/2, 0)^(10/9) cos psi_i - Q = 0 (f is
     non-decreasing) with the bracketed root finder: for s >= 0 on [s/(2m), ((Q/(c_L m))^0.9 +
@@ -296,9 +296,9 @@ def _newton(c0, vx, vy, nx, ny, ux, uy, load, stiffness, scale0, rtol, maxiter):
 
 
 def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e-12, maxiter=100):
-    """Roller forces with clearance or preload, full 2-D equilibrium (spec §5.2, general case).
+    r"""Roller forces with clearance or preload, full 2-D equilibrium (spec §5.2, general case).
 
-    .. math:: \\min_v \\Pi(v) = c_L \\tfrac{9}{19} \\sum_i \\max(v \\cdot n_i - s/2, 0)^{19/9} - Q\\, u \\cdot v
+    .. math:: \min_v \Pi(v) = c_L \tfrac{9}{19} \sum_i \max(v \cdot n_i - s/2, 0)^{19/9} - Q\, u \cdot v
 
     Minimises the convex potential Pi(v) = c_L (9/19) sum max(v·n_Bi - s/2, 0)^(19/9) - Q u·v by
     Newton's method with backtracking (a singular Hessian is regularised), starting from the
@@ -387,7 +387,11 @@ def load_with_clearance(normal_angle, gamma, load, stiffness, clearance, rtol=1e
 
 def solve_loads(normal_angle, gamma, load, stiffness, clearance=0.0, symmetric=False,
                 fixed_direction=False):
-    """Dispatch to the load model (spec §5, §8): closed form, direction root, 1-D or Newton solve.
+    r"""Dispatch to the load model (spec §5, §8): closed form, direction root, 1-D or Newton solve.
+
+    .. math:: \sum_i F_{iB}\,n_{Bi} = Q\,u, \qquad F_{iB} = c_L \max(v \cdot n_{Bi} - s/2,\ 0)^{10/9}
+
+    (closed form F_iB = Q cos^(10/9) psi_i / sum cos^(19/9) psi_j for a symmetric configuration without clearance).
 
     Parameters
     ----------

@@ -48,8 +48,9 @@ class Outputs:
 
 def stack_outputs(stack, fixed_direction=False, sweep_value=None, sweep_err=None, inner=None,
                   capacity=None) -> Outputs:
-    r"""The summary quantities of a solved stack (spec §10): sigma_max and its error, the strength check, the
-    allowable radial load, the maximum shear, the separator forces.
+    r"""The summary quantities of a solved stack (spec §10).
+
+    sigma_max and its error, the strength check, the allowable radial load, the maximum shear, the separator forces.
 
     .. math:: S = [\sigma_H] / \sigma_{max}, \qquad F_{iS} = F_{iB} \sin\beta_i, \qquad
               r_{min,max} = (R_H - R_B \mp e)/2
@@ -106,8 +107,10 @@ def stack_outputs(stack, fixed_direction=False, sweep_value=None, sweep_err=None
 
 @dataclass(frozen=True)
 class Margins:
-    """The design checks of G designs as signed, dimensionless margins (>= 0 passes; zstk.md §10), arrays (G,):
-    sigma (the strength check), closure (N against the chain's N_max), clearance (|s| against r_min)."""
+    """The design checks of G designs as signed, dimensionless margins (>= 0 passes; zstk.md §10).
+
+    Arrays (G,): sigma (the strength check), closure (N against the chain's N_max), clearance (|s| against r_min).
+    """
 
     sigma: np.ndarray
     closure: np.ndarray
@@ -138,12 +141,22 @@ def margins(sigma_max, allowable, n, n_limit, correct, clearance, r_min) -> Marg
     clearance, r_min : array_like
         s and the smallest roller radius (R_H - R_B - e)/2 [mm].
 
+    Returns
+    -------
+    Margins
+        ``sigma``, ``closure`` and ``clearance``, arrays (G,) [-].
+
     Examples
     --------
     >>> m = margins(np.array([748.94]), np.array([4000.0]), 8, np.array([31.94]), "outer", np.array([0.0]),
     ...             np.array([23.35]))
     >>> round(float(m.sigma[0]), 6), round(float(m.closure[0]), 6), float(m.clearance[0])
     (0.812765, 0.74953, 1.0)
+
+    References
+    ----------
+    .. [1] Merko, M. A. et al., the closed system of rolling bodies (seed 003): the strength check against the
+       allowable contact stress; gearcalc specification docs/spec/zstk.md §3.3, §9, §10.
     """
     allowable = np.asarray(allowable, dtype=float)
     sigma = (allowable - np.asarray(sigma_max, dtype=float)) / allowable
@@ -158,10 +171,13 @@ def margins(sigma_max, allowable, n, n_limit, correct, clearance, r_min) -> Marg
 
 @dataclass(frozen=True)
 class RollerDetail:
-    """The per-roller quantities of G designs (arrays (G, N)): rollers (the state, or the inner contacts'
-    envelope rows: theta, radius, psi, beta), contacts (:func:`gearcalc.zstk.roller_contacts`); approach delta_i
-    [mm] of a single placement, or gamma_inner, gamma_outer [rad], the load directions of each contact's
-    envelope; worst : the largest b/rho above the limit, -inf where none, (G,)."""
+    """The per-roller quantities of G designs (arrays (G, N)).
+
+    Rollers (the state, or the inner contacts' envelope rows: theta, radius, psi, beta), contacts
+    (:func:`gearcalc.zstk.roller_contacts`); approach delta_i [mm] of a single placement, or gamma_inner,
+    gamma_outer [rad], the load directions of each contact's envelope; worst : the largest b/rho above the limit,
+    -inf where none, (G,).
+    """
 
     rollers: object
     contacts: Contacts
@@ -172,8 +188,9 @@ class RollerDetail:
 
 
 def roller_detail(state, mats, clearance, envelope=None, width_limit=0.1) -> RollerDetail:
-    r"""Hertz semi-widths, shear and approach of every roller (spec §2, §5.2, §10); the separator forces are
-    :attr:`Outputs.separator`.
+    r"""Hertz semi-widths, shear and approach of every roller (spec §2, §5.2, §10).
+
+    The separator forces are :attr:`Outputs.separator`.
 
     .. math:: b = \sqrt{4 F \rho / (\pi l E^*)}, \qquad \delta_i = \delta \cos(\theta_{n_{Bi}} - \alpha) - s/2
 

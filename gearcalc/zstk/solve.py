@@ -34,8 +34,7 @@ from .validity import Validity, check_designs
 
 
 class Designs(NamedTuple):
-    """P designs held column-wise: each field is one value shared by every design, or a list with one value
-    per design.
+    """P designs held column-wise: each field is one value shared by every design, or a list with one value per design.
 
     outer, inner, eccentricity, gap, length : nominal R_H, R_B, e, c and the roller length l [mm];
     rollers : N, or "auto"; correct : "outer" | "inner" | "gap"; scheme : "A"-"D", "cycle", or the polar
@@ -106,6 +105,22 @@ def prepare(d: Designs, size: int, max_rollers: int, default_allowable: float) -
     a design without a separator is invalid too (spec §5.5).  Phases: :func:`gearcalc.zstk.chain_phases`
     (spec §4); directions and theta_0 are reduced exactly to (-180, 180] degrees first.
 
+    Parameters
+    ----------
+    d : Designs
+        The designs, held column-wise.
+    size : int
+        The number of designs P.
+    max_rollers : int
+        The largest N accepted, [-].
+    default_allowable : float
+        [sigma_H] of a design that gives none, [MPa].
+
+    Returns
+    -------
+    prepared : Prepared
+        Chains, materials, validity, phases, directions, loads and allowable stresses, arrays (P,).
+
     Examples
     --------
     >>> d = Designs(100.0, 50.0, [6.0, 60.0], 6.0, 20.0, "auto", "outer", "A", True, 1e4, 0.0, 0.0,
@@ -119,7 +134,7 @@ def prepare(d: Designs, size: int, max_rollers: int, default_allowable: float) -
     docs/spec/zstk.md §3.2-3.3 (closure, validity), §4 (phase), §5.3 (direction), §5.5 (separator).
     """
     def per(v, fn, dtype=bool):
-        """fn of each design's value (once when the value is shared by every design)."""
+        """The function fn of each design's value (once when the value is shared by every design)."""
         if isinstance(v, list):
             return np.array([fn(x) for x in v], dtype=dtype)
         return np.full(size, fn(v), dtype=dtype)
@@ -161,9 +176,12 @@ def prepare(d: Designs, size: int, max_rollers: int, default_allowable: float) -
 
 @dataclass(frozen=True)
 class Stack:
-    """G solved designs of one roller count N: chain, mats (arrays (G,)), state (arrays (G, N)); gamma [rad],
-    load [N], clearance [mm], symmetric (solved in closed form), allowable [MPa], allowable_default, scheme,
-    arrays (G,); stepping: the explicit-stepping residual (G,) [mm] of the reference level, else None."""
+    """G solved designs of one roller count N.
+
+    chain, mats (arrays (G,)), state (arrays (G, N)); gamma [rad], load [N], clearance [mm], symmetric (solved in
+    closed form), allowable [MPa], allowable_default, scheme, arrays (G,); stepping: the explicit-stepping residual
+    (G,) [mm] of the reference level, else None.
+    """
 
     chain: Chain
     mats: Materials
@@ -184,6 +202,30 @@ def solve_stack(p: Prepared, idx, fixed_direction=False, reference=False) -> lis
     Returns a list of (indices into ``p``, :class:`Stack`), one per roller count N, in increasing N
     (:func:`stack_order` and :func:`gather` put their results back in the order of ``idx``).
 
+    Parameters
+    ----------
+    p : Prepared
+        The prepared designs.
+    idx : ndarray of int
+        The designs to solve.
+    fixed_direction : bool, optional
+        The ``fixed-direction`` level (v parallel to u everywhere).
+    reference : bool, optional
+        The reference level (explicit stepping of the chain too).
+
+    Returns
+    -------
+    stacks : list of tuple
+        (indices into ``p``, :class:`Stack`), one per roller count N, in increasing N.
+
+    Examples
+    --------
+    >>> d = Designs(100.0, 50.0, [6.0, 60.0], 6.0, 20.0, "auto", "outer", "A", True, 1e4, 0.0, 0.0,
+    ...             2.1e5, 0.3, 2.1e5, 0.3, None, None, None, None, None)
+    >>> [(k.tolist(), round(float(s.state.sigma_inner.max()), 3)) for k, s in solve_stack(prepare(d, 2, 2000, 4000.0),
+    ...                                                                                    np.array([0]))]
+    [([0], 748.936)]
+
     References
     ----------
     docs/spec/zstk.md §4-§5, §8 (stacked designs).
@@ -202,13 +244,33 @@ def solve_stack(p: Prepared, idx, fixed_direction=False, reference=False) -> lis
 
 
 def stack_order(idx, groups):
-    """The permutation that puts the concatenated results of ``groups`` (index arrays that partition ``idx``)
-    back in the order of ``idx``.
+    r"""The permutation that restores the order of ``idx`` after grouping.
+
+    The permutation that puts the concatenated results of ``groups`` (index arrays that partition ``idx``) back in
+    the order of ``idx``.
+
+    .. math:: \text{back} = \operatorname{argsort}(\text{concat}(\text{groups})) \ \text{in the order of idx}
+
+    Parameters
+    ----------
+    idx : ndarray of int
+        The designs in their order.
+    groups : list of ndarray of int
+        Index arrays that partition ``idx``.
+
+    Returns
+    -------
+    back : ndarray of int
+        The permutation of the concatenated results.
 
     Examples
     --------
     >>> stack_order(np.array([4, 7, 9]), [np.array([7]), np.array([4, 9])]).tolist()
     [1, 0, 2]
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked by N).
     """
     order = np.concatenate(groups)
     where = np.empty(int(idx.max()) + 1, dtype=np.int64)
@@ -219,10 +281,26 @@ def stack_order(idx, groups):
 def gather(lists, back) -> list:
     """Concatenate lists and reorder them by the permutation ``back`` (:func:`stack_order`).
 
+    Parameters
+    ----------
+    lists : list of list
+        The results of each group.
+    back : ndarray of int
+        The permutation of :func:`stack_order`.
+
+    Returns
+    -------
+    out : list
+        The results in the order of the designs.
+
     Examples
     --------
     >>> gather([["b"], ["a", "c"]], np.array([1, 0, 2]))
     ['a', 'b', 'c']
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §8 "Vectorisation" (designs stacked by N).
     """
     flat = [v for part in lists for v in part]
     if len(flat) == 1:
@@ -232,10 +310,12 @@ def gather(lists, back) -> list:
 
 @dataclass(frozen=True)
 class Sweeping:
-    """A "cycle" and/or "envelope" design solved (:func:`solve_sweeping`): the critical placement's stack
-    (G = 1), the placement (its sweeps), the per-contact envelope rows (d_B, d_H, gamma_B, gamma_H) of
-    "envelope" or None, the allowable radial load, and the sweeps' maximum (None without a direction sweep)
-    and error estimate [MPa], arrays (1,)."""
+    """A "cycle" and/or "envelope" design solved (:func:`solve_sweeping`).
+
+    The critical placement's stack (G = 1), the placement (its sweeps), the per-contact envelope rows (d_B, d_H,
+    gamma_B, gamma_H) of "envelope" or None, the allowable radial load, and the sweeps' maximum (None without a
+    direction sweep) and error estimate [MPa], arrays (1,).
+    """
 
     stack: Stack
     placement: Placement
@@ -246,11 +326,40 @@ class Sweeping:
 
 
 def solve_sweeping(p: Prepared, tol: float, grid: SweepGrid, fixed_direction=False, reference=False) -> Sweeping:
-    """The critical placement of the one design of ``p`` over its phase and/or load direction
+    """The critical placement of the one design of ``p`` and its allowable radial load.
+
+    The critical placement of the one design of ``p`` over its phase and/or load direction
     (:func:`gearcalc.zstk.critical_placement`), its allowable radial load, and the placement evaluated.
 
     The refinements aim at 0.01 sqrt(tol) relative (1e-12 at the reference level, which also closes the chain
     by explicit stepping); a fixed direction or phase is the design's own.
+
+    Parameters
+    ----------
+    p : Prepared
+        One prepared design ("cycle" and/or "envelope").
+    tol : float
+        The relative tolerance of the results.
+    grid : SweepGrid
+        The sweeps' grids.
+    fixed_direction : bool, optional
+        The ``fixed-direction`` level.
+    reference : bool, optional
+        The reference level.
+
+    Returns
+    -------
+    sweeping : Sweeping
+        The critical placement's stack, the placement, the envelope rows, the allowable radial load, the maximum
+        and its error, arrays (1,).
+
+    Examples
+    --------
+    >>> d = Designs(100.0, 50.0, 6.0, 6.0, 20.0, "auto", "outer", "cycle", True, 1e4, 0.0, 0.0,
+    ...             2.1e5, 0.3, 2.1e5, 0.3, None, None, None, None, None)
+    >>> s = solve_sweeping(prepare(d, 1, 2000, 4000.0), 1e-6, SweepGrid())
+    >>> round(float(s.stack.state.sigma_inner.max()), 3), round(float(s.capacity.load[0]) / 1e3, 3)
+    (748.936, 285.253)
 
     References
     ----------

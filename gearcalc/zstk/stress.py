@@ -41,6 +41,7 @@ class Materials:
 
     @classmethod
     def from_elastic(cls, length, roller_e, roller_nu, inner_e, inner_nu, outer_e, outer_nu):
+        """The materials from the roller length [mm] and the elastic constants E [MPa] and nu [-] of each body."""
         eb = hertz.contact_modulus(roller_e, roller_nu, inner_e, inner_nu)
         eh = hertz.contact_modulus(roller_e, roller_nu, outer_e, outer_nu)
         stiffness = roller_stiffness(length, eb, eh)
@@ -76,10 +77,10 @@ class State:
 
 def evaluate(chain: Chain, mats: Materials, theta, gamma, load, clearance=0.0, symmetric=False,
              fixed_direction=False) -> State:
-    """Loads and Hertz stresses of every roller for roller angles theta and load directions gamma.
+    r"""Loads and Hertz stresses of every roller for roller angles theta and load directions gamma.
 
-    .. math:: F_{iH} = F_{iB} \\cos\\beta_i, \\qquad \\sigma_{i(B,H)} = \\sqrt{\\frac{F_{i(B,H)}
-              E^*_{(B,H)}}{\\pi\\, l\\, \\rho_{i(B,H)}}}
+    .. math:: F_{iH} = F_{iB} \cos\beta_i, \qquad \sigma_{i(B,H)} = \sqrt{\frac{F_{i(B,H)}
+              E^*_{(B,H)}}{\pi\, l\, \rho_{i(B,H)}}}
 
     F_iH = F_iB cos beta_i (separator equilibrium); sigma = sqrt(F E*/(pi l rho)), the paper's
     eq. (3) (= Johnson's p0).
@@ -140,10 +141,44 @@ def evaluate(chain: Chain, mats: Materials, theta, gamma, load, clearance=0.0, s
 
 
 def critical(state: State):
-    """Location of the largest stress of each configuration.
+    r"""Location of the largest stress of each configuration.
 
     Returns (sigma_max, roller index, contact 0 = inner / 1 = outer), arrays of shape (...);
     ties (mirror rollers) go to the lowest index, inner before outer.
+
+    .. math:: \sigma_{max} = \max_{i,\ c \in \{B, H\}} \sigma_{i,c}
+
+    Parameters
+    ----------
+    state : State
+        The rollers of one or many configurations (arrays (..., N)).
+
+    Returns
+    -------
+    sigma_max : ndarray
+        The largest stress, [MPa], shape (...).
+    roller : ndarray of int
+        Its roller, shape (...).
+    contact : ndarray of int
+        Its contact, 0 = inner, 1 = outer, shape (...).
+
+    Examples
+    --------
+    >>> ch = close_chain(100.0, 50.0, 6.0, 6.0, 8)
+    >>> m = Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+    >>> st = evaluate(ch, m, roller_angles(np.zeros(1), 8, ch.limiting_ratio), np.zeros(1), 1e4, symmetric=True)
+    >>> s, k, c = critical(st)
+    >>> round(float(s[0]), 3), int(k[0]), int(c[0])   # the inner contact of roller 0 on the load line
+    (748.936, 0, 0)
+
+    References
+    ----------
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); its conclusion (the inner contact of the smallest
+       roller on the load line); docs/spec/zstk.md
+       §5.4, §10.
     """
     both = np.stack([state.sigma_inner, state.sigma_outer], axis=-2)  # (..., 2, N)
     flat = both.reshape(both.shape[:-2] + (-1,))
@@ -225,20 +260,42 @@ to about 1e-12 relative; estimates of 0 or 4 eps fell below the actual differenc
 
 
 def roller_field(rollers, name):
-    """A per-roller quantity (``"theta"``, ``"force_inner"``, ...) of a :class:`State` or of the per-contact
-    envelope rows of :func:`gearcalc.zstk.roller_envelope` (a mapping), arrays (G, N).
+    r"""A per-roller quantity of a state or of envelope rows, arrays (G, N).
+
+    A per-roller quantity (``"theta"``, ``"force_inner"``, ...) of a :class:`State` or of the per-contact envelope
+    rows of :func:`gearcalc.zstk.roller_envelope` (a mapping), arrays (G, N).
+
+    .. math:: x_{g,i} = \text{rollers}[\text{name}]_{g,i}
+
+    Parameters
+    ----------
+    rollers : State or Mapping
+        A state or the per-contact envelope rows.
+    name : str
+        The quantity's name.
+
+    Returns
+    -------
+    values : ndarray
+        The quantity, in its own unit, arrays (G, N).
 
     Examples
     --------
     >>> roller_field({"beta": 0.5}, "beta")
     0.5
+
+    References
+    ----------
+    .. [1] docs/spec/zstk.md §10 (per-roller output).
     """
     return rollers[name] if isinstance(rollers, dict) else getattr(rollers, name)
 
 
 def separator_forces(force_inner, beta):
-    r"""Force of the separator on each roller (spec §5 item 2): the tangential reaction that keeps the roller
-    in place, perpendicular to O_H P_i, [N] (>= 0; zero on the line of centres and when e = 0).
+    r"""Force of the separator on each roller (spec §5 item 2).
+
+    The tangential reaction that keeps the roller in place, perpendicular to O_H P_i, [N] (>= 0; zero on the line of
+    centres and when e = 0).
 
     .. math:: F_{iS} = F_{iB} \sin\beta_i
 
@@ -449,9 +506,11 @@ def safety_factor(sigma_max, allowable):
 
 @dataclass
 class Contacts:
-    """Per-roller contact quantities (arrays (G, N)) of the inner (B) and outer (H) contacts: force [N],
-    peak stress [MPa], reduced radius [mm], Hertz semi-width b [mm], maximum (Tresca) subsurface shear [MPa]
-    and its depth below the contact centre [mm]."""
+    """Per-roller contact quantities (arrays (G, N)) of the inner (B) and outer (H) contacts.
+
+    Force [N], peak stress [MPa], reduced radius [mm], Hertz semi-width b [mm], maximum (Tresca) subsurface shear
+    [MPa] and its depth below the contact centre [mm].
+    """
 
     force_inner: np.ndarray
     force_outer: np.ndarray
@@ -520,10 +579,24 @@ def roller_contacts(inner, outer, mats: Materials) -> Contacts:
 
 
 def roller_approach(state: State, clearance):
-    r"""Elastic approach of each roller's contacts (spec §5.2): the displacement's component along its
-    inner normal less half the clearance, [mm], arrays (G, N); <= 0 for an unloaded roller.
+    r"""Elastic approach of each roller's contacts (spec §5.2).
+
+    The displacement's component along its inner normal less half the clearance, [mm], arrays (G, N); <= 0 for an
+    unloaded roller.
 
     .. math:: \delta_i = \delta \cos(\theta_{n_{Bi}} - \alpha) - s/2
+
+    Parameters
+    ----------
+    state : State
+        The rollers of G configurations.
+    clearance : ndarray
+        Radial clearance s, [mm], shape (G,).
+
+    Returns
+    -------
+    delta : ndarray
+        Approach δ_i, [mm], arrays (G, N).
 
     Examples
     --------
@@ -544,8 +617,24 @@ def roller_approach(state: State, clearance):
 
 
 def worst_width_ratio(contacts: Contacts, limit):
-    """The largest b/rho of a loaded contact above ``limit`` per configuration, -inf where none is
-    (Hertz's small-contact assumption, spec §9).
+    r"""The largest b/rho of a loaded contact above ``limit`` per configuration.
+
+    The largest b/rho of a loaded contact above ``limit`` per configuration, -inf where none is (Hertz's
+    small-contact assumption, spec §9).
+
+    .. math:: \max_{i,\ c:\ F_{i,c} > 0,\ b/\rho > \text{limit}} \frac{b_{i,c}}{\rho_{i,c}}
+
+    Parameters
+    ----------
+    contacts : Contacts
+        Per-roller contact quantities (arrays (G, N)).
+    limit : float
+        The b/rho above which a contact is reported, [-].
+
+    Returns
+    -------
+    ratio : ndarray
+        The largest b/rho, [-], -inf where none exceeds the limit, shape (G,).
 
     Examples
     --------
@@ -554,6 +643,11 @@ def worst_width_ratio(contacts: Contacts, limit):
     >>> st = evaluate(ch, m, roller_angles(np.zeros(1), 8, ch.limiting_ratio), np.zeros(1), 1e4, symmetric=True)
     >>> worst_width_ratio(roller_contacts(st, st, m), 0.1).tolist()
     [-inf]
+
+    References
+    ----------
+    .. [1] K. L. Johnson, Contact Mechanics, Cambridge University Press, 1985, §4.2 (the half-space assumption
+       b << rho); docs/spec/zstk.md §9.
     """
     worst = np.full(contacts.sigma_inner.shape[0], -np.inf)
     for f, b, rho in ((contacts.force_inner, contacts.width_inner, contacts.rho_inner),

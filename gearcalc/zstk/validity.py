@@ -59,10 +59,13 @@ def geometry_violations(outer_radius, inner_radius, eccentricity, gap):
 
 
 def chain_violations(chain: Chain):
-    """The rules of a corrected chain, element-wise: ``{"range": ..., rule: ...}`` (bool arrays).
+    r"""The rules of a corrected chain, element-wise: ``{"range": ..., rule: ...}`` (bool arrays).
 
     "range": N < 3, or N outside the admissible interval (N < N_max; N <= N_max for the correction
     "gap"); then the rules of :func:`geometry_violations` on the corrected geometry.
+
+    .. math:: 3 \le N < N_{max} \ (N \le N_{max} \text{ for "gap"}), \quad R_H > R_B > 0, \quad 0 \le e < R_H - R_B,
+        \quad e < \frac{R_H + R_B}{\sqrt 2}, \quad 0 \le c < 2 R_B
 
     Parameters
     ----------
@@ -119,9 +122,11 @@ class Validity:
         return []
 
     def problems(self, k: int, scheme, rollers) -> list:
-        """(quantity, message) of each violated rule of design k; quantity one of "outer", "inner",
-        "eccentricity", "gap", "rollers", "clearance".  ``scheme`` and ``rollers`` are the design's
-        values as given (for the messages)."""
+        """(quantity, message) of each violated rule of design k.
+
+        Quantity one of "outer", "inner", "eccentricity", "gap", "rollers", "clearance".  ``scheme`` and
+        ``rollers`` are the design's values as given (for the messages).
+        """
         v = {name: (x[k] if np.ndim(x) else x) for name, x in self.inputs.items()}
         out = []
         for rule in self.rules(k):
@@ -153,12 +158,15 @@ class Validity:
 
 def check_designs(outer_radius, inner_radius, eccentricity, gap, rollers, parity, clearance, correct,
                   max_rollers):
-    """Close the chains of P designs and judge every validity rule (spec §3.3, §9), vectorised.
+    r"""Close the chains of P designs and judge every validity rule (spec §3.3, §9), vectorised.
 
     The one rule set of the ``zstk`` calculator: ``compute``, ``batch``, ``sweep`` and ``check`` all
     call it.  Stages, in order: the raceway geometry and the parity of N; the clearance bound
     |s| < (R_H - R_B - e)/2; an automatic N >= 3; N <= ``max_rollers``; the corrected chain
     (:func:`chain_violations`: N in range, then the corrected geometry).
+
+    .. math:: |s| < \frac{R_H - R_B - e}{2}, \qquad 3 \le N \le N_{max,user}, \qquad
+        \text{and the rules of chain\_violations}
 
     Parameters
     ----------
@@ -258,11 +266,23 @@ def _chain_message(rule, chain: Chain):
 
 
 def geometry_problems(outer_radius, inner_radius, eccentricity, gap):
-    """Violations of the validity conditions of spec §3.3 / §11.2 for one geometry.
+    r"""Violations of the validity conditions of spec §3.3 / §11.2 for one geometry.
 
     Returns a list of (quantity, message) with quantity in {"outer", "inner", "eccentricity",
     "gap"}; empty when R_H > R_B > 0, 0 <= e < R_H - R_B, e < S/sqrt 2 and 0 <= c < 2R_B
     (the messages of :func:`geometry_violations`).
+
+    .. math:: R_H > R_B > 0, \quad 0 \le e < R_H - R_B, \quad e < \frac{R_H + R_B}{\sqrt 2}, \quad 0 \le c < 2 R_B
+
+    Parameters
+    ----------
+    outer_radius, inner_radius, eccentricity, gap : float
+        R_H, R_B, e, c, [mm].
+
+    Returns
+    -------
+    problems : list of tuple
+        (quantity, message), empty when every rule holds.
 
     Examples
     --------
@@ -270,16 +290,35 @@ def geometry_problems(outer_radius, inner_radius, eccentricity, gap):
     []
     >>> geometry_problems(100.0, 50.0, 52.0, 6.0)[0][0]
     'eccentricity'
+
+    References
+    ----------
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); docs/spec/zstk.md §3.3, §11.2.
     """
     return [_geometry_message(rule, outer_radius, inner_radius, eccentricity, gap)
             for rule, bad in geometry_violations(outer_radius, inner_radius, eccentricity, gap).items() if bad]
 
 
 def chain_problems(chain: Chain):
-    """Violations of spec §3.3 by one corrected chain: list of (quantity, message).
+    r"""Violations of spec §3.3 by one corrected chain: list of (quantity, message).
 
     Checks N >= 3, N inside the admissible interval, and the corrected geometry (the rules of
     :func:`chain_violations`; the range first: the geometry is judged only inside it).
+
+    .. math:: 3 \le N < N_{max} \ (N \le N_{max} \text{ for "gap"}), \quad \text{then the corrected geometry's rules}
+
+    Parameters
+    ----------
+    chain : Chain
+        One corrected chain (floats).
+
+    Returns
+    -------
+    problems : list of tuple
+        (quantity, message), empty when every rule holds.
 
     Examples
     --------
@@ -287,6 +326,13 @@ def chain_problems(chain: Chain):
     []
     >>> chain_problems(close_chain(100.0, 50.0, 6.0, 6.0, 40))[0][0]
     'rollers'
+
+    References
+    ----------
+    .. [1] M. A. Merko, M. V. Mesnyankin, A. V. Kolotov, A. E. Mityaev, M. V. Savitskaya, A. M. Merko, S. A. Yurov,
+       «Анализ нормальных напряжений на площадках контакта звеньев механизмов с ЗСТК при ведущем внутреннем кольце и
+       вводе поправки по радиусу дорожки качения наружного кольца», Siberian Federal University, UDC 621.838.2 (seed
+       file 003_2d1da402cb0b8488.txt; no journal or year given); docs/spec/zstk.md §3.3.
     """
     bad = {rule: bool(m) for rule, m in chain_violations(chain).items()}
     if bad.pop("range"):
