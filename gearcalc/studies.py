@@ -462,3 +462,68 @@ def _array(field, values, n: int):
 
         raise SweepError(f"the output {field.name} changes type within the sweep ({field.type} in the first chunk); "
                          "write CSV or JSON, or split the sweep") from None
+
+
+class GridSweep:
+    """A whole sweep (:func:`gearcalc.sweep_grid`): :class:`gearcalc.render.Columns`' ``data`` (lists), ``n``,
+    ``errors``, ``rows()`` and ``to_pandas()``, with the ``axes`` it was computed over, so that
+    :meth:`to_xarray` can give the grid its shape."""
+
+    def __init__(self, data: dict, errors: list, axes):
+        from .grid import Sample
+
+        self.data, self.errors = data, list(errors)
+        self.n = len(next(iter(data.values()))) if data else 0
+        self.sample = isinstance(axes, Sample)
+        self.axes = {k: list(v) for k, v in axes.items()}
+
+    @property
+    def shape(self) -> tuple:
+        """One length per varied key (a ``--sample``'s points: one dimension, ``point``)."""
+        return (self.n,) if self.sample else tuple(len(v) for v in self.axes.values())
+
+    def rows(self) -> list[dict]:
+        names = list(self.data)
+        return [dict(zip(names, vals)) for vals in zip(*self.data.values())]
+
+    def to_pandas(self):
+        """A pandas DataFrame, one row a point (pandas is not a dependency of gearcalc: install it to use this)."""
+        import pandas as pd
+
+        return pd.DataFrame(self.data)
+
+    def to_xarray(self):
+        """An ``xarray.Dataset``: one dimension per varied key (its values the coordinates, in the order of the
+        axes; the first varies slowest, as in the rows), one variable per output.  A sampled sweep
+        (``explore.api.sample``) has one dimension ``point`` and the varied keys as coordinates along it.  An
+        output a point lacks (a failed point's) is NaN in a numeric variable, None in another.  xarray is not a
+        dependency of gearcalc: install it to use this."""
+        import numpy as np
+        import xarray as xr
+
+        if self.sample:
+            dims = ("point",)
+            coords = {k: ("point", np.asarray(self.data.get(k, v))) for k, v in self.axes.items()}
+        else:
+            dims = tuple(self.axes)
+            coords = {k: np.asarray(v) for k, v in self.axes.items()}
+        variables = {k: (dims, _values(v).reshape(self.shape)) for k, v in self.data.items() if k not in self.axes}
+        return xr.Dataset(variables, coords=coords)
+
+
+def _values(column: list):
+    """A column as a numpy array: bool, int64 or float64 (None as NaN) when its values are all of one such type,
+    else an array of objects (words, lists; None kept)."""
+    import numpy as np
+
+    kinds = {type(v) for v in column if v is not None}
+    missing = any(v is None for v in column)
+    if kinds == {bool} and not missing:
+        return np.asarray(column, dtype=bool)
+    if kinds and kinds <= {int} and not missing:
+        return np.asarray(column, dtype=np.int64)
+    if kinds and kinds <= {int, float}:
+        return np.asarray([np.nan if v is None else v for v in column], dtype=float)
+    out = np.empty(len(column), dtype=object)
+    out[:] = column
+    return out
