@@ -687,6 +687,8 @@ def _study_checks(fmt: str, output, plot, resume: bool) -> None:
     if fmt == "parquet":
         if plot:
             raise Abort("--plot draws from a table of every point; it does not go with --format parquet")
+        if not to_file(output) and sys.stdout.isatty():
+            raise Abort("--format parquet: a binary file; give -o FILE.parquet or a pipe")
         try:
             need_pyarrow()
         except StudyError as exc:

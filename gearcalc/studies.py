@@ -143,6 +143,12 @@ class Resumable:
             os.close(self.fd)
             self.fd = None
             raise StudyError(f"--resume: {self.data} is being written by another gearcalc") from None
+        prev = self.data + ".prev"
+        if self.parquet and os.path.exists(prev):  # a resumed run killed hard: its file has no footer, this one has
+            os.replace(prev, self.data)
+            os.close(self.fd)
+            self.fd = os.open(self.data, os.O_RDWR | getattr(os, "O_CLOEXEC", 0))
+            self._lock()
         self.kept = self._read_record()
         if self.kept is not None:
             self._check(self.kept)

@@ -212,3 +212,27 @@ def test_resume_on_scheduler(tmp_path):
     r = cli_proc("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--scheduler", "local:2")
     assert r.code == 0, r
     assert out.read_bytes() == ref.read_bytes()
+
+
+def test_parquet_partial_without_footer_starts_over(tmp_path, monkeypatch):
+    """A partial Parquet file whose run was killed hard (SIGKILL: no footer) cannot be read: said, started over."""
+    ref, out = tmp_path / "ref.parquet", tmp_path / "out.parquet"
+    assert cli("sweep", DESIGN, *SMALL, "-o", ref, "--jobs", "2").code == 0
+    _stopped(monkeypatch, 2, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    partial = tmp_path / ".out.parquet.partial"
+    partial.write_bytes(partial.read_bytes()[:-100])  # as if killed before the footer was written
+    r = cli("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    assert r.code == 0 and "was not closed" in r.err and "starting from the first point" in r.err, r
+    assert pq.read_table(out).equals(pq.read_table(ref))
+    assert _leftovers(tmp_path) == []
+
+
+def test_csv_partial_shorter_than_recorded_starts_over(tmp_path, monkeypatch):
+    ref, out = tmp_path / "ref.csv", tmp_path / "out.csv"
+    assert cli("sweep", DESIGN, *SMALL, "-o", ref, "--jobs", "2").code == 0
+    _stopped(monkeypatch, 2, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    partial = tmp_path / ".out.csv.partial"
+    partial.write_bytes(partial.read_bytes()[:-10])
+    r = cli("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    assert r.code == 0 and "shorter than recorded" in r.err, r
+    assert out.read_bytes() == ref.read_bytes()
