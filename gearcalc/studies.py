@@ -298,6 +298,12 @@ class Resumable:
                 else:
                     os.unlink(self.prev)
                 self.prev = None
+            if self.chunks == 0 and (self.kept is None or self.size):  # nothing complete: nothing to resume
+                for leftover in (self.data, self.record):
+                    try:
+                        os.unlink(leftover)
+                    except FileNotFoundError:
+                        pass
             return False
         try:
             os.fsync(self.fd)

@@ -236,3 +236,12 @@ def test_csv_partial_shorter_than_recorded_starts_over(tmp_path, monkeypatch):
     r = cli("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--jobs", "2")
     assert r.code == 0 and "shorter than recorded" in r.err, r
     assert out.read_bytes() == ref.read_bytes()
+
+
+def test_resume_refused_before_any_chunk_leaves_nothing(tmp_path):
+    """A sweep refused before its first chunk (an axis value the design rejects) leaves no partial output."""
+    out = tmp_path / "out.csv"
+    r = cli("sweep", DESIGN, "--vary", "rows.relative_width=1:3:0.5", "--vary", "rows.count=3,0", "-o", out,
+            "--resume")
+    assert r.code == 2, r
+    assert list(tmp_path.iterdir()) == []
