@@ -9,8 +9,8 @@ The Python API (:mod:`gearcalc.api`) is re-exported here lazily (PEP 562), so ``
 
 __version__ = "0.2.0"
 
-__all__ = ["compute", "compute_files", "load", "sweep", "sweep_chunk", "models", "Batch", "Result", "Design",
-           "InputError", "DesignError", "optimize", "sensitivity", "__version__"]
+__all__ = ["compute", "compute_files", "load", "sweep", "sweep_grid", "sweep_chunk", "models", "Batch", "Result",
+           "Design", "InputError", "DesignError", "optimize", "sensitivity", "__version__"]
 
 
 def __getattr__(name):

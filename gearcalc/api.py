@@ -241,6 +241,28 @@ def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None
         yield from sw.stream(raw, source, axes, Options(tol=tol, model=model), chunk=chunk, cluster=cluster)
 
 
+def sweep_grid(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None, tol: float = DEFAULT_TOL,
+               overrides: Iterable[tuple[str, Any]] | Mapping[str, Any] = (), scheduler=None):
+    """The whole of :func:`sweep` at once: a :class:`gearcalc.studies.GridSweep` (its chunks joined; memory: every
+    point), with ``.data``, ``.rows()``, ``.to_pandas()`` and ``.to_xarray()`` (an ``xarray.Dataset`` with one
+    dimension per varied key; xarray is not a dependency of gearcalc: install it to use this).
+
+    >>> import gearcalc
+    >>> base = {"kind": "rows", "gear": {"sun_teeth": 18, "module_mm": 5.0},
+    ...         "rows": {"count": 3, "planets_per_row": 3, "relative_width": 2.4}, "sun": {"torque_Nm": 1e3}}
+    >>> g = gearcalc.sweep_grid(base, {"rows.count": [2, 3], "rows.relative_width": [2.0, 2.4, 2.8]})
+    >>> g.n, g.shape
+    (6, (2, 3))
+    """
+    from . import grid as sw
+    from .studies import GridSweep
+
+    parts = list(sweep(design, axes, model=model, tol=tol, overrides=overrides, scheduler=scheduler))
+    joined = sw.join_parts(parts) if parts else None
+    data = joined.lists().data if joined is not None else {}
+    return GridSweep(data, list(joined.errors) if joined is not None else [], axes)
+
+
 def sweep_chunk(raw: Mapping, source: str, axes: Mapping[str, list], start: int, stop: int,
                 model: str | None = None, tol: float = DEFAULT_TOL):
     """Points ``start`` to ``stop`` of the grid, evaluated: a pure function of (design, axes, index range),

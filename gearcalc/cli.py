@@ -102,6 +102,8 @@ O_SAMPLE = typer.Option(None, "--sample", metavar="sobol:N|lhs:N|random:N",
                         help="Sample N points of the --vary KEY=LO:HI ranges instead of a grid (integer keys as "
                         "integers, LO..HI inclusive).")
 O_SEED = typer.Option(0, "--seed", help="The seed of the sampled points (the same seed, the same points).")
+O_RESUME = typer.Option(False, "--resume", help="With -o FILE (CSV or Parquet): keep the chunks written so far in "
+                        ".FILE.partial when the run stops, and continue an interrupted run's from its next chunk.")
 
 
 def model_levels(kinds) -> str:
@@ -164,16 +166,17 @@ def kind_examples(kind: str) -> str:
                     f"gearcalc {kind} {kind}.toml --set {EXAMPLE_SET.get(kind, 'KEY=VALUE')} --plot {kind}.png")
 
 
-def pick_format(fmt: Optional[str], output: Optional[str]) -> str:
+def pick_format(fmt: Optional[str], output: Optional[str], extra: tuple = ()) -> str:
+    """The output format; ``extra``: formats this command writes beyond table, csv, json (sweep: parquet)."""
+    formats = ["table", "csv", "json", *extra]
     if fmt is not None:
         fmt = fmt.lower()
-        if fmt not in ("table", "csv", "json"):
-            raise Abort(f"--format {clip(fmt)}: must be one of table, csv, json"
-                        + did_you_mean(fmt, ["table", "csv", "json"]))
+        if fmt not in formats:
+            raise Abort(f"--format {clip(fmt)}: must be one of " + ", ".join(formats) + did_you_mean(fmt, formats))
         return fmt
     if output and output != "-":  # -o - is standard output: the terminal/pipe rule
         ext = os.path.splitext(output)[1].lower()
-        return {".json": "json", ".txt": "table"}.get(ext, "csv")
+        return {".json": "json", ".txt": "table", **{f".{x}": x for x in extra}}.get(ext, "csv")
     return "table" if sys.stdout.isatty() else "csv"
 
 
@@ -398,6 +401,7 @@ def sweep_cmd(
     sample: Optional[str] = O_SAMPLE,
     seed: int = O_SEED,
     where_: Optional[List[str]] = O_WHERE,
+    resume: bool = O_RESUME,
 ):
     """Evaluate one design over a grid of key values; one output row per point.
 
@@ -409,11 +413,13 @@ def sweep_cmd(
         from . import grid as sw
         from .engine import check_model
         from .render import CsvRenderer, parse_fields
+        from .studies import StudyError  # the standard library's hashlib and json only
 
-        f = pick_format(fmt, output)
+        f = pick_format(fmt, output, ("parquet",))
         check_tol(tol)
         cluster = dask_cluster(scheduler, jobs, debug)
         check_outputs(output, plot, [file])
+        _study_checks(f, output, plot, resume)
         chosen = parse_fields(fields)
         where = dmod.display_name(file)
         try:
@@ -438,16 +444,23 @@ def sweep_cmd(
                     # CSV: each chunk formatted where it is computed (in the --jobs workers too)
                     post = CsvRenderer(kind, chosen, tuple(axes)) if csv_out else None
                     post = _filtered(conditions, post)
-                    chunks = sw.stream(raw, file, axes, Options(tol=tol, model=model), progress=bar.advance,
-                                       jobs=jobs, cluster=cluster, debug=debug, arrays=csv_out, post=post)
+                    options = Options(tol=tol, model=model)
+                    sink = _study_sink(f, output, resume, raw, axes, options, chosen, where_, vary, sample, seed)
+                    chunks = sw.stream(raw, file, axes, options, progress=bar.advance, jobs=jobs, cluster=cluster,
+                                       debug=debug, arrays=csv_out or f == "parquet", post=post,
+                                       plan=sink.plan if resume else None)
                     if f == "table" or plot:  # a table and a figure show every point at once
                         result = _sweep_whole(chunks, f, output, chosen, axes, where, plot, calc)
+                    elif f == "parquet":  # one row group a chunk
+                        result = _sweep_parquet(chunks, sink, chosen, tuple(axes), calc, where)
                     else:  # CSV and JSON are written a chunk at a time: memory follows the chunk, not the grid
-                        result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc, where)
+                        result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc, where, sink)
             finally:
                 bar.stop()
         except sw.SweepError as exc:
             raise Abort(f"{where}: {exc}") from None
+        except StudyError as exc:
+            raise Abort(str(exc)) from None
         if result is None:
             return EXIT_BUG
         failed, total, code = result
@@ -613,18 +626,23 @@ def _fields_or_abort(fields, names) -> None:
         raise Abort("; ".join(bad))
 
 
-def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: str):
+def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: str, sink=None):
     """Write a sweep's chunks as they come (CSV: the header once; JSON: one array); (failed points, points,
-    exit status), or None after an internal-error message (a non-finite value)."""
+    exit status), or None after an internal-error message (a non-finite value).  ``sink``: the output
+    (``--resume``: a :class:`gearcalc.studies.Resumable`, its header already written when resumed)."""
     from .output import stream, to_file
     from .render import CsvPiece, NonFiniteOutput, csv_blocks, json_array_piece, select_columns
 
     failed, total = Counter(), 0
     code = EXIT_OK
     try:
-        with stream(output if to_file(output) else None) as out:
+        with sink if sink is not None else stream(output if to_file(output) else None) as out:
             first = True
+            done = getattr(out, "chunk_done", None)
             for part in chunks:
+                if done is not None and out.resumed:  # the interrupted run's header and chunks are kept
+                    first, failed, total, code = False, out.start.failed, out.start.total, out.start.code
+                    out.resumed = False
                 if _point_errors(part, where, failed):
                     code = EXIT_INPUT
                 if isinstance(part, CsvPiece):  # formatted where it was computed (CsvRenderer)
@@ -637,6 +655,8 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: st
                         out.write(block)
                     first = False
                     del part
+                    if done is not None:
+                        done(failed, total, code)
                     continue
                 if first:
                     _fields_or_abort(fields, part.data)
@@ -652,11 +672,102 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: st
                     out.write(json_array_piece(shown, first))
                 first = False
                 del part, shown  # one chunk at a time
+                if done is not None:
+                    done(failed, total, code)
+            if done is not None and out.resumed:  # resumed after the last chunk: nothing left to compute
+                failed, total, code = out.start.failed, out.start.total, out.start.code
             if fmt == "json":
                 out.write("[]\n" if first else "\n]\n")
     except NonFiniteOutput as exc:
         err(f"internal error: {exc}; please report it with the design file")
         return None
+    return failed, total, code
+
+
+def _study_checks(fmt: str, output, plot, resume: bool) -> None:
+    """Parquet and ``--resume``: what they need, before any computation (exit 2)."""
+    from .output import _special, descriptor, to_file
+    from .studies import StudyError, need_pyarrow
+
+    if fmt == "parquet":
+        if plot:
+            raise Abort("--plot draws from a table of every point; it does not go with --format parquet")
+        if not to_file(output) and sys.stdout.isatty():
+            raise Abort("--format parquet: a binary file; give -o FILE.parquet or a pipe")
+        try:
+            need_pyarrow()
+        except StudyError as exc:
+            raise Abort(str(exc)) from None
+    if resume:
+        if fmt not in ("csv", "parquet") or plot:
+            raise Abort("--resume: resumes CSV or Parquet output written with -o FILE (not "
+                        + ("--plot" if plot else fmt) + ")")
+        if not to_file(output) or descriptor(output) is not None or _special(output):
+            raise Abort("--resume needs -o FILE, a regular file (its partial output is kept beside it)")
+
+
+def _study_sink(fmt: str, output, resume: bool, raw, axes, options, fields, where_, vary, sample, seed):
+    """The output of a Parquet or ``--resume`` sweep: a :class:`gearcalc.studies.Resumable` (``--resume``), a
+    :func:`gearcalc.output.stream` (Parquet), or None (the default output of :func:`_sweep_stream`)."""
+    if not resume and fmt != "parquet":
+        return None
+    from . import studies
+
+    spec = {"sampler": sample.split(":")[0], "n": sample.split(":", 1)[-1], "seed": seed, "vary": list(vary)} \
+        if sample is not None else None
+    finger = studies.fingerprint(raw, axes, options, fmt, fields, where_, spec)
+    if resume:
+        return studies.Resumable(output, finger, say=err)
+    from .output import stream, to_file
+
+    sink = stream(output if to_file(output) else None)
+    sink.finger = finger
+    return sink
+
+
+def _sweep_parquet(chunks, sink, fields, lead: tuple, calc, where: str):
+    """Write a sweep's chunks as Parquet, one row group each (:class:`gearcalc.studies.ParquetOut`); (failed
+    points, points, exit status)."""
+    from . import grid as sw
+    from .render import select_columns
+    from .studies import ParquetOut, metadata
+
+    failed, total = Counter(), 0
+    code = EXIT_OK
+    with sink as out:
+        done = getattr(out, "chunk_done", None)
+        finger = getattr(out, "finger", None) or sink.finger
+        writer = None
+
+        def opened():
+            meta = metadata(finger, getattr(out, "size", 0) or sw.CHUNK_POINTS)
+            made = ParquetOut(out, meta, getattr(out, "prev", None), getattr(out, "groups", 0))
+            if done is not None:
+                out.writer = made
+            return made
+
+        try:
+            for part in chunks:
+                if writer is None:
+                    writer = opened()
+                    if done is not None and out.resumed:
+                        failed, total, code = out.start.failed, out.start.total, out.start.code
+                    _fields_or_abort(fields, part.data)
+                if _point_errors(part, where, failed):
+                    code = EXIT_INPUT
+                failed += Counter(calc.failed_points(part.data))
+                total += part.n
+                writer.write(select_columns(part, fields, lead))
+                del part
+                if done is not None:
+                    done(failed, total, code)
+            if writer is None:  # no chunk left to compute (resumed after the last one) or no point
+                writer = opened()
+                if done is not None and out.resumed:
+                    failed, total, code = out.start.failed, out.start.total, out.start.code
+        finally:
+            if writer is not None:
+                writer.close()  # the footer, also when stopped: a partial file is a Parquet file of its chunks
     return failed, total, code
 
 

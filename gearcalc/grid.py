@@ -1014,7 +1014,8 @@ def evaluate_post(raw: dict, source: str, axes: dict[str, list[Any]], start: int
 
 
 def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: int | None = None,
-           progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False, post=None):
+           progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False, post=None,
+           plan=None):
     """The grid evaluated and yielded a chunk at a time (:class:`Columns`, grid order): memory follows the
     chunk, not the grid.  Every chunk has the same columns (those of the whole grid, missing values None),
     so a CSV header written from the first chunk holds for all; with ``jobs > 1`` chunks are evaluated in
@@ -1025,7 +1026,12 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     ``post`` (a picklable callable of a shaped chunk, optional): each chunk is yielded as ``post(chunk)``,
     computed in the worker processes with ``jobs > 1`` (e.g. its CSV text: formatting is most of a big sweep's
     time), in this process otherwise; a :class:`gearcalc.render.CsvPiece` from a worker holds its text in shared
-    memory (:class:`Slots`), valid until the next chunk is asked for: write it before."""
+    memory (:class:`Slots`), valid until the next chunk is asked for: write it before.
+
+    ``plan`` (optional, ``--resume``: :mod:`gearcalc.studies`): called once with (points a chunk, points) before any
+    point is computed; returns (points a chunk, chunks to skip): the chunk size to use (a resumed run's recorded
+    one, so that the chunk boundaries are those of the interrupted run) and how many leading chunks are already
+    written (not computed again; the progress bar counts them as done)."""
     from .render import Columns
 
     total, seconds = prepare(raw, source, axes, options)
@@ -1037,12 +1043,19 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
         keep_freed_memory()
     size = chunk or chunk_points(seconds)
-    if jobs > 1:  # enough chunks to keep every worker busy
+    if jobs > 1 and not chunk:  # enough chunks to keep every worker busy
         size = min(size, max(1, -(-total // (4 * jobs))))
+    skip = 0
+    if plan is not None:
+        size, skip = plan(size, total)
     ranges = [(k, min(k + size, total)) for k in range(0, total, size)]
     header = None
-    if len(ranges) > 1:
+    if len(ranges) > 1:  # the columns of the whole grid: a resumed run's are those of the interrupted one
         header = columns_of(raw, source, axes, options)
+    if skip:
+        if progress:
+            progress(sum(b - a for a, b in ranges[:skip]))
+        ranges = ranges[skip:]
 
     def shaped(part: Columns):
         nonlocal header

@@ -1,0 +1,247 @@
+"""Studies that scale and resume (issue 36 item 6): ``sweep -o FILE.parquet``, ``--resume`` (CSV and Parquet,
+``--jobs``, ``--scheduler``), ``gearcalc.sweep_grid(...).to_xarray()``.  gearcalc/studies.py.
+
+An interrupted run is compared with an uninterrupted run of the same command: byte for byte (CSV), row for row
+(Parquet).  One test interrupts with a real SIGINT once the partial output holds a complete chunk; the others stop
+after k chunks through the test hook ``_GEARCALC_STOP_AFTER_CHUNKS`` (the same KeyboardInterrupt path)."""
+from __future__ import annotations
+
+import csv as csv_module
+import json
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from conftest import CONFIGS, cli, cli_proc
+
+pa = pytest.importorskip("pyarrow")
+pq = pytest.importorskip("pyarrow.parquet")
+
+DESIGN = CONFIGS / "rows_fig3_c1_n4_nw5_B2.0.toml"
+SMALL = ["--vary", "rows.relative_width=1:3:0.0005", "--vary", "rows.count=3,4"]
+"""8 002 points: with --jobs 2 chunks of 1 001 (8 002 / (4 x 2)), 8 chunks."""
+BIG = ["--vary", "rows.relative_width=1:3:0.000005"]
+"""400 001 points: chunks of 65 536 (grid.CHUNK_POINTS: the vectorised rows path, ~3 us a point), 7 chunks."""
+
+
+def _record(path):
+    rec = path.parent / f".{path.name}.partial.json"
+    return json.loads(rec.read_text()) if rec.exists() else None
+
+
+def _leftovers(folder):
+    return sorted(p.name for p in folder.iterdir() if p.name.startswith("."))
+
+
+def _stopped(monkeypatch, k, *args, design=DESIGN):
+    """Run the sweep in process, stopped (as by Ctrl-C) after k complete chunks."""
+    monkeypatch.setenv("_GEARCALC_STOP_AFTER_CHUNKS", str(k))
+    r = cli("sweep", design, *args)
+    monkeypatch.delenv("_GEARCALC_STOP_AFTER_CHUNKS")
+    assert r.code == 130, r
+    return r
+
+
+def test_resume_after_sigint_is_byte_identical(tmp_path):
+    ref, out = tmp_path / "ref.csv", tmp_path / "out.csv"
+    assert cli("sweep", DESIGN, *BIG, "-o", ref).code == 0
+    out.write_text("the old content\n")
+    proc = subprocess.Popen([sys.executable, "-m", "gearcalc", "sweep", str(DESIGN), *BIG, "-o", str(out),
+                             "--resume"], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    deadline = time.monotonic() + 120
+    while proc.poll() is None and time.monotonic() < deadline:  # ready: the partial output holds a chunk
+        rec = _record(out)
+        if rec and rec["chunks"] >= 1:
+            proc.send_signal(signal.SIGINT)
+            break
+        time.sleep(0.01)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 130, err
+    rec = _record(out)
+    assert 1 <= rec["chunks"] < 7 and rec["chunk_points"] == 65536
+    assert out.read_text() == "the old content\n"  # the target is replaced only when the sweep is complete
+    partial = tmp_path / ".out.csv.partial"
+    assert partial.stat().st_size >= rec["bytes"]
+    r = cli_proc("sweep", DESIGN, *BIG, "-o", out, "--resume")
+    assert r.code == 0, r
+    assert out.read_bytes() == ref.read_bytes()
+    assert _leftovers(tmp_path) == []
+
+
+def test_resume_with_jobs_is_byte_identical(tmp_path, monkeypatch):
+    ref, out = tmp_path / "ref.csv", tmp_path / "out.csv"
+    assert cli("sweep", DESIGN, *SMALL, "-o", ref).code == 0
+    _stopped(monkeypatch, 3, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    assert _record(out)["chunks"] == 3 and _record(out)["chunk_points"] == 1001
+    assert not out.exists()
+    _stopped(monkeypatch, 5, *SMALL, "-o", out, "--resume")  # --jobs 1 now: the recorded chunks still
+    assert _record(out)["chunks"] == 5
+    r = cli("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    assert r.code == 0, r
+    assert out.read_bytes() == ref.read_bytes()
+    assert _leftovers(tmp_path) == []
+
+
+def test_resume_keeps_the_exit_status_and_counts(tmp_path, monkeypatch):
+    """Points failing their check only in the chunks of the interrupted run still make the resumed run exit 1,
+    with the same count: the loads fall along the grid, the high ones (pass = false: 630 of 1 996, chunks of 250)
+    come first."""
+    args = ["--vary", "load.radial_N=400000:1000:-200", "--jobs", "2"]
+    design = CONFIGS / "zstk_merko_A_gap.toml"
+    ref = cli("sweep", design, *args, "-o", tmp_path / "ref.csv")
+    assert ref.code == 1 and "check failed at" in ref.err, ref
+    _stopped(monkeypatch, 3, *args, "-o", tmp_path / "out.csv", "--resume", design=design)
+    r = cli("sweep", design, *args, "-o", tmp_path / "out.csv", "--resume")
+    assert (r.code, r.err) == (ref.code, ref.err)
+    assert (tmp_path / "out.csv").read_bytes() == (tmp_path / "ref.csv").read_bytes()
+
+
+def test_parquet_resume_is_row_identical(tmp_path, monkeypatch):
+    ref, out = tmp_path / "ref.parquet", tmp_path / "out.parquet"
+    assert cli("sweep", DESIGN, *SMALL, "-o", ref, "--jobs", "2").code == 0
+    _stopped(monkeypatch, 2, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    partial = tmp_path / ".out.parquet.partial"
+    assert pq.ParquetFile(partial).num_row_groups == 2  # a Parquet file of the complete chunks
+    _stopped(monkeypatch, 5, *SMALL, "-o", out, "--resume")  # its 2 row groups copied, 3 more
+    assert pq.ParquetFile(partial).num_row_groups == 5
+    assert cli("sweep", DESIGN, *SMALL, "-o", out, "--resume").code == 0
+    a, b = pq.read_table(ref), pq.read_table(out)
+    assert a.schema == b.schema and a.equals(b)
+    assert pq.ParquetFile(out).num_row_groups == 8  # one a chunk
+    assert _leftovers(tmp_path) == []
+
+
+def test_parquet_types_values_and_metadata(tmp_path):
+    out = tmp_path / "s.parquet"
+    r = cli("sweep", DESIGN, *SMALL, "-o", out, "--tol", "1e-7")
+    assert r.code == 0, r
+    t = pq.read_table(out)
+    csv = cli("sweep", DESIGN, *SMALL, "--format", "csv", "--tol", "1e-7").out.splitlines()
+    assert t.num_rows == len(csv) - 1 == 8002
+    types = dict(zip(t.schema.names, t.schema.types))
+    assert types["rows.count"] == types["rows"] == pa.int64()
+    assert types["K"] == types["rows.relative_width"] == pa.float64()
+    assert types["stepwise_valid"] == pa.bool_() and types["name"] == pa.string()
+    assert types["unloaded_rows"] == pa.list_(pa.float64())
+    # the values are the CSV's (the CSV writes Python's repr of each float: the same double)
+    last = list(csv_module.DictReader(csv))[-1]
+    row = t.slice(t.num_rows - 1).to_pylist()[0]
+    assert row["K"] == float(last["K"]) and row["rows.count"] == int(last["rows.count"])
+    meta = pq.read_metadata(out).metadata
+    assert meta[b"gearcalc.gearcalc_version"] == b"0.2.0"
+    assert meta[b"gearcalc.tol"] == b"1e-07" and meta[b"gearcalc.model"] == b""
+    assert meta[b"gearcalc.chunk_points"] == b"65536"
+    axes = json.loads(meta[b"gearcalc.axes"])  # a range of up to grid.LAZY_FROM values is its list of values
+    assert list(axes) == ["rows.relative_width", "rows.count"] and axes["rows.count"] == [3, 4]
+    assert axes["rows.relative_width"][:3] == [1.0, 1.0005, 1.001] and len(axes["rows.relative_width"]) == 4001
+    big = tmp_path / "big.parquet"
+    assert cli("sweep", DESIGN, *BIG, "--fields", "K", "-o", big).code == 0
+    assert json.loads(pq.read_metadata(big).metadata[b"gearcalc.axes"]) == {  # a lazy range: its definition
+        "rows.relative_width": {"start": 1.0, "step": 5e-06, "count": 400001, "ints": False}}
+    assert len(meta[b"gearcalc.design_sha256"]) == 64
+
+
+def test_parquet_sample_metadata(tmp_path):
+    out = tmp_path / "s.parquet"
+    r = cli("sweep", DESIGN, "--vary", "rows.relative_width=1:3", "--sample", "sobol:64", "--seed", "7", "-o", out)
+    assert r.code == 0, r
+    meta = pq.read_metadata(out).metadata
+    assert (meta[b"gearcalc.sampler"], meta[b"gearcalc.seed"]) == (b"sobol", b"7")
+    assert json.loads(meta[b"gearcalc.axes"])["vary"] == ["rows.relative_width=1:3"]
+    assert pq.read_table(out).num_rows == 64
+
+
+def test_resume_refuses_other_settings(tmp_path, monkeypatch):
+    out = tmp_path / "out.csv"
+    _stopped(monkeypatch, 2, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    before = (tmp_path / ".out.csv.partial").read_bytes()
+    r = cli("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--tol", "1e-7", "--set", "rows.planets_per_row=4")
+    assert r.code == 2
+    assert "other settings" in r.err and "design_sha256" in r.err and "tol (1e-06 then, 1e-07 now)" in r.err
+    assert (tmp_path / ".out.csv.partial").read_bytes() == before  # left as it was
+
+
+@pytest.mark.parametrize("args, words", [
+    (["--resume"], "needs -o FILE"),
+    (["--resume", "-o", "x.json"], "CSV or Parquet"),
+    (["--resume", "-o", "x.csv", "--format", "table"], "CSV or Parquet"),
+    (["--format", "parquet", "--plot", "p.png", "-o", "x.parquet"], "--plot"),
+    (["--format", "feather"], "table, csv, json, parquet"),
+])
+def test_usage_errors(tmp_path, monkeypatch, args, words):
+    monkeypatch.chdir(tmp_path)
+    r = cli("sweep", DESIGN, *SMALL, *args)
+    assert r.code == 2 and words in r.err, r
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_parquet_without_pyarrow(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "pyarrow", None)  # import pyarrow raises ImportError
+    r = cli("sweep", DESIGN, *SMALL, "-o", tmp_path / "x.parquet")
+    assert r.code == 2 and "pip install 'gearcalc[parquet]'" in r.err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_sweep_grid_to_xarray():
+    xr = pytest.importorskip("xarray")
+    import gearcalc
+
+    axes = {"rows.count": [2, 3], "rows.relative_width": [2.0, 2.4, 2.8]}
+    g = gearcalc.sweep_grid(DESIGN, axes)
+    ds = g.to_xarray()
+    assert isinstance(ds, xr.Dataset) and dict(ds.sizes) == {"rows.count": 2, "rows.relative_width": 3}
+    # each cell is the row of the same point (the first axis varies slowest)
+    for row in g.rows():
+        cell = ds.sel({"rows.count": row["rows.count"], "rows.relative_width": row["rows.relative_width"]})
+        assert cell["K"].item() == row["K"] and cell["rows"].item() == row["rows"]
+    assert g.to_pandas().shape == (6, len(g.data))
+
+
+@pytest.mark.dask
+@pytest.mark.xdist_group("dask")
+def test_resume_on_scheduler(tmp_path):
+    pytest.importorskip("distributed")
+    ref, out = tmp_path / "ref.csv", tmp_path / "out.csv"
+    assert cli("sweep", DESIGN, *SMALL, "-o", ref).code == 0
+    r = cli_proc("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--scheduler", "local:2",
+                 env={"_GEARCALC_STOP_AFTER_CHUNKS": "2"})
+    assert r.code == 130 and _record(out)["chunks"] == 2, r
+    r = cli_proc("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--scheduler", "local:2")
+    assert r.code == 0, r
+    assert out.read_bytes() == ref.read_bytes()
+
+
+def test_parquet_partial_without_footer_starts_over(tmp_path, monkeypatch):
+    """A partial Parquet file whose run was killed hard (SIGKILL: no footer) cannot be read: said, started over."""
+    ref, out = tmp_path / "ref.parquet", tmp_path / "out.parquet"
+    assert cli("sweep", DESIGN, *SMALL, "-o", ref, "--jobs", "2").code == 0
+    _stopped(monkeypatch, 2, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    partial = tmp_path / ".out.parquet.partial"
+    partial.write_bytes(partial.read_bytes()[:-100])  # as if killed before the footer was written
+    r = cli("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    assert r.code == 0 and "was not closed" in r.err and "starting from the first point" in r.err, r
+    assert pq.read_table(out).equals(pq.read_table(ref))
+    assert _leftovers(tmp_path) == []
+
+
+def test_csv_partial_shorter_than_recorded_starts_over(tmp_path, monkeypatch):
+    ref, out = tmp_path / "ref.csv", tmp_path / "out.csv"
+    assert cli("sweep", DESIGN, *SMALL, "-o", ref, "--jobs", "2").code == 0
+    _stopped(monkeypatch, 2, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    partial = tmp_path / ".out.csv.partial"
+    partial.write_bytes(partial.read_bytes()[:-10])
+    r = cli("sweep", DESIGN, *SMALL, "-o", out, "--resume", "--jobs", "2")
+    assert r.code == 0 and "shorter than recorded" in r.err, r
+    assert out.read_bytes() == ref.read_bytes()
+
+
+def test_resume_refused_before_any_chunk_leaves_nothing(tmp_path):
+    """A sweep refused before its first chunk (an axis value the design rejects) leaves no partial output."""
+    out = tmp_path / "out.csv"
+    r = cli("sweep", DESIGN, "--vary", "rows.relative_width=1:3:0.5", "--vary", "rows.count=3,0", "-o", out,
+            "--resume")
+    assert r.code == 2, r
+    assert list(tmp_path.iterdir()) == []
