@@ -16,11 +16,15 @@ import tomllib
 from collections.abc import Sequence
 from typing import Any
 
-from .calculator import DesignError
+from .calculator import DesignError, InputError
 
 
-class SweepError(ValueError):
-    """A malformed ``--vary`` or a grid value the design does not accept."""
+class SweepError(InputError):
+    """A malformed ``--vary`` or a grid value the design does not accept: an :class:`InputError` of one message
+    (so a ``ValueError``)."""
+
+    def __init__(self, message: str):
+        super().__init__([message])
 
 
 MAX_POINTS = 100_000_000
@@ -253,8 +257,10 @@ class Grid(Sequence):
         return {key: point[key] for key in self.keys}
 
     def __iter__(self):
-        combos = itertools.product(*(self.axes[k] for k in self.keys))
-        return (dict(zip(self.keys, c)) for c in itertools.islice(combos, self.start, self.stop))
+        # from the columns of these points: O(points), where itertools.product would copy every axis whole (an
+        # axis of 1e8 values, for a chunk of 65 536 points)
+        columns = [self.column(k) for k in self.keys]
+        return (dict(zip(self.keys, c)) for c in zip(*columns)) if columns else iter([{}] * len(self))
 
     def column(self, key: str, array: bool = False) -> list[Any]:
         """The values of one varied key over the points, in order (built for these points only: a chunk of a
@@ -458,8 +464,9 @@ def grid_points(axes: dict[str, list[Any]]) -> Grid:
     return Grid(axes)
 
 
-def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
-    """Validate the axis values against the base design.
+def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]], word: str = "--vary ") -> None:
+    """Validate the axis values against the base design; a message names the axis as ``{word}KEY=VALUE``
+    (the Python API's word is ``axes: ``).
 
     Every value is checked against its field (type and bounds, cheap); the whole design, with its
     cross-key checks, is validated with each value substituted alone for at most
@@ -480,7 +487,7 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
             for v in _values_to_check(values):
                 _, problem = check_value(field, v)
                 if problem:
-                    raise SweepError(f"--vary {key}={_clip(v)}: {problem}")
+                    raise SweepError(f"{word}{key}={_clip(v)}: {problem}")
         step = max(1, len(values) // (FULL_CHECKS - 1))
         picks = sorted(set(list(range(0, len(values), step)) + [len(values) - 1]))
         for k in picks:
@@ -490,7 +497,7 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
                 validate(trial, source)
             except InputError as exc:
                 prefix = display_name(source) + ": "  # the caller names the file once
-                raise SweepError("; ".join(f"--vary {key}={_clip(values[k])}: {m.removeprefix(prefix)}"
+                raise SweepError("; ".join(f"{word}{key}={_clip(values[k])}: {m.removeprefix(prefix)}"
                                            for m in exc.messages)) from None
 
 
@@ -507,11 +514,11 @@ def _values_to_check(values: list) -> list:
     """The values whose field check stands for all: for an axis of finite floats (a range), its least and
     greatest (a field's bounds are an interval, its type is float for all); else every value.
 
-    >>> _values_to_check([0.5, 0.1, 0.3]), _values_to_check([1, "root"])
-    ([0.1, 0.5], [1, 'root'])
+    >>> _values_to_check([0.5, 0.1, 0.3]), _values_to_check([1, "root"]), _values_to_check(range(1, 10**8))
+    ([0.1, 0.5], [1, 'root'], [1, 99999999])
     """
-    if isinstance(values, Range):  # monotone, one type
-        return [values[0], values[-1]]
+    if isinstance(values, (Range, range)):  # monotone, one type (a Python range: ints)
+        return [values[0], values[-1]] if len(values) else []
     if len(values) > 2 and all(type(v) is float for v in values):
         import math
 
@@ -626,14 +633,15 @@ def evaluate_range(raw: dict, source: str, axes: dict[str, list[Any]], start: in
     return as_columns(evaluate_points(raw, source, axes, Grid(axes, start, stop), options, progress, arrays))
 
 
-def prepare(raw: dict, source: str, axes: dict[str, list[Any]]) -> int:
-    """Validate the base design and every axis value once; the number of grid points."""
+def prepare(raw: dict, source: str, axes: dict[str, list[Any]], word: str = "--vary ") -> int:
+    """Validate the base design and every axis value once (``word``: as in :func:`validate_axes`); the number of
+    grid points."""
     import copy
 
     from .design import validate
 
     validate(copy.deepcopy(raw), source)
-    validate_axes(raw, source, axes)
+    validate_axes(raw, source, axes, word)
     return len(Grid(axes))
 
 
@@ -645,9 +653,9 @@ def columns_of(raw: dict, source: str, axes: dict[str, list[Any]], options) -> l
     """The columns of every point of a grid, in order, learnt ahead from one point per combination of the
     axes' values that are not floats (counts and words decide which fields a design has; a float changes
     only values): None when there are more than :data:`STRUCTURE_PROBES` combinations."""
-    discrete = {k: [] if isinstance(vals, Range) and not vals.ints
-                else list(dict.fromkeys(v for v in vals if not isinstance(v, float)))
-                for k, vals in axes.items()}
+    discrete = {k: _discrete(vals) for k, vals in axes.items()}
+    if any(v is None for v in discrete.values()):
+        return None
     combos = math.prod(max(1, len(v)) for v in discrete.values())
     if combos > STRUCTURE_PROBES:
         return None
@@ -659,6 +667,32 @@ def columns_of(raw: dict, source: str, axes: dict[str, list[Any]], options) -> l
         probes.append(point)
     probe = as_columns(evaluate_points(raw, source, axes, probes, options))
     return list(probe.data)
+
+
+def _discrete(values) -> list | None:
+    """The distinct values of an axis that are not floats, in order (lists too: compared by value); None when
+    there are more than :data:`STRUCTURE_PROBES` (counted up to there only: a range of 1e7 ints costs 257).
+
+    >>> _discrete([3, 2.5, 3, "root", [1, 2], [1, 2]]), _discrete(range(10**7))
+    ([3, 'root', [1, 2]], None)
+    """
+    if isinstance(values, Range) and not values.ints:
+        return []
+    out, seen = [], set()
+    for v in values:
+        if isinstance(v, float):
+            continue
+        try:
+            key = (type(v), v)
+            hash(key)
+        except TypeError:  # a list value: by its text
+            key = (type(v), repr(v))
+        if key not in seen:
+            seen.add(key)
+            out.append(v)
+            if len(out) > STRUCTURE_PROBES:
+                return None
+    return out
 
 
 def shape(part, header: list[str], axes):
@@ -692,7 +726,8 @@ def evaluate_post(raw: dict, source: str, axes: dict[str, list[Any]], start: int
 
 
 def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: int | None = None,
-           progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False, post=None):
+           progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False, post=None,
+           total: int | None = None):
     """The grid evaluated and yielded a chunk at a time (:class:`Columns`, grid order): memory follows the
     chunk, not the grid.  Every chunk has the same columns (those of the whole grid, missing values None),
     so a CSV header written from the first chunk holds for all; with ``jobs > 1`` chunks are evaluated in
@@ -703,10 +738,12 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     ``post`` (a picklable callable of a shaped chunk, optional): each chunk is yielded as ``post(chunk)``,
     computed in the worker processes with ``jobs > 1`` (e.g. its CSV text: formatting is most of a big sweep's
     time), in this process otherwise; a :class:`gearcalc.render.CsvPiece` from a worker holds its text in shared
-    memory (:class:`Slots`), valid until the next chunk is asked for: write it before."""
+    memory (:class:`Slots`), valid until the next chunk is asked for: write it before.  ``total``: the grid's points
+    when the caller has validated the design and the axes (:func:`prepare`) already."""
     from .render import Columns
 
-    total = prepare(raw, source, axes)
+    if total is None:
+        total = prepare(raw, source, axes)
     if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
         keep_freed_memory()
     size = chunk or CHUNK_POINTS

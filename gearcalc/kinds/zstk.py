@@ -184,8 +184,9 @@ def sweep(base, raw, axes, points, options):
         field = next((t.field(name) for t in TABLES if t.name == table), None)
         if field is None:
             return None
-        resolved = {_hashable(v): check_value(field, v)[0] for v in axes[key]}
-        cols[key] = [resolved[_hashable(pt[key])] for pt in points]
+        column = [pt[key] for pt in points]  # this chunk's values only (an axis may have 1e8)
+        resolved = {_hashable(v): check_value(field, v)[0] for v in column}
+        cols[key] = [resolved[_hashable(v)] for v in column]
     p = _prepare(cols, size)
     if not np.all(p.valid):
         k = int(np.argmax(~p.valid))
