@@ -7,7 +7,7 @@ The Python API (:mod:`gearcalc.api`) is re-exported here lazily (PEP 562), so ``
 >>> r = gearcalc.compute("configs/rows_fig3_n3_nw3_B2.4.toml")     # doctest: +SKIP
 """
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 __all__ = ["compute", "compute_files", "load", "sweep", "sweep_chunk", "models", "Batch", "Result", "Design",
            "InputError", "DesignError", "__version__"]

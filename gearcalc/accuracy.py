@@ -307,7 +307,7 @@ def run_case(kind: str, case: str, tag: str, design, level: str, tol: float, bud
     try:
         res, seconds = time_call(lambda: calc.compute(design, opts), budget)
     except DesignError as exc:
-        row.update(ran=None, note=f"n/a: {exc.key}: {exc.message}"[:120])
+        row.update(ran=None, note=f"n/a: {exc}"[:120])
         return row
     s = res.summary
     ran = s.get("model") or level

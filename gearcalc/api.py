@@ -133,15 +133,19 @@ def compute(design, *, model: str | None = None, tol: float = DEFAULT_TOL, detai
     resolved design; ``result.to_dict()`` is the JSON object, ``result.to_pandas()`` a one-row DataFrame.
 
     Raises ``InputError`` (a ``ValueError``) for bad input: a design the schema refuses, an unknown model level,
-    a tolerance outside (0, 0.1), and as its subclass ``DesignError`` a design the physics cannot compute.
+    a tolerance outside [1e-15, 0.1), and as its subclass ``DesignError`` a design the physics cannot compute
+    (also one whose output would be infinite or NaN).
     """
-    from .engine import check_model
+    from .engine import check_model, finite_error
 
     model, tol, detail = _model_arg(model), _tol_arg(tol), _flag("detail", detail)
     d = load(design, overrides=overrides, kind=kind)
     check_model(model, d.kind, MODEL)
     with _quiet():
         result = _registry().get(d.kind).compute(d, Options(tol=tol, model=model, detail=detail))
+    bad = finite_error(d, result)  # never an inf or a NaN as a result: the design's error, as on the command line
+    if bad is not None:
+        raise bad
     result.design = d.resolved()
     result.name, result.kind = d.name, d.kind
     return result
@@ -227,6 +231,8 @@ def sweep(design, axes: Mapping[str, Any], *, model: str | None = None, tol: flo
     with ``.rows()``, a DataFrame with ``.to_pandas()``), in grid order.  Memory is bounded by the chunk,
     not by the grid.  ``scheduler``: the chunks are computed on a Dask cluster (an address, ``"local:N"``
     or a ``distributed.Client``; needs the ``dask`` extra), the same values in the same order.
+    A point whose output would be infinite or NaN has every output None and its message in the chunk's
+    ``errors`` (``"at {'KEY': VALUE}: FIELD: the computed value is inf (...)"``); the other points are computed.
 
     ``axes`` maps dotted keys to their values: a list, a tuple, a ``range`` or a 1-d numpy array, not empty; at
     most ``gearcalc.grid.MAX_POINTS`` points in all (counted before any value is read).  The design, the axes and
@@ -248,30 +254,36 @@ def sweep(design, axes: Mapping[str, Any], *, model: str | None = None, tol: flo
     scheduler = _scheduler_arg(scheduler)
     axes = _axes(axes)
     raw, source = _raw(design, _overrides(overrides))
-    total = sw.prepare(raw, source, axes, AXES)
+    opts = Options(tol=tol, model=model)
+    prepared = sw.prepare(raw, source, axes, opts, AXES)
     check_model(model, raw["kind"], MODEL)
-    if isinstance(scheduler, str):
+    if scheduler is None:  # (on a cluster the time is judged by its threads, when connected)
+        problem = sw.cost_problem(axes, *prepared)
+        if problem:  # the command line's words for a range, the API's
+            _fail(AXES + problem.replace("narrow a --vary range", "narrow an axis").replace("(e.g. --vary ", "(e.g. "))
+    else:
         from .distributed import parse
 
-        with _scheduler_errors():
-            parse(scheduler)  # a malformed address fails now, not at the first chunk
-    return _chunks(raw, source, axes, Options(tol=tol, model=model), chunk, total, scheduler)
+        if isinstance(scheduler, str):
+            with _scheduler_errors():
+                parse(scheduler)  # a malformed address fails now, not at the first chunk
+    return _chunks(raw, source, axes, opts, chunk, prepared, scheduler)
 
 
 AXES = "axes: "
 """How messages name a sweep's axis in the Python API (the command line's ``--vary``)."""
 
 
-def _chunks(raw: dict, source: str, axes: dict, opts: Options, chunk, total: int, scheduler) -> Iterator:
+def _chunks(raw: dict, source: str, axes: dict, opts: Options, chunk, prepared: tuple, scheduler) -> Iterator:
     from . import grid as sw
 
     if scheduler is None:
-        yield from _quietly(sw.stream(raw, source, axes, opts, chunk=chunk, total=total))
+        yield from _quietly(sw.stream(raw, source, axes, opts, chunk=chunk, prepared=prepared))
         return
     from .distributed import Cluster
 
     with _scheduler_errors(), Cluster(scheduler) as cluster:
-        yield from _quietly(sw.stream(raw, source, axes, opts, chunk=chunk, cluster=cluster, total=total))
+        yield from _quietly(sw.stream(raw, source, axes, opts, chunk=chunk, cluster=cluster, prepared=prepared))
 
 
 def sweep_chunk(raw: Mapping, source: str, axes: Mapping[str, Any], start: int, stop: int,
@@ -291,7 +303,7 @@ def sweep_chunk(raw: Mapping, source: str, axes: Mapping[str, Any], start: int, 
     start, stop = _count("start", start, 0), _count("stop", stop, 0)
     axes = _axes(axes)
     raw = _plain(raw, source)
-    total = sw.prepare(raw, source, axes, AXES)
+    total = sw.prepare(raw, source, axes, Options(tol=tol, model=model), AXES)[0]
     if not start < stop <= total:
         _fail(f"start = {start}, stop = {stop}: must be 0 <= start < stop <= {total} (the grid's points)")
     check_model(model, raw["kind"], MODEL)
@@ -358,17 +370,20 @@ def _model_arg(model) -> str | None:
 
 
 def _tol_arg(tol) -> float:
+    """A tolerance: any real number (int, float, numpy, Fraction) that :func:`~gearcalc.calculator.tol_problem`
+    takes, as a float."""
     import numbers
 
+    from .calculator import tol_problem
+
     shown = f"tol = {_shown(tol) if isinstance(tol, numbers.Real) else _a(tol)}"
-    if isinstance(tol, bool) or not isinstance(tol, numbers.Real):
-        _fail(f"{shown}: must be a number > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
     try:
-        value = float(tol)
+        value = float(tol) if isinstance(tol, numbers.Real) and not isinstance(tol, bool) else None
     except (TypeError, ValueError, OverflowError):
-        value = float("nan")
-    if not 0.0 < value < 0.1:
-        _fail(f"{shown}: must be > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
+        value = None
+    problem = tol_problem(value)
+    if problem:
+        _fail(f"{shown}: {problem}")
     return value
 
 
@@ -681,12 +696,13 @@ def _plain(value: Any, where: str, budget: list[int] | None = None) -> Any:
 @contextmanager
 def _quiet():
     """No numpy warning escapes a computation (a design's undefined values are flags and messages, never a
-    ``RuntimeWarning``), whatever the caller's warning filters (e.g. ``simplefilter("error")``)."""
+    ``RuntimeWarning``), whatever the caller's warning filters (e.g. ``simplefilter("error")``): numpy's
+    floating-point warnings off (:func:`~gearcalc.engine.quiet_numpy`) and any other ``RuntimeWarning`` ignored."""
     import warnings
 
-    import numpy as np
+    from .engine import quiet_numpy
 
-    with warnings.catch_warnings(), np.errstate(all="ignore"):
+    with warnings.catch_warnings(), quiet_numpy():
         warnings.simplefilter("ignore", RuntimeWarning)
         yield
 

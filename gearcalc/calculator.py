@@ -13,9 +13,13 @@ module (``gearcalc.kinds.<kind>``) defines a module-level ``CALCULATOR`` of type
 * ``sweep(base, raw, axes, points, options) -> dict[str, list] | list[dict] | None`` (optional):
   the summaries of a whole grid at once, vectorised, column-major (a list per field) or as rows;
   ``None`` falls back to point-by-point evaluation.
+* ``sweep_cost(base, axes, options) -> float`` (optional): the estimated seconds of computing one point
+  of that grid (by the path ``sweep`` takes); a sweep over its time budget is refused before it starts,
+  and its chunks are sized by it (:func:`gearcalc.grid.prepare`, :func:`gearcalc.grid.chunk_points`).
 * ``batch(designs, options) -> list[Result | Exception]`` (optional): many designs of the kind
   at once (numpy over designs), identical to ``compute`` design by design.
-* ``plot(records, path)`` (optional): draw the calculator's figure (matplotlib, imported inside).
+* ``plot(records, path)`` (optional): draw the calculator's figure (matplotlib, imported inside) and
+  return the records it drew (a figure holds a few designs; :func:`gearcalc.plot.plot_records` names the rest).
 
 This module imports nothing heavy: ``gearcalc --help`` loads it.
 """
@@ -114,6 +118,22 @@ class Table:
         return None
 
 
+TOL_MIN, TOL_MAX = 1e-15, 0.1
+"""The range of ``--tol`` (``tol``): [1e-15, 0.1).  A relative accuracy below 1e-15 is under float64's round-off
+(2.2e-16 relative): no computation can meet it, and the levels it would ask for overflow."""
+
+
+def tol_problem(tol) -> str | None:
+    """What is wrong with a tolerance (``"must be ..."``), or None: the one rule of the CLI and the API.
+
+    >>> tol_problem(1e-6), tol_problem(1e-320)
+    (None, 'must be >= 1e-15 and < 0.1 (a relative accuracy, e.g. 1e-6; below 1e-15 is under the round-off of floats)')
+    """
+    if isinstance(tol, (int, float)) and not isinstance(tol, bool) and TOL_MIN <= tol < TOL_MAX:
+        return None
+    return "must be >= 1e-15 and < 0.1 (a relative accuracy, e.g. 1e-6; below 1e-15 is under the round-off of floats)"
+
+
 @dataclass
 class Options:
     """Run options that reach the calculator."""
@@ -167,6 +187,18 @@ class Result:
         return pd.DataFrame(self.detail[table])
 
 
+def keyed(key: str, message: str) -> str:
+    """A problem's key and message as one text: ``key = value: why`` when the message starts with the value
+    (``"= 20: ..."``), else ``key: message``.
+
+    >>> keyed("gearing.pins", "= 20: too many"), keyed("rows.count", "missing"), keyed("", "no key")
+    ('gearing.pins = 20: too many', 'rows.count: missing', 'no key')
+    """
+    if not key:
+        return message
+    return f"{key} {message}" if message.startswith("= ") else f"{key}: {message}"
+
+
 class InputError(ValueError):
     """Bad input (exit code 2): carries every message (a design's already prefixed by the file name).
 
@@ -190,7 +222,7 @@ def _rebuild(cls, args, state):
 
 class DesignError(InputError):
     """An input that the schema accepted but the physics cannot: exit code 2.  An :class:`InputError` (its one
-    message is ``"key: message"``), so bad input of either kind is caught as one.
+    message is :func:`keyed`), so bad input of either kind is caught as one.
 
     Parameters
     ----------
@@ -199,7 +231,7 @@ class DesignError(InputError):
     """
 
     def __init__(self, key: str, message: str):
-        super().__init__([f"{key}: {message}" if key else message])
+        super().__init__([keyed(key, message)])
         self.key = key
         self.message = message
 
@@ -230,6 +262,7 @@ class Calculator:
     models: tuple[str, ...] = ()
     header: str = ""
     sweep: Callable[..., Any] | None = None
+    sweep_cost: Callable[..., float] | None = None
     plot: Callable[..., Any] | None = None
     batch: Callable[[Sequence[Any], Options], list[Any]] | None = None
     """Optional: compute many validated designs of this kind at once (numpy over designs).
@@ -240,6 +273,9 @@ class Calculator:
     identical to ``compute``; the CLI uses it for batches of two or more designs.
     """
 
+    implicit: Callable[[Any], dict] | None = None
+    """Optional: the values the computation takes for keys a valid design leaves out and no schema default fills
+    (dotted key -> value, e.g. the default allowable stress), for ``gearcalc check --resolved``."""
     table_fields: tuple[str, ...] = ()
     """The summary fields a terminal table shows for several designs (after ``name``), the handful an
     engineer reads first; ``--fields`` chooses others.  Empty: every field."""
@@ -255,6 +291,7 @@ class Calculator:
         bad = [False] * n
         for name, value in self.failure:
             col = columns.get(name)
+            col = col.tolist() if hasattr(col, "tolist") else col  # a numpy column: its values as Python's
             if col is not None:
                 bad = [b or (v is not None and v == value and type(v) is type(value)) for b, v in zip(bad, col)]
         return sum(bad)

@@ -68,15 +68,15 @@ O_OUTPUT = typer.Option(None, "--output", "-o", help="Write to this file instead
 O_SET = typer.Option(None, "--set",
                      help="Override a design key for this run: KEY=VALUE with a dotted KEY (repeatable).")
 O_TOL = typer.Option(1e-6, "--tol", help="Relative accuracy target for numerically computed results (0 < REL < 0.1).")
-O_MODEL = typer.Option(None, "--model", help="Force a model level (see the calculator's levels); "
-                       "default: the cheapest level the design needs.")
+MODEL_HELP = "Force a model level; default: the cheapest level the design needs."
+O_MODEL = typer.Option(None, "--model", metavar="LEVEL", help=MODEL_HELP)
 O_PLOT = typer.Option(None, "--plot", help="Draw the calculator's figure to this file: png, pdf, svg, ... from its "
                       "extension (needs the 'plot' extra).")
 O_DEBUG = typer.Option(False, "--debug", help="Show the traceback of an internal error.")
 O_FIELDS = typer.Option(None, "--fields", metavar="A,B,...",
                         help="Summary fields to output, comma-separated (name always first); 'all' for every "
-                        "field. Default: a table of several designs shows each kind's main fields, CSV and JSON "
-                        "every field.")
+                        "field; 'file' adds the design's file; with --detail also detail columns. Default: a table "
+                        "of several designs shows each kind's main fields, CSV and JSON every field.")
 O_VERBOSE = typer.Option(False, "--verbose", "-v",
                          help="Repeat a warning that many designs share once per design (default: once, "
                          "with the count and the first names).")
@@ -88,6 +88,59 @@ O_SCHEDULER = typer.Option(None, "--scheduler", envvar="DASK_SCHEDULER_ADDRESS",
                            "scheduler file *.json), or local[:N] for N worker processes here (default: the "
                            "cores). Output identical to a run without it. Default: $DASK_SCHEDULER_ADDRESS. "
                            "Needs the 'dask' extra.")
+
+
+def model_levels(kinds) -> str:
+    """The --model help with the levels of these kinds, cheapest first (the registry's: the calculators' own
+    lists, without importing a calculator)."""
+    kinds = [k for k in kinds if k in registry.kinds()]
+    if len(kinds) == 1:
+        return f"{MODEL_HELP} Levels: {', '.join(registry.levels(kinds[0]))}."
+    return f"{MODEL_HELP} Levels: " + "; ".join(f"{k}: {', '.join(registry.levels(k))}" for k in kinds) + "."
+
+
+class _Help(typer.core.TyperCommand):
+    """A command whose help page names the model levels of its kinds under --model (``kinds``: None for all)."""
+
+    kinds: Optional[tuple] = None
+
+    def format_help(self, ctx, formatter) -> None:
+        for p in self.params:
+            if p.name == "model":
+                p.help = model_levels(self.kinds or registry.kinds())
+        super().format_help(ctx, formatter)
+
+
+def _help_of(kind: Optional[str] = None):
+    return type("Help", (_Help,), {"kinds": (kind,) if kind else None})
+
+
+def examples(*lines: str) -> str:
+    """A help page's epilog: example command lines, kept as written (click's \\b: no rewrapping)."""
+    return "\b\nExamples:\n" + "\n".join(f"  {line}" for line in lines)
+
+
+EXAMPLES = {
+    "run": examples("gearcalc run configs --format table          # every design below a folder",
+                    "gearcalc run configs --format json -o results.json",
+                    "gearcalc run a.toml b.toml --fields name,efficiency --jobs 4"),
+    "sweep": examples("gearcalc sweep configs/rows_mass_fig5.toml --vary rows.count=1,2,3,4 \\",
+                      "    --vary gear.ratio=2.2:12:0.05 --plot fig5.png",
+                      "gearcalc sweep gear.toml --vary friction.sliding=0.02:0.2:0.02 --format json"),
+    "accuracy": examples("gearcalc accuracy pins --tols 1e-3,1e-6", "gearcalc accuracy --plot accuracy.png"),
+    "check": examples("gearcalc check configs", "gearcalc check gear.toml --resolved > resolved.toml"),
+    "new": examples("gearcalc new rows > gear.toml", "gearcalc new pins -o pins.toml     # --force replaces a file"),
+}
+
+
+EXAMPLE_SET = {"pins": "friction.sliding=0.08", "zstk": "load.radial_N=12000", "rows": "rows.count=4"}
+"""A --set for each kind's examples (tests/test_cli.py runs it on the kind's template)."""
+
+
+def kind_examples(kind: str) -> str:
+    return examples(f"gearcalc new {kind} > {kind}.toml && gearcalc {kind} {kind}.toml",
+                    f"gearcalc {kind} {kind}.toml --detail --format json -o {kind}.json",
+                    f"gearcalc {kind} {kind}.toml --set {EXAMPLE_SET.get(kind, 'KEY=VALUE')} --plot {kind}.png")
 
 
 def pick_format(fmt: Optional[str], output: Optional[str]) -> str:
@@ -168,8 +221,11 @@ def emit_text(render_fn, fmt: str, output: Optional[str]) -> bool:
 
 
 def check_tol(tol: float) -> None:
-    if not (0.0 < tol < 0.1):
-        raise Abort(f"--tol {tol}: must be > 0 and < 0.1 (a relative accuracy, e.g. 1e-6)")
+    from .calculator import tol_problem
+
+    problem = tol_problem(tol)
+    if problem:
+        raise Abort(f"--tol {tol}: {problem}")
 
 
 def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
@@ -217,7 +273,11 @@ def _emit(records, fmt, detail, output, plot, worst, fields=None, array=None) ->
     from .render import render, unknown_fields
 
     if fields is not None and records:
-        bad = unknown_fields(fields, list(dict.fromkeys(k for r in records for k in r.result.summary)))
+        from .render import detail_columns
+
+        have = dict.fromkeys(k for r in records for k in r.result.summary)
+        bad = unknown_fields(fields, list(have) + sorted(detail_columns(records) - set(have) if detail else ()),
+                             extra=("name", "file"))
         if bad:
             raise Abort("; ".join(bad) + " (the summary fields are the CSV columns: --format csv --fields all)")
     if records or (fmt == "json" and array):
@@ -228,12 +288,13 @@ def _emit(records, fmt, detail, output, plot, worst, fields=None, array=None) ->
         for note in dict.fromkeys(notes):
             err(note)
         if plot:
-            from .plot import plot_records
+            from .plot import PLOT_HINT, plot_records
 
             try:
-                plot_records(records, plot)
+                for note in plot_records(records, plot):
+                    err(note)
             except ImportError:
-                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                err(PLOT_HINT)
                 worst = max(worst, EXIT_INPUT)
     return worst
 
@@ -263,10 +324,11 @@ def _kind_command(kind: str, summary: str):
 
 
 for _kind in registry.KINDS:  # the registry is the one list of kinds
-    app.command(_kind, help=registry.help_of(_kind))(_kind_command(_kind, registry.help_of(_kind)))
+    app.command(_kind, help=registry.help_of(_kind), cls=_help_of(_kind),
+                epilog=kind_examples(_kind))(_kind_command(_kind, registry.help_of(_kind)))
 
 
-@app.command("run")
+@app.command("run", cls=_help_of(), epilog=EXAMPLES["run"])
 def run_cmd(
     paths: List[str] = typer.Argument(
         ..., metavar="PATH...", help="Design files or folders (every *.toml below a folder); '-' reads stdin."),
@@ -291,7 +353,7 @@ def run_cmd(
                                  verbose, scheduler), debug)
 
 
-@app.command("sweep")
+@app.command("sweep", cls=_help_of(), epilog=EXAMPLES["sweep"])
 def sweep_cmd(
     file: str = typer.Argument(..., metavar="FILE", help="One design file ('-' reads standard input)."),
     vary: List[str] = typer.Option(..., "--vary", help="KEY=SPEC: an axis of the grid; SPEC is start:stop:step "
@@ -347,7 +409,7 @@ def sweep_cmd(
                     if f == "table" or plot:  # a table and a figure show every point at once
                         result = _sweep_whole(chunks, f, output, chosen, axes, where, plot, calc)
                     else:  # CSV and JSON are written a chunk at a time: memory follows the chunk, not the grid
-                        result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc)
+                        result = _sweep_stream(chunks, f, output, chosen, tuple(axes), calc, where)
             finally:
                 bar.stop()
         except sw.SweepError as exc:
@@ -369,8 +431,12 @@ def dask_cluster(scheduler: Optional[str], jobs: int, debug: bool):
     it says its dashboard on a terminal), or None: then gearcalc does not import Dask."""
     if scheduler is None:
         return None
-    from .distributed import Cluster, SchedulerError, is_terminal
+    from .distributed import Cluster, SchedulerError, is_terminal, parse
 
+    try:
+        parse(scheduler)  # an empty value (a script's unset variable) is refused before --jobs is looked at
+    except SchedulerError as exc:
+        raise Abort(str(exc)) from None
     if jobs > 1:
         given = any(a.startswith("--scheduler") for a in sys.argv)
         source = "" if given else " (from DASK_SCHEDULER_ADDRESS)"
@@ -415,17 +481,20 @@ def _fields_or_abort(fields, names) -> None:
         raise Abort("; ".join(bad))
 
 
-def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc):
+def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: str):
     """Write a sweep's chunks as they come (CSV: the header once; JSON: one array); (failed points, points,
     exit status), or None after an internal-error message (a non-finite value)."""
     from .output import stream, to_file
     from .render import CsvPiece, NonFiniteOutput, csv_blocks, json_array_piece, select_columns
 
     failed = total = 0
+    code = EXIT_OK
     try:
         with stream(output if to_file(output) else None) as out:
             first = True
             for part in chunks:
+                if _point_errors(part, where):
+                    code = EXIT_INPUT
                 if isinstance(part, CsvPiece):  # formatted where it was computed (CsvRenderer)
                     if first:
                         _fields_or_abort(fields, part.columns)
@@ -454,7 +523,15 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc):
     except NonFiniteOutput as exc:
         err(f"internal error: {exc}; please report it with the design file")
         return None
-    return failed, total, EXIT_OK
+    return failed, total, code
+
+
+def _point_errors(part, where: str) -> bool:
+    """Say the errors of a sweep chunk's points that could not be computed (their outputs are empty); any?"""
+    errors = getattr(part, "errors", ())
+    for e in errors:
+        err(f"{where}: {e}")
+    return bool(errors)
 
 
 def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc):
@@ -468,7 +545,9 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
         what = "--plot" if plot else "a table"
         raise Abort(f"{where}: the grid has {total} points; {what} holds every point at once and takes at most "
                     f"{sw.MAX_WHOLE_POINTS} (memory): write --format csv or json, which stream any size")
-    rows = sw.join_parts(list(chunks))
+    parts = list(chunks)
+    code = EXIT_INPUT if any([_point_errors(p, where) for p in parts]) else EXIT_OK
+    rows = sw.join_parts(parts)
     _fields_or_abort(fields, rows.data)
     default = list(calc.table_fields) or None
     notes: list[str] = []
@@ -479,14 +558,13 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
         return None
     for note in notes:
         err(note)
-    code = EXIT_OK
     if plot:
-        try:
-            from .plot import plot_sweep
+        from .plot import PLOT_HINT, plot_sweep
 
+        try:
             plot_sweep(calc.kind, rows.rows(), list(axes), plot)
         except ImportError:
-            err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+            err(PLOT_HINT)
             code = EXIT_INPUT
     return calc.failed_points(rows.data), rows.n, code
 
@@ -532,14 +610,16 @@ class Progress:
 
     def _show(self) -> None:
         from rich.console import Console
-        from rich.progress import BarColumn, MofNCompleteColumn, Progress as Bar, TextColumn, TimeElapsedColumn
+        from rich.progress import (BarColumn, MofNCompleteColumn, Progress as Bar, TextColumn, TimeElapsedColumn,
+                                   TimeRemainingColumn)
 
         with self.lock:
             if self.timer is None:  # stopped meanwhile
                 return
             console = Console(file=self.stream, stderr=True)
+            eta = (TextColumn("left"), TimeRemainingColumn()) if self.total else ()  # once the rate is known
             self.bar = Bar(TextColumn("computing"), BarColumn(), MofNCompleteColumn(), TextColumn(self.unit),
-                           TimeElapsedColumn(), console=console, transient=True)
+                           TimeElapsedColumn(), *eta, console=console, transient=True)
             self.bar.start()
             self.task = self.bar.add_task("computing", total=self.total or None, completed=self.done)
 
@@ -566,7 +646,7 @@ def _is_terminal(stream) -> bool:
         return False
 
 
-@app.command("accuracy")
+@app.command("accuracy", epilog=EXAMPLES["accuracy"])
 def accuracy_cmd(
     kinds: Optional[List[str]] = typer.Argument(None, metavar="[KIND]...",
                                               help="Calculators to report (default: all): pins, zstk, rows."),
@@ -621,17 +701,17 @@ def accuracy_cmd(
         title = "gearcalc accuracy: " + "; ".join(f"{k}: {acc.SPECS[k].quantity}" for k in names)
         notes: list[str] = []
         if not emit_text(lambda width, color: render_rows(out, f, title=title, width=width, color=color, notes=notes,
-                                                          lift_key=0), f, output):
+                                                          lift_key=0, keep=("honest",), choose=None), f, output):
             return EXIT_BUG
         for note in notes:
             err(note)
         if plot:
-            try:
-                from .plot import plot_accuracy
+            from .plot import PLOT_HINT, plot_accuracy
 
+            try:
                 plot_accuracy(acc.summarise(rows), plot)
             except ImportError:
-                err("--plot needs matplotlib: pip install 'gearcalc[plot]'")
+                err(PLOT_HINT)
                 return EXIT_INPUT
         dishonest = [r for r in rows if r.get("honest") is False]
         for r in dishonest:
@@ -642,12 +722,13 @@ def accuracy_cmd(
     finish(body, debug)
 
 
-@app.command("check")
+@app.command("check", epilog=EXAMPLES["check"])
 def check_cmd(
     paths: List[str] = typer.Argument(..., metavar="PATH...", help="Design files or folders."),
     sets: Optional[List[str]] = O_SET,
     resolved: bool = typer.Option(False, "--resolved",
-                                  help="Print each valid design with every default filled in, as TOML."),
+                                  help="Print each valid design with every default filled in (also those the "
+                                  "computation derives, such as the default allowable stress), as TOML."),
     debug: bool = O_DEBUG,
 ):
     """Validate design files only; print every problem found.
@@ -678,7 +759,7 @@ def check_cmd(
             if resolved:
                 import tomli_w
 
-                sys.stdout.write(f"# {dmod.display_name(f)}\n" + tomli_w.dumps(d.resolved()) + "\n")
+                sys.stdout.write(f"# {dmod.display_name(f)}\n" + tomli_w.dumps(d.resolved(implicit=True)) + "\n")
             else:
                 print(f"ok  {dmod.display_name(f)}  ({d.kind}: {d.name})")
         return worst
@@ -686,20 +767,26 @@ def check_cmd(
     finish(body, debug)
 
 
-@app.command("new")
+@app.command("new", epilog=EXAMPLES["new"])
 def new_cmd(
     kind: str = typer.Argument(..., metavar="KIND", help="pins | zstk | rows"),
-    output: Optional[str] = O_OUTPUT,
+    output: Optional[str] = typer.Option(None, "--output", "-o", help="Write to this new file instead of stdout "
+                                         "('-': stdout); an existing file is refused (it may be a design you "
+                                         "edited) unless --force is given."),
+    force: bool = typer.Option(False, "--force", help="With -o: replace an existing file."),
 ):
     """Print a complete, commented template design of that kind (every key, its unit, its default)."""
 
     def body() -> int:
+        from .output import descriptor
         from .template import template
 
         if kind not in registry.kinds():
             raise Abort(f"new {clip(kind)}: unknown kind; must be one of {', '.join(registry.kinds())}"
                         + did_you_mean(kind, list(registry.kinds())))
         check_output_path(output)
+        if output and output != "-" and not force and descriptor(output) is None and os.path.isfile(output):
+            raise Abort(f"new -o {output}: the file exists; add --force to replace it")
         text = template(registry.get(kind))
         from .output import to_file, write_stdout
 

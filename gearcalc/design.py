@@ -23,7 +23,7 @@ import tomllib
 from dataclasses import dataclass, field
 from typing import Any
 
-from .calculator import REQUIRED, Calculator, Field, InputError, Problems  # noqa: F401 - InputError re-exported
+from .calculator import REQUIRED, Calculator, Field, InputError, Problems, keyed  # noqa: F401 - InputError re-exported
 from . import registry, units
 
 MAX_DESIGN_BYTES = 1 << 20
@@ -38,6 +38,8 @@ MAX_UNKNOWN_SHOWN = 20
 """Unknown keys reported one by one per table; the rest are counted."""
 MAX_SUGGEST_CHARS = 100
 """Did-you-mean is not tried for words longer than this (no key is that long)."""
+MAX_SKIPPED_SHOWN = 5
+"""Files of a folder skipped for their names (``A.TOML``, ``b.toml.txt``) named in its note; the rest counted."""
 
 
 @dataclass
@@ -71,11 +73,17 @@ class Design:
     def is_given(self, dotted: str) -> bool:
         return dotted in self.given
 
-    def resolved(self) -> dict[str, Any]:
-        """The fully resolved design as plain data (for the JSON echo and reproducibility)."""
+    def resolved(self, implicit: bool = False) -> dict[str, Any]:
+        """The fully resolved design as plain data (for the JSON echo and reproducibility); ``implicit``: with the
+        values the computation takes for keys left out (``check --resolved``: every key the computation uses)."""
         out: dict[str, Any] = {"kind": self.kind, "name": self.name}
         for table, vals in self.values.items():
             out[table] = {k: v for k, v in vals.items() if v is not None}
+        fill = registry.get(self.kind).implicit if implicit else None
+        for key, value in (fill(self) if fill else {}).items():
+            table, _, name = key.partition(".")
+            if table in out and out[table].get(name) is None:
+                out[table][name] = value
         return out
 
 
@@ -181,7 +189,101 @@ def _line_col(text: str, pos: int) -> str:
     return f"line {line}, column {pos - text.rfind(chr(10), 0, pos)}"
 
 
+def number_hint(text: str) -> str | None:
+    """What is wrong with a value that looks like a number but is not TOML, and what to write; None otherwise.
+
+    >>> number_hint("03")
+    'leading zeros are not allowed in TOML numbers: write 3'
+    >>> number_hint("0.1e")
+    "incomplete exponent: write digits after the 'e' (0.1e3) or leave it out (0.1)"
+    >>> number_hint("1,5")
+    'TOML writes a decimal point, not a comma: write 1.5 (a list is [1, 5])'
+    >>> number_hint("2."), number_hint("10 kN")
+    ('a TOML float needs a digit after the point: write 2.0', None)
+    """
+    t = text.strip()
+    if len(t) > _HINT_CHARS:
+        return None
+    m = re.fullmatch(r"([+-]?)(0[0-9_]+)((?:\.[0-9_]+)?(?:[eE][+-]?[0-9_]+)?)", t)
+    if m:
+        return f"leading zeros are not allowed in TOML numbers: write {m[1]}{m[2].lstrip('0_') or '0'}{m[3]}"
+    m = re.fullmatch(r"([+-]?(?:[0-9_]+(?:\.[0-9_]*)?|\.[0-9_]+))[eE][+-]?", t)
+    if m:
+        return f"incomplete exponent: write digits after the 'e' ({t.rstrip('+-')}3) or leave it out ({m[1]})"
+    if re.fullmatch(r"[+-]?[0-9][0-9_]*\.", t):
+        return f"a TOML float needs a digit after the point: write {t}0"
+    if re.fullmatch(r"[+-]?\.[0-9][0-9_]*", t):
+        return f"a TOML float needs a digit before the point: write {t.replace('.', '0.')}"
+    m = re.fullmatch(r"([+-]?[0-9]+),([0-9]+)", t)
+    if m:
+        return f"TOML writes a decimal point, not a comma: write {m[1]}.{m[2]} (a list is [{m[1]}, {m[2]}])"
+    return None
+
+
+_ERROR_AT = re.compile(r"\(at line (\d+), column (\d+)\)$")
+_PART = r"""(?:[A-Za-z0-9_-]+|"[^"\n]*"|'[^'\n]*')"""
+_ASSIGN = re.compile(r"^[ \t]*(" + _PART + r"(?:[ \t]*\.[ \t]*" + _PART + r")*)[ \t]*=[ \t]*(.*?)[ \t]*(?:#.*)?$")
+_HEADER = re.compile(r"^[ \t]*\[[ \t]*([^\[\]\n]+?)[ \t]*\][ \t]*(?:#.*)?$")
+
+
+def _syntax_hint(text: str, msg: str) -> str:
+    """A sentence after a TOML syntax error saying what to write instead, for the usual mistakes: a number that
+    is not TOML (:func:`number_hint`), a word without quotes, a key or a table given twice."""
+    if msg.startswith(("Cannot overwrite a value", "Cannot declare")):
+        return _twice(text)
+    m = _ERROR_AT.search(msg)
+    if not m:
+        return ""
+    lines = text.split("\n")
+    line = lines[int(m[1]) - 1] if int(m[1]) <= len(lines) else ""
+    a = _ASSIGN.match(line[:2 * _HINT_CHARS + 200])
+    if not a:
+        return ""
+    key, value = a[1], a[2]
+    hint = number_hint(value)
+    if hint:
+        return f"; {hint}"
+    word = len(value) <= _HINT_CHARS and re.fullmatch(r"[A-Za-z][A-Za-z0-9_ .-]*", value)
+    if msg.startswith("Invalid value") and word:
+        return f"; a word is a string in TOML: write {key} = \"{value}\""
+    return ""
+
+
+def _twice(text: str) -> str:
+    """Where a key or a table is given twice (a line scan of tables and keys; a design has no multi-line
+    strings), as a sentence after the error."""
+    seen: dict[str, int] = {}
+    table = ""
+    for n, line in enumerate(text.split("\n"), 1):
+        h = _HEADER.match(line)
+        if h:
+            table = re.sub(r"[ \t]*\.[ \t]*", ".", h[1])
+            if table in seen:
+                return f"; the table [{_clip(table)}] is given twice (lines {seen[table]} and {n}): merge them into one"
+            seen[table] = n
+            continue
+        a = _ASSIGN.match(line)
+        if a:
+            key = (table + "." if table else "") + re.sub(r"[ \t]*\.[ \t]*", ".", a[1])
+            if key in seen:
+                return f"; {_clip(key)} is given twice (lines {seen[key]} and {n}): keep one"
+            seen[key] = n
+    return ""
+
+
+def _utf16(raw: bytes) -> bool:
+    """Whether the bytes are UTF-16 text (a byte-order mark, or a NUL byte beside every ASCII character)."""
+    if raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        return True
+    head = raw[:256]
+    return len(head) >= 4 and (head[1::2].count(0) > len(head) // 4 or head[0::2].count(0) > len(head) // 4)
+
+
 def _parse(raw: bytes, where: str) -> dict:
+    if b"\0" in raw[:256] or raw.startswith((b"\xff\xfe", b"\xfe\xff")):
+        if _utf16(raw):
+            raise InputError([f"{where}: UTF-16 text; a design file is TOML in UTF-8: save it as UTF-8 "
+                              "(e.g. iconv -f UTF-16 -t UTF-8 old.toml > new.toml)"])
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -202,7 +304,7 @@ def _parse(raw: bytes, where: str) -> dict:
         msg = str(exc)
         if msg.endswith("(at end of document)"):
             msg = msg[: -1] + f", {_line_col(text, len(text))})"
-        raise InputError([f"{where}: TOML syntax error: {msg}"]) from None
+        raise InputError([f"{where}: TOML syntax error: {msg}{_syntax_hint(text, str(exc))}"]) from None
     except RecursionError:
         raise InputError([f"{where}: TOML nesting too deep (arrays or inline tables nested hundreds of "
                           f"levels); a design nests at most {MAX_NESTING} levels"]) from None
@@ -253,6 +355,8 @@ def read_toml(source: str) -> dict:
 
 
 _TRAILING = "Expected newline or end of document after a statement"
+_WITH_UNIT = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]+)?[ \t]*[^\s=0-9,.][^=\n\r]{0,40}")
+"""A number with a unit after it (``10kN``, ``5 deg``): taken as a string, whose check proposes the bare number."""
 
 
 def parse_set(items: list[str], word: str = "--set") -> list[tuple[str, Any]]:
@@ -282,6 +386,12 @@ def parse_set(items: list[str], word: str = "--set") -> list[tuple[str, Any]]:
         try:
             doc = tomllib.loads(f"v = {value}")
         except tomllib.TOMLDecodeError as exc:
+            hint = number_hint(value)
+            if hint:
+                raise InputError([f"{shown}: {hint}"]) from None
+            if _WITH_UNIT.fullmatch(value):  # "10kN": a string, which the key's check converts (as in a file)
+                out.append((key, value))
+                continue
             if str(exc).startswith(_TRAILING) or "\n" in value or "\r" in value or "=" in value:
                 raise InputError([f"{shown}: one key takes one value; found more after the value "
                                   "(quote a string: KEY='\"text\"')"]) from None
@@ -402,6 +512,25 @@ def _number_text(x: float, integer: bool) -> str | None:
     if integer:
         return None
     return repr(x)
+
+
+def with_unit(text: str, unit: str) -> float | None:
+    """The number that ``text``, a number with a unit ("10 kN", "10kN"), stands for in ``unit`` (the unit of a
+    key's name); None when it is no such text or the unit is not one gearcalc knows.
+
+    >>> with_unit("10 kN", "N"), with_unit("1.5 m", "mm"), with_unit("10 apples", "N")
+    (10000.0, 1500.0, None)
+    """
+    text = text.strip()
+    m = _NUMBER.match(text) if len(text) <= _HINT_CHARS and unit else None
+    rest = text[m.end():].strip() if m else ""
+    if not rest:
+        return None
+    try:
+        y = units.convert_hint(float(m.group(0)), rest, unit)
+    except (ValueError, OverflowError):
+        return None
+    return y if y is not None and math.isfinite(y) else None
 
 
 def _string_hint(f: Field, value: str) -> str:
@@ -564,7 +693,7 @@ def validate(raw: dict, source: str, kind_hint: str | None = None) -> Design:
         problems = Problems()
         calc.check(design, problems)
         if problems.errors:
-            raise InputError([f"{where}: {k}: {m}" if k else f"{where}: {m}" for k, m in problems.errors],
+            raise InputError([f"{where}: {keyed(k, m)}" for k, m in problems.errors],
                              [f"{where}: warning: {w}" for w in problems.warnings])
         design.warnings.extend(problems.warnings)
     return design
@@ -583,7 +712,8 @@ def load(source: str, overrides: list[tuple[str, Any]] | None = None, kind_hint:
 
 
 def expand_paths(paths: list[str], warn=None) -> list[str]:
-    """Files from PATHs: a folder stands for every ``*.toml`` below it (sorted).
+    """Files from PATHs: a folder stands for every ``*.toml`` below it (sorted); files that look like designs
+    under another name (``A.TOML``, ``b.toml.txt``) are named in one note per folder (``warn``).
 
     From a folder only regular files (or symbolic links to them) are taken: a ``*.toml`` that is a
     FIFO, a device or a socket is skipped with a warning (``warn``, default: standard error), so that
@@ -604,10 +734,13 @@ def expand_paths(paths: list[str], warn=None) -> list[str]:
                 reason = "permission denied" if isinstance(exc, PermissionError) else (exc.strerror or str(exc))
                 found.append(PathProblem(folder, f"{folder}: folder cannot be read ({reason})"))
 
+            misnamed: list[str] = []
             for root, dirs, files in os.walk(p, onerror=unreadable):
                 dirs.sort()
                 for f in sorted(files):
                     if not f.endswith(".toml"):
+                        if f.lower().endswith((".toml", ".toml.txt")):  # a design under a name a folder skips
+                            misnamed.append(os.path.relpath(os.path.join(root, f), p))
                         continue
                     path = os.path.join(root, f)
                     try:
@@ -619,6 +752,11 @@ def expand_paths(paths: list[str], warn=None) -> list[str]:
                         found.append(FolderFile(path))
                     else:
                         warn(f"{path}: skipped: {_file_kind(mode)}, not a regular file")
+            if misnamed:
+                shown = ", ".join(_clip(m) for m in misnamed[:MAX_SKIPPED_SHOWN])
+                more = f", … and {len(misnamed) - MAX_SKIPPED_SHOWN} more" if len(misnamed) > MAX_SKIPPED_SHOWN else ""
+                warn(f"{p}: skipped {len(misnamed)} file{'s' if len(misnamed) > 1 else ''} not named *.toml: "
+                     f"{shown}{more} (a folder stands for its *.toml files; rename them, or name them explicitly)")
             out.extend(found)
         else:
             out.append(p)

@@ -30,6 +30,13 @@ ENV = "DASK_SCHEDULER_ADDRESS"
 CONNECT_TIMEOUT_S = 10
 """Seconds to reach a scheduler before the run stops with a message."""
 
+LOOPBACK = "127.0.0.1"
+LOCAL_DASHBOARD = "127.0.0.1:8787"
+"""``local:N`` listens on the loopback interface only: its scheduler, its workers and nannies, and the
+dashboard (Dask's usual port, another free one when it is taken; the notice gives the address).  Dask's
+default for the dashboard is every interface (0.0.0.0:8787), where anyone who reaches the machine could
+read the run's pages (its tasks, the workers' logs and call stacks) for as long as it lasts."""
+
 WAIT_NOTICE_S = 5
 """Seconds without any worker after which the wait is said on stderr (the wait itself has no end: a batch
 system may take long to start workers; Ctrl-C stops it)."""
@@ -114,8 +121,11 @@ class Cluster:
             import logging
             import warnings
 
-            for name in ("distributed", "tornado", "bokeh"):
-                logging.getLogger(name).setLevel(logging.ERROR)
+            # a lost scheduler is logged at ERROR with tracebacks, which gearcalc says in one line; Dask's
+            # configuration gives some loggers their own level (distributed.client: warning), hence each
+            for name in [*logging.root.manager.loggerDict, "distributed", "tornado", "bokeh"]:
+                if name.split(".")[0] in ("distributed", "tornado", "bokeh"):
+                    logging.getLogger(name).setLevel(logging.CRITICAL)
             # a local cluster's dashboard moves to a free port when 8787 is taken: the notice gives the address
             warnings.filterwarnings("ignore", message="Port .* is already in use", category=UserWarning)
         if not self.own_client:
@@ -129,7 +139,8 @@ class Cluster:
                     workers = value or os.cpu_count() or 1
                     with _workers_ignore_sigint():
                         self.local = distributed.LocalCluster(
-                            n_workers=workers, threads_per_worker=1, processes=True,
+                            n_workers=workers, threads_per_worker=1, processes=True, host=LOOPBACK,
+                            dashboard_address=LOCAL_DASHBOARD,
                             silence_logs=logging.DEBUG if self.debug else logging.ERROR)
                     self.client = distributed.Client(self.local, set_as_default=False)
                 elif what == "file":
@@ -147,8 +158,26 @@ class Cluster:
                                      "`dask worker ADDRESS`, or use --scheduler local") from None
         self.address = self.client.scheduler.address
         self.dashboard = self._dashboard()
-        self.threads = self._wait_for_threads()
+        try:
+            self.threads = self._wait_for_threads()
+        except OSError:  # the scheduler went away while gearcalc waited for a worker
+            raise self.lost() from None
         return self
+
+    def lost(self) -> SchedulerError:
+        """The error of a scheduler lost during the run (killed, its host gone): one line, exit 2 as for
+        one that cannot be reached at the start; nothing more comes from the cluster."""
+        from .design import _clip
+
+        spec = str(self.spec) if isinstance(self.spec, str) else self.address
+        where = "" if self.address in (None, spec) else f" at {self.address}"
+        return SchedulerError(f"--scheduler {_clip(spec)}: lost the connection to the Dask scheduler{where} "
+                              "during the run; start it and its workers again and rerun")
+
+    def _gone(self) -> bool:
+        """Whether the client has lost its scheduler (reconnecting, or closed after failing to)."""
+        client = self.client
+        return client is None or getattr(client, "status", "running") in ("connecting", "closing", "closed")
 
     def _dashboard(self) -> str | None:
         """The dashboard's address when the scheduler serves one (its page needs bokeh on the scheduler)."""
@@ -230,10 +259,16 @@ class Cluster:
                 pass
             while flight:
                 fut = flight.popleft()
-                result = _result(fut)
+                result = self._result(fut)
                 fut.release()
                 submit()
                 yield result
+        except SchedulerError:
+            raise
+        except Exception as exc:
+            if _cancelled_by_loss(exc) or self._gone():
+                raise self.lost() from None
+            raise
         finally:
             pending = list(flight) + [data]
             flight.clear()
@@ -242,6 +277,18 @@ class Cluster:
                     client.cancel(pending)
                 except Exception:  # noqa: BLE001 - the cluster is going away anyway
                     pass
+
+    def _result(self, fut):
+        """A chunk's value, waited for while the scheduler is there (a future submitted as the connection
+        was lost is never cancelled: it would wait for ever)."""
+        while not fut.done():
+            if self.client is None or getattr(self.client, "status", "running") in ("closing", "closed"):
+                raise self.lost()
+            try:
+                fut.result(timeout=1)
+            except Exception:  # noqa: BLE001 - not done yet, or done: then _result says what it was
+                pass
+        return _result(fut)
 
 
 @contextlib.contextmanager
@@ -269,8 +316,13 @@ def _ones():
         yield 1
 
 
+def _cancelled_by_loss(exc: BaseException) -> bool:
+    """A future Dask cancelled because the client lost its scheduler."""
+    return getattr(exc, "reason", None) == "scheduler-connection-lost"
+
+
 def _result(fut):
-    """A chunk's value; a failure that is the workers' environment becomes a SchedulerError."""
+    """A finished chunk's value; a failure that is the workers' environment becomes a SchedulerError."""
     try:
         value = fut.result()
     except ModuleNotFoundError as exc:

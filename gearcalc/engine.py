@@ -62,10 +62,67 @@ def check_model(model: str | None, kind: str, option: str = "--model") -> None:
 def compute_one(d, opts: Options, debug: bool = False):
     """Compute one validated design: (result or None, message lines, exit status).  Prints nothing."""
     try:
-        outcome = registry.get(d.kind).compute(d, opts)
+        with quiet_numpy():
+            outcome = registry.get(d.kind).compute(d, opts)
     except Exception as exc:  # noqa: BLE001 - reported per design by report_one
         outcome = exc
     return report_one(d, outcome, debug)
+
+
+def quiet_numpy():
+    """numpy's floating-point warnings off (an overflow becomes inf, which :func:`finite_error` turns into the
+    design's error): no ``RuntimeWarning`` escapes a computation."""
+    import numpy as np
+
+    return np.errstate(all="ignore")
+
+
+EXTREME = (1e-100, 1e100)
+"""Inputs of a magnitude outside these bounds (0 excepted) are named as the likely cause of a non-finite output."""
+
+
+def _nonfinite(value, where: str = ""):
+    """The first (field path, value) of a non-finite float in summary or detail data, or None."""
+    import math
+
+    if isinstance(value, float) or type(value).__name__.startswith("float"):
+        return None if math.isfinite(value) else (where, float(value))
+    if hasattr(value, "dtype") and hasattr(value, "shape"):  # a numpy array
+        import numpy as np
+
+        if value.dtype.kind in "fc" and not np.all(np.isfinite(value)):
+            return where, float(value[~np.isfinite(value)].flat[0])
+        return None
+    if isinstance(value, dict):
+        for k, v in value.items():
+            hit = _nonfinite(v, f"{where}.{k}" if where else str(k))
+            if hit:
+                return hit
+    elif isinstance(value, (list, tuple)):
+        for v in value:
+            hit = _nonfinite(v, where)
+            if hit:
+                return hit
+    return None
+
+
+def finite_error(design, result) -> DesignError | None:
+    """The :class:`DesignError` of a result with a NaN or an infinite output field (which is never printed,
+    interface.md "Output"): the field, the value and the likely cause (the design's inputs of extreme
+    magnitude, from its resolved values), or None when every output is finite."""
+    hit = _nonfinite(result.summary) or _nonfinite(result.detail, "detail")
+    if hit is None:
+        return None
+    where, value = hit
+    extreme = []
+    for table, vals in design.values.items():
+        for k, v in (vals or {}).items():
+            if isinstance(v, float) and v != 0 and not EXTREME[0] <= abs(v) <= EXTREME[1]:
+                extreme.append(f"{table}.{k} = {v!r}")
+    cause = ("likely cause: " + ", ".join(extreme[:3]) + " (an input of extreme magnitude)" if extreme
+             else "an input at an extreme of its range")
+    return DesignError(where, f"the computed value is {value!r} (the arithmetic overflowed or underflowed; "
+                              f"{cause}); no result for this design")
 
 
 def report_one(d, outcome, debug: bool = False):
@@ -75,7 +132,7 @@ def report_one(d, outcome, debug: bool = False):
     where = display_name(d.source)
     lines = [f"{where}: warning: {w}" for w in d.warnings]
     if isinstance(outcome, DesignError):
-        lines.append(f"{where}: {outcome.key}: {outcome.message}" if outcome.key else f"{where}: {outcome.message}")
+        lines.append(f"{where}: {outcome}")  # key and message (calculator.keyed)
         return None, lines, EXIT_INPUT
     if isinstance(outcome, BaseException):
         if debug:
@@ -86,6 +143,10 @@ def report_one(d, outcome, debug: bool = False):
                      "file (run with --debug for the traceback)")
         return None, lines, EXIT_BUG
     result = outcome
+    bad = finite_error(d, result)
+    if bad is not None:
+        lines.append(f"{where}: {bad}")
+        return None, lines, EXIT_INPUT
     lines += [f"{where}: warning: {w}" for w in result.warnings]
     lines += [f"{where}: check failed: {f}" for f in result.failed]
     return result, lines, EXIT_CHECK if result.failed else EXIT_OK
@@ -103,7 +164,8 @@ def compute_batched(designs, opts: Options, debug: bool = False) -> list:
         batch = registry.get(kind).batch
         if batch is not None and len(idx) > 1:
             try:
-                results = batch([designs[k] for k in idx], opts)
+                with quiet_numpy():
+                    results = batch([designs[k] for k in idx], opts)
             except Exception:  # noqa: BLE001 - a bug in the batch path: one by one reports per design
                 results = None
             if results is not None and len(results) == len(idx):

@@ -49,7 +49,22 @@ from __future__ import annotations
 import math
 import numpy as np
 
-__all__ = ["available", "cells_width", "float_cells", "repr_floats", "MARGIN", "WIDTH"]
+__all__ = ["apart", "available", "cells_width", "float_cells", "repr_floats", "MARGIN", "WIDTH"]
+
+def apart(a: float, b: float, digits: int = 6) -> tuple[str, str]:
+    """``a`` and ``b`` for a message that compares them ("a > b"): ``digits`` significant digits, more when that
+    would print two different values the same (``repr`` at most).
+
+    >>> apart(1500.0043, 1500.0), apart(0.5, 0.25)
+    (('1500.004', '1500'), ('0.5', '0.25'))
+    """
+    a, b = float(a), float(b)
+    for d in range(digits, 18):
+        text_a, text_b = f"{a:.{d}g}", f"{b:.{d}g}"
+        if text_a != text_b or a == b:
+            return text_a, text_b
+    return repr(a), repr(b)
+
 
 EMIN, EMAX = -308, 308
 """Decimal exponents of normal doubles."""

@@ -145,6 +145,31 @@ def round12(v):
     return out
 
 
+def _range_hint(key: str, parts: list[str]) -> str:
+    """For a range with units ("1kN:50kN:1kN"): the bare numbers in the key's unit, converted by the rule that
+    converts a number with a unit in a design file (:func:`gearcalc.design.with_unit`)."""
+    from . import units
+    from .design import number_hint, with_unit
+
+    for p in parts:
+        hint = number_hint(p)
+        if hint:
+            return f" ({p.strip()[:20]}: {hint})"
+    unit = units.unit_of(key)
+    if not unit:
+        return ""
+    numbers = []
+    for p in parts:
+        try:
+            numbers.append(float(p))
+        except ValueError:
+            numbers.append(with_unit(p, unit))
+    if any(x is None for x in numbers):
+        return f"; write bare numbers in {unit} (the unit is in the key's name)"
+    shown = ":".join(str(int(x)) if x.is_integer() and abs(x) < 1e16 else f"{x:.15g}" for x in numbers)
+    return f"; write the bare numbers {shown} (in {unit}: the unit is in the key's name)"
+
+
 def parse_spec(key: str, spec: str) -> list[Any]:
     """Values of one axis from its SPEC.
 
@@ -166,7 +191,8 @@ def parse_spec(key: str, spec: str) -> list[Any]:
         try:
             start, stop, step = (float(p) for p in parts)
         except ValueError:
-            raise SweepError(f"--vary {key}={shown}: start, stop and step must be numbers") from None
+            raise SweepError(f"--vary {key}={shown}: start, stop and step must be numbers"
+                             + _range_hint(key, parts)) from None
         if not all(math.isfinite(v) for v in (start, stop, step)):
             raise SweepError(f"--vary {key}={shown}: start, stop and step must be finite numbers")
         span = stop - start
@@ -536,54 +562,133 @@ def evaluate(raw: dict, source: str, axes: dict[str, list[Any]], options, progre
 
 
 CHUNK_POINTS = 65_536
-"""Grid points evaluated at a time: a streamed sweep holds one chunk (about 50-100 MB of Python values for the
-widest kind), and a progress bar advances per chunk."""
+"""Grid points evaluated at a time at most: a streamed sweep holds one chunk (about 50-100 MB of Python values for
+the widest kind), and a progress bar advances per chunk; costly points make smaller chunks (:func:`chunk_points`)."""
 
 
 def evaluate_points(raw: dict, source: str, axes: dict[str, list[Any]], points: list[dict], options,
                     progress=None, arrays: bool = False) -> list[dict]:
     """Evaluate the given grid points: the calculator's vectorised sweep if it has one, else one by one.
     ``arrays``: columns of floats, counts or flags may stay numpy arrays (the CSV writer's fast path); else every
-    column of a :class:`Columns` is a list."""
+    column of a :class:`Columns` is a list.  A point with a NaN or infinite output has its outputs None and its
+    message in the chunk's ``Columns.errors`` (:func:`blank_nonfinite`): the sweep goes on."""
     import copy
 
     from . import registry
     from .design import InputError, apply_set, validate
+    from .engine import finite_error, quiet_numpy
+    from .render import Columns
 
     base = validate(copy.deepcopy(raw), source)
     calc = registry.get(base.kind)
     fast = getattr(calc, "sweep", None)
     if fast is not None:
         try:
-            summaries = fast(base, raw, axes, points, options)
+            with quiet_numpy():
+                summaries = fast(base, raw, axes, points, options)
         except DesignError as exc:
-            raise SweepError(f"{exc.key}: {exc.message}") from None
+            raise SweepError(str(exc)) from None
         if summaries is not None:
             if progress:
                 progress(len(points))
             if isinstance(summaries, dict):  # column-major: keep it so (fast CSV)
-                from .render import Columns
-
+                errors = blank_nonfinite(summaries, points, base)
                 axis_columns = {k: points.column(k, arrays) if isinstance(points, Grid) else [p[k] for p in points]
                                 for k in axes}
                 cols = Columns({**axis_columns, **summaries})
-                return cols if arrays else cols.lists()
-            return [{**p, **s} for p, s in zip(points, summaries)]
-    rows = []
+                cols = cols if arrays else cols.lists()
+                cols.errors = errors
+                return cols
+            rows = [{**p, **s} for p, s in zip(points, summaries)]
+            errors = blank_nonfinite(rows, points, base, lead=axes)
+            return Columns.from_rows(rows, errors) if errors else rows
+    rows, errors = [], []
     for p in points:
         trial = copy.deepcopy(raw)
         apply_set(trial, list(p.items()))
         try:
             d = validate(trial, source)
-            res = calc.compute(d, options)
+            with quiet_numpy():
+                res = calc.compute(d, options)
         except InputError as exc:
             raise SweepError(f"at {p}: " + "; ".join(exc.messages)) from None
         except DesignError as exc:
-            raise SweepError(f"at {p}: {exc.key}: {exc.message}") from None
-        rows.append({**p, **res.summary})
+            raise SweepError(f"at {p}: {exc}") from None
+        bad = finite_error(d, res)
+        if bad is not None:  # the point's error, its outputs empty: the sweep goes on
+            errors.append(f"at {p}: {str(bad).replace('this design', 'this point')}")
+            rows.append({**p, **dict.fromkeys(res.summary)})  # its columns kept, every output None
+        else:
+            rows.append({**p, **res.summary})
         if progress:
             progress(1)
-    return rows
+    return Columns.from_rows(rows, errors) if errors else rows
+
+
+def blank_nonfinite(data, points, base, lead=()) -> list[str]:
+    """The points of a sweep's summaries (columns, or rows) with a NaN or infinite output (never printed,
+    interface.md "Output"): each such point's outputs made None (an empty CSV cell, a JSON null; ``lead``, the
+    varied keys of rows, kept) and its message returned, as :func:`gearcalc.engine.finite_error` words a
+    design's.  A column of floats is checked by one sum (non-finite values propagate through it), point by
+    point only when that is not finite."""
+    import math
+
+    import numpy as np
+
+    if isinstance(data, list):  # rows
+        bad = [k for k, r in enumerate(data) if any(type(v) is float and not math.isfinite(v) for v in r.values())]
+        errors = [_point_error(base, points[k], {f: v for f, v in data[k].items() if f not in lead}) for k in bad]
+        for k in bad:
+            data[k] = {f: (v if f in lead else None) for f, v in data[k].items()}
+        return errors
+    mask = None
+    for col in data.values():
+        if isinstance(col, np.ndarray):
+            if col.dtype.kind != "f":
+                continue
+            m = ~np.isfinite(col)
+        elif isinstance(col, list):
+            try:
+                total = sum(col)  # a column of numbers: one sum
+            except TypeError:  # words, None, lists: the floats among them
+                total = sum(v for v in col if type(v) is float)
+            if math.isfinite(total):
+                continue
+            m = np.array([type(v) is float and not math.isfinite(v) for v in col])
+        else:
+            continue
+        if m.any():
+            mask = m if mask is None else mask | m
+    if mask is None or not mask.any():
+        return []
+    bad = np.flatnonzero(mask).tolist()
+    errors = [_point_error(base, points[k], {f: col[k] for f, col in data.items()}) for k in bad]
+    for f, col in data.items():
+        col = col.tolist() if isinstance(col, np.ndarray) else list(col)
+        for k in bad:
+            col[k] = None
+        data[f] = col
+    return errors
+
+
+def _point_error(base, point: dict, summary: dict) -> str:
+    """The message of a sweep point whose summary has a non-finite value."""
+    from .calculator import Result
+    from .engine import finite_error
+
+    bad = finite_error(_PointDesign(base, point), Result(summary=summary))
+    return f"at {point}: {str(bad).replace('this design', 'this point')}"
+
+
+class _PointDesign:
+    """The resolved values of a sweep point (the base design with the point's values), as
+    :func:`gearcalc.engine.finite_error` reads them to name the likely cause."""
+
+    def __init__(self, base, point: dict):
+        self.values = {t: dict(v or {}) for t, v in base.values.items()}
+        for key, value in point.items():
+            table, _, name = key.partition(".")
+            self.values.setdefault(table, {})[name] = value
 
 
 def _finished(result, shaped, slots: "Slots | None" = None):
@@ -611,7 +716,7 @@ def join_parts(parts: list):
                     return np.concatenate(cols)
                 return [v for c in cols for v in (c.tolist() if isinstance(c, np.ndarray) else c)]
 
-            return Columns({k: joined(k) for k in names})
+            return Columns({k: joined(k) for k in names}, [e for p in parts for e in p.errors])
     rows: list[dict] = []
     for p in parts:
         rows.extend(p.rows() if isinstance(p, Columns) else p)
@@ -633,16 +738,101 @@ def evaluate_range(raw: dict, source: str, axes: dict[str, list[Any]], start: in
     return as_columns(evaluate_points(raw, source, axes, Grid(axes, start, stop), options, progress, arrays))
 
 
-def prepare(raw: dict, source: str, axes: dict[str, list[Any]], word: str = "--vary ") -> int:
-    """Validate the base design and every axis value once (``word``: as in :func:`validate_axes`); the number of
-    grid points."""
+def prepare(raw: dict, source: str, axes: dict[str, list[Any]], options=None,
+            word: str = "--vary ") -> tuple[int, float]:
+    """Validate the base design and every axis value once (``word``: as in :func:`validate_axes`), and estimate
+    the grid's cost: (points, estimated seconds a point, :func:`point_seconds`); nothing is computed."""
     import copy
 
     from .design import validate
 
-    validate(copy.deepcopy(raw), source)
+    base = validate(copy.deepcopy(raw), source)
     validate_axes(raw, source, axes, word)
-    return len(Grid(axes))
+    total = len(Grid(axes))
+    return total, point_seconds(base, axes, options)
+
+
+SWEEP_SECONDS_MAX = 600.0
+"""The estimated computing time a sweep may take, in seconds (its points times the estimated cost of a point,
+:func:`point_seconds`, over the worker processes): a grid beyond it is refused before any point is computed, so
+that a mistyped step (``1:1000:0.00001``, 1e8 points) is an error at once rather than hours of work.  The same
+rule for every kind; at the vectorised rows path (~3 us a point) the cap of :data:`MAX_POINTS` comes first."""
+
+POINT_SECONDS_DEFAULT = 1e-3
+"""The estimated cost of a point of a kind without its own estimate (``Calculator.sweep_cost``)."""
+
+FIRST_OUTPUT_SECONDS = 1.0
+"""A chunk holds the points computed in about this time (at most :data:`CHUNK_POINTS`): a streamed sweep says its
+first rows within about a second, and a progress bar moves at least as often."""
+
+
+def point_seconds(base, axes: dict[str, list[Any]], options=None) -> float:
+    """The estimated seconds of computing one point of the grid of ``base`` (a validated design) over ``axes``:
+    the kind's ``sweep_cost(base, axes, options)`` (its vectorised or point-by-point path, its level and size),
+    or :data:`POINT_SECONDS_DEFAULT`."""
+    from . import registry
+    from .calculator import Options
+
+    calc = registry.get(base.kind)
+    cost = getattr(calc, "sweep_cost", None)
+    return float(cost(base, axes, options or Options())) if cost is not None else POINT_SECONDS_DEFAULT
+
+
+def chunk_points(seconds: float) -> int:
+    """Points in a chunk of a grid whose points cost ``seconds`` each: about :data:`FIRST_OUTPUT_SECONDS` of work,
+    1 to :data:`CHUNK_POINTS`.
+
+    >>> chunk_points(3e-6), chunk_points(0.04), chunk_points(5.0)
+    (65536, 25, 1)
+    """
+    return max(1, min(CHUNK_POINTS, int(FIRST_OUTPUT_SECONDS / max(seconds, 1e-12))))
+
+
+def _duration(seconds: float) -> str:
+    """A duration in words.
+
+    >>> _duration(42.0), _duration(5400.0), _duration(2.5e5)
+    ('42 s', '90 min', '2.9 days')
+    """
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.2g} h" if seconds < 172800 else f"{seconds / 86400:.2g} days"
+
+
+def cost_problem(axes: dict[str, list[Any]], total: int, seconds: float, workers: int = 1) -> str | None:
+    """The message refusing a grid whose estimated time (``total`` points at ``seconds`` each, over ``workers``)
+    exceeds :data:`SWEEP_SECONDS_MAX`, with a coarser step of its longest range axis that fits; else None.
+
+    >>> text = cost_problem({"a": Range(1.0, 1e-5, 99_900_001)}, 99_900_001, 2e-5)
+    >>> text[:60]
+    'the grid has 99900001 points at about 0.02 ms a point: about'
+    >>> text[61:]  # doctest: +ELLIPSIS
+    '33 min of computing, more than a sweep may take (10 min); ...(e.g. --vary a=1:1000:3.36e-05, 29732143 points)...'
+    >>> cost_problem({"a": [1, 2]}, 2, 2e-5) is None
+    True
+    """
+    estimate = total * seconds / max(workers, 1)
+    if estimate <= SWEEP_SECONDS_MAX:
+        return None
+    text = (f"the grid has {total} points at about {seconds * 1e3:.2g} ms a point"
+            + (f" over {workers} processes" if workers > 1 else "")
+            + f": about {_duration(estimate)} of computing, more than a sweep may take ({_duration(SWEEP_SECONDS_MAX)})"
+            + "; narrow a --vary range or take a coarser step")
+    fits = int(SWEEP_SECONDS_MAX * max(workers, 1) / seconds)
+    key = max(axes, key=lambda k: len(axes[k])) if axes else None
+    values = axes.get(key)
+    if isinstance(values, Range) and len(values) > 1:
+        count = fits // (total // len(values))
+        if count >= 2:
+            stop = values.start + (len(values) - 1) * values.step
+            step = (stop - values.start) / (count - 1)
+            step = float(f"{step:.3g}")
+            step = step if abs((stop - values.start) / step) < count else float(f"{step * 1.01:.3g}")
+            points = int(math.floor(abs((stop - values.start) / step) + 1e-9)) + 1
+            text += f" (e.g. --vary {key}={values.start:g}:{stop:g}:{step:g}, {points * (total // len(values))} points)"
+    return text + ", or split the grid into several sweeps"
 
 
 STRUCTURE_PROBES = 256
@@ -707,7 +897,7 @@ def shape(part, header: list[str], axes):
                          + ", ".join(axes) + " or give fewer points per run")
     if list(part.data) == header:
         return part
-    return Columns({k: part.data.get(k, [None] * part.n) for k in header})
+    return Columns({k: part.data.get(k, [None] * part.n) for k in header}, part.errors)
 
 
 def evaluate_post(raw: dict, source: str, axes: dict[str, list[Any]], start: int, stop: int, options, arrays: bool,
@@ -727,7 +917,7 @@ def evaluate_post(raw: dict, source: str, axes: dict[str, list[Any]], start: int
 
 def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: int | None = None,
            progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False, post=None,
-           total: int | None = None):
+           prepared: tuple[int, float] | None = None):
     """The grid evaluated and yielded a chunk at a time (:class:`Columns`, grid order): memory follows the
     chunk, not the grid.  Every chunk has the same columns (those of the whole grid, missing values None),
     so a CSV header written from the first chunk holds for all; with ``jobs > 1`` chunks are evaluated in
@@ -738,17 +928,19 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     ``post`` (a picklable callable of a shaped chunk, optional): each chunk is yielded as ``post(chunk)``,
     computed in the worker processes with ``jobs > 1`` (e.g. its CSV text: formatting is most of a big sweep's
     time), in this process otherwise; a :class:`gearcalc.render.CsvPiece` from a worker holds its text in shared
-    memory (:class:`Slots`), valid until the next chunk is asked for: write it before.  ``total``: the grid's points
-    when the caller has validated the design and the axes (:func:`prepare`) already."""
+    memory (:class:`Slots`), valid until the next chunk is asked for: write it before.  ``prepared``: what
+    :func:`prepare` gave, when the caller has validated the design and the axes already."""
     from .render import Columns
 
-    if total is None:
-        total = prepare(raw, source, axes)
-    if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
-        keep_freed_memory()
-    size = chunk or CHUNK_POINTS
+    total, seconds = prepare(raw, source, axes, options) if prepared is None else prepared
     if cluster is not None and total:
         jobs = cluster.connect().threads
+    problem = cost_problem(axes, total, seconds, jobs)
+    if problem:  # before any point is computed
+        raise SweepError(problem)
+    if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
+        keep_freed_memory()
+    size = chunk or chunk_points(seconds)
     if jobs > 1:  # enough chunks to keep every worker busy
         size = min(size, max(1, -(-total // (4 * jobs))))
     ranges = [(k, min(k + size, total)) for k in range(0, total, size)]

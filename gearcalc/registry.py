@@ -22,6 +22,15 @@ KINDS = {
 }
 
 
+LEVELS = {
+    "pins": ("formula", "ideal", "contact"),
+    "zstk": ("equilibrium", "fixed-direction", "reference"),
+    "rows": ("stepwise", "exact", "continuous"),
+}
+"""Each kind's model levels, cheapest first: its calculator's ``models`` (read from here, the one list) and the
+``--model`` help (which so imports no calculator)."""
+
+
 def kinds() -> list[str]:
     """The kinds whose module is present in this installation."""
     return [k for k, (module, _) in KINDS.items() if importlib.util.find_spec(module) is not None]
@@ -30,6 +39,11 @@ def kinds() -> list[str]:
 def help_of(kind: str) -> str:
     """The one-line help of a kind's command (no import of the calculator)."""
     return KINDS[kind][1]
+
+
+def levels(kind: str) -> tuple[str, ...]:
+    """The model levels of a kind, cheapest first (no import of the calculator)."""
+    return LEVELS[kind]
 
 
 def get(kind: str):

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import csv
 import dataclasses
+import functools
 import io
 import json
 import math
@@ -135,8 +136,9 @@ def write_csv(rows: list[dict]) -> str:
     return buf.getvalue()
 
 
-def render_csv(records: list[Record], detail: bool = False) -> str:
-    """One CSV: the summaries (or, with ``detail``, the detail rows in long form).  A batch of several
+def render_csv(records: list[Record], detail: bool = False, joined: bool = False) -> str:
+    """One CSV: the summaries (or, with ``detail``, the detail rows in long form; ``joined``: each row with its
+    design's summary fields after ``name`` and ``table``, as ``--detail --fields`` asks).  A batch of several
     kinds gets a leading ``kind`` column and the union of the kinds' columns (cells of another kind's
     fields empty)."""
     mixed = len({r.kind for r in records}) > 1
@@ -147,8 +149,9 @@ def render_csv(records: list[Record], detail: bool = False) -> str:
     rows = []
     for r in records:
         lead = {"kind": r.kind} if mixed else {}
+        extra = {k: v for k, v in r.result.summary.items() if k != "name"} if joined else {}
         for table, trows in r.result.detail.items():
-            rows.extend({**lead, "name": r.name, "table": table, **row} for row in trows)
+            rows.extend({**lead, "name": r.name, "table": table, **extra, **row} for row in trows)
     return write_csv(rows) if rows else "name,table\n"
 
 
@@ -185,16 +188,23 @@ def parse_fields(text: str | None) -> list[str] | None:
     return [f.strip() for f in text.split(",") if f.strip()]
 
 
-def unknown_fields(requested: list[str] | None, available: list[str]) -> list[str]:
-    """Messages for requested fields that no result has (each with a did-you-mean)."""
+FILE_FIELD = "file"
+"""``--fields file``: the design's file (``<stdin>`` for standard input), a column of a batch's table or CSV beside the
+summary fields (not one of them: ``--fields all`` leaves it out, JSON has it beside the summary)."""
+
+
+def unknown_fields(requested: list[str] | None, available: list[str], extra: tuple = ("name",)) -> list[str]:
+    """Messages for requested fields that no result has (each with a did-you-mean); ``extra``: fields always
+    there (``name``; ``file`` for a batch)."""
     if not requested or requested == [ALL_FIELDS]:
         return []
     import difflib
 
-    have = set(available)
+    have = set(available) | set(extra)
+    available = list(available) + [f for f in extra if f not in available]
     out = []
     for f in requested:
-        if f not in have and f != "name":
+        if f not in have:
             close = difflib.get_close_matches(f[:100], available, n=1, cutoff=0.6)
             out.append(f"--fields {f[:60]}: no such output field" + (f" (did you mean '{close[0]}'?)" if close else ""))
     return out
@@ -289,21 +299,111 @@ def _elide(text: str, width: int, middle: bool = False) -> str:
     return _head(text, max(width - 1, 0)) + "…"
 
 
-def _shorten_names(names: list[str], width: int) -> list[str]:
-    """Design names cut to ``width``: first the words every name starts with ("Merko et al. example, ...")
-    become "…", then the middle of what is still too long.
+_TOKEN = re.compile(r"\S+ = \S+\s*|\S+\s*")
+"""A word of a design name with its trailing space; ``u = 10`` is one word (a key and its value)."""
 
-    >>> _shorten_names(["Merko example, scheme A, inner", "Merko example, scheme B, outer"], 20)
-    ['…A, inner', '…B, outer']
+
+def _core(token: str) -> str:
+    return token.strip().rstrip(",;")
+
+
+def _matches(runs: list, start: bool, end: bool, toks: list) -> bool:
+    """Whether a name's words ``toks`` fit a label's runs of kept words (``start``/``end``: the label begins/ends
+    with a kept word; each "…" stands for at least one word).
+
+    >>> _matches([["a"], ["c"]], True, False, ["a", "b", "c", "d"]), _matches([["a"], ["c"]], True, True, ["a", "c"])
+    (True, False)
     """
-    if len(names) > 1 and max(map(_cells, names)) > width:
-        import os.path
+    n, pos = len(toks), 0
+    for r, run in enumerate(runs):
+        size, first, last = len(run), r == 0, r == len(runs) - 1
+        lo = 0 if first and start else pos + 1
+        hi = 0 if first and start else n - size - (1 if last and not end else 0)
+        if last and end:
+            lo = max(lo, n - size)
+            hi = min(hi, n - size)
+        for s in range(lo, hi + 1):
+            if toks[s:s + size] == run:
+                pos = s + size
+                break
+        else:
+            return False
+    return True
 
-        prefix = os.path.commonprefix(names)
-        cut = max(prefix.rfind(" "), prefix.rfind(","), prefix.rfind("_")) + 1  # at a word boundary
-        if cut > 3:
-            names = ["…" + n[cut:].lstrip() for n in names]
-    return [_elide(n, width, middle=True) for n in names]
+
+def _label(tokens: list, kept: list[int]) -> str:
+    out, prev = "", -1
+    for t in kept:
+        if t != prev + 1:
+            out = out.rstrip(" ,;") + "…"
+        out += tokens[t]
+        prev = t
+    if prev != len(tokens) - 1:
+        out = out.rstrip(" ,;") + "…"
+    return out.rstrip()
+
+
+MAX_TOLD_APART = 2000
+"""Tables of more distinct design names than this cut them in the middle (telling them apart costs about a
+millisecond per name)."""
+
+
+@functools.lru_cache(maxsize=4)
+def _shortenings(distinct: tuple) -> list[list[str]]:
+    """Per name, its labels from the whole name to the shortest that tells it apart (:func:`_distinct_labels`):
+    the same order at every width, so one pass serves the layout and the rows."""
+    tokens = [_TOKEN.findall(n) or [n] for n in distinct]
+    cores = [[_core(t) for t in toks] for toks in tokens]
+    posting: dict[str, set] = {}
+    for i, cs in enumerate(cores):
+        for c in cs:
+            posting.setdefault(c, set()).add(i)
+    out = []
+    for i, (name, toks, cs) in enumerate(zip(distinct, tokens, cores)):
+        kept, steps = list(range(len(toks))), [name]
+        while len(kept) > 1:
+            edge = set(kept) - {t for t in kept if t - 1 in kept and t + 1 in kept}
+            edge |= {0, len(toks) - 1} & set(kept)
+            for t in sorted(kept, key=lambda t: (t not in edge, -len(posting[cs[t]]), t)):
+                trial = [k for k in kept if k != t]
+                runs, cur = [], []
+                for k in trial:
+                    if cur and k != cur[-1] + 1:
+                        runs.append([cs[j] for j in cur])
+                        cur = []
+                    cur.append(k)
+                runs.append([cs[j] for j in cur])
+                rivals = set.intersection(*sorted((posting[cs[k]] for k in trial), key=len)) - {i}
+                if not any(_matches(runs, trial[0] == 0, trial[-1] == len(toks) - 1, cores[j]) for j in rivals):
+                    kept = trial
+                    steps.append(_label(toks, kept))
+                    break
+            else:
+                break
+        out.append(steps)
+    return out
+
+
+def _distinct_labels(names: list[str], width: int) -> list[str]:
+    """Labels of at most ``width`` cells that tell the names apart: the words a name shares with other names become
+    "…" (those at an end of what is left first, so that the label has few "…"; of those, the most common first)
+    while the label still fits only its own name (a label never fits another name, so labels of distinct names
+    differ); what is still too wide is cut in the middle.  ``width`` 0: every word is dropped that can be (the
+    narrowest labels that tell the names apart).
+
+    >>> _distinct_labels(["Paper: cycloidal, u = 10, fixed pins", "Paper: cycloidal, u = 30, fixed pins",
+    ...                   "Paper: circular-arc, u = 10, fixed pins"], 24)
+    ['…cycloidal, u = 10…', '…cycloidal, u = 30…', '…circular-arc, u = 10…']
+    """
+    distinct = list(dict.fromkeys(names))
+    if len(distinct) > MAX_TOLD_APART:
+        return [_elide(n, width, middle=True) if width else n for n in names]
+    shorter = _shortenings(tuple(distinct))
+    out = {}
+    for name, steps in zip(distinct, shorter):
+        label = next((s for s in steps if _cells(s) <= width), steps[-1])
+        out[name] = _elide(label, width, middle=True) if width else label
+    return [out[n] for n in names]
 
 
 @dataclass
@@ -315,9 +415,10 @@ class Grid2D:
     text: list[bool]
 
 
-def _layout(grid: Grid2D, width: int | None, elastic: int | None = 0):
+def _layout(grid: Grid2D, width: int | None, elastic: int | None = 0, name_min: int = NAME_MIN):
     """Column widths that fit ``width`` (None: no limit): whole columns from the left while they fit; the
-    ``elastic`` column (the design name) shrinks to :data:`NAME_MIN` first.  Returns (widths, shown)."""
+    ``elastic`` column (the design name) shrinks to ``name_min`` (at least :data:`NAME_MIN`: the width at which
+    the names are still told apart) first.  Returns (widths, shown)."""
     widths = [_column_width(f, [row[j] for row in grid.cells]) for j, f in enumerate(grid.fields)]
     if width is None:
         return widths, len(widths)
@@ -326,8 +427,9 @@ def _layout(grid: Grid2D, width: int | None, elastic: int | None = 0):
     def total(k):
         return sum(widths[:k]) + sep * (k - 1)
 
-    if elastic is not None and total(len(widths)) > width and widths[elastic] > NAME_MIN:
-        widths[elastic] = max(NAME_MIN, widths[elastic] - (total(len(widths)) - width))
+    name_min = max(NAME_MIN, min(name_min, width))
+    if elastic is not None and total(len(widths)) > width and widths[elastic] > name_min:
+        widths[elastic] = max(name_min, widths[elastic] - (total(len(widths)) - width))
     shown = len(widths)
     while shown > 1 and total(shown) > width:
         shown -= 1
@@ -361,10 +463,12 @@ def _lift_long_text(grid: Grid2D, key_col: int | None = None) -> tuple[Grid2D, l
 
 def layout_table(grid: Grid2D, width: int | None, title: str = "", notes: list | None = None,
                  what: str = "columns", elastic: int | None = 0, lift_key: int | None = None,
-                 above: tuple = ()):
+                 above: tuple = (), keep: tuple = (), choose: str | None = "--fields"):
     """A rich renderable for a grid: units in headers, one line per row, no cell ever wrapped.
 
-    Columns that do not fit ``width`` are left out and a note (for stderr) says which and how to see them.
+    Columns that do not fit ``width`` are left out and a note (for stderr) says which and how to see them
+    (``choose``: the option that chooses columns, None when there is none); a column named in ``keep`` stays,
+    moved left before the columns left out.
     """
     from rich.console import Group
     from rich.table import Table
@@ -373,18 +477,35 @@ def layout_table(grid: Grid2D, width: int | None, title: str = "", notes: list |
 
     grid, lifted = _lift_long_text(grid, lift_key)
     above = list(above) + lifted
-    widths, shown = _layout(grid, width, elastic)
+    name_min = NAME_MIN
+    if elastic == 0 and width is not None and len(grid.cells) > 1:  # design names: as wide as telling them apart needs
+        name_min = max(map(_cells, _distinct_labels([row[0] for row in grid.cells], 0)), default=0)
+    widths, shown = _layout(grid, width, elastic, name_min)
+    kept = [j for j in range(shown, len(grid.fields)) if grid.fields[j] in keep]
+    if kept:  # the columns to keep after as many others as fit with them
+        rest = [j for j in range(len(grid.fields)) if j not in kept]
+        for pos in range(len(rest) - 1, 0, -1):
+            order = rest[:pos] + kept + rest[pos:]
+            moved = Grid2D([grid.fields[j] for j in order], [[row[j] for j in order] for row in grid.cells],
+                           [grid.text[j] for j in order])
+            widths, shown = _layout(moved, width, elastic, name_min)
+            if shown >= pos + len(kept):
+                grid = moved
+                break
+        else:
+            widths, shown = _layout(grid, width, elastic, name_min)
     if shown < len(grid.fields) and notes is not None:
         hidden = grid.fields[shown:]
         notes.append(f"{title + ': ' if title else ''}{len(hidden)} more {what} not shown at this width ("
                      + ", ".join(hidden[:6]) + (", …" if len(hidden) > 6 else "")
-                     + "): choose them with --fields, or use --format csv / json")
+                     + (f"): choose them with {choose}, or use --format csv / json" if choose else
+                        "): see them with --format csv / json"))
     t = Table(box=box.SIMPLE_HEAD, padding=(0, 1), pad_edge=False, show_edge=False)
     for j in range(shown):
         head = "\n".join(_header_lines(grid.fields[j], widths[j]))
         t.add_column(Text(head, style="bold"), justify="left" if grid.text[j] else "right", no_wrap=True,
                      vertical="bottom", overflow="ellipsis", min_width=widths[j], max_width=widths[j])
-    names = _shorten_names([row[elastic] for row in grid.cells], widths[elastic]) if (
+    names = _distinct_labels([row[elastic] for row in grid.cells], widths[elastic]) if (
         elastic is not None and elastic < shown) else None
     for k, row in enumerate(grid.cells):
         t.add_row(*(Text(names[k] if j == elastic and names else _elide(row[j], widths[j], middle=j == elastic))
@@ -462,7 +583,7 @@ def render_table(records: list[Record], detail: bool = False, width: int | None 
             for table, rows in r.result.detail.items():
                 if rows:
                     console.print(layout_table(rows_grid(rows), width, f"{r.name}: {table}", notes,
-                                               elastic=None))
+                                               elastic=None, choose="--detail --fields"))
     return buf.getvalue()
 
 
@@ -486,22 +607,51 @@ def render(records: list[Record], fmt: str, detail: bool = False, width: int | N
            array: bool | None = None) -> str:
     """Render computed designs as ``fmt``; ``fields`` selects summary fields (``--fields``); ``array`` forces
     a JSON array (a folder or several paths) even for one design."""
+    joined = False
     if fields is not None and fields != [ALL_FIELDS]:
+        with_file = FILE_FIELD in fields and fmt != "json"  # JSON has the file beside the summary
+        columns = detail_columns(records) if detail else set()
+        wanted = [f for f in fields if f in columns]
+        joined = detail and fmt == "csv" and any(f not in columns for f in fields)
         records = [Record(r.source, r.kind, r.name, r.design,
-                          Result(summary=filter_summary(r.result.summary, fields), detail=r.result.detail,
+                          Result(summary=filter_summary(_with_file(r) if with_file else r.result.summary, fields),
+                                 detail=_filter_detail(r.result.detail, wanted) if wanted else r.result.detail,
                                  warnings=r.result.warnings, failed=r.result.failed, model=r.result.model,
                                  labels=r.result.labels))
                    for r in records]
     if fmt == "json":
         return render_json(records, detail, array)
     if fmt == "csv":
-        return render_csv(records, detail)
+        return render_csv(records, detail, joined)
     return render_table(records, detail, width=width, color=color, fields=fields, notes=notes)
+
+
+def detail_columns(records: list[Record]) -> set:
+    """The columns of the records' detail tables (``--detail --fields`` chooses among them too)."""
+    return {c for r in records for rows in r.result.detail.values() for row in rows for c in row}
+
+
+def _filter_detail(detail: dict, wanted: list[str]) -> dict:
+    """The detail tables restricted to the ``wanted`` columns, in that order; a table with none of them is left out."""
+    out = {}
+    for table, rows in detail.items():
+        cols = [c for c in wanted if any(c in row for row in rows)]
+        if cols:
+            out[table] = [{c: row[c] for c in cols if c in row} for row in rows]
+    return out
+
+
+def _with_file(rec: Record) -> dict:
+    """The summary with a ``file`` field after ``name`` (``--fields file``)."""
+    summary = dict(rec.result.summary)
+    lead = {"name": summary.pop("name")} if "name" in summary else {}
+    return {**lead, FILE_FIELD: "<stdin>" if rec.source == "-" else str(rec.source), **summary}
 
 
 def render_rows(rows, fmt: str, title: str = "", width: int | None = None, color: bool = False,
                 fields: list[str] | None = None, default: list[str] | None = None, lead: tuple = (),
-                notes: list | None = None, lift_key: int | None = None) -> str:
+                notes: list | None = None, lift_key: int | None = None, keep: tuple = (),
+                choose: str | None = "--fields") -> str:
     """Plain rows (a sweep; a list of dicts or :class:`Columns`): CSV with a union header, a JSON
     array, or one table.  ``fields`` (``--fields``) selects columns after the ``lead`` ones (the varied keys);
     a table shows ``default`` when no ``fields`` are given, and lifts columns that are the same on every row
@@ -521,7 +671,7 @@ def render_rows(rows, fmt: str, title: str = "", width: int | None = None, color
     buf = io.StringIO()
     console = _console(buf, width, color)
     console.print(layout_table(grid, width, title, notes, what="columns", elastic=None, lift_key=lift_key,
-                               above=tuple(above)))
+                               above=tuple(above), keep=keep, choose=choose))
     return buf.getvalue()
 
 
@@ -550,7 +700,7 @@ def select_columns(cols: "Columns", fields: list[str] | None, lead: tuple = ()) 
     """The ``lead`` columns (a sweep's varied keys) and ``fields`` (``--fields``; None or ``all``: every one)."""
     if fields is None or fields == [ALL_FIELDS]:
         return cols
-    return Columns({k: cols.data[k] for k in select(list(cols.data), fields, None, lead=lead)})
+    return Columns({k: cols.data[k] for k in select(list(cols.data), fields, None, lead=lead)}, cols.errors)
 
 
 def json_array_piece(cols: "Columns", first: bool) -> str:
@@ -572,22 +722,25 @@ class Columns:
     """Column-major rows (a sweep): ``data[name]`` is a list, every list as long as the others.  Inside a
     streamed sweep a column of floats, counts or flags may be a numpy array (float64, integers, bool:
     ``grid.stream(arrays=True)``, for the CSV writer); :meth:`lists` gives the columns as lists, :meth:`rows`
-    plain Python values either way."""
+    plain Python values either way.  ``errors``: the messages of the points that could not be computed (their
+    outputs None), e.g. ``"at {'mass.efficiency': 1e-300}: relative_mass_kg_per_kNm: the computed value is inf
+    (...)"``."""
 
-    def __init__(self, data: dict[str, list]):
+    def __init__(self, data: dict[str, list], errors: list[str] | None = None):
         self.data = data
         self.n = len(next(iter(data.values()))) if data else 0
+        self.errors = list(errors or [])
 
     def lists(self) -> "Columns":
         """These columns with every numpy array as a list of Python values (self when there is none)."""
         if not any(hasattr(v, "tolist") for v in self.data.values()):
             return self
-        return Columns({k: v.tolist() if hasattr(v, "tolist") else v for k, v in self.data.items()})
+        return Columns({k: v.tolist() if hasattr(v, "tolist") else v for k, v in self.data.items()}, self.errors)
 
     @classmethod
-    def from_rows(cls, rows: list[dict]) -> "Columns":
+    def from_rows(cls, rows: list[dict], errors: list[str] | None = None) -> "Columns":
         cols = _union(rows)
-        return cls({c: [r.get(c) for r in rows] for c in cols})
+        return cls({c: [r.get(c) for r in rows] for c in cols}, errors)
 
     def rows(self) -> list[dict]:
         names = list(self.data)
@@ -705,6 +858,8 @@ class CsvPiece:
     columns: list
     shown: list
     text: Any
+    errors: tuple = ()
+    """The messages of the points that could not be computed (:attr:`Columns.errors`)."""
 
     def header(self) -> bytes:
         """The CSV header line of the columns shown (:func:`csv_blocks`' first block)."""
@@ -737,7 +892,8 @@ class CsvRenderer:
         shown = select_columns(part, self.fields, self.lead)
         # the blocks as they come (about 3 MB each): joining them would copy the whole chunk's text once more
         blocks = tuple(csv_blocks(shown, header=False, binary=True))
-        return CsvPiece(part.n, failed, list(part.data), list(shown.data), blocks[0] if len(blocks) == 1 else blocks)
+        return CsvPiece(part.n, failed, list(part.data), list(shown.data), blocks[0] if len(blocks) == 1 else blocks,
+                        tuple(getattr(part, "errors", ())))
 
 
 CSV_VECTOR_ROWS = 512

@@ -154,6 +154,20 @@ def test_bad_tol(tol):
     assert r.code == 2 and "--tol" in r.err
 
 
+@pytest.mark.parametrize("tol", ["1e-320", "1e-16", "5e-324"])
+def test_tol_below_the_float_round_off_is_refused(tol):
+    # issue 34: --tol 1e-320 was an OverflowError in pins.ideal.first_levels (exit 70); interface.md: --tol is
+    # 1e-15 <= REL < 0.1, below that under float64's round-off (2.2e-16). The CLI and the API share the rule.
+    import gearcalc
+
+    for cmd in (("pins", CONFIGS / "pins_paper_cyc_u30_fixed.toml"), ("sweep", FIG3, "--vary", "rows.count=2,3")):
+        r = cli(*cmd, "--tol", tol)
+        assert r.code == 2 and f"--tol {float(tol)}" in r.err and ">= 1e-15" in r.err and r.out == "", r
+    with pytest.raises(ValueError, match=">= 1e-15"):
+        gearcalc.compute(FIG3, tol=float(tol))
+    assert cli("rows", FIG3, "--tol", "1e-15", "--format", "csv").code == 0
+
+
 def test_bad_format():
     r = cli("rows", FIG3, "--format", "xml")
     assert r.code == 2 and "--format" in r.err
@@ -357,3 +371,79 @@ def test_only_the_invoked_command_is_built():
         del os.environ["_GEARCALC_COMPLETE"]
     r = cli_proc("ruin", FIG3)  # the did-you-mean of click still sees every command
     assert r.code == 2 and "Did you mean 'run'" in r.err
+
+
+# ------------------------------------------------------------------------- help pages
+def one_line(text: str) -> str:
+    """Help text on one line, as written before click wrapped it (at spaces and after hyphens)."""
+    return " ".join(text.split()).replace("- ", "-")
+
+
+def test_model_help_lists_the_levels_of_each_command():
+    from gearcalc import registry
+
+    levels = {k: ", ".join(registry.get(k).models) for k in registry.kinds()}
+    for kind, text in levels.items():
+        out = one_line(cli(kind, "--help").out)
+        assert f"Levels: {text}." in out
+        assert not [k for k in levels if k != kind and levels[k] in out]  # its own levels only
+    for command in ("run", "sweep"):
+        out = one_line(cli(command, "--help").out)
+        assert all(f"{k}: {text}" in out for k, text in levels.items()), out
+
+
+def test_every_command_help_has_examples():
+    import typer
+
+    from gearcalc.cli import app
+
+    for name in typer.main.get_command(app).commands:
+        out = cli(name, "--help").out
+        assert "Examples:" in out, name
+        lines = out[out.index("Examples:"):].splitlines()[1:]
+        assert any(line.strip().startswith(f"gearcalc {name} ") or f"&& gearcalc {name} " in line for line in lines)
+
+
+@pytest.mark.parametrize("kind", ["pins", "zstk", "rows"])
+def test_kind_help_example_runs(kind, tmp_path):
+    # the --set of each kind's help example is a key of its template
+    from gearcalc.cli import EXAMPLE_SET
+
+    design = tmp_path / f"{kind}.toml"
+    assert cli("new", kind, "-o", design).code == 0
+    r = cli(kind, design, "--set", EXAMPLE_SET[kind], "--format", "json")
+    assert r.code in (0, 1), r.err
+
+
+def test_command_help_imports_no_numpy():
+    code = ("import sys\nfrom gearcalc.cli import main\nsys.argv=['gearcalc','run','--help']\n"
+            "try:\n    main()\nexcept SystemExit:\n    pass\n"
+            "bad=[m for m in sys.modules if m=='numpy' or m.startswith(('rich.table','matplotlib'))]\n"
+            "print('BAD', bad, file=sys.stderr)")
+    p = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert "BAD []" in p.stderr and "pins: formula" in one_line(p.stdout), p.stderr
+
+
+# ------------------------------------------------------------------------- new -o
+def test_new_refuses_to_replace_a_file(tmp_path):
+    target = tmp_path / "mine.toml"
+    target.write_text(GOOD)
+    r = cli("new", "pins", "-o", target)
+    assert r.code == 2 and "exists" in r.err and "--force" in r.err and str(target) in r.err
+    assert target.read_text() == GOOD
+    r = cli("new", "pins", "-o", target, "--force")
+    assert r.code == 0 and target.read_text() == cli("new", "pins").out
+
+
+def test_new_writes_through_a_special_file(tmp_path):
+    r = cli_proc("new", "rows", "-o", "/dev/stdout")  # standard output, a pipe here
+    assert r.code == 0 and r.out.startswith("# gearcalc rows design")
+
+
+# ------------------------------------------------------------------------- --plot without matplotlib
+def test_plot_without_matplotlib_names_both_installs(tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "matplotlib", None)  # import matplotlib raises ImportError
+    r = cli("rows", FIG3, "--plot", tmp_path / "x.png", "--format", "csv")
+    assert r.code == 2 and r.out  # the data are written first
+    assert "pip install 'gearcalc[plot]'" in r.err and "pip install '.[plot]'" in r.err
+    assert not (tmp_path / "x.png").exists()

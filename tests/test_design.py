@@ -312,3 +312,87 @@ def test_hint_through_the_cli():
     assert r.code == 2 and "load.radial_N = \"10 kN\"" in r.err and "write the bare number 10000" in r.err
     r = cli("check", ROWS, "--set", 'gear.sun_teeth="05"')
     assert r.code == 2 and "write it without quotes: 5" in r.err
+
+
+# ----------------------------------------------------------------------------- words a person reads (issue 34)
+@pytest.mark.parametrize("old,new,hint", [
+    ("eccentricity_mm = 6.0", "eccentricity_mm = 6,0", "TOML writes a decimal point, not a comma: write 6.0"),
+    ('correct = "outer"', "correct = outer", 'a word is a string in TOML: write correct = "outer"'),
+    ("eccentricity_mm = 6.0", "eccentricity_mm = 6.0\neccentricity_mm = 7.0",
+     "geometry.eccentricity_mm is given twice (lines 8 and 9): keep one"),
+    ("[load]", "[load]\n[load]", "the table [load] is given twice"),
+    ("roller_gap_mm = 6.0", "roller_gap_mm = 06.0", "leading zeros are not allowed in TOML numbers: write 6.0"),
+    ("roller_gap_mm = 6.0", "roller_gap_mm = 6e", "incomplete exponent"),
+])
+def test_usual_toml_mistakes_say_what_to_write(tmp_path, old, new, hint):
+    text = ZSTK.read_text()
+    assert old in text
+    p = tmp_path / "d.toml"
+    p.write_text(text.replace(old, new, 1))
+    r = cli("check", p)
+    assert r.code == 2 and "TOML syntax error" in r.err and hint in r.err, r.err
+
+
+@pytest.mark.parametrize("encoding", ["utf-16", "utf-16-le", "utf-16-be"])
+def test_a_utf16_file_is_named_as_such(tmp_path, encoding):
+    p = tmp_path / "d.toml"
+    p.write_bytes(ZSTK.read_text().encode(encoding))  # utf-16: with a byte-order mark; -le/-be: without
+    r = cli("check", p)
+    assert r.code == 2 and "UTF-16 text" in r.err and "save it as UTF-8" in r.err, r.err
+
+
+def test_a_folder_names_the_files_it_skips_for_their_names(tmp_path):
+    d = folder_with_good(tmp_path)
+    (d / "A.TOML").write_text(ZSTK.read_text())
+    (d / "b.toml.txt").write_text(ZSTK.read_text())
+    (d / "notes.txt").write_text("not a design")
+    r = cli("check", d)
+    assert r.code == 0 and r.out.count("ok ") == 1
+    assert "skipped 2 files not named *.toml: A.TOML, b.toml.txt" in r.err and "notes.txt" not in r.err, r.err
+
+
+@pytest.mark.parametrize("item,words", [
+    ("geometry.rollers=08", "leading zeros are not allowed in TOML numbers: write 8"),
+    ("load.radial_N=0.1e", "incomplete exponent: write digits after the 'e' (0.1e3) or leave it out (0.1)"),
+    ("load.radial_N=1,5", "TOML writes a decimal point, not a comma: write 1.5"),
+])
+def test_set_says_what_is_wrong_with_a_number(item, words):
+    r = cli("check", ZSTK, "--set", item)
+    assert r.code == 2 and words in r.err and "one key takes one value" not in r.err, r.err
+
+
+def test_set_and_vary_with_a_unit_get_the_hint_a_file_gets(tmp_path):
+    p = tmp_path / "d.toml"
+    p.write_text(ZSTK.read_text().replace("radial_N = 10000.0", 'radial_N = "10kN"'))
+    in_file = cli("check", p)
+    assert in_file.code == 2 and "write the bare number 10000" in in_file.err  # 10 kN = 10000 N
+    r = cli("check", ZSTK, "--set", "load.radial_N=10kN")
+    assert r.code == 2 and "write the bare number 10000 (10kN = 10000 N" in r.err, r.err
+    r = cli("sweep", ZSTK, "--vary", "load.radial_N=1kN:50kN:1kN", "-f", "csv")
+    assert r.code == 2 and "write the bare numbers 1000:50000:1000 (in N" in r.err, r.err
+
+
+def test_a_problem_with_a_value_reads_key_equals_value():
+    r = cli("check", CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--set", "gearing.pins=20")
+    assert r.code == 2 and "gearing.pins = 20: " in r.err and ": =" not in r.err, r.err
+    r = cli("sweep", ZSTK, "--vary", "geometry.rollers=7,8", "-f", "csv")
+    assert r.code == 2 and "geometry.rollers = 7: " in r.err and ": =" not in r.err, r.err
+
+
+@pytest.mark.parametrize("path,lines", [
+    (ZSTK, ["allowable_stress_MPa = 4000.0", "inner_ring_E_MPa = 210000.0"]),  # zstk.md: the ISO 76 default
+    (CONFIGS / "pins_paper_cyc_u10_fixed.toml", ['model = "consistent"']),      # pins.md §4.9: the default model
+])
+def test_check_resolved_shows_the_values_the_computation_takes(tmp_path, path, lines):
+    import json
+
+    r = cli("check", path, "--resolved")
+    assert r.code == 0 and all(line in r.out for line in lines), r.out
+    p = tmp_path / "resolved.toml"
+    p.write_text(r.out)
+    before = json.loads(cli("run", path, "-f", "json").out)["summary"]
+    after = json.loads(cli("run", p, "-f", "json").out)["summary"]
+    for s in (before, after):
+        s.pop("model_time_ms", None)
+        s.pop("allowable_stress_source", None)  # "default" before, "design" once written out
+    assert after == before  # the resolved design computes the same results

@@ -47,10 +47,31 @@ def _start(args: list[str], work: Path, log: str) -> subprocess.Popen:
                                 env=_env(work), start_new_session=True)
 
 
+LOOPBACK = ["--host", "127.0.0.1", "--dashboard-address", "127.0.0.1:0"]
+"""Every Dask process of the tests listens on 127.0.0.1 only: ``--host`` for its comm port (a worker's default is
+every interface, IPv4 and IPv6), ``--dashboard-address`` for its HTTP server (every interface by default, even
+with ``--no-dashboard``: it serves the health and metrics pages)."""
+
+
+def _scheduler(scheduler_file: Path, work: Path, log: str = "scheduler.log") -> subprocess.Popen:
+    """`dask scheduler` on a free port of 127.0.0.1, its address in ``scheduler_file`` once it is up."""
+    proc = _start(["distributed.cli.dask_scheduler", *LOOPBACK, "--port", "0", "--no-dashboard",
+                   "--scheduler-file", str(scheduler_file)], work, log)
+    end = time.monotonic() + START_TIMEOUT
+    try:
+        while not scheduler_file.exists() or not scheduler_file.read_text().strip().endswith("}"):
+            assert time.monotonic() < end and proc.poll() is None, (work / log).read_text()
+            time.sleep(0.05)
+    except BaseException:
+        _stop(proc)
+        raise
+    return proc
+
+
 def _worker(scheduler_file: Path, work: Path, name: str) -> subprocess.Popen:
-    return _start(["distributed.cli.dask_worker", "--scheduler-file", str(scheduler_file), "--nthreads", "1",
-                   "--nworkers", "1", "--no-dashboard", "--local-directory", str(work), "--name", name,
-                   "--death-timeout", "60"], work, f"{name}.log")
+    return _start(["distributed.cli.dask_worker", "--scheduler-file", str(scheduler_file), *LOOPBACK,
+                   "--nthreads", "1", "--nworkers", "1", "--no-dashboard", "--local-directory", str(work),
+                   "--name", name, "--death-timeout", "60"], work, f"{name}.log")
 
 
 def _stop(proc: subprocess.Popen, sig=signal.SIGTERM) -> None:
@@ -76,14 +97,10 @@ def cluster(tmp_path_factory):
     """`dask scheduler` and two `dask worker` processes (one thread each) on 127.0.0.1, free ports."""
     work = tmp_path_factory.mktemp("dask-cluster")
     file = work / "scheduler.json"
-    procs = [_start(["distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0", "--no-dashboard",
-                     "--scheduler-file", str(file)], work, "scheduler.log")]
+    procs = []
     client = None
     try:
-        end = time.monotonic() + START_TIMEOUT
-        while not file.exists() or not file.read_text().strip().endswith("}"):
-            assert time.monotonic() < end and procs[0].poll() is None, (work / "scheduler.log").read_text()
-            time.sleep(0.05)
+        procs.append(_scheduler(file, work))
         procs += [_worker(file, work, "w1"), _worker(file, work, "w2")]
         client = distributed.Client(scheduler_file=str(file), timeout=START_TIMEOUT, set_as_default=False)
         client.wait_for_workers(2, timeout=START_TIMEOUT)
@@ -237,6 +254,9 @@ class _FakeFuture:
     def release(self):
         self.client.live -= 1
 
+    def done(self):
+        return True
+
 
 class _FakeClient:
     """Computes at submit and counts the futures alive: the window's bound without a cluster's timing."""
@@ -383,6 +403,95 @@ def test_sigint_cancels_the_futures_and_exits_130(tmp_path, cluster):
     assert left == 0, "the scheduler still holds gearcalc's tasks"
 
 
+def test_scheduler_killed_mid_run_is_a_message(tmp_path):
+    """A scheduler of its own (one worker) SIGKILLed while a sweep's chunk computes: one line saying the
+    connection was lost (exit 2, as an unreachable scheduler), no traceback, and -o as it was before."""
+    file = tmp_path / "scheduler.json"
+    sched = _scheduler(file, tmp_path, "victim.log")
+    procs = [sched, _worker(file, tmp_path, "only")]
+    try:
+        address = json.loads(file.read_text())["address"]
+        out = tmp_path / "out" / "study.csv"
+        out.parent.mkdir()
+        out.write_text("an earlier study\n")
+        args = ["sweep", ENVELOPE, "--vary", "load.radial_N=1000:400000:1000", "-o", out, "--scheduler", address]
+        p = subprocess.Popen([sys.executable, "-m", "gearcalc", *map(str, args)], stdout=subprocess.PIPE,
+                             stderr=subprocess.PIPE, text=True, env=_env(tmp_path))
+        try:
+            with distributed.Client(address, timeout=START_TIMEOUT, set_as_default=False) as watch:
+                deadline = time.monotonic() + START_TIMEOUT
+                while not any("gearcalc-chunk" in str(k) for ks in watch.processing().values() for k in ks):
+                    assert p.poll() is None and time.monotonic() < deadline, p.communicate()
+                    time.sleep(0.02)
+            _stop(sched, signal.SIGKILL)
+            assert p.poll() is None  # killed mid-run
+            _, err = p.communicate(timeout=60)
+        finally:
+            if p.poll() is None:
+                p.kill()
+        assert p.returncode == 2, err
+        assert err == (f"gearcalc: --scheduler {address}: lost the connection to the Dask scheduler during the "
+                       "run; start it and its workers again and rerun\n"), err
+        assert out.read_text() == "an earlier study\n" and os.listdir(out.parent) == ["study.csv"]
+    finally:
+        for proc in reversed(procs):
+            _stop(proc, signal.SIGKILL)
+
+
+# ------------------------------------------------------------------------------------------- listening sockets
+def _listening(pids) -> list[tuple[str, int, str]]:
+    """(address, port, command) of every listening inet socket of these processes and their children."""
+    psutil = pytest.importorskip("psutil")  # installed with distributed
+    found = []
+    for pid in pids:
+        try:
+            top = psutil.Process(pid)
+            procs = [top, *top.children(recursive=True)]
+        except psutil.NoSuchProcess:
+            continue
+        for proc in procs:
+            try:
+                conns = proc.net_connections(kind="inet")
+                what = " ".join(proc.cmdline()[1:3])
+            except psutil.Error:  # ended meanwhile
+                continue
+            found += [(c.laddr.ip, c.laddr.port, f"{proc.pid} {what}") for c in conns
+                      if c.status == psutil.CONN_LISTEN]
+    return found
+
+
+def _loopback(address: str) -> bool:
+    import ipaddress
+
+    return ipaddress.ip_address(address).is_loopback
+
+
+def test_fixture_cluster_listens_on_loopback_only(cluster):
+    # the scheduler (its comm port and HTTP server), each worker's nanny and the worker it starts
+    found = _listening([proc.pid for proc in cluster.procs])
+    assert len({who for _, _, who in found}) >= 5, found
+    assert [s for s in found if not _loopback(s[0])] == [], found
+
+
+def test_local_cluster_listens_on_loopback_only(tmp_path):
+    # --scheduler local:2 listens only on 127.0.0.1 (scheduler, nannies, workers, dashboard) for the whole run
+    args = ["sweep", ENVELOPE, "--vary", "load.radial_N=1000:400000:1000", "-o", tmp_path / "out.csv",
+            "--scheduler", "local:2"]
+    p, master, text = _pty_run(args, _env(tmp_path), "computing on the Dask cluster at ")
+    try:
+        found: set = set()
+        deadline = time.monotonic() + START_TIMEOUT
+        while len({who for _, _, who in found}) < 3:  # gearcalc (scheduler, nannies, dashboard), two workers
+            assert p.poll() is None and time.monotonic() < deadline, (found, text)
+            found |= set(_listening([p.pid]))
+            time.sleep(0.1)
+    finally:
+        os.killpg(p.pid, signal.SIGINT)
+        text = _finish(p, master, text)
+    assert [s for s in found if not _loopback(s[0])] == [], sorted(found)
+    assert "dashboard http://127.0.0.1:" in text, text
+
+
 # ------------------------------------------------------------------------------------------- local:2
 def test_local_cluster_is_identical(tmp_path):
     import dask
@@ -450,6 +559,20 @@ def test_bad_scheduler_value(value, says):
 def test_jobs_and_scheduler_together_are_refused():
     r = cli("run", CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", "--jobs", "2", "--scheduler", "local:2")
     assert r.code == 2 and "choose one" in r.err
+    r = cli("run", CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", "--jobs", "2", "--scheduler", "")
+    assert r.code == 2 and "give a scheduler address" in r.err and "choose one" not in r.err, r.err
+
+
+def test_empty_environment_variable_is_unset():
+    # an empty DASK_SCHEDULER_ADDRESS is no address (click, as POSIX tools read empty variables); an empty
+    # --scheduler is refused (test_bad_scheduler_value)
+    from typer.testing import CliRunner
+
+    from gearcalc.cli import app
+
+    args, _ = _sweep_args("rows")
+    r = CliRunner().invoke(app, [str(a) for a in args], env={"DASK_SCHEDULER_ADDRESS": ""})
+    assert r.exit_code == 0 and r.stdout == cli(*args).out and not r.stderr
 
 
 def test_unreachable_scheduler_is_a_message(monkeypatch):

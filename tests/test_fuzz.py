@@ -309,3 +309,77 @@ def test_directory_and_unreadable_inputs(tmp_path):
     assert r.code == 2 and "no design files" in r.err
     r = cli("run", tmp_path / "missing.toml")
     assert r.code == 2 and "missing.toml" in r.err
+
+
+# ---------------------------------------------------------------- --set extremes over every numeric key (issue 34)
+SET_EXTREMES = [0.0, -0.0, 5e-324, 1e-320, 1e-300, 1e-20, 1e-9, -1.0, -1e308, 1e308, 1.7976931348623157e308, 1e20,
+                "inf", "-inf", "nan", 1e-6, 0.999999999, 1.0000000001, 10 ** 20, 2, 3, 1e6, 1e9, 4e40, -4e40,
+                1.3266152821258527e+39]
+
+
+def _near(bound):
+    """A field's bound and the floats just beside it (where exits 70 hide: accepted, yet at an edge)."""
+    import math
+
+    out = [bound, math.nextafter(bound, math.inf), math.nextafter(bound, -math.inf), bound * (1 + 1e-12),
+           bound * (1 - 1e-12)]
+    return [v for v in out if math.isfinite(v)]
+
+
+def _set_value(field, rng):
+    values = list(SET_EXTREMES)
+    for bound in (field.gt, field.ge, field.lt, field.le):
+        if bound is not None:
+            values += _near(float(bound)) * 3
+    v = rng.choice(values)
+    if isinstance(v, str):
+        return v
+    if field.type == "integer" and isinstance(v, float) and v.is_integer() and abs(v) < 1e19:
+        v = int(v)
+    return repr(v)
+
+
+def set_cases(n=300, seed=20261207):
+    """(command line) cases: 1-3 --set of a numeric key of a table the design has, to an extreme or a bound's
+    neighbour; `run` (CSV), `check` or a three-point `sweep`. The contact-level pins designs (seconds each) are
+    checked, not run; their exits 70 of issue 34 have tests of their own."""
+    from gearcalc import registry
+
+    rng = random.Random(seed)
+    cases = []
+    designs = [(p, tomllib.loads(t)) for p, t in zip(SEEDS, TEXTS)]
+    while len(cases) < n:
+        path, raw = rng.choice(designs)
+        calc = registry.get(raw["kind"])
+        fields = [(t.name, f) for t in calc.tables if t.name in raw for f in t.fields
+                  if f.type in ("number", "integer")]
+        sets = []
+        for _ in range(rng.choice((1, 1, 2, 3))):
+            table, field = rng.choice(fields)
+            sets += ["--set", f"{table}.{field.name}={_set_value(field, rng)}"]
+        slow = path.name.startswith(("pins_paper_circ", "pins_circ"))
+        cmd = "check" if slow else rng.choice(("run", "run", "run", "check", "sweep"))
+        if cmd == "sweep":
+            table, field = rng.choice(fields)
+            axis = ",".join(_set_value(field, rng) for _ in range(3))
+            cases.append(("sweep", path, "--vary", f"{table}.{field.name}={axis}", *sets, "--format", "csv"))
+        else:
+            cases.append((cmd, path, *sets, *(("--format", "csv") if cmd == "run" else ())))
+    return cases
+
+
+def test_set_extremes_never_exit_70():
+    """Issue 34: a value the schema accepts is a result or a clear input error (exit 0, 1 or 2), never an exit 70,
+    a traceback or a numpy warning (warnings are errors here: one would be an exit 70)."""
+    import warnings
+
+    failures, codes = [], Counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        for i, args in enumerate(set_cases()):
+            r = cli(*args)
+            codes[r.code] += 1
+            if r.code not in (0, 1, 2) or "Traceback" in r.err or "internal error" in r.err or "Warning" in r.err:
+                failures.append((i, [str(a) for a in args[1:]], r.code, r.err[-300:]))
+    assert not failures, failures[:5]
+    assert codes[0] + codes[1] >= 30 and codes[2] >= 30, codes  # both results and refusals are exercised

@@ -285,3 +285,94 @@ def test_completion_script_of_each_shell(shell, marker):
     # the documented way to print a given shell's script from any shell
     p = completion({"_GEARCALC_COMPLETE": f"source_{shell}"})
     assert p.returncode == 0 and marker in p.stdout, (p.stdout, p.stderr)
+
+
+# ------------------------------------------------------------------------- installed with the package
+def _wheel_files(tmp_path, hook: str) -> list[str]:
+    """The files of the wheel the project's build backend makes with ``hook`` (build_wheel, build_editable) for a
+    stand-in project: the project's backend and data-files table and man page, one empty package (offline,
+    with the setuptools installed here; the real pyproject needs a newer one than the test environment may
+    have, for its SPDX license)."""
+    import sys
+    import tomllib
+    import zipfile
+
+    meta = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    system, tables = meta["build-system"], meta["tool"]["setuptools"]
+    proj = tmp_path / "proj"
+    for folder in system.get("backend-path", []):
+        shutil.copytree(ROOT / folder, proj / folder)
+    (proj / "man").mkdir(parents=True)
+    shutil.copy(MAN_PATH, proj / "man" / "gearcalc.1")
+    (proj / "standin").mkdir()
+    (proj / "standin" / "__init__.py").write_text("")
+    data = "".join(f'"{k}" = {v!r}\n'.replace("'", '"') for k, v in tables["data-files"].items())
+    (proj / "pyproject.toml").write_text(
+        f'[build-system]\nrequires = []\nbuild-backend = "{system["build-backend"]}"\n'
+        f"backend-path = {system.get('backend-path', [])!r}\n".replace("'", '"')
+        + '[project]\nname = "standin"\nversion = "1"\n[tool.setuptools]\npackages = ["standin"]\n'
+        + f"[tool.setuptools.data-files]\n{data}")
+    out = tmp_path / "wheels"
+    out.mkdir()
+    code = ("import sys; sys.path[:0] = " + repr([str(proj / p) for p in system.get("backend-path", [])])
+            + f"; import {system['build-backend']} as b; print(b.{hook}({str(out)!r}))")
+    r = subprocess.run([sys.executable, "-c", code], cwd=proj, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    return zipfile.ZipFile(out / r.stdout.split()[-1]).namelist()
+
+
+def _builds_wheels() -> bool:
+    """Whether the setuptools here builds wheels offline (its own bdist_wheel from 70.1, else the wheel package)."""
+    import importlib.util
+
+    import setuptools
+
+    major, minor = (int(p) for p in setuptools.__version__.split(".")[:2])
+    return (major, minor) >= (70, 1) or importlib.util.find_spec("wheel") is not None
+
+
+@pytest.mark.skipif(not _builds_wheels(), reason="the setuptools here cannot build a wheel offline")
+@pytest.mark.parametrize("hook", ["build_wheel", "build_editable"])  # pip install . / pip install -e .
+def test_wheels_install_the_man_page(tmp_path, hook):
+    # `man gearcalc` finds <prefix>/share/man/man1/gearcalc.1 (man-db: <dir>/../share/man of each PATH <dir>)
+    names = _wheel_files(tmp_path, hook)
+    assert "standin-1.data/data/share/man/man1/gearcalc.1" in names, names
+
+
+def test_editable_install_installs_the_man_page(tmp_path):
+    # setuptools' editable wheel runs install_data only if the distribution has `has_data`, which it lacks
+    # (it has has_data_files): `pip install -e .` installed no man page.  The project's build backend adds it;
+    # here setuptools' own step of the editable build, with what the backend does first (a subprocess: the
+    # class is patched there only)
+    import sys
+    import tomllib
+
+    system = tomllib.loads((ROOT / "pyproject.toml").read_text())["build-system"]
+    paths = [str(ROOT / p) for p in system.get("backend-path", [])]
+    script = f"""
+import sys
+sys.path[:0] = {paths!r}
+import {system["build-backend"]} as backend
+from setuptools.dist import Distribution
+from setuptools.command.editable_wheel import editable_wheel
+getattr(backend, "data_in_editable", lambda: None)()
+dist = Distribution({{"name": "standin", "version": "1", "packages": [], "py_modules": [],
+                     "data_files": [("share/man/man1", [{str(MAN_PATH)!r}])]}})
+step = editable_wheel(dist)
+dist.reinitialize_command("install").install_data = {str(tmp_path / "data")!r}
+step._run_install("data")
+"""
+    r = subprocess.run([sys.executable, "-c", script], cwd=tmp_path, capture_output=True, text=True, timeout=300)
+    assert r.returncode == 0, r.stderr[-2000:]
+    assert (tmp_path / "data" / "share" / "man" / "man1" / "gearcalc.1").read_text() == MAN
+
+
+def test_sdist_carries_the_build_backend():
+    # a wheel built from the sdist needs the backend (backend-path) and the man page
+    import tomllib
+
+    system = tomllib.loads((ROOT / "pyproject.toml").read_text())["build-system"]
+    manifest = (ROOT / "MANIFEST.in").read_text() if (ROOT / "MANIFEST.in").exists() else ""
+    for folder in system.get("backend-path", []):
+        module = system["build-backend"].split(".")[0] + ".py"
+        assert f"include {folder}/{module}" in manifest

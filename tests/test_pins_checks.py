@@ -149,6 +149,21 @@ def test_a_curtate_ratio_that_overflows_the_pin_circle_ends_the_list():
     assert _problems(bad, K1=5e-324, Rb=100.0, rotating=True, r=200.0) == [("error", "overflow")]
 
 
+@pytest.mark.parametrize("K1", [1e308, 1.7976931348623157e308])
+def test_a_curtate_ratio_so_large_that_k_K1_overflows_is_refused_not_a_crash(K1, tmp_path):
+    # issue 34: K1 = 1e308 with k = 2 made k*K1 = inf, R_p = 0 and a ZeroDivisionError (exit 70, `check` too).
+    # pins.md §9: "K1 = e·z2/(k·R_p) must be < 1", naming gearing.curtate_ratio, in check and run alike
+    Rp, K1_, omk = C.pin_circle_curtate(20, 22, 3.9, None, K1)
+    assert Rp == 0.0 and K1_ == K1 and omk == 1.0 - K1               # R_p = e z2/(k K1) underflows to 0
+    from conftest import CONFIGS, cli
+
+    design = CONFIGS / "pins_paper_cyc_u30_fixed.toml"
+    for cmd in ("check", "pins"):
+        r = cli(cmd, design, "--set", f"gearing.curtate_ratio={K1!r}")
+        assert r.code == 2 and "gearing.curtate_ratio" in r.err and "must be < 1" in r.err, (cmd, r)
+        assert "internal error" not in r.err, r
+
+
 def test_design_problems_of_the_circular_profile_and_its_warnings():
     # pins.md §5.3: R_b + rho_t < R_p - e, with R_p = e z2/(k K1) = 57.2 mm: 1.95 + 51.4 > 53.3
     assert _problems(_violations(profile=["circular"]), profile="circular", tooth_radius=51.4) == \

@@ -92,7 +92,7 @@ def test_a_sweep_refuses_a_loss_ratio_overflow_as_a_run_does(model):
     sweep = cli("sweep", cfg, "--vary", "gearing.curtate_ratio=0.75,1e-306", "--set", f"friction.model={model}",
                 "-f", "csv")
     assert run.code == sweep.code == 2
-    text = "gearing.curtate_ratio: = 1e-306: the loss ratio overflows floating point"      # report.loss_ratio_overflow
+    text = "gearing.curtate_ratio = 1e-306: the loss ratio overflows floating point"       # report.loss_ratio_overflow
     assert text in run.err and text in sweep.err
 
 

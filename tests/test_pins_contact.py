@@ -740,3 +740,27 @@ def test_contact_efficiency_errors_are_honest_on_the_paper_configs(fname, model,
         eta, err = s[f"efficiency_{mode}"], s[f"efficiency_{mode}_err"]
         assert abs(eta - ref[f"efficiency_{mode}"]) <= err + ref[f"efficiency_{mode}_err"]
         assert abs(eta - ref[f"efficiency_{mode}"]) <= 0.5 * err     # measured: at most 0.14 of it
+
+
+def test_a_tiny_torque_is_an_input_error_never_a_crash():
+    # issue 34: torque_Nm = 1e-20 was an IndexError in _interior_states (no sign change located: the contacts
+    # never change sets), exit 70. pins.md §9: the deflections are then below the round-off of the pin positions,
+    # an error naming the geometry and the torque (exit 2); the ideal level (cycloidal) computes any torque
+    from conftest import CONFIGS, cli
+
+    r = cli("pins", CONFIGS / "pins_paper_circ_u10_fixed.toml", "--set", "load.torque_Nm=1e-20", "--format", "csv")
+    assert r.code == 2 and "cannot resolve this geometry" in r.err and "load.torque_Nm = 1e-20" in r.err, r
+    assert "internal error" not in r.err, r
+
+
+def test_interior_states_without_a_located_sign_change(monkeypatch):
+    # the stretch around every midpoint is then the whole period: the nearest state solved, whatever its place
+    from types import SimpleNamespace
+
+    import gearcalc.pins.contact_cycle as cc
+
+    seen = SimpleNamespace(theta=np.array([0.1, 0.5, 0.9]))
+    found = SimpleNamespace(seen=[seen], roots=np.empty(0))
+    monkeypatch.setattr(cc, "_concat", lambda parts: parts[0])
+    col, known = cc._interior_states(found, np.array([0.2, 0.8]), 1.0)
+    assert col.tolist() == [0, 2] and known is seen

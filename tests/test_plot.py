@@ -58,9 +58,184 @@ def test_sweep_plots_of_zstk_and_pins(tmp_path, config, vary):
     check_png(out)
 
 
-def test_plot_of_a_mixed_batch_draws_the_first_kind(tmp_path):
+# ------------------------------------------------------------------------- batches of several kinds
+def png_size(path) -> tuple[int, int]:
+    """(width, height) in pixels, from the PNG header (IHDR)."""
+    import struct
+
+    return struct.unpack(">II", path.read_bytes()[16:24])
+
+
+ROWS1, ZSTK1 = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", CONFIGS / "zstk_merko_example.toml"
+
+
+def test_plot_of_a_mixed_batch_draws_every_kind(tmp_path):
+    # before: the first kind's figure only, silently; now each kind's figure, stacked top to bottom
+    sizes = {}
+    for kind, config in (("rows", ROWS1), ("zstk", ZSTK1)):
+        out = tmp_path / f"{kind}.png"
+        assert cli(kind, config, "--plot", out, "--format", "json").code == 0
+        sizes[kind] = png_size(out)
     out = tmp_path / "mixed.png"
-    r = cli("run", CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", CONFIGS / "zstk_merko_example.toml", "--plot", out,
-            "--format", "json")
-    assert r.code == 0
+    r = cli("run", ROWS1, ZSTK1, "--plot", out, "--format", "json")
+    assert r.code == 0, r.err
     check_png(out)
+    width, height = png_size(out)
+    assert width == max(w for w, _ in sizes.values())
+    assert height == sum(h for _, h in sizes.values())
+    assert "--plot" not in r.err  # every design drawn: nothing to say
+
+
+def test_designs_a_figure_leaves_out_are_named(tmp_path):
+    # a rows figure holds 4 designs (gearcalc/rows/plot.py): the fifth is named on stderr
+    files = sorted(CONFIGS.glob("rows_fig3_c1_*.toml")) + sorted(CONFIGS.glob("rows_fig3_c2_*.toml"))[:2]
+    out = tmp_path / "rows.png"
+    r = cli("run", *files, "--plot", out, "--format", "json")
+    assert r.code == 0, r.err
+    check_png(out)
+    assert f"the rows figure shows 4 of {len(files)} rows designs" in r.err
+    assert str(files[4]) in r.err and str(files[0]) not in r.err
+
+
+def test_stack_keeps_each_kinds_figure():
+    import matplotlib.pyplot as plt
+
+    from gearcalc.plot import DPI, stack
+
+    figs = [("rows", plt.figure(figsize=(5, 2))), ("zstk", plt.figure(figsize=(3, 4)))]
+    fig = stack(figs)
+    assert [ax.get_label() for ax in fig.axes] == ["rows", "zstk"]
+    assert [im.get_array().shape[:2] for ax in fig.axes for im in ax.images] == [(2 * DPI, 5 * DPI),
+                                                                                  (4 * DPI, 3 * DPI)]
+    assert tuple(fig.get_size_inches()) == (5.0, 6.0)
+    plt.close(fig)
+
+
+# ------------------------------------------------------------------------- sweep figures
+def grid(**axes):
+    """Sweep rows (dicts) over the product of the axes, the first varying slowest, efficiency made up."""
+    import itertools
+
+    keys = list(axes)
+    return [dict(zip(keys, vals), efficiency=0.9 - 0.01 * i)
+            for i, vals in enumerate(itertools.product(*axes.values()))]
+
+
+@pytest.mark.parametrize("axes,x", [
+    # a boolean last axis: was the x axis (True/False are ints)
+    ({"friction.sliding": [0.02, 0.04, 0.06, 0.08], "gearing.rotating_pins": [True, False]}, "friction.sliding"),
+    # a 2-value numeric last axis: was the x axis, the 31-value one made 31 legend entries
+    ({"load.torque_Nm": [float(t) for t in range(10, 320, 10)], "gearing.pins": [22, 24]}, "load.torque_Nm"),
+    # two long numeric axes: the longer; on a tie the later (the fastest varying)
+    ({"a.x": [1, 2, 3, 4, 5], "b.y": [1, 2, 3]}, "a.x"),
+    ({"a.x": [1, 2, 3], "b.y": [4, 5, 6]}, "b.y"),
+    # text only: the last axis
+    ({"load.mode": ["multiplier", "reducer"], "gearing.profile": ["cycloidal", "circular"]}, "gearing.profile"),
+])
+def test_sweep_x_axis(axes, x):
+    from gearcalc.plot import _label, sweep_figure, sweep_x
+
+    rows = grid(**axes)
+    assert sweep_x(rows, list(axes)) == x
+    fig = sweep_figure("pins", rows, list(axes))
+    assert fig.axes[0].get_xlabel() == _label(x.split(".")[-1])
+
+
+def overlaps(a, b) -> bool:
+    return a.x0 < b.x1 and b.x0 < a.x1 and a.y0 < b.y1 and b.y0 < a.y1
+
+
+TORQUES = [10.0 * k for k in range(1, 41)]  # 40 values: the x axis
+
+
+@pytest.mark.parametrize("axes", [
+    {"gearing.pins": list(range(10, 41)), "load.torque_Nm": TORQUES},     # 31 curves of a number: a colour bar
+    {"gearing.pins": list(range(10, 41)), "load.mode": ["multiplier", "reducer"],
+     "load.torque_Nm": TORQUES},                                            # a colour and 2 line styles
+    {"name.x": [f"n{i}" for i in range(31)], "load.torque_Nm": TORQUES},   # 31 texts: a legend beside the axes
+])
+def test_many_curves_hide_neither_title_nor_axes(axes):
+    # before: 31 legend entries over the axes, up through the title
+    from gearcalc.plot import LEGEND_MAX, sweep_figure
+
+    fig = sweep_figure("pins", grid(**axes), list(axes))
+    fig.tight_layout()
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    ax = fig.axes[0]
+    title = fig._suptitle.get_window_extent(r)
+    assert fig.bbox.x0 <= title.x0 and title.x1 <= fig.bbox.x1 and title.y1 <= fig.bbox.y1
+    legend = ax.get_legend()
+    boxes = [ax.get_window_extent(r)] + [a.get_window_extent(r) for a in fig.axes[1:]]  # the axes, the colour bar
+    if legend is not None:
+        assert len(legend.get_texts()) <= LEGEND_MAX or not overlaps(legend.get_window_extent(r), boxes[0])
+        boxes.append(legend.get_window_extent(r))
+    assert not any(overlaps(title, b) for b in boxes)
+    assert len(ax.lines) == len(grid(**axes)) // len(TORQUES)  # one curve per combination of the other axes
+
+
+# ------------------------------------------------------------------------- pins: the engagement at both levels
+def pins_force_curve(tmp_path, model: str, mode: str):
+    """The x data of the pin-force panel of the pins figure of the paper's cycloidal u = 10 gear (fixed pins) at
+    this level and mode, the design's psi* (the ideal level's crest cut-off) and its pin pitch 360/z2 [deg]."""
+    import gearcalc.plot as gplot
+    from gearcalc import api
+    from gearcalc.kinds.pins import compute
+    from gearcalc.pins.plot import plot
+    from gearcalc.render import Record
+
+    config = CONFIGS / "pins_paper_cyc_u10_fixed.toml"
+    over = {"load.mode": mode, "contact.face_width_mm": 10.0}
+    res = api.compute(config, model=model, overrides=over)
+    ideal = api.compute(config, model="ideal", overrides=over)
+    kept = []
+    gplot._collected = kept  # plot_records' figure collection: the figure is kept, not written
+    try:
+        plot([Record(str(config), "pins", res.design["name"], res.design, res)], str(tmp_path / "p.png"), compute)
+    finally:
+        gplot._collected = None
+    (fig,) = kept
+    ax = next(a for a in fig.axes if a.get_ylabel().startswith("pin force"))
+    return ax.lines[0].get_xdata(), ideal.summary["psi_star_deg"], 360.0 / res.design["gearing"]["pins"]
+
+
+@pytest.mark.parametrize("mode", ["reducer", "multiplier"])
+def test_pins_engagement_in_the_same_range_at_both_levels(tmp_path, mode):
+    # the contact level reports a pin loaded just before phase 0 (compliance) as a phase just below 360: the
+    # reducer's curve (psi* - phase) lay at 180-360 deg at the contact level, at 0-180 at the ideal level
+    import numpy as np
+
+    x_ideal, psi, pitch = pins_force_curve(tmp_path, "ideal", mode)
+    x_contact, _, _ = pins_force_curve(tmp_path, "contact", mode)
+    assert x_ideal.min() == 0.0 and x_ideal.max() == pytest.approx(psi, rel=1e-12)  # [0, psi*]: the ideal arc
+    assert x_contact.min() == 0.0
+    # the compliant pins reach a little past the ideal arc, by less than one pin pitch
+    assert psi <= x_contact.max() < psi + pitch
+    assert np.all(np.diff(x_contact) >= 0)
+
+
+# ------------------------------------------------------------------------- accuracy --plot
+def test_accuracy_tick_labels_do_not_overprint():
+    # times within one decade (zstk's levels: 25-300 ms on this machine) got minor labels 3x10^1, 4x10^1 ...
+    # printed over each other; the rows are made up in the shape of gearcalc.accuracy.summarise's
+    from gearcalc.plot import accuracy_figure
+
+    rows = [{"kind": kind, "level": level, "tol": tol, "time_ms_median": t * scale, "error_max": e,
+             "error_est_max": 10 * e}
+            for kind, scale in (("zstk", 1.0), ("rows", 0.01))
+            for level, t0 in (("equilibrium", 25.0), ("reference", 260.0))
+            for tol, t, e in ((1e-3, t0, 1e-8), (1e-6, t0 * 1.1, 1e-12), (1e-9, t0 * 1.15, 1e-12))]
+    fig = accuracy_figure(rows)
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        lo, hi = ax.get_xlim()
+        labels = [t for t in ax.get_xticklabels() + ax.get_xticklabels(minor=True)
+                  if t.get_text() and t.get_visible() and lo <= t.get_position()[0] <= hi]
+        assert len(labels) >= 2
+        boxes = [t.get_window_extent(r) for t in labels]
+        assert not any(overlaps(a, b) for i, a in enumerate(boxes) for b in boxes[i + 1:]), \
+            [t.get_text() for t in labels]
+        assert not [t for t in ax.get_xticklabels(minor=True) if t.get_text()]
+        tols = [t.get_window_extent(r) for t in ax.texts]  # the tol labels of coinciding points
+        assert not any(overlaps(a, b) for i, a in enumerate(tols) for b in tols[i + 1:])

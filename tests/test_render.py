@@ -86,6 +86,69 @@ def test_sweep_fields_keep_the_varied_key_first():
     assert r.code == 0 and r.out.splitlines()[0] == "rows.relative_width,K"
 
 
+def test_fields_file_names_each_design_file_in_csv_and_table():
+    c1 = CONFIGS / "rows_fig3_c1_n4_nw5_B2.0.toml"
+    r = cli("run", FIG3, c1, "--format", "csv", "--fields", "file,K")
+    assert r.code == 0, r.err
+    rows = list(csv.DictReader(io.StringIO(r.out)))
+    assert list(rows[0]) == ["name", "file", "K"]
+    assert [row["file"] for row in rows] == [str(FIG3), str(c1)]  # as given on the command line
+    r = cli("run", FIG3, c1, "--format", "table", "--fields", "K,file")
+    assert r.code == 0 and str(c1) in r.out and "file" in r.out
+    r = cli("rows", "-", "--format", "csv", "--fields", "file", input=FIG3.read_text())
+    assert r.code == 0 and r.out.splitlines()[1].endswith(",<stdin>")
+    r = cli("rows", FIG3, "--format", "csv", "--fields", "all")
+    assert "file" not in r.out.splitlines()[0].split(",")  # all: every summary field, as before
+
+
+def test_detail_fields_choose_detail_columns_and_join_summary_fields():
+    design = CONFIGS / "rows_bridges_n3_B3_i6.toml"
+    r = cli("rows", design, "--detail", "--format", "csv", "--fields", "K,row,H_mm")
+    assert r.code == 0, r.err
+    rows = list(csv.DictReader(io.StringIO(r.out)))
+    assert list(rows[0]) == ["name", "table", "K", "row", "H_mm"]
+    k = cli("rows", design, "--format", "csv", "--fields", "K").out.splitlines()[1].split(",")[-1]
+    assert {row["K"] for row in rows} == {k}  # the design's K on each of its detail rows
+    # detail columns only: the whole rows of the tables that have them, no summary field joined
+    r = cli("rows", design, "--detail", "--format", "csv", "--fields", "H_mm")
+    assert r.out.splitlines()[0] == "name,table,H_mm" and ",bridges," in r.out and ",rows," not in r.out
+    # a table: the summary shows K, the detail tables the chosen columns only
+    r = cli("rows", design, "--detail", "--format", "table", "--fields", "K,H_mm")
+    assert r.code == 0 and "u_stepwise" not in r.out and "[mm]" in r.out and "1.97433" in r.out
+    r = cli("rows", design, "--format", "csv", "--fields", "H_mm")  # without --detail: not a field
+    assert r.code == 2 and "H_mm" in r.err
+
+
+def test_a_detail_table_note_names_the_option_that_chooses_its_columns():
+    notes = []
+    R.render_table(R_records(CONFIGS / "zstk_merko_example.toml", detail=True), detail=True, width=60, notes=notes)
+    detail_notes = [n for n in notes if ": rollers:" in n]
+    assert detail_notes and all("--detail --fields" in n for n in detail_notes), notes
+
+
+def R_records(*paths, detail=False):
+    from gearcalc import api
+
+    return api.compute_files(list(paths), detail=detail).records
+
+
+def test_accuracy_table_keeps_honest_and_names_no_fields_option():
+    # the columns of gearcalc.accuracy.summarise (its row for three kinds), at the widths they take
+    row = {"kind": "zstk", "level": "fixed-direction", "tol": 1e-06, "designs": 13, "not_applicable": 0,
+           "time_ms_median": 16.8648, "time_ms_max": 206.52, "error_max": 1.48177e-13, "error_est_max": 1.4625e-09,
+           "ratio_max": 0.00222155, "honest": True, "model_error_max": 0.00111455, "model_sensitivity_max": None}
+    cases = [("pins", "contact", True), ("rows", "stepwise", False), ("zstk", "fixed-direction", True)]
+    rows = [{f: (v * (1 + k / 7) if isinstance(v, float) else v) for f, v in row.items()}
+            | {"kind": kind, "level": level, "honest": honest, "designs": 9 + k, "not_applicable": k % 2,
+               "model_sensitivity_max": 0.01 * k or None}
+            for k, (kind, level, honest) in enumerate(cases * 2)]  # every column varies: none goes above the table
+    notes = []
+    out = R.render_rows(rows, "table", title="gearcalc accuracy", width=120, notes=notes, lift_key=0,
+                        keep=("honest",), choose=None)
+    assert "honest" in out and max(map(len, out.splitlines())) <= 120
+    assert notes and all("--fields" not in n for n in notes), notes  # accuracy has no --fields option
+
+
 # ----------------------------------------------------------------------------- JSON shape
 def test_json_one_file_is_an_object_a_folder_is_an_array(tmp_path):
     one = json.loads(cli("rows", FIG3, "--format", "json").out)
@@ -147,7 +210,7 @@ def test_sweep_exits_1_when_a_point_fails_a_check():
 
 def test_bridge_failure_names_span_limit_and_fix():
     r = cli("rows", PAPER / "rows_bridges_n3_B3_i4.toml", "--format", "csv")
-    assert "span 3" in r.err and "H_max = " in r.err and "rows.relative_width <= 2.973" in r.err
+    assert "span 3" in r.err and "H_max = " in r.err and "rows.relative_width from 2.666 to 2.973" in r.err
     # the suggested width is feasible and 0.1 % more is not (the bisection's bracket)
     ok = cli("rows", PAPER / "rows_bridges_n3_B3_i4.toml", "--set", "rows.relative_width=2.973", "--format", "csv")
     bad = cli("rows", PAPER / "rows_bridges_n3_B3_i4.toml", "--set", "rows.relative_width=2.976", "--format", "csv")
@@ -192,3 +255,52 @@ def test_csv_of_int_and_flag_arrays_and_constant_lists_is_the_row_csv():
     rows = [dict(zip(as_lists, values)) for values in zip(*as_lists.values())]
     text = R.write_csv_columns(R.Columns(cols))
     assert text == R.write_csv_columns(R.Columns(as_lists)) == R.write_csv(rows)
+
+
+# ----------------------------------------------------------------------------- design names in a narrow table
+def _shipped():
+    return sorted(CONFIGS.glob("*.toml")) + sorted(PAPER.glob("*.toml"))
+
+
+def test_shipped_designs_have_distinct_names():
+    import tomllib
+
+    names = [tomllib.loads(p.read_text()).get("name", p.stem) for p in _shipped()]
+    dup = {n for n in names if names.count(n) > 1}
+    assert not dup, dup  # a table and a JSON array tell designs apart by their names
+
+
+def _labels(text):
+    """The first cells (design names) of the rows under each table's rule."""
+    import re
+
+    lines, out = text.split("\n"), []
+    for k, line in enumerate(lines):
+        if line.startswith("─"):
+            j = k + 1
+            while j < len(lines) and lines[j].strip() and not lines[j].startswith("gearcalc "):
+                out.append(re.split(r"\s{2,}", lines[j].strip())[0])
+                j += 1
+    return out
+
+
+@pytest.mark.parametrize("width", [80, 100, 120])
+def test_shipped_names_are_told_apart_in_a_table(width):
+    from gearcalc import api
+
+    batch = api.compute_files([CONFIGS, PAPER])
+    labels = _labels(R.render_table(batch.records, width=width, notes=[]))
+    assert len(labels) == len(_shipped())
+    assert len(set(labels)) == len(labels), sorted(labels)  # was 21 distinct labels at 80 columns
+
+
+def test_distinct_labels_drop_common_words_first():
+    names = ["Merko example, scheme A, inner", "Merko example, scheme B, outer"]
+    assert R._distinct_labels(names, 20) == ["…scheme A, inner", "…scheme B, outer"]
+    assert R._distinct_labels(names, 40) == names  # fits: verbatim
+    # the words that differ survive wherever they are: a middle cut would give the same label twice
+    names = [f"Paper: profile {p}, u = {u}, {m} pins (assumed geometry)" for p in ("circ", "cyc")
+             for u in (10, 30) for m in ("fixed", "rotating")]
+    labels = R._distinct_labels(names, 0)
+    assert len(set(labels)) == len(names), labels
+    assert all(len(label) <= 30 for label in labels), labels

@@ -81,3 +81,24 @@ def test_mass_falls_with_n_at_every_ratio():
 def test_hertz_constant():
     # rows.md §6, §13.9: (2π(1-ν²))^(-1/2) = 0.418 for ν = 0.3 (Johnson, Contact Mechanics)
     assert round(float(hertz.line_pressure_constant(0.3)), 3) == 0.418
+
+
+# ------------------------------------------------------------------ an efficiency without physical meaning
+@pytest.mark.parametrize("eta", ["5e-324", "1e-300", "0.001"])
+def test_tiny_efficiency_refused_by_check_run_and_sweep(eta, tmp_path):
+    # issue 34: efficiency = 5e-324 made M = inf (exit 70, no output at all) while `check` said ok. A gear that
+    # passes under 1 % of its power is no drive (rows.md §7: eta in [0.01, 1]): the one rule refuses it in
+    # check, run and sweep alike, naming file, key and bound; the other designs of the batch are still computed.
+    from conftest import CONFIGS, cli
+
+    text = (CONFIGS / "rows_mass_fig5.toml").read_text().replace("efficiency = 0.95", f"efficiency = {eta}")
+    bad = tmp_path / "e.toml"
+    bad.write_text(text)
+    r = cli("check", bad)
+    assert r.code == 2 and "mass.efficiency" in r.err and str(bad) in r.err and ">= 0.01" in r.err, r
+    good = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml"
+    for fmt in ("json", "csv", "table"):
+        r = cli("run", good, bad, "--format", fmt)
+        assert r.code == 2 and "Fig. 3 curve 4" in r.out and "mass.efficiency" in r.err, (fmt, r)
+    r = cli("sweep", CONFIGS / "rows_mass_fig5.toml", "--vary", f"mass.efficiency=0.9,{eta},0.95", "--format", "csv")
+    assert r.code == 2 and "mass.efficiency" in r.err and "Traceback" not in r.err, r

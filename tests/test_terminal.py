@@ -101,6 +101,8 @@ def test_run_configs_one_line_per_design_that_fits(cols, rows):
                 body.append(lines[j])
                 j += 1
     assert len(body) == n_configs()
+    names = [re.split(r"\s{2,}", line.strip())[0] for line in body]
+    assert len(set(names)) == len(names), names  # each design told apart by its (shortened) name
     # no number is folded or cut: every right-aligned cell that looks numeric parses as a number
     for line in body:
         for cell in re.split(r"\s{2,}", line.strip())[1:]:

@@ -649,3 +649,17 @@ def test_stepping_finds_a_neighbour_more_than_half_a_turn_ahead():
     assert np.max(np.diff(np.concatenate([theta[0], [theta[0, 0] + 2 * np.pi]]))) > np.pi  # the wide pitch
     _, res = z.step_chain(theta[:, 0], ch.n, ch.outer_radius, ch.inner_radius, ch.eccentricity, ch.gap)
     assert np.all(res < 1e-9)
+
+
+def test_remainder_360_is_exact_for_every_float():
+    # issue 34: the reduction of a direction or phase angle lost every digit above about 1e17 (33 of 300 random
+    # angles >= 4e40 gave a BracketError). math.remainder(x, 360) is the reference (IEEE remainder, exact).
+    import random
+
+    from gearcalc.zstk.geometry import remainder_360
+
+    rng = random.Random(34)
+    xs = [rng.choice((-1, 1)) * 10 ** rng.uniform(-5, 308) for _ in range(3000)]
+    xs += [180.0 + 360.0 * k for k in range(-40, 40)] + [1.7976931348623157e308, -1.7976931348623157e308, 5e-324]
+    got = remainder_360(np.array(xs)).tolist()
+    assert got == [math.remainder(x, 360.0) for x in xs]

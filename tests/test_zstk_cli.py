@@ -192,6 +192,18 @@ def test_strength_check_exit_1(tmp_path):
     assert "check failed" in r.stderr and "sigma_max_MPa" in r.stderr
 
 
+def test_a_failed_strength_check_prints_the_digits_that_show_the_excess(tmp_path):
+    import re
+
+    sigma = summary(EXAMPLE)[0]["sigma_max_MPa"]  # the example's own stress: the allowable a hair below it
+    allow = sigma * (1 - 1e-8)
+    assert f"{sigma:.6g}" == f"{allow:.6g}"  # at six digits the message would read "x > x"
+    s, r = summary(EXAMPLE, "--set", f"material.allowable_stress_MPa={allow!r}")
+    assert r.exit_code == 1 and s["pass"] is False
+    shown, limit = re.search(r"sigma_max_MPa = (\S+) > allowable_stress_MPa = (\S+) ", r.stderr).groups()
+    assert float(shown) > float(limit), r.stderr
+
+
 def test_huge_load_fails_and_warns(tmp_path):
     s, r = summary(design(tmp_path), "--set", "load.radial_N=1e9")
     assert r.exit_code == 1 and s["pass"] is False and "b/rho" in r.stderr
@@ -313,3 +325,20 @@ def test_vanishing_roller_warns(tmp_path):
     assert s["r_min_mm"] == pytest.approx(5e-5, rel=1e-6)
     assert math.isfinite(s["sigma_max_MPa"]) and s["sigma_max_roller_radius_mm"] == pytest.approx(5e-5, rel=1e-6)
     assert "b/rho" in r.stderr
+
+
+@pytest.mark.parametrize("angle", [1.3266152821258527e+39, -7.5e250, 1e300, 4.0e40 + 2.0 ** 90])
+def test_a_huge_load_direction_is_reduced_exactly(angle, tmp_path):
+    # issue 34: direction_deg = 1.33e39 was a BracketError (exit 70): x - 360 round(x/360) loses everything at
+    # that size. The direction is x modulo 360 exactly (math.remainder: fmod is exact for floats), so the results
+    # equal those of the reduced angle (zstk.md §1: gamma is a direction, in deg).
+    from conftest import cli
+
+    def summary(value):
+        r = cli("zstk", EXAMPLE, "--set", f"load.direction_deg={value!r}", "--format", "json")
+        assert r.code == 0 and "internal error" not in r.err, r
+        s = json.loads(r.out)["summary"]
+        s.pop("model_time_ms", None)
+        return s
+
+    assert summary(angle) == summary(math.remainder(angle, 360.0))

@@ -147,7 +147,7 @@ def test_impossible_point_errors_like_point_by_point():
     with pytest.raises(Exception) as alone:
         validate(trial, str(EXAMPLE))
     constraint = hook_err.value.message.split(" (at ")[0]
-    assert f"geometry.eccentricity_mm: {constraint}" in str(alone.value)
+    assert f"geometry.eccentricity_mm {constraint}" in str(alone.value)  # "key = value: why" (calculator.keyed)
     with pytest.raises(sw.SweepError) as frame_err:  # through the frame: exit 2 in the CLI
         sw.evaluate(raw, str(EXAMPLE), axes, Options())
     assert "geometry.eccentricity_mm" in str(frame_err.value) and str(bad) in str(frame_err.value)

@@ -86,3 +86,29 @@ def test_chain_problems_match_the_stacked_rules():
         v = z.check_designs([PAPER[0]], PAPER[1], PAPER[2], PAPER[3], [n], [-1], 0.0, "outer", 2000)
         assert [m for _, m in v.problems(0, "cycle", n)] == [m for _, m in z.chain_problems(ch)]
         assert bool(v.valid[0]) == (z.chain_problems(ch) == [])
+
+
+def test_allowable_stress_has_an_upper_bound_so_the_capacity_stays_finite():
+    # issue 34 fuzz: allowable_stress_MPa = 1e308 made radial_load_allowable_N = inf (Q_allow grows as [sigma_H]^2,
+    # zstk.md §5.4); the schema bounds it at 1e6 MPa (zstk.md §5.4), in check and run alike
+    from conftest import CONFIGS, cli
+
+    for cmd in ("check", "run"):
+        r = cli(cmd, CONFIGS / "zstk_merko_A_inner.toml", "--set", "material.allowable_stress_MPa=1e308")
+        assert r.code == 2 and "material.allowable_stress_MPa" in r.err and "<= 1e+06" in r.err, r
+    r = cli("run", CONFIGS / "zstk_merko_A_inner.toml", "--set", "material.allowable_stress_MPa=1e6",
+            "--format", "json")
+    assert r.code == 0, r
+
+
+def test_checking_an_extreme_radius_says_no_numpy_warning():
+    # issue 34 fuzz: outer_raceway_radius_mm = 1e-320 printed numpy's "overflow encountered in divide" while the
+    # check said its error; no numpy warning ever escapes (interface.md "Output"): as errors here, one would be exit 70
+    import warnings
+
+    from conftest import CONFIGS, cli
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        r = cli("check", CONFIGS / "zstk_merko_C_inner.toml", "--set", "geometry.outer_raceway_radius_mm=1e-320")
+    assert r.code == 2 and "must be < outer_raceway_radius_mm" in r.err and "internal error" not in r.err, r

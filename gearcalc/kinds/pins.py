@@ -69,9 +69,12 @@ def _violations(values):
 
 def check(design, problems: Problems) -> None:
     """Cross-key checks (pins.md §7, §9; :func:`gearcalc.pins.checks.design_problems`); every problem is reported."""
+    from ..engine import quiet_numpy
+
     a, tables = _one(design), _tables(design)
-    found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, **{n: a[n] for n in GEAR_ARGS},
-                              is_modified=_modified(design))
+    with quiet_numpy():  # an overflow at an input's extreme is a problem said below, never a numpy warning
+        found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, **{n: a[n] for n in GEAR_ARGS},
+                                  is_modified=_modified(design))
     R.report_problems(found, problems)
     if "gearing" not in tables or found and found[-1][1] == "overflow":
         return
@@ -179,6 +182,26 @@ def sweep(base, raw, axes, points, options):
     return cols
 
 
+def sweep_cost(base, axes, options) -> float:
+    """Estimated seconds of one point of a sweep (:func:`gearcalc.grid.point_seconds`), measured on one core
+    (2026-12-07): :func:`sweep`'s arrays 25 us a point (43 000 points/s end to end); point by point the formula
+    level 1 ms, the ideal level 1 ms + 35 us a pin-disc (:data:`IDEAL_WORK_MAX`), the contact level 0.22 ms a pin
+    and pass of the torque fixed point (38-40 ms for ``configs/pins_paper_circ_u30_rotating.toml``: 62 pins,
+    3 passes)."""
+    try:
+        level = select_level(base, options.model)
+    except DesignError:
+        return 1e-3  # the sweep reports the error at its first point
+    if all(k in {"formula": FORMULA_SWEEP_KEYS, "ideal": IDEAL_SWEEP_KEYS}.get(level, ()) for k in axes):
+        return 2.5e-5
+    if level == "formula" or not base.has("gearing"):
+        return 1e-3
+    z2 = max([base["gearing.pins"]] + [v for v in axes.get("gearing.pins", []) if isinstance(v, int)])
+    if level == "ideal":
+        return 1e-3 + 35e-6 * z2 * base["gearing.discs"]
+    return 2.2e-4 * z2 * C.contact_passes(base.get(KEYS["shaft"]) == "V")
+
+
 def _points_pass_checks(base, values, n: int, level: str) -> bool:
     """Whether every point passes the checks its varied keys can break (else: point by point, as the loader)."""
     return C.points_pass(_violations(values), level == "formula", base.has("pin_load"),
@@ -235,16 +258,23 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     return summary
 
 
-def plot(records, path: str) -> None:
-    """The figure of :mod:`gearcalc.pins.plot` (matplotlib imported there, on use)."""
+def plot(records, path: str) -> list:
+    """The figure of :mod:`gearcalc.pins.plot` (matplotlib imported there, on use); the records drawn."""
     from ..pins.plot import plot as draw
 
-    draw(records, path, compute)
+    return draw(records, path, compute)
+
+
+def implicit(design) -> dict:
+    """``friction.model`` as the computation takes it when left out (its alias contact.friction_in_equilibrium,
+    else the default), unless the alias is given (the design then says it)."""
+    return {} if design.get(KEYS["alias"]) is not None else {KEYS["model"]: friction_model(design)}
 
 
 CALCULATOR = Calculator(
     kind="pins", title="KHV planetary pin gearing: per-pin friction losses and efficiency", tables=TABLES,
-    compute=compute, check=check, models=MODELS, header=HEADER, sweep=sweep,
+    implicit=implicit, compute=compute, check=check, models=MODELS, header=HEADER, sweep=sweep,
+    sweep_cost=sweep_cost,
     table_fields=("model", "efficiency", "self_locking", "pin_force_max_N", "P_tr_W"), sweep_plot=("efficiency",),
     failure=(("self_locking", True),), plot=plot, batch=batch,
 )

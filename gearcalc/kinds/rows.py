@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from ..calculator import Calculator, DesignError, Options, Problems, Result
+from ..registry import LEVELS
 from ..rows import geometry as G
 from ..rows import report as W
 from ..rows.schema import FAST_SWEEP_KEYS, TABLES
@@ -153,14 +154,17 @@ def bridges(design, f, s, detail, warnings, failed, kappa_for, C, E, nu):
     if first_mm is not None and res["H_max"] > 0 and first_mm > res["H_max"]:
         raise DesignError("bridges.first_span", W.first_span_too_wide(first_mm, res["H_max"]))
     if not res["feasible"]:
-        B_ok = None
-        if design.get("rows.rim_width_mm") is None:
+        hint = None
+        if design.get("rows.rim_width_mm") is None:  # where every bridge fits: B's windows, else another n
             given = {k: design[f"bridges.{k}_mm"] if design.is_given(f"bridges.{k}_mm") else None
                      for k in ("axle_diameter", "bridge_thickness")}
-            B_ok = R.largest_feasible_width(f.relative_width, n, nw, design["gear.sun_teeth"], m, alpha, i, E, nu, Ip,
-                                            cheek_ratio=design["rows.cheek_ratio"], cheek=design.get("rows.cheek_mm"),
-                                            first_span=first_mm, **given)
-        failed.append(W.bridge_failure(res["flags"], res["H_max"], B_ok))
+            args = (nw, design["gear.sun_teeth"], m, alpha, i, E, nu, Ip)
+            kwargs = dict(cheek_ratio=design["rows.cheek_ratio"], cheek=design.get("rows.cheek_mm"),
+                          first_span=first_mm, **given)
+            windows = R.feasible_widths(f.relative_width, n, *args, **kwargs)
+            hint = (n, windows, None, []) if windows else (n, [], *R.feasible_rows(f.relative_width, n, *args,
+                                                                                     **kwargs))
+        failed.append(W.bridge_failure(res["flags"], res["H_max"], hint))
     Y = R.carrier_compliance(res["a_w"], nw, res["stiffness"], n, f.rim_width, alpha, C)
     verified = {}
     for label, d_i in (("sized", d_size), ("pitch", f.sun_diameter), ("root", f.root_diameter)):
@@ -178,25 +182,25 @@ def sweep(base, raw, axes, points, options):
     """The summaries of a whole grid as columns (no Python loop per point; rows.md §9), from the same geometry,
     validity and load-sharing functions as :func:`check` and :func:`compute`.
 
-    Points are grouped by the number of rows n, each group one batch of :func:`gearcalc.rows.row_sharing`; the
-    mass optimum is one vectorised golden-section search.  Designs with [bridges] (dense verification solves per
-    point) or varied keys outside ``FAST_SWEEP_KEYS`` return None: the caller evaluates them point by point.
+    Points are grouped by the number of rows n, each group one batch of :func:`gearcalc.rows.row_sharing` and,
+    with [bridges], of :func:`gearcalc.rows.size_bridges_batch` and :func:`gearcalc.rows.verify_carrier_batch`;
+    the mass optimum is one vectorised golden-section search.  Varied keys outside ``FAST_SWEEP_KEYS``, or
+    ``mass.unevenness = "computed"`` where K is undefined, return None: the caller evaluates them point by point.
     """
     import numpy as np
 
     from .. import rows as R
 
-    if base.has("bridges") or any(k not in FAST_SWEEP_KEYS for k in axes):
+    if not vectorised(base, axes):
         return None
-    if base.has("mass") and (base["mass.unevenness"] == "computed" or "mass.unevenness" in axes
-                             and any(isinstance(v, str) for v in axes["mass.unevenness"])):
-        return None
+    computed = base.has("mass") and (base["mass.unevenness"] == "computed" or "mass.unevenness" in axes
+                                     and any(isinstance(v, str) for v in axes["mass.unevenness"]))
     P = len(points)
 
     def col(key):
         if key in axes:
             vals = points.column(key, True) if hasattr(points, "column") else [p[key] for p in points]
-            return vals if key == "sun.torsion_diameter" else np.array(vals, dtype=float)
+            return vals if key in WORDS else np.array(vals, dtype=float)
         v = base.get(key)
         return v if isinstance(v, str) or v is None else np.full(P, float(v))
 
@@ -224,25 +228,135 @@ def sweep(base, raw, axes, points, options):
     T_a = col("sun.torque_Nm")
     if T_a is not None:
         cols.update(W.load_fields(R.mean_line_load(nm_to_nmm(T_a), n, f.base_radius, f.rim_width, nw), sh, column))
+    if base.has("bridges"):
+        bridge_cols, K_bal, late = bridges_columns(base, axes, points, col, f, n, nw, bore, E, nu, C, column)
+        cols.update(bridge_cols)
     if base.has("mass"):
         (lo, hi), unev = base["mass.ratio_range"], col("mass.unevenness")
+        if computed:
+            if np.isnan(K_bal).any():  # K_balanced undefined: point by point says so at its first point
+                return None
+            unev = K_bal
         m = R.mass_and_optimum(ratio(col), (np.full(P, lo), np.full(P, hi)), options.tol,
                                **mass_params(col, n, nw, f, E, nu, unev, deg_to_rad(col("gear.pressure_angle_deg"))))
         cols.update(W.mass_fields(m, unev, column))
+    for key in late if base.has("bridges") else ():
+        cols[key] = cols.pop(key)
     return cols  # column-major: the sweep writes it without building a dict per point
 
 
-def plot(records, path: str) -> None:
-    """The figure of :mod:`gearcalc.rows.plot` (matplotlib imported there, on use)."""
+def vectorised(base, axes) -> bool:
+    """Whether :func:`sweep` evaluates the grid as arrays: every varied key in ``FAST_SWEEP_KEYS`` and K of the
+    mass ("computed" unevenness) a column the sweep has (K_balanced, with [bridges] and a fixed unevenness)."""
+    if any(k not in FAST_SWEEP_KEYS for k in axes):
+        return False
+    computed = base.has("mass") and (base["mass.unevenness"] == "computed" or "mass.unevenness" in axes
+                                     and any(isinstance(v, str) for v in axes["mass.unevenness"]))
+    return not computed or (base.has("bridges") and "mass.unevenness" not in axes)
+
+
+def sweep_cost(base, axes, options) -> float:
+    """Estimated seconds of one point of a sweep (:func:`gearcalc.grid.point_seconds`), measured on one core
+    (2026-12-07): the arrays of :func:`sweep` 3 us a point (+ 0.1 us a row), with [bridges] 10 us + 4 us a row
+    + the verification's dense solves (1.5e-8 n³ s); point by point 1 ms, with [bridges] 20 ms (an infeasible
+    design's hint searches its widths)."""
+    rows = axes.get("rows.count", [base["rows.count"]])
+    n = max(v for v in rows if isinstance(v, int)) if any(isinstance(v, int) for v in rows) else base["rows.count"]
+    solves = 1.5e-8 * n**3 if base.has("bridges") else 0.0
+    if vectorised(base, axes):
+        return (1e-5 + 4e-6 * n if base.has("bridges") else 3e-6 + 1e-7 * n) + solves
+    return (2e-2 if base.has("bridges") else 1e-3) + 3 * solves
+
+
+def bridges_columns(base, axes, points, col, f, n, nw, bore, E, nu, C, column):
+    """The bridge summary columns of a sweep (:func:`bridges`' fields; rows.md §8, §9) and K_balanced (NaN where
+    undefined): the points grouped by n, each group one batch; the columns of every n in the order the points
+    first show them (a design alone lists its own n's columns: the union of §13.5)."""
+    import numpy as np
+
+    from .. import rows as R
+
+    P = len(n)
+    alpha, m, i = deg_to_rad(col("gear.pressure_angle_deg")), col("gear.module_mm"), ratio(col)
+    section = {k: col(f"bridges.{k}_mm") if base.is_given(f"bridges.{k}_mm") or f"bridges.{k}_mm" in axes
+               else G.DEFAULT_SECTION_PER_RIM * f.rim_width for k in ("axle_diameter", "bridge_thickness")}
+    first = col("bridges.first_span")
+    first = np.array([0.0 if v == "axes_only" else float(v) for v in first], dtype=float) \
+        if isinstance(first, list) else np.full(P, 0.0 if first == "axes_only" else float(first))
+    d_size = diameter(col("bridges.torsion_diameter"), f)
+    fits = G.bore_fits(bore, d_size)
+    if not np.all(fits):
+        raise DesignError("bridges.torsion_diameter",
+                          f"the sun bore must be smaller at {points[int(np.argmax(~fits))]}")
+    Ip = R.polar_moment(d_size, bore)
+    G_sun = R.shear_modulus(E, nu)
+    H_max, H, rel = np.zeros(P), {}, {}
+    feasible = np.zeros(P, bool)
+    K = {label: np.full(P, np.nan) for label in ("sized", "pitch", "root")}
+    unloaded = [[]] * P
+    order = list(dict.fromkeys(np.asarray(n)[np.sort(np.unique(n, return_index=True)[1])].tolist()))
+    for rows in order:
+        k = np.flatnonzero(n == rows)
+
+        def at(v, k=k):
+            return v[k] if np.ndim(v) else v
+
+        res = R.size_bridges_batch(rows, at(nw), at(f.sun_diameter), at(m), at(f.rim_width), at(f.cheek), at(alpha),
+                                   at(i), at(section["axle_diameter"]), at(section["bridge_thickness"]), at(E),
+                                   at(nu), at(Ip), first_span=at(first))
+        wide = (first[k] > 0) & (res["H_max"] > 0) & (first[k] > res["H_max"])
+        if wide.any():
+            j = int(k[np.argmax(wide)])
+            raise DesignError("bridges.first_span", W.first_span_too_wide(
+                float(first[j]), float(res["H_max"][np.argmax(wide)])) + f" at {points[j]}")
+        H_max[k], feasible[k] = res["H_max"], res["feasible"]
+        for j in range(rows):
+            H.setdefault(j, np.full(P, np.nan))[k] = res["H"][:, j]
+            rel.setdefault(j, np.full(P, np.nan))[k] = res["H_rel"][:, j]
+        Y = R.carrier_compliance_batch(res["a_w"], at(nw), res["stiffness"], rows, at(f.rim_width), at(alpha), at(C))
+        for label, d_i in (("sized", d_size), ("pitch", f.sun_diameter), ("root", f.root_diameter)):
+            kappa = R.torsion_parameter(at(C), at(f.base_radius), at(nw), at(f.rim_width), at(G_sun),
+                                        R.polar_moment(at(d_i), at(bore)))
+            kappa = np.broadcast_to(kappa, k.shape)
+            _, _, off, _, K[label][k] = R.verify_carrier_batch(kappa, np.broadcast_to(at(f.cheek_ratio), k.shape),
+                                                               rows, Y)
+            if label == "sized":
+                for q in np.flatnonzero(off.any(axis=1) & ~np.isnan(K[label][k])):  # rows.md §13.4
+                    unloaded[k[q]] = (np.flatnonzero(off[q]) + 1).tolist()
+    out = {"bridge_max_mm": column(np.maximum(H_max, 0.0)), "bridge_torsion_diameter_mm": column(d_size)}
+    first_n, late = order[0], []
+    for name, values in (("bridge_rel", rel), ("bridge", H)):
+        for j in range(first_n):
+            out[f"{name}_{j + 1}" + ("_mm" if name == "bridge" else "")] = column(values[j], ~np.isnan(values[j]))
+    out.update(bridges_feasible=column(feasible), K_balanced=column(K["sized"], ~np.isnan(K["sized"])),
+               K_balanced_pitch=column(K["pitch"], ~np.isnan(K["pitch"])),
+               K_balanced_root=column(K["root"], ~np.isnan(K["root"])), unloaded_rows_balanced=unloaded)
+    seen = first_n
+    for rows in order[1:]:  # a larger n's own columns: after every column of the points before (rows.md §13.5)
+        for name, values in (("bridge_rel", rel), ("bridge", H)):
+            for j in range(seen, rows):
+                late.append(f"{name}_{j + 1}" + ("_mm" if name == "bridge" else ""))
+                out[late[-1]] = column(values[j], ~np.isnan(values[j]))
+        seen = max(seen, rows)
+    return out, K["sized"], late
+
+
+WORDS = ("sun.torsion_diameter", "bridges.torsion_diameter", "bridges.first_span")
+"""Keys whose values may be words: a sweep keeps their column a list."""
+
+
+def plot(records, path: str) -> list:
+    """The figure of :mod:`gearcalc.rows.plot` (matplotlib imported there, on use); the records drawn."""
     from ..rows.plot import plot as draw
 
-    draw(records, path)
+    return draw(records, path)
 
 
 CALCULATOR = Calculator(
     kind="rows", title="multi-row planetary gear: row load sharing, equalising carrier bridges, relative mass",
-    tables=TABLES, compute=compute, check=check, models=("stepwise", "exact", "continuous"),
+    tables=TABLES, compute=compute, check=check, models=LEVELS["rows"],
     header="Seed paper 004_971077b94d8d4426.txt; physics in rows.md. Lengths in mm, torque in N*m, stresses in MPa.",
-    sweep=sweep, table_fields=("K", "K_exact", "bridges_feasible", "K_balanced", "relative_mass_min_kg_per_kNm"),
+    sweep=sweep, sweep_cost=sweep_cost,
+    table_fields=("K", "K_exact", "bridges_feasible", "K_balanced", "relative_mass_min_kg_per_kNm"),
     sweep_plot=("relative_mass_kg_per_kNm", "K"), failure=(("bridges_feasible", False),), plot=plot,
 )

@@ -27,7 +27,10 @@ def check(design, problems) -> None:
     """Cross-key checks: raceways, eccentricity, gap, parity, N and the corrected geometry (spec §3.3, §9:
     :func:`gearcalc.zstk.check_designs`, the rules compute, batch and sweep use); the cost budget of the phase
     and direction sweeps (:func:`cost_problem`, at the default model)."""
-    p = _prepare(_design_columns([design]), 1)
+    from ..engine import quiet_numpy
+
+    with quiet_numpy():  # an overflow at an input's extreme (R_H = 1e-320) is a problem said below, not a warning
+        p = _prepare(_design_columns([design]), 1)
     for key, msg in _problems(p, 0):
         problems.error(key, msg)
     if p.valid[0]:
@@ -197,6 +200,23 @@ def sweep(base, raw, axes, points, options):
     return _solve_stack(p, np.arange(size), options.model or "equilibrium", base.name, detail=False)[0]
 
 
+def sweep_cost(base, axes, options) -> float:
+    """Estimated seconds of one point of a sweep (:func:`gearcalc.grid.point_seconds`): the stacked solve of
+    :func:`sweep` 0.1 ms a point (9 570 points/s, README); a "cycle" or "envelope" point (computed alone) 1 ms
+    + 10 us per roller-configuration of its first phase and direction grids (zstk.md §8; measured 2026-12-07:
+    98 ms for the 8 640 of ``configs/zstk_merko_A_envelope.toml``, the refinements included)."""
+    from ..zstk import envelope
+
+    cycle = base["geometry.scheme"] == "cycle" or "cycle" in axes.get("geometry.scheme", ())
+    envelope_ = base["load.direction_deg"] == "envelope" or "envelope" in axes.get("load.direction_deg", ())
+    if not (cycle or envelope_):
+        return 1e-4
+    p = _prepare(_design_columns([base]), 1)
+    n = int(p.n[0]) if p.valid[0] else 3
+    grid = envelope.sweep_grid((options.model or "equilibrium") == "reference")
+    return 1e-3 + 1e-5 * envelope.sweep_work(n, cycle, envelope_, grid)
+
+
 def _hashable(v):
     return tuple(v) if isinstance(v, list) else (type(v).__name__, v)
 
@@ -216,20 +236,33 @@ def _compute_sweeping(design, p, options: Options) -> Result:
     return _result(cols, extra, 0, model)
 
 
-def plot(records, path: str) -> None:
-    """The paper's Fig. 2 and a drawing of the chain for up to 4 designs (:mod:`gearcalc.zstk.figure`)."""
+def plot(records, path: str) -> list:
+    """The paper's Fig. 2 and a drawing of the chain for up to 4 designs (:mod:`gearcalc.zstk.figure`); the
+    records drawn."""
     from ..zstk.figure import plot_records
 
-    plot_records(records, path)
+    return plot_records(records, path)
+
+
+def implicit(design) -> dict:
+    """The material values the computation takes for keys left out (:func:`gearcalc.zstk.solve.prepare`): each
+    ring's elastic constants from ring_E_MPa / ring_poisson, the default allowable stress."""
+    return {"material.inner_ring_E_MPa": design["material.ring_E_MPa"],
+            "material.inner_ring_poisson": design["material.ring_poisson"],
+            "material.outer_ring_E_MPa": design["material.ring_E_MPa"],
+            "material.outer_ring_poisson": design["material.ring_poisson"],
+            "material.allowable_stress_MPa": DEFAULT_ALLOWABLE_MPA}
 
 
 CALCULATOR = Calculator(
     kind="zstk",
+    implicit=implicit,
     title="closed rolling-body mechanism (eccentric ZSTK, leading inner ring)",
     tables=TABLES,
     compute=compute,
     check=check,
     sweep=sweep,
+    sweep_cost=sweep_cost,
     batch=batch,
     models=MODELS,
     table_fields=TABLE_FIELDS,

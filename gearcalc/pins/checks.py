@@ -183,10 +183,14 @@ def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
     """
     import math
 
+    import numpy as np
+
     from .operating import SCALAR_OPS, pin_circle
 
-    Rp, omk = pin_circle(z1, z2, e, math.nan if Rp is None else Rp, math.nan if K1 is None else K1, SCALAR_OPS)
-    return Rp, (e * z2 / ((z2 - z1) * Rp) if K1 is None else K1), omk
+    with np.errstate(all="ignore"):  # float64 scalars: a K1 so large that k*K1 overflows gives R_p = 0, no exception
+        Rp, omk = pin_circle(z1, z2, np.float64(e), math.nan if Rp is None else Rp, math.nan if K1 is None else K1,
+                             SCALAR_OPS)
+    return float(Rp), (e * z2 / ((z2 - z1) * Rp) if K1 is None else K1), float(omk)
 
 
 def tooth_too_large(Rb, tooth_radius, Rp, e):

@@ -546,9 +546,8 @@ def effective_radius(R_b, delta, inv_D):
 
     .. math::
 
-        rac{1}{R_{eff}} = rac{1}{R_b} + rac{1}{
-ho},\qquad
-        R_{eff} = R_b\,rac{1 - (R_b - \delta)\,inv_D}{1 + \delta\,inv_D}
+        \frac{1}{R_{eff}} = \frac{1}{R_b} + \frac{1}{\rho},\qquad
+        R_{eff} = R_b\,\frac{1 - (R_b - \delta)\,inv_D}{1 + \delta\,inv_D}
 
     (the ideal level's R_b (1 - R_b/rho_c) when delta = Delta R_b = 0; a flat tooth, inv_D = 0: R_b).
 

@@ -1161,8 +1161,11 @@ def _interior_states(found: BreakpointRoots, mids, period: float):
     r = found.roots
     margin = INTERIOR_MARGIN * period
     k = r.searchsorted(mids)
-    lo = np.where(k > 0, r[np.maximum(k - 1, 0)], -np.inf)[:, None]
-    hi = np.where(k < r.size, r[np.minimum(k, r.size - 1)], np.inf)[:, None]
+    if r.size:
+        lo = np.where(k > 0, r[np.maximum(k - 1, 0)], -np.inf)[:, None]
+        hi = np.where(k < r.size, r[np.minimum(k, r.size - 1)], np.inf)[:, None]
+    else:  # no sign change located (e.g. a torque so small the contacts never change sets): one stretch
+        lo, hi = np.full((mids.size, 1), -np.inf), np.full((mids.size, 1), np.inf)
     inside = (th[None, :] > lo + margin) & (th[None, :] < hi - margin)
     dist = np.where(inside, np.abs(th[None, :] - mids[:, None]), np.inf)
     col = np.argmin(dist, axis=1)

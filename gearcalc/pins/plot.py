@@ -1,15 +1,30 @@
 """The figure of the ``pins`` calculator (pins.md §8); matplotlib is imported on use."""
 from __future__ import annotations
 
-__all__ = ["plot"]
+__all__ = ["plot", "since_entry"]
 
 
-def plot(records, path: str, compute) -> None:
+def since_entry(phase_deg, mode: str):
+    """The crank angle since the pin entered its loaded arc [deg], from the load-side phases of the loaded
+    contacts of the detail table: the phases are taken in (-180, 180] (the contact level reports a pin
+    loaded just before phase 0, by its compliance, as a phase just below 360), and the pin enters at the
+    smallest loaded phase (multiplier) or at the largest (reducer: the pin runs through its arc backwards).
+    At the ideal level the loaded arc is [0, psi*]: the angle is phase (multiplier) or psi* - phase."""
+    import numpy as np
+
+    phase = np.asarray(phase_deg, dtype=float)
+    phase = 180.0 - np.mod(180.0 - phase, 360.0)       # (-180, 180]
+    if phase.size == 0:
+        return phase
+    return phase - phase.min() if mode == "multiplier" else phase.max() - phase
+
+
+def plot(records, path: str, compute) -> list:
     """The pins figure (pins.md §8): force, pin speed (rotating pins only) and loss of one pin against crank
     angle over one engagement, the crank torque (the driving torque of a reducer, the paper's Figs 3-7) and
     lambda(theta) over one period; one curve per design (up to 6), the efficiencies in the title.
-    Formula-level designs get a bar chart of P_tr1 and P_tr2 instead.  ``compute(design, options)`` recomputes a
-    design with its detail tables (the calculator's)."""
+    Formula-level designs get a bar chart of P_tr1 and P_tr2 instead (up to 12).  ``compute(design, options)``
+    recomputes a design with its detail tables (the calculator's).  Returns the records drawn."""
     import numpy as np
 
     from ..calculator import Options
@@ -30,7 +45,7 @@ def plot(records, path: str, compute) -> None:
         ax.set_ylabel("maximum loss per pin [W]")
         ax.legend()
         save(fig, path)
-        return
+        return recs
     runs = []
     for rec in cyc:
         d = validate(dict(rec.design), rec.source)
@@ -50,10 +65,11 @@ def plot(records, path: str, compute) -> None:
     titles = []
     for rec, res in runs:
         s = res.summary
-        rows = sorted(res.detail["contacts"], key=lambda r: r["phase_deg"])
-        phase = np.array([r["phase_deg"] for r in rows])
-        # crank angle since the pin entered its loaded arc
-        since = phase if s["mode"] == "multiplier" else s["psi_star_deg"] - phase
+        contacts = res.detail["contacts"]
+        since = since_entry([r["phase_deg"] for r in contacts], s["mode"])
+        order = np.argsort(since, kind="stable")
+        rows = [contacts[i] for i in order]
+        since = since[order]
         label = rec.name
         for key in ("force_N", "pin_speed_rpm", "loss_W"):
             y = [r[key] for r in rows]
@@ -76,3 +92,4 @@ def plot(records, path: str, compute) -> None:
     ax_of["loss_ratio"].legend(fontsize=7)
     fig.suptitle("\n".join(titles), fontsize=8)
     save(fig, path)
+    return cyc

@@ -83,7 +83,7 @@ def cycle_notes(design, s, tol: float, warnings, failed) -> None:
                       "at some crank angle (the drive jams); no efficiency. A lower friction.sliding or a larger "
                       "gearing.curtate_ratio (closer to 1) avoids it")
     elif s["self_locking"]:
-        failed.append(f"self-locking in the multiplier mode: the loss ratio {lam:.6g} >= 1 (the losses exceed "
+        failed.append(f"self-locking in the multiplier mode: the loss ratio {_ratio(lam)} >= 1 (the losses exceed "
                       "the power the V shaft delivers); no efficiency. A lower friction.sliding or a larger "
                       "gearing.curtate_ratio (closer to 1) lowers the loss ratio")
     if lam is not None and abs(1.0 - lam) <= E:
@@ -160,7 +160,8 @@ def contact_error(exc, design, g) -> DesignError:
 
     if isinstance(exc, NoEquilibrium):
         return no_equilibrium_error(exc, design, design["gearing.satellite_teeth"])
-    return unresolvable_error(design["gearing.eccentricity_mm"], g.R_p, design["gearing.pin_radius_mm"])
+    return unresolvable_error(design["gearing.eccentricity_mm"], g.R_p, design["gearing.pin_radius_mm"],
+                              design.get("load.torque_Nm"))
 
 
 def group_results(designs, cols, ideal, tol: float, detail: bool, t0: float) -> list:
@@ -206,12 +207,15 @@ def report_problems(found, problems) -> None:
             problems.warn(warning(rule, **values))
 
 
-def unresolvable_error(e, Rp, Rb) -> DesignError:
-    """A contact-level geometry below floating-point resolution."""
+def unresolvable_error(e, Rp, Rb, torque=None) -> DesignError:
+    """A contact-level geometry below floating-point resolution (``torque``: load.torque_Nm, named as the other
+    cause: the deflections scale with it)."""
+    under = "" if torque is None else f" under load.torque_Nm = {fmt(torque)} N*m"
+    hint = "" if torque is None else "; a larger torque deflects the contacts more"
     return DesignError("gearing.eccentricity_mm",
                        f"= {fmt(e)}: the contact level cannot resolve this geometry in floating point "
-                       f"(R_p = {fmt(Rp)} mm, e = {fmt(e)} mm, R_b = {fmt(Rb)} mm: the deflections are "
-                       "below the round-off of the pin positions)")
+                       f"(R_p = {fmt(Rp)} mm, e = {fmt(e)} mm, R_b = {fmt(Rb)} mm: the deflections{under} are "
+                       f"below the round-off of the pin positions{hint})")
 
 
 def stiffness_error(design, law, residual: float, tol: float) -> DesignError:
@@ -274,7 +278,7 @@ def contact_self_locking(mode: str, jammed: bool, loss_ratio: float, stalled: bo
     elif jammed:
         cause = "it jams: no positive contact force balances the torque with the friction forces at some crank angle"
     else:
-        cause = f"the loss ratio {loss_ratio:.6g} >= 1 (the losses exceed the power the V shaft delivers)"
+        cause = f"the loss ratio {_ratio(loss_ratio)} >= 1 (the losses exceed the power the V shaft delivers)"
     model = "friction-consistent model, pins.md §4.9" if consistent else "first-order model, pins.md §7"
     return f"self-locking in the {mode} mode ({model}): {cause}; no efficiency. A lower friction.sliding lowers " \
            "the friction moments"
@@ -640,3 +644,10 @@ def ideal_columns(arrays: dict, mode, rotating, rolls, models: list, n: int) -> 
            "friction_model": models}
     out.update(columns(arrays, n))
     return out
+
+
+def _ratio(ratio: float) -> str:
+    """A loss ratio compared with 1 in a message: the digits that tell it from 1 (never "1 >= 1" for 1.0000001)."""
+    from ..floatfmt import apart
+
+    return apart(ratio, 1.0)[0]

@@ -6,13 +6,14 @@ Imports nothing heavy: ``gearcalc new pins``, ``gearcalc check`` and the man pag
 from __future__ import annotations
 
 from ..calculator import REQUIRED, Field, Table
+from ..registry import LEVELS
 from ..units import MAX_FORCE_N, MAX_FRICTION, MAX_LENGTH_MM, MAX_SPEED_RPM, MAX_TEETH, MAX_TORQUE_NM, MIN_LENGTH_MM
 
 __all__ = ["MODELS", "MAX_DISCS", "IDEAL_WORK_MAX", "IDEAL_SWEEP_WORK_MAX", "CONTACT_NODES_MAX", "CONTACT_WORK_MAX",
            "GROUP_PINS_MAX", "GROUP_TOL_MIN", "MAX_STIFFNESS_N_PER_MM", "TABLES", "HEADER", "SUMMARY_KEYS",
            "OPERATING_KEYS", "GEOMETRY_KEYS", "PIN_LOAD_KEYS", "FORMULA_SWEEP_KEYS", "IDEAL_SWEEP_KEYS"]
 
-MODELS = ("formula", "ideal", "contact")
+MODELS = LEVELS["pins"]
 MAX_DISCS = 64
 """Satellite discs (drives use 1-3); the cost grows with n_d, and 64 discs take ~0.4 s."""
 IDEAL_WORK_MAX = 200_000

@@ -49,10 +49,11 @@ _NAMES = {
                 "exact_shares", "exact_k_no_gap", "x_coth_x", "continuous_x", "continuous_k",
                 "continuous_profile", "row_sharing", "SharingBatch", "row_sharing_mixed", "mean_line_load",
                 "twist_from_shares",
-                "stepwise_active_set"),
+                "stepwise_active_set", "stepwise_active_set_batch"),
     "bridges": ("Verification", "carrier_displacements", "carrier_matrix",
                 "carrier_compliance", "beam_compliance", "bridge_width_for_compliance", "size_bridges",
-                "verify_carrier", "bridges_fit", "largest_feasible_width"),
+                "verify_carrier", "bridges_fit", "largest_feasible_width", "FLAGS", "size_bridges_batch",
+                "carrier_compliance_batch", "verify_carrier_batch", "fits_batch", "feasible_widths", "feasible_rows"),
     "mass": ("Mass", "mass_bracket", "relative_mass", "mass_optimum_closed_form", "mass_and_optimum"),
 }
 __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), _MODULES, _NAMES)

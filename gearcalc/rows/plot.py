@@ -4,9 +4,10 @@ from __future__ import annotations
 __all__ = ["plot"]
 
 
-def plot(records, path: str) -> None:
+def plot(records, path: str) -> list:
     """Row loads (stepwise and exact, as u = w/w̄) at the row centres along the sun face, with the
-    continuous level's load profile u(x) = X cosh(X(1 - x/b_a)) / sinh X; one panel per design (up to 4)."""
+    continuous level's load profile u(x) = X cosh(X(1 - x/b_a)) / sinh X; one panel per design (up to 4: the
+    records drawn are returned)."""
     import numpy as np
 
     from ..plot import _pyplot, save
@@ -37,3 +38,4 @@ def plot(records, path: str) -> None:
         ax.grid(True, alpha=0.3)
         ax.legend(fontsize=8)
     save(fig, path)
+    return recs

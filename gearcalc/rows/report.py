@@ -149,15 +149,55 @@ BRIDGE_FLAG_TEXT = {
 }
 
 
-def bridge_failure(flags, H_max, B_ok) -> str:
-    """The failed bridge check in a designer's words: which span, why, H_max, and the widest feasible rows."""
+def bridge_failure(flags, H_max, hint=None) -> str:
+    """The failed bridge check in a designer's words: which span, why, H_max, and where every bridge fits.
+
+    ``hint``: (n, windows of B at n, another n or None, its windows), from
+    :func:`gearcalc.rows.feasible_widths` and :func:`gearcalc.rows.feasible_rows`; the nearest window is said,
+    its bounds rounded inward (each a width that fits).
+
+    >>> text = bridge_failure(["ok", "ok", "exceeds_max"], 134.26, (3, [(2.66562, 2.97387)], None, []))
+    >>> text[text.index("(H_max"):]
+    '(H_max = 134.3 mm); every bridge fits for rows.relative_width from 2.666 to 2.973 (rows.count = 3)'
+    >>> text = bridge_failure(["ok", "exceeds_max", "ok", "exceeds_max", "ok"], 150.0, (5, [], 4, [(3.9991, 4.0364)]))
+    >>> text[text.index("; no"):text.index(" (widths")]
+    '; no rows.relative_width makes every bridge fit with rows.count = 5'
+    >>> text[text.index("tried); "):]
+    'tried); rows.count = 4 does, for rows.relative_width from 4.000 to 4.036'
+    """
     spans = "; ".join(f"span {j + 1} {BRIDGE_FLAG_TEXT.get(f, f)} ({f})" for j, f in enumerate(flags) if f != "ok")
     text = f"the bridges cannot equalise the rows: {spans} (H_max = {H_max:.4g} mm)"
-    if B_ok is not None:
-        import math
+    if hint is None:
+        return text
+    n, windows, other, other_windows = hint
+    if windows:
+        return text + f"; every bridge fits for rows.relative_width {_window(windows[0])} (rows.count = {n})"
+    text += f"; no rows.relative_width makes every bridge fit with rows.count = {n} (widths from B/30 to 30 B tried)"
+    if other is None:
+        return text + f", nor with rows.count = 2 to {n + 10}"
+    return text + f"; rows.count = {other} does, for rows.relative_width {_window(other_windows[0])}"
 
-        text += f"; rows.relative_width <= {math.floor(B_ok * 1000) / 1000:g} makes every bridge fit"
-    return text
+
+def _window(window) -> str:
+    """A window of relative widths in words, its bounds rounded inward to 3 decimals (more when it is narrower).
+
+    >>> _window((2.66562, 2.97387)), _window((None, 0.51)), _window((12.00049, None)), _window((1.00012, 1.00031))
+    ('from 2.666 to 2.973', '<= 0.51', '>= 12.001', 'from 1.0002 to 1.0003')
+    """
+    import math
+
+    lo, hi = window
+    for digits in range(3, 13):
+        scale = 10.0**digits
+        up = None if lo is None else math.ceil(lo * scale) / scale
+        down = None if hi is None else math.floor(hi * scale) / scale
+        if up is None or down is None or up <= down:
+            break
+    if lo is None:
+        return f"<= {down:.{digits}f}".rstrip("0").rstrip(".")
+    if hi is None:
+        return f">= {up:.{digits}f}"
+    return f"from {up:.{digits}f} to {down:.{digits}f}"
 
 
 def bridge_fields(res, sizing_diameter, verified) -> tuple[dict, list[dict]]:

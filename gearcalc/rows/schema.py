@@ -62,7 +62,7 @@ TABLES = (
         Field("planet_fill", "number", 1.0, "k_g, fill factor of a planet", gt=0, le=1),
         Field("allowable_contact_MPa", "number", 600.0, "sigma_HP, allowable contact stress", ge=1e-3, le=1e6),
         Field("density_kg_m3", "number", 7800.0, "rho, density", gt=0, le=1e6),
-        Field("efficiency", "number", 0.95, "eta, efficiency", gt=0, le=1),
+        Field("efficiency", "number", 0.95, "eta, efficiency (a drive passes at least 1 %)", ge=0.01, le=1),
         Field("unevenness", "number", 1.0, "K used in M; \"computed\" takes K_balanced with [bridges], "
               "else the design's K", ge=1e-3, le=1e6, choices=("computed",)),
         Field("ratio_range", "numbers", [2.2, 12.0], "[i_lo, i_hi] where the minimum is searched", gt=2, le=1e4,
@@ -77,5 +77,6 @@ FAST_SWEEP_KEYS = frozenset({
     "sun.torque_Nm", "sun.torsion_diameter", "sun.bore_mm", "material.E_MPa", "material.poisson",
     "material.mesh_stiffness_MPa", "mass.wall_ratio", "mass.sun_fill", "mass.planet_fill",
     "mass.allowable_contact_MPa", "mass.density_kg_m3", "mass.efficiency", "mass.unevenness",
+    "bridges.axle_diameter_mm", "bridges.bridge_thickness_mm", "bridges.first_span", "bridges.torsion_diameter",
 })
 """The keys a vectorised rows sweep may vary (:func:`gearcalc.kinds.rows.sweep`); others run point by point."""

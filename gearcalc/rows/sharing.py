@@ -20,7 +20,8 @@ import numpy as np
 __all__ = ["RESCALE", "KAPPA_UNIFORM", "KAPPA_STEPWISE_MAX", "UNLOADED_SHARE", "LEVELS", "Sharing", "continuous_x",
            "continuous_profile", "row_sharing", "SharingBatch", "row_sharing_mixed", "mean_line_load",
            "twist_from_shares", "polar_moment", "torsion_parameter", "stepwise_shares", "stepwise_dense",
-           "twist_between", "exact_shares", "exact_k_no_gap", "x_coth_x", "continuous_k", "stepwise_active_set"]
+           "twist_between", "exact_shares", "exact_k_no_gap", "x_coth_x", "continuous_k", "stepwise_active_set",
+           "stepwise_active_set_batch"]
 
 RESCALE = 1e250
 """The far-end recurrence rescales its running values above this (rows.md §2.5)."""
@@ -652,3 +653,90 @@ def stepwise_active_set(kappa: float, cheek_ratio: float, rows: int, carrier=Non
             return u, (np.flatnonzero(~active) + 1).tolist(), True, residual
         active[cand[np.argmax(implied[cand])]] = True
     return u, (np.flatnonzero(~active) + 1).tolist(), False, residual
+
+
+def stepwise_active_set_batch(kappa, cheek_ratio, rows: int, carrier=None, threshold: float = 1e-12):
+    """:func:`stepwise_active_set` over a batch of designs with the same number of rows (rows.md §5.5, §9).
+
+    The same iteration point by point, with masks: each round, the designs still iterating are grouped by
+    their active set and each group is one stacked solve of its own size, so every design meets the same
+    arithmetic as alone (the loop is over active sets and rounds, never over designs).
+
+    Parameters
+    ----------
+    kappa, cheek_ratio : κ, b̄ [-], shape (P,)
+    rows : n
+    carrier : Y, shape (P, n, n), or None (rigid carriers)
+
+    Returns
+    -------
+    u : shares, shape (P, n); unloaded : the inactive rows, bool (P, n); converged : bool (P,)
+
+    Examples
+    --------
+    >>> u, unloaded, converged = stepwise_active_set_batch(np.array([0.5, 0.25]), np.full(2, 0.25), 3)
+    >>> u[0].round(6).tolist(), bool(unloaded.any()), converged.tolist()   # the first as stepwise_active_set
+    ([1.690909, 0.818182, 0.490909], False, [True, True])
+
+    References
+    ----------
+    .. [1] Seed paper 004_971077b94d8d4426.txt (multi-row planetary gears; title, authors and journal not
+       recoverable), eq. (1) with contact loss and a compliant carrier; gearcalc specification docs/spec/rows.md
+       §2.5, §5.5, §9.
+    """
+    kappa = np.asarray(kappa, float)
+    P, n = kappa.shape[0], rows
+    g = kappa * (1.0 + np.asarray(cheek_ratio, float))
+    a8 = kappa / 8.0
+    Y = np.zeros((P, n, n)) if carrier is None else np.asarray(carrier, float)
+    j = np.arange(n)
+    const = -g[:, None] * j * n
+    M = g[:, None, None] * np.maximum(j[:, None] - j[None, :], 0)
+    M[:, :, 0] -= a8[:, None]
+    M[:, j, j] += a8[:, None]
+    M += Y[:, :1, :] - Y
+    active = np.ones((P, n), bool)
+    u = np.zeros((P, n))
+    going = np.ones(P, bool)
+    converged = np.zeros(P, bool)
+    for _ in range(3 * n + 1):
+        todo = np.flatnonzero(going)
+        if todo.size == 0:
+            break
+        sets, which = np.unique(active[todo], axis=0, return_inverse=True)
+        for s, pattern in enumerate(sets):
+            pts = todo[which.reshape(-1) == s]
+            idx = np.flatnonzero(pattern)
+            m, k = idx.size, pts.size
+            A = np.zeros((k, m + 1, m + 1))
+            b = np.zeros((k, m + 1, 1))
+            A[:, :m, :m] = np.eye(m) - M[pts][:, idx][:, :, idx]
+            A[:, :m, m] = -1.0
+            b[:, :m, 0] = const[pts][:, idx]
+            A[:, m, :m] = 1.0
+            b[:, m, 0] = n
+            x = np.linalg.solve(A, b)[..., 0]
+            up = np.zeros((k, n))
+            up[:, idx] = x[:, :m]
+            u[pts] = up
+            c = x[:, m]
+            low = (up <= threshold) & pattern
+            drop = low.any(axis=1)
+            if drop.any():
+                active[pts[drop]] &= ~low[drop]
+                empty = ~active[pts[drop]].any(axis=1)
+                going[pts[drop][empty]] = False  # no row left: not converged
+            keep = ~drop
+            if not keep.any():
+                continue
+            pk = pts[keep]
+            implied = c[keep, None] + np.matmul(M[pk], up[keep][:, :, None])[..., 0] + const[pk]
+            cand = ~active[pk] & (implied > threshold)
+            settled = ~cand.any(axis=1)
+            converged[pk[settled]] = True
+            going[pk[settled]] = False
+            more = np.flatnonzero(~settled)
+            if more.size:
+                best = np.argmax(np.where(cand[more], implied[more], -np.inf), axis=1)
+                active[pk[more], best] = True
+    return u, ~active, converged

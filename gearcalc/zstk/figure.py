@@ -12,9 +12,10 @@ __all__ = ["plot_records"]
 import numpy as np
 
 
-def plot_records(records, path: str) -> None:
+def plot_records(records, path: str) -> list:
     """The paper's Fig. 2 for each design (sigma_iB and sigma_iH against the roller radius r_i), and a
-    drawing of the chain (raceways, rollers, load direction, critical roller) beside it; up to 4 designs."""
+    drawing of the chain (raceways, rollers, load direction, critical roller) beside it; up to 4 designs
+    (the records drawn are returned)."""
     from ..plot import _pyplot, save
 
     plt = _pyplot()
@@ -59,3 +60,4 @@ def plot_records(records, path: str) -> None:
                       "arrow: the load on the inner ring; red: the critical roller", fontsize=9)
         ax2.axis("off")
     save(fig, path)
+    return recs

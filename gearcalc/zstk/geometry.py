@@ -64,7 +64,12 @@ def remainder_360(x):
 
     >>> remainder_360(np.array([540.0, -190.0, 90.0])).tolist()
     [-180.0, 170.0, 90.0]
+    >>> import math
+    >>> remainder_360(np.array([1.3266152821258527e+39, 1e300, 900.0])).tolist() == [
+    ...     math.remainder(v, 360.0) for v in (1.3266152821258527e+39, 1e300, 900.0)]
+    True
     """
+    x = np.fmod(x, 720.0)  # exact for any float, and keeps the parity of the ties: |x| < 720 below
     r = x - 360.0 * np.round(x / 360.0)  # exact: |r| <= 180 and 360 k is a multiple of 8
     r = np.where(r > 180.0, r - 360.0, r)  # x/360 rounded onto a tie: the nearest k is the other one
     return np.where(r < -180.0, r + 360.0, r)

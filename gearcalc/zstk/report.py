@@ -159,7 +159,9 @@ def warnings(sm, g: int, clearance, fixed: bool, default_allowable, worst, stepp
     if default_allowable:
         out.append(DEFAULT_ALLOWABLE_WARNING)
     if math.isfinite(worst):
-        out.append(f"a loaded contact has b/rho = {worst:.3g} > {B_OVER_RHO_LIMIT}: Hertz's "
+        from ..floatfmt import apart
+
+        out.append(f"a loaded contact has b/rho = {apart(worst, B_OVER_RHO_LIMIT, 3)[0]} > {B_OVER_RHO_LIMIT}: Hertz's "
                    "small-contact assumption is doubtful")
     if stepping is not None and stepping[g] > 1e-9:
         out.append(f"explicit stepping closes with a residual of {stepping[g]:.3g} mm (> 1e-9 mm)")
@@ -174,7 +176,11 @@ def messages(g: int, stack, out, fixed: bool, worst, notes=()) -> tuple[list, li
     if out.capacity.preload_exceeds[g]:
         found.append(f"the preload alone (load.clearance_mm = {clearance:.6g}) reaches allowable_stress_MPa "
                      f"= {allow:.6g}: radial_load_allowable_N = 0")
-    failed = [] if out.passed[g] else [f"sigma_max_MPa = {sm.sigma_max[g]:.6g} > allowable_stress_MPa = {allow:.6g} "
-                                       f"({_contact(sm.contact[g])} contact of roller {sm.roller[g]}, "
-                                       f"r = {sm.radius[g]:.6g} mm)"]
+    if out.passed[g]:
+        return found, []
+    from ..floatfmt import apart
+
+    shown, limit = apart(sm.sigma_max[g], allow)  # never "1500 > 1500"
+    failed = [f"sigma_max_MPa = {shown} > allowable_stress_MPa = {limit} ({_contact(sm.contact[g])} contact of "
+              f"roller {sm.roller[g]}, r = {sm.radius[g]:.6g} mm)"]
     return found, failed

@@ -6,13 +6,14 @@ Imports nothing heavy: ``gearcalc new zstk``, ``gearcalc check`` and the man pag
 from __future__ import annotations
 
 from ..calculator import REQUIRED, Field, Table
+from ..registry import LEVELS
 from ..units import MAX_FORCE_N, MAX_LENGTH_MM, MIN_LENGTH_MM
 
 __all__ = ["MODELS", "SCHEMES", "DEFAULT_ALLOWABLE_MPA", "DEFAULT_ALLOWABLE_SOURCE", "B_OVER_RHO_LIMIT", "MIN_E_MPA",
            "MAX_E_MPA", "MIN_FORCE_N", "SWEEP_WORK_MAX", "MAX_ROLLERS", "GEOMETRY", "LOAD", "MATERIAL", "TABLES",
            "KEYS", "HEADER", "TABLE_FIELDS"]
 
-MODELS = ("equilibrium", "fixed-direction", "reference")
+MODELS = LEVELS["zstk"]
 SCHEMES = ("A", "B", "C", "D")
 DEFAULT_ALLOWABLE_MPA = 4000.0
 DEFAULT_ALLOWABLE_SOURCE = "default: ISO 76 static reference"
@@ -78,7 +79,8 @@ MATERIAL = Table("material", (
           default_doc="ring_E_MPa"),
     Field("outer_ring_poisson", "number", None, "override ring_poisson for the outer ring", gt=0, lt=0.5,
           default_doc="ring_poisson"),
-    Field("allowable_stress_MPa", "number", None, "[sigma_H], allowable contact stress", gt=0,
+    Field("allowable_stress_MPa", "number", None, "[sigma_H], allowable contact stress (at most 1e6 MPa, far above "
+          "any material's strength: Q_allow grows as its square and overflowed at 1e308)", gt=0, le=1e6,
           default_doc=f"{DEFAULT_ALLOWABLE_MPA:g} (ISO 76 static reference, not an endurance allowable)"),
 ), doc="Elastic constants and the allowable contact stress")
 
