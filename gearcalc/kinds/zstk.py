@@ -207,14 +207,21 @@ def sweep_cost(base, axes, options) -> float:
     98 ms for the 8 640 of ``configs/zstk_merko_A_envelope.toml``, the refinements included)."""
     from ..zstk import envelope
 
-    cycle = base["geometry.scheme"] == "cycle" or "cycle" in axes.get("geometry.scheme", ())
-    envelope_ = base["load.direction_deg"] == "envelope" or "envelope" in axes.get("load.direction_deg", ())
+    cycle = base["geometry.scheme"] == "cycle" or _among("cycle", axes.get("geometry.scheme", ()))
+    envelope_ = base["load.direction_deg"] == "envelope" or _among("envelope", axes.get("load.direction_deg", ()))
     if not (cycle or envelope_):
         return 1e-4
     p = _prepare(_design_columns([base]), 1)
     n = int(p.n[0]) if p.valid[0] else 3
     grid = envelope.sweep_grid((options.model or "equilibrium") == "reference")
     return 1e-3 + 1e-5 * envelope.sweep_work(n, cycle, envelope_, grid)
+
+
+def _among(word: str, values) -> bool:
+    """``word in values``, at once for a range axis (numbers only: ``in`` would compare every value, 1e8 of them)."""
+    from ..grid import Range
+
+    return not isinstance(values, (range, Range)) and word in values
 
 
 def _hashable(v):
