@@ -370,15 +370,17 @@ def _model_arg(model) -> str | None:
 
 
 def _tol_arg(tol) -> float:
-    """A tolerance: any real number (int, float, numpy, Fraction) that :func:`~gearcalc.calculator.tol_problem`
-    takes, as a float."""
+    """A tolerance: any real number (int, float, numpy, Fraction, Decimal) that
+    :func:`~gearcalc.calculator.tol_problem` takes, as a float."""
+    import decimal
     import numbers
 
     from .calculator import tol_problem
 
-    shown = f"tol = {_shown(tol) if isinstance(tol, numbers.Real) else _a(tol)}"
+    real = isinstance(tol, (numbers.Real, decimal.Decimal)) and not isinstance(tol, bool)
+    shown = f"tol = {_shown(tol) if real else _a(tol)}"
     try:
-        value = float(tol) if isinstance(tol, numbers.Real) and not isinstance(tol, bool) else None
+        value = float(tol) if real else None
     except (TypeError, ValueError, OverflowError):
         value = None
     problem = tol_problem(value)

@@ -554,6 +554,7 @@ def test_valid_but_odd_inputs_compute():
     assert gearcalc.compute(odd, tol=np.float64(1e-6), detail=np.bool_(False)).summary == plain
     from_file = gearcalc.compute(str(CONFIGS / ROWS)).summary
     assert gearcalc.compute(Path(CONFIGS / ROWS), tol=fractions.Fraction(1, 10 ** 6)).summary == from_file
+    assert gearcalc.compute(CONFIGS / ROWS, tol=decimal.Decimal("1e-6")).summary == from_file
     assert gearcalc.compute(str(CONFIGS / ROWS).encode()).summary == from_file
     zstk = CONFIGS / "zstk_merko_example.toml"
     ten = gearcalc.compute(zstk, overrides={"geometry.rollers": 10}).summary
