@@ -37,7 +37,7 @@ def models():
     g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     cyc = pc.ContactModel(g, pc.CycloidProfile(g, 0.0, 0.0), law, 1.0e6, MULTIPLIER, (0.1, 0.1, False))
     for m in (circ, cyc):
-        pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-6)
+        pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-6)
     return [("circular u10", circ), ("cycloid u10", cyc)]
 
 

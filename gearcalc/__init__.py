@@ -10,10 +10,14 @@ The Python API (:mod:`gearcalc.api`) is re-exported here lazily (PEP 562), so ``
 __version__ = "0.2.0"
 
 __all__ = ["compute", "compute_files", "load", "sweep", "sweep_chunk", "models", "Batch", "Result", "Design",
-           "InputError", "DesignError", "__version__"]
+           "InputError", "DesignError", "optimize", "sensitivity", "__version__"]
 
 
 def __getattr__(name):
+    if name in ("optimize", "sensitivity"):  # gearcalc.explore: scipy, imported by these only
+        from .explore import api as explore_api
+
+        return getattr(explore_api, name)
     if name in __all__ and name != "__version__":
         from . import api
 

@@ -94,10 +94,12 @@ def load(design, *, overrides: Iterable[Any] | Mapping[str, Any] = (), kind: str
     return d
 
 
-def _raw(design, pairs: list[tuple[str, Any]] = ()) -> tuple[dict, str]:
+def _raw(design, overrides=()) -> tuple[dict, str]:
     """(design data as a file gives it, a fresh copy with the overrides set; its source name) from a path, data
-    or a loaded design."""
+    or a loaded design; ``overrides`` as :func:`load` takes them (checked by :func:`_overrides`)."""
     from . import design as dmod
+
+    pairs = _overrides(overrides)
 
     if isinstance(design, Design):
         source = str.__str__(design.source) if isinstance(design.source, str) else "<data>"
@@ -149,6 +151,11 @@ def compute(design, *, model: str | None = None, tol: float = DEFAULT_TOL, detai
     result.design = d.resolved()
     result.name, result.kind = d.name, d.kind
     return result
+
+
+def _check_tol(tol) -> None:
+    """An InputError for a tolerance :func:`_tol_arg` refuses (for :mod:`gearcalc.explore.api`)."""
+    _tol_arg(tol)
 
 
 MODEL = "model ="
@@ -553,6 +560,7 @@ def _axes(axes) -> dict[str, Any]:
     if not items:
         _fail("axes: no axis; give at least one key and its values, e.g. {'rows.count': [3, 4]}")
     numpy = sys.modules.get("numpy")
+    sample = isinstance(axes, sw.Sample)  # a sample (gearcalc.explore): point k is the k-th value of every axis
     out: dict[str, Any] = {}
     points = 1
     for key, values in items:
@@ -569,13 +577,15 @@ def _axes(axes) -> dict[str, Any]:
             _fail(f"{where}: could not be read ({_type(exc)})")
         if n == 0:
             _fail(f"{where}: no values")
-        points *= n
+        if sample and out and n != points:
+            _fail(f"{where}: {n} values; every axis of a sample has one value per point ({points})")
+        points = n if sample else points * n
         if points > sw.MAX_POINTS:
             _fail(f"axes: the grid has more than {sw.MAX_POINTS} points (the cap)")
         out[key] = values
     for key, values in out.items():
         out[key] = _axis_values(values, f"axes: {key}")
-    return out
+    return sw.Sample(out) if sample else out
 
 
 def _axis_values(values, where: str):

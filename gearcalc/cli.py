@@ -88,6 +88,13 @@ O_SCHEDULER = typer.Option(None, "--scheduler", envvar="DASK_SCHEDULER_ADDRESS",
                            "scheduler file *.json), or local[:N] for N worker processes here (default: the "
                            "cores). Output identical to a run without it. Default: $DASK_SCHEDULER_ADDRESS. "
                            "Needs the 'dask' extra.")
+O_WHERE = typer.Option(None, "--where", metavar="'FIELD<=VALUE'",
+                       help="Keep only the rows where FIELD OP VALUE holds (OP: <, <=, >, >=, ==, !=; repeatable: "
+                       "all must hold). VALUE: a number, true/false or a word.")
+O_SAMPLE = typer.Option(None, "--sample", metavar="sobol:N|lhs:N|random:N",
+                        help="Sample N points of the --vary KEY=LO:HI ranges instead of a grid (integer keys as "
+                        "integers, LO..HI inclusive).")
+O_SEED = typer.Option(0, "--seed", help="The seed of the sampled points (the same seed, the same points).")
 
 
 def model_levels(kinds) -> str:
@@ -127,6 +134,13 @@ EXAMPLES = {
     "sweep": examples("gearcalc sweep configs/rows_mass_fig5.toml --vary rows.count=1,2,3,4 \\",
                       "    --vary gear.ratio=2.2:12:0.05 --plot fig5.png",
                       "gearcalc sweep gear.toml --vary friction.sliding=0.02:0.2:0.02 --format json"),
+    "optimize": examples("gearcalc optimize gear.toml --vary rows.relative_width=1.6:3 --vary rows.count=2:5 \\",
+                         "    --objective w_max_N_per_mm:min --where 'K<=1.5' --save best/",
+                         "gearcalc optimize gear.toml --vary rows.relative_width=1.6:3 --objective K:min \\",
+                         "    --objective w_max_N_per_mm:min --plot front.png"),
+    "sensitivity": examples("gearcalc sensitivity gear.toml --vary rows.relative_width=1.6:3 \\",
+                            "    --vary rows.cheek_ratio=0.1:0.5 --fields K,w_max_N_per_mm",
+                            "gearcalc sensitivity gear.toml --vary rows.relative_width=1.6:3 --method morris"),
     "accuracy": examples("gearcalc accuracy pins --tols 1e-3,1e-6", "gearcalc accuracy --plot accuracy.png"),
     "check": examples("gearcalc check configs", "gearcalc check gear.toml --resolved > resolved.toml"),
     "new": examples("gearcalc new rows > gear.toml", "gearcalc new pins -o pins.toml     # --force replaces a file"),
@@ -231,10 +245,11 @@ def check_tol(tol: float) -> None:
 def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
                   output: Optional[str], sets: Optional[List[str]], tol: float, model: Optional[str],
                   plot: Optional[str], debug: bool, jobs: int = 1, fields: Optional[str] = None,
-                  verbose: bool = False, scheduler: Optional[str] = None) -> int:
+                  verbose: bool = False, scheduler: Optional[str] = None, where: Optional[List[str]] = None) -> int:
     """The body of every computing command; returns the exit code."""
     from . import design as dmod
 
+    conditions = _where(where)
     fmt = pick_format(fmt, output)
     check_tol(tol)
     cluster = dask_cluster(scheduler, jobs, debug)
@@ -265,6 +280,10 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
     finally:
         bar.stop()
     worst = max(worst, status)
+    if conditions:  # the designs shown; the exit status is the computation's
+        from .explore.where import keep_records
+
+        records = keep_records(records, conditions, Abort)
     array = len(paths) > 1 or any(p != "-" and os.path.isdir(p) for p in paths)
     return _emit(records, fmt, detail, output, plot, worst, chosen, array)
 
@@ -344,13 +363,14 @@ def run_cmd(
     fields: Optional[str] = O_FIELDS,
     verbose: bool = O_VERBOSE,
     scheduler: Optional[str] = O_SCHEDULER,
+    where_: Optional[List[str]] = O_WHERE,
 ):
     """Compute any design files, dispatching on their `kind`.
 
     JSON: an array when PATH is a folder or several PATHs are given (even if one design is computed),
     one object for a single file."""
     finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug, jobs, fields,
-                                 verbose, scheduler), debug)
+                                 verbose, scheduler, where_), debug)
 
 
 @app.command("sweep", cls=_help_of(), epilog=EXAMPLES["sweep"])
@@ -368,6 +388,9 @@ def sweep_cmd(
     jobs: int = O_JOBS,
     fields: Optional[str] = O_FIELDS,
     scheduler: Optional[str] = O_SCHEDULER,
+    sample: Optional[str] = O_SAMPLE,
+    seed: int = O_SEED,
+    where_: Optional[List[str]] = O_WHERE,
 ):
     """Evaluate one design over a grid of key values; one output row per point.
 
@@ -387,10 +410,13 @@ def sweep_cmd(
         chosen = parse_fields(fields)
         where = dmod.display_name(file)
         try:
-            axes = sw.parse_vary(vary)
+            conditions = _where(where_)
+            axes = sw.parse_vary(vary) if sample is None else None
             raw = dmod.read_toml(file)
             if sets:
                 dmod.apply_set(raw, dmod.parse_set(sets))
+            if sample is not None:
+                axes = _sample_axes(vary, raw, sample, seed)
             kind = raw.get("kind")
             if isinstance(kind, str) and kind in registry.kinds():
                 try:
@@ -398,12 +424,13 @@ def sweep_cmd(
                 except ValueError as exc:
                     raise Abort(str(exc)) from None
             calc = registry.get(kind) if isinstance(kind, str) and kind in registry.kinds() else None
-            bar = Progress(math_prod(len(v) for v in axes.values()), "points")
+            bar = Progress(sw.size_of(axes), "points")
             try:
                 with on_cluster(cluster):
                     csv_out = f == "csv" and not plot and calc is not None
                     # CSV: each chunk formatted where it is computed (in the --jobs workers too)
                     post = CsvRenderer(kind, chosen, tuple(axes)) if csv_out else None
+                    post = _filtered(conditions, post)
                     chunks = sw.stream(raw, file, axes, Options(tol=tol, model=model), progress=bar.advance,
                                        jobs=jobs, cluster=cluster, debug=debug, arrays=csv_out, post=post)
                     if f == "table" or plot:  # a table and a figure show every point at once
@@ -424,6 +451,106 @@ def sweep_cmd(
         return code
 
     finish(body, debug)
+
+
+def _where(items):
+    """The ``--where`` conditions (an empty list without any)."""
+    if not items:
+        return []
+    from .explore.where import WhereError, parse_where
+
+    try:
+        return parse_where(items)
+    except WhereError as exc:
+        raise Abort(str(exc)) from None
+
+
+def _filtered(conditions, post):
+    """A sweep's ``post`` step with the ``--where`` conditions applied first (``post`` itself without any)."""
+    if not conditions:
+        return post
+    from .explore.where import Filtered
+
+    return Filtered(tuple(conditions), post)
+
+
+def _sample_axes(vary, raw, sample: str, seed: int):
+    """The axes of ``sweep --sample``: the sampled points of the ``--vary KEY=LO:HI`` ranges."""
+    from .explore.sample import SampleError, draw, parse_ranges, parse_sampler
+
+    try:
+        sampler, n = parse_sampler(sample)
+        return draw(parse_ranges(vary, raw), sampler, n, seed)
+    except SampleError as exc:
+        raise Abort(str(exc)) from None
+
+
+O_RANGE = typer.Option(..., "--vary", metavar="KEY=LO:HI", help="A varied key and its range (repeatable); an "
+                       "integer key (a count) takes the integers LO..HI.")
+
+
+@app.command("optimize", cls=_help_of(), epilog=EXAMPLES["optimize"])
+def optimize_cmd(
+    file: str = typer.Argument(..., metavar="FILE", help="One design file ('-' reads standard input)."),
+    vary: List[str] = O_RANGE,
+    objective: List[str] = typer.Option(..., "--objective", metavar="FIELD:min|max",
+                                        help="The output to minimise or maximise; several: the Pareto front."),
+    where_: Optional[List[str]] = O_WHERE,
+    budget: int = typer.Option(256, "--budget", min=2, max=1_000_000, help="Points of the global (sampled) phase."),
+    seed: int = O_SEED,
+    save: Optional[str] = typer.Option(None, "--save", metavar="DIR",
+                                       help="Write each optimum or front member as a design file into DIR."),
+    fmt: Optional[str] = O_FORMAT,
+    output: Optional[str] = O_OUTPUT,
+    sets: Optional[List[str]] = O_SET,
+    tol: float = O_TOL,
+    model: Optional[str] = O_MODEL,
+    plot: Optional[str] = O_PLOT,
+    debug: bool = O_DEBUG,
+    jobs: int = O_JOBS,
+    scheduler: Optional[str] = O_SCHEDULER,
+):
+    """Find the design that minimises or maximises outputs over ranges of keys.
+
+    One objective: a Sobol' sample, then SLSQP on the best points, integer keys searched among their
+    neighbours. Several: the non-dominated points (Pareto front). Exit 1 when no point is feasible."""
+    params = locals_of(locals())
+    from .explore.commands import optimize_body
+
+    finish(lambda: optimize_body(params), debug)
+
+
+@app.command("sensitivity", cls=_help_of(), epilog=EXAMPLES["sensitivity"])
+def sensitivity_cmd(
+    file: str = typer.Argument(..., metavar="FILE", help="One design file ('-' reads standard input)."),
+    vary: List[str] = O_RANGE,
+    method: str = typer.Option("sobol", "--method", metavar="sobol|morris",
+                               help="Sobol' indices (first order, total) or Morris screening (mu*, sigma)."),
+    samples: Optional[int] = typer.Option(None, "--samples", metavar="N", help="Sobol': the base size N (N (d+2) "
+                                          "points; default 256); Morris: trajectories (N (d+1) points; default 64)."),
+    seed: int = O_SEED,
+    fields: Optional[str] = O_FIELDS,
+    fmt: Optional[str] = O_FORMAT,
+    output: Optional[str] = O_OUTPUT,
+    sets: Optional[List[str]] = O_SET,
+    tol: float = O_TOL,
+    model: Optional[str] = O_MODEL,
+    debug: bool = O_DEBUG,
+    jobs: int = O_JOBS,
+    scheduler: Optional[str] = O_SCHEDULER,
+):
+    """Which varied key drives each output: Sobol' indices with confidence intervals, or Morris mu*."""
+    params = locals_of(locals())
+    from .explore.commands import sensitivity_body
+
+    finish(lambda: sensitivity_body(params), debug)
+
+
+def locals_of(values: dict):
+    """A command's parameters as attributes."""
+    import types
+
+    return types.SimpleNamespace(**values)
 
 
 def dask_cluster(scheduler: Optional[str], jobs: int, debug: bool):
@@ -508,6 +635,8 @@ def _sweep_stream(chunks, fmt: str, output, fields, lead: tuple, calc, where: st
                     continue
                 if first:
                     _fields_or_abort(fields, part.data)
+                if not part.n and fmt == "json":  # every point filtered out (--where): no element
+                    continue
                 failed += calc.failed_points(part.data)
                 total += part.n
                 shown = select_columns(part, fields, lead)
@@ -540,7 +669,7 @@ def _sweep_whole(chunks, fmt: str, output, fields, axes, where: str, plot, calc)
     from . import grid as sw
     from .render import render_rows
 
-    total = math_prod(len(v) for v in axes.values())
+    total = sw.size_of(axes)
     if total > sw.MAX_WHOLE_POINTS:
         what = "--plot" if plot else "a table"
         raise Abort(f"{where}: the grid has {total} points; {what} holds every point at once and takes at most "

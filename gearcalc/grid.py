@@ -320,6 +320,61 @@ class Grid(Sequence):
         return out
 
 
+class Sample(dict):
+    """Axes whose ``k``-th values together are point ``k`` (a sample drawn by ``gearcalc sweep --sample``,
+    :mod:`gearcalc.explore.sample`), not the axes of a product grid: every axis holds one value per point.  A plain
+    dict otherwise, so that every path of a grid sweep (chunks, ``--jobs``, ``--scheduler``) takes it unchanged;
+    :func:`points_of` gives its points.
+
+    >>> s = Sample({"a": [1, 2, 3], "b": [0.5, 0.25, 0.75]})
+    >>> size_of(s), list(points_of(s, 1, 3)), points_of(s, 1, 3).column("b")
+    (3, [{'a': 2, 'b': 0.25}, {'a': 3, 'b': 0.75}], [0.25, 0.75])
+    """
+
+
+class Zipped(Grid):
+    """The points ``start`` to ``stop`` of a :class:`Sample` (point ``k``: the ``k``-th value of every axis), with
+    :class:`Grid`'s interface (a slice, ``column``)."""
+
+    def __init__(self, axes: dict[str, list[Any]], start: int = 0, stop: int | None = None):
+        self.axes, self.keys = axes, list(axes)
+        total = len(next(iter(axes.values()))) if axes else 0
+        self.sizes = [total] * len(self.keys)
+        self.start, self.stop = start, total if stop is None else stop
+
+    def __getitem__(self, index):
+        if isinstance(index, slice):
+            start, stop, step = index.indices(len(self))
+            if step != 1:
+                return [self[k] for k in range(start, stop, step)]
+            return Zipped(self.axes, self.start + start, self.start + max(start, stop))
+        k = index + len(self) if index < 0 else index
+        if not 0 <= k < len(self):
+            raise IndexError("sample point index out of range")
+        return {key: self.axes[key][self.start + k] for key in self.keys}
+
+    def __iter__(self):
+        return (self[k] for k in range(len(self)))
+
+    def column(self, key: str, array: bool = False) -> list[Any]:
+        values = self.axes[key][self.start:self.stop]
+        if array and all(type(v) is float for v in values):
+            import numpy as np
+
+            return np.array(values, dtype=np.float64)
+        return list(values)
+
+
+def points_of(axes: dict[str, list[Any]], start: int = 0, stop: int | None = None) -> Grid:
+    """Points ``start`` to ``stop`` of the axes: of the product grid, or of a :class:`Sample`."""
+    return (Zipped if isinstance(axes, Sample) else Grid)(axes, start, stop)
+
+
+def size_of(axes: dict[str, list[Any]]) -> int:
+    """The number of points of the axes (a product grid's, or a :class:`Sample`'s)."""
+    return len(points_of(axes))
+
+
 def ignore_sigint() -> None:
     """Initializer of ``--jobs`` worker processes: they ignore Ctrl-C (SIGINT goes to the whole process
     group), so that the main process alone reports "interrupted" and shuts the pool down, without a
@@ -487,7 +542,7 @@ def worker_pool(jobs: int, keep_memory: bool = False, slots: Slots | None = None
 
 def grid_points(axes: dict[str, list[Any]]) -> Grid:
     """The product grid (first axis slowest): a sequence of points ``{key: value}``."""
-    return Grid(axes)
+    return points_of(axes)
 
 
 def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]], word: str = "--vary ") -> None:
@@ -550,6 +605,8 @@ def _values_to_check(values: list) -> list:
 
         if all(map(math.isfinite, values)):
             return [min(values), max(values)]
+    if len(values) > 2 and all(type(v) is int for v in values):  # e.g. a sample's integer key: each value once
+        return list(dict.fromkeys(values))
     return values
 
 
@@ -735,7 +792,7 @@ def evaluate_range(raw: dict, source: str, axes: dict[str, list[Any]], start: in
     """Grid points ``start`` to ``stop`` evaluated, as :class:`Columns`: a pure function of (design, axes,
     index range), the unit a worker process or a cluster computes.  The caller validates the design and the
     axes once (:func:`prepare`).  ``arrays``: as in :func:`evaluate_points`."""
-    return as_columns(evaluate_points(raw, source, axes, Grid(axes, start, stop), options, progress, arrays))
+    return as_columns(evaluate_points(raw, source, axes, points_of(axes, start, stop), options, progress, arrays))
 
 
 def prepare(raw: dict, source: str, axes: dict[str, list[Any]], options=None,
@@ -748,7 +805,7 @@ def prepare(raw: dict, source: str, axes: dict[str, list[Any]], options=None,
 
     base = validate(copy.deepcopy(raw), source)
     validate_axes(raw, source, axes, word)
-    total = len(Grid(axes))
+    total = size_of(axes)
     return total, point_seconds(base, axes, options)
 
 

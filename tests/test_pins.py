@@ -536,7 +536,7 @@ def test_ideal_cycles_of_a_batch_equal_each_gear_alone():
     fields = ("psi_star", "psi_0", "rho_c_min", "loss_ratio", "loss_ratio_err", "converged", "n_crank", "force",
               "force_phase", "loss", "loss_phase", "total", "rel_min", "rel_max", "rel_abs", "loaded_min", "loaded_max")
     for i, gi in enumerate(gs):
-        alone = pins.ideal_cycles(pins.geometry._as_arrays(gi), n_d[i], tol=1e-6)
+        alone = pins.ideal_cycles(pins.geometry.as_arrays(gi), n_d[i], tol=1e-6)
         for f in fields:
             assert np.array_equal(getattr(alone, f), getattr(together, f)[i:i + 1], equal_nan=True), (i, f)
         if alone.status[0] == 0:
@@ -555,7 +555,7 @@ def test_a_gear_alone_equals_it_in_a_batch_where_a_scalar_square_would_round_oth
     both = Cycloid(*(np.array([getattr(x, f) for x in gs]) for f in ("z1", "z2", "e", "R_p", "R_b", "one_minus_K1")))
     together = pins.ideal_cycles(both, 1, tol=1e-6)
     for i, gi in enumerate(gs):
-        alone = pins.ideal_cycles(pins.geometry._as_arrays(gi), 1, tol=1e-6)
+        alone = pins.ideal_cycles(pins.geometry.as_arrays(gi), 1, tol=1e-6)
         for f in ("loss_ratio", "loss_ratio_err", "force", "force_phase", "loss", "loss_phase", "total", "rel_min",
                   "rel_max", "rel_abs", "n_crank"):
             assert np.array_equal(getattr(alone, f), getattr(together, f)[i:i + 1]), (i, f)
@@ -566,10 +566,10 @@ def test_the_first_rounds_levels_change_no_result(g, monkeypatch):
     # pins.first_levels is speed only: the levels guessed for the quadrature's first round (capped at
     # FIRST_LEVELS_MAX, then predicted from the observed rate) leave every number as it is
     assert [pins.first_levels(t) for t in (1e-3, 1e-6, 1e-9, 1e-12)] == [2, 4, 6, 6]
-    capped = pins.ideal_cycles(pins.geometry._as_arrays(g), 1, tol=1e-9)
+    capped = pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=1e-9)
     monkeypatch.setattr(pins.ideal, "FIRST_LEVELS_MAX", 99)
     assert pins.first_levels(1e-9) == 9
-    one_round = pins.ideal_cycles(pins.geometry._as_arrays(g), 1, tol=1e-9)
+    one_round = pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=1e-9)
     for f in ("loss_ratio", "loss_ratio_err", "n_crank", "force", "force_phase", "loss", "total", "rel_abs"):
         assert np.array_equal(getattr(capped, f), getattr(one_round, f)), f
     assert np.array_equal(capped.grid_t, one_round.grid_t)
@@ -583,11 +583,11 @@ def test_the_first_rounds_guess_by_pin_count_changes_no_result(tol, monkeypatch)
     assert pins.first_levels(1e-6, np.array([22, 62, 112, 10_000])).tolist() == [4, 3, 2, 2]
     gs = [gear(20, 22), gear(60, 62), gear(99, 100, K1=0.9)]
     both = Cycloid(*(np.array([getattr(x, f) for x in gs]) for f in ("z1", "z2", "e", "R_p", "R_b", "one_minus_K1")))
-    guessed = [pins.ideal_cycles(pins.geometry._as_arrays(g), 1, tol=tol) for g in gs] + [
+    guessed = [pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=tol) for g in gs] + [
         pins.ideal_cycles(both, 1, tol=tol)]
     plain = pins.ideal.first_levels
     monkeypatch.setattr(pins.ideal, "first_levels", lambda t, z2=None: plain(t))
-    fixed = [pins.ideal_cycles(pins.geometry._as_arrays(g), 1, tol=tol) for g in gs] + [
+    fixed = [pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=tol) for g in gs] + [
         pins.ideal_cycles(both, 1, tol=tol)]
     for a, b in zip(guessed, fixed):
         for f in ("loss_ratio", "loss_ratio_err", "n_crank", "force", "force_phase", "loss", "total", "rel_abs",
@@ -598,7 +598,7 @@ def test_the_first_rounds_guess_by_pin_count_changes_no_result(tol, monkeypatch)
 @pytest.mark.parametrize("g", HONESTY[:4] + HONESTY[5:6], ids=lambda g: f"z{g.z1}-{g.z2}-K{g.K1:.9g}")
 def test_ideal_cycles_peaks_against_a_dense_sweep(g):
     # the refined peaks (pins.md §12.1) against 200001 crank angles of one period, pointwise (pin_forces)
-    r = pins.ideal_cycles(pins.geometry._as_arrays(g), 1, tol=1e-6)
+    r = pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=1e-6)
     theta = np.linspace(0.0, g.period, 200001)
     F = pins.pin_forces(theta, g, float(r.psi_star[0]), 1.0, MULTIPLIER)
     psi = pins.pin_phase(np.arange(g.z2)[:, None], theta[None, :], g.z2, MULTIPLIER)

@@ -68,7 +68,7 @@ def brute(z1, z2, e, K1, Rb, f, sigma, n=100_000):
 
 def solve(z1, z2, e, K1, Rb, f, tol=1e-9, n_d=1):
     """(eta_HV, eta_VH, first-order eta_HV, eta_VH, ConsistentCycles) of one gear."""
-    g = pins.geometry._as_arrays(pins.Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb))
+    g = pins.geometry.as_arrays(pins.Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb))
     cyc = pins.ideal_cycles(g, n_d, tol=tol)
     cc = pins.consistent_cycles(cyc, np.array([0]), np.array([f]), n_d, tol=tol)
     lam = f * cyc.loss_ratio[0]
@@ -394,7 +394,7 @@ def test_two_discs_warn_that_their_peaks_are_first_order(tmp_path):
 # ---------------------------------------------------------------- the pure output functions (gearcalc.pins.outputs)
 
 def _cycles(geometry, n_d=1):
-    g = pins.geometry._as_arrays(pins.Cycloid.from_curtate_ratio(*geometry))
+    g = pins.geometry.as_arrays(pins.Cycloid.from_curtate_ratio(*geometry))
     return pins.ideal_cycles(g, np.array([n_d]))
 
 

@@ -20,7 +20,6 @@ import tomli_w
 
 from gearcalc import pins
 from gearcalc.pins import contact as pc
-from gearcalc.pins import contact_cycle as pcc
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from gearcalc.quadrature import integrate_adaptive
 from test_pins_cli import design, run, summary  # the pins CLI helpers, shared
@@ -59,7 +58,7 @@ def _stiff(z1, z2, sigma, k_lin):
     theta = np.linspace(0.013, g.period - 0.011, 5)
     F_err = float(np.abs(m.state(theta).force[0] - pins.pin_forces(theta, g, pins.crest_cutoff(g), 1e5, sigma)).max()
                   / pins.pin_forces(theta, g, pins.crest_cutoff(g), 1e5, sigma).max())
-    cyc = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-7)
+    cyc = pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-7)
     ideal = pins.mean_loss_ratio(g, pins.crest_cutoff(g), pins.spin_reversal_phase(g), 0.1, tol=1e-10)
     return F_err, cyc.loss_ratio, cyc.loss_ratio_err, ideal.loss_ratio
 
@@ -126,7 +125,7 @@ def _fixed_frame_moment(m, sol):
 @pytest.mark.parametrize("sigma", [MULTIPLIER, REDUCER])
 def test_equilibrium_at_every_crank_angle_circular(sigma):
     m = circular_model(sigma=sigma)
-    cyc = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-5)
+    cyc = pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-5)
     sol = cyc.sol
     assert np.abs(sol.residual).max() <= 1e-10 * m.torque_sat
     M = _fixed_frame_moment(m, sol)
@@ -185,8 +184,8 @@ def test_cycle_power_balance_with_friction_in_equilibrium():
 def test_reducer_and_multiplier_are_time_reverses_without_friction_in_the_balance():
     # pins.md §5.7: with frictionless forces the multiplier's force history is the reducer's time-reversed,
     # so lambda_bar agrees and the entry/exit asymmetry flips with the mode
-    a = pc.mean_loss_ratio(circular_model(sigma=MULTIPLIER), 0.1, 0.1, False, tol=1e-7)
-    b = pc.mean_loss_ratio(circular_model(sigma=REDUCER), 0.1, 0.1, False, tol=1e-7)
+    a = pc.mean_loss_ratio(circular_model(sigma=MULTIPLIER), (0.1, 0.1, False), tol=1e-7)
+    b = pc.mean_loss_ratio(circular_model(sigma=REDUCER), (0.1, 0.1, False), tol=1e-7)
     assert abs(a.loss_ratio - b.loss_ratio) <= a.loss_ratio_err + b.loss_ratio_err + 1e-12
     ra = pc.engagement_metrics(a.sol, a.spin)["exit_entry_force_ratio"]
     rb = pc.engagement_metrics(b.sol, b.spin)["exit_entry_force_ratio"]
@@ -195,8 +194,8 @@ def test_reducer_and_multiplier_are_time_reverses_without_friction_in_the_balanc
 
 def test_error_estimate_is_honest_against_a_finer_run():
     m = circular_model()
-    coarse = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-5)
-    fine = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-9, n_start=1024)
+    coarse = pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-5)
+    fine = pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-9, grid=pc.CycleGrid(n_start=1024))
     assert coarse.converged
     assert abs(coarse.loss_ratio - fine.loss_ratio) <= coarse.loss_ratio_err
     assert coarse.loss_ratio_err <= 1e-5 * coarse.loss_ratio
@@ -208,18 +207,18 @@ def test_gauss_kronrod_option_is_honest_and_agrees_with_the_trapezoid(rule, fric
     # the opt-in Gauss-Kronrod rule of the cycle mean (mean_loss_ratio(rule=...)): honest against a run 1e4x
     # tighter of the default trapezoid, and fewer crank angles than the trapezoid at the same tolerance
     def lam(tol, **kw):
-        return pc.mean_loss_ratio(circular_model(friction=friction), 0.1, 0.1, False, tol=tol, **kw)
+        return pc.mean_loss_ratio(circular_model(friction=friction), (0.1, 0.1, False), tol=tol, **kw)
 
-    gk, trap, ref = lam(1e-6, rule=rule), lam(1e-6), lam(1e-10, n_start=1024)
+    gk, trap, ref = lam(1e-6, rule=rule), lam(1e-6), lam(1e-10, grid=pc.CycleGrid(n_start=1024))
     assert gk.converged and gk.quad.rule == rule
     assert abs(gk.loss_ratio - ref.loss_ratio) <= gk.loss_ratio_err + ref.loss_ratio_err
     assert gk.loss_ratio_err <= 1e-6 * gk.loss_ratio
     assert abs(gk.loss_ratio - trap.loss_ratio) <= gk.loss_ratio_err + trap.loss_ratio_err
     # the solved crank angles: the quadrature's nodes and both one-sided ends of every piece of the breakpoints;
-    # the final grid adds the pieces' interpolated states (pc.gk_interpolated, ~DENSE_PER_PERIOD of them)
+    # the final grid adds the pieces' interpolated states (pc.gk_interpolated, ~settings.dense_per_period of them)
     pieces = np.unique(gk.breakpoints).size - 1
     assert gk.n_crank == gk.quad.n + 2 * pieces < trap.n_crank
-    assert gk.n_crank + 0.9 * pcc.DENSE_PER_PERIOD < gk.sol.theta.size
+    assert gk.n_crank + 0.9 * pc.DEFAULT_SETTINGS.dense_per_period < gk.sol.theta.size
     assert np.all(np.diff(gk.sol.theta) >= 0.0) and np.all(np.isfinite(gk.lam))
     assert np.all(np.isin(np.unique(gk.breakpoints), gk.sol.theta))
 
@@ -229,7 +228,7 @@ def test_interpolated_states_of_a_gauss_kronrod_cycle_agree_with_solved_ones(fri
     # the interpolating polynomial of each piece's 7 Kronrod nodes (pins.md §6, §8) against the equilibrium solved
     # at the same crank angles with the piece's own sets (an independent evaluation: Newton on the moment balance)
     model = circular_model(friction=friction)
-    cyc = pc.mean_loss_ratio(model, 0.1, 0.1, False, tol=1e-6, rule="gk7")
+    cyc = pc.mean_loss_ratio(model, (0.1, 0.1, False), tol=1e-6, rule="gk7")
     dense = cyc.sol.theta[cyc.sol.residual == 0.0][::5]        # interpolated rows carry residual 0 (not solved)
     direct = model.state(dense, model.reference(dense), phases=False)
     i = np.searchsorted(cyc.sol.theta, dense)
@@ -248,8 +247,8 @@ def test_gauss_kronrod_option_through_the_torque_fixed_point_on_a_cycloid():
     # cycle_at_torque(rule="gk7") on the paper's cycloid u10 (face width 10 mm), torque on H: the loss ratio
     # agrees with the trapezoid's within the two errors (the quadrature's plus the fixed point's remainder)
     g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 2.75)
-    args = (g, pc.CycloidProfile(g, 0.0, 0.0), pc.contact_law("hertz", face_width=10.0), 100.0, False, True, 1,
-            0.1, 0.1, False, True)
+    args = (pc.ContactCase(g, pc.CycloidProfile(g, 0.0, 0.0), pc.contact_law("hertz", face_width=10.0), 1,
+                           (0.1, 0.1, False), 100.0, False), True, True)
     gk, trap = pc.cycle_at_torque(*args, tol=1e-6, rule="gk7"), pc.cycle_at_torque(*args, tol=1e-6)
     assert gk.settled and gk.cycle.converged
     assert abs(gk.loss_ratio - trap.loss_ratio) <= gk.loss_ratio_err + trap.loss_ratio_err
@@ -479,8 +478,8 @@ def test_analytic_derivatives_match_central_differences(profile_kind):
 @pytest.mark.parametrize("sigma", [MULTIPLIER, REDUCER])
 def test_candidate_window_changes_nothing(sigma):
     # the prefilter evaluates only the pins that can touch; every other pin stays unloaded (pins.md §5.5)
-    a = pc.mean_loss_ratio(circular_model(sigma=sigma), 0.1, 0.1, False, tol=1e-6)
-    b = pc.mean_loss_ratio(circular_model(sigma=sigma), 0.1, 0.1, False, tol=1e-6, prefilter=False)
+    a = pc.mean_loss_ratio(circular_model(sigma=sigma), (0.1, 0.1, False), tol=1e-6)
+    b = pc.mean_loss_ratio(circular_model(sigma=sigma), (0.1, 0.1, False), tol=1e-6, grid=pc.CycleGrid(prefilter=False))
     assert a.sol.cand is not None and a.sol.cand.sum(axis=0).max() < circ_u10().z2
     # the states hold the window's pins over the period only (Solution.rows); the others carry no force
     assert a.sol.rows is not None and a.sol.force.shape[1] == a.sol.rows.size < circ_u10().z2
@@ -623,7 +622,7 @@ def test_consistent_power_balance_and_mode_efficiencies_from_the_crank_torque():
                  for i in (0, 1))
     P_W = -m.torque_sat * g.k / g.z1 * g.period                  # T_W omega_V over a period, T_W = +T_sat
     assert P_H + P_W == pytest.approx(loss, rel=1e-6)
-    lam = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-7).loss_ratio
+    lam = pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-7).loss_ratio
     assert -P_W / P_H == pytest.approx(1.0 / (1.0 + lam), abs=1e-7)
 
 
@@ -668,10 +667,11 @@ def test_the_other_mode_seeded_by_the_mirror_gives_the_same_result():
     # the reducer started from the solved multiplier, mirrored (tau_R(-theta) = -tau_M(theta), pins.md §4.8(5)),
     # is the same cycle as the reducer solved from scratch: the seed only warm-starts and bounds the window
     g, (rho, R_t) = circ_u10(), full_u10()
-    args = (g, pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0), 100.0, False)
-    m = pc.cycle_at_torque(*args, True, 1, 0.1, 0.1, False, True, tol=1e-6)
-    alone = pc.cycle_at_torque(*args, False, 1, 0.1, 0.1, False, True, tol=1e-6)
-    seeded = pc.cycle_at_torque(*args, False, 1, 0.1, 0.1, False, True, tol=1e-6, seed=m.model)
+    case = pc.ContactCase(g, pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0), 1,
+                          (0.1, 0.1, False), 100.0, False)
+    m = pc.cycle_at_torque(case, True, True, tol=1e-6)
+    alone = pc.cycle_at_torque(case, False, True, tol=1e-6)
+    seeded = pc.cycle_at_torque(case, False, True, tol=1e-6, seed=m.model)
     assert seeded.loss_ratio == pytest.approx(alone.loss_ratio, abs=1e-3 * alone.loss_ratio_err + 1e-15)
     assert seeded.model.window is not None
 
@@ -761,6 +761,6 @@ def test_interior_states_without_a_located_sign_change(monkeypatch):
 
     seen = SimpleNamespace(theta=np.array([0.1, 0.5, 0.9]))
     found = SimpleNamespace(seen=[seen], roots=np.empty(0))
-    monkeypatch.setattr(cc, "_concat", lambda parts: parts[0])
-    col, known = cc._interior_states(found, np.array([0.2, 0.8]), 1.0)
+    monkeypatch.setattr(cc, "concat_states", lambda parts: parts[0])
+    col, known = cc._interior_states(found, np.array([0.2, 0.8]), 1.0, cc.DEFAULT_SETTINGS.interior_margin)
     assert col.tolist() == [0, 2] and known is seen

@@ -5,30 +5,32 @@ instead of scanning one period again; the quadrature's nodes then confirm that n
 Independent references: the full 256-interval scan of the same model (the located roots must agree to the
 refinement's 1e-12 T_p), and the cycle computed from that scan (the loss ratio must agree within its error).
 """
+import dataclasses
+import tomllib
 from pathlib import Path
 
 import numpy as np
 import pytest
 
-import gearcalc
 from gearcalc.pins import contact as pc
 from gearcalc.pins import contact_cycle as pcc
 from gearcalc.pins import contact_model as pcm
+from gearcalc.pins import contact_states as pcs
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 
 
-def cycloid_model(T_sat, sigma=MULTIPLIER, friction=None):
+def cycloid_model(T_sat, sigma=MULTIPLIER, friction=None, settings=None):
     # the paper's u = 10 cycloid (k = 2, K1 = 0.75), Hertz contacts of 10 mm
     g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     return pc.ContactModel(g, pc.CycloidProfile(g, 0.0, 0.0), pc.contact_law("hertz", face_width=10.0), T_sat,
-                           sigma, friction)
+                           sigma, friction, settings)
 
 
-def circular_model(T_sat, sigma=MULTIPLIER, friction=None):
+def circular_model(T_sat, sigma=MULTIPLIER, friction=None, settings=None):
     g = Cycloid.from_pin_circle(20, 22, 3.9, 57.2, 2.75)
     rho, R_t = pc.full_tooth(g)
     return pc.ContactModel(g, pc.CircularProfile(g, rho, R_t), pc.contact_law("hertz", face_width=10.0), T_sat,
-                           sigma, friction)
+                           sigma, friction, settings)
 
 
 @pytest.mark.parametrize("make", [cycloid_model, circular_model])
@@ -63,23 +65,21 @@ def test_scan_roots_refined_from_the_smooth_side_take_fewer_calls_to_the_same_ro
         calls.append(np.size(theta))
         return state(self, theta, *args, **kwargs)
 
-    def roots():
-        m = make(1.0e6, friction=friction)
+    def roots(settings=None):
+        m = make(1.0e6, friction=friction, settings=settings)
         m.set_window()
         calls.clear()
-        found = pcc._scan_roots(m, pc.CYCLE_COARSE_SCAN, tol, False)
+        found = pcc._scan_roots(m, pc.DEFAULT_SETTINGS.cycle_coarse_scan, tol, False)
         return found, len(calls), m.g.period
 
     monkeypatch.setattr(pc.ContactModel, "state", counted)
     smooth, n_smooth, Tp = roots()
+    # the solves and the refinement read these from the model's settings
+    ref = roots(dataclasses.replace(pc.DEFAULT_SETTINGS, newton_stop=1e-13, refine_newton_stop=1e-13,
+                                    refine_newton_small=1e-15, root_step=1e-15, smooth_start_curvature_margin=1e-8))[0]
     with monkeypatch.context() as mp:
-        for module, name, value in ((pcm, "NEWTON_STOP", 1e-13), (pcm, "REFINE_NEWTON_STOP", 1e-13),
-                                    (pcm, "REFINE_NEWTON_SMALL", 1e-15), (pcc, "ROOT_STEP", 1e-15),
-                                    (pcc, "SMOOTH_START_CURVATURE_MARGIN", 1e-8)):
-            mp.setattr(module, name, value)      # where the solves and the refinement read them
-        ref = roots()[0]
-    with monkeypatch.context() as mp:
-        mp.setattr(pcc, "_smooth_side_start", lambda x, v, dv, comp, idx, xtol, Tp: (np.full(comp.size, np.nan),) * 2)
+        mp.setattr(pcc, "_smooth_side_start", lambda x, v, dv, comp, idx, xtol, Tp, margin:
+                   (np.full(comp.size, np.nan),) * 2)
         linear, n_linear, _ = roots()
     assert smooth.roots.size == linear.roots.size == ref.roots.size > 0
     assert np.array_equal(smooth.contact, ref.contact) and np.array_equal(linear.contact, ref.contact)
@@ -102,14 +102,14 @@ def test_a_root_that_cannot_be_moved_falls_back_to_the_scan():
 def test_cycle_from_moved_roots_equals_the_scanned_cycle_within_its_error():
     tol = 1e-6
     a = cycloid_model(1.0e6)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     b = cycloid_model(1.0e6 * (1.0 + 1e-5))
     b.inherit(a)
-    moved = pc.mean_loss_ratio(b, 0.1, 0.1, False, tol=tol, prior=first.roots, prior_width=1e-5)
+    moved = pc.mean_loss_ratio(b, (0.1, 0.1, False), tol=tol, prior=first.roots, prior_width=1e-5)
     assert not moved.roots.scanned                  # the moved roots held on every node
     c = cycloid_model(1.0e6 * (1.0 + 1e-5))
     c.inherit(a)
-    scanned = pc.mean_loss_ratio(c, 0.1, 0.1, False, tol=tol)
+    scanned = pc.mean_loss_ratio(c, (0.1, 0.1, False), tol=tol)
     assert scanned.roots.scanned
     assert np.max(np.abs(moved.breakpoints - scanned.breakpoints)) <= 4e-12 * b.g.period
     assert abs(moved.loss_ratio - scanned.loss_ratio) <= min(moved.loss_ratio_err, scanned.loss_ratio_err)
@@ -122,9 +122,9 @@ def test_a_missed_contact_is_caught_on_the_nodes():
     tol = 1e-5
     a = circular_model(1.0e6)
     empty = pc.BreakpointRoots(np.empty(0), np.zeros(0, dtype=bool))
-    cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol, prior=empty)
+    cyc = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol, prior=empty)
     assert cyc.roots.scanned and cyc.roots.roots.size > 0
-    ref = pc.mean_loss_ratio(circular_model(1.0e6), 0.1, 0.1, False, tol=tol)
+    ref = pc.mean_loss_ratio(circular_model(1.0e6), (0.1, 0.1, False), tol=tol)
     assert np.max(np.abs(cyc.breakpoints - ref.breakpoints)) <= 4e-12 * a.g.period
     assert abs(cyc.loss_ratio - ref.loss_ratio) <= min(cyc.loss_ratio_err, ref.loss_ratio_err)
 
@@ -132,9 +132,9 @@ def test_a_missed_contact_is_caught_on_the_nodes():
 def test_coarse_scan_is_confirmed_or_replaced():
     tol = 1e-6
     a = cycloid_model(1.0e6)
-    coarse = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol, coarse_scan=64, n_min=1)
+    coarse = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol, grid=pc.CycleGrid(coarse_scan=64, n_min=1))
     b = cycloid_model(1.0e6)
-    full = pc.mean_loss_ratio(b, 0.1, 0.1, False, tol=tol, n_min=1)
+    full = pc.mean_loss_ratio(b, (0.1, 0.1, False), tol=tol, grid=pc.CycleGrid(n_min=1))
     assert np.max(np.abs(coarse.breakpoints - full.breakpoints)) <= 4e-12 * a.g.period
     assert abs(coarse.loss_ratio - full.loss_ratio) <= min(coarse.loss_ratio_err, full.loss_ratio_err)
 
@@ -143,7 +143,7 @@ def test_tiny_torque_balance_is_met_to_round_off():
     # a torque whose deflection is ~1e-8 of the satellite's rotation from nominal: the Newton solve stops at the
     # spacing of the floats, not at a fixed 1e-15 rad (pins.md §5.5), so the residual stays far below 1e-3
     a = circular_model(1.0)
-    cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=1e-4)
+    cyc = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=1e-4)
     assert np.max(np.abs(cyc.sol.residual)) / a.torque_sat < 1e-4
 
 
@@ -158,7 +158,7 @@ def test_pass_from_the_last_nodes_equals_the_full_pass_within_its_error(make, fr
     # earlier, into the touching sides, whose strips hold no error (:func:`_strip_sides`): 2e-5 less is taken
     tol = 1e-6
     a = make(1.0e6, MULTIPLIER, friction)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     T2 = 1.0e6 * (1.0 + step)                   # the paper designs' second passes: 1e-6 to 2e-5 away
     b = make(T2, MULTIPLIER, friction)
     b.inherit(a)
@@ -166,7 +166,7 @@ def test_pass_from_the_last_nodes_equals_the_full_pass_within_its_error(make, fr
     assert lite is not None
     c = make(T2, MULTIPLIER, friction)
     c.inherit(a)
-    full = pc.mean_loss_ratio(c, 0.1, 0.1, False, tol=tol, prior=first.roots, prior_width=5e-6)
+    full = pc.mean_loss_ratio(c, (0.1, 0.1, False), tol=tol, prior=first.roots, prior_width=5e-6)
     assert abs(lite.loss_ratio - full.loss_ratio) <= lite.loss_ratio_err + full.loss_ratio_err
     assert lite.loss_ratio_err >= first.loss_ratio_err * first.friction[4] / lite.friction[4]
     assert lite.loss_ratio != first.loss_ratio                  # the torque's own change, not the old value
@@ -183,13 +183,13 @@ def test_strips_a_hertz_entry_moved_out_of_are_integrated(friction):
     # sign turned 38-58 %)
     tol = 1e-6
     a = circular_model(1.0e6, MULTIPLIER, friction)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     T2 = 1.0e6 * (1.0 + 2e-5)
     b = circular_model(T2, MULTIPLIER, friction)
     b.inherit(a)
     lite = pc.relinearised_cycle(b, first, a, tol)
     assert lite is not None
-    full = pc.mean_loss_ratio(circular_model(T2, MULTIPLIER, friction), 0.1, 0.1, False, tol=0.01 * tol)
+    full = pc.mean_loss_ratio(circular_model(T2, MULTIPLIER, friction), (0.1, 0.1, False), tol=0.01 * tol)
     assert abs(lite.loss_ratio - full.loss_ratio) <= 0.05 * lite.loss_ratio_err
 
 
@@ -200,7 +200,7 @@ def test_touching_sets_past_a_hertz_entry_give_the_other_sides_state(friction):
     # one-sided derivatives use has force and stiffness 0: the other side's state, speeds included, to round-off, at
     # every contact entry and exit of the cycle
     a = circular_model(1.0e6, MULTIPLIER, friction)
-    cyc = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=1e-5)
+    cyc = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=1e-5)
     roots = cyc.roots.roots[cyc.roots.contact]
     assert roots.size >= 2
     eps = 1e-7 * a.g.period
@@ -223,7 +223,7 @@ def test_pass_from_the_last_nodes_refuses_a_far_torque():
     # bound exceeds the tolerance, or a node's penetration changes sign against its piece; a full pass is needed
     tol = 1e-6
     a = circular_model(1.0e6)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     b = circular_model(1.02e6)
     b.inherit(a)
     assert pc.relinearised_cycle(b, first, a, tol) is None
@@ -238,8 +238,9 @@ def test_torque_fixed_point_with_and_without_the_pass_from_the_last_nodes(monkey
     for consistent in (False, True):
         out = {}
         for flag in (True, False):
-            monkeypatch.setattr(pc, "CYCLE_RELINEARISE", flag)
-            out[flag] = pc.cycle_at_torque(g, prof, law, 100.0, False, True, 1, 0.1, 0.1, False, consistent, tol=1e-6)
+            settings = dataclasses.replace(pc.DEFAULT_SETTINGS, cycle_relinearise=flag)
+            case = pc.ContactCase(g, prof, law, 1, (0.1, 0.1, False), 100.0, False)
+            out[flag] = pc.cycle_at_torque(case, True, consistent, tol=1e-6, settings=settings)
         assert out[True].settled and out[False].settled
         assert abs(out[True].loss_ratio - out[False].loss_ratio) <= out[True].loss_ratio_err + out[False].loss_ratio_err
         assert len(out[True].history) <= len(out[False].history)
@@ -294,7 +295,7 @@ def test_moved_states_are_exact_for_a_change_linear_in_theta():
     lo, hi = np.repeat([0, 1, 2], [4, 4, 1]), np.repeat([1, 2, 2], [4, 4, 1])
     t = np.array([0, 0.25, 0.5, 0.75, 0, 0.25, 0.5, 0.75, 0])
     change = 1e-3 * (1.0 + sol.theta)
-    part = pcm._take(sol, kept)
+    part = pcs.take_states(sol, kept)
     part.tau = part.tau + change[kept]
     on = sol.cand                                # the candidates change; the other pins keep their fill values
     part.force = part.force + np.where(on[:, kept], change[kept], 0.0)
@@ -319,7 +320,7 @@ def test_strided_pass_agrees_with_every_node_solved(make, friction):
     # of the torque's change of them of the solved ones
     tol = 1e-6
     a = make(1.0e6, MULTIPLIER, friction)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     T2 = 1.0e6 * (1.0 + 5e-6)
     runs = {}
     for stride in (1, 8):
@@ -334,7 +335,7 @@ def test_strided_pass_agrees_with_every_node_solved(make, friction):
     assert np.array_equal(one.sol.theta, eight.sol.theta)
     # farther than 1e-3 T_p from the breakpoints (closer, a contact entry's speeds change like (theta - theta_0)^(1/9)
     # with its place: within the strips E_s bounds, and at most as far off as the unmoved state)
-    far = pcm._distance_to(first.roots.roots, one.sol.theta) > 1e-3 * a.g.period
+    far = pcs.distance_to(first.roots.roots, one.sol.theta) > 1e-3 * a.g.period
     for field in ("tau", "force", "v_t"):
         solved, strided, old = (getattr(c.sol, field) for c in (one, eight, first))
         fin = np.isfinite(old)
@@ -351,9 +352,9 @@ def test_merged_parts_equal_the_sorted_concatenation():
     arrays = [rng.random((2, 6, t.size)) for t in thetas]
     order = np.argsort(np.concatenate(thetas), kind="stable")
     expected = np.concatenate(arrays, axis=-1)[..., order]
-    places = pcm._sorted_places(thetas)
-    assert np.array_equal(pcm._merged(thetas, places, 0), np.concatenate(thetas)[order])
-    assert np.array_equal(pcm._merged(arrays, places, 2), expected)
+    places = pcs.sorted_places(thetas)
+    assert np.array_equal(pcs.merged(thetas, places, 0), np.concatenate(thetas)[order])
+    assert np.array_equal(pcs.merged(arrays, places, 2), expected)
 
 
 def test_states_over_the_windows_pins_are_the_states_over_all_pins():
@@ -374,10 +375,10 @@ def test_states_over_the_windows_pins_are_the_states_over_all_pins():
     assert np.array_equal(full.force > 0.0, r.force > 0.0)
     assert np.array_equal(a.phases(theta, rows)[0], b.phases(theta)[0][rows])       # same pins, same phases
     # back to the window's rows: the identity
-    back = pcm._relayout(full, rows)
+    back = pcs.relayout(full, rows)
     assert all(np.array_equal(getattr(back, k), getattr(s, k)) for k in ("delta", "force", "v_t", "cand"))
     # parts over different rows: over the union (here all pins), in theta order
-    both = pcm._concat([s, pcm._take(r, slice(0, 3))])
+    both = pcs.concat_states([s, pcs.take_states(r, slice(0, 3))])
     assert both.rows is None and both.force.shape[1] == a.g.z2 and np.all(np.diff(both.theta) >= 0.0)
 
 
@@ -433,7 +434,7 @@ def test_pass_with_a_wider_window_takes_the_last_states_over_its_rows():
     # the same pass on the last window's rows to round-off (pins.md §5.5)
     tol = 1e-6
     a = circular_model(1.0e6)
-    first = pc.mean_loss_ratio(a, 0.1, 0.1, False, tol=tol)
+    first = pc.mean_loss_ratio(a, (0.1, 0.1, False), tol=tol)
     T2 = 1.0e6 * (1.0 + 5e-6)
     same = circular_model(T2)
     same.inherit(a)
@@ -461,7 +462,7 @@ def test_pass_with_a_wider_window_takes_the_last_states_over_its_rows():
 
 
 def test_refinement_cuts_a_jump_into_sections_and_keeps_newton_for_a_root():
-    # a smooth root (Newton: a few calls, to 1e-12) and a jump (steps leave the bracket: cut into SECTIONS parts
+    # a smooth root (Newton: a few calls, to 1e-12) and a jump (steps leave the bracket: cut into `sections` parts
     # per call, 8x narrower instead of bisection's 2x): exact places known (pins.md §6)
     calls = []
 
@@ -471,15 +472,14 @@ def test_refinement_cuts_a_jump_into_sections_and_keeps_newton_for_a_root():
                 np.where(k == 0, np.cos(x - 0.3), np.nan))
 
     jtol = 1e-9
-    r = pcc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
-                                jump_xtol=jtol)
+    brackets = ([0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0])
+    r = pcc._refine_sign_changes(h, brackets, pcc.RootStops(1e-12, jump_xtol=jtol))
     assert abs(r[0] - 0.3) <= 1e-12 and abs(r[1] - 0.7123456789) <= jtol
     # bisection alone would take log2(1/2e-9) ~ 29 calls for the jump; sections of 8: ~ log8 of it plus a few
     assert len(calls) <= 14
-    assert max(calls) <= pcc.SECTIONS            # one bracket cut (SECTIONS - 1 points) and the other one's point
+    assert max(calls) <= pc.DEFAULT_SETTINGS.sections     # one bracket cut (sections - 1 points), one point
     n_cut, calls[:] = len(calls), []
-    r2 = pcc._refine_sign_changes(h, [0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0], 1e-12,
-                                 jump_xtol=jtol, sections=2)                           # bisection
+    r2 = pcc._refine_sign_changes(h, brackets, pcc.RootStops(1e-12, jump_xtol=jtol, sections=2))     # bisection
     assert abs(r2[1] - 0.7123456789) <= jtol and len(calls) >= 2 * n_cut
 
 
@@ -487,8 +487,17 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
     # the shipped u = 10 band design (rotating pins, both modes friction-consistent): its coarse start is ~1.5e-4 of
     # lambda off, so the fixed point does not settle at the second pass; the third starts from the first's nodes
     # too (pins.md §6(6)): one full pass per mode instead of three, each mode's efficiency within both stated errors
-    # of the full passes' (the reference: CYCLE_RELINEARISE off)
-    path = Path(__file__).resolve().parents[1] / "configs" / "pins_circ_band_u10.toml"
+    # of the full passes' (the reference: settings.cycle_relinearise off)
+    from gearcalc.pins.contact_level import ContactDesign, contact_level, gear, satellite_profile
+
+    cfg = tomllib.loads((Path(__file__).resolve().parents[1] / "configs" / "pins_circ_band_u10.toml").read_text())
+    G, F, L = cfg["gearing"], cfg["friction"], cfg["load"]
+    g = gear(G["satellite_teeth"], G["pins"], G["eccentricity_mm"], G["pin_circle_radius_mm"], None,
+             G["pin_radius_mm"])[0]
+    prof = satellite_profile(g, G["profile"], G["tooth_radius_mm"], G["tooth_circle_radius_mm"], 0.0, 0.0)[0]
+    law = pc.contact_law(cfg["contact"]["law"], face_width=cfg["contact"]["face_width_mm"])
+    point = {"sliding": F["sliding"], "rolling": F["rolling_mm"], "axle": F["axle"], "mode": L["mode"],
+             "shaft": L["torque_shaft"], "torque": L["torque_Nm"], "speed": L["crank_speed_rpm"]}
     full_passes = []
     mean = pc.mean_loss_ratio
 
@@ -500,21 +509,27 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
     monkeypatch.setattr(pcc, "mean_loss_ratio", counted)       # and the quadrature's own retries
     out = {}
     for flag in (True, False):
-        monkeypatch.setattr(pc, "CYCLE_RELINEARISE", flag)
         full_passes.clear()
-        out[flag] = (gearcalc.compute(path, model="contact", tol=1e-6).summary, len(full_passes))
+        settings = dataclasses.replace(pc.DEFAULT_SETTINGS, cycle_relinearise=flag)
+        cl = contact_level(ContactDesign(g, prof, law, 1, G["rotating_pins"], G["axle_radius_mm"]), point, "consistent",
+                           1e-6, prof.play_free, settings=settings)
+        out[flag] = (cl, len(full_passes))
     (lite, n_lite), (full, n_full) = out[True], out[False]
     assert n_lite == 2 and n_full >= 6
-    for k in ("efficiency_multiplier", "efficiency_reducer"):
-        assert abs(lite[k] - full[k]) <= lite[k + "_err"] + full[k + "_err"]
-        assert lite[k + "_err"] <= 1e-6 * lite[k]
-    assert lite["tolerance_met"] and full["tolerance_met"]
+    for et in ("et_multiplier", "et_reducer"):
+        eta = "eta_vh" if et == "et_multiplier" else "eta_hv"
+        a, b = getattr(lite, et), getattr(full, et)
+        assert abs(getattr(a, eta)[0] - getattr(b, eta)[0]) <= getattr(a, eta + "_err")[0] + getattr(b, eta + "_err")[0]
+        assert getattr(a, eta + "_err")[0] <= 1e-6 * getattr(a, eta)[0]
+    for cl in (lite, full):                    # tolerance_met (pins.md §6-7)
+        for t in cl.modes.runs.values():
+            assert t.cycle.converged and t.settled and t.cycle.held and pc.deflection_sized(t.cycle.sol.tau, g)
 
 
 @pytest.mark.parametrize("z1, z2", [(21, 22), (20, 22), (30, 33)])
 @pytest.mark.parametrize("profile", ["cycloid", "circular"])
 def test_a_pins_contact_depends_on_its_time_phase_alone(z1, z2, profile):
-    # the premise of the window's margin (WINDOW_MARGIN): pin j + 1 at theta + T_p is pin j at theta, one tooth pitch
+    # the premise of the window's margin (window_margin): pin j + 1 at theta + T_p is pin j at theta, one tooth pitch
     # turned (the pin circle turns by 2 pi/z2 (1 + k/z1) = 2 pi/z1 in the satellite frame, the crank arm by the
     # same), so a scan of all pins at n crank angles samples the time phase every T_p/n.  Exact identity, to round-off.
     g = Cycloid.from_curtate_ratio(z1, z2, 3.9, 0.75, 1.95)
@@ -534,10 +549,10 @@ def test_a_pins_contact_depends_on_its_time_phase_alone(z1, z2, profile):
 @pytest.mark.parametrize("make", [cycloid_model, circular_model])
 @pytest.mark.parametrize("sigma", [MULTIPLIER, REDUCER])
 def test_no_pin_outside_the_window_touches_on_the_final_grid(make, sigma):
-    # the window's margin is WINDOW_MARGIN scan spacings of time phase (pins.md §5.5): every pin it leaves out is
+    # the window's margin is window_margin scan spacings of time phase (pins.md §5.5): every pin it leaves out is
     # evaluated at the cycle's solved tau, over the whole final grid (friction in the balance: its own tau)
     m = make(1.0e6, sigma, (0.1, 0.1, False))
-    cyc = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-6)
+    cyc = pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-6)
     assert m.window is not None
     theta, tau = cyc.sol.theta, cyc.sol.tau
     inside = m.candidates(theta)
@@ -587,7 +602,7 @@ def test_circular_states_evaluate_the_pressed_tooth_only_and_equal_the_states_ov
     assert ref.sides is None
     r = ref.state(theta, phases=False)
     assert s.force.shape == r.force.shape and s.force.shape[0] == 2
-    # each solve stops after a Newton step below 1e-6 |tau| (NEWTON_STOP): its error C s^2 <= ~3e-12 |tau| (C <= 3)
+    # each solve stops after a Newton step below 1e-6 |tau| (newton_stop): its error C s^2 <= ~3e-12 |tau| (C <= 3)
     assert np.allclose(s.tau, r.tau, rtol=1e-11, atol=0.0)
     assert np.allclose(s.force, r.force, rtol=1e-10, atol=1e-10 * r.force.max())
     assert np.all(r.force[1 - m.sides[0]] == 0.0)        # the tooth left out is loaded nowhere
@@ -658,7 +673,7 @@ def test_the_next_pass_skips_the_window_check_only_within_the_clearance(monkeypa
 def test_a_pose_reused_at_another_torque_gives_the_states_of_a_fresh_one(make):
     # ContactModel.state(reuse=...): the last pass's pose of the same crank angles and candidates (its cycloid foot
     # points the warm start of the new torque's) against a fresh pose: the same states to the solves' precision
-    # (NEWTON_STOP: ~3e-12 of tau), and a pose of other angles is not taken
+    # (settings.newton_stop: ~3e-12 of tau), and a pose of other angles is not taken
     a = make(1.0e6, MULTIPLIER, (0.1, 0.1, False))
     a.set_window()
     theta = np.linspace(0.003, a.g.period - 0.002, 37)

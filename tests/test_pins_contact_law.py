@@ -64,3 +64,21 @@ def test_force_stiffness_is_the_force_and_its_derivative(name, kw):
     x, h = np.array([3e-4, 2e-3]), 1e-8
     fd = (law.force(x + h) - law.force(x - h)) / (2.0 * h)
     np.testing.assert_allclose(law.force_stiffness(x)[1], fd, rtol=1e-6)
+
+
+def test_contact_law_by_name_unknown_name_is_a_value_error_listing_the_known_ones():
+    # issue 35: contact_law("hertzz") silently returned the Hertz law
+    with pytest.raises(ValueError, match=r"unknown contact law 'hertzz'; known: hertz, palmgren, linear"):
+        cl.contact_law("hertzz", face_width=10.0)
+    assert set(cl.CONTACT_LAWS) == {"hertz", "palmgren", "linear"}
+    for name in cl.CONTACT_LAWS:
+        assert cl.contact_law(name, face_width=10.0, stiffness=1e5).name == name
+
+
+def test_contact_law_problem_knows_the_same_laws_and_rejects_unknown_names():
+    from gearcalc.pins import checks, schema
+    assert list(checks.LAW_NEEDS) == list(cl.CONTACT_LAWS)
+    law_field = next(f for t in schema.TABLES if t.name == "contact" for f in t.fields if f.name == "law")
+    assert tuple(law_field.choices) == tuple(cl.CONTACT_LAWS)
+    with pytest.raises(ValueError, match="unknown contact law 'hertzz'"):
+        checks.contact_law_problem("hertzz", 10.0, None)

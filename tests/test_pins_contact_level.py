@@ -8,7 +8,8 @@ import math
 import pytest
 
 from gearcalc.pins.contact import contact_law
-from gearcalc.pins.contact_level import backlash_deg, contact_friction, contact_level, gear, satellite_profile
+from gearcalc.pins.contact_level import (ContactDesign, backlash_deg, contact_friction, contact_level, gear,
+                                         satellite_profile)
 
 BAND = (20, 22, 3.9, 44.227, None, 2.75)       # configs/pins_circ_band_u10.toml: z1, z2, e, R_p, K1, R_b
 LAW = contact_law("hertz", 10.0)
@@ -38,10 +39,10 @@ def test_contact_friction_of_fixed_pins():
 
 def test_the_full_circular_tooth():
     g, _ = gear(*BAND)
-    prof, overlap = satellite_profile(g, True, "full", "zero_backlash", 0.0, 0.0)
+    prof, overlap = satellite_profile(g, "circular", "full", "zero_backlash", 0.0, 0.0)
     assert math.isclose(prof.rho_t, prof.R_t * math.sin(math.pi / 20), rel_tol=1e-12)   # pins.md §5.3
     assert not overlap
-    prof, overlap = satellite_profile(g, True, 3.576, "zero_backlash", 0.0, 0.0)
+    prof, overlap = satellite_profile(g, "circular", 3.576, "zero_backlash", 0.0, 0.0)
     assert prof.rho_t == 3.576 and not overlap
 
 
@@ -56,9 +57,9 @@ def _point(**over):
 
 def test_a_frictionless_contact_level_loses_nothing():
     g, _ = gear(*BAND)
-    prof, _ = satellite_profile(g, True, "full", "zero_backlash", 0.0, 0.0)
-    cl = contact_level(g, prof, LAW, _point(sliding=0.0, rolling=0.0, axle=0.0), 1, False, None, "consistent", 1e-4,
-                       True)
+    prof, _ = satellite_profile(g, "circular", "full", "zero_backlash", 0.0, 0.0)
+    cl = contact_level(ContactDesign(g, prof, LAW, 1, False, None), _point(sliding=0.0, rolling=0.0, axle=0.0),
+                       "consistent", 1e-4, True)
     assert cl.balanced and not cl.consistent          # pins.md §4.9: no friction, nothing to put in the balance
     assert cl.modes.requested.loss_ratio == 0.0 and cl.operating.loss_mean == 0.0
     # pins.md §4.7: eta_HV = 1/(1 + lambda), eta_VH = 1 - lambda at lambda = 0
@@ -76,8 +77,8 @@ def test_the_contact_level_equals_the_calculators_contact_run():
     d = dmod.load(CONFIGS / "pins_circ_band_u10.toml")
     s = kind_pins.compute(d, Options(tol=1e-4)).summary
     g, _ = gear(*BAND)
-    prof, _ = satellite_profile(g, True, 3.576, "zero_backlash", 0.0, 0.0)
-    cl = contact_level(g, prof, LAW, _point(), 1, True, 1.75, "consistent", 1e-4, True, detail=True)
+    prof, _ = satellite_profile(g, "circular", 3.576, "zero_backlash", 0.0, 0.0)
+    cl = contact_level(ContactDesign(g, prof, LAW, 1, True, 1.75), _point(), "consistent", 1e-4, True, detail=True)
     assert s["loss_ratio"] == cl.modes.requested.loss_ratio and s["efficiency"] == float(cl.et_multiplier.eta_vh[0])
     assert s["equilibrium_residual"] == cl.residual and set(cl.detail) == {"crank", "contacts"}
 
@@ -261,3 +262,26 @@ def test_the_band_designs_crank_torque_ripple_is_well_conditioned(name, ripple):
               for tol in (1e-5, 1e-8)]
     assert values[0] == pytest.approx(values[1], rel=1e-4)
     assert values[1] == pytest.approx(ripple, rel=2e-4)
+
+
+def test_contact_settings_are_one_frozen_documented_object_not_module_constants():
+    # issue 35 item 1: the numerical tunables in one immutable, documented settings object, passed explicitly
+    import ast
+    import dataclasses
+    import inspect
+
+    from gearcalc.pins import Cycloid, contact_cycle, contact_model, contact_settings
+    s = contact_settings.DEFAULT_SETTINGS
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        s.scan_max = 1
+    body = ast.parse(inspect.getsource(contact_settings.ContactSettings)).body[0].body
+    documented = {a.target.id for a, d in zip(body, body[1:]) if isinstance(a, ast.AnnAssign)
+                  and isinstance(d, ast.Expr) and isinstance(d.value, ast.Constant) and len(d.value.value) > 20}
+    assert documented == {f.name for f in dataclasses.fields(s)}
+    for module, name in ((pc, "CYCLE_RELINEARISE"), (contact_cycle, "SCAN_MAX"), (contact_model, "NEWTON_STOP")):
+        assert not hasattr(module, name)
+    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    other = dataclasses.replace(s, newton_stop=1e-9)
+    m = pc.ContactModel(g, pc.CycloidProfile(g), pc.contact_law("linear", stiffness=1e5), 1e4, pc.REDUCER,
+                        settings=other)
+    assert m.settings is other and pc.ContactModel(g, pc.CycloidProfile(g), m.law, 1e4, pc.REDUCER).settings is s

@@ -8,6 +8,7 @@ operating point computed with the torque given on V (one pass, no fixed point) a
 reports; the fixed point of the code before the contact speed-up (eta_VH = 0.1905224); a fresh solve (no warm
 start, its own window) at the same torque.
 """
+import dataclasses
 import math
 import warnings
 from pathlib import Path
@@ -208,8 +209,8 @@ def test_window_inherited_from_a_lower_torque_holds_the_pins_that_touch_at_the_h
     high = pc.ContactModel(g, prof, law, 3.0e7, MULTIPLIER)
     high.inherit(low)
     fresh = pc.ContactModel(g, prof, law, 3.0e7, MULTIPLIER)
-    a = pc.mean_loss_ratio(high, 1.0, 1.0, False, tol=1e-6)
-    b = pc.mean_loss_ratio(fresh, 1.0, 1.0, False, tol=1e-6)
+    a = pc.mean_loss_ratio(high, (1.0, 1.0, False), tol=1e-6)
+    b = pc.mean_loss_ratio(fresh, (1.0, 1.0, False), tol=1e-6)
     assert abs(a.loss_ratio - b.loss_ratio) <= a.loss_ratio_err + b.loss_ratio_err
     assert high.window is None or high.window[2] >= low.window[2]
 
@@ -275,7 +276,7 @@ reducer loss ratio 0.180 where the crank angles solved one by one give 0.198 (pi
 
 @pytest.mark.parametrize("design,held", [(WANDERING, False), (FAR, True)])
 def test_designs_whose_satellite_turns_far_beyond_a_deflection_are_flagged(design, held):
-    # pins.md §6-7: a pin centre that moves by more than TRAVEL_MAX of its radius under the load (here 1.6 and 0.7;
+    # pins.md §6-7: a pin centre that moves by more than travel_max of its radius under the load (here 1.6 and 0.7;
     # the paper designs 0.004-0.042), and a cycle whose nodes contradict their pieces even on the densest scan, are
     # flagged: tolerance_met false and a warning naming the cause, instead of a loss ratio 2-15 % off its reference
     r = api.compute(design, model="contact", tol=1e-3)
@@ -297,10 +298,10 @@ def test_a_satellite_turning_beyond_a_deflection_is_not_scanned_denser(cycles):
 
 
 def test_paper_designs_turn_by_a_deflection(cycles):
-    # the paper's u = 10 circular-arc design: a pin centre moves by 0.042 of its radius at most, below TRAVEL_MAX
+    # the paper's u = 10 circular-arc design: a pin centre moves by 0.042 of its radius at most, below travel_max
     r = api.compute(Path(__file__).parents[1] / "configs" / "pins_paper_circ_u10_fixed.toml", model="contact")
     travel = [pc.pin_travel(t.cycle.sol.tau, t.model.g) for t in cycles]
-    assert max(travel) == pytest.approx(0.042, abs=0.001) and max(travel) < pc.TRAVEL_MAX
+    assert max(travel) == pytest.approx(0.042, abs=0.001) and max(travel) < pc.DEFAULT_SETTINGS.travel_max
     assert r.summary["tolerance_met"] is True and not any("pin centre" in w for w in r.warnings)
 
 
@@ -328,12 +329,9 @@ def test_an_unconverged_cycle_mean_stops_the_fixed_point_at_its_own_error(monkey
     # cap of 2^12 (converged), within the capped run's stated error (1.9e-8 against 4.7e-8)
     original = pc.mean_loss_ratio
 
-    def capped(*a, **k):
-        if len(a) > 5:                                   # its own recursive calls pass n_max by position
-            a = a[:5] + (2 ** 6,) + a[6:]
-        else:
-            k["n_max"] = 2 ** 6
-        return original(*a, **k)
+    def capped(model, friction, tol=1e-6, grid=None, *a, **k):
+        grid = dataclasses.replace(pc.CycleGrid() if grid is None else grid, n_max=2 ** 6)   # the cap on angles
+        return original(model, friction, tol, grid, *a, **k)
 
     path = str(CONFIGS / "pins_circ_band_u30.toml")
     over = {"friction.model": "first-order"}

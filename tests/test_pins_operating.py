@@ -154,9 +154,9 @@ def _linear(k=1e5):
 def test_cycle_at_torque_on_V_is_one_pass_and_on_H_is_the_fixed_point():
     g = gear()
     prof = pc.CycloidProfile(g, 0.0, 0.0)
-    on_V = pc.cycle_at_torque(g, prof, _linear(), 50.0, True, False, 1, 0.1, 0.1, False, tol=1e-5)
+    on_V = pc.cycle_at_torque(pc.ContactCase(g, prof, _linear(), 1, (0.1, 0.1, False), 50.0, True), False, tol=1e-5)
     assert len(on_V.history) == 1 and on_V.torque_V == 50.0 and on_V.settled
-    on_H = pc.cycle_at_torque(g, prof, _linear(), 5.0, False, False, 1, 0.1, 0.1, False, tol=1e-5)
+    on_H = pc.cycle_at_torque(pc.ContactCase(g, prof, _linear(), 1, (0.1, 0.1, False), 5.0, False), False, tol=1e-5)
     # reducer: T_V = u T_H/(1 + lambda) at the fixed point (pins.md §4.7, §7)
     assert on_H.torque_V == pytest.approx(g.ratio * 5.0 / (1.0 + on_H.history[-2]), rel=0, abs=1e-12)
     assert on_H.settled and on_H.loss_ratio == on_H.cycle.loss_ratio
@@ -164,7 +164,8 @@ def test_cycle_at_torque_on_V_is_one_pass_and_on_H_is_the_fixed_point():
 
 def test_cycle_at_torque_without_friction_is_exactly_lossless():
     g = gear()
-    tc = pc.cycle_at_torque(g, pc.CycloidProfile(g, 0.0, 0.0), _linear(), 5.0, True, True, 1, 0.0, 0.0, False)
+    case = pc.ContactCase(g, pc.CycloidProfile(g, 0.0, 0.0), _linear(), 1, (0.0, 0.0, False), 5.0, True)
+    tc = pc.cycle_at_torque(case, True)
     assert (tc.loss_ratio, tc.loss_ratio_err) == (0.0, 0.0)              # pins.md §9: zero friction is exact
 
 
@@ -172,7 +173,8 @@ def test_cycle_at_torque_reports_the_torque_tried_when_no_equilibrium():
     g = gear()
     prof = pc.CycloidProfile(g, 0.0, 0.0)
     with pytest.raises(pc.NoEquilibrium) as info:
-        pc.cycle_at_torque(g, prof, pc.contact_law("linear", stiffness=1e-9), 1e9, True, False, 1, 0.1, 0.1, False)
+        pc.cycle_at_torque(pc.ContactCase(g, prof, pc.contact_law("linear", stiffness=1e-9), 1, (0.1, 0.1, False), 1e9,
+                                          True), False)
     assert info.value.torque_V == 1e9
 
 
@@ -187,7 +189,7 @@ def test_backlash_is_zero_without_clearance_and_positive_with_it():
 def test_cycle_peaks_of_one_disc_are_the_maxima_over_the_solution():
     g = gear()
     m = pc.ContactModel(g, pc.CycloidProfile(g, 0.0, 0.0), _linear(), 1e4, MULTIPLIER)
-    cyc = pc.mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-4)
+    cyc = pc.mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-4)
     pk = pc.cycle_peaks(cyc, g, 1, False)
     assert pk.force == float(cyc.sol.force.max())                      # peak pin force
     assert pk.total == float(cyc.loss.sum(axis=(0, 1)).max())          # all pins

@@ -224,7 +224,7 @@ def _satellite(design, a):
         raise DesignError(*_law_problem(a))
     law = contact_law(a["law"], a["face_width"], a["stiffness"])
     try:
-        return (g, law, *satellite_profile(g, a["profile"] == "circular", a["tooth_radius"], a["tooth_circle_radius"],
+        return (g, law, *satellite_profile(g, a["profile"], a["tooth_radius"], a["tooth_circle_radius"],
                                            a["radial_mod"], a["equidistant_mod"]))
     except InadmissibleProfile as exc:
         raise R.profile_error(exc, design, g) from None
@@ -234,7 +234,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     """The summary of the compliant contact level (:func:`gearcalc.pins.contact_level.contact_level`)."""
     from ..pins import contact as pc
     from ..pins.columns import OPERATING, level_columns
-    from ..pins.contact_level import contact_level
+    from ..pins.contact_level import ContactDesign, contact_level
 
     a = _one(design)
     cols, _ = level_columns({n: [x] for n, x in a.items()}, "contact", [design.name], options.tol,
@@ -242,11 +242,10 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     summary = {k: v[0] for k, v in cols.items()}
     g, law, profile, overlap = _satellite(design, a)
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
-    model, circular = friction_model(design), a["profile"] == "circular"
-    play_free = circular and a["tooth_circle_radius"] == "zero_backlash" or not circular and not _modified(design)
+    model = friction_model(design)
     try:
-        cl = contact_level(g, profile, law, {n: a[n] for n in OPERATING}, a["n_d"], a["rotating"], a["r"],
-                           model, options.tol, play_free, options.detail)
+        cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"]),
+                           {n: a[n] for n in OPERATING}, model, options.tol, profile.play_free, options.detail)
     except (pc.NoEquilibrium, pc.Unresolvable) as exc:
         raise R.contact_error(exc, design, g) from None
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))

@@ -62,9 +62,9 @@ from __future__ import annotations
 
 from ..lazy import lazy_names
 
-_MODULES = ("formula", "geometry", "forces", "efficiency", "operating", "cycle", "ideal", "consistent", "points",
-            "outputs", "detail", "contact", "contact_level", "checks", "columns", "batching", "schema", "report",
-            "plot")
+_MODULES = ("formula", "geometry", "forces", "efficiency", "friction", "operating", "cycle", "ideal", "consistent",
+            "points", "outputs", "detail", "contact", "contact_level", "checks", "columns", "batching", "schema",
+            "report", "plot")
 _NAMES = {
     "formula": ("PAPER_PI", "pin_angular_speed", "rolling_friction_force", "axle_friction_force", "friction_power",
                 "FormulaLosses", "formula_losses", "fixed_pin_formula_loss"),
@@ -73,6 +73,8 @@ _NAMES = {
                  "crest_cutoffs", "spin_reversal_phase", "spin_reversal_phases", "curvature_radius",
                  "min_curvature_radius", "pin_centre_curve", "tooth_profile"),
     "forces": ("pin_phase", "lever_sum", "pin_forces", "loss_ratio", "full_circle_lever_sum"),
+    "friction": ("FrictionLaw", "Coulomb", "FRICTION_LAWS", "register_friction_law", "friction_law",
+                 "peak_coefficient", "PinFriction"),
     "efficiency": ("rolling_condition", "rotating_loss_coefficient", "sliding_speed", "pin_spin",
                    "contact_loss_power", "efficiency_multiplier", "efficiency_reducer", "willis_efficiencies"),
     "operating": ("SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime", "efficiency_reducer_err",

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from .profiles import PROFILES, tooth_too_large
 from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_TOL_MIN, IDEAL_SWEEP_WORK_MAX,
                      IDEAL_WORK_MAX)
 
@@ -72,7 +73,8 @@ def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | 
     tables : set of str
         The design's tables among "gearing", "pin_load", "contact".
     profile : str or None
-        "cycloidal" or "circular" (None without a gear).
+        A name of :data:`gearcalc.pins.profiles.PROFILES`, "cycloidal" or "circular" (None without a gear); the
+        ideal level computes only those its entry marks ``ideal``.
     is_modified : bool
         A cycloid with a profile modification (:func:`modified`).
 
@@ -83,15 +85,17 @@ def select_level(model, tables, profile, is_modified: bool) -> tuple[str, str | 
     >>> select_level(None, {"gearing"}, "circular", False), select_level("ideal", {"gearing"}, "circular", False)
     (('contact', None), ('ideal', 'ideal_profile'))
     """
-    has_g, circular = "gearing" in tables, profile == "circular"
+    entry = PROFILES.get(profile)
+    has_g, contact_only = "gearing" in tables, entry is not None and not entry.ideal    # circular teeth
     if model is None:
-        return ("contact" if circular or is_modified or "contact" in tables else "ideal") if has_g else "formula", None
+        level = "contact" if contact_only or is_modified or "contact" in tables else "ideal"
+        return level if has_g else "formula", None
     if model == "formula" and "pin_load" not in tables:
         return model, "need_pin_load"
     if model in ("ideal", "contact") and not has_g:
         return model, "need_gearing"
-    if model == "ideal" and (circular or is_modified):
-        return model, "ideal_profile" if circular else "ideal_mods"
+    if model == "ideal" and (contact_only or is_modified):
+        return model, "ideal_profile" if contact_only else "ideal_mods"
     return model, None
 
 
@@ -101,12 +105,20 @@ def contact_law_problem(law: str, face_width, stiffness):
 
     >>> contact_law_problem("hertz", None, None), contact_law_problem("linear", None, 1e5)
     ('face_width', None)
+
+    A name that is not a law (:data:`LAW_NEEDS`, the names of :data:`gearcalc.pins.contact_law.CONTACT_LAWS`) is a
+    ValueError listing the known ones.
     """
-    if law in ("hertz", "palmgren") and face_width is None:
-        return "face_width"
-    if law == "linear" and stiffness is None:
-        return "stiffness"
-    return None
+    try:
+        need = LAW_NEEDS[law]
+    except (KeyError, TypeError):
+        raise ValueError(f"unknown contact law {law!r}; known: {', '.join(LAW_NEEDS)}") from None
+    return need if {"face_width": face_width, "stiffness": stiffness}[need] is None else None
+
+
+LAW_NEEDS = {"hertz": "face_width", "palmgren": "face_width", "linear": "stiffness"}
+"""The constant each contact law needs (pins.md §5.4): the rule broken when it is missing.  Kept here, without numpy,
+for ``gearcalc check``; a test checks its names are those of :data:`gearcalc.pins.contact_law.CONTACT_LAWS`."""
 
 
 @dataclass(frozen=True)
@@ -160,7 +172,7 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
     """
     import numpy as np
 
-    from .columns import floats
+    from .operating import floats
     from .geometry import geometry_violations
 
     K1g, Rpg, r_ = floats(K1), floats(Rp), floats(r)
@@ -191,20 +203,6 @@ def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
         Rp, omk = pin_circle(z1, z2, np.float64(e), math.nan if Rp is None else Rp, math.nan if K1 is None else K1,
                              SCALAR_OPS)
     return float(Rp), (e * z2 / ((z2 - z1) * Rp) if K1 is None else K1), float(omk)
-
-
-def tooth_too_large(Rb, tooth_radius, Rp, e):
-    r"""Whether a circular tooth is too large for any zero-backlash tooth circle (pins.md §5.3, §9):
-
-    .. math:: R_b + \rho_t \ge R_p - e
-
-    (the one rule: :func:`gearcalc.pins.contact.circular_profile` and
-    :func:`gearcalc.pins.contact.zero_backlash_tooth_circle` call it).
-
-    >>> tooth_too_large(2.75, 37.4, 44.227, 3.9), tooth_too_large(2.75, 37.6, 44.227, 3.9)
-    (False, True)
-    """
-    return Rb + tooth_radius >= Rp - e
 
 
 def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rotating, profile, tooth_radius,
@@ -338,7 +336,7 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d,
     """
     import numpy as np
 
-    from .columns import floats
+    from .operating import floats
 
     if has_pin_load and np.any(bad.pin_load_axle):
         return False

@@ -21,7 +21,7 @@ from .checks import friction_model
 from .formula import formula_losses
 from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .ideal import DISC_SAMPLES_MAX, DISC_WORK_MAX, TOO_COSTLY
-from .operating import ARRAY_OPS, SCALAR_OPS
+from .operating import ARRAY_OPS, SCALAR_OPS, floats
 from .points import ideal_points
 from .schema import SUMMARY_KEYS
 
@@ -31,15 +31,6 @@ __all__ = ["OPERATING", "floats", "float64", "words_equal", "operating", "fricti
 OPERATING = ("sliding", "rolling", "axle", "mode", "shaft", "torque", "speed")
 """The operating point's names: f, f_k [mm], f_c, the mode and the torque's shaft (words), T [N·m], n_H [rpm]."""
 _WORDS = ("mode", "shaft")
-
-
-def floats(vals):
-    """A float array from a list of numbers and None (NaN).
-
-    >>> floats([1, None]).tolist()
-    [1.0, nan]
-    """
-    return np.array([np.nan if v is None else v for v in vals], dtype=float)
 
 
 def float64(v):

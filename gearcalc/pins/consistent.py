@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .cycle import disc_offsets, sum_over_discs
-from .geometry import _as_arrays, Cycloid, MULTIPLIER, REDUCER
+from .geometry import as_arrays, Cycloid, MULTIPLIER, REDUCER
 from .ideal import _colsum, _contacts_geo, _GearTable, IdealCycles, _node_sums
 from ..quadrature import richardson_mean
 
@@ -185,7 +185,7 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     Examples
     --------
     >>> from gearcalc.pins import ideal_cycles
-    >>> g = _as_arrays(Cycloid.from_curtate_ratio(10, 11, 1.95, 0.75, 1.755))   # pins.md §4.9 reference
+    >>> g = as_arrays(Cycloid.from_curtate_ratio(10, 11, 1.95, 0.75, 1.755))   # pins.md §4.9 reference
     >>> cc = consistent_cycles(ideal_cycles(g, 1), np.array([0]), np.array([0.1]))
     >>> round(1.0 / (1.0 + float(cc.loss_ratio[0, 0])), 5), round(1.0 - float(cc.loss_ratio[1, 0]), 5)
     (0.83078, 0.84594)
@@ -592,7 +592,7 @@ def crank_history(g: Cycloid, psi_star: float, t, t_mid, mu_eff: float, sigma: i
     ----------
     pins.md §4.9 (crank-bearing force, crank torque), §8 (the detail table).
     """
-    G = _GearTable.of(_as_arrays(g), np.array([psi_star]))
+    G = _GearTable.of(as_arrays(g), np.array([psi_star]))
     t = np.asarray(t, dtype=float)
     J, lev, rho, sh2, s = _contacts_geo(t, np.asarray(t_mid, dtype=float), None, G, int(g.z2))
     sums = _node_sums(J, lev, rho, sh2, s, G, None)

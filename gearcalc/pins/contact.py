@@ -61,8 +61,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..quadrature import richardson_mean
-from .contact_cycle import (TRAVEL_MAX, BreakpointRoots, ContactCycle, CyclePeaks, _nested_trapezoid_weights,
-                            _piece_places, backlash, contact_losses, cycle_breakpoints, cycle_peaks, deflection_sized,
+from .contact_cycle import (BreakpointRoots, ContactCycle, CycleGrid, CyclePeaks, nested_trapezoid_weights,
+                            piece_places, backlash, contact_losses, cycle_breakpoints, cycle_peaks, deflection_sized,
                             engagement_metrics, free_play, gk_interpolated, mean_loss_ratio, piece_guess, piece_keys,
                             pin_travel, relinearised_cycle)
 from .contact_law import HERTZ_EXPONENT, PALMGREN_COEFFICIENT, ContactLaw, contact_law, palmgren_line_constant
@@ -70,8 +70,11 @@ from .contact_model import EPS, ContactModel, Jam, NoEquilibrium, Solution
 from .contact_profiles import (PROFILE_RULES, CircularProfile, Contacts, CycloidProfile, InadmissibleProfile, Pose,
                                circular_profile, cycloid_profile, full_tooth, tooth_centre_distance,
                                zero_backlash_tooth_circle)
+from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .cycle import disc_offsets, sum_over_discs
+from .friction import PinFriction, peak_coefficient
 from .geometry import MULTIPLIER, REDUCER, Cycloid
+from .operating import SCALAR_OPS
 
 __all__ = [
     # re-exported, the contact level's names in one place: the contact laws (:mod:`gearcalc.pins.contact_law`), the
@@ -82,11 +85,11 @@ __all__ = [
     "CircularProfile", "CycloidProfile", "InadmissibleProfile", "PROFILE_RULES", "circular_profile",
     "cycloid_profile",
     "ContactModel", "NoEquilibrium", "Jam", "Solution", "EPS",
-    "contact_losses", "ContactCycle", "BreakpointRoots", "mean_loss_ratio", "relinearised_cycle", "cycle_breakpoints",
-    "gk_interpolated", "piece_keys", "piece_guess", "engagement_metrics", "free_play", "backlash", "CyclePeaks",
-    "cycle_peaks", "TRAVEL_MAX", "pin_travel", "deflection_sized",
+    "contact_losses", "ContactCycle", "BreakpointRoots", "CycleGrid", "mean_loss_ratio", "relinearised_cycle",
+    "cycle_breakpoints", "gk_interpolated", "piece_keys", "piece_guess", "engagement_metrics", "free_play", "backlash",
+    "CyclePeaks", "cycle_peaks", "pin_travel", "deflection_sized", "ContactSettings", "DEFAULT_SETTINGS",
     # this module's: the torque fixed point and the modes
-    "Unresolvable", "fixed_point_settled", "TorqueCycle", "cycle_at_torque", "ModeCycles", "solve_modes",
+    "Unresolvable", "fixed_point_settled", "TorqueCycle", "ContactCase", "cycle_at_torque", "ModeCycles", "solve_modes",
     "mode_efficiencies", "equilibrium_residual", "CrankBearing", "crank_bearing", "effective_radius",
     "richardson_weights", "ContactOperating", "operating_values", "MULTIPLIER", "REDUCER",
 ]
@@ -216,34 +219,32 @@ def fixed_point_stalls(history) -> bool:
     return d[-1] >= 0.5 * d[-3] > 0.0
 
 
-CYCLE_N_START = 64
-"""First-level crank-angle intervals of the cycle mean per period (:func:`mean_loss_ratio` in :func:`cycle_at_torque`):
-with two doublings at least 256 per period, rounded up per piece, so nodes at most T_p/256 apart: as dense as the
-full breakpoint scan (the least that keeps the coarse scan's check sound).  128 until 2026-11-27, when the pieces'
-Richardson estimate (:func:`~gearcalc.quadrature.piece_errors`) let the first call's 256 intervals meet tol 1e-6 on
-most designs: 469-483 solved angles per pass on the paper designs instead of 700-1040 (pins.md §6)."""
-CYCLE_N_MIN = 1
-"""First-level intervals of a piece at least (the tiny pieces of a geometric grading)."""
-CYCLE_MOVE_ROOTS = True
-"""Whether a later full pass of the torque fixed point moves the last pass's breakpoints (else it scans)."""
-CYCLE_RELINEARISE = True
-"""The passes of the torque fixed point after a full one from its nodes (:func:`relinearised_cycle`) where their
-error bound allows; False: full passes only (a reference for the tests)."""
-CYCLE_AT_ONCE = 2
-"""Doublings solved with the first level in one call (:func:`integrate_adaptive`): the first pass's first level and
-both doublings every piece gets; a later pass's first level is a quarter of the last pass's final counts, so that
-grid at once."""
-CYCLE_COARSE_SCAN = 64
-"""Intervals of the first breakpoint scan of a design, checked on the quadrature's nodes (:func:`mean_loss_ratio`)."""
-PRIOR_WIDTH_PASS = 1.0
-"""First half-width of the bracket that moves a breakpoint to the next pass of the torque fixed point, in periods per
-unit relative change of the torque (a grazing contact entry of the circular-arc paper designs moves by 0.2 T_p per
-unit relative torque change)."""
+@dataclass(frozen=True)
+class ContactCase:
+    """One design's contact level at one operating point: the parameter object of :func:`cycle_at_torque` and
+    :func:`solve_modes`.
 
-def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
-                    n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool,
-                    friction_in_equilibrium: bool = False, tol: float = 1e-6, passes: int = 8,
-                    seed: "ContactModel | None" = None, rule: str = "trapezoid") -> TorqueCycle:
+    g : Cycloid, the pin gear; profile : a :class:`~gearcalc.pins.profiles.ToothProfile`; law : ContactLaw;
+    n_discs : n_d, discs sharing the torque; friction : :class:`~gearcalc.pins.friction.PinFriction` (mu_eff, f,
+    rolls) or that tuple; torque : T [N·m], on V when ``torque_on_V`` else on H.
+    """
+
+    g: Cycloid
+    profile: object
+    law: ContactLaw
+    n_discs: int
+    friction: PinFriction
+    torque: float
+    torque_on_V: bool
+
+    def __post_init__(self):
+        if not isinstance(self.friction, PinFriction):
+            object.__setattr__(self, "friction", PinFriction(*self.friction))
+
+
+def cycle_at_torque(case: ContactCase, multiplier: bool, friction_in_equilibrium: bool = False, tol: float = 1e-6,
+                    passes: int = 8, seed: "ContactModel | None" = None, rule: str = "trapezoid",
+                    settings: ContactSettings | None = None) -> TorqueCycle:
     r"""The contact cycle under the torque given on V, or on H through the torque fixed point (pins.md §4.7, §7).
 
     The loss ratio depends (weakly) on the torque, so with the torque given on H the torque on V is
@@ -270,18 +271,10 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
 
     Parameters
     ----------
-    g : Cycloid
-        the pin gear.
-    profile : CircularProfile or CycloidProfile
-    law : ContactLaw
-    torque : float
-        T, on V when ``torque_on_V`` else on H [N·m].
-    torque_on_V, multiplier : bool
-        where the torque is given; multiplier (V drives H) or reducer mode.
-    n_discs : int
-        n_d, discs sharing the torque.
-    mu_eff, sliding_friction : float
-        mu_eff and f [-]; rolls : bool, the pins roll.
+    case : ContactCase
+        the gear, profile, law, discs, friction (mu_eff, f, rolls) and the torque T [N·m], on V or on H.
+    multiplier : bool
+        multiplier (V drives H) or reducer mode.
     friction_in_equilibrium : bool
         add the friction forces to the moment balance (pins.md §5.5).
     seed : ContactModel, optional
@@ -306,8 +299,9 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
-    >>> tc = cycle_at_torque(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 10.0, False,
-    ...                      False, 1, 0.1, 0.1, False, tol=1e-4)
+    >>> case = ContactCase(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1, (0.1, 0.1, False),
+    ...                    10.0, False)
+    >>> tc = cycle_at_torque(case, False, tol=1e-4)
     >>> tc.settled, 0.0 < tc.loss_ratio < 1.0
     (True, True)
 
@@ -315,132 +309,160 @@ def cycle_at_torque(g: Cycloid, profile, law: ContactLaw, torque: float, torque_
     ----------
     .. [1] pins.md §4.7, §5.5, §7 (torque_shaft).
     """
-    from .. import units
+    return _TorquePasses(case, multiplier, friction_in_equilibrium, tol, seed, rule, settings).iterate(passes)
 
-    sigma = MULTIPLIER if multiplier else REDUCER
-    friction = (mu_eff, sliding_friction, rolls) if friction_in_equilibrium else None
-    T = float(torque)
-    lam, cyc, model, T_V, history, torques = 0.0, None, None, None, [], []
-    remainder = 0.0
-    settled = True
-    frictionless = mu_eff == 0.0 and sliding_friction == 0.0
 
-    def coarse(model, sol):
+class _TorquePasses:
+    """The passes of the torque fixed point of one design in one mode (:func:`cycle_at_torque`): its set-up (the
+    case, mode, friction in the balance, tolerance, quadrature rule, settings and the cycle mean's grid) and the
+    model and cycle of each pass."""
+
+    def __init__(self, case: ContactCase, multiplier: bool, friction_in_equilibrium: bool, tol: float,
+                 seed: "ContactModel | None", rule: str, settings: ContactSettings | None):
+        from .. import units
+
+        self.case, self.multiplier, self.tol, self.seed, self.rule = case, multiplier, tol, seed, rule
+        self.nm_to_nmm = units.nm_to_nmm
+        self.st = st = DEFAULT_SETTINGS if settings is None else settings
+        self.sigma = MULTIPLIER if multiplier else REDUCER
+        self.friction = case.friction if friction_in_equilibrium else None
+        self.grid = CycleGrid(n_start=st.cycle_n_start, n_min=st.cycle_n_min, coarse_scan=st.cycle_coarse_scan,
+                              at_once=st.cycle_at_once)
+
+    def coarse(self, model, sol):
         """lambda_bar from the window scan's uniform crank angles (no breakpoints): a coarse value."""
-        loss = contact_losses(sol, g.R_b, mu_eff, sliding_friction, rolls)[0]
+        g, fr = self.case.g, self.case.friction
+        loss = contact_losses(sol, g.R_b, fr.mu_eff, fr.sliding, fr.rolls)[0]
         return float(np.mean(loss.sum(axis=(0, 1)))) / (model.torque_sat * g.k / g.z1)
 
-    def make(T_V):
-        return ContactModel(g, profile, law, units.nm_to_nmm(T_V) / n_discs, sigma, friction)
+    def make(self, T_V):
+        c = self.case
+        return ContactModel(c.g, c.profile, c.law, self.nm_to_nmm(T_V) / c.n_discs, self.sigma, self.friction, self.st)
 
-    def settles(remainder, history, cyc):
+    def settles(self, remainder, history, cyc):
         """The fixed point's stop: the remaining change below tol/10 of lambda, or lambda no longer changing, or, when
         the cycle mean itself did not converge (its quadrature at the cap of its angles: the tolerance is not met
         whatever the torque), below that mean's own error (more passes would refine what that error swamps)."""
+        tol = self.tol
         return (remainder <= max(0.1 * tol * abs(history[-1]), 1e-15) or fixed_point_settled(history[-2:], tol)
                 or (not cyc.converged and remainder <= cyc.loss_ratio_err))
 
-    def run(T_V, prev, window_only=False, n_initial=None):
-        model = make(T_V)
+    def run(self, T_V, prev, window_only=False, n_initial=None):
+        """A full pass at T_V: its model (from the last pass's, or the other mode's seed, mirrored) and cycle mean
+        (``window_only``: the coarse value of the window scan instead)."""
+        st, seed = self.st, self.seed
+        model = self.make(T_V)
         if prev is not None:
             model.inherit(prev)
-        elif seed is not None and seed.sigma != sigma:
+        elif seed is not None and seed.sigma != self.sigma:
             model.mirror(seed)
         # the breakpoints moved from the last pass's (a nearby torque); a mode's first full pass scans (the other
         # mode's, mirrored, took three calls to move where the coarse scan takes one, pins.md §6)
         prior, width = None, 0.0
-        if CYCLE_MOVE_ROOTS and prev is not None and prev.roots is not None:
+        if st.cycle_move_roots and prev is not None and prev.roots is not None:
             # a root moves up to 0.2 T_p per unit relative torque change (a grazing entry): a bracket of |dT/T| T_p,
             # widened where it holds no sign change (:func:`_incremental_roots`)
             prior = prev.roots
-            width = max(PRIOR_WIDTH_PASS * abs(model.torque_sat / prev.torque_sat - 1.0), 1e-10)
+            width = max(st.prior_width_pass * abs(model.torque_sat / prev.torque_sat - 1.0), 1e-10)
         try:
             with np.errstate(all="ignore"):       # non-finite values are caught below, never printed
                 if window_only:
-                    out = coarse(model, model.set_window())
+                    out = self.coarse(model, model.set_window())
                     model.roots = None        # the first full pass scans (above)
                     return model, out
-                return model, mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol=tol, n_initial=n_initial,
-                                              rule=rule, prior=prior, prior_width=width, n_start=CYCLE_N_START,
-                                              n_min=CYCLE_N_MIN, coarse_scan=CYCLE_COARSE_SCAN,
-                                              at_once=CYCLE_AT_ONCE)
+                return model, mean_loss_ratio(model, self.case.friction, self.tol, self.grid, n_initial=n_initial,
+                                              rule=self.rule, prior=prior, prior_width=width)
         except NoEquilibrium as exc:
             exc.torque_V = T_V
             raise
 
-    prev = None
-    if not torque_on_V and not frictionless:
-        # a coarse loss ratio from the candidate-window scan (uniform angles, no breakpoints) starts the
-        # fixed point close to it: two or three full passes then settle it
-        prev, lam = run(g.ratio * T, None, window_only=True)
-        if not (np.isfinite(lam) and lam < 1.0):
-            lam = 0.0
-    a = -1.0 if multiplier else 1.0          # the fixed point phi(T_V) = T_V (1 + a lambda(T_V)) - u T_H = 0
-    uT = g.ratio * T
-    locked = stalled = False
-    T_next = None
-    base = None         # (cycle, model) of the last full pass, whose nodes the next pass starts from
-    for _ in range(passes):
-        if torque_on_V:
-            T_V = T
-        elif multiplier and lam >= 1.0:
-            locked = True                  # self-locking: no T_V balances T_H; keep the last solution
-            break
+    def iterate(self, passes: int) -> TorqueCycle:
+        """The fixed point's passes (at most ``passes``; :func:`cycle_at_torque`)."""
+        case, multiplier, tol, rule = self.case, self.multiplier, self.tol, self.rule
+        g, torque_on_V, fr = case.g, case.torque_on_V, case.friction
+        T = float(case.torque)
+        lam, cyc, model, T_V, history, torques = 0.0, None, None, None, [], []
+        remainder = 0.0
+        settled = True
+        frictionless = fr.mu_eff == 0.0 and fr.sliding == 0.0
+        prev = None
+        if not torque_on_V and not frictionless:
+            # a coarse loss ratio from the candidate-window scan (uniform angles, no breakpoints) starts the
+            # fixed point close to it: two or three full passes then settle it
+            prev, lam = self.run(g.ratio * T, None, window_only=True)
+            if not (np.isfinite(lam) and lam < 1.0):
+                lam = 0.0
+        a = -1.0 if multiplier else 1.0          # the fixed point phi(T_V) = T_V (1 + a lambda(T_V)) - u T_H = 0
+        uT = g.ratio * T
+        locked = stalled = False
+        T_next = None
+        base = None         # (cycle, model) of the last full pass, whose nodes the next pass starts from
+        for _ in range(passes):
+            if torque_on_V:
+                T_V = T
+            elif multiplier and lam >= 1.0:
+                locked = True                  # self-locking: no T_V balances T_H; keep the last solution
+                break
+            else:
+                T_V = T_next if T_next is not None else uT / (1.0 + a * lam)
+            lite = None
+            if base is not None:
+                # a pass from the last full pass's nodes, its breakpoints not moved (:func:`relinearised_cycle`);
+                # refused (a contact comes or goes, a breakpoint moves too far for the tolerance): a full pass, the
+                # next base
+                lite_model = self.make(T_V)
+                lite_model.inherit(model)
+                lite = relinearised_cycle(lite_model, base[0], base[1], tol)
+                base = None if lite is None else base
+                if lite is not None:
+                    model, cyc = lite_model, lite
+            if lite is None:
+                # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
+                # changes little between passes: two doublings then usually suffice)
+                model, cyc = self.run(T_V, prev,
+                                      n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
+                prev = model
+                if self.st.cycle_relinearise and cyc.nodes is not None:
+                    base = (cyc, model)
+            finite = np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.sol.v_t))   # forces and speeds
+            if not (np.isfinite(cyc.loss_ratio) and finite):
+                raise Unresolvable("non-finite contact forces or losses")
+            history.append(cyc.loss_ratio)
+            torques.append(T_V)
+            lam = cyc.loss_ratio
+            if torque_on_V or frictionless:
+                remainder = 0.0
+                break
+            if not multiplier and reducer_stalls(history, torques, uT):
+                locked = stalled = True        # the losses at no load exceed the input: keep the last solution
+                break
+            remainder, T_next = _fixed_point_step(history, torques, uT, a)
+            if fixed_point_stalls(history):
+                # lambda(T_V) jumps (a contact comes and goes with the torque): no contraction, so the secant's
+                # remainder (which a wandering history can make small by chance) says nothing: not settled, whatever
+                settled = False
+                break
+            if self.settles(remainder, history, cyc):
+                break
         else:
-            T_V = T_next if T_next is not None else uT / (1.0 + a * lam)
-        lite = None
-        if base is not None:
-            # a pass from the last full pass's nodes, its breakpoints not moved (:func:`relinearised_cycle`); refused
-            # (a contact comes or goes, a breakpoint moves too far for the tolerance): a full pass, the next base
-            lite_model = make(T_V)
-            lite_model.inherit(model)
-            lite = relinearised_cycle(lite_model, base[0], base[1], tol)
-            base = None if lite is None else base
-            if lite is not None:
-                model, cyc = lite_model, lite
-        if lite is None:
-            # the next pass starts its quadrature from a quarter of this one's final counts per piece (the torque
-            # changes little between passes: two doublings then usually suffice)
-            model, cyc = run(T_V, prev,
-                             n_initial=None if cyc is None or rule != "trapezoid" else cyc.quad.n_piece // 4)
-            prev = model
-            if CYCLE_RELINEARISE and cyc.nodes is not None:
-                base = (cyc, model)
-        finite = np.all(np.isfinite(cyc.sol.force)) and np.all(np.isfinite(cyc.sol.v_t))   # forces and speeds
-        if not (np.isfinite(cyc.loss_ratio) and finite):
-            raise Unresolvable("non-finite contact forces or losses")
-        history.append(cyc.loss_ratio)
-        torques.append(T_V)
-        lam = cyc.loss_ratio
-        if torque_on_V or frictionless:
-            remainder = 0.0
-            break
-        if not multiplier and reducer_stalls(history, torques, uT):
-            locked = stalled = True        # the losses at no load exceed the input: keep the last solution
-            break
-        remainder, T_next = _fixed_point_step(history, torques, uT, a)
-        if fixed_point_stalls(history):
-            # lambda(T_V) jumps (a contact comes and goes with the torque): no contraction, so the secant's remainder
-            # (which a wandering history can make small by chance) says nothing: not settled, whatever it is
             settled = False
-            break
-        if settles(remainder, history, cyc):
-            break
-    else:
-        settled = False
-    if (locked and not stalled) or not settled:
-        # the passes ran out or stalled, or the multiplier locked on the way (a stalled reducer has no fixed point:
-        # its loss ratio is the last pass's, with that pass's quadrature error): the remainder is not known to be
-        # small; the spread of all passes (the last change at least) is in the error (never less): a loss ratio that
-        # jumps with the torque takes any of those values near the torques the passes tried
+        E = _fixed_point_error(cyc, history, remainder, (locked and not stalled) or not settled)
+        if frictionless:
+            lam, E = 0.0, 0.0
+        return TorqueCycle(cyc, model, T_V, lam, E, history, settled, locked, stalled)
+
+
+def _fixed_point_error(cyc, history, remainder: float, unsettled: bool) -> float:
+    """The torque cycle's error: the quadrature's plus the fixed point's remaining change.  ``unsettled``: the passes
+    ran out or stalled, or the multiplier locked on the way (a stalled reducer has no fixed point: its loss ratio is
+    the last pass's, with that pass's quadrature error): the remainder is not known to be small; the spread of all
+    passes (the last change at least) is in the error (never less): a loss ratio that jumps with the torque takes
+    any of those values near the torques the passes tried."""
+    if unsettled:
         spread = max(history) - min(history) if len(history) >= 3 else 0.0
         remainder = max(remainder if math.isfinite(remainder) else 0.0, spread,
                         abs(history[-1] - history[-2]) if len(history) >= 2 else 0.0)
-    # the error: the quadrature's plus the fixed point's remaining change
-    E = cyc.loss_ratio_err + (remainder if math.isfinite(remainder) else 0.0)
-    if frictionless:
-        lam, E = 0.0, 0.0
-    return TorqueCycle(cyc, model, T_V, lam, E, history, settled, locked, stalled)
+    return cyc.loss_ratio_err + (remainder if math.isfinite(remainder) else 0.0)
 
 
 # ============================================================ modes, residual, speeds, powers (pins.md §4.9, §5.5, §8)
@@ -459,9 +481,8 @@ class ModeCycles:
     requested: TorqueCycle
 
 
-def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V: bool, multiplier: bool,
-                n_discs: int, mu_eff: float, sliding_friction: float, rolls: bool, consistent: bool,
-                tol: float = 1e-6, rule: str = "trapezoid") -> ModeCycles:
+def solve_modes(case: ContactCase, multiplier: bool, consistent: bool, tol: float = 1e-6, rule: str = "trapezoid",
+                settings: ContactSettings | None = None) -> ModeCycles:
     """The contact cycle of each mode with its own forces (friction-consistent model), or of the requested
     mode with frictionless forces (first-order), at the torque fixed point (pins.md §4.9, §5.5, §7).
 
@@ -482,8 +503,7 @@ def solve_modes(g: Cycloid, profile, law: ContactLaw, torque: float, torque_on_V
     .. [1] pins.md §4.9 (each mode solved on its own, jams), §5.5, §7 (the torque fixed point).
     """
     def run(mult: bool, in_equilibrium: bool, seed=None):
-        return cycle_at_torque(g, profile, law, torque, torque_on_V, mult, n_discs, mu_eff, sliding_friction, rolls,
-                               in_equilibrium, tol=tol, seed=seed, rule=rule)
+        return cycle_at_torque(case, mult, in_equilibrium, tol=tol, seed=seed, rule=rule, settings=settings)
 
     jams, runs = {}, {}
     for mult in ((multiplier, not multiplier) if consistent else (multiplier,)):
@@ -590,10 +610,10 @@ def richardson_weights(theta, pieces):
     """
     order = np.lexsort((theta, pieces))
     xs, ps = theta[order], pieces[order]
-    if np.any((_piece_places(ps)[1] - 1) % 2 != 0):
+    if np.any((piece_places(ps)[1] - 1) % 2 != 0):
         return None
     out = np.empty(xs.size)
-    out[order] = richardson_mean(*_nested_trapezoid_weights(xs, ps))
+    out[order] = richardson_mean(*nested_trapezoid_weights(xs, ps))
     return out
 
 
@@ -719,7 +739,7 @@ def operating_values(pk: CyclePeaks, g: Cycloid, loss_ratio: float, torque_V: fl
 
     Pw = omega_H * 1e-3                                                   # W per (N·mm/s per rad/s)
     rpm = units.rad_s_to_rpm(omega_H)
-    coeff = mu_eff if rolls else sliding_friction
+    coeff = peak_coefficient(mu_eff, rolls, sliding_friction, SCALAR_OPS)
     return ContactOperating(
         loss_mean=loss_ratio * torque_V * (omega_H * g.k / g.z1), loss_peak=pk.total * Pw, loss_max=pk.loss * Pw,
         loss_phase=math.degrees(pk.loss_phase), loss_bound=coeff * pk.force * pk.contact_speed * Pw,

@@ -21,22 +21,24 @@ import numpy as np
 from ..arrays import unique_sorted
 from ..quadrature import _KRONROD, QuadResult, geometric_breakpoints, integrate_adaptive
 from ..roots import find_root
-from .contact_model import (_GEOMETRY_FIELDS, ContactModel, NoEquilibrium, Solution, _concat, _distance_to, _filled,
-                            _hermite, _hermite_slope, _merged, _over_rows, _relayout, _same_rows, _sorted_places,
-                            _sub_pose, _take)
+from .contact_model import ContactModel, NoEquilibrium
+from .contact_settings import DEFAULT_SETTINGS
+from .contact_states import (GEOMETRY_FIELDS, Solution, concat_states, distance_to, filled, hermite, hermite_slope,
+                             merged, over_rows, relayout, same_rows, sorted_places, sub_pose, take_states)
 from .cycle import disc_offsets, disc_sum_peak, sum_over_discs
-from .efficiency import contact_loss_power
+from .friction import PinFriction
 from .geometry import Cycloid
 
-__all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoints", "mean_loss_ratio",
+__all__ = ["contact_losses", "ContactCycle", "BreakpointRoots", "cycle_breakpoints", "CycleGrid", "mean_loss_ratio",
            "relinearised_cycle", "gk_interpolated", "piece_keys", "piece_guess", "engagement_metrics", "CyclePeaks",
-           "cycle_peaks", "free_play", "backlash", "TRAVEL_MAX", "pin_travel", "deflection_sized"]
+           "cycle_peaks", "free_play", "backlash", "pin_travel", "deflection_sized"]
 
 
 # ============================================================ losses (pins.md §5.6)
 
 def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool):
-    """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
+    """Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6): the rolling-pin rule of
+    :meth:`gearcalc.pins.friction.PinFriction.losses`.
 
     Fixed pins: every loaded contact slides at |v_t| with mu_eff = f.  Rolling pins: the contact with
     the larger force sets the spin omega_pin = v_t/R_b and loses mu_rot F |v_t|; another loaded
@@ -49,18 +51,7 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
     slide : sliding speed per contact [mm/s per rad/s] (c, R, n);
     over the state's rows (:attr:`Solution.rows`: R pins; every other pin carries no force).
     """
-    F, v = sol.force, sol.v_t
-    if not rolls:
-        slide = np.abs(v)
-        return contact_loss_power(F, slide, mu_eff) * 1e3, np.zeros(F.shape[1:]), slide
-    lead = np.argmax(F, axis=0)
-    v_lead = np.take_along_axis(v, lead[None], axis=0)[0]
-    loaded = (F > 0.0).any(axis=0)
-    spin = np.where(loaded, v_lead / R_b, 0.0)
-    is_lead = np.arange(F.shape[0])[:, None, None] == lead[None]
-    slide = np.where(is_lead, 0.0, np.abs(v - v_lead[None]))
-    loss = np.where(is_lead, mu_eff * F * np.abs(v), sliding_friction * F * slide)
-    return loss, spin, slide
+    return PinFriction(mu_eff, sliding_friction, rolls).losses(sol.force, sol.v_t, R_b)
 
 
 # ============================================================ the cycle (pins.md §5.6, §6)
@@ -79,7 +70,7 @@ class ContactCycle:
     (:class:`BreakpointRoots`), which a later pass of the same design starts from;
     friction : (R_b, mu_eff, f, rolls, scale) of :func:`contact_losses` and the loss ratio's scale;
     held : every node lies on its piece's side of every sign change (:func:`_pieces_hold`); False: not even on the
-    densest scan (``SCAN_MAX`` intervals; not scanned denser where the satellite turns beyond a deflection,
+    densest scan (``settings.scan_max`` intervals; not scanned denser where the satellite turns beyond a deflection,
     :func:`deflection_sized`), and the loss ratio is not known to its error (pins.md §6);
     nodes : (sets, mids, ref_sols, rows) of the trapezoid's final grid, for the next torque pass from the same nodes
     (:func:`relinearised_cycle`): each node's piece sets (active, branch, traction), its piece's midpoint, the states
@@ -128,13 +119,11 @@ def _components(s: Solution, rolls: bool):
     if s.switch is not None:      # not masked: a pin can reach the crest and leave it in one scan step
         parts.append(s.switch.reshape(-1, n))
     if rolls and force.shape[0] == 2:
-        lead = (force[1] > force[0]).astype(np.intp)          # np.argmax over the two contacts (ties: the first)
-        v_lead = np.where(lead == 1, v_t[1], v_t[0])[None]
-        other = loaded & (np.arange(2)[:, None, None] != lead[None])
-        parts.append(np.where(loaded.all(axis=0), force[0] - force[1], np.nan).reshape(-1, n))
-        parts.append(np.where(other, v_t - v_lead, np.nan).reshape(-1, n))
+        switch, relative = PinFriction.sign_components(force, v_t, loaded)
+        parts.append(switch.reshape(-1, n))
+        parts.append(relative.reshape(-1, n))
     values = np.concatenate(parts)
-    slopes.append(_filled((values.shape[0] - slopes[0].shape[0], n), np.nan))
+    slopes.append(filled((values.shape[0] - slopes[0].shape[0], n), np.nan))
     return values, np.concatenate(slopes), slopes[0].shape[0]
 
 
@@ -178,7 +167,7 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
     sgn = np.sign(v)
     comp, idx = np.nonzero(sgn[:, :-1] * sgn[:, 1:] < 0)
     if comp.size:
-        x0, steps = _smooth_side_start(x, v, dv, comp, idx, xtol, Tp)
+        x0, steps = _smooth_side_start(x, v, dv, comp, idx, xtol, Tp, model.settings.smooth_start_curvature_margin)
 
         first = [True]
 
@@ -195,22 +184,19 @@ def _scan_roots(model: ContactModel, n_scan: int, tol: float, rolls: bool, check
 
         # a jump (not a root) needs its place only to 1e-3 tol T_p: the integrand's error from it is below
         # 1e-3 tol times the jump of lambda over lambda_bar
-        roots = _refine_sign_changes(h, x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1], xtol,
-                                     jump_xtol=1e-3 * tol * Tp, step_tol=ROOT_STEP * Tp, x0=x0, bent_above=True,
-                                     step_tols=steps)
+        stops = RootStops(xtol, jump_xtol=1e-3 * tol * Tp, step_tol=model.settings.root_step * Tp,
+                          sections=model.settings.sections)
+        roots = _refine_sign_changes(h, (x[idx], x[idx + 1], v[comp, idx], v[comp, idx + 1]), stops, x0=x0,
+                                     bent_above=True, step_tols=steps)
     else:
         roots = np.empty(0)
     order = roots.argsort(kind="stable")
     return BreakpointRoots(roots[order], (comp < n_delta)[order], not checked, state.seen)
 
 
-SMOOTH_START_CURVATURE_MARGIN = 1e-2
-"""A refinement step from the smooth side of a scanned penetration's sign change (:func:`_smooth_side_start`) stops its
-bracket when Newton's error after it, C s^2 (C = |f''/2f'|, the larger of the scan cubic's at its root and 1/T_p), is
-below this fraction of the breakpoints' tolerance (1e-12 T_p): the curvature may be 100x the estimate."""
 
 
-def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
+def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float, margin: float):
     """First points and step tolerances of the refinement of the scan's sign changes (:func:`_refine_sign_changes`):
     for a penetration (its slope known), the root of the cubic Hermite interpolant of the two scan points below zero
     next to the sign change (value and slope each), extrapolated over the bracket, and backed off into the side below
@@ -223,7 +209,8 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
     from the point above zero land 1e-5-1e-4 T_p off, and the refinement took three calls.  The cubic's root is
     O(h^4) off (1e-10-1e-9 T_p on the paper designs); a Newton step of s from a point below zero leaves C s^2, C =
     |f''/2f'| (from the cubic at its root, at least 1/T_p), so the bracket's step tolerance is the s with
-    C s^2 = :data:`SMOOTH_START_CURVATURE_MARGIN` ``xtol`` (~1e-7 T_p, against :data:`ROOT_STEP` = 1e-9 T_p), and
+    C s^2 = ``margin`` ``xtol`` (``settings.smooth_start_curvature_margin``: ~1e-7 T_p, against
+    ``settings.root_step`` = 1e-9 T_p), and
     the first point, half of it short of the cubic's root, is one step from the root: one call (pins.md §6).
 
     ``x`` (m + 1,): the scan's crank angles; ``v``, ``dv`` (c, m + 1): the components and their slopes there (NaN:
@@ -235,7 +222,7 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
     >>> x = np.linspace(0.0, 1.0, 5)
     >>> f = lambda t: np.sin(3.0 * t) - 0.8                # one root at arcsin(0.8)/3 = 0.30910
     >>> v, dv = f(x)[None], (3.0 * np.cos(3.0 * x))[None]
-    >>> start, step = _smooth_side_start(x, v, dv, np.array([0]), np.array([1]), 1e-12, 1.0)
+    >>> start, step = _smooth_side_start(x, v, dv, np.array([0]), np.array([1]), 1e-12, 1.0, 1e-2)
     >>> bool(abs(start[0] - np.arcsin(0.8) / 3.0) < 2e-3 < abs(x[1] - v[0, 1] * 0.25 / (v[0, 2] - v[0, 1]) - 0.30910))
     True
     """
@@ -257,19 +244,19 @@ def _smooth_side_start(x, v, dv, comp, idx, xtol: float, Tp: float):
         r = xn - fn / sn                             # Newton from the nearer point, then Newton on the cubic
         for _ in range(3):
             t = (r - xo) / H
-            r = r - _hermite(t, H, fo, so, fn, sn) / _hermite_slope(t, H, fo, so, fn, sn)
+            r = r - hermite(t, H, fo, so, fn, sn) / hermite_slope(t, H, fo, so, fn, sn)
         # the cubic's curvature at its root, |p''/2p'|, at least 1/T_p
         t = (r - xo) / H
-        dp = _hermite_slope(t, H, fo, so, fn, sn)
+        dp = hermite_slope(t, H, fo, so, fn, sn)
         d2p = ((12.0 * t - 6.0) * (fo - fn) / H + (6.0 * t - 4.0) * so + (6.0 * t - 2.0) * sn) / H
         C = np.maximum(np.abs(d2p / (2.0 * dp)), 1.0 / Tp)
-        step = np.sqrt(SMOOTH_START_CURVATURE_MARGIN * xtol / C)
+        step = np.sqrt(margin * xtol / C)
         # the far end's penetration, bent by the contact's own force, lies below the cubic's (the smooth extension:
         # the state without that force, which turns the satellite farther): else the bracket holds other sign changes
         # (a crest corner, another root) and the scan's linear start is kept
         f_far = v[comp, np.where(lower, idx + 1, idx)]
         t = (x[np.where(lower, idx + 1, idx)] - xo) / H
-        p_far = _hermite(t, H, fo, so, fn, sn)
+        p_far = hermite(t, H, fo, so, fn, sn)
         ok &= (f_far > 0.0) & (f_far <= 1.25 * p_far) & np.isfinite(step) & np.isfinite(r)
     return np.where(ok, r - 0.5 * step * np.sign(H), np.nan), np.where(ok, step, np.nan)
 
@@ -316,8 +303,8 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
         i = np.arange(k.size)
         return val[comp[k], i], slope[comp[k], i]
 
-    roots = _refine_sign_changes(h, np.concatenate(lo), np.concatenate(hi), np.concatenate(flo), np.concatenate(fhi),
-                                 xtol, jump_xtol=jtol, step_tol=ROOT_STEP * Tp, bent_above=True)
+    stops = RootStops(xtol, jump_xtol=jtol, step_tol=model.settings.root_step * Tp, sections=model.settings.sections)
+    roots = _refine_sign_changes(h, tuple(np.concatenate(u) for u in (lo, hi, flo, fhi)), stops, bent_above=True)
     # one root found from two overlapping brackets: the same component within the refinement's tolerance
     order = np.lexsort((roots, comp))
     comp, roots = comp[order], roots[order]
@@ -329,9 +316,6 @@ def _incremental_roots(model: ContactModel, prior: BreakpointRoots, width: float
     return BreakpointRoots(roots[order], (comp < n_delta)[order], False, state.seen)
 
 
-HERTZ_GRADING_RATIO = 0.25
-"""The geometric ratio of the grading toward both sides of a contact entry or exit under the Hertz law (:func:`_edges`,
-:func:`cycle_breakpoints`): each graded piece is 1/ratio times longer than the next one nearer the entry."""
 
 
 def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarray:
@@ -347,9 +331,11 @@ def _edges(model: ContactModel, found: BreakpointRoots, tol: float) -> np.ndarra
         for x0 in _merge(contact_bp, 4.0 * xtol):
             i = int(np.argmin(np.abs(edges - x0)))
             if i > 0:
-                extra.append(geometric_breakpoints(edges[i], edges[i - 1], width, ratio=HERTZ_GRADING_RATIO))
+                extra.append(geometric_breakpoints(edges[i], edges[i - 1], width,
+                                                   ratio=model.settings.hertz_grading_ratio))
             if i + 1 < edges.size:
-                extra.append(geometric_breakpoints(edges[i], edges[i + 1], width, ratio=HERTZ_GRADING_RATIO))
+                extra.append(geometric_breakpoints(edges[i], edges[i + 1], width,
+                                                   ratio=model.settings.hertz_grading_ratio))
     if model.g.one_minus_K1 < 0.01:
         extra.append(geometric_breakpoints(0.0, Tp, model.g.one_minus_K1 * Tp * model.g.z2 / (2.0 * math.pi)))
     return _merge(np.concatenate([edges, *extra]), 4.0 * xtol)
@@ -383,15 +369,23 @@ def cycle_breakpoints(model: ContactModel, n_scan: int = 256, tol: float = 1e-6,
     return (edges, found) if roots else edges
 
 
-SECTIONS = 8
-"""A bracket that Newton or the secant cannot narrow (a step outside it: a jump, or a root far from linear) is cut into
-SECTIONS equal parts at once (SECTIONS - 1 points in one call): 8x narrower per call instead of bisection's 2x, at
-about the cost of one point (a call's cost is mostly its fixed overhead; :func:`_refine_sign_changes`)."""
 
 
-def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_xtol: float | None = None,
-                         step_tol: float | None = None, sections: int = SECTIONS, x0=None, bent_above: bool = False,
-                         step_tols=None):
+@dataclass(frozen=True)
+class RootStops:
+    """Where :func:`_refine_sign_changes` stops (its parameter object): ``xtol`` the location tolerance of a root;
+    ``jump_xtol`` (default ``xtol``) of a jump; ``step_tol`` (default ``xtol``) a Newton or secant step below which a
+    bracket stops at the stepped point; ``maxiter`` calls at most; a bracket that Newton or the secant cannot narrow
+    is cut into ``sections`` parts per call (``settings.sections``)."""
+
+    xtol: float
+    jump_xtol: float | None = None
+    step_tol: float | None = None
+    maxiter: int = 100
+    sections: int = DEFAULT_SETTINGS.sections
+
+
+def _refine_sign_changes(h, brackets, stops: RootStops, x0=None, bent_above: bool = False, step_tols=None):
     """Sign changes of a vectorised h on the brackets [a, b]: safeguarded Newton where ``h`` gives a
     slope, secant otherwise, and where a step leaves the bracket the bracket cut into ``sections`` equal parts by
     as many points minus one in the next call (pins.md §6: breakpoints to 1e-12 T_p).  ``h(x, k)`` returns (values,
@@ -425,10 +419,14 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     A root of a smooth function (Newton) and a jump (cut into 8 parts per call, to ``jump_xtol``):
 
     >>> f = lambda x, k: (np.where(k == 0, x - 0.3, np.where(x < 0.7, -1.0, 1.0)), np.where(k == 0, 1.0, np.nan))
-    >>> r = _refine_sign_changes(f, [0.0, 0.0], [1.0, 1.0], [-0.3, -1.0], [0.7, 1.0], 1e-12, jump_xtol=1e-9)
+    >>> brackets = ([0.0, 0.0], [1.0, 1.0], [-0.3, -1.0], [0.7, 1.0])      # a, b, h(a), h(b)
+    >>> r = _refine_sign_changes(f, brackets, RootStops(1e-12, jump_xtol=1e-9))
     >>> bool(abs(r[0] - 0.3) < 1e-12), bool(abs(r[1] - 0.7) < 1e-9)
     (True, True)
     """
+    a, b, fa, fb = brackets
+    xtol, jump_xtol, step_tol, maxiter, sections = (stops.xtol, stops.jump_xtol, stops.step_tol, stops.maxiter,
+                                                    stops.sections)
     step_tol = xtol if step_tol is None else max(step_tol, xtol)
     lo, hi = np.array(a, dtype=float), np.array(b, dtype=float)
     flo, fhi = np.array(fa, dtype=float), np.array(fb, dtype=float)
@@ -506,9 +504,6 @@ def _refine_sign_changes(h, a, b, fa, fb, xtol: float, maxiter: int = 100, jump_
     return x
 
 
-ROOT_STEP = 1e-9
-"""A breakpoint's refinement stops after a Newton or secant step below ROOT_STEP T_p, at the stepped point (its error
-then ~1e-15 T_p, :func:`_refine_sign_changes`; pins.md §6)."""
 
 
 def _merge(points, gap):
@@ -523,19 +518,8 @@ def _merge(points, gap):
     return out
 
 
-HOLD_FLOOR = 1e-3
-"""A full scan's cycle holds when no node contradicts its piece by more than HOLD_FLOOR of the component's largest
-|value| (:func:`_pieces_hold`): the dither of a sliding speed about 0 where the friction forces flip stays below
-3e-4 on the band designs; the contradictions of the random sample's failing designs were 3.7e-3 to 0.3."""
 
-SCAN_MAX = 4096
-"""The densest scan of a cycle's sign changes (:func:`mean_loss_ratio`): 256 intervals, then 4x denser while the
-quadrature's nodes contradict their pieces, up to this many; then the cycle is reported as not held."""
 
-DENSE_PER_PERIOD = 1024
-"""Interpolated crank angles per period on the contact level's final grid with a Gauss-Kronrod rule
-(:func:`gk_interpolated`), shared out over the bisected pieces in proportion to their length (at least 2 each): as
-dense as the composite trapezoid's final grid at tol 1e-6 (pins.md §6)."""
 
 
 def _lagrange_matrix(nodes, points):
@@ -631,19 +615,34 @@ def gk_interpolated(sol: Solution, q: QuadResult, rule: str, per_period: int):
     return out, mid_all[piece]
 
 
-INNER_SHARE = 1e-2
-"""The inner tolerances' share of the target (pins.md §6, error propagation): the equilibria are met to 1/100 of
-``tol`` (:func:`equilibrium_residual`), so a cycle mean's stated error is never below INNER_SHARE tol |lambda_bar|
-(the Richardson estimate of a very smooth cycle can be far smaller: 6e-12 relative on a stiff linear law)."""
 
 
-def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float, rolls: bool,
-                    tol: float = 1e-6, n_max: int = 2 ** 12, n_start: int = 128, n_scan: int = 256,
-                    prefilter: bool = True, n_initial=None, rule: str = "trapezoid",
-                    prior: "BreakpointRoots | None" = None, prior_width: float = 1e-2, n_min: int = 2,
-                    coarse_scan: int | None = None, at_once: int = 0) -> ContactCycle:
+@dataclass(frozen=True)
+class CycleGrid:
+    """The crank-angle grids of a cycle mean (:func:`mean_loss_ratio`, pins.md §6): its parameter object.
+
+    n_max : cap on crank-angle intervals (2^12, pins.md §6); n_start : first-level intervals per period; n_scan :
+    intervals of the full breakpoint scan; n_min : the least intervals of a piece at the first level
+    (:func:`integrate_adaptive`); coarse_scan : without a prior, scan on this many intervals instead of ``n_scan``,
+    with the check of the nodes (and the full scan where it fails; the nodes must then be at least as dense as the
+    full scan: ``n_start`` >= n_scan/4 with two doublings); at_once : the first level's doublings solved with it in
+    one call (:func:`integrate_adaptive`); prefilter : the candidate window (False: every pin at every angle).
+    """
+
+    n_max: int = 2 ** 12
+    n_start: int = 128
+    n_scan: int = 256
+    n_min: int = 2
+    coarse_scan: int | None = None
+    at_once: int = 0
+    prefilter: bool = True
+
+
+def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: CycleGrid | None = None,
+                    n_initial=None, rule: str = "trapezoid", prior: "BreakpointRoots | None" = None,
+                    prior_width: float = 1e-2) -> ContactCycle:
     """Cycle mean of lambda(theta) = sum P_j/(T_sat omega_H k/z1) over one period, with an honest error (the
-    quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least :data:`INNER_SHARE` tol |lambda_bar|).
+    quadrature's, :func:`~gearcalc.quadrature.piece_errors`, at least ``settings.inner_share`` tol |lambda_bar|).
 
     Every node is an equilibrium solve; the solved states of all nodes are kept (the final grid) for
     the summary and the detail tables (pins.md §5.6, §6).
@@ -651,10 +650,11 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     Parameters
     ----------
     model : the contact model (design and torque).
-    mu_eff : f (fixed pins or pins that cannot roll) or mu_rot (rolling pins) [-].
-    sliding_friction : f, for the second contact of a rolling pin [-].
-    rolls : the pins roll.
-    tol : relative accuracy target; n_max : cap on crank-angle intervals (2^12, pins.md §6).
+    friction : :class:`~gearcalc.pins.friction.PinFriction` or its tuple (mu_eff, f, rolls): mu_eff f (fixed pins or
+        pins that cannot roll) or mu_rot (rolling pins), f for the second contact of a rolling pin [-], the pins
+        roll.
+    tol : relative accuracy target.
+    grid : the crank-angle grids (:class:`CycleGrid`; None: its defaults).
     n_initial : first-level intervals per piece (:func:`integrate_adaptive`), used when the breakpoints
         give that many pieces.
     rule : the quadrature rule of :func:`integrate_adaptive`: ``"trapezoid"`` (pins.md §6), or opt-in a
@@ -666,13 +666,16 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         on its piece's side of every sign change (its components' signs those of the piece's midpoint, away from
         the piece ends); when the roots cannot be moved, or a node fails that check (a contact appeared or
         vanished between the passes), the cycle is recomputed with the full scan.
-    coarse_scan : without ``prior``, scan on this many intervals instead of ``n_scan``, with the same check of the
-        nodes (and the same recomputation with the full scan); the nodes must then be at least as dense as the full
-        scan (``n_start`` >= n_scan/4 with two doublings), so the check is at least as strict as the full scan.
-    n_min : the least intervals of a piece at the first level (:func:`integrate_adaptive`).
-    at_once : the first level's doublings solved with it in one call (:func:`integrate_adaptive`), as with
-        ``n_initial`` from the last pass, whose final grid the first call then solves at once.
+    ``grid.coarse_scan`` checks a coarse scan the same way (:class:`CycleGrid`); ``grid.at_once`` solves the first
+    level's doublings in one call, as with ``n_initial`` from the last pass, whose final grid the first call then
+    solves at once.
     """
+    grid = CycleGrid() if grid is None else grid
+    friction = friction if isinstance(friction, PinFriction) else PinFriction(*friction)
+    mu_eff, sliding_friction, rolls = friction.mu_eff, friction.sliding, friction.rolls
+    n_max, n_start, n_scan, n_min = grid.n_max, grid.n_start, grid.n_scan, grid.n_min
+    coarse_scan, at_once, prefilter = grid.coarse_scan, grid.at_once, grid.prefilter
+    full = dataclasses.replace(grid, coarse_scan=None, at_once=0)      # a recomputation's grid
     g = model.g
     scale = model.torque_sat * g.k / g.z1
     cache: list[Solution] = []
@@ -689,10 +692,10 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         if new.size:
             # the pieces' fixed sets (:meth:`ContactModel.reference`), from a state solved in the stretch between the
             # sign changes around the piece while they were located, else at the midpoint; kept for the check below
-            col, known = _interior_states(found, new, g.period)
+            col, known = _interior_states(found, new, g.period, model.settings.interior_margin)
             parts = []
             if (col >= 0).any():
-                rs = _take(known, col[col >= 0])
+                rs = take_states(known, col[col >= 0])
                 rs.theta = new[col >= 0]            # the piece's reference, told by its midpoint
                 parts.append(rs)
             if (col < 0).any():
@@ -723,7 +726,8 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
     rows = model.layout()[0]             # the window is fixed for this cycle (a failing one recomputes it)
     found = None
     if prior is not None:
-        found = _incremental_roots(model, prior, prior_width * g.period, tol, rolls, PRIOR_WIDTH_MAX * g.period)
+        found = _incremental_roots(model, prior, prior_width * g.period, tol, rolls,
+                                   model.settings.prior_width_max * g.period)
     elif coarse_scan is not None and coarse_scan < n_scan:
         found = _scan_roots(model, coarse_scan, tol, rolls, checked=True)
     if found is None:
@@ -741,62 +745,51 @@ def mean_loss_ratio(model: ContactModel, mu_eff: float, sliding_friction: float,
         lo, hi = lo[hi > lo], hi[hi > lo]
         mid = 0.5 * (lo + hi)                    # the pieces' midpoints, as the quadrature tells them
         integrand(np.column_stack((lo, hi)).ravel(), np.repeat(mid, 2))     # in time order: ..., b_p, a_(p+1), ...
-    solved = _concat(cache)
-    dense = gk_interpolated(solved, q, rule, DENSE_PER_PERIOD) if rule != "trapezoid" else None
+    solved = concat_states(cache)
+    dense = gk_interpolated(solved, q, rule, model.settings.dense_per_period) if rule != "trapezoid" else None
     # the check of the moved or coarse roots covers the interpolated states too: as dense as the trapezoid's nodes
     # (every third interpolated state: 341 per period, as dense as the trapezoid's nodes, pins.md §6)
-    checked = (cache, mids) if dense is None else (cache + [_take(dense[0], slice(None, None, 3))],
+    checked = (cache, mids) if dense is None else (cache + [take_states(dense[0], slice(None, None, 3))],
                                                    mids + [dense[1][::3]])
     # the moved or coarse roots: every sign; the full scan's: a sliding speed that dithers about 0 (below 1e-3 of its
     # largest) where the friction forces flip does not count (its losses are as small)
-    held = _pieces_hold(*checked, ref_sols, edges, rolls, tol, g.period, floor=HOLD_FLOOR if found.scanned else 0.0)
+    held = _pieces_hold(checked, ref_sols, edges, rolls, tol, g.period,
+                        floor=model.settings.hold_floor if found.scanned else 0.0)
     if not held and not found.scanned:
         # a sign change the moved roots do not hold: the full scan (pins.md §6)
-        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, prefilter,
-                               n_initial, rule, n_min=n_min)
-    if not held and n_scan < SCAN_MAX and deflection_sized(solved.tau, g):
+        return mean_loss_ratio(model, friction, tol, full, n_initial, rule)
+    if not held and n_scan < model.settings.scan_max and deflection_sized(solved.tau, g, model.settings.travel_max):
         # nor the full scan's: a contact or a sliding direction that changes twice between its angles, a 4x denser
         # one (pins.md §6), also for the later passes of this design; not where the satellite turns beyond a
         # deflection (:func:`deflection_sized`): that cycle is flagged whatever the scan (its balance can have several
         # solutions, pins.md §7), and at its cap of angles each denser scan cost seconds a pass
         model.scan_n = 4 * n_scan
-        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, 4 * n_scan, prefilter,
-                               n_initial, rule, n_min=n_min)
+        return mean_loss_ratio(model, friction, tol, dataclasses.replace(full, n_scan=4 * n_scan), n_initial, rule)
     n_solved = solved.theta.size
-    sol = solved if dense is None else _concat([solved, dense[0]])
+    sol = solved if dense is None else concat_states([solved, dense[0]])
     sol.phase, sol.zeta = model.phases(sol.theta, sol.rows)
     if not model.window_holds(sol.tau, sol.theta):
         model.window = None        # the window's tau bound does not hold: every pin, every angle
-        return mean_loss_ratio(model, mu_eff, sliding_friction, rolls, tol, n_max, n_start, n_scan, False, n_initial,
-                               rule, None, prior_width, n_min)
+        return mean_loss_ratio(model, friction, tol, dataclasses.replace(full, prefilter=False), n_initial, rule, None,
+                               prior_width)
     model.roots = found
     nodes = None
     if dense is None:
-        # the nodes' piece sets and midpoints in the final grid's order (:func:`_concat`), for the next torque pass
-        # from these nodes (:func:`relinearised_cycle`)
-        places = _sorted_places([c.theta for c in cache])
+        # the nodes' piece sets and midpoints in the final grid's order (:func:`concat_states`), for the next torque
+        # pass from these nodes (:func:`relinearised_cycle`)
+        places = sorted_places([c.theta for c in cache])
 
         def cat(parts):
-            return None if parts[0] is None else _merged(parts, places, parts[0].ndim - 1)
+            return None if parts[0] is None else merged(parts, places, parts[0].ndim - 1)
 
         nodes = ((cat([t[0] for t in sets]), cat([t[1] for t in sets]), cat([t[2] for t in sets])),
                  cat(mids), ref_sols, rows)
     # the states' equilibria are met to 1/100 of the tolerance (:func:`equilibrium_residual`): no error below that
-    err = max(float(q.err[0]), INNER_SHARE * tol * abs(float(q.value[0])))
+    err = max(float(q.err[0]), model.settings.inner_share * tol * abs(float(q.value[0])))
     return ContactCycle(float(q.value[0]), err, q.converged, n_solved, q, sol, edges, found,
                         (g.R_b, mu_eff, sliding_friction, rolls, scale), nodes, held)
 
 
-RELINEARISE_MARGIN = 1.25
-"""A breakpoint's move to the next torque, taken as this many times its Newton step (:func:`relinearised_cycle`; the
-step's own error is second order in a move of ~1e-6 T_p)."""
-RELINEARISE_STRIDE = 8
-"""The pass from the last pass's nodes solves every RELINEARISE_STRIDE-th node of each piece and its ends
-(:func:`relinearised_cycle`, :func:`_strided`); the nodes between are interpolated."""
-RELINEARISE_SHARE = 0.9
-"""The largest share of the tolerance (tol lambda_bar) that the quadrature's error and the strips the breakpoints move
-through may hold together in a torque pass from the last pass's nodes (:func:`relinearised_cycle`); more: a full
-pass."""
 
 
 def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactModel, tol: float,
@@ -816,7 +809,8 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     scale T_sat k/z1), exact but for the strips between each breakpoint's old place r and its new one: there the
     other side's state holds.  A breakpoint moves by d = |c/c'| (c the sign-changing component at the new torque
     at r, c' its slope, else a secant to the next node: a Newton step), taken as D = 1.25 d
-    (``RELINEARISE_MARGIN``); the integrand's two sides differ over the strip by at most the jump J at r plus each
+    (``settings.relinearise_margin``); the integrand's two sides differ over the strip by at most the jump J at r plus
+    each
     side's change, which grows like t^p from r: read off the nearest node at least D out (Delta at distance
     t_n; the graded pieces next to a Hertz entry have one close by), scaled by min(1, D/t_n)^p and integrated
     over the strip (1/(1 + p)); p = 1 for the linear law, 1/9 for the Hertz law (its singular speeds,
@@ -840,10 +834,11 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     None (a full pass is needed) when ``cyc`` has no final-grid record (a Gauss-Kronrod rule), a node has no
     equilibrium with its sets or non-finite values, a node farther than D from every breakpoint has a component
     with the other sign than its piece (:func:`_pieces_hold`: a contact appears or leaves; with the floor of
-    ``cyc``'s own check, :data:`HOLD_FLOOR` where its roots are the full scan's), the window's tau range
+    ``cyc``'s own check, ``settings.hold_floor`` where its roots are the full scan's), the window's tau range
     does not hold or its pins are not the last pass's (:meth:`ContactModel.layout`: a window recomputed for a wider
     tau range), a breakpoint's component is not found, or the quadrature's error and E_s exceed
-    ``RELINEARISE_SHARE`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling pins'
+    ``settings.relinearise_share`` of tol lambda_bar (a breakpoint that moves far, or a loss that jumps there: rolling
+    pins'
     lead switch, flipping friction forces).
 
     Examples
@@ -852,7 +847,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> law = contact_law("linear", stiffness=1e5)
     >>> a = ContactModel(g, CycloidProfile(g, 0.0, 0.0), law, 1e4, MULTIPLIER)
-    >>> first = mean_loss_ratio(a, 0.1, 0.1, False, tol=1e-5)
+    >>> first = mean_loss_ratio(a, (0.1, 0.1, False), tol=1e-5)
     >>> b = ContactModel(g, CycloidProfile(g, 0.0, 0.0), law, 1e4 * (1.0 + 1e-6), MULTIPLIER)
     >>> b.inherit(a)
     >>> lite = relinearised_cycle(b, first, a, 1e-5)
@@ -869,16 +864,16 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     R_b, mu_eff, f, rolls, scale1 = cyc.friction
     g, sol1 = model.g, cyc.sol
     rows2 = model.layout()[0]
-    if not _same_rows(rows2, rows):
+    if not same_rows(rows2, rows):
         # the window recomputed for a wider tau range (:meth:`ContactModel.inherit`): the last pass's states and sets
         # over this model's rows (a pin they do not hold: out of reach at every node, inactive); a pin left out must
         # carry no force in them (the window's bound: it cannot touch at this torque either)
         src, dst = (np.arange(g.z2) if r is None else r for r in (rows, rows2))
         if (sol1.force[:, ~np.isin(src, dst)] > 0.0).any():
             return None
-        sets = tuple(None if a is None else _over_rows(a, src, dst, fill) for a, fill in zip(sets, (False, -1, 0.0)))
-        ref_sols = [_relayout(r, rows2, g.z2) for r in ref_sols]
-        sol1, rows = _relayout(sol1, rows2, g.z2), rows2
+        sets = tuple(None if a is None else over_rows(a, src, dst, fill) for a, fill in zip(sets, (False, -1, 0.0)))
+        ref_sols = [relayout(r, rows2, g.z2) for r in ref_sols]
+        sol1, rows = relayout(sol1, rows2, g.z2), rows2
     Tp, x = g.period, cyc.sol.theta
     scale2 = model.torque_sat * g.k / g.z1
     # the final grid piece by piece (a piece end is a node of each of its two pieces); pieces follow each other in
@@ -887,7 +882,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     p = np.minimum(np.maximum(edges.searchsorted(node_mid) - 1, 0), edges.size - 2)
     order = np.lexsort((x, p))
     xs, ps = x[order], p[order]
-    keep, lo_s, hi_s, t_s = _strided(xs, ps, RELINEARISE_STRIDE if stride is None else stride)
+    keep, lo_s, hi_s, t_s = _strided(xs, ps, model.settings.relinearise_stride if stride is None else stride)
     kept = order[keep]                        # the nodes solved at the new torque (both ends of every piece)
     with np.errstate(divide="ignore", invalid="ignore"):
         step = (model.M_req - prev.M_req) / sol1.g_tau[kept]
@@ -897,7 +892,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
             # start this torque's
             last, same_sides = prev.last_pose, (prev.sides is None) == (model.sides is None) and (
                 prev.sides is None or np.array_equal(prev.sides, model.sides))
-            reuse = _sub_pose(last, kept) if last is not None and same_sides and last.theta.shape == x.shape \
+            reuse = sub_pose(last, kept) if last is not None and same_sides and last.theta.shape == x.shape \
                 and np.array_equal(last.theta, x) else None
             s2k = model.state(x[kept], tuple(None if a is None else a[..., kept] for a in sets), phases=False,
                               guess=guess, reuse=reuse)
@@ -909,7 +904,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         return None
     # the change's trapezoid over the solved nodes of each piece, and over every other one of them (its error)
     dL, pk = L2 - L1[kept], ps[keep]
-    w, w2 = _nested_trapezoid_weights(xs[keep], pk)
+    w, w2 = nested_trapezoid_weights(xs[keep], pk)
     change = np.bincount(pk, weights=w * dL, minlength=edges.size)
     E_d = float(np.abs(change - np.bincount(pk, weights=w2 * dL, minlength=edges.size)).sum()) / Tp / scale2
     lam2 = (cyc.loss_ratio * scale1 + float(change.sum()) / Tp) / scale2
@@ -934,9 +929,9 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         # how far their zero moved: a Newton step from the one-sided nodes at the new torque (secant: no slope)
         nb = order[np.minimum(np.maximum(np.concatenate((a_end - 1, b_end + 1)), 0), n - 1)]
         ends = order[np.concatenate((a_end, b_end))]
-        v1 = _components(_take(sol1, nb), rolls)[0]
-        v2n = _components(_take(s2, nb), rolls)[0]
-        v2, dv2, n_delta = _components(_take(s2, ends), rolls)
+        v1 = _components(take_states(sol1, nb), rolls)[0]
+        v2n = _components(take_states(s2, nb), rolls)[0]
+        v2, dv2, n_delta = _components(take_states(s2, ends), rolls)
         m = r.size
         flips = (np.sign(v1[:, :m]) * np.sign(v1[:, m:]) < 0.0)
         flips = np.concatenate((flips, flips), axis=1)
@@ -947,7 +942,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
         d = np.maximum(np.abs(step[:, :m]), np.abs(step[:, m:])).max(axis=0)
         if not ((flips.any(axis=0)).all() and np.isfinite(d).all()):
             return None
-        move = RELINEARISE_MARGIN * d
+        move = model.settings.relinearise_margin * d
         width = float(move.max())
         p_exp = 1.0 if model.law.exponent == 1.0 else model.law.exponent - 1.0
         lo = np.minimum(np.maximum(xs.searchsorted(r - move, side="right") - 1, 0), n - 1)
@@ -966,17 +961,18 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
                 # up to 25 % farther would add, (1.25^(1 + p) - 1) of it, the error
                 both = np.concatenate((a_end, b_end))          # piece ends: solved nodes, their losses in L2
                 l2 = L2[place[both]] if keep[both].all() else \
-                    contact_losses(_take(s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
+                    contact_losses(take_states(s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
                 e_r = np.where(left == 1.0, l2[:m] - l2[m:], l2[m:] - l2[:m])     # touching minus the other
                 grown = np.where(grows, e_r * d / (1.0 + p_exp), 0.0)
-                strip = np.where(grows, (RELINEARISE_MARGIN ** (1.0 + p_exp) - 1.0) * np.abs(grown), strip)
+                strip = np.where(grows, (model.settings.relinearise_margin ** (1.0 + p_exp) - 1.0) * np.abs(grown),
+                                 strip)
                 lam2 += float(grown.sum()) / Tp / scale2
         if not (np.isfinite(strip).all() and math.isfinite(lam2)):
             return None
         E_s = float(strip.sum()) / Tp / scale2
-    if not (E_q + E_s <= RELINEARISE_SHARE * tol * abs(lam2)
-            and _pieces_hold([s2], [node_mid], ref_sols, edges, rolls, tol, Tp, away=(r, width),
-                             floor=HOLD_FLOOR if cyc.roots.scanned else 0.0)):
+    if not (E_q + E_s <= model.settings.relinearise_share * tol * abs(lam2)
+            and _pieces_hold(([s2], [node_mid]), ref_sols, edges, rolls, tol, Tp, away=(r, width),
+                             floor=model.settings.hold_floor if cyc.roots.scanned else 0.0)):
         return None
     # functions of theta and the mode only
     s2.phase, s2.zeta = (sol1.phase, sol1.zeta) if sol1.phase is not None else model.phases(s2.theta, s2.rows)
@@ -1027,7 +1023,7 @@ def _strip_sides(flips, step, v_left, n_delta: int, power_law: bool):
     return left, right
 
 
-def _piece_places(ps):
+def piece_places(ps):
     """Of nodes sorted by piece (``ps`` their pieces): each run's first position ``start`` and node count ``count``,
     and per node its run ``piece`` and its place ``j`` in it (0 at the piece's first node)."""
     start = np.flatnonzero(np.concatenate(([True], ps[1:] != ps[:-1])))
@@ -1041,7 +1037,7 @@ def _strided(xs, ps, stride: int):
     pieces): a piece of M intervals takes the largest of stride, stride/2, ... (powers of 2 down to 1) that leaves it
     at least 4 intervals.  Returns (keep, lo, hi, t): the kept nodes, and for every node the kept nodes around it in
     its piece (positions) and its place between them, (x - x_lo)/(x_hi - x_lo) (0 at a kept node)."""
-    start, count, piece, j = _piece_places(ps)
+    start, count, piece, j = piece_places(ps)
     k = np.ones(start.size, dtype=np.int64)
     s = 2
     while s <= stride:
@@ -1067,11 +1063,11 @@ def _trapezoid_weights(xs, ps):
     return w
 
 
-def _nested_trapezoid_weights(xs, ps):
+def nested_trapezoid_weights(xs, ps):
     """The composite trapezoid's weights of nodes sorted by piece, then theta (``ps`` their pieces), piece by piece,
     over all nodes and over every other node of each piece (its ends kept): (w, w_half), the levels N and N/2 of a
     piece of N intervals (an odd N: the half level's last interval is the one that is left)."""
-    _, count, piece, j = _piece_places(ps)
+    _, count, piece, j = piece_places(ps)
     half = (j % 2 == 0) | (j == count[piece] - 1)
     w_half = np.zeros(xs.size)
     w_half[half] = _trapezoid_weights(xs[half], ps[half])
@@ -1102,7 +1098,7 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     moving: dict = {}
     for fl in dataclasses.fields(sol):
         a = getattr(sol, fl.name)
-        geometry = fl.name in _GEOMETRY_FIELDS
+        geometry = fl.name in GEOMETRY_FIELDS
         if geometry and not same:
             out[fl.name] = None
             continue
@@ -1141,25 +1137,23 @@ def _moved(sol: Solution, part: Solution, kept, lo, hi, t) -> Solution:
     return Solution(**out)
 
 
-INTERIOR_MARGIN = 1e-6
-"""A state stands for a piece's sets when it lies farther than INTERIOR_MARGIN T_p from every located sign change
-(1000x a jump's location tolerance at --tol 1e-6, :func:`_interior_states`)."""
 
 
-def _interior_states(found: BreakpointRoots, mids, period: float):
+def _interior_states(found: BreakpointRoots, mids, period: float, margin: float):
     """For the pieces with midpoints ``mids``: the column of a state solved while the sign changes ``found`` were
     located (``found.seen``) that lies in the same stretch between two of them as the midpoint, farther than
-    ``INTERIOR_MARGIN`` T_p from both (the nearest such to the midpoint), else -1; and those states concatenated.
+    ``settings.interior_margin`` T_p from both (the nearest such to the midpoint), else -1; and those states
+    concatenated.
     The components keep their signs over the stretch, so that state has the piece's active set, branches and
     friction directions, as its midpoint's would (pins.md §6; a sign change the located ones missed is caught on the
     nodes, :func:`_pieces_hold`)."""
     seen = [s for s in found.seen if s.theta.size]
     if not seen:
         return np.full(mids.size, -1), None
-    known = _concat(seen)
+    known = concat_states(seen)
     th = known.theta
     r = found.roots
-    margin = INTERIOR_MARGIN * period
+    margin = margin * period
     k = r.searchsorted(mids)
     if r.size:
         lo = np.where(k > 0, r[np.maximum(k - 1, 0)], -np.inf)[:, None]
@@ -1198,11 +1192,11 @@ def piece_guess(keys, tau, dtau, key, x, edges):
     xa, xb = edges[p] + (keys[a] - 2.0 * p) * L, edges[p] + (keys[b] - 2.0 * p) * L
     h = xb - xa
     with np.errstate(divide="ignore", invalid="ignore"):
-        herm = _hermite((x - xa) / h, h, tau[a], dtau[a], tau[b], dtau[b])
+        herm = hermite((x - xa) / h, h, tau[a], dtau[a], tau[b], dtau[b])
     return np.where(same & (h > 0.0) & np.isfinite(herm), herm, np.nan)
 
 
-def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: float, away=None,
+def _pieces_hold(nodes, ref_sols, edges, rolls: bool, tol: float, period: float, away=None,
                  floor: float = 0.0) -> bool:
     """Whether every evaluated node lies on its piece's side of every sign change: no component has the
     opposite sign of the piece's midpoint at a node farther than 2e-3 tol T_p from the piece's ends (where a
@@ -1211,7 +1205,9 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
     ``away`` = (points, width): nor at a node within ``width`` of a point (sorted; the strips a breakpoint may have
     moved through since the nodes were placed, :func:`relinearised_cycle`).  ``floor``: a contradiction counts only
     where the node's value and the piece's both exceed ``floor`` times the component's largest |value| over the nodes
-    (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance)."""
+    (a sliding speed that dithers about 0 where the friction forces flip, with friction in the balance).  ``nodes``:
+    (cache, mids), the nodes' states and their pieces' midpoints."""
+    cache, mids = nodes
     rm = np.concatenate([r.theta for r in ref_sols])
     rv = np.concatenate([_components(r, rolls)[0] for r in ref_sols], axis=1)
     if floor > 0.0:
@@ -1229,7 +1225,7 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
         piece = np.minimum(np.maximum(edges.searchsorted(mid) - 1, 0), edges.size - 2)
         inner = (x - edges[piece] > excl) & (edges[piece + 1] - x > excl)
         if away is not None and away[0].size:
-            inner &= _distance_to(away[0], x) > away[1]
+            inner &= distance_to(away[0], x) > away[1]
         if not inner.any():
             continue
         v = _components(c, rolls)[0][:, inner]
@@ -1244,8 +1240,6 @@ def _pieces_hold(cache, mids, ref_sols, edges, rolls: bool, tol: float, period: 
 
 
 # the moved breakpoints' widest bracket (a tunable of the torque fixed point, pins.md §7)
-PRIOR_WIDTH_MAX = 0.125
-"""The widest bracket of a moved breakpoint, in periods."""
 
 
 # ============================================================ cycle metrics (pins.md §5.7, §8)
@@ -1361,7 +1355,7 @@ def cycle_peaks(cyc: ContactCycle, g: Cycloid, n_discs: int, rolls: bool) -> Cyc
     >>> from gearcalc.pins.contact import MULTIPLIER, REDUCER, CycloidProfile, contact_law
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> m = ContactModel(g, CycloidProfile(g, 0.0, 0.0), contact_law("linear", stiffness=1e5), 1e4, REDUCER)
-    >>> pk = cycle_peaks(mean_loss_ratio(m, 0.1, 0.1, False, tol=1e-4), g, 1, False)
+    >>> pk = cycle_peaks(mean_loss_ratio(m, (0.1, 0.1, False), tol=1e-4), g, 1, False)
     >>> pk.force > 0.0, pk.spin_abs
     (True, 0.0)
 
@@ -1438,7 +1432,7 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
         t = start.copy()
         while np.any(open_):
             idx = np.flatnonzero(open_)
-            found = hmax(direction * t[idx], _sub_pose(pose, idx)) >= 0.0
+            found = hmax(direction * t[idx], sub_pose(pose, idx)) >= 0.0
             lo[idx] = np.where(found, prev[idx], lo[idx])
             hi[idx] = np.where(found, t[idx], hi[idx])
             done = found | (t[idx] >= limit)
@@ -1450,7 +1444,7 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
         root = np.zeros(n)
         if np.any(good):
             idx = np.flatnonzero(good)
-            sub = _sub_pose(pose, idx)
+            sub = sub_pose(pose, idx)
             res = find_root(lambda x, sub=sub, d=direction: hmax(d * x, sub), lo[idx], hi[idx], xtol=1e-15)
             root[idx] = res.root
         root = np.where(miss, limit, root)
@@ -1458,8 +1452,6 @@ def free_play(model: ContactModel, theta, limit: float | None = None, sides=(-1.
     return tuple(out)
 
 
-BACKLASH_ZOOM = 33
-"""Crank angles of each zoom of :func:`backlash`'s search for the least play (each shrinks the bracket 16x)."""
 
 
 def backlash(model: ContactModel, n_scan: int = 129) -> float:
@@ -1472,7 +1464,8 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
     For each flank, the least rotation over the cycle from the nominal position to the first contact
     (:func:`free_play`), summed over the two flanks: 0 for an unmodified cycloid and for the
     zero-backlash tooth circle (it touches the pins' paths), positive with clearance.  Sampled on
-    ``n_scan`` crank angles of one period; each least value is then refined by zooming: ``BACKLASH_ZOOM`` angles
+    ``n_scan`` crank angles of one period; each least value is then refined by zooming: ``settings.backlash_zoom``
+    angles
     across the two scan intervals around the least sample, the two intervals around the least of those next (each
     zoom one vectorised :func:`free_play` of that flank), until the least sample's neighbours exceed it by at most
     1e-12 of it (the play is a minimum over the pins of smooth functions of theta: the least value in the bracket
@@ -1514,7 +1507,7 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
             j, k = max(i - 1, 0), min(i + 1, x.size - 1)
             if not (x[k] - x[j] > 1e-9 * Tp and max(p[j], p[k]) - p[i] > 1e-12 * p[i] + 1e-18):
                 break
-            x = np.linspace(x[j], x[k], BACKLASH_ZOOM)
+            x = np.linspace(x[j], x[k], model.settings.backlash_zoom)
             p = np.abs(free_play(model, x, sides=(direction,))[0])
             best = min(best, float(p.min()))
         total += best
@@ -1523,9 +1516,6 @@ def backlash(model: ContactModel, n_scan: int = 129) -> float:
 
 # ============================================================ deflection-sized rotations (pins.md §7)
 
-TRAVEL_MAX = 0.25
-"""The largest travel of a pin centre relative to the satellite's nominal pose, as a share of the pin radius, that
-the contact level's results are trusted for (:func:`pin_travel`; pins.md §7 "Several equilibria")."""
 
 
 def pin_travel(tau, g: Cycloid) -> float:
@@ -1534,7 +1524,7 @@ def pin_travel(tau, g: Cycloid) -> float:
 
     The contact model holds the satellite's rotation tau to be deflection-sized; a pin centre that moves by a good
     part of its radius (a profile with large free play, on few teeth) meets its tooth far from its nominal place,
-    and the moment balance there can have several solutions: above :data:`TRAVEL_MAX` (0.25) the random sample's
+    and the moment balance there can have several solutions: above ``settings.travel_max`` (0.25) the random sample's
     designs disagreed with the crank angles solved one by one by up to 10 %, below it (0.004-0.23, the paper designs
     0.004-0.042) they agreed to the reference's own error.
 
@@ -1547,12 +1537,12 @@ def pin_travel(tau, g: Cycloid) -> float:
     return float(np.max(np.abs(tau))) * (g.R_p + g.e) / g.R_b
 
 
-def deflection_sized(tau, g: Cycloid) -> bool:
+def deflection_sized(tau, g: Cycloid, travel_max: float = DEFAULT_SETTINGS.travel_max) -> bool:
     """Whether the satellite's rotation ``tau`` [rad] under the load is deflection-sized: :func:`pin_travel` at most
-    :data:`TRAVEL_MAX` (else the contact level's results are flagged, pins.md §7).
+    ``settings.travel_max`` (else the contact level's results are flagged, pins.md §7).
 
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> deflection_sized(np.array([1e-3]), g), deflection_sized(np.array([0.1]), g)
     (True, False)
     """
-    return pin_travel(tau, g) <= TRAVEL_MAX
+    return pin_travel(tau, g) <= travel_max

@@ -13,7 +13,8 @@ import numpy as np
 
 from .. import hertz
 
-__all__ = ["PALMGREN_COEFFICIENT", "HERTZ_EXPONENT", "palmgren_line_constant", "ContactLaw", "contact_law"]
+__all__ = ["PALMGREN_COEFFICIENT", "HERTZ_EXPONENT", "palmgren_line_constant", "ContactLaw", "CONTACT_LAWS",
+           "register_contact_law", "contact_law"]
 
 PALMGREN_COEFFICIENT = 3.84e-5
 """Palmgren's line contact: delta = 3.84e-5 Q^0.9 / b^0.8 (mm, N) [Harris & Kotzalas]."""
@@ -96,16 +97,50 @@ class ContactLaw:
         return (np.asarray(force, dtype=float) / self.constant) ** (1.0 / self.exponent)
 
 
+def _hertz(face_width, stiffness) -> ContactLaw:
+    return ContactLaw("hertz", float(hertz.iso_contact_stiffness(face_width)), HERTZ_EXPONENT)
+
+
+def _palmgren(face_width, stiffness) -> ContactLaw:
+    return ContactLaw("palmgren", float(palmgren_line_constant(face_width)), HERTZ_EXPONENT)
+
+
+def _linear(face_width, stiffness) -> ContactLaw:
+    return ContactLaw("linear", float(stiffness), 1.0)
+
+
+CONTACT_LAWS = {"hertz": _hertz, "palmgren": _palmgren, "linear": _linear}
+"""The contact laws by name: name -> a function (face_width b [mm], stiffness k_lin [N/mm]) -> :class:`ContactLaw`.
+The design key ``contact.law`` chooses among them (its choices in :mod:`gearcalc.pins.schema` are these names, and
+:func:`gearcalc.pins.checks.contact_law_problem` says which constant each needs)."""
+
+
+def register_contact_law(name: str, make) -> None:
+    """Add a contact law by name: ``make(face_width, stiffness)`` returns its :class:`ContactLaw` (a new law is one
+    function plus this call; the design key's choices are in :mod:`gearcalc.pins.schema`)."""
+    CONTACT_LAWS[name] = make
+
+
 def contact_law(name: str, face_width=None, stiffness=None) -> ContactLaw:
-    """The law of a design: hertz/palmgren need the face width b [mm], linear the stiffness k_lin [N/mm].
+    """The law of a design by name (:data:`CONTACT_LAWS`): hertz/palmgren need the face width b [mm], linear the
+    stiffness k_lin [N/mm].
+
+    Raises
+    ------
+    ValueError
+        For a name that is not a known law; the message lists the known ones.
 
     Examples
     --------
     >>> contact_law("linear", stiffness=2e5).constant
     200000.0
+    >>> contact_law("hertzz", face_width=10.0)
+    Traceback (most recent call last):
+        ...
+    ValueError: unknown contact law 'hertzz'; known: hertz, palmgren, linear
     """
-    if name == "linear":
-        return ContactLaw("linear", float(stiffness), 1.0)
-    if name == "palmgren":
-        return ContactLaw("palmgren", float(palmgren_line_constant(face_width)), HERTZ_EXPONENT)
-    return ContactLaw("hertz", float(hertz.iso_contact_stiffness(face_width)), HERTZ_EXPONENT)
+    try:
+        make = CONTACT_LAWS[name]
+    except (KeyError, TypeError):
+        raise ValueError(f"unknown contact law {name!r}; known: {', '.join(CONTACT_LAWS)}") from None
+    return make(face_width, stiffness)

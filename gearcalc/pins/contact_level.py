@@ -21,32 +21,31 @@ import numpy as np
 from .. import units
 from . import contact as pc
 from .checks import pin_circle_curtate
+from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .detail import contact_detail
+from .friction import PinFriction, friction_regime
 from .geometry import Cycloid
-from .operating import ARRAY_OPS, friction_regime
+from .operating import ARRAY_OPS
+from .profiles import ProfileParams, make_profile
 
-__all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "contact_level"]
-
-
-GK_BELOW = 3e-7
-"""Below this --tol the contact level's cycle mean uses the Gauss-Kronrod pair ``"gk7"``, above it the composite
-trapezoid (:func:`contact_rule`)."""
+__all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "ContactDesign",
+           "contact_level"]
 
 
-def contact_rule(tol: float) -> str:
-    """The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6): the composite trapezoid
-    per smooth piece at tol >= 3e-7 (the default 1e-6 included), the Gauss-Kronrod pair ``"gk7"`` (3-point Gauss,
-    7-point Kronrod, with the piece ends solved and each piece's interpolated states on the final grid,
-    :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured 2026-11-27 on the eight paper designs, CPU time
-    of both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time (each solve's fixed numpy overhead outweighs gk7's
-    2-3x fewer angles); at 1e-7 gk7 takes 0.77x the trapezoid's in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8
-    it meets the tolerance where the trapezoid reaches its cap of 2^12 intervals on 3 designs, at 1e-9 on the three
-    designs tried (0.13-0.45 s against 0.24-0.54 s).
+def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
+    """The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6): the composite trapezoid per
+    smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the Gauss-Kronrod pair ``"gk7"``
+    (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's interpolated states on the final grid,
+    :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured 2026-11-27 on the eight paper designs, CPU time of
+    both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time (each solve's fixed numpy overhead outweighs gk7's 2-3x
+    fewer angles); at 1e-7 gk7 takes 0.77x the trapezoid's in all (1.34 s against 1.73 s), at 1e-8 0.49x; at 1e-8 it
+    meets the tolerance where the trapezoid reaches its cap of 2^12 intervals on 3 designs, at 1e-9 on the three designs
+    tried (0.13-0.45 s against 0.24-0.54 s).
 
     >>> contact_rule(1e-6), contact_rule(1e-9)
     ('trapezoid', 'gk7')
     """
-    return "gk7" if tol < GK_BELOW else "trapezoid"
+    return "gk7" if tol < (DEFAULT_SETTINGS if settings is None else settings).gk_below else "trapezoid"
 
 
 def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
@@ -61,7 +60,7 @@ def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
     return Cycloid(z1, z2, float(e), float(Rp), float(Rb), float(omk)), Rp
 
 
-def satellite_profile(g, circular: bool, tooth_radius, tooth_circle_radius, radial_mod: float,
+def satellite_profile(g, profile: str, tooth_radius, tooth_circle_radius, radial_mod: float,
                       equidistant_mod: float):
     """The satellite profile of the contact level (pins.md §5.2-5.3) and whether circular teeth overlap.
 
@@ -69,9 +68,10 @@ def satellite_profile(g, circular: bool, tooth_radius, tooth_circle_radius, radi
     ----------
     g : Cycloid
         The gear.
-    circular : bool
-        Circular-arc teeth (:func:`~gearcalc.pins.contact.circular_profile`), else the (modified) cycloid
-        (:func:`~gearcalc.pins.contact.cycloid_profile`).
+    profile : str
+        The profile's name in :data:`gearcalc.pins.profiles.PROFILES`: "circular" (circular-arc teeth,
+        :func:`~gearcalc.pins.contact.circular_profile`), "cycloidal" (the (modified) cycloid,
+        :func:`~gearcalc.pins.contact.cycloid_profile`); ValueError for an unknown name.
     tooth_radius : float or "full"
         rho_t [mm]; "full": adjacent teeth tangent at the root.
     tooth_circle_radius : float or "zero_backlash"
@@ -87,15 +87,12 @@ def satellite_profile(g, circular: bool, tooth_radius, tooth_circle_radius, radi
     ------
     gearcalc.pins.contact.InadmissibleProfile
     """
-    if not circular:
-        return pc.cycloid_profile(g, radial_mod, equidistant_mod), False
-    return pc.circular_profile(g, None if tooth_radius == "full" else tooth_radius,
-                               None if tooth_circle_radius == "zero_backlash" else tooth_circle_radius)
+    return make_profile(profile, g, ProfileParams(tooth_radius, tooth_circle_radius, radial_mod, equidistant_mod))
 
 
 def contact_friction(rotating: bool, Rb: float, r, sliding: float, rolling: float, axle: float):
     r"""(mu_eff, rolls, rolling condition) of one operating point as arrays of one (pins.md §4.5-4.6):
-    :func:`~gearcalc.pins.operating.friction_regime`; the condition is None for fixed pins.
+    :func:`~gearcalc.pins.friction.friction_regime`; the condition is None for fixed pins.
 
     .. math:: \mu_{eff} = (f_c r + f_k)/R_b \text{ where } f R_b \ge f_c r + f_k, \text{ else } f
 
@@ -147,8 +144,22 @@ class ContactLevel:
     crank: object = None
 
 
-def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, axle_radius, friction_model: str,
-                  tol: float, play_free: bool, detail: bool = False) -> ContactLevel:
+@dataclass(frozen=True)
+class ContactDesign:
+    """One design at the contact level (the parameter object of :func:`contact_level`): the gear ``g``, its
+    ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating`` pins on axles of radius
+    ``axle_radius`` [mm] (None: fixed pins)."""
+
+    g: Cycloid
+    profile: object
+    law: object
+    n_discs: int
+    rotating: bool
+    axle_radius: float | None
+
+
+def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: float, play_free: bool,
+                  detail: bool = False, settings: ContactSettings | None = None) -> ContactLevel:
     r"""The compliant contact level (pins.md §5) of one design at one operating point.
 
     The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the
@@ -163,13 +174,11 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
 
     Parameters
     ----------
-    g : Cycloid; profile : the satellite (:func:`satellite_profile`); law : ContactLaw
+    design : ContactDesign
+        The gear, satellite profile, contact law, discs and pins (rotating, on axles of radius r [mm]).
     point : dict
         The operating point (:data:`gearcalc.pins.columns.OPERATING`): sliding f, rolling f_k [mm], axle f_c,
         mode ("multiplier" or "reducer"), shaft ("H" or "V") of torque T [N·m], speed n_H [rpm] (None: none).
-    n_discs : int
-    rotating : bool; axle_radius : float or None
-        Rotating pins on axles of radius r [mm].
     friction_model : str
         "consistent" or "first-order".
     tol : float
@@ -178,6 +187,8 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
         The profile has no play by construction (:func:`backlash_deg`).
     detail : bool
         Build the detail tables (pins.md §8).
+    settings : ContactSettings or None
+        The numerical settings (:mod:`gearcalc.pins.contact_settings`; None: the defaults).
 
     Returns
     -------
@@ -187,13 +198,14 @@ def contact_level(g, profile, law, point: dict, n_discs: int, rotating: bool, ax
     ------
     gearcalc.pins.contact.NoEquilibrium, gearcalc.pins.contact.Jam, gearcalc.pins.contact.Unresolvable
     """
-    mu_a, rolls_a, rolling_ok = contact_friction(rotating, g.R_b, axle_radius, point["sliding"], point["rolling"],
-                                                 point["axle"])
+    g, n_discs = design.g, design.n_discs
+    mu_a, rolls_a, rolling_ok = contact_friction(design.rotating, g.R_b, design.axle_radius, point["sliding"],
+                                                 point["rolling"], point["axle"])
     mu, rolls, f = float(mu_a[0]), bool(rolls_a[0]), float(point["sliding"])
     consistent = friction_model == "consistent" and not (mu == 0.0 and f == 0.0)
     torque, multiplier, on_V = point["torque"], point["mode"] == "multiplier", point["shaft"] == "V"
-    modes = pc.solve_modes(g, profile, law, torque, on_V, multiplier, n_discs, mu, f, rolls, consistent, tol=tol,
-                           rule=contact_rule(tol))
+    case = pc.ContactCase(g, design.profile, design.law, n_discs, PinFriction(mu, f, rolls), torque, on_V)
+    modes = pc.solve_modes(case, multiplier, consistent, tol=tol, rule=contact_rule(tol, settings), settings=settings)
     residual, excess = pc.equilibrium_residual(modes.runs.values(), tol)
     if not excess <= 1.0:
         return ContactLevel(modes, residual, False, consistent, rolling_ok)

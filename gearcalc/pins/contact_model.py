@@ -1,177 +1,34 @@
 """KHV pin gearing, level ``contact``: the satellite's equilibrium at given crank angles (pins.md §5.1, §5.5, §5.6).
 
-:class:`ContactModel` holds one design's gear, tooth profile, contact law, torque and mode: the candidate window
-of the pins that can touch, the moment balance M(tau) = M_req over all crank angles at once by safeguarded Newton
-with the analytic G_tau (warm-started from the solved neighbours, the shared bracketed root finder as the fallback),
-the friction forces' directions iterated to a fixed point with friction in the balance (a crank angle where no
-rotation balances the torque with them: :class:`Jam`), and the kinematics: d tau/d theta = -G_theta/G_tau, the
-contact-point speeds.  :class:`Solution` is the solved state per crank angle and contact, with the helpers that
-take, put, merge and re-lay states over the window's pins.  Pure physics over floats and numpy arrays (N, mm,
-N·mm, rad; speeds per unit crank speed).  The cycle over these states is :mod:`gearcalc.pins.contact_cycle`, the
-torque fixed point and the modes :mod:`gearcalc.pins.contact`, which re-exports this module's public names.
+:class:`ContactModel` holds one design's gear, tooth profile, contact law, torque and mode: the candidate window of
+the pins that can touch, the moment balance M(tau) = M_req over all crank angles at once by safeguarded Newton with
+the analytic G_tau (warm-started from the solved neighbours, the shared bracketed root finder as the fallback), the
+friction forces' directions iterated to a fixed point with friction in the balance (a crank angle where no rotation
+balances the torque with them: :class:`Jam`), and the kinematics: d tau/d theta = -G_theta/G_tau, the contact-point
+speeds.  :class:`~gearcalc.pins.contact_states.Solution` (the solved state per crank angle and contact, with the
+helpers that take, put, merge and re-lay states) is :mod:`gearcalc.pins.contact_states`'s.  Pure physics over floats
+and numpy arrays (N, mm, N·mm, rad; speeds per unit crank speed).  The cycle over these states is
+:mod:`gearcalc.pins.contact_cycle`, the torque fixed point and the modes :mod:`gearcalc.pins.contact`, which
+re-exports this module's public names.
 """
 from __future__ import annotations
 
-import dataclasses
-import functools
 import math
-from dataclasses import dataclass
 
 import numpy as np
 
 from ..roots import BracketError, find_root
 from .contact_law import ContactLaw
-from .contact_profiles import Contacts, Pose
+from .contact_profiles import Pose
+from .contact_settings import DEFAULT_SETTINGS, ContactSettings
+from .contact_kinematics import ContactKinematics
+from .contact_parts import EPS, ContactCaches, ContactSetup, Jam, ModelParts, NoEquilibrium, SolverState
+from .contact_states import (Solution, contact_index, filled, hermite, hermite_slope, put_states, sub_pose)
+from .contact_window import CandidateWindow
 from .forces import pin_phase
 from .geometry import REDUCER, Cycloid
 
 __all__ = ["NoEquilibrium", "Jam", "Solution", "ContactModel", "EPS"]
-
-EPS = float(np.finfo(float).eps)
-
-
-class NoEquilibrium(ValueError):
-    """No satellite rotation within +-pi/z1 balances the torque at some crank angle."""
-
-    def __init__(self, theta):
-        super().__init__("no contact can carry the torque")
-        self.theta = theta
-
-
-class Jam(NoEquilibrium):
-    """With the friction forces in the moment balance, no positive contact force balances the torque at
-    some crank angle although the frictionless balance has a solution: the mode jams (self-locks) there
-    (pins.md §4.9, §5.5)."""
-
-
-@dataclass
-class Solution:
-    """The solved contact state at crank angles theta (n,), per contact (c, z2, n).
-
-    tau: transmission error phi - phi_nom [rad]; dtau: d tau/d theta [-]; residual: M - M_req [N·mm];
-    delta [mm], force [N], v_t: tangential speed of the satellite at the contact per unit crank
-    speed [mm/s per rad/s] (positive along z x n); phase: load-side phase of each pin [rad] (z2, n);
-    zeta: pin phase measured along time, theta - phi_j wrapped to (-pi, pi] [rad] (z2, n);
-    cand: (z2, n) the pins evaluated at each angle (the candidate window), None: all; the others cannot
-    touch (delta = -inf, F = 0, v_t = 0 there);
-    ddelta: (c, z2, n) d delta/d theta along the solution, n.dX/dtheta - (X x n) d tau/d theta [mm/rad]
-    (the Newton slope of the contact entries and exits, :func:`cycle_breakpoints`);
-    noise: (n,) the round-off floor of the residual [N·mm]: eps (R_p + e) sum |F'(delta) X x n|, the moment
-    change of a round-off of the pin positions at every contact (the penetrations are differences of
-    lengths ~R_p);
-    g_tau: (n,) dG/dtau of the moment balance at the solution [N·mm/rad] (the warm start of another torque,
-    :meth:`ContactModel.inherit`);
-    nx, ny, wx, wy: (c, m, n) the contacts' normals and their turning rates (:class:`Contacts`) over the pins
-    ``pins`` (m, n) the state was solved on (the candidate window, or all pins), at the solved rotation (within a
-    last Newton step of it): kept for the crank bearing (:func:`crank_bearing`), None where not known;
-    rows: (R,) the pins (sorted) that the per-pin arrays (delta, force, v_t, phase, zeta, switch, branch, cand,
-    ddelta) hold, in that order: the pins the candidate window can hold over the period
-    (:meth:`ContactModel.layout`); every other pin cannot touch anywhere on the cycle (R of z2 rows: the arrays
-    of a u = 30 paper design are 6x smaller).  None: all z2 pins, in order;
-    traction: (c, R, n) the friction forces per unit normal force the state was solved with (:meth:`ContactModel.
-    traction` of the directions it settled on, or its piece's fixed ones), over the rows (0 where a pin is out of
-    reach); None without friction in the balance.  At a piece end, or where no direction is consistent (the
-    directions flip back and forth, :meth:`ContactModel._friction_fixed_point`), they can differ from the
-    directions of the state's own sliding speeds: the crank bearing takes these (:func:`crank_bearing`).
-    """
-
-    theta: np.ndarray
-    tau: np.ndarray
-    dtau: np.ndarray
-    residual: np.ndarray
-    delta: np.ndarray
-    force: np.ndarray
-    v_t: np.ndarray
-    phase: np.ndarray
-    zeta: np.ndarray
-    switch: np.ndarray | None = None
-    branch: np.ndarray | None = None
-    cand: np.ndarray | None = None
-    ddelta: np.ndarray | None = None
-    noise: np.ndarray | None = None
-    g_tau: np.ndarray | None = None
-    nx: np.ndarray | None = None
-    ny: np.ndarray | None = None
-    wx: np.ndarray | None = None
-    wy: np.ndarray | None = None
-    pins: np.ndarray | None = None
-    rows: np.ndarray | None = None
-    traction: np.ndarray | None = None
-
-    def over_pins(self, z2: int) -> "Solution":
-        """This state over all ``z2`` pins in order, to index its per-pin arrays by pin number: the rows scattered,
-        every other pin out of reach (no contact; phases None where not held: :meth:`ContactModel.phases`)."""
-        return _relayout(self, None, z2)
-
-
-_GEOMETRY_FIELDS = ("nx", "ny", "wx", "wy", "pins")
-"""The :class:`Solution` fields over the pins it was solved on (m, not its rows): never scattered to its rows."""
-
-_PIN_FIELDS = ("delta", "force", "v_t", "phase", "zeta", "switch", "branch", "cand", "ddelta", "traction")
-"""The :class:`Solution` fields over its ``rows`` (the pin axis second to last), with the values of a pin that is not
-a candidate (out of reach: no contact)."""
-
-_PIN_FILL = {"delta": -np.inf, "force": 0.0, "v_t": 0.0, "switch": np.nan, "branch": -1, "cand": False, "ddelta": 0.0,
-             "traction": 0.0}
-
-_CONTACT_FIELDS = ("delta", "nx", "ny", "arm", "xn", "switch", "branch", "wx", "wy")
-
-
-def _filled(shape, value, dtype=float):
-    """np.full without its Python wrapper (the scatters of every solve call it): an empty array filled in place."""
-    out = np.empty(shape, dtype)
-    out.fill(value)
-    return out
-
-
-def _with_cols(full, part, cols):
-    """``full`` (..., n) with its columns ``cols`` replaced by ``part`` (a copy; None stays None)."""
-    if full is None or part is None:
-        return full
-    out = np.array(full, dtype=np.result_type(full, part), copy=True)
-    out[..., cols] = part
-    return out
-
-
-def _contact_index(profile, sides):
-    """The contacts of each pin that a state holds, as an index (c, 1, 1) over the profile's c per pin (all of them
-    when ``sides`` is None; :attr:`ContactModel.sides`)."""
-    return (np.arange(profile.contacts_per_pin) if sides is None else np.asarray(sides))[:, None, None]
-
-
-def _sub_pose(pose: Pose, sel) -> Pose:
-    """The pose at the crank angles ``sel`` (a boolean mask or indices over the last axis)."""
-    return Pose(pose.theta[sel], pose.x0[:, sel], pose.y0[:, sel], pose.beta0[:, sel], pose.z2,
-                {k: v[..., sel] for k, v in pose.aux.items()}, None if pose._psi is None else pose._psi[:, sel])
-
-
-def _distance_to(points, x):
-    """The distance from each of ``x`` to the nearest of ``points`` (sorted, not empty).
-
-    >>> _distance_to(np.array([0.0, 1.0]), np.array([-1.0, 0.25, 0.5, 3.0])).tolist()
-    [1.0, 0.25, 0.5, 2.0]
-    """
-    k = np.minimum(np.maximum(points.searchsorted(x), 1), points.size)
-    return np.minimum(np.abs(x - points[k - 1]), np.abs(x - points[np.minimum(k, points.size - 1)]))
-
-
-def _hermite(t, h, fa, da, fb, db):
-    """The cubic Hermite interpolant at t = (x - x_a)/h in [0, 1] of values f and slopes d at x_a and x_a + h."""
-    t2, t3 = t * t, t * t * t
-    return ((2 * t3 - 3 * t2 + 1) * fa + (t3 - 2 * t2 + t) * h * da + (-2 * t3 + 3 * t2) * fb + (t3 - t2) * h * db)
-
-
-def _hermite_slope(t, h, fa, da, fb, db):
-    """The derivative d/dx of :func:`_hermite` at t = (x - x_a)/h.
-
-    >>> bool(abs(_hermite_slope(0.3, 2.0, 1.0, -0.5, 4.0, 2.0)
-    ...          - (_hermite(0.3 + 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0) - _hermite(0.3 - 1e-7, 2.0, 1.0, -0.5, 4.0, 2.0))
-    ...          / 4e-7) < 1e-8)
-    True
-    """
-    t2 = t * t
-    return (6.0 * t2 - 6.0 * t) * (fa - fb) / h + (3.0 * t2 - 4.0 * t + 1.0) * da + (3.0 * t2 - 2.0 * t) * db
-
 
 def _doubling_bracket(G, n: int, h0: float, limit: float):
     """Brackets of the roots of a decreasing G(tau) (n,) about tau = 0, by doubling a step from h0 on the side of
@@ -215,46 +72,26 @@ def _window_range(tau) -> tuple[float, float]:
     return (2.0 * lo if lo < 0.0 else 0.5 * lo), (2.0 * hi if hi > 0.0 else 0.5 * hi)
 
 
-WINDOW_MARGIN = 2
-"""The candidate window's margin in time phase beyond the outermost pairs that can touch, in spacings of its scan
-(:meth:`ContactModel.set_window`): the scan's n_scan crank angles over all z2 pins sample the time phase zeta on a
-grid of T_p/n_scan (the contact geometry of a pin depends on zeta alone), so a pin between the last sample that can
-touch and the first that cannot lies within one spacing; two for safety.  (It was one pin pitch T_p, n_scan = 64
-spacings: two pins more per angle than needed.)  The pins next to the window are checked on each cycle's final grid
-(:meth:`ContactModel.window_holds`)."""
-
-NEWTON_SMALL = 1e-8
-"""A warm start's Newton step s is taken without a new balance (:meth:`ContactModel._kinematics` with ``step``) when
-|s| <= 1e-8 |tau| (quadratic convergence: the error is then ~s^2/tau <= 1e-16 |tau|, and the geometry, kept at the
-start, moves by (R_p + e) s ~ 1e-10 mm, far below the deflections' resolution)."""
-
-REFINE_NEWTON_STOP, REFINE_NEWTON_SMALL = 1e-11, 1e-12
-""":data:`NEWTON_STOP` and :data:`NEWTON_SMALL` of the solves that refine a scanned penetration's sign change from the
-smooth side (:func:`_scan_roots`, :attr:`ContactModel._refining`): a root is taken from one such state's value and
-slope, so the penetration must hold to well below 1e-12 T_p times its slope (with the product's stops, a state next to a
-Hertz contact's entry warm-started from the scan came out ~1e-10 mm off; measured 2026-11-27).  An iteration or two
-more per refinement call (2-3 crank angles)."""
-
-NEWTON_STOP = 1e-6
-"""The satellite rotation's Newton iteration (:meth:`ContactModel._solve`) stops after a step |s| <= 1e-6 |tau|: its
-error is then C s^2 with C = |G_tautau tau/(2 G_tau)|, measured 0.05-3 on the paper designs (the ratio of successive
-relative steps), so <= ~3e-12 |tau|, the resolution of tau itself (a deflection of ~1e-3 mm out of positions of
-~60 mm held to 1e-14 mm: ~1e-11); the kinematics then evaluate the geometry at the stepped tau.  (1e-8 took one
-balance more per solve, whose step was that round-off, 3e-12 to 1e-13.)"""
-
-
-class ContactModel:
+class ContactModel(ModelParts, CandidateWindow, ContactKinematics):
     """The satellite of one design under one torque: pose, penetrations, moment, equilibrium, speeds.
 
     Parameters
     ----------
     g : the pin gear (actual pins: z1, z2, e, R_p, R_b).
-    profile : :class:`CircularProfile` or :class:`CycloidProfile`.
+    profile : a :class:`gearcalc.pins.profiles.ToothProfile` (:class:`CircularProfile`, :class:`CycloidProfile`).
     law : the contact law.
     torque_sat : T_sat, torque per satellite [N·mm], > 0.
     sigma : +1 reducer (M_req = -T_sat), -1 multiplier (M_req = +T_sat)  (pins.md §5.5).
     friction : None (frictionless forces, the first-order model) or (mu_eff, f, rolls): add the
         tangential friction forces to the moment balance (the friction-consistent model, §4.9, §5.5).
+    settings : the numerical settings (:class:`gearcalc.pins.contact_settings.ContactSettings`; None: the
+        defaults), ``self.settings``: the cycle functions of :mod:`gearcalc.pins.contact_cycle` read them there.
+
+    Its parts (:mod:`gearcalc.pins.contact_parts`): ``setup`` (immutable: the arguments above), ``solver`` (what the
+    solves change) and ``caches`` (shared by the models of one design), under the former attribute names
+    (:class:`~gearcalc.pins.contact_parts.ModelParts`); its candidate window
+    (:class:`~gearcalc.pins.contact_window.CandidateWindow`) and geometry, moment and speeds
+    (:class:`~gearcalc.pins.contact_kinematics.ContactKinematics`) are written in their own modules.
 
     Speed (pins.md §5.5-5.6): the equilibrium is solved at all crank angles at once by safeguarded
     Newton on G(tau) = M(tau) - M_req with the analytic G_tau (warm-started from the nearest solved
@@ -263,367 +100,27 @@ class ContactModel:
     |tau| <= 2 max |tau| of a first solve, :meth:`set_window`) are evaluated.
     """
 
-    _refining = False
-    """Solves for a breakpoint's refinement: stopped at :data:`REFINE_NEWTON_STOP` and :data:`REFINE_NEWTON_SMALL`."""
+    def __init__(self, g: Cycloid, profile, law: ContactLaw, torque_sat: float, sigma: int, friction=None,
+                 settings: ContactSettings | None = None):
+        self.setup = ContactSetup(g, profile, law, torque_sat, sigma, friction,
+                                  DEFAULT_SETTINGS if settings is None else settings)
+        self.solver = SolverState()       # what the solves change (window, warm starts, located sign changes, ...)
+        self.caches = ContactCaches()     # shared with the models that inherit or mirror this one
 
-    def __init__(self, g: Cycloid, profile, law: ContactLaw, torque_sat: float, sigma: int, friction=None):
-        self.g, self.profile, self.law = g, profile, law
-        self.torque_sat, self.sigma = float(torque_sat), sigma
-        self.M_req = -self.torque_sat if sigma == REDUCER else self.torque_sat
-        self.pins = np.arange(g.z2)[:, None]
-        self.friction = friction
-        self.diff_step = 1e-6
-        self.window = None            # (z_lo, z_hi, m, tau_bound): candidate pins by time phase, or None: all
-        self._sides = None            # (window, sides): :attr:`sides` while that window is the model's
-        self.clearance = None         # (theta, tau, clearance, (candidates, sides)) of the last final grid's check
-        self.last_pose = None         # the pose of the last state (its foot points start the next torque's)
-        self._memo = {0: None, 1: None}   # solved (theta, tau, dtau) for warm starts: 0 frictionless, 1 final
-        self._gtau = {0: None, 1: None}   # dG/dtau at the memo's angles (None: unknown)
-        self.roots = None             # the located sign changes of its last cycle (:func:`mean_loss_ratio`)
-        self._layout = None           # (window, rows, pos) of :meth:`layout`
-        self._nominal_cache = {}      # n_scan -> :meth:`_nominal` (shared with the models that inherit or mirror)
-        self.scan_n = 0               # the densest full scan a cycle of this design needed (:func:`mean_loss_ratio`)
 
-    # -- geometry -------------------------------------------------------------------------------
-    def pose(self, theta, idx=None, sides=None) -> Pose:
-        """Nominal satellite-frame pin positions at crank angles theta (tau = 0); ``idx`` (m, n): only
-        these pins (default: all, shape (z2, n)); ``sides``: only these of each pin's contacts (default: all;
-        :attr:`sides`)."""
-        g = self.g
-        theta = np.atleast_1d(np.asarray(theta, dtype=float))
-        sel = self.pins if idx is None else idx
-        beta0 = 2.0 * math.pi * sel / g.z2 + (g.k / g.z1) * theta[None, :]
-        a = (g.z2 / g.z1) * theta[None, :]
-        trig = (np.cos(beta0), np.sin(beta0), np.cos(a), np.sin(a))
-        x0 = g.R_p * trig[0] - g.e * trig[2]
-        y0 = g.R_p * trig[1] - g.e * trig[3]
-        p = Pose(theta, x0, y0, beta0 if beta0.shape == x0.shape else np.broadcast_to(beta0, x0.shape), g.z2)
-        p.aux["idx"] = sel if np.shape(sel) == x0.shape else np.broadcast_to(sel, x0.shape)
-        self.profile.prepare(p, trig, sides)
-        return p
 
-    def candidates(self, theta):
-        """Pin indices (m, n) of the candidate window at crank angles theta, or None (all pins).
 
-        Pin j has the time phase zeta_j = theta - 2 pi j/z2 (mod 2 pi); the window holds the m
-        consecutive pins from the first with zeta_j <= z_hi, which covers [z_lo, z_hi]."""
-        if self.window is None:
-            return None
-        _, z_hi, m, _ = self.window
-        z2 = self.g.z2
-        j0 = np.mod(np.ceil((np.asarray(theta, dtype=float) - z_hi) / self.g.period).astype(np.int64), z2)
-        j = j0[None, :] + np.arange(m)[:, None]       # in [0, 2 z2): wrapped by a subtraction, not an integer modulo
-        return j - z2 * (j >= z2)
 
-    @property
-    def sides(self):
-        """The contacts of each pin that the states evaluate (indices into the profile's c per pin), or None (all):
-        with a candidate window, those that can touch for its range of tau (:meth:`_window_for`; circular teeth: the
-        tooth on the side the torque presses the pins against, the other one cannot touch at that rotation).  The
-        states' arrays hold every contact all the same (:meth:`_full`: the others out of reach)."""
-        s = self._sides
-        return s[1] if s is not None and self.window is not None and s[0] == self.window else None
 
-    def set_window(self, n_scan: int = 64):
-        """The candidate window: the time phases zeta of the pins that can touch (pins.md §5.5, speed).
 
-        The balance with the penetrations linearised about the nominal pose (:meth:`_linearised_tau`, all pins,
-        ``n_scan`` crank angles of one period) gives tau; the window allows tau in [tau_lo, tau_hi], each end of
-        that range twice as far from 0 (or half as near when the range does not reach 0); the scan is then solved
-        on the window's pins from those starts, and kept when its tau stay in [tau_lo, tau_hi] (else, or where the
-        linearised balance has no root, the scan is solved over all pins by doubling and Newton, and the window
-        taken from its range).  Since d delta/d tau = -(X x n) and
-        |d^2 delta/d tau^2| <= |X| <= R_p + e, a pair with
 
-            max over tau in {tau_lo, tau_hi} of delta(0) - (X x n) tau + (R_p + e) tau^2/2 <= 0
 
-        (1 % and 1e-12 R_p of margin) cannot touch there.  The window is the shortest arc of zeta holding
-        every other pair, widened by :data:`WINDOW_MARGIN` scan spacings on each side (the scan's resolution in zeta).
-        :func:`mean_loss_ratio` checks the tau range on the final grid.  Returns the scan's solution
-        (all pins' phases), which also seeds the warm starts."""
-        g = self.g
-        theta = np.arange(n_scan) * (g.period / n_scan)
-        if getattr(self, "_mirrored", False) and self.window is not None:
-            guess = None
-            if self.friction is not None:
-                # with friction, the mirrored states are the other mode's: its friction moment turns the satellite
-                # the other way, tau_other = tau_0 + d against tau = tau_0 - d + O(f^2) (tau_0 frictionless): start
-                # from 2 tau_0 - tau_other, the frictionless scan's mirror at these very angles
-                g0, g1 = self._guess(theta, 0, slope=True), self._guess(theta, 1, slope=True)
-                if g0 is not None and g1 is not None and self._memo[0] is not self._memo[1]:
-                    guess = (2.0 * g0[0] - g1[0], 2.0 * g0[1] - g1[1])
-            sol = self.state(theta, guess=guess)       # the other mode's window, mirrored: the scan only
-            if self.friction is not None:
-                # the mirrored warm starts hold the other mode's friction forces (tau off by O(f)): the scan's own
-                # solutions replace them
-                self._memo[1], self._gtau[1] = None, None
-                self._remember(1, sol)
-            return sol
-        self.window = None
-        # the doubling starts near the rotation at which one pin at R_p would carry the torque, /8 (5-10 pins share it)
-        R = g.R_p + g.e
-        h0 = float(self.law.deflection(self.torque_sat / R)) / R / 8.0
-        h0 = h0 if math.isfinite(h0) and h0 > 1e-9 else 1e-9
-        with np.errstate(all="ignore"):
-            est = self._linearised_tau(n_scan, h0)
-        first, start = None, None
-        if est is not None and np.isfinite(est).all():
-            # the window from the linearised balance's range; the scan solved on its pins only, kept when its tau
-            # stay in the window's range (else every pin, below)
-            self._window_for(*_window_range(est), n_scan)
-            idx = self.candidates(theta)
-            sides = self.sides
-            sub = self.pose(theta, idx, sides)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                try:
-                    part = self._kinematics(sub, self._solve(sub, None, est), None)
-                except NoEquilibrium:
-                    part = None
-            if part is not None and self.window_holds(part.tau) and np.isfinite(part.dtau).all():
-                first = self._full(part, idx, sides)
-                start = (sub, part)
-        if first is None:
-            self.window = None
-            pose = self.pose(theta)
-            tau = self._bracketed(pose, None, 1e-15, h0, newton=True)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                first = self._kinematics(pose, tau, None)
-            self._window_for(*_window_range(tau), n_scan)
-            first = _relayout(first, self.layout()[0])
-        if np.isfinite(first.dtau).all():
-            self._remember(0, first)   # the frictionless solution warm-starts the scan below
-        if self.friction is None and np.isfinite(first.dtau).all():
-            # the frictionless scan is the state over all pins (the window's pins the same, the others untouched)
-            first.phase, first.zeta = self.phases(theta, first.rows)
-            return first
-        # and the warm-start memory for the cycle; the friction directions from the frictionless scan on the window's
-        # pins (its pose and solution, not solved again)
-        return self.state(theta, scan=start if np.isfinite(first.dtau).all() else None)
 
-    def _nominal(self, n_scan: int = 64):
-        """(psi, delta, arm) of every pin at the nominal pose (tau = 0) on ``n_scan`` crank angles of one period
-        (:class:`Pose`, :class:`Contacts`): the window's and the linearised balance's data (:meth:`_window_for`,
-        :meth:`_linearised_tau`).  They depend on the design only (not on the torque or the mode): computed once
-        and shared with the models that inherit or mirror this one."""
-        nom = self._nominal_cache.get(n_scan)
-        if nom is None:
-            pose = self.pose(np.arange(n_scan) * (self.g.period / n_scan))
-            ct = self.contacts(pose, np.zeros(n_scan))
-            nom = self._nominal_cache[n_scan] = (pose.psi, ct.delta, ct.arm)
-        return nom
 
-    def _window_for(self, t_lo: float, t_hi: float, n_scan: int = 64) -> None:
-        """Set the candidate window to the pins that can touch for tau in [t_lo, t_hi] (see :meth:`set_window`;
-        None when every pin can).  The pin set depends on the tau range: a window taken over from another
-        torque or mode (:meth:`inherit`, :meth:`mirror`) with its tau range scaled must be recomputed for the
-        scaled range, else pins that touch only at the larger |tau| are left out (and the range check of
-        :func:`mean_loss_ratio` still passes)."""
-        g = self.g
-        self.window = None
-        psi, delta, arm = self._nominal(n_scan)
-        R = g.R_p + g.e
-        # delta(tau) <= delta(0) - (X x n) tau + (R_p + e) tau^2/2: convex in tau, largest at an end
-        reach = np.maximum(-arm * t_lo + 0.5 * R * t_lo * t_lo, -arm * t_hi + 0.5 * R * t_hi * t_hi)
-        touch_c = delta + reach + 0.01 * np.abs(reach) + 1e-12 * g.R_p > 0.0
-        touch = touch_c.any(axis=0)
-        z = np.sort(-psi[touch])
-        if z.size:
-            gaps = np.diff(np.concatenate((z, [z[0] + 2.0 * math.pi])))
-            i = int(np.argmax(gaps))
-            z_lo, z_hi = (z[0], z[-1]) if i == z.size - 1 else (z[i + 1], z[i] + 2.0 * math.pi)
-            pad = WINDOW_MARGIN * g.period / n_scan
-            z_lo, z_hi = z_lo - pad, z_hi + pad
-            m = int(math.floor((z_hi - z_lo) / g.period)) + 2
-            if m < g.z2:
-                self.window = (float(z_lo), float(z_hi), m, (t_lo, t_hi))
-                # the contacts of a pin that can touch at all (circular teeth: one of the two, by the torque's sense)
-                can = touch_c.any(axis=(1, 2))
-                self._sides = (self.window, np.flatnonzero(can)) if can.any() and not can.all() else None
 
-    def period_pins(self):
-        """The pins the candidate window can hold at crank angles in [0, T_p] (sorted), or None (every pin): the
-        rows of the states' per-pin arrays (:meth:`layout`).
 
-        The window's first pin j0(theta) does not decrease with theta and grows by one over a period, so the
-        pins of its two ends hold every one in between."""
-        if self.window is None:
-            return None
-        rows = np.union1d(*self.candidates(np.array([0.0, self.g.period])).T)
-        return None if rows.size >= self.g.z2 else rows
 
-    def layout(self):
-        """(rows, pos): the pins the per-pin arrays of this model's states hold (:attr:`Solution.rows`: the candidate
-        window's over one period, :meth:`period_pins`; None: all z2), and each pin's row there (z2,), -1 for a pin
-        they do not hold.  Fixed while the window is (a cycle's states share it)."""
-        if self._layout is None or self._layout[0] != self.window:
-            rows = self.period_pins()
-            pos = np.arange(self.g.z2)
-            if rows is not None:
-                pos = np.full(self.g.z2, -1)
-                pos[rows] = np.arange(rows.size)
-            self._layout = (self.window, rows, pos)
-        return self._layout[1], self._layout[2]
 
-    def window_holds(self, tau, theta=None, prev: "ContactModel | None" = None) -> bool:
-        """Whether the solved tau stay in the range the candidate window allows (or there is no window) and, with
-        their crank angles ``theta``, the pins next to the window on either side do not touch there (penetration
-        <= 0 at tau: :data:`WINDOW_MARGIN`), nor the contacts of the window's pins that :attr:`sides` leaves out.
-
-        The smallest clearance -delta of those pairs is kept (:attr:`clearance`).  ``prev``: a model checked at the
-        same crank angles with the same candidate pins and sides (the torque pass before): where its clearance c exceeds
-        (R_p + e)(d + d^2/2), d = max |tau - tau_prev|, no pair can have closed it (|d delta/d tau| = |X x n| <=
-        R_p + e, |d^2 delta/d tau^2| <= R_p + e) and nothing is evaluated."""
-        self.clearance = None
-        if self.window is None:
-            return True
-        t_lo, t_hi = self.window[3]
-        if not ((tau >= t_lo) & (tau <= t_hi)).all():
-            return False
-        if theta is None or tau.size == 0:
-            return True
-        idx, sides = self.candidates(theta), self.sides
-        key = (idx, None if sides is None else tuple(sides.tolist()))       # the pairs the states evaluate
-        last = None if prev is None else prev.clearance
-        if (last is not None and last[0].shape == theta.shape and np.array_equal(last[0], theta)
-                and last[3][1] == key[1] and np.array_equal(last[3][0], idx)):
-            d = float(np.abs(tau - last[1]).max())
-            bound = (self.g.R_p + self.g.e) * (d + 0.5 * d * d)
-            if bound < last[2]:
-                self.clearance = (theta, tau, last[2] - bound, key)
-                return True
-        if sides is None:
-            pins = np.stack((idx[0] - 1, idx[-1] + 1))
-        else:
-            # and the contacts of the window's pins that the states leave out (:attr:`sides`)
-            pins = np.concatenate(((idx[0] - 1)[None], idx, (idx[-1] + 1)[None]))
-        with np.errstate(all="ignore"):
-            delta = self.contacts(self.pose(theta, np.mod(pins, self.g.z2)), tau).delta
-        if sides is not None:
-            delta = delta.copy()
-            delta[sides[:, None], np.arange(1, pins.shape[0] - 1)[None, :]] = -np.inf
-        c = float(-delta.max())
-        if not c >= 0.0:
-            return False
-        self.clearance = (theta, tau, c, key)
-        return True
-
-    def mirror(self, other: "ContactModel") -> None:
-        """Start from the solved other mode of the same design: its window and warm starts mirrored.
-
-        Without friction in the balance the reducer is the multiplier run backwards (pins.md §4.8(5),
-        §5.7): tau_R(-theta) = -tau_M(theta), so the time phases zeta, the tau range and tau change
-        sign and d tau/d theta keeps it; scaled by the torque ratio like :meth:`inherit`.  With friction
-        this is a warm start only (the window's tau range is checked on the final grid)."""
-        r = (self.torque_sat / other.torque_sat) ** (1.0 / self.law.exponent)
-        self._nominal_cache, self.scan_n = other._nominal_cache, other.scan_n      # the same design
-        if other.window is not None:
-            z_lo, z_hi, m, (t_lo, t_hi) = other.window
-            self.window = (-z_hi, -z_lo, m, (-t_hi * r, -t_lo * r))
-            # the mirror swaps each pin's two teeth (the one below its polar angle and the one above)
-            sides = other.sides
-            self._sides = None if sides is None else (self.window,
-                                                      np.sort(self.profile.contacts_per_pin - 1 - sides))
-            if r > 1.0:                   # a wider tau range: its pins recomputed (:meth:`_window_for`)
-                with np.errstate(all="ignore"):
-                    self._window_for(-t_hi * r, -t_lo * r)
-        Tp = self.g.period
-        for key, memo in other._memo.items():
-            if memo is not None:
-                th = np.mod(-memo[0], Tp)
-                order = th.argsort(kind="stable")
-                self._memo[key] = (th[order], -memo[1][order] * r, memo[2][order] * r)
-        if self.friction is not None and self._memo[1] is None:
-            self._memo[1] = self._memo[0]
-        self._gtau = {0: None, 1: None}
-        self._mirrored = True
-
-    def inherit(self, prev: "ContactModel") -> None:
-        """Start from the candidate window and the solved angles of the same design at another torque.
-
-        tau scales about as the deflection, (T/T_prev)^(1/p) for the law F ~ delta^p: the warm starts
-        and the window's tau range are scaled by it (the range is checked on the final grid)."""
-        r = (self.torque_sat / prev.torque_sat) ** (1.0 / self.law.exponent)
-        self._nominal_cache, self.scan_n = prev._nominal_cache, prev.scan_n        # the same design
-        if prev.window is not None:
-            z_lo, z_hi, m, (t_lo, t_hi) = prev.window
-            self.window = (z_lo, z_hi, m, (t_lo * r, t_hi * r))
-            self._sides = None if prev.sides is None else (self.window, prev.sides)
-            if r > 1.0:                   # a wider tau range: its pins recomputed (:meth:`_window_for`)
-                with np.errstate(all="ignore"):
-                    self._window_for(t_lo * r, t_hi * r)
-        dM = self.M_req - prev.M_req
-        for key, memo in prev._memo.items():
-            if memo is not None:
-                tau = memo[1] * r
-                gt = prev._gtau[key]
-                if gt is not None and gt.shape == tau.shape:
-                    # the Newton step of the new torque from the solution of the old one: tau + dM/G_tau (its error
-                    # is second order in the torque change), where G_tau < 0 and the step within 10x the scaling's
-                    with np.errstate(divide="ignore", invalid="ignore"):
-                        newton = memo[1] + dM / gt
-                    ok = (gt < 0.0) & np.isfinite(newton) & (np.abs(newton - memo[1]) <= 10.0 * np.abs(tau - memo[1]))
-                    tau = np.where(ok, newton, tau)
-                    # G_tau at the new torque differs by O(dM): good for the next pass's Newton step
-                    self._gtau[key] = gt
-                self._memo[key] = (memo[0], tau, memo[2] * r)
-
-    def contacts(self, pose: Pose, tau, branch=None) -> Contacts:
-        """Penetrations and normals with the satellite turned by tau from nominal (tau shape (n,))."""
-        c, s = np.cos(tau), np.sin(tau)
-        x = c * pose.x0 + s * pose.y0
-        y = -s * pose.x0 + c * pose.y0
-        return self.profile.contacts(pose, x, y, branch)
-
-    def moment(self, pose: Pose, tau, traction=None, ref=None):
-        """M(tau): total moment of the contact forces about O1, counter-clockwise positive [N·mm], (n,).
-
-        ``traction`` (c, z2, n), optional: signed tangential force per unit normal force, +q meaning a
-        force q F along +(z x n) on the satellite; its moment is q F (C . n), C = X + R_b n.
-        ``ref`` = (active, branch), optional: evaluate on a fixed active set and contact branch (the
-        smooth extension of one piece of the cycle, for one-sided derivatives at its ends).
-        """
-        if ref is None:
-            ct = self.contacts(pose, tau)
-            F = self.law.force(ct.delta)
-        else:
-            ct = self.contacts(pose, tau, ref[1])
-            F = self.law.force_on(ct.delta, ref[0])
-        if traction is None:
-            return (F * ct.arm).sum(axis=(0, 1))
-        return (F * (ct.arm + traction * (ct.xn + self.g.R_b))).sum(axis=(0, 1))
-
-    def _balance(self, pose: Pose, tau, traction=None, ref=None):
-        r"""G = M - M_req and its analytic derivative G_tau, with the contact data (pins.md §5.5).
-
-        With the moment arm A = X x n + q (X.n + R_b) of a pair, dn = (w . dX)(z x n) and
-        dX/dtau = (y, -x):
-
-        .. math::
-
-            G_\tau = \sum -F'(\delta)\,(X\times n)\,A + F\,(1 + w\cdot X_\tau)(X\cdot n - q\,X\times n)
-
-        Returns (G, G_tau, ct, F, Fp, A, q, x, y, G_geo), G_geo the part of G_tau at fixed deflections."""
-        c, s = np.cos(tau), np.sin(tau)
-        x = c * pose.x0 + s * pose.y0
-        y = -s * pose.x0 + c * pose.y0
-        if ref is None:
-            ct = self.profile.contacts(pose, x, y)
-            F, Fp = self.law.force_stiffness(ct.delta)
-        else:
-            ct = self.profile.contacts(pose, x, y, ref[1])
-            F, Fp = self.law.force_stiffness(ct.delta, ref[0])
-        q = 0.0 if traction is None else traction
-        A = ct.arm if traction is None else ct.arm + q * (ct.xn + self.g.R_b)
-        G, G_tau, G_geo = self._moment_slope(ct, F, Fp, A, q, x, y)
-        return G, G_tau, ct, F, Fp, A, q, x, y, G_geo
-
-    def _moment_slope(self, ct: Contacts, F, Fp, A, q, x, y):
-        """(G, G_tau, G_geo) of :meth:`_balance` from the contact data; G_geo: the part of G_tau from the turning
-        geometry at fixed deflections, sum F (1 + w.X_tau)(X.n - q X x n)."""
-        G = (F * A).sum(axis=(0, 1)) - self.M_req
-        one = 1.0 + (ct.wx * y - ct.wy * x)
-        G_geo = (F * one * (ct.xn - q * ct.arm)).sum(axis=(0, 1))
-        return G, (-Fp * ct.arm * A).sum(axis=(0, 1)) + G_geo, G_geo
 
     # -- equilibrium ------------------------------------------------------------------------------
     def solve(self, theta, xtol: float = 1e-15, traction=None, pose=None):
@@ -680,7 +177,7 @@ class ContactModel:
         # the iterate t and the bracket [lb, hb] of the sign changes met so far, over the angles still iterating (idx):
         # only these are evaluated; an angle's tau and flags are written when it stops
         t = tau.copy()
-        lb, hb = ((_filled(n, -np.inf), _filled(n, np.inf)) if bracket is None
+        lb, hb = ((filled(n, -np.inf), filled(n, np.inf)) if bracket is None
                   else (bracket[0].copy(), bracket[1].copy()))
         done = np.zeros(n, dtype=bool)
         failed = np.zeros(n, dtype=bool)
@@ -700,7 +197,7 @@ class ContactModel:
                 # a step below the spacing of floats (not inside the open bracket) leaves tau as it is
                 at = np.abs(step)
                 xt = np.maximum(4.0 * np.spacing(np.abs(t)), 1e-3 * xtol)
-                stop = REFINE_NEWTON_STOP if self._refining else NEWTON_STOP
+                stop = self.settings.refine_newton_stop if self._refining else self.settings.newton_stop
                 conv = ((G == 0.0) | (neg & (at <= xt)) | (ok & (at <= stop * np.abs(t)))
                         | (both & (hb - lb <= xt)))
                 fail = ~(ok | both | conv)
@@ -714,19 +211,19 @@ class ContactModel:
                     fin = idx[stop]
                     tau[fin], failed[fin], done[fin] = t[stop], fail[stop], conv[stop] & ~fail[stop]
                     keep = ~stop
-                    sub = _sub_pose(sub, keep)
+                    sub = sub_pose(sub, keep)
                     tr = None if tr is None else tr[..., keep]
                     idx, t, lb, hb = idx[keep], t[keep], lb[keep], hb[keep]
             else:
                 tau[idx] = t               # the iterations ran out: not done, solved below
         failed |= ~done
         if failed.any() and bracket is not None:
-            sub = _sub_pose(pose, failed)
+            sub = sub_pose(pose, failed)
             tr = None if traction is None else traction[..., failed]
             tau[failed] = _bracket_root(lambda t: self.moment(sub, t, tr) - self.M_req, sub.theta, bracket[0][failed],
                                         bracket[1][failed], xtol)
         elif failed.any():
-            tau[failed] = self._bracketed(_sub_pose(pose, failed),
+            tau[failed] = self._bracketed(sub_pose(pose, failed),
                                           None if traction is None else traction[..., failed], xtol)
         return tau
 
@@ -766,7 +263,7 @@ class ContactModel:
             at, cols = self.layout()[1][idx], np.arange(theta.size)[None, :]
             if (at < 0).any():
                 raise ValueError("piece sets over the layout's rows hold no pins outside one period's window")
-            cs = _contact_index(self.profile, sides)
+            cs = contact_index(self.profile, sides)
 
             def cut(a):
                 return None if a is None else a[cs, at[None], cols[None]]
@@ -829,7 +326,7 @@ class ContactModel:
                 return sol
             keep = np.flatnonzero(need)
             cols = cols[keep]
-            pose_c = _sub_pose(pose_c, keep)
+            pose_c = sub_pose(pose_c, keep)
             tr, ref_c = sub(traction, cols), None if ref is None else (sub(ref[0], cols), sub(ref[1], cols))
             tau, G, G_tau = part.tau[keep], part.residual[keep], part.g_tau[keep]
             with np.errstate(divide="ignore", invalid="ignore"):
@@ -838,14 +335,14 @@ class ContactModel:
                 break
             with np.errstate(divide="ignore", invalid="ignore"):
                 part, need = self._kinematics(pose_c, tau + step, tr, ref_c, step=True)
-            _put(sol, part, cols)
+            put_states(sol, part, cols)
         try:
             tau = self._solve(pose_c, tr, tau)
         except NoEquilibrium as exc:
             if traction is None:
                 raise
             raise Jam(exc.theta) from None
-        _put(sol, self._kinematics(pose_c, tau, tr, ref_c), cols)
+        put_states(sol, self._kinematics(pose_c, tau, tr, ref_c), cols)
         return sol
 
     def _friction_solve(self, pose: Pose, traction, tau, ref) -> Solution:
@@ -934,7 +431,7 @@ class ContactModel:
                     old_g = None if old_g is None else old_g[keep]
             th, ta, dt = (np.concatenate((o, v)) for o, v in zip(old, (th, ta, dt)))
             if gt is not None and old_g is None:
-                old_g = _filled(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
+                old_g = filled(old[0].shape, np.nan)    # unknown there (inherited, mirrored): no Newton warm start
             gt = None if old_g is None or gt is None else np.concatenate((old_g, gt))
         order = th.argsort(kind="stable")
         self._memo[key] = (th[order], ta[order], dt[order])
@@ -960,340 +457,18 @@ class ContactModel:
         inside = (h > 0.0) & (theta >= th[a]) & (theta <= th[b])
         with np.errstate(divide="ignore", invalid="ignore"):
             t = np.where(inside, (theta - th[a]) / h, 0.0)
-            herm = _hermite(t, h, ta[a], dt[a], ta[b], dt[b])
+            herm = hermite(t, h, ta[a], dt[a], ta[b], dt[b])
             if slope:
-                d_herm = _hermite_slope(t, h, ta[a], dt[a], ta[b], dt[b])
+                d_herm = hermite_slope(t, h, ta[a], dt[a], ta[b], dt[b])
                 return np.where(inside, herm, line), np.where(inside, d_herm, dt[near])
         return np.where(inside, herm, line)
 
-    def _sliding_at(self, pose: Pose, tau, dtau):
-        """The contacts' forces and sliding speeds v_t at the rotations ``tau`` with the turning rate d tau/d theta
-        ``dtau`` given (a warm start's interpolant, :meth:`_guess`), without an equilibrium: the first friction
-        directions of :meth:`_friction_fixed_point` (:meth:`traction` reads ``force`` and ``v_t``), as
-        :meth:`_kinematics` gives them but for its own d tau/d theta (v_t = O1'.n + (d tau/d theta - k/z1)(C.n),
-        pins.md §5.6).  Returns a :class:`Solution` holding tau, d tau/d theta, the forces and v_t."""
-        g = self.g
-        ct = self.contacts(pose, tau)
-        ang = (g.z2 / g.z1) * pose.theta - tau
-        v_t = self._tangential_speed(np.cos(ang), np.sin(ang), ct, dtau)
-        return Solution(pose.theta, tau, dtau, None, ct.delta, self.law.force(ct.delta), v_t, None, None)
-
-    def _tangential_speed(self, ca, sa, ct: Contacts, dtau):
-        """The sliding speed v_t of every contact per unit crank speed [mm/rad] (pins.md §5.6): with omega_H = 1,
-        v = z x O1' + w1 z x (C - O1) and v_t = v.(z x n) = O1'.n + w1 (C.n), O1' = e u(theta - phi), C = X + R_b n
-        in the satellite axes and w1 = d tau/d theta - k/z1; ``ca``, ``sa``: cos and sin of z2 theta/z1 - tau."""
-        g = self.g
-        return g.e * (ca * ct.nx + sa * ct.ny) + (-(g.k / g.z1) + dtau) * (ct.xn + g.R_b)
-
-    def _full(self, sol: Solution, idx, sides=None) -> Solution:
-        """The solution over the rows of :meth:`layout`: the candidates' values scattered, the others untouched by
-        contact (a state at crank angles outside [0, T_p] whose candidates the layout does not hold: over the union
-        of both); solved on some contacts of each pin only (``sides``, :attr:`sides`): over all of them, the others
-        out of reach like the pins out of the window (their normals and turning rates over the candidates 0: they
-        carry no force)."""
-        if idx is None:
-            return sol
-        rows, pos = self.layout()
-        if rows is not None and (pos[idx] < 0).any():
-            rows = np.union1d(rows, idx)
-            pos = np.full(self.g.z2, -1)
-            pos[rows] = np.arange(rows.size)
-        n = sol.theta.size
-        R = self.g.z2 if rows is None else rows.size
-        at, cols = pos[idx], np.arange(n)[None, :]
-
-        C, cs = self.profile.contacts_per_pin, _contact_index(self.profile, sides)
-
-        # the places of the states' (c, m, n) entries in the rows' (C, R, n), flat: one index for every field
-        flat = ((cs * R + at[None]) * n + cols[None]).ravel()
-
-        def scatter(a, fill):
-            if a is None:
-                return None
-            lead = a.shape[:-3]
-            out = _filled(lead + (C * R * n,), fill, a.dtype)
-            out[..., flat] = a.reshape(lead + (-1,))
-            return out.reshape(lead + (C, R, n))
-
-        def every(a):
-            # the geometry over the candidates (c, m, n): the contacts left out get 0 (no force, no moment)
-            if a is None or sides is None:
-                return a
-            out = np.zeros(a.shape[:-3] + (C,) + a.shape[-2:], dtype=a.dtype)
-            out[..., sides, :, :] = a
-            return out
-
-        cand = np.zeros((R, n), dtype=bool)
-        cand[at, cols] = True
-        return Solution(sol.theta, sol.tau, sol.dtau, sol.residual, scatter(sol.delta, -np.inf),
-                        scatter(sol.force, 0.0), scatter(sol.v_t, 0.0), None, None,
-                        scatter(sol.switch, np.nan), scatter(sol.branch, -1), cand, scatter(sol.ddelta, 0.0),
-                        sol.noise, sol.g_tau, every(sol.nx), every(sol.ny), every(sol.wx), every(sol.wy), sol.pins,
-                        rows, scatter(sol.traction, 0.0))
-
-    def reference(self, theta):
-        """(active, branch, traction) of the solved state at theta: the fixed sets of the pieces with these
-        midpoints (traction: the friction forces' directions with friction in the balance, else None)."""
-        sol = self.state(theta, phases=False)
-        return sol.force > 0.0, sol.branch, None if self.friction is None else self.traction(sol)
-
-    def traction(self, sol: Solution):
-        """Tangential force per unit normal force against the sliding (pins.md §5.5, §5.6).
-
-        Fixed pins: -f sign(v_t) at every contact.  Rolling pins: -mu_rot sign(v_t) at the contact with
-        the larger force (the rolling resistance), -f sign(v_t - omega_pin R_b) at the other one.
-        """
-        mu_eff, f, rolls = self.friction
-        v = sol.v_t
-        if not rolls:
-            return -f * np.sign(v)
-        lead = np.argmax(sol.force, axis=0)
-        v_lead = np.take_along_axis(v, lead[None], axis=0)
-        is_lead = np.arange(v.shape[0])[:, None, None] == lead[None]
-        return np.where(is_lead, -mu_eff * np.sign(v), -f * np.sign(v - v_lead))
-
-    def _kinematics(self, pose: Pose, tau, traction, ref=None, step: bool = False):
-        r"""Forces, d tau/d theta and the contact speeds at the solved tau (pins.md §5.6).
-
-        d tau/d theta = -G_theta/G_tau, both analytic (on the piece's active set and branches ``ref``);
-        at fixed tau, dX/dtheta = -Rot(-phi) O1' + (k/z1)(-y, x), so with V = dX/dtheta
-
-        .. math::
-
-            G_\theta = \sum F'(\delta)(n\cdot V) A + F\left[V\times n + (w\cdot V)(X\cdot n)
-                       + q\,(n\cdot V - (w\cdot V)(X\times n))\right]
-
-        ``step``: ``tau`` is a warm start; where its Newton step s = -G/G_tau is one that :meth:`_solve` would take
-        and stop after (G_tau < 0, |s| <= 1e-8 |tau|) and the arms' turn moves the moment by |G_geo s| <= 1e-11
-        |M_req| at most, the state is moved by it: tau + s, delta - (X x n) s (exact to O((R_p + e) s^2) ~ 1e-22 mm,
-        d delta/d tau = -(X x n)), the forces and slopes anew from those deflections, the residual with the arms'
-        turn G_geo s added; the geometry (normals, arms, positions) stays at ``tau`` (its change, (R_p + e) s ~ 1e-10
-        mm, is far below the deflections' resolution).  Returns (Solution, need): ``need`` marks the angles whose
-        warm start was farther (they need :meth:`_solve`).
-        """
-        g = self.g
-        th = pose.theta
-        G, G_tau, ct, F, Fp, A, q, x, y, G_geo = self._balance(pose, tau, traction)
-        need = None
-        if step:
-            with np.errstate(divide="ignore", invalid="ignore"):
-                s = -G / G_tau
-                small = REFINE_NEWTON_SMALL if self._refining else NEWTON_SMALL
-                take = ((G_tau < 0.0) & np.isfinite(s) & (np.abs(s) <= small * np.abs(tau))
-                        & (np.abs(G_geo * s) <= 1e-3 * small * abs(self.M_req)))
-            need = ~take
-            if take.any():
-                s = np.where(take, s, 0.0)
-                tau = tau + s
-                ct.delta = ct.delta - ct.arm * s
-                F, Fp = self.law.force_stiffness(ct.delta)
-                G, G_tau, _ = self._moment_slope(ct, F, Fp, A, q, x, y)
-                G = G + G_geo * s       # the moment at tau + s to first order in s: the arms' turn added
-        G_tau0 = G_tau
-        cr, F_r, Fp_r, A_r = ct, F, Fp, A
-        if ref is not None:
-            # the piece's sets differ from the solution's own only at some angles (a piece end, a contact at
-            # delta = 0): the one-sided derivatives are evaluated there alone, the others are the same
-            other = (ref[0] != (F > 0.0)).any(axis=(0, 1))
-            if ref[1] is not None:
-                other |= (ref[1] != ct.branch).any(axis=(0, 1))
-            if other.any():
-                cols = np.flatnonzero(other)
-                sub_ref = (ref[0][..., cols], None if ref[1] is None else ref[1][..., cols])
-                sub_q = traction[..., cols] if isinstance(traction, np.ndarray) else traction
-                _, gt, cs, fs, fps, As, _, _, _, _ = self._balance(_sub_pose(pose, cols), tau[cols], sub_q, sub_ref)
-                G_tau = G_tau.copy()
-                G_tau[cols] = gt
-                cr = Contacts(*(_with_cols(getattr(ct, k), getattr(cs, k), cols) for k in _CONTACT_FIELDS))
-                F_r, Fp_r, A_r = (_with_cols(a, b, cols) for a, b in ((F, fs), (Fp, fps), (A, As)))
-        kz = g.k / g.z1
-        ang = (g.z2 / g.z1) * th - tau
-        ca, sa = np.cos(ang), np.sin(ang)
-        vx = g.e * sa - kz * y
-        vy = -g.e * ca + kz * x
-        dd = cr.nx * vx + cr.ny * vy
-        om = cr.wx * vx + cr.wy * vy
-        d_arm = vx * cr.ny - vy * cr.nx + om * cr.xn
-        d_xn = dd - om * cr.arm
-        G_th = (Fp_r * dd * A_r + F_r * (d_arm + q * d_xn)).sum(axis=(0, 1))
-        dtau = -G_th / G_tau
-        v_t = self._tangential_speed(ca, sa, ct, dtau)
-        ddelta = (dd if cr is ct else ct.nx * vx + ct.ny * vy) - ct.arm * dtau
-        noise = EPS * (g.R_p + g.e) * np.abs(Fp * ct.arm).sum(axis=(0, 1))
-        switch = ct.switch if ct.psi_f is None else self.profile.switch(ct.psi_f)
-        # the friction forces solved with, per contact (a copy: the caller's array stays its own)
-        solved_q = None if traction is None else np.array(np.broadcast_to(traction, F.shape), dtype=float)
-        sol = Solution(th, tau, dtau, G, ct.delta, F, v_t, None, None, switch, ct.branch, None, ddelta, noise,
-                       G_tau0, ct.nx, ct.ny, ct.wx, ct.wy, pose.aux["idx"], traction=solved_q)
-        return (sol, need) if step else sol
-
-    def _picker(self, theta, rows=None):
-        """(idx, pick): the candidate pins (m, n) at crank angles theta (all pins when there is no window) and the
-        candidates' columns of an array over the pins ``rows`` (a state's :attr:`Solution.rows`; None: all z2),
-        (c, R, n) -> (c, m, n) (scalars and None unchanged)."""
-        idx = self.candidates(theta)
-        if idx is None:
-            idx = np.broadcast_to(self.pins, (self.g.z2, np.size(theta)))
-        cols = np.arange(np.size(theta))[None, :]
-        at = idx
-        if rows is not None:
-            at = np.minimum(np.maximum(rows.searchsorted(idx), 0), rows.size - 1)
-            if not np.array_equal(rows[at], idx):
-                raise ValueError("the state's rows do not hold every candidate pin")
-
-        def pick(a):
-            return a if a is None or np.ndim(a) == 0 else a[:, at, cols]
-
-        return idx, pick
-
-    def solved_contacts(self, sol: Solution):
-        """The contacts of a solved state (theta, tau, branches) over the candidate pins, and ``pick``: the
-        candidates' columns of an array over its rows (c, R, n) -> (c, m, n) (scalars and None unchanged)."""
-        idx, pick = self._picker(sol.theta, sol.rows)
-        return self.contacts(self.pose(sol.theta, idx), sol.tau, pick(sol.branch)), pick
-
-    def kept_contacts(self, sol: Solution):
-        """:meth:`solved_contacts` from the normals the solution kept (:class:`Solution`: nx, ny, wx, wy over its
-        ``pins``) when they are over this model's candidate pins at every angle; else evaluated anew.
-
-        At a piece end (a crank angle held twice, one-sided) they are evaluated anew all the same: where a
-        cycloidal pin passes to a crest corner its foot point on the design curve jumps there, and the kept one
-        may be the other side's (the profile's corner, whose curvature radius is 0); anew, from the nominal foot
-        point, with the state's branch."""
-        if sol.pins is None or sol.nx is None:
-            return self.solved_contacts(sol)
-        theta = sol.theta
-        idx, pick = self._picker(theta, sol.rows)
-        if sol.pins.shape != idx.shape or not np.array_equal(sol.pins, idx):
-            return self.solved_contacts(sol)
-        nx, ny, wx, wy = sol.nx, sol.ny, sol.wx, sol.wy
-        twice = np.concatenate(([False], theta[1:] == theta[:-1]))
-        ends = np.flatnonzero(twice | np.concatenate((twice[1:], [False])))
-        if ends.size:
-            anew = self.solved_contacts(_take(sol, ends))[0]
-            nx, ny, wx, wy = (_with_cols(a, getattr(anew, k), ends) for a, k in ((nx, "nx"), (ny, "ny"),
-                                                                                   (wx, "wx"), (wy, "wy")))
-        ct = Contacts(pick(sol.delta), nx, ny, None, None, wx=wx, wy=wy)
-        ct.branch = pick(sol.branch)
-        return ct, pick
-
-    def bearing_force(self, sol: Solution, traction=None, ct=None, pick=None):
-        """Force B of the crank bearing on the satellite (crank-frame axes turned by phi) [N], (2, n).
-
-        Satellite equilibrium: B = -sum (F n + q F (z x n)) (the coupling gives a pure torque); ``ct``, ``pick``: the
-        state's :meth:`solved_contacts`, when known."""
-        if ct is None:
-            ct, pick = self.solved_contacts(sol)
-        F, q = pick(sol.force), 0.0 if traction is None else pick(traction)
-        return -(F * (ct.nx - q * ct.ny)).sum(axis=(0, 1)), -(F * (ct.ny + q * ct.nx)).sum(axis=(0, 1))
 
 
-def _take(sol: Solution, sel) -> Solution:
-    """The states of ``sol`` at the crank angles ``sel`` (an index or slice over the last axis)."""
-    n = sol.theta.size
-    return Solution(**{f.name: (v[..., sel] if isinstance(v, np.ndarray) and v.shape[-1:] == (n,) and f.name != "rows"
-                                else v)
-                       for f in dataclasses.fields(sol) for v in (getattr(sol, f.name),)})
 
 
-def _put(sol: Solution, part: Solution, sel) -> None:
-    """The states of ``part`` written into ``sol`` at the crank angles ``sel`` (in place; theta is not written)."""
-    n = sol.theta.size
-    for f in dataclasses.fields(sol):
-        a = getattr(sol, f.name)
-        if isinstance(a, np.ndarray) and a.shape[-1:] == (n,) and f.name not in ("theta", "pins", "rows"):
-            a[..., sel] = getattr(part, f.name)
 
 
-def _sorted_places(thetas: list) -> list:
-    """Where the crank angles of each part land when all are sorted together (stable: ties keep the parts' order); one
-    part already sorted (the quadrature's nodes solved in one call): all of it in place (a slice)."""
-    if len(thetas) == 1 and not (thetas[0][1:] < thetas[0][:-1]).any():
-        return [slice(None)]
-    theta = np.concatenate(thetas)
-    place = np.empty(theta.size, dtype=np.int64)
-    place[theta.argsort(kind="stable")] = np.arange(theta.size)
-    bounds = np.cumsum([0] + [t.size for t in thetas])
-    return [place[a:b] for a, b in zip(bounds[:-1], bounds[1:])]
 
 
-def _merged(arrays: list, places: list, axis: int):
-    """The arrays written at their ``places`` (:func:`_sorted_places`) along ``axis``, the last one: the sorted
-    concatenation in one pass."""
-    a0 = arrays[0]
-    shape = list(a0.shape)
-    shape[axis] = sum(a.shape[axis] for a in arrays)
-    out = np.empty(shape, dtype=np.result_type(*arrays))
-    lead = (slice(None),) * axis
-    for a, p in zip(arrays, places):
-        out[lead + (p,)] = a
-    return out
 
-
-def _concat(parts: list[Solution]) -> Solution:
-    """The states of ``parts`` together, sorted by theta (stable), over their rows (over the union of them where the
-    parts' rows differ, :func:`_relayout`)."""
-    rows = parts[0].rows
-    if not all(_same_rows(p.rows, rows) for p in parts):
-        full = [p for p in parts if p.rows is None]
-        rows = None if full else functools.reduce(np.union1d, [p.rows for p in parts])
-        z2 = full[0].force.shape[-2] if full else None
-        parts = [_relayout(p, rows, z2) for p in parts]
-    places = _sorted_places([p.theta for p in parts])
-    theta = _merged([p.theta for p in parts], places, 0)
-
-    def cat(name, axis):
-        if any(getattr(p, name) is None for p in parts):
-            return None
-        return _merged([getattr(p, name) for p in parts], places, axis)
-
-    geometry = [None] * len(_GEOMETRY_FIELDS)
-    if all(p.pins is not None for p in parts) and len({p.pins.shape[0] for p in parts}) == 1:
-        geometry = [cat(name, getattr(parts[0], name).ndim - 1) for name in _GEOMETRY_FIELDS]
-
-    return Solution(theta, cat("tau", 0), cat("dtau", 0), cat("residual", 0), cat("delta", 2),
-                    cat("force", 2), cat("v_t", 2), cat("phase", 1), cat("zeta", 1),
-                    None if parts[0].switch is None else cat("switch", 3),
-                    None if parts[0].branch is None else cat("branch", 2),
-                    None if any(p.cand is None for p in parts) else cat("cand", 1), cat("ddelta", 2),
-                    cat("noise", 0), cat("g_tau", 0), *geometry, rows,
-                    None if parts[0].traction is None else cat("traction", 2))
-
-
-def _same_rows(a, b) -> bool:
-    """Whether two :attr:`Solution.rows` are the same pins."""
-    return (a is None and b is None) or (a is not None and b is not None and np.array_equal(a, b))
-
-
-def _relayout(sol: Solution, rows, z2: int | None = None) -> Solution:
-    """``sol`` over the pins ``rows`` (sorted; None: all ``z2``): each per-pin array's rows of these pins, a pin that
-    ``sol`` does not hold with the values of a pin out of reach (no contact; :data:`_PIN_FILL`; phases then None, to
-    be computed, :meth:`ContactModel.phases`)."""
-    if _same_rows(sol.rows, rows):
-        return sol
-    n_src = sol.force.shape[-2]
-    src = np.arange(n_src) if sol.rows is None else sol.rows
-    dst = np.arange(z2) if rows is None else rows
-    held = np.isin(dst, src).all()
-    out = {}
-    for name in _PIN_FIELDS:
-        a = getattr(sol, name)
-        if name == "cand" and a is None and not held:
-            a = np.ones((n_src, sol.theta.size), dtype=bool)
-        if a is None or (name in ("phase", "zeta") and not held):
-            out[name] = None
-        else:
-            out[name] = _over_rows(a, src, dst, _PIN_FILL.get(name))
-    return dataclasses.replace(sol, rows=rows, **out)
-
-
-def _over_rows(a, src, dst, fill):
-    """``a`` (..., len(src), n) over the pins ``src`` (sorted) as (..., len(dst), n) over the pins ``dst`` (sorted): a
-    pin that ``a`` does not hold gets ``fill``."""
-    at = np.minimum(np.maximum(src.searchsorted(dst), 0), src.size - 1)
-    have = src[at] == dst
-    if have.all():
-        return a[..., at, :]
-    b = _filled(a.shape[:-2] + (dst.size, a.shape[-1]), fill, a.dtype)
-    b[..., have, :] = a[..., at[have], :]
-    return b

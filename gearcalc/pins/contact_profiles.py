@@ -19,14 +19,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..roots import bisect
-from .checks import tooth_too_large
 from .forces import pin_phase
 from .geometry import REDUCER, Cycloid, crest_cutoff, min_curvature_radius, pin_centre_curve, tooth_profile
+from .profiles import tooth_too_large
 
 __all__ = [
     "tooth_centre_distance", "zero_backlash_tooth_circle", "full_tooth",
     "Pose", "Contacts", "CircularProfile", "CycloidProfile", "InadmissibleProfile", "PROFILE_RULES",
-    "circular_profile", "cycloid_profile",
+    "circular_profile", "cycloid_profile", "circular_teeth", "cycloidal_profile",
 ]
 
 
@@ -293,13 +293,24 @@ class CircularProfile:
     """Convex circular-arc teeth: z1 circles of radius rho_t centred at R_t u((2m+1) pi/z1) (pins.md §5.3).
 
     Each pin meets the two teeth adjacent to it in polar angle: c = 2 contacts per pin, with
-    delta = R_b + rho_t - |X_j - T_m| and n = (T_m - X_j)/|T_m - X_j|.
+    delta = R_b + rho_t - |X_j - T_m| and n = (T_m - X_j)/|T_m - X_j|.  A
+    :class:`gearcalc.pins.profiles.ToothProfile`.
     """
 
     contacts_per_pin = 2
+    play_free = False
+    """No free play by construction: set on the zero-backlash tooth circle (:func:`circular_teeth`)."""
 
     def __init__(self, g: Cycloid, tooth_radius: float, tooth_circle_radius: float):
         self.g, self.rho_t, self.R_t = g, float(tooth_radius), float(tooth_circle_radius)
+
+    def switch(self, psi_f):
+        """None: :meth:`contacts` returns no foot-point phases (a circle-circle contact has one geometry)."""
+        return None
+
+    def summary_fields(self) -> dict:
+        """tooth_radius_mm and tooth_circle_radius_mm (pins.md §8)."""
+        return {"tooth_radius_mm": self.rho_t, "tooth_circle_radius_mm": self.R_t}
 
     def prepare(self, pose: Pose, trig=None, sides=None) -> None:
         """The centres of the teeth each pin meets, (c, m, n): c = 0 the tooth just below the pin's polar angle, 1 the
@@ -336,12 +347,14 @@ class CycloidProfile:
     pin-centre curve c_b of the pin's family, found by a safeguarded Newton search on beta at the
     nominal pose and updated by Newton steps for each tau; for k >= 2 a pin whose foot point lies
     beyond its tooth-space segment (|psi| > psi*) faces the crest corner instead.
+    A :class:`gearcalc.pins.profiles.ToothProfile`.
     """
 
     contacts_per_pin = 1
 
     def __init__(self, g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float = 0.0):
         self.g = g
+        self.play_free = equidistant_mod == 0.0 and radial_mod == 0.0   # the paper's cycloid: no free play
         self.dRb = float(equidistant_mod)
         Rp = g.R_p + radial_mod
         k = g.k
@@ -349,6 +362,10 @@ class CycloidProfile:
         self.psi_star = crest_cutoff(self.design)
         self.crests = g.k >= 2
         self._corner_table = None
+
+    def summary_fields(self) -> dict:
+        """None of its own (pins.md §8: the tooth fields are the circular profile's)."""
+        return {}
 
     def _trig(self, beta, fam):
         """cos and sin of beta and of a = Z_e beta - 2 pi b/k."""
@@ -727,3 +744,22 @@ def cycloid_profile(g: Cycloid, radial_mod: float = 0.0, equidistant_mod: float 
     if prof.design.R_b >= rho_c:
         raise InadmissibleProfile("undercut", R_b=prof.design.R_b, rho_c=rho_c)
     return prof
+
+
+# ============================================================ the registered factories (gearcalc.pins.profiles)
+
+def circular_teeth(g: Cycloid, params) -> tuple[CircularProfile, bool]:
+    """The factory of the profile "circular" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`circular_profile`
+    from a design's values (``params``: :class:`gearcalc.pins.profiles.ProfileParams`; "full" and
+    "zero_backlash" as None), marked play-free on the zero-backlash tooth circle."""
+    prof, overlap = circular_profile(g, None if params.tooth_radius == "full" else params.tooth_radius,
+                                     None if params.tooth_circle_radius == "zero_backlash"
+                                     else params.tooth_circle_radius)
+    prof.play_free = params.tooth_circle_radius == "zero_backlash"
+    return prof, overlap
+
+
+def cycloidal_profile(g: Cycloid, params) -> tuple[CycloidProfile, bool]:
+    """The factory of the profile "cycloidal" (:data:`gearcalc.pins.profiles.PROFILES`): :func:`cycloid_profile`
+    with the design's modifications; no overlap."""
+    return cycloid_profile(g, params.radial_mod, params.equidistant_mod), False

@@ -12,31 +12,11 @@ from __future__ import annotations
 
 import numpy as np
 
+from .friction import contact_loss_power, rolling_condition, rotating_loss_coefficient
+
 
 __all__ = ["rolling_condition", "rotating_loss_coefficient", "sliding_speed", "pin_spin", "contact_loss_power",
            "efficiency_multiplier", "efficiency_reducer", "willis_efficiencies"]
-
-
-def rolling_condition(sliding_friction, bushing_radius, axle_friction, axle_radius, rolling_coefficient) -> bool:
-    """Whether contact friction can drive the bushing: f R_b >= f_c r + f_k  (pins.md §4.5).
-
-    Examples
-    --------
-    >>> rolling_condition(0.1, 1.95, 0.1, 0.95, 0.01)
-    True
-    """
-    return sliding_friction * bushing_radius >= axle_friction * axle_radius + rolling_coefficient
-
-
-def rotating_loss_coefficient(axle_friction, axle_radius, rolling_coefficient, bushing_radius):
-    """Equivalent friction coefficient of a rolling bushing, mu_rot = (f_c r + f_k)/R_b  (pins.md §4.6).
-
-    Examples
-    --------
-    >>> round(rotating_loss_coefficient(0.1, 0.95, 0.01, 1.95), 12)
-    0.053846153846
-    """
-    return (axle_friction * axle_radius + rolling_coefficient) / bushing_radius
 
 
 def sliding_speed(rho, bushing_radius, omega_V):
@@ -59,17 +39,6 @@ def pin_spin(rho, bushing_radius, omega_V):
     12.0
     """
     return -omega_V * (np.asarray(rho) - bushing_radius) / bushing_radius
-
-
-def contact_loss_power(force, speed, mu_eff):
-    """Loss at one contact, P = mu_eff F v 1e-3 [W] (F [N], v [mm/s])  (pins.md §4.6).
-
-    Examples
-    --------
-    >>> float(contact_loss_power(100.0, 1000.0, 0.1))
-    10.0
-    """
-    return mu_eff * np.asarray(force) * np.asarray(speed) * 1e-3
 
 
 def efficiency_multiplier(loss_ratio_mean):

@@ -272,12 +272,15 @@ def crest_cutoff(g: Cycloid) -> float:
     """
     if g.k == 1:
         return math.pi
-    return float(crest_cutoffs(_as_arrays(g))[0])
+    return float(crest_cutoffs(as_arrays(g))[0])
 
 
-def _as_arrays(g: Cycloid) -> Cycloid:
+def as_arrays(g: Cycloid) -> Cycloid:
     """The same gear with every field a one-element array (for the functions vectorised over gears)."""
     return Cycloid(*(np.atleast_1d(v) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
+
+
+_as_arrays = as_arrays          # its former name (issue 35 made it public): for code written against that one
 
 
 def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: int = 2) -> np.ndarray:
@@ -476,7 +479,7 @@ def spin_reversal_phase(g: Cycloid) -> float | None:
     >>> spin_reversal_phase(g) is None
     True
     """
-    psi_0 = float(spin_reversal_phases(_as_arrays(g))[0])
+    psi_0 = float(spin_reversal_phases(as_arrays(g))[0])
     return None if math.isnan(psi_0) else psi_0
 
 
@@ -488,7 +491,7 @@ def spin_reversal_phases(g: Cycloid) -> np.ndarray:
     Examples
     --------
     >>> g = Cycloid.from_curtate_ratio(21, 22, 1.0, 0.999, 0.1)
-    >>> p = float(spin_reversal_phases(_as_arrays(g))[0])
+    >>> p = float(spin_reversal_phases(as_arrays(g))[0])
     >>> round(float(pitch_distance(p, g)), 12)     # rho(psi_0) = R_b
     0.1
     """

@@ -19,7 +19,7 @@ import numpy as np
 
 from ..quadrature import QuadResult, integrate_pieces
 from .cycle import cycle_breakpoints, disc_offsets, disc_sum_peak, sum_over_discs
-from .geometry import _as_arrays, crest_cutoffs, Cycloid, min_curvature_radius, spin_reversal_phases
+from .geometry import as_arrays, crest_cutoffs, Cycloid, min_curvature_radius, spin_reversal_phases
 
 __all__ = ["CycleIntegral", "mean_loss_ratio", "FINAL_BLOCK_CELLS", "NODE_ROWS", "GRID_ROWS", "FIRST_LEVELS_MAX",
            "first_levels", "cycle_pieces", "TOO_FEW_TEETH", "UNDERCUT", "TOO_COSTLY", "DISC_SAMPLES_MAX",
@@ -384,7 +384,7 @@ def cycle_pieces(g: Cycloid, psi_star, psi_0):
 
     Examples
     --------
-    >>> g = _as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> g = as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> a, b, owner = cycle_pieces(g, crest_cutoffs(g), np.array([np.nan]))
     >>> a.size, float(a[0]), float(b[-1]), owner.tolist()
     (2, 0.0, 1.0, [0, 0])
@@ -730,7 +730,7 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
 
     Examples
     --------
-    >>> g = _as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> g = as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> r = ideal_cycles(g, 1)
     >>> bool(r.status[0] == 0 and r.converged[0] and r.loss_ratio_err[0] <= 1e-6 * r.loss_ratio[0])
     True
@@ -1001,7 +1001,7 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
     """
     if mu_eff == 0.0:
         return CycleIntegral(0.0, 0.0, True, 0, None)
-    ga = _as_arrays(g)
+    ga = as_arrays(g)
     ps = np.array([psi_star], dtype=float)
     a, b, owner = cycle_pieces(ga, ps, np.array([np.nan if psi_0 is None else psi_0]))
     unit = _unit_loss_ratio(_GearTable.of(ga, ps), owner)

@@ -16,10 +16,21 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import units
-from .efficiency import efficiency_multiplier, efficiency_reducer, rolling_condition, rotating_loss_coefficient
+from .efficiency import efficiency_multiplier, efficiency_reducer
+from .friction import friction_regime, peak_coefficient
 
-__all__ = ["SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime", "efficiency_reducer_err", "shaft_torques",
-           "EfficiencyTorques", "efficiency_torques", "ScaledCycle", "scale_unit_cycle"]
+__all__ = ["floats", "SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime", "efficiency_reducer_err",
+           "shaft_torques", "EfficiencyTorques", "efficiency_torques", "ScaledCycle", "scale_unit_cycle"]
+
+
+def floats(vals):
+    """A float array from a list of numbers and None (NaN): a column of design values (:mod:`gearcalc.pins.columns`,
+    :mod:`gearcalc.pins.checks`).
+
+    >>> floats([1, None]).tolist()
+    [1.0, nan]
+    """
+    return np.array([np.nan if v is None else v for v in vals], dtype=float)
 
 
 # The friction regime and the mapping from loss ratios to efficiencies and torques, for one operating
@@ -121,57 +132,6 @@ def pin_circle(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, xp=ARRAY_
     R_p = xp.where(use_K1, eccentricity * z2 / (k * curtate_ratio), pin_circle_radius)
     one_minus_K1 = xp.where(use_K1, 1.0 - curtate_ratio, (k * R_p - eccentricity * z2) / (k * R_p))
     return R_p, one_minus_K1
-
-
-def friction_regime(rotating, bushing_radius, axle_radius, sliding_friction, rolling_coefficient, axle_friction,
-                    xp=ARRAY_OPS):
-    r"""Effective friction coefficient and whether the pins roll, per operating point (pins.md §4.5-4.6).
-
-    .. math::
-
-        \mu_{eff} = \begin{cases} \mu_{rot} = (f_c r + f_k)/R_b & \text{rotating and } f R_b \ge f_c r + f_k \\
-        f & \text{otherwise (fixed pins, or bushings that cannot turn: they slide)} \end{cases}
-
-    Parameters
-    ----------
-    rotating : bool or array_like of bool
-        whether the pins carry rotating bushings.
-    bushing_radius : float or array_like
-        R_b [mm].
-    axle_radius : float or array_like
-        r [mm]; NaN (absent) for fixed pins.
-    sliding_friction : float or array_like
-        f, tooth-pin sliding friction [-].
-    rolling_coefficient : float or array_like
-        f_k [mm].
-    axle_friction : float or array_like
-        f_c [-].
-    xp : :data:`ARRAY_OPS` or :data:`SCALAR_OPS`
-
-    Returns
-    -------
-    mu_eff : float or ndarray
-        [-].
-    rolls : bool or ndarray of bool
-        rotating pins whose rolling condition holds (false for fixed pins).
-
-    Examples
-    --------
-    >>> mu, rolls = friction_regime(True, 1.95, 0.95, 0.1, 0.01, 0.1, SCALAR_OPS)
-    >>> round(mu, 12), bool(rolls)
-    (0.053846153846, True)
-    >>> friction_regime(np.array([True, False]), 1.95, np.array([0.95, np.nan]), 0.1, 0.01, 0.1)[0].tolist()
-    [0.05384615384615384, 0.1]
-
-    References
-    ----------
-    .. [1] Prudnikov (seed 000), cited in full in :mod:`gearcalc.pins`; pins.md §4.5-4.6.
-    """
-    rolls = rotating & rolling_condition(sliding_friction, bushing_radius, axle_friction, axle_radius,
-                                         rolling_coefficient)          # NaN r (fixed pins) compares False
-    mu = xp.where(rolls, rotating_loss_coefficient(axle_friction, axle_radius, rolling_coefficient, bushing_radius),
-                  sliding_friction)
-    return mu, rolls
 
 
 def efficiency_reducer_err(loss_ratio_mean, loss_ratio_err):
@@ -418,7 +378,7 @@ def scale_unit_cycle(unit, loss_ratio_mean, mu_eff, rolls, sliding_friction, tor
     P = mu_eff * T_sat * w_V
     return ScaledCycle(
         torque_sat=T_sat, omega_V=w_V, loss_mean=loss_ratio_mean * torque_V * w_V, loss_peak=P * unit.total,
-        loss_max=P * unit.loss, loss_bound=xp.where(rolls, mu_eff, sliding_friction) * F_max * v_max * 1e-3,
+        loss_max=P * unit.loss, loss_bound=peak_coefficient(mu_eff, rolls, sliding_friction, xp) * F_max * v_max * 1e-3,
         force_max=F_max, force_phase=xp.where(xp.isnan(F_max), xp.nan, xp.degrees(unit.force_phase)),
         loss_phase=xp.where(xp.isnan(P), xp.nan, xp.degrees(unit.loss_phase)),
         spin_abs_max=xp.where(rolls, spin_rpm * xp.maximum(xp.abs(unit.rel_min), xp.abs(unit.rel_max)), zero),

@@ -25,6 +25,7 @@ from .. import hertz, units
 from .consistent import consistent_cycles
 from .cycle import disc_offsets, sum_over_discs
 from .efficiency import efficiency_multiplier, efficiency_reducer
+from .friction import peak_coefficient
 from .geometry import MULTIPLIER, REDUCER
 from .operating import ARRAY_OPS, SCALAR_OPS, efficiency_reducer_err, shaft_torques
 
@@ -218,7 +219,7 @@ def pin_loss_bound(mu_eff, rolls, sliding_friction, force_max, speed_max, xp=ARR
     ----------
     Prudnikov, eq. (7); pins.md §8 (pin_loss_bound_W).
     """
-    return xp.where(rolls, mu_eff, sliding_friction) * force_max * speed_max * 1e-3
+    return peak_coefficient(mu_eff, rolls, sliding_friction, xp) * force_max * speed_max * 1e-3
 
 
 @dataclass(frozen=True)
@@ -320,7 +321,7 @@ def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, 
     Examples
     --------
     >>> from gearcalc import pins
-    >>> g = pins.geometry._as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> g = pins.geometry.as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> cyc = pins.ideal_cycles(g, 1)
     >>> cc = pins.consistent_cycles(cyc, np.array([0]), np.array([0.1]), mode=pins.REDUCER)
     >>> c = {f: getattr(cc, f)[..., 0].tolist() for f in cc.__dataclass_fields__}
@@ -400,7 +401,7 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
     Examples
     --------
     >>> from gearcalc import pins
-    >>> g = pins.geometry._as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
+    >>> g = pins.geometry.as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> cyc = pins.ideal_cycles(g, np.array([1]))
     >>> one = np.array([True])
     >>> p, cons = consistent_outputs(cyc, np.array([0]), 0, one, ~one, 0.1, 1.0, 10.0, np.nan, False, False,

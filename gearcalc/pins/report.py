@@ -235,7 +235,7 @@ def mode_warnings(modes, mode: str) -> list[str]:
     """The warnings of the contact level's modes (:class:`gearcalc.pins.contact.ModeCycles`): the requested mode
     jams (its numbers are the frictionless balance's), a torque fixed point that did not settle, a cycle whose nodes
     contradict their pieces' contact sets (:attr:`gearcalc.pins.contact.ContactCycle.held`)."""
-    from .contact_cycle import SCAN_MAX, TRAVEL_MAX, deflection_sized, pin_travel    # the contact level ran: loaded
+    from .contact_cycle import deflection_sized, pin_travel    # the contact level ran: loaded
     out = []
     multiplier = mode == "multiplier"
     if multiplier in modes.jams:
@@ -247,19 +247,20 @@ def mode_warnings(modes, mode: str) -> list[str]:
         if not t.settled:
             out.append(f"the torque fixed point T_V = u T_H/eta did not settle in {len(t.history)} passes (loss ratios "
                        f"{t.history[-2]:.10g}, {t.history[-1]:.10g})")
-        sized = deflection_sized(t.cycle.sol.tau, t.model.g)
+        st = t.model.settings
+        sized = deflection_sized(t.cycle.sol.tau, t.model.g, st.travel_max)
         if not sized:
             travel = pin_travel(t.cycle.sol.tau, t.model.g)
             out.append(f"in the {'multiplier' if mult else 'reducer'} mode the satellite turns by up to "
                        f"{fmt(math.degrees(float(abs(t.cycle.sol.tau).max())))} deg under the load: a pin centre "
-                       f"moves by {fmt(travel)} of the pin radius from its nominal place (more than {TRAVEL_MAX:g}: "
+                       f"moves by {fmt(travel)} of the pin radius from its nominal place (more than {st.travel_max:g}: "
                        f"not a deflection; the balance can have several solutions, pins.md §7); its loss ratio is not "
                        f"known to the stated error")
         if not t.cycle.held:
             # a satellite that turns beyond a deflection is not scanned denser (pins.md §6): the text says which
             scan = ("with the sign changes scanned as usual (not denser: the satellite turns beyond a deflection, "
                     "above)" if not sized else
-                    f"even with the sign changes scanned on {SCAN_MAX} angles (it changes between them, or the "
+                    f"even with the sign changes scanned on {st.scan_max} angles (it changes between them, or the "
                     f"satellite turns so far under the load that its balance has several solutions)")
             out.append(f"the {'multiplier' if mult else 'reducer'} mode's cycle does not hold: at some solved crank "
                        f"angles a contact or a sliding direction differs from its piece's {scan}, pins.md §6-7; its "
@@ -304,7 +305,7 @@ def contact_fields(design, g, law, geo, tc, pk, metrics, backlash, residual, rol
         # the quadrature, the torque fixed point, the nodes' check of the pieces' contact sets and a deflection-sized
         # rotation (pins.md §6-7)
         "tolerance_met": (bool(cyc.converged) and bool(tc.settled) and bool(cyc.held)
-                          and deflection_sized(sol.tau, g)),
+                          and deflection_sized(sol.tau, g, tc.model.settings.travel_max)),
         "pin_force_max_N": pk.force if math.isfinite(tc.torque_V) else None,
         "pin_force_max_phase_deg": math.degrees(pk.force_phase), "loaded_pins_min": pk.loaded_min,
         "loaded_pins_max": pk.loaded_max,
@@ -376,8 +377,7 @@ def operating_fields(ov) -> dict:
 def contact_summary(design, g, law, profile, cl, model: str) -> dict:
     """The contact level's summary fields (pins.md §8) from :class:`gearcalc.pins.contact_level.ContactLevel`
     ``cl`` of ``design`` with gear ``g``, contact ``law``, satellite ``profile`` and friction ``model``."""
-    geo = ({"tooth_radius_mm": profile.rho_t, "tooth_circle_radius_mm": profile.R_t}
-           if design["gearing.profile"] == "circular" else {})
+    geo = profile.summary_fields()
     s = contact_fields(design, g, law, geo, cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual,
                        cl.rolling_ok)
     s.update(efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, design["load.mode"] == "multiplier", plain))

@@ -8,6 +8,7 @@ from __future__ import annotations
 from ..calculator import REQUIRED, Field, Table
 from ..registry import LEVELS
 from ..units import MAX_FORCE_N, MAX_FRICTION, MAX_LENGTH_MM, MAX_SPEED_RPM, MAX_TEETH, MAX_TORQUE_NM, MIN_LENGTH_MM
+from .profiles import PROFILES
 
 __all__ = ["MODELS", "MAX_DISCS", "IDEAL_WORK_MAX", "IDEAL_SWEEP_WORK_MAX", "CONTACT_NODES_MAX", "CONTACT_WORK_MAX",
            "GROUP_PINS_MAX", "GROUP_TOL_MIN", "MAX_STIFFNESS_N_PER_MM", "TABLES", "HEADER", "SUMMARY_KEYS",
@@ -52,7 +53,7 @@ TABLES = (
     ), doc="The paper's per-pin formula level, eqs. (3)-(7): give this table alone to run it",
         optional=True, in_template=False),
     Table("gearing", (
-        Field("profile", "string", REQUIRED, "satellite tooth profile", choices=("cycloidal", "circular"),
+        Field("profile", "string", REQUIRED, "satellite tooth profile", choices=tuple(PROFILES),
               example="cycloidal"),
         Field("satellite_teeth", "integer", REQUIRED, f"z1, teeth of the satellite (at most {MAX_TEETH - 1})", ge=2,
               le=MAX_TEETH - 1, example=20),

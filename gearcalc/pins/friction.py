@@ -1,0 +1,279 @@
+r"""KHV pin gearing: the friction at the pin-tooth contacts, written once for every level (pins.md §4.5, §4.6, §5.5,
+§5.6).
+
+Two pieces, each an extension point:
+
+- a **friction law** (:class:`FrictionLaw`): the coefficient of a sliding contact from its sliding speed and its
+  contact pressure, vectorised.  :class:`Coulomb` (a constant f) is the one the design keys give today; a speed- or
+  pressure-dependent law is one class with a ``coefficient`` method plus a :func:`register_friction_law` call
+  (:data:`FRICTION_LAWS`, :func:`friction_law` by name; an unknown name is a ValueError).
+- the **rolling-pin rule**: a rotating bushing rolls where contact friction can drive it,
+
+  .. math:: f R_b \ge f_c r + f_k \quad\Rightarrow\quad \mu_{eff} = \mu_{rot} = (f_c r + f_k)/R_b,
+
+  else it slides with f (:func:`rolling_condition`, :func:`rotating_loss_coefficient`, :func:`friction_regime`).  At
+  the contact level a pin touched twice rolls on the contact with the larger force (it sets the spin
+  omega_pin = v_t/R_b and loses mu_rot F |v_t|) and the other contact slides at |v_t - omega_pin R_b| with f
+  (:class:`PinFriction`: :meth:`~PinFriction.traction`, :meth:`~PinFriction.losses`,
+  :meth:`~PinFriction.sign_components`).
+
+The ideal level (:mod:`gearcalc.pins.ideal`, :mod:`gearcalc.pins.cycle`) integrates the loss ratio for a unit
+coefficient and scales it by mu_eff: it assumes the coefficient does not vary over the cycle (a constant law:
+``FrictionLaw.constant``); the contact level evaluates the law per contact.
+
+Pure functions over floats and numpy arrays; units N, mm, rad/s, W.  Every level imports the rule from here: the
+ideal level through :func:`friction_regime` and :func:`peak_coefficient`, the contact level through
+:class:`PinFriction`.
+"""
+from __future__ import annotations
+
+from typing import NamedTuple, Protocol, runtime_checkable
+
+import numpy as np
+
+__all__ = ["FrictionLaw", "Coulomb", "FRICTION_LAWS", "register_friction_law", "friction_law", "rolling_condition",
+           "rotating_loss_coefficient", "friction_regime", "peak_coefficient", "contact_loss_power", "PinFriction"]
+
+
+# ============================================================ the law of a sliding contact
+
+@runtime_checkable
+class FrictionLaw(Protocol):
+    """The friction coefficient of a sliding pin-tooth contact (the extension point of pins.md §4.5, §5.5).
+
+    name : the law's name in :data:`FRICTION_LAWS`.
+    constant : True when the coefficient depends on neither speed nor pressure (the ideal level, which scales a
+    unit loss ratio by the coefficient, needs one).
+
+    ``coefficient(speed, pressure)`` gives mu [-] at the sliding speeds [mm/s per rad/s of crank speed at the contact
+    level] and contact pressures [N, the normal force; None where the caller has none], elementwise over numpy arrays
+    of any shape (broadcast): a float is allowed for a constant law, and keeps the arithmetic of ``f * F * v``.
+    """
+
+    name: str
+    constant: bool
+
+    def coefficient(self, speed, pressure=None):
+        ...
+
+
+class Coulomb(NamedTuple):
+    """Coulomb's law: mu = f whatever the speed and the pressure.
+
+    Examples
+    --------
+    >>> Coulomb(0.1).coefficient(np.array([0.0, 5.0]))
+    0.1
+    >>> isinstance(Coulomb(0.1), FrictionLaw)
+    True
+    """
+
+    f: float
+    name: str = "coulomb"
+    constant: bool = True
+
+    def coefficient(self, speed, pressure=None):
+        """f (a float: it broadcasts against any speeds and pressures)."""
+        return self.f
+
+
+FRICTION_LAWS = {"coulomb": Coulomb}
+"""Friction laws by name: name -> a class (or function) taking the law's parameters and returning a
+:class:`FrictionLaw`."""
+
+
+def register_friction_law(name: str, make) -> None:
+    """Add a friction law by name: ``make(**params)`` returns a :class:`FrictionLaw` (one module plus this call)."""
+    FRICTION_LAWS[name] = make
+
+
+def friction_law(name: str, *args, **params) -> FrictionLaw:
+    """The friction law ``name`` (:data:`FRICTION_LAWS`) with its parameters.
+
+    Raises
+    ------
+    ValueError
+        For a name that is not a known law; the message lists the known ones.
+
+    Examples
+    --------
+    >>> friction_law("coulomb", 0.1).coefficient(1.0)
+    0.1
+    >>> friction_law("coulmb", 0.1)
+    Traceback (most recent call last):
+        ...
+    ValueError: unknown friction law 'coulmb'; known: coulomb
+    """
+    try:
+        make = FRICTION_LAWS[name]
+    except (KeyError, TypeError):
+        raise ValueError(f"unknown friction law {name!r}; known: {', '.join(FRICTION_LAWS)}") from None
+    return make(*args, **params)
+
+
+# ============================================================ the rolling-pin rule (pins.md §4.5-4.6)
+
+def rolling_condition(sliding_friction, bushing_radius, axle_friction, axle_radius, rolling_coefficient) -> bool:
+    """Whether contact friction can drive the bushing: f R_b >= f_c r + f_k  (pins.md §4.5).
+
+    Examples
+    --------
+    >>> rolling_condition(0.1, 1.95, 0.1, 0.95, 0.01)
+    True
+    """
+    return sliding_friction * bushing_radius >= axle_friction * axle_radius + rolling_coefficient
+
+
+def rotating_loss_coefficient(axle_friction, axle_radius, rolling_coefficient, bushing_radius):
+    """Equivalent friction coefficient of a rolling bushing, mu_rot = (f_c r + f_k)/R_b  (pins.md §4.6).
+
+    Examples
+    --------
+    >>> round(rotating_loss_coefficient(0.1, 0.95, 0.01, 1.95), 12)
+    0.053846153846
+    """
+    return (axle_friction * axle_radius + rolling_coefficient) / bushing_radius
+
+
+def friction_regime(rotating, bushing_radius, axle_radius, sliding_friction, rolling_coefficient, axle_friction,
+                    xp=None):
+    r"""Effective friction coefficient and whether the pins roll, per operating point (pins.md §4.5-4.6).
+
+    .. math::
+
+        \mu_{eff} = \begin{cases} \mu_{rot} = (f_c r + f_k)/R_b & \text{rotating and } f R_b \ge f_c r + f_k \\
+        f & \text{otherwise (fixed pins, or bushings that cannot turn: they slide)} \end{cases}
+
+    Parameters
+    ----------
+    rotating : bool or array_like of bool
+        whether the pins carry rotating bushings.
+    bushing_radius : float or array_like
+        R_b [mm].
+    axle_radius : float or array_like
+        r [mm]; NaN (absent) for fixed pins.
+    sliding_friction : float or array_like
+        f, tooth-pin sliding friction [-].
+    rolling_coefficient : float or array_like
+        f_k [mm].
+    axle_friction : float or array_like
+        f_c [-].
+    xp : :data:`gearcalc.pins.operating.ARRAY_OPS` or :data:`~gearcalc.pins.operating.SCALAR_OPS`; None: numpy.
+
+    Returns
+    -------
+    mu_eff : float or ndarray
+        [-].
+    rolls : bool or ndarray of bool
+        rotating pins whose rolling condition holds (false for fixed pins).
+
+    Examples
+    --------
+    >>> friction_regime(np.array([True, False]), 1.95, np.array([0.95, np.nan]), 0.1, 0.01, 0.1)[0].tolist()
+    [0.05384615384615384, 0.1]
+
+    References
+    ----------
+    .. [1] Prudnikov (seed 000), cited in full in :mod:`gearcalc.pins`; pins.md §4.5-4.6.
+    """
+    where = np.where if xp is None else xp.where
+    rolls = rotating & rolling_condition(sliding_friction, bushing_radius, axle_friction, axle_radius,
+                                         rolling_coefficient)          # NaN r (fixed pins) compares False
+    mu = where(rolls, rotating_loss_coefficient(axle_friction, axle_radius, rolling_coefficient, bushing_radius),
+               sliding_friction)
+    return mu, rolls
+
+
+def peak_coefficient(mu_eff, rolls, sliding_friction, xp=None):
+    """The coefficient of a pin's peak loss bound (pins.md §8): mu_eff where the pins roll, else f.
+
+    Examples
+    --------
+    >>> peak_coefficient(np.array([0.05, 0.05]), np.array([True, False]), 0.1).tolist()
+    [0.05, 0.1]
+    """
+    return (np.where if xp is None else xp.where)(rolls, mu_eff, sliding_friction)
+
+
+def contact_loss_power(force, speed, mu_eff):
+    """Loss at one contact, P = mu_eff F v 1e-3 [W] (F [N], v [mm/s])  (pins.md §4.6).
+
+    Examples
+    --------
+    >>> float(contact_loss_power(100.0, 1000.0, 0.1))
+    10.0
+    """
+    return mu_eff * np.asarray(force) * np.asarray(speed) * 1e-3
+
+
+# ============================================================ the rule at the contact level (pins.md §5.5, §5.6)
+
+class PinFriction(NamedTuple):
+    """The friction of one operating point at the contact level (pins.md §5.5, §5.6): (mu_eff, f, rolls), as the
+    tuple it replaces (it unpacks the same).
+
+    mu_eff : mu_rot where the pins roll, else f [-]; sliding : f [-]; rolls : the pins roll;
+    law : the sliding contacts' :class:`FrictionLaw` (None: Coulomb with f, the coefficient of fixed pins mu_eff).
+
+    Examples
+    --------
+    >>> pf = PinFriction(0.05, 0.1, True)
+    >>> pf.traction(np.array([[[2.0]], [[1.0]]]), np.array([[[1.0]], [[3.0]]])).ravel().tolist()
+    [-0.05, -0.1]
+    """
+
+    mu_eff: float
+    sliding: float
+    rolls: bool
+    law: "FrictionLaw | None" = None
+
+    def traction(self, force, v):
+        """Tangential force per unit normal force against the sliding (c, R, n) (pins.md §5.5, §5.6).
+
+        Fixed pins: -f sign(v_t) at every contact.  Rolling pins: -mu_rot sign(v_t) at the contact with the larger
+        force (the rolling resistance), -f sign(v_t - omega_pin R_b) at the other one.
+        """
+        law = self.law
+        if not self.rolls:
+            return -(self.sliding if law is None else law.coefficient(np.abs(v), force)) * np.sign(v)
+        lead = np.argmax(force, axis=0)
+        v_lead = np.take_along_axis(v, lead[None], axis=0)
+        is_lead = np.arange(v.shape[0])[:, None, None] == lead[None]
+        rel = v - v_lead
+        f = self.sliding if law is None else law.coefficient(np.abs(rel), force)
+        return np.where(is_lead, -self.mu_eff * np.sign(v), -f * np.sign(rel))
+
+    def losses(self, force, v, R_b: float):
+        """Per-contact loss per unit crank speed, the pin spin and the sliding speeds (pins.md §5.6, §4.6).
+
+        Fixed pins: every loaded contact slides at |v_t| with mu_eff = f.  Rolling pins: the contact with the larger
+        force sets the spin omega_pin = v_t/R_b and loses mu_rot F |v_t|; another loaded contact on the same pin
+        slides at |v_t - omega_pin R_b| with f.
+
+        Returns (loss (c, R, n) [N·mm/s per rad/s], spin (R, n) [-], slide (c, R, n) [mm/s per rad/s]).
+        """
+        F = force
+        if not self.rolls:
+            slide = np.abs(v)
+            mu = self.mu_eff if self.law is None else self.law.coefficient(slide, F)
+            return contact_loss_power(F, slide, mu) * 1e3, np.zeros(F.shape[1:]), slide
+        lead = np.argmax(F, axis=0)
+        v_lead = np.take_along_axis(v, lead[None], axis=0)[0]
+        loaded = (F > 0.0).any(axis=0)
+        spin = np.where(loaded, v_lead / R_b, 0.0)
+        is_lead = np.arange(F.shape[0])[:, None, None] == lead[None]
+        slide = np.where(is_lead, 0.0, np.abs(v - v_lead[None]))
+        f = self.sliding if self.law is None else self.law.coefficient(slide, F)
+        loss = np.where(is_lead, self.mu_eff * F * np.abs(v), f * F * slide)
+        return loss, spin, slide
+
+    @staticmethod
+    def sign_components(force, v_t, loaded):
+        """The rolling-pin rule's own sign changes over two contacts per pin (pins.md §6): the lead's switch
+        (F_0 - F_1 where both are loaded, else NaN) and the other contact's sliding speed relative to the lead
+        (v_t - v_lead on the loaded non-lead contact, else NaN); (2 arrays, shapes (R, n) and (2, R, n))."""
+        lead = (force[1] > force[0]).astype(np.intp)          # np.argmax over the two contacts (ties: the first)
+        v_lead = np.where(lead == 1, v_t[1], v_t[0])[None]
+        other = loaded & (np.arange(2)[:, None, None] != lead[None])
+        return (np.where(loaded.all(axis=0), force[0] - force[1], np.nan),
+                np.where(other, v_t - v_lead, np.nan))

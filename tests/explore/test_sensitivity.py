@@ -1,0 +1,100 @@
+"""sensitivity: the estimators against SALib on the same samples and against the Ishigami function's closed form;
+the command on a rows design whose K does not depend on the torque (rows.md: K is a ratio of loads)."""
+import json
+import math
+
+import numpy as np
+import pytest
+from conftest import CONFIGS, cli
+
+import gearcalc
+from gearcalc.explore.sensitivity import morris_effects, morris_unit, saltelli_unit, sobol_indices
+
+ROWS = CONFIGS / "rows_fig3_c4_n3_nw3_B2.8.toml"
+PROBLEM = {"num_vars": 3, "names": ["x1", "x2", "x3"], "bounds": [[0.0, 1.0]] * 3}
+
+
+def ishigami(u, a=7.0, b=0.1):
+    x = -math.pi + 2 * math.pi * np.asarray(u)
+    return np.sin(x[..., 0]) + a * np.sin(x[..., 1]) ** 2 + b * x[..., 2] ** 4 * np.sin(x[..., 0])
+
+
+def ishigami_indices(a=7.0, b=0.1):
+    """Closed form (Ishigami & Homma 1990; Sobol' & Levitan 1999): the variances of the terms."""
+    V1 = 0.5 * (1 + b * math.pi ** 4 / 5) ** 2
+    V2 = a ** 2 / 8
+    V13 = b ** 2 * math.pi ** 8 * (1 / 18 - 1 / 50)
+    V = V1 + V2 + V13
+    return [V1 / V, V2 / V, 0.0], [(V1 + V13) / V, V2 / V, V13 / V]
+
+
+def _salib_layout(yA, yB, yAB):
+    n, d = yA.size, yAB.shape[0]
+    Y = np.empty((n, d + 2))
+    Y[:, 0], Y[:, -1], Y[:, 1:-1] = yA, yB, yAB.T
+    return Y.ravel()  # SALib's order: A_j, AB_1j .. AB_dj, B_j for every row j
+
+
+def test_sobol_estimators_equal_salib_on_the_same_samples():
+    salib = pytest.importorskip("SALib.analyze.sobol")
+    A, B, AB = saltelli_unit(1024, 3, seed=4)
+    yA, yB, yAB = ishigami(A), ishigami(B), ishigami(AB)
+    ours = sobol_indices(yA, yB, yAB)
+    ref = salib.analyze(PROBLEM, _salib_layout(yA, yB, yAB), calc_second_order=False, seed=1)
+    np.testing.assert_allclose(ours["S1"], ref["S1"], rtol=1e-12, atol=1e-14)
+    np.testing.assert_allclose(ours["ST"], ref["ST"], rtol=1e-12, atol=1e-14)
+    # the intervals come from other bootstrap resamples: the same spread, not the same numbers
+    for k in ("S1_conf", "ST_conf"):
+        assert np.all(ours[k] > 0.5 * ref[k]) and np.all(ours[k] < 2 * ref[k])
+
+
+def test_sobol_indices_of_ishigami_within_their_intervals():
+    S1, ST = ishigami_indices()
+    A, B, AB = saltelli_unit(8192, 3, seed=0)
+    s = sobol_indices(ishigami(A), ishigami(B), ishigami(AB))
+    assert np.all(np.abs(s["S1"] - S1) <= s["S1_conf"])
+    assert np.all(np.abs(s["ST"] - ST) <= s["ST_conf"])
+
+
+def test_morris_equals_salib_on_the_same_trajectories():
+    salib = pytest.importorskip("SALib.analyze.morris")
+    X = morris_unit(40, 3, seed=2)
+    y = ishigami(X)
+    ours = morris_effects(X, y)
+    ref = salib.analyze(PROBLEM, X, y, num_levels=4, seed=1)
+    for k in ("mu", "mu_star", "sigma"):
+        np.testing.assert_allclose(ours[k], np.asarray(ref[k], dtype=float), rtol=1e-12, atol=1e-12)
+
+
+def test_morris_trajectories_move_each_key_once_by_delta():
+    X = morris_unit(10, 4, seed=0).reshape(10, 5, 4)
+    steps = np.diff(X, axis=1)
+    assert np.all(np.count_nonzero(steps, axis=2) == 1)  # one key a move
+    assert np.allclose(np.abs(steps).sum(axis=2), 4 / 6)  # delta = p / (2 (p - 1)), p = 4
+    assert np.all(np.count_nonzero(steps, axis=1) == 1)  # every key once
+    assert X.min() >= 0 and X.max() <= 1
+
+
+def test_k_does_not_depend_on_the_torque():
+    vary = {"rows.relative_width": (1.6, 3.0), "sun.torque_Nm": (500.0, 2000.0)}
+    r = gearcalc.sensitivity(ROWS, vary, samples=64, fields=["K", "w_mean_N_per_mm"])
+    by = {(i["field"], i["key"]): i for i in r.indices}
+    assert by["K", "sun.torque_Nm"]["ST"] == 0.0 and by["K", "sun.torque_Nm"]["S1"] == 0.0  # exactly: K is unchanged
+    assert r.dominant == {"K": "rows.relative_width", "w_mean_N_per_mm": "sun.torque_Nm"}
+    assert r.evaluations == 64 * (2 + 2)
+    assert len(r.to_dict()["indices"]) == 4
+
+
+def test_command_table_and_json_and_morris():
+    args = ["sensitivity", ROWS, "--vary", "rows.relative_width=1.6:3", "--vary", "rows.count=2:5", "--samples", "32",
+            "--fields", "K"]
+    r = cli(*args, "--format", "json")
+    assert r.code == 0, r.err
+    out = json.loads(r.out)
+    assert out["method"] == "sobol" and set(out["dominant"]) == {"K"} and out["evaluations"] == 32 * 4
+    r = cli(*args, "--method", "morris", "--format", "csv")
+    assert r.code == 0 and r.out.splitlines()[0] == "field,key,mu_star,mu_star_conf,sigma,mu"
+    r = cli(*args, "--method", "morriss")
+    assert r.code == 2 and "did you mean 'morris'" in r.err
+    r = cli(*args[:-1], "Kx")
+    assert r.code == 2 and "did you mean 'K'" in r.err
