@@ -201,7 +201,7 @@ def compute_files(paths, *, kind: str | None = None, model: str | None = None, t
     paths = _paths(paths)
     kind, model, tol = _kind_arg(kind), _model_arg(model), _tol_arg(tol)
     detail, verbose = _flag("detail", detail), _flag("verbose", verbose)
-    jobs = _count("jobs", jobs)
+    jobs = _count("jobs", jobs, 1, MAX_JOBS)
     progress, say = _callback("progress", progress), _callback("say", say)
     scheduler = _scheduler_arg(scheduler)
     pairs = _overrides(overrides)
@@ -410,8 +410,8 @@ def _flag(name: str, value) -> bool:
     _fail(f"{name} = {_shown(value)}: must be True or False")
 
 
-def _count(name: str, value, least: int = 1) -> int:
-    """A whole number >= ``least`` (a Python or numpy integer, not a bool)."""
+def _count(name: str, value, least: int = 1, most: int | None = None) -> int:
+    """A whole number >= ``least`` (and <= ``most``): a Python or numpy integer, not a bool."""
     import operator
 
     if not isinstance(value, bool):
@@ -419,9 +419,13 @@ def _count(name: str, value, least: int = 1) -> int:
             n = operator.index(value)
         except TypeError:
             n = None
-        if n is not None and n >= least:
+        if n is not None and n >= least and (most is None or n <= most):
             return n
-    _fail(f"{name} = {_shown(value)}: must be a whole number >= {least}")
+    _fail(f"{name} = {_shown(value)}: must be a whole number >= {least}" + (f", <= {most}" if most else ""))
+
+
+MAX_JOBS = 256
+"""The most worker processes ``jobs`` asks for (the command line's ``--jobs`` range)."""
 
 
 def _callback(name: str, fn):
@@ -474,6 +478,27 @@ def _paths(paths) -> list[str]:
     except Exception as exc:  # noqa: BLE001 - a program's iterable that fails while read
         _fail(f"paths: could not be read ({_type(exc)})")
     return out
+
+
+def _strings(value, where: str, what: str) -> list[str]:
+    """One string, or an iterable of strings (at most :data:`MAX_OVERRIDES`), as a list; else an InputError
+    saying ``what`` is expected."""
+    from itertools import islice
+
+    if isinstance(value, str):
+        return [str.__str__(value)]
+    if isinstance(value, (bytes, bytearray, Mapping)) or not isinstance(value, Iterable):
+        _fail(f"{where}: {what}; not {_a(value)}")
+    try:
+        items = list(islice(value, MAX_OVERRIDES + 1))
+    except Exception as exc:  # noqa: BLE001 - a program's iterable that fails while read
+        _fail(f"{where}: could not be read ({_type(exc)})")
+    if len(items) > MAX_OVERRIDES:
+        _fail(f"{where}: more than {MAX_OVERRIDES} items")
+    for k, item in enumerate(items):
+        if not isinstance(item, str):
+            _fail(f"{where}[{k}]: {what}; not {_a(item)}")
+    return [str.__str__(item) for item in items]
 
 
 def _key(key, where: str) -> str:

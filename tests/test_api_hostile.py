@@ -1,6 +1,6 @@
 """Hostile calls to the Python API (issue 34): whatever a program passes to ``gearcalc.compute``, ``load``,
-``compute_files``, ``sweep``, ``sweep_chunk`` or ``models``, bad input raises :class:`gearcalc.InputError` (a
-``ValueError``) and nothing else, and no warning escapes.
+``compute_files``, ``sweep``, ``sweep_chunk``, ``models``, ``optimize`` or ``sensitivity``, bad input raises
+:class:`gearcalc.InputError` (a ``ValueError``) and nothing else, and no warning escapes.
 
 The calls come from a seeded generator: wrong types at every level of a design, weird keys, objects that are no
 TOML value (locks, generators, sets, bytes, numpy arrays, NaN, huge ints, 5000-deep nesting, cyclic dicts),
@@ -341,10 +341,39 @@ def kwargs(rng, names, raw=None):
     return out
 
 
+def explore_case(rng, fn):
+    """A hostile call of ``gearcalc.optimize`` or ``gearcalc.sensitivity`` (small budgets: a valid one is cheap)."""
+    design = design_arg(rng) if rng.random() < 0.4 else fresh(rng.choice(SEEDS))
+    keys = dotted_keys(design) if isinstance(design, dict) else []
+    key = rng.choice(keys) if keys else "rows.relative_width"
+    vary = rng.choice([lambda: {key: (1.0, 2.0)}, lambda: value(rng), lambda: {key: value(rng)},
+                       lambda: [f"{key}=1:2"], lambda: {pick(rng, KEYS): (1, 2)}, lambda: {key: (value(rng), 2)}])()
+    kw = kwargs(rng, ["model", "tol", "overrides", "jobs", "scheduler"], design)
+    if rng.random() < 0.2:
+        kw["seed"] = pick(rng, INTS)
+    if fn == "optimize":
+        objective = rng.choice([lambda: "K:min", lambda: value(rng), lambda: ["K:min", value(rng)],
+                                lambda: "efficiency:max", lambda: "sigma_max_MPa:min"])()
+        kw["budget"] = rng.choice([lambda: 4, lambda: 8, lambda: value(rng), lambda: 0, lambda: 10 ** 9])()
+        if rng.random() < 0.3:
+            kw["where"] = rng.choice([lambda: value(rng), lambda: ["K<=2"], lambda: [value(rng)]])()
+        if rng.random() < 0.2:
+            kw["refine"] = pick(rng, FLAGS)
+        return lambda: gearcalc.optimize(design, vary, objective, **kw)
+    kw["samples"] = rng.choice([lambda: 8, lambda: value(rng)])()
+    if rng.random() < 0.3:
+        kw["method"] = rng.choice([lambda: "morris", lambda: value(rng)])()
+    if rng.random() < 0.3:
+        kw["fields"] = rng.choice([lambda: value(rng), lambda: ["K"]])()
+    return lambda: gearcalc.sensitivity(design, vary, **kw)
+
+
 def make_case(rng, tmp: Path | None = None):
     """One hostile call: (label, thunk)."""
-    fn = rng.choices(["compute", "load", "sweep", "sweep_chunk", "compute_files", "models"],
-                     weights=[30, 15, 30, 8, 10, 2])[0]
+    fn = rng.choices(["compute", "load", "sweep", "sweep_chunk", "compute_files", "models", "optimize",
+                      "sensitivity"], weights=[30, 15, 30, 8, 10, 2, 3, 3])[0]
+    if fn in ("optimize", "sensitivity"):
+        return fn, explore_case(rng, fn)
     if fn == "models":
         arg = value(rng) if rng.random() < 0.7 else rng.choice(["rows", "pins", "zstk", "row"])
         return fn, lambda: gearcalc.models(arg)
