@@ -69,7 +69,12 @@ def sample(design, vary, sampler: str = "sobol", n: int = 256, *, seed: int = 0,
     ``gearcalc sweep --sample SAMPLER:N`` evaluates.  Integer keys are sampled as integers."""
     from .sample import SampleError, draw, parse_ranges, parse_sampler
 
+    from ..api import _a, _count
+
     raw, _ = _input(design, overrides)
+    if not isinstance(sampler, str):
+        _fail(ValueError(f"sampler: 'sobol', 'lhs' or 'random'; not {_a(sampler)}"))
+    n, seed = _count("n", n), _count("seed", seed, 0)
     try:
         name, count = parse_sampler(f"{sampler}:{n}")
         return draw(parse_ranges(_vary(vary), raw), name, count, seed)
