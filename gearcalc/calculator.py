@@ -199,8 +199,30 @@ def keyed(key: str, message: str) -> str:
     return f"{key} {message}" if message.startswith("= ") else f"{key}: {message}"
 
 
-class DesignError(Exception):
-    """An input that the schema accepted but the physics cannot: exit code 2.
+class InputError(ValueError):
+    """Bad input (exit code 2): carries every message (a design's already prefixed by the file name).
+
+    The one exception the Python API raises for bad input: a ``ValueError``, so ``except ValueError`` sees it.
+    """
+
+    def __init__(self, messages: list[str], warnings: list[str] | None = None):
+        super().__init__("\n".join(messages))
+        self.messages = messages
+        self.warnings = warnings or []
+
+    def __reduce__(self):  # pickled (from a worker process) with its attributes, whatever __init__ takes
+        return _rebuild, (type(self), self.args, self.__dict__)
+
+
+def _rebuild(cls, args, state):
+    obj = cls.__new__(cls, *args)
+    obj.__dict__.update(state)
+    return obj
+
+
+class DesignError(InputError):
+    """An input that the schema accepted but the physics cannot: exit code 2.  An :class:`InputError` (its one
+    message is :func:`keyed`), so bad input of either kind is caught as one.
 
     Parameters
     ----------
@@ -209,7 +231,7 @@ class DesignError(Exception):
     """
 
     def __init__(self, key: str, message: str):
-        super().__init__(keyed(key, message))
+        super().__init__([keyed(key, message)])
         self.key = key
         self.message = message
 

@@ -23,7 +23,7 @@ import tomllib
 from dataclasses import dataclass, field
 from typing import Any
 
-from .calculator import REQUIRED, Calculator, Field, Problems, keyed
+from .calculator import REQUIRED, Calculator, Field, InputError, Problems, keyed  # noqa: F401 - InputError re-exported
 from . import registry, units
 
 MAX_DESIGN_BYTES = 1 << 20
@@ -85,15 +85,6 @@ class Design:
             if table in out and out[table].get(name) is None:
                 out[table][name] = value
         return out
-
-
-class InputError(Exception):
-    """Bad input in one file: carries every message (already prefixed by the file name)."""
-
-    def __init__(self, messages: list[str], warnings: list[str] | None = None):
-        super().__init__("\n".join(messages))
-        self.messages = messages
-        self.warnings = warnings or []
 
 
 class FolderFile(str):
@@ -400,54 +391,64 @@ _WITH_UNIT = re.compile(r"[-+]?(?:[0-9]+(?:\.[0-9]*)?|\.[0-9]+)(?:[eE][-+]?[0-9]
 """A number with a unit after it (``10kN``, ``5 deg``): taken as a string, whose check proposes the bare number."""
 
 
-def parse_set(items: list[str]) -> list[tuple[str, Any]]:
+def parse_set(items: list[str], word: str = "--set") -> list[tuple[str, Any]]:
     """Parse ``--set KEY=VALUE`` items: one key, one value.
 
     VALUE is read as one TOML value; anything after it (a second value, another ``key = value`` on a
     new line) is an error naming the item.  A bare word that is not TOML (``--set sun.torsion_diameter=root``)
-    is taken as a string, unless it holds a newline or ``=``.
+    is taken as a string, unless it holds a newline or ``=``.  Messages name an item as ``{word} 'ITEM'`` (the
+    Python API's word is ``overrides:``).
     """
     out = []
     for item in items or []:
-        shown = "'" + _clip(item) + "'"
+        shown = f"{word} '{_clip(item)}'"
         key, sep, value = item.partition("=")
         key = key.strip()
         if not sep or not key:
-            raise InputError([f"--set {shown}: expected KEY=VALUE, e.g. --set rows.count=4"])
-        if key.count(".") >= MAX_KEY_PARTS or not all(p.strip() for p in key.split(".")):
-            raise InputError([f"--set {shown}: the key must be a dotted key such as rows.count"])
+            example = "--set rows.count=4" if word == "--set" else "'rows.count=4'"
+            raise InputError([f"{shown}: expected KEY=VALUE, e.g. {example}"])
+        problem = key_problem(key)
+        if problem:
+            raise InputError([f"{shown}: {problem}"])
         value = value.strip()
         if not value:
-            raise InputError([f"--set {shown}: no value after '=' (quote an empty string: KEY='\"\"')"])
+            raise InputError([f"{shown}: no value after '=' (quote an empty string: KEY='\"\"')"])
         if _LONG_KEY.search(value):
-            raise InputError([f"--set {shown}: a dotted key of more than {MAX_KEY_PARTS} parts in the value"])
+            raise InputError([f"{shown}: a dotted key of more than {MAX_KEY_PARTS} parts in the value"])
         try:
             doc = tomllib.loads(f"v = {value}")
         except tomllib.TOMLDecodeError as exc:
             hint = number_hint(value)
             if hint:
-                raise InputError([f"--set {shown}: {hint}"]) from None
+                raise InputError([f"{shown}: {hint}"]) from None
             if _WITH_UNIT.fullmatch(value):  # "10kN": a string, which the key's check converts (as in a file)
                 out.append((key, value))
                 continue
             if str(exc).startswith(_TRAILING) or "\n" in value or "\r" in value or "=" in value:
-                raise InputError([f"--set {shown}: one key takes one value; found more after the value "
+                raise InputError([f"{shown}: one key takes one value; found more after the value "
                                   "(quote a string: KEY='\"text\"')"]) from None
             if value[0] in "[{\"'":
-                raise InputError([f"--set {shown}: not a TOML value ({_clip(exc)})"]) from None
+                raise InputError([f"{shown}: not a TOML value ({_clip(exc)})"]) from None
             doc = {"v": value}  # a bare word: a string
         except RecursionError:
-            raise InputError([f"--set {shown}: the value is nested too deeply"]) from None
+            raise InputError([f"{shown}: the value is nested too deeply"]) from None
         except ValueError as exc:
             if "limit" in str(exc):
-                raise InputError([f"--set {shown}: an integer of more than {sys.get_int_max_str_digits()} "
+                raise InputError([f"{shown}: an integer of more than {sys.get_int_max_str_digits()} "
                                   "digits; no design value needs that many"]) from None
-            raise InputError([f"--set {shown}: not a value ({_clip(exc)})"]) from None
+            raise InputError([f"{shown}: not a value ({_clip(exc)})"]) from None
         if set(doc) != {"v"}:
-            raise InputError([f"--set {shown}: one key takes one value; found more after the value"])
-        _check_nesting(doc, f"--set {shown}")
+            raise InputError([f"{shown}: one key takes one value; found more after the value"])
+        _check_nesting(doc, shown)
         out.append((key, doc["v"]))
     return out
+
+
+def key_problem(key: str) -> str | None:
+    """Why ``key`` cannot be a dotted design key (an empty part, too many parts), or None."""
+    if key.count(".") >= MAX_KEY_PARTS or not all(p.strip() for p in key.split(".")):
+        return "the key must be a dotted key such as rows.count"
+    return None
 
 
 def apply_set(raw: dict, overrides: list[tuple[str, Any]]) -> None:

@@ -46,16 +46,17 @@ def load_designs(files: Iterable[str], overrides=(), kind_hint: str | None = Non
     return designs, worst
 
 
-def check_model(model: str | None, kind: str) -> None:
-    """A model level chosen by name: a ``ValueError`` listing the kind's levels when it has no such level."""
+def check_model(model: str | None, kind: str, option: str = "--model") -> None:
+    """A model level chosen by name: an ``InputError`` (a ``ValueError``) listing the kind's levels when it has no
+    such level, naming the choice as ``{option} LEVEL`` (the Python API's option is ``model =``)."""
     if model is None:
         return
     levels = list(registry.get(kind).models)
     if model not in levels:
-        from .design import _clip, _suggest
+        from .design import InputError, _clip, _suggest
 
-        raise ValueError(f"--model {_clip(model)}: a {kind} design has the levels " + ", ".join(levels)
-                         + _suggest(model, levels))
+        raise InputError([f"{option} {_clip(model)}: a {kind} design has the levels " + ", ".join(levels)
+                          + _suggest(model, levels)])
 
 
 def compute_one(d, opts: Options, debug: bool = False):

@@ -16,11 +16,15 @@ import tomllib
 from collections.abc import Sequence
 from typing import Any
 
-from .calculator import DesignError
+from .calculator import DesignError, InputError
 
 
-class SweepError(ValueError):
-    """A malformed ``--vary`` or a grid value the design does not accept."""
+class SweepError(InputError):
+    """A malformed ``--vary`` or a grid value the design does not accept: an :class:`InputError` of one message
+    (so a ``ValueError``)."""
+
+    def __init__(self, message: str):
+        super().__init__([message])
 
 
 MAX_POINTS = 100_000_000
@@ -279,8 +283,10 @@ class Grid(Sequence):
         return {key: point[key] for key in self.keys}
 
     def __iter__(self):
-        combos = itertools.product(*(self.axes[k] for k in self.keys))
-        return (dict(zip(self.keys, c)) for c in itertools.islice(combos, self.start, self.stop))
+        # from the columns of these points: O(points), where itertools.product would copy every axis whole (an
+        # axis of 1e8 values, for a chunk of 65 536 points)
+        columns = [self.column(k) for k in self.keys]
+        return (dict(zip(self.keys, c)) for c in zip(*columns)) if columns else iter([{}] * len(self))
 
     def column(self, key: str, array: bool = False) -> list[Any]:
         """The values of one varied key over the points, in order (built for these points only: a chunk of a
@@ -572,10 +578,11 @@ def grid_points(axes: dict[str, list[Any]]) -> Grid:
     return points_of(axes)
 
 
-def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
+def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]], word: str = "--vary ") -> None:
     """Validate the axis values: every value against its field (type, bounds, choices), a value its key never
     accepts being a :class:`SweepError` before anything is computed.  A point whose values together do not make
-    a valid design (a cross-key rule) is a row with its reason (:func:`evaluate_points`), not an error.
+    a valid design (a cross-key rule) is a row with its reason (:func:`evaluate_points`), not an error.  A message
+    names the axis as ``{word}KEY=VALUE`` (the Python API's word is ``axes: ``).
     """
     import copy
 
@@ -591,7 +598,7 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
             for v in _values_to_check(values):
                 _, problem = check_value(field, v)
                 if problem:
-                    raise SweepError(f"--vary {key}={_clip(v)}: {problem}")
+                    raise SweepError(f"{word}{key}={_clip(v)}: {problem}")
             continue
         trial = copy.deepcopy(raw)  # not a key of the kind: the loader's words (did you mean ...?)
         apply_set(trial, [(key, values[0])])
@@ -599,7 +606,7 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]]) -> None:
             validate(trial, source)
         except InputError as exc:
             prefix = display_name(source) + ": "  # the caller names the file once
-            raise SweepError("; ".join(f"--vary {key}={_clip(values[0])}: {m.removeprefix(prefix)}"
+            raise SweepError("; ".join(f"{word}{key}={_clip(values[0])}: {m.removeprefix(prefix)}"
                                        for m in exc.messages)) from None
 
 
@@ -614,11 +621,11 @@ def _values_to_check(values: list) -> list:
     """The values whose field check stands for all: for an axis of finite floats (a range), its least and
     greatest (a field's bounds are an interval, its type is float for all); else every value.
 
-    >>> _values_to_check([0.5, 0.1, 0.3]), _values_to_check([1, "root"])
-    ([0.1, 0.5], [1, 'root'])
+    >>> _values_to_check([0.5, 0.1, 0.3]), _values_to_check([1, "root"]), _values_to_check(range(1, 10**8))
+    ([0.1, 0.5], [1, 'root'], [1, 99999999])
     """
-    if isinstance(values, Range):  # monotone, one type
-        return [values[0], values[-1]]
+    if isinstance(values, (Range, range)):  # monotone, one type (a Python range: ints)
+        return [values[0], values[-1]] if len(values) else []
     if len(values) > 2 and all(type(v) is float for v in values):
         import math
 
@@ -863,15 +870,16 @@ def evaluate_range(raw: dict, source: str, axes: dict[str, list[Any]], start: in
     return as_columns(evaluate_points(raw, source, axes, points_of(axes, start, stop), options, progress, arrays))
 
 
-def prepare(raw: dict, source: str, axes: dict[str, list[Any]], options=None) -> tuple[int, float]:
-    """Validate the base design and every axis value once, and estimate the grid's cost: (points, estimated
-    seconds a point, :func:`point_seconds`); nothing is computed."""
+def prepare(raw: dict, source: str, axes: dict[str, list[Any]], options=None,
+            word: str = "--vary ") -> tuple[int, float]:
+    """Validate the base design and every axis value once (``word``: as in :func:`validate_axes`), and estimate
+    the grid's cost: (points, estimated seconds a point, :func:`point_seconds`); nothing is computed."""
     import copy
 
     from .design import validate
 
     base = validate(copy.deepcopy(raw), source)
-    validate_axes(raw, source, axes)
+    validate_axes(raw, source, axes, word)
     total = size_of(axes)
     return total, point_seconds(base, axes, options)
 
@@ -967,9 +975,9 @@ def columns_of(raw: dict, source: str, axes: dict[str, list[Any]], options) -> l
     """The columns of every point of a grid, in order, learnt ahead from one point per combination of the
     axes' values that are not floats (counts and words decide which fields a design has; a float changes
     only values): None when there are more than :data:`STRUCTURE_PROBES` combinations."""
-    discrete = {k: [] if isinstance(vals, Range) and not vals.ints
-                else list(dict.fromkeys(v for v in vals if not isinstance(v, float)))
-                for k, vals in axes.items()}
+    discrete = {k: _discrete(vals) for k, vals in axes.items()}
+    if any(v is None for v in discrete.values()):
+        return None
     combos = math.prod(max(1, len(v)) for v in discrete.values())
     if combos > STRUCTURE_PROBES:
         return None
@@ -981,6 +989,32 @@ def columns_of(raw: dict, source: str, axes: dict[str, list[Any]], options) -> l
         probes.append(point)
     probe = as_columns(evaluate_points(raw, source, axes, probes, options))
     return list(probe.data)
+
+
+def _discrete(values) -> list | None:
+    """The distinct values of an axis that are not floats, in order (lists too: compared by value); None when
+    there are more than :data:`STRUCTURE_PROBES` (counted up to there only: a range of 1e7 ints costs 257).
+
+    >>> _discrete([3, 2.5, 3, "root", [1, 2], [1, 2]]), _discrete(range(10**7))
+    ([3, 'root', [1, 2]], None)
+    """
+    if isinstance(values, Range) and not values.ints:
+        return []
+    out, seen = [], set()
+    for v in values:
+        if isinstance(v, float):
+            continue
+        try:
+            key = (type(v), v)
+            hash(key)
+        except TypeError:  # a list value: by its text
+            key = (type(v), repr(v))
+        if key not in seen:
+            seen.add(key)
+            out.append(v)
+            if len(out) > STRUCTURE_PROBES:
+                return None
+    return out
 
 
 def shape(part, header: list[str], axes):
@@ -1015,7 +1049,7 @@ def evaluate_post(raw: dict, source: str, axes: dict[str, list[Any]], start: int
 
 def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: int | None = None,
            progress=None, jobs: int = 1, cluster=None, debug: bool = False, arrays: bool = False, post=None,
-           plan=None):
+           plan=None, prepared: tuple[int, float] | None = None):
     """The grid evaluated and yielded a chunk at a time (:class:`Columns`, grid order): memory follows the
     chunk, not the grid.  Every chunk has the same columns (those of the whole grid, missing values None),
     so a CSV header written from the first chunk holds for all; with ``jobs > 1`` chunks are evaluated in
@@ -1031,10 +1065,11 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     ``plan`` (optional, ``--resume``: :mod:`gearcalc.studies`): called once with (points a chunk, points) before any
     point is computed; returns (points a chunk, chunks to skip): the chunk size to use (a resumed run's recorded
     one, so that the chunk boundaries are those of the interrupted run) and how many leading chunks are already
-    written (not computed again; the progress bar counts them as done)."""
+    written (not computed again; the progress bar counts them as done).
+    ``prepared``: what :func:`prepare` gave, when the caller has validated the design and the axes already."""
     from .render import Columns
 
-    total, seconds = prepare(raw, source, axes, options)
+    total, seconds = prepare(raw, source, axes, options) if prepared is None else prepared
     if cluster is not None and total:
         jobs = cluster.connect().threads
     problem = cost_problem(axes, total, seconds, jobs)

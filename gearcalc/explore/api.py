@@ -16,17 +16,19 @@ __all__ = ["sample", "optimize", "sensitivity"]
 
 
 def _vary(vary) -> list[str]:
-    """``{key: (lo, hi)}`` or ``["KEY=LO:HI", ...]`` as the command line's strings."""
+    """``{key: (lo, hi)}`` or ``["KEY=LO:HI", ...]`` as the command line's strings; anything else an InputError."""
+    from ..api import _a, _items, _key, _plain, _strings
+
     if isinstance(vary, Mapping):
         out = []
-        for k, v in vary.items():
-            try:
-                lo, hi = v
-            except (TypeError, ValueError):
-                raise ValueError(f"vary[{k!r}]: expected (LO, HI)") from None
-            out.append(f"{k}={lo!r}:{hi!r}")
+        for k, v in _items(vary, "vary", 10_000):
+            k = _key(k, "vary")
+            v = _plain(v, f"vary: {k}")
+            if not isinstance(v, list) or len(v) != 2 or not all(type(x) in (int, float) for x in v):
+                _fail(ValueError(f"vary: {k}: expected (LO, HI), two numbers; not {_a(v)}"))
+            out.append(f"{k}={v[0]!r}:{v[1]!r}")
         return out
-    return [vary] if isinstance(vary, str) else list(vary)
+    return _strings(vary, "vary", "{key: (lo, hi)} or 'KEY=LO:HI' strings")
 
 
 def _input(design, overrides):
@@ -42,17 +44,22 @@ def _fail(exc) -> None:
 
 
 def _options(model, tol, kind):
-    from ..api import _check_tol
+    from .. import registry
+    from ..api import MODEL, _model_arg, _tol_arg
     from ..calculator import Options
     from ..engine import check_model
 
-    try:
-        _check_tol(tol)
-        if isinstance(kind, str):
-            check_model(model, kind)
-    except ValueError as exc:
-        _fail(exc)
+    model, tol = _model_arg(model), _tol_arg(tol)
+    if isinstance(kind, str) and kind in registry.kinds():
+        check_model(model, kind, MODEL)
     return Options(tol=tol, model=model)
+
+
+def _args(jobs, seed, scheduler) -> tuple:
+    """``jobs``, ``seed`` and ``scheduler`` checked as :func:`gearcalc.compute_files` checks them."""
+    from ..api import MAX_JOBS, _count, _scheduler_arg
+
+    return _count("jobs", jobs, 1, MAX_JOBS), _count("seed", seed, 0), _scheduler_arg(scheduler)
 
 
 def sample(design, vary, sampler: str = "sobol", n: int = 256, *, seed: int = 0,
@@ -62,7 +69,12 @@ def sample(design, vary, sampler: str = "sobol", n: int = 256, *, seed: int = 0,
     ``gearcalc sweep --sample SAMPLER:N`` evaluates.  Integer keys are sampled as integers."""
     from .sample import SampleError, draw, parse_ranges, parse_sampler
 
+    from ..api import _a, _count
+
     raw, _ = _input(design, overrides)
+    if not isinstance(sampler, str):
+        _fail(ValueError(f"sampler: 'sobol', 'lhs' or 'random'; not {_a(sampler)}"))
+    n, seed = _count("n", n), _count("seed", seed, 0)
     try:
         name, count = parse_sampler(f"{sampler}:{n}")
         return draw(parse_ranges(_vary(vary), raw), name, count, seed)
@@ -82,16 +94,23 @@ def optimize(design, vary, objective, *, where: Iterable[str] = (), budget: int 
     from .sample import SampleError, parse_ranges
     from .where import WhereError, parse_where
 
+    from ..api import _flag, _quiet, _strings
+
     raw, source = _input(design, overrides)
     options = _options(model, tol, raw.get("kind"))
-    if not isinstance(budget, int) or not 2 <= budget <= 1_000_000:
-        _fail(ValueError(f"budget = {budget!r}: must be a whole number of points, 2 to 1000000"))
+    jobs, seed, scheduler = _args(jobs, seed, scheduler)
+    refine = _flag("refine", refine)
+    if isinstance(budget, bool) or not isinstance(budget, int) or not 2 <= budget <= 1_000_000:
+        from ..api import _shown
+
+        _fail(ValueError(f"budget = {_shown(budget)}: must be a whole number of points, 2 to 1000000"))
     try:
         box = parse_ranges(_vary(vary), raw)
-        objectives = parse_objectives([objective] if isinstance(objective, str) else list(objective))
-        conditions = parse_where(list(where))
-        return _cluster(scheduler, lambda cluster: optimize_design(
-            raw, source, box, objectives, conditions, options, budget, seed, jobs, cluster, refine))
+        objectives = parse_objectives(_strings(objective, "objective", "'FIELD:min' or a list of them"))
+        conditions = parse_where(_strings(where, "where", "'FIELD<=VALUE' strings"))
+        with _quiet():
+            return _cluster(scheduler, lambda cluster: optimize_design(
+                raw, source, box, objectives, conditions, options, budget, seed, jobs, cluster, refine))
     except InputError:
         raise
     except (SampleError, WhereError, OptimizeError, SweepError, ValueError) as exc:
@@ -108,13 +127,20 @@ def sensitivity(design, vary, *, method: str = "sobol", samples: int | None = No
     from .sample import SampleError, parse_ranges
     from .sensitivity import SensitivityError, sensitivity_design
 
+    from ..api import _a, _count, _quiet, _strings
+
     raw, source = _input(design, overrides)
     options = _options(model, tol, raw.get("kind"))
+    jobs, seed, scheduler = _args(jobs, seed, scheduler)
+    samples = None if samples is None else _count("samples", samples)
+    if not isinstance(method, str):
+        _fail(ValueError(f"method: 'sobol' or 'morris'; not {_a(method)}"))
     try:
         box = parse_ranges(_vary(vary), raw)
-        chosen = None if fields is None else list(fields)
-        return _cluster(scheduler, lambda cluster: sensitivity_design(
-            raw, source, box, options, method, samples, seed, jobs, cluster, chosen))
+        chosen = None if fields is None else _strings(fields, "fields", "output field names")
+        with _quiet():
+            return _cluster(scheduler, lambda cluster: sensitivity_design(
+                raw, source, box, options, method, samples, seed, jobs, cluster, chosen))
     except InputError:
         raise
     except (SampleError, SensitivityError, SweepError, ValueError) as exc:
@@ -124,7 +150,8 @@ def sensitivity(design, vary, *, method: str = "sobol", samples: int | None = No
 def _cluster(scheduler, body):
     if scheduler is None:
         return body(None)
+    from ..api import _scheduler_errors
     from ..distributed import Cluster
 
-    with Cluster(scheduler) as cluster:
+    with _scheduler_errors(), Cluster(scheduler) as cluster:
         return body(cluster)

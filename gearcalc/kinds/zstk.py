@@ -188,8 +188,9 @@ def sweep(base, raw, axes, points, options):
         field = next((t.field(name) for t in TABLES if t.name == table), None)
         if field is None:
             return None
-        resolved = {_hashable(v): check_value(field, v)[0] for v in axes[key]}
-        cols[key] = [resolved[_hashable(pt[key])] for pt in points]
+        column = [pt[key] for pt in points]  # this chunk's values only (an axis may have 1e8)
+        resolved = {_hashable(v): check_value(field, v)[0] for v in column}
+        cols[key] = [resolved[_hashable(v)] for v in column]
     p = _prepare(cols, size)
     if not np.all(p.valid):  # each invalid point's first problem (its row's error); the valid ones are computed
         raise InvalidPoints([None if ok else keyed(*_problems(p, k)[0]) for k, ok in enumerate(p.valid.tolist())])
@@ -205,14 +206,21 @@ def sweep_cost(base, axes, options) -> float:
     98 ms for the 8 640 of ``configs/zstk_merko_A_envelope.toml``, the refinements included)."""
     from ..zstk import envelope
 
-    cycle = base["geometry.scheme"] == "cycle" or "cycle" in axes.get("geometry.scheme", ())
-    envelope_ = base["load.direction_deg"] == "envelope" or "envelope" in axes.get("load.direction_deg", ())
+    cycle = base["geometry.scheme"] == "cycle" or _among("cycle", axes.get("geometry.scheme", ()))
+    envelope_ = base["load.direction_deg"] == "envelope" or _among("envelope", axes.get("load.direction_deg", ()))
     if not (cycle or envelope_):
         return 1e-4
     p = _prepare(_design_columns([base]), 1)
     n = int(p.n[0]) if p.valid[0] else 3
     grid = envelope.sweep_grid((options.model or "equilibrium") == "reference")
     return 1e-3 + 1e-5 * envelope.sweep_work(n, cycle, envelope_, grid)
+
+
+def _among(word: str, values) -> bool:
+    """``word in values``, at once for a range axis (numbers only: ``in`` would compare every value, 1e8 of them)."""
+    from ..grid import Range
+
+    return not isinstance(values, (range, Range)) and word in values
 
 
 def _hashable(v):
