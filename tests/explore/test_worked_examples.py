@@ -18,7 +18,9 @@ EXAMPLES = ROOT / "examples"
 
 
 def command(path):
-    """The ``gearcalc optimize`` command written in the example's comments, as (vary, objective, where)."""
+    """The ``gearcalc optimize`` command written in the example's comments, as (vary, objective, where):
+    ``vary`` the ``--vary`` strings as typed (the API takes them; a key's type decides whether it is an integer
+    key, not the look of its range) and ``box`` their ranges as numbers."""
     lines = [ln.lstrip("#").strip() for ln in path.read_text().splitlines() if ln.startswith("#")]
     start = next(k for k, ln in enumerate(lines) if ln.startswith("gearcalc optimize"))
     text = ""
@@ -28,18 +30,19 @@ def command(path):
             break
     args = shlex.split(text)
     assert args[:3] == ["gearcalc", "optimize", f"examples/{path.name}"]
-    vary, objective, where = {}, None, []
+    vary, box, objective, where = [], {}, None, []
     for opt, value in zip(args[3::2], args[4::2]):
         if opt == "--vary":
+            vary.append(value)
             key, _, rng = value.partition("=")
             lo, hi = rng.split(":")
-            vary[key] = (int(lo), int(hi)) if lo.isdigit() and hi.isdigit() else (float(lo), float(hi))
+            box[key] = (float(lo), float(hi))
         elif opt == "--objective":
             objective = value
         else:
             assert opt == "--where"
             where.append(value)
-    return vary, objective, where
+    return vary, box, objective, where
 
 
 def grid(path, axes):
@@ -64,19 +67,19 @@ def test_the_commands_name_their_files():
     assert sorted(p.name for p in EXAMPLES.glob("*.toml")) == [
         "seed000_pins_multiplier.toml", "seed003_zstk_smallest_outer.toml", "seed004_rows_mass.toml"]
     for path in EXAMPLES.glob("*.toml"):
-        vary, objective, where = command(path)
-        assert vary and objective and where
+        vary, box, objective, where = command(path)
+        assert vary and box and objective and where
 
 
 def test_seed000_multiplier_efficiency_under_a_contact_stress_limit():
     path = EXAMPLES / "seed000_pins_multiplier.toml"
-    vary, objective, where = command(path)
+    vary, box, objective, where = command(path)
     assert objective == "efficiency:max" and where == ["margin_contact_stress>=0"]
     r = gearcalc.optimize(path, vary, objective, where=where)
-    keys = list(vary)
+    keys = list(box)
     n = {"gearing.eccentricity_mm": 5, "gearing.pin_circle_radius_mm": 26, "gearing.pin_radius_mm": 4}
-    axes = {k: linspace(*vary[k], n[k]) for k in keys}
-    steps = {k: (vary[k][1] - vary[k][0]) / (n[k] - 1) for k in keys}
+    axes = {k: linspace(*box[k], n[k]) for k in keys}
+    steps = {k: (box[k][1] - box[k][0]) / (n[k] - 1) for k in keys}
     rows = grid(path, axes)
     feasible = [g for g in rows if g["error"] is None and g["margin_contact_stress"] >= 0]
     best = max(feasible, key=lambda g: g["efficiency"])
@@ -86,19 +89,19 @@ def test_seed000_multiplier_efficiency_under_a_contact_stress_limit():
     for k in keys:
         assert abs(r.optimum[k] - best[k]) <= steps[k] * (1 + 1e-9), k
     # the largest eccentricity and pins of the box, R_p where the stress reaches the allowable
-    assert r.optimum["gearing.eccentricity_mm"] == vary["gearing.eccentricity_mm"][1]
-    assert r.optimum["gearing.pin_radius_mm"] == vary["gearing.pin_radius_mm"][1]
+    assert r.optimum["gearing.eccentricity_mm"] == box["gearing.eccentricity_mm"][1]
+    assert r.optimum["gearing.pin_radius_mm"] == box["gearing.pin_radius_mm"][1]
     assert r.constraints[0]["active"] and r.outputs["margin_contact_stress"] >= 0
     assert r.converged and 0 < r.error < 1e-6
 
 
 def test_seed003_smallest_outer_raceway_carrying_the_required_load():
     path = EXAMPLES / "seed003_zstk_smallest_outer.toml"
-    vary, objective, where = command(path)
+    vary, box, objective, where = command(path)
     assert objective == "outer_raceway_radius_mm:min" and where == ["radial_load_allowable_N>=200000"]
     r = gearcalc.optimize(path, vary, objective, where=where)
     key = "geometry.outer_raceway_radius_mm"
-    lo, hi = vary[key]
+    lo, hi = box[key]
     step = 0.1
     rows = grid(path, {key: linspace(lo, hi, round((hi - lo) / step) + 1)})
     feasible = [g for g in rows if g["error"] is None and g["radial_load_allowable_N"] >= 200000]
@@ -113,11 +116,11 @@ def test_seed003_smallest_outer_raceway_carrying_the_required_load():
 
 def test_seed004_rows_and_width_of_least_relative_mass():
     path = EXAMPLES / "seed004_rows_mass.toml"
-    vary, objective, where = command(path)
+    vary, box, objective, where = command(path)
     assert objective == "relative_mass_kg_per_kNm:min" and where == ["K<=1.15"]
-    assert vary["rows.count"] == (1, 6)
+    assert box["rows.count"] == (1, 6)
     r = gearcalc.optimize(path, vary, objective, where=where)
-    lo, hi = vary["rows.relative_width"]
+    lo, hi = box["rows.relative_width"]
     step = 0.05
     widths = linspace(lo, hi, round((hi - lo) / step) + 1)
     rows = grid(path, {"rows.count": list(range(1, 7)), "rows.relative_width": widths})
