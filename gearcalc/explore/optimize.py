@@ -43,9 +43,19 @@ STEP = 1e-4
 """The step of the central differences, in unit coordinates (a fraction of the range)."""
 ACTIVE_TOL = 1e-4
 """A constraint whose relative slack is within this of 0 is active."""
+TIE = 1e-9
+"""Two refinements whose best objectives agree to this (relative) found the same optimum."""
+SHIFT = 1e-8
+"""SLSQP is given each inequality as ``slack >= SHIFT``: it converges onto an active bound to within its own
+tolerance from either side, and a final iterate outside by 1e-12 would be infeasible and not reported (the
+optimum would fall back to an earlier, worse iterate)."""
 NEIGHBOURS_MAX = 27
 MOVES_MAX = 10
 MAXITER = 100
+FTOL = 1e-10
+"""SLSQP's relative accuracy of the objective.  The points are rounded to 12 significant digits (like a grid's
+values), so a tighter target only ends in line-search failures ("Positive directional derivative") at an
+optimum already found."""
 REFINE_BUDGET = 20
 """The refinement evaluates at most this many times the global phase's points (and at most the estimated
 computing time a sweep may take, :data:`gearcalc.grid.SWEEP_SECONDS_MAX`); beyond, it stops unconverged."""
@@ -227,7 +237,7 @@ class _Problem:
 
 def _refine(problem, ints, u0, scale):
     """SLSQP over the continuous keys (unit coordinates ``u0``) with the integer keys at ``ints``; (success,
-    message)."""
+    message, the best feasible objective evaluated by this run, inf if none)."""
     import numpy as np
     from scipy.optimize import minimize
 
@@ -274,15 +284,34 @@ def _refine(problem, ints, u0, scale):
     ineq = [k for k, c in enumerate(conds) if c.op != "=="]
     eq = [k for k, c in enumerate(conds) if c.op == "=="]
     if ineq:
-        constraints.append({"type": "ineq", "fun": lambda u: batch(u)[2][ineq], "jac": lambda u: batch(u)[3][ineq]})
+        constraints.append({"type": "ineq", "fun": lambda u: batch(u)[2][ineq] - SHIFT,
+                            "jac": lambda u: batch(u)[3][ineq]})
     if eq:
         constraints.append({"type": "eq", "fun": lambda u: batch(u)[2][eq], "jac": lambda u: batch(u)[3][eq]})
+    start = len(problem.archive)
+
+    def found():
+        return min((a[0] for a in problem.archive[start:] if a[1]), default=math.inf)
+
     try:
         res = minimize(fun, u0, jac=lambda u: batch(u)[1], method="SLSQP", bounds=[(0.0, 1.0)] * dc,
-                       constraints=constraints, options={"maxiter": MAXITER, "ftol": 1e-12})
+                       constraints=constraints, options={"maxiter": MAXITER, "ftol": FTOL})
     except _Undefined as exc:
-        return False, str(exc)
-    return bool(res.success), str(res.message)
+        return False, str(exc), found()
+    return bool(res.success), str(res.message), found()
+
+
+def _keep(runs, key, run) -> None:
+    """Several starts may share one integer combination (always, without integer keys): the combination's
+    outcome is that of its run that found the best point, not of the last run; runs that found the same best
+    (to :data:`TIE`, relative) succeed when one of them did."""
+    old = runs.get(key)
+    if old is None:
+        runs[key] = run
+    elif abs(run[2] - old[2]) <= TIE * max(abs(run[2]), abs(old[2])):
+        runs[key] = (old[0] or run[0], old[1] if old[0] else run[1], min(old[2], run[2]))
+    elif run[2] < old[2]:
+        runs[key] = run
 
 
 class _Undefined(Exception):
@@ -368,7 +397,7 @@ def optimize_design(raw: dict, source: str, box, objectives, conditions, options
             starts = [(values[k, ints].astype(int), U[k, ~ints]) for k in order]
             runs = {}
             for iv, u0 in starts:  # integer keys only: nothing to refine, the neighbourhood decides
-                runs[tuple(iv.tolist())] = _refine(P, iv, u0, scale) if (~ints).any() else (True, "")
+                _keep(runs, tuple(iv.tolist()), _refine(P, iv, u0, scale) if (~ints).any() else (True, "", 0.0))
             center = _best(P, box)
             moves = 0
             while ints.any() and moves <= MOVES_MAX:
@@ -381,13 +410,13 @@ def optimize_design(raw: dict, source: str, box, objectives, conditions, options
                     else:
                         c = ev(P.axes(np.array([nb]), np.zeros((1, 0))))
                         P.record(c, obj.sign * _column(c, obj.field), P.feasible(c))
-                        runs[nb] = (True, "")
+                        runs[nb] = (True, "", 0.0)
                 new = _best(P, box)
                 if new == center:
                     break
                 center, moves = new, moves + 1
             cint, _ = _split(box, center)
-            success, message = runs.get(tuple(cint.tolist()), (False, "the optimum is a sampled point"))
+            success, message, _ = runs.get(tuple(cint.tolist()), (False, "the optimum is a sampled point", 0.0))
             converged = bool(success) and moves <= MOVES_MAX
             if not success:
                 result.notes.append(f"refinement: {message}")

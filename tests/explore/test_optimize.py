@@ -110,3 +110,18 @@ def test_api_raises_input_error_only():
     for kwargs in ({"objective": "K:sideways"}, {"objective": "K:min", "where": ["K=1"]}):
         with pytest.raises(gearcalc.InputError):
             gearcalc.optimize(ROWS, {"rows.relative_width": (1.6, 3.0)}, **kwargs)
+
+
+def test_starts_sharing_a_combination_keep_the_best_runs_outcome():
+    # without integer keys every start refines the same (empty) combination: its outcome is the run that
+    # found the best point (the last run used to overwrite it), and runs that tie succeed if one did
+    from gearcalc.explore.optimize import _keep
+
+    runs = {}
+    _keep(runs, (), (True, "ok", 1.0))
+    _keep(runs, (), (False, "line search", 2.0))  # a worse run later: ignored
+    assert runs[()] == (True, "ok", 1.0)
+    _keep(runs, (), (False, "line search", 1.0 - 1e-12))  # the same optimum to 1e-9: still converged
+    assert runs[()][0] is True
+    _keep(runs, (), (False, "line search", 0.5))  # a better point found by a failed run: not converged
+    assert runs[()] == (False, "line search", 0.5)
