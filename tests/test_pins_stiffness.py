@@ -61,10 +61,16 @@ def test_without_friction_the_loop_closes_and_with_it_opens():
     assert np.all(torsion_curve(_model(stiffness=1e6), th, 100.0).hysteresis == 0.0)    # one branch per sign
     c = torsion_curve(_model(stiffness=1e6, friction=PinFriction(0.1, 0.1, False)), th, 100.0)
     assert np.all(c.hysteresis > 0.0)
-    # loading and unloading branches bracket the frictionless curve at each torque (friction opposes the twist)
+    # friction opposes the twist: loading needs less twist than without friction, unloading holds more (where
+    # it is not held at the reversal's twist)
     free = torsion_curve(_model(stiffness=1e6), th, 100.0).twist
-    lo, hi = np.minimum(c.twist[0], c.twist[1]), np.maximum(c.twist[0], c.twist[1])
-    assert np.all((lo < free[0]) & (free[0] < hi))
+    assert np.all((c.twist[0] < free[0]) & (c.twist[2] > free[2]))
+    held = c.twist[1] == c.twist[0, -1]
+    assert np.all(held | (c.twist[1] > free[0])) and np.all(c.twist[1] >= c.twist[0])
+    assert np.all(c.twist[3] <= c.twist[2])
+    # at the reversal the contacts stick: the unloading branch starts at the loading branch's twist at T_r
+    np.testing.assert_array_equal(c.twist[1, -1], c.twist[0, -1])
+    np.testing.assert_array_equal(c.twist[3, -1], c.twist[2, -1])
 
 
 def test_twist_is_odd_in_the_torque_at_a_symmetric_crank_angle():

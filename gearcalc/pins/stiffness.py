@@ -203,11 +203,13 @@ def torsion_curve(model, theta, rated_torque: float, n_discs: int = 1, fractions
     on each branch).  The stiffness is the secant between 50 % and 100 % of T_r on the loading branches (the lower
     of the two directions), the lost motion the twist span between +3 % and -3 % of T_r on the loading branches
     (it includes the play, :func:`~gearcalc.pins.contact.free_play`), the hysteresis the largest width of the loop
-    between a loading and an unloading branch at equal torque.
+    between a loading and an unloading branch at equal torque.  At a reversal the contacts stick (the twist stays
+    while the torque falls until it meets the unloading branch): an unloading branch is taken no farther out than
+    the twist at T_r.
 
     .. math:: K = \min_\pm \frac{0.5\,T_r}{|\varphi(\pm T_r) - \varphi(\pm 0.5 T_r)|}, \qquad
         LM = \varphi(0.03\,T_r) - \varphi(-0.03\,T_r), \qquad
-        H = \max_T |\varphi_{unload}(T) - \varphi_{load}(T)|
+        H = \max_T |\min(\varphi_{unload}(T), \varphi(T_r)) - \varphi_{load}(T)|
 
     Parameters
     ----------
@@ -253,6 +255,10 @@ def torsion_curve(model, theta, rated_torque: float, n_discs: int = 1, fractions
     if branches == 1:
         tw = np.stack((tw[0], tw[0], tw[1], tw[1]))
     i50, i100, i3 = (int(np.argmin(np.abs(fr - x))) for x in (0.5, 1.0, 0.03))
+    # at a reversal the contacts stick: the twist stays while the torque falls to the unloading branch, which the
+    # path then follows; its part beyond the reversal's twist is never reached
+    tw[1] = np.minimum(tw[1], tw[0, i100])
+    tw[3] = np.maximum(tw[3], tw[2, i100])
     k_pos = 0.5 * rated_torque / np.abs(tw[0, i100] - tw[0, i50])
     k_neg = 0.5 * rated_torque / np.abs(tw[2, i100] - tw[2, i50])
     lost = tw[0, i3] - tw[2, i3]
