@@ -305,10 +305,22 @@ def unloaded_transmission_error(model, theta):
 
 
 N_TORSION = 16
-"""Crank angles of the twist curves over one pin pitch T_p (their even half gives the sampling error)."""
+"""Crank angles of the twist curves over one pin pitch T_p (:func:`_sampling_err` gives their sampling error)."""
 
 N_TE = 64
-"""Crank angles of the transmission error over one pin pitch T_p (their even half gives the sampling error)."""
+"""Crank angles of the transmission error over one pin pitch T_p (sampling error: :func:`_sampling_err`)."""
+
+
+def _sampling_err(v, largest: bool) -> float:
+    """Error of the extreme of a T_p-periodic sampled function.
+
+    The larger of its change from the even half of the samples to all and of its periodic neighbours' distance
+    from it (a kink at the extreme: slope times spacing).
+    """
+    v = np.asarray(v, dtype=float)
+    i = int(np.argmax(v) if largest else np.argmin(v))
+    half = v[::2].max() if largest else v[::2].min()
+    return float(max(abs(v[i] - half), abs(v[i - 1] - v[i]), abs(v[(i + 1) % v.size] - v[i])))
 
 
 def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: float, xtol: float = 1e-15):
@@ -316,10 +328,12 @@ def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: floa
 
     :func:`torsion_curve` at ``N_TORSION`` crank angles over one pin pitch T_p (the contact pattern repeats with
     T_p): the stiffness is the least over them, the lost motion and the hysteresis the largest; each error is the
-    change of that extreme from the even half of the angles to all of them, plus the solver's tolerance carried
-    through.  The transmission error over one cycle (tau is T_p-periodic, pins.md §5.6) at no load
+    larger of the change of that extreme from the even half of the angles to all of them and of its neighbouring
+    samples' distance from it (the sampling over theta), plus the solver's tolerance carried through.  The
+    transmission error over one cycle (tau is T_p-periodic, pins.md §5.6) at no load
     (:func:`unloaded_transmission_error`) and at T_r (loading branch), peak-to-peak on ``N_TE`` angles, error as
-    above.  The backlash is the contact level's (:func:`gearcalc.pins.contact.backlash`, min over the cycle).
+    above (for its largest and its least value).  The backlash is the contact level's
+    (:func:`gearcalc.pins.contact.backlash`, min over the cycle).
 
     .. math:: K = \min_\theta K(\theta), \quad LM = \max_\theta LM(\theta), \quad
         \mathrm{TE}_{pp} = \max_\theta \tau - \min_\theta \tau
@@ -361,9 +375,8 @@ def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: floa
     th = np.arange(N_TORSION) * (Tp / N_TORSION)
     c = torsion_curve(model, th, rated_torque, n_discs)
     tol_am = 2.0 * xtol * ARCMIN_PER_RAD
-    half = slice(0, None, 2)
     i = int(np.argmin(c.stiffness))
-    k, k8 = float(c.stiffness[i]), float(c.stiffness[half].min())
+    k = float(c.stiffness[i])
     k_span = np.abs(c.twist[0, -1, i] - c.twist[0, int(np.argmin(np.abs(np.asarray(FRACTIONS) - 0.5))), i])
     lm, hy = float(c.lost_motion.max()), float(c.hysteresis.max())
     th_te = np.arange(N_TE) * (Tp / N_TE)
@@ -372,18 +385,18 @@ def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: floa
     deg = math.degrees
     summary = {
         "torsional_stiffness_Nm_per_arcmin": k,
-        "torsional_stiffness_Nm_per_arcmin_err": abs(k - k8) + k * tol_am / k_span,
+        "torsional_stiffness_Nm_per_arcmin_err": _sampling_err(c.stiffness, False) + k * tol_am / k_span,
         "torsional_stiffness_crank_deg": deg(float(th[i])),
-        "lost_motion_arcmin": lm, "lost_motion_arcmin_err": abs(lm - float(c.lost_motion[half].max())) + tol_am,
-        "hysteresis_arcmin": hy, "hysteresis_arcmin_err": abs(hy - float(c.hysteresis[half].max())) + (
+        "lost_motion_arcmin": lm, "lost_motion_arcmin_err": _sampling_err(c.lost_motion, True) + tol_am,
+        "hysteresis_arcmin": hy, "hysteresis_arcmin_err": _sampling_err(c.hysteresis, True) + (
             tol_am if model.friction is not None else 0.0),
         "backlash_arcmin": backlash_deg * 60.0, "backlash_arcmin_err": 1e-12 * backlash_deg * 60.0 + tol_am,
         "rated_torque_Nm": rated_torque,
         "te_unloaded_pp_arcsec": float(np.ptp(te0)),
-        "te_unloaded_pp_arcsec_err": abs(float(np.ptp(te0)) - float(np.ptp(te0[half]))) + (
+        "te_unloaded_pp_arcsec_err": _sampling_err(te0, True) + _sampling_err(te0, False) + (
             60.0 * tol_am if np.ptp(te0) > 0.0 else 0.0),
         "te_rated_pp_arcsec": float(np.ptp(te1)),
-        "te_rated_pp_arcsec_err": abs(float(np.ptp(te1)) - float(np.ptp(te1[half]))) + 60.0 * tol_am,
+        "te_rated_pp_arcsec_err": _sampling_err(te1, True) + _sampling_err(te1, False) + 60.0 * tol_am,
     }
     names = ("loading +", "unloading +", "loading -", "unloading -")
     sign = (1.0, 1.0, -1.0, -1.0)
