@@ -127,3 +127,34 @@ def test_outputs_only_when_asked_and_then_all_with_errors():
     for key in plain.summary:                                 # the asked-for outputs add to, and change, nothing
         if key != "model_time_ms":
             assert s[key] == plain.summary[key], key
+
+
+def test_the_pins_figure_draws_the_loop_and_the_te(tmp_path):
+    pytest.importorskip("matplotlib")
+    import gearcalc.plot as gplot
+    from gearcalc.kinds.pins import compute
+    from gearcalc.pins.plot import plot
+    from gearcalc.render import Record
+
+    config = CONFIGS / "pins_paper_circ_u10_fixed.toml"
+    res = api.compute(config, overrides={"contact.stiffness_curve": True}, detail=True)
+    kept = []
+    gplot._collected = kept                   # the figure is kept, not written (as tests/test_plot.py does)
+    try:
+        plot([Record(str(config), "pins", res.design["name"], res.design, res)], str(tmp_path / "p.png"), compute)
+    finally:
+        gplot._collected = None
+    (fig,) = kept
+    loop = next(a for a in fig.axes if a.get_xlabel().startswith("output twist"))
+    np.testing.assert_array_equal(loop.lines[0].get_xdata(), [r["twist_arcmin"] for r in res.detail["torsion"]])
+    te = next(a for a in fig.axes if a.get_ylabel().startswith("transmission error"))
+    assert len(te.lines) == 2                 # no load and T_rated
+    plain = api.compute(config)               # not asked: the figure keeps its panels
+    kept = []
+    gplot._collected = kept
+    try:
+        plot([Record(str(config), "pins", plain.design["name"], plain.design, plain)], str(tmp_path / "q.png"),
+             compute)
+    finally:
+        gplot._collected = None
+    assert not any(a.get_xlabel().startswith("output twist") for a in kept[0].axes)
