@@ -12,7 +12,7 @@ import pytest
 
 from gearcalc import api
 from gearcalc.pins.contact import MULTIPLIER, REDUCER, ContactModel, Cycloid, CycloidProfile, backlash, contact_law
-from gearcalc.pins.forces import lever_arm, pin_phase
+from gearcalc.pins.forces import lever_arm, lever_sum, pin_phase
 from gearcalc.pins.friction import PinFriction
 from gearcalc.pins.stiffness import (ARCMIN_PER_RAD, linear_torsional_stiffness, torsion_curve, twist,
                                      unloaded_transmission_error)
@@ -37,6 +37,17 @@ def test_linear_stiff_contacts_give_the_closed_form_stiffness():
         K = linear_torsional_stiffness(th, G1, math.pi, 1e10, 2, sigma)
         np.testing.assert_allclose(c.sides[side], K, rtol=1e-6)
     np.testing.assert_allclose(c.stiffness, np.minimum(*c.sides), rtol=0)
+
+
+def test_discs_in_parallel_at_their_own_crank_angles():
+    # pins.md §12.7: with z2 = 21 and 2 discs the second disc runs half a pin pitch behind; in parallel (equal
+    # twist) K = k_lin (S(theta) + S(theta + T_p/2)), not 2 k_lin S(theta)
+    g = Cycloid.from_curtate_ratio(20, 21, 3.9, 0.75, 1.95)
+    th = np.linspace(0.0, g.period, 5)
+    c = torsion_curve(_model(g=g), th, 1000.0, n_discs=2)
+    by_hand = 1e10 * sum(lever_sum(th + sh, g, math.pi, REDUCER) for sh in (0.0, g.period / 2)) * 1e-3 * math.pi / 10800
+    np.testing.assert_allclose(c.sides[0], by_hand, rtol=1e-6)
+    assert np.abs(c.sides[0] / (2e10 * lever_sum(th, g, math.pi, REDUCER) * 1e-3 * math.pi / 10800) - 1).max() > 1e-4
 
 
 def test_closed_form_error_is_first_order_in_the_compliance():

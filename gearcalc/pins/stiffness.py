@@ -21,6 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..roots import find_root
+from .cycle import disc_offsets
 
 __all__ = ["ARCMIN_PER_RAD", "FRACTIONS", "twist", "linear_torsional_stiffness", "TorsionCurve", "torsion_curve",
            "unloaded_transmission_error", "torsion_outputs",
@@ -52,7 +53,7 @@ def _bracket(G, n: int, limit: float):
     return np.minimum(a, b), np.maximum(a, b), open_
 
 
-def twist(model, theta, torque_sat, direction, xtol: float = 1e-15):
+def twist(model, theta, torque_sat, direction, xtol: float = 1e-15, n_discs: int = 1):
     r"""Output twist of the satellite with the crank held, at given torques and loading directions.
 
     The root tau of the moment balance about O1 (pins.md §5.5) with the required moment -T_sat (a positive torque
@@ -62,8 +63,8 @@ def twist(model, theta, torque_sat, direction, xtol: float = 1e-15):
     loading towards positive torque or unloading from a negative one); the directions are those of the
     frictionless solution's contacts (:meth:`~gearcalc.pins.friction.PinFriction.traction`).
 
-    .. math:: \sum_j F_j\left((X\times n)_j + q_j\,(C\cdot n)_j\right) = -T_{sat}, \qquad
-        q_j = -\mu\,\operatorname{sign}\left((C\cdot n)_j\,s\right)
+    .. math:: \frac{1}{n_d}\sum_d \sum_j F_{dj}\left((X\times n)_{dj} + q_{dj}\,(C\cdot n)_{dj}\right)
+        = -T_{sat}, \qquad q_j = -\mu\,\operatorname{sign}\left((C\cdot n)_j\,s\right)
 
     Parameters
     ----------
@@ -77,6 +78,10 @@ def twist(model, theta, torque_sat, direction, xtol: float = 1e-15):
         The sign s of d tau (+1 or -1), [-], shape (n,).
     xtol : float, optional
         Absolute tolerance on tau, [rad].
+    n_discs : int, optional
+        Discs n_d on the one output: they twist alike and carry n_d T_sat together, each at its own crank angle
+        (shifted by :func:`~gearcalc.pins.cycle.disc_offsets` pin pitches; equal shares where the shifts are whole
+        pitches), [-].
 
     Returns
     -------
@@ -111,23 +116,25 @@ def twist(model, theta, torque_sat, direction, xtol: float = 1e-15):
     live = M_req != 0.0
     if not live.any():
         return tau
-    pose = model.pose(theta[live])
+    # the discs: their crank angles shifted by disc_offsets pin pitches, one pose per distinct shift (pins.md §12.7)
+    shifts, counts = np.unique(disc_offsets(n_discs, model.g.z2), return_counts=True)
+    poses = [model.pose(theta[live] + sh * model.g.period) for sh in shifts]
+    w = counts / float(n_discs)
     M, sv = M_req[live], s[live]
 
-    def solve(traction):
+    def solve(tractions):
         def G(t):
-            return model.moment(pose, t, traction) - M
+            return sum(wd * model.moment(p, t, tr) for wd, p, tr in zip(w, poses, tractions)) - M
 
         a, b, open_ = _bracket(G, M.size, math.pi / model.g.z1)
         if open_.any():
             raise NoEquilibrium(theta[live][open_])
         return find_root(G, a, b, xtol=xtol, rtol=0.0).root
 
-    t = solve(None)
+    t = solve([None] * len(poses))
     if model.friction is not None:
-        ct = model.contacts(pose, t)
-        traction = model.friction.traction(model.law.force(ct.delta), (ct.xn + model.g.R_b) * sv)
-        t = solve(traction)
+        cts = [model.contacts(p, t) for p in poses]
+        t = solve([model.friction.traction(model.law.force(ct.delta), (ct.xn + model.g.R_b) * sv) for ct in cts])
     tau[live] = t
     return tau
 
@@ -139,7 +146,8 @@ def linear_torsional_stiffness(theta, g, psi_star: float, stiffness: float, n_di
     §4.4), so F_i = k_lin l_i tau and the moment is k_lin tau sum l_i^2 over the loaded pins (no friction, small
     rotations: the closed form the contact level must reproduce as k_lin grows, pins.md §5.8).
 
-    .. math:: K = n_d\,k_{lin}\,S(\theta) \cdot 10^{-3}\,\frac{\pi}{10800}, \qquad S = \sum_{j\in L} l_j^2
+    .. math:: K = k_{lin} \sum_d S(\theta + \Delta_d T_p) \cdot 10^{-3}\,\frac{\pi}{10800}, \qquad
+        S = \sum_{j\in L} l_j^2
 
     Parameters
     ----------
@@ -152,7 +160,8 @@ def linear_torsional_stiffness(theta, g, psi_star: float, stiffness: float, n_di
     stiffness : float
         k_lin, contact stiffness, [N/mm].
     n_discs : int, optional
-        Discs sharing the torque, [-].
+        Discs on the output, in parallel, each at its crank angle shifted by Delta_d pin pitches
+        (:func:`~gearcalc.pins.cycle.disc_offsets`), [-].
     sigma : int, optional
         The loaded pins: +1 those of a positive torque (:func:`twist`; the reducer's), -1 those of a negative one.
 
@@ -175,7 +184,9 @@ def linear_torsional_stiffness(theta, g, psi_star: float, stiffness: float, n_di
     """
     from .forces import lever_sum
 
-    return n_discs * stiffness * lever_sum(theta, g, psi_star, sigma) * 1e-3 / ARCMIN_PER_RAD
+    theta = np.asarray(theta, dtype=float)
+    S = sum(lever_sum(theta + sh * g.period, g, psi_star, sigma) for sh in disc_offsets(n_discs, g.z2))
+    return stiffness * S * 1e-3 / ARCMIN_PER_RAD
 
 
 @dataclass
@@ -250,7 +261,8 @@ def torsion_curve(model, theta, rated_torque: float, n_discs: int = 1, fractions
     T = (signs_T[:, None, None] * fr[None, :, None] * np.ones(n)[None, None, :])[::(1 if branches == 4 else 2)]
     d = (signs_d[:, None, None] * np.ones((f, n))[None])[::(1 if branches == 4 else 2)]
     th = np.broadcast_to(theta, T.shape)
-    tau = twist(model, th.ravel(), (T * rated_torque * 1e3 / n_discs).ravel(), d.ravel()).reshape(T.shape)
+    tau = twist(model, th.ravel(), (T * rated_torque * 1e3 / n_discs).ravel(), d.ravel(),
+                n_discs=n_discs).reshape(T.shape)
     tw = tau * ARCMIN_PER_RAD
     if branches == 1:
         tw = np.stack((tw[0], tw[0], tw[1], tw[1]))
@@ -381,7 +393,8 @@ def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: floa
     lm, hy = float(c.lost_motion.max()), float(c.hysteresis.max())
     th_te = np.arange(N_TE) * (Tp / N_TE)
     te0 = unloaded_transmission_error(model, th_te) * ARCMIN_PER_RAD * 60.0
-    te1 = twist(model, th_te, np.full(N_TE, rated_torque * 1e3 / n_discs), np.ones(N_TE), xtol) * ARCMIN_PER_RAD * 60.0
+    te1 = twist(model, th_te, np.full(N_TE, rated_torque * 1e3 / n_discs), np.ones(N_TE), xtol,
+                n_discs) * ARCMIN_PER_RAD * 60.0
     deg = math.degrees
     summary = {
         "torsional_stiffness_Nm_per_arcmin": k,
