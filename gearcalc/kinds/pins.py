@@ -27,7 +27,7 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     "load_pin_radius": "pin_load.pin_radius_mm", "load_axle_radius": "pin_load.axle_radius_mm",
     "paper_pi": "pin_load.paper_pi", "face_width": "contact.face_width_mm", "model": "friction.model",
     "alias": "contact.friction_in_equilibrium", "law": "contact.law", "stiffness": "contact.stiffness_N_per_mm",
-    "allowable": "material.allowable_stress_MPa",
+    "allowable": "material.allowable_stress_MPa", "torsion": "contact.stiffness_curve",
 }
 VIOLATION_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile", "sliding", "load_pin_radius",
                   "load_axle_radius")
@@ -257,7 +257,8 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     model = friction_model(design)
     try:
         cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"]),
-                           {n: a[n] for n in OPERATING}, model, options.tol, profile.play_free, options.detail)
+                           {n: a[n] for n in OPERATING}, model, options.tol, profile.play_free, options.detail,
+                           torsion=bool(a["torsion"]))
     except (pc.NoEquilibrium, pc.Unresolvable) as exc:
         raise R.contact_error(exc, design, g) from None
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))
@@ -269,6 +270,9 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
                                                        {n: [x] for n, x in a.items()}).items()})
     failed.extend(R.stress_failure(summary, a["allowable"]))
     summary["model_reason"] = level_reason(design, options.model)
+    if cl.torsion is not None:          # only when the design asks (contact.stiffness_curve, pins.md §5.8)
+        summary.update(cl.torsion[0])
+        detail.update(cl.torsion[1] if options.detail else {})
     detail.update(cl.detail or {})
     return summary
 

@@ -249,8 +249,10 @@ class ContactLevel:
     one; None for fixed pins); et_multiplier, et_reducer, locked : :func:`~gearcalc.pins.contact.mode_efficiencies`;
     peaks, metrics : :func:`~gearcalc.pins.contact.cycle_peaks`, :func:`~gearcalc.pins.contact.engagement_metrics`;
     backlash [deg]; operating : :func:`~gearcalc.pins.contact.operating_values` (None without a crank speed);
-    detail : the detail tables (None unless asked); crank : :class:`~gearcalc.pins.contact.CrankBearing` (crank
-    torque, crank-bearing force, contact stress factor of the requested mode).
+    detail : the detail tables (None unless asked); torsion : (summary, tables) of
+    :func:`~gearcalc.pins.stiffness.torsion_outputs` (None unless asked); crank :
+    :class:`~gearcalc.pins.contact.CrankBearing` (crank torque, crank-bearing force, contact stress factor of the
+    requested mode).
     """
 
     modes: object
@@ -267,6 +269,7 @@ class ContactLevel:
     operating: object = None
     detail: dict | None = None
     crank: object = None
+    torsion: tuple | None = None
 
 
 @dataclass(frozen=True)
@@ -286,7 +289,7 @@ class ContactDesign:
 
 
 def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: float, play_free: bool,
-                  detail: bool = False, settings: ContactSettings | None = None) -> ContactLevel:
+                  detail: bool = False, settings: ContactSettings | None = None, torsion: bool = False) -> ContactLevel:
     r"""The compliant contact level (pins.md §5) of one design at one operating point.
 
     The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the
@@ -316,6 +319,9 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
         Build the detail tables (pins.md §8).
     settings : ContactSettings or None
         The numerical settings (:mod:`gearcalc.pins.contact_settings`; None: the defaults).
+    torsion : bool
+        Also the torsional stiffness, lost motion, hysteresis and transmission error with the crank held
+        (:func:`~gearcalc.pins.stiffness.torsion_outputs`; pins.md §5.8), T_r the torque on V (u T on H).
 
     Examples
     --------
@@ -371,5 +377,12 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     crank = pc.crank_bearing(tc.model, cyc.sol, cyc.sol.traction if own else None, n_discs,
                              None if cyc.nodes is None else cyc.nodes[1])
     tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs, crank, own) if detail else None
+    tor = None
+    if torsion:
+        from .stiffness import torsion_outputs
+
+        held = pc.ContactModel(g, design.profile, design.law, 1.0, pc.REDUCER,
+                               PinFriction(mu, f, rolls) if consistent else None, settings)
+        tor = torsion_outputs(held, torque if on_V else torque * g.ratio, n_discs, play)
     return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, pk, metrics, play, ov,
-                        tables, crank)
+                        tables, crank, tor)

@@ -22,7 +22,9 @@ def since_entry(phase_deg, mode: str):
 def plot(records, path: str, compute) -> list:
     """The pins figure (pins.md §8): force, pin speed (rotating pins only) and loss of one pin against crank
     angle over one engagement, the crank torque (the driving torque of a reducer, the paper's Figs 3-7) and
-    lambda(theta) over one period; one curve per design (up to 6), the efficiencies in the title.
+    lambda(theta) over one period; one curve per design (up to 6), the efficiencies in the title; with
+    contact.stiffness_curve also the hysteresis loop (output torque against twist, crank held) and the transmission
+    error over one period, unloaded and at T_rated (pins.md §5.8).
     Formula-level designs get a bar chart of P_tr1 and P_tr2 instead (up to 12).  ``compute(design, options)``
     recomputes a design with its detail tables (the calculator's).  Returns the records drawn."""
     import numpy as np
@@ -56,6 +58,8 @@ def plot(records, path: str, compute) -> list:
     panels = [("force_N", "pin force F [N]")] + ([("pin_speed_rpm", "pin speed n_pin [rpm]")] if rotating else [])
     panels += [("loss_W", "pin loss P [W]")] + ([("crank_torque_Nm", "crank torque [N·m]")] if torque else [])
     panels += [("loss_ratio", "loss ratio lambda")]
+    if any("torsion" in res.detail for _, res in runs):     # contact.stiffness_curve (pins.md §5.8)
+        panels += [("twist", "output torque T [N·m]"), ("te", "transmission error [arcsec]")]
     ncol = (len(panels) + 1) // 2
     fig, axes = plt.subplots(2, ncol, figsize=(5 * ncol, 7), squeeze=False)
     flat = list(axes.T.ravel()) if ncol > 1 else list(axes.ravel())
@@ -80,6 +84,14 @@ def plot(records, path: str, compute) -> list:
         ax_of["loss_ratio"].plot(th, [r["loss_ratio"] for r in crank], label=label)
         if "crank_torque_Nm" in ax_of and crank and crank[0].get("crank_torque_Nm") is not None:
             ax_of["crank_torque_Nm"].plot(th, [r["crank_torque_Nm"] for r in crank], label=label)
+        if "torsion" in res.detail:       # the loop in the table's order: +T up and down, then -T
+            loop = res.detail["torsion"]
+            ax_of["twist"].plot([r["twist_arcmin"] for r in loop], [r["torque_Nm"] for r in loop], ".-", label=label)
+            te = res.detail["transmission_error"]
+            line = ax_of["te"].plot([r["crank_deg"] for r in te], [r["te_unloaded_arcsec"] for r in te], "--",
+                                    label=f"{label}, no load")
+            ax_of["te"].plot([r["crank_deg"] for r in te], [r["te_rated_arcsec"] for r in te],
+                             color=line[0].get_color(), label=f"{label}, T_rated")
         eff = s["efficiency"]
         model = s.get("friction_model") or ""
         titles.append(f"{label}: {s['mode']} efficiency "
@@ -88,8 +100,11 @@ def plot(records, path: str, compute) -> list:
         ax = ax_of[key]
         ax.set_ylabel(ylab)
         ax.set_xlabel("crank angle since entry [deg]" if key in ("force_N", "pin_speed_rpm", "loss_W")
+                      else "output twist, crank held [arcmin]" if key == "twist"
                       else "crank angle theta over one period 360/z2 [deg]")
     ax_of["loss_ratio"].legend(fontsize=7)
+    if "te" in ax_of:
+        ax_of["te"].legend(fontsize=7)
     fig.suptitle("\n".join(titles), fontsize=8)
     save(fig, path)
     return cyc

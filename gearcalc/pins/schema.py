@@ -113,6 +113,8 @@ TABLES = (
               le=MAX_STIFFNESS_N_PER_MM),
         Field("friction_in_equilibrium", "bool", None, "alias of friction.model: true = \"consistent\", "
               "false = \"first-order\""),
+        Field("stiffness_curve", "bool", None, "true: also the torsional stiffness, lost motion, hysteresis and "
+              "transmission error with the crank held (contact level only; T_rated = load.torque_Nm on V)"),
     ), doc="Compliant contact level (circular teeth, modified cycloids): the contact law; face_width_mm alone "
            "gives the ideal level's contact stress without changing the level", optional=True,
         in_template=False),
