@@ -338,7 +338,7 @@ def test_batch_equals_design_by_design():
     (("rows", FIG3, "--format", "jsn"), "did you mean 'json'?"),
     (("new", "rwos"), "did you mean 'rows'?"),
     (("accuracy", "zstc"), "did you mean 'zstk'?"),
-    (("rows", FIG3, "--set", 'gear.module_mm="5 mm"'), "write the bare number 5 (the unit, mm, is in the key's name)"),
+    (("rows", FIG3, "--set", 'gear.module_mm="5 apples"'), "write a bare number in mm (the unit is in the key's name)"),
     (("pins", CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--set", 'load.mode="reduce"'), "did you mean 'reducer'?"),
 ])
 def test_error_messages_tell_the_fix(args, fix):
