@@ -13,7 +13,6 @@ import pytest
 from conftest import CONFIGS, ROOT, cli
 
 from gearcalc import registry
-from gearcalc.calculator import REQUIRED
 from gearcalc.schemajson import json_schema
 
 SHIPPED = sorted(CONFIGS.glob("*.toml")) + sorted((ROOT / "paper").glob("*.toml"))
