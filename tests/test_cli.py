@@ -437,7 +437,7 @@ def test_new_refuses_to_replace_a_file(tmp_path):
 
 def test_new_writes_through_a_special_file(tmp_path):
     r = cli_proc("new", "rows", "-o", "/dev/stdout")  # standard output, a pipe here
-    assert r.code == 0 and r.out.startswith("# gearcalc rows design")
+    assert r.code == 0 and r.out.startswith("#:schema ./gearcalc-rows.schema.json\n# gearcalc rows design")
 
 
 # ------------------------------------------------------------------------- --plot without matplotlib
