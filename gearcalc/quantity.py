@@ -8,6 +8,7 @@ to proposing the bare number (:func:`gearcalc.design._string_hint`).
 from __future__ import annotations
 
 import math
+import re
 
 # The pint spelling of each unit a key's name carries (gearcalc.units.unit_of).
 _PINT_UNIT = {
@@ -47,6 +48,16 @@ def _what(units) -> str:
     return names.get(text, f"of dimension {text}")
 
 
+_POWER_OF_A_NUMBER = re.compile(r"[0-9)]\s*(?:\*\*|\^)")
+_LONG_NUMBER = re.compile(r"[0-9]{3}")
+
+
+def _plain_unit(text: str) -> bool:
+    """Whether a unit text is safe to hand to pint, whose parser computes numbers: no power of a number or of a
+    parenthesised group (``2**2**2**2**2**2**2`` would take forever), no number of more than two digits."""
+    return len(text) <= 64 and not _POWER_OF_A_NUMBER.search(text) and not _LONG_NUMBER.search(text)
+
+
 def convert(number: float, unit_text: str, key_unit: str) -> tuple[float | None, str | None]:
     """``number unit_text`` in ``key_unit`` (a key's unit, :func:`gearcalc.units.unit_of`): (value, None); or
     (None, why) when pint knows the unit but it measures another quantity than the key; or (None, None) when
@@ -58,7 +69,7 @@ def convert(number: float, unit_text: str, key_unit: str) -> tuple[float | None,
     (None, 'kN*m is a torque, this key is a length (mm)')
     """
     target_text = _PINT_UNIT.get(key_unit)
-    if target_text is None:
+    if target_text is None or not _plain_unit(unit_text):
         return None, None
     try:
         ureg = _registry()

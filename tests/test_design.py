@@ -465,3 +465,11 @@ def test_pint_is_imported_only_when_a_quantity_string_appears(tmp_path):
                            (["check", str(p)], True)):
         r = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, cwd=tmp_path)
         assert f"PINT={imported}" in r.stderr, (args, r.stderr[-500:])
+
+
+@pytest.mark.parametrize("value", ["1 2**2**2**2**2**2**2 m", "1 m^2^2^2^2^2^2^2^2", "1 m**(10**10)", "1 mm*99**9",
+                                   "1 m*1000000", "1 __import__('os')"])
+def test_a_unit_text_pint_would_compute_for_ever_is_not_a_quantity(value):
+    # pint's parser evaluates powers of numbers (2**2**...: a number of 2**65536 bits): such texts never reach it
+    _, err = dmod.check_value(Field("length_mm", "number", ge=0), value)
+    assert err.startswith("must be a number") and "write a bare number in mm" in err, err
