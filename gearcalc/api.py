@@ -176,6 +176,14 @@ class Batch:
     def results(self) -> list[Result]:
         return [r.result for r in self.records]
 
+    def _repr_html_(self) -> str:
+        """One row per design (the summaries, units in the column titles), the messages below (Jupyter)."""
+        from .render import html_rows
+
+        mixed = len({r.kind for r in self.records}) > 1
+        return html_rows([({"kind": r.kind} if mixed else {}) | r.result.summary for r in self.records],
+                         notes=self.messages)
+
     def to_pandas(self):
         """One row per design (the summaries; ``kind`` first when several kinds), as a pandas DataFrame."""
         import pandas as pd  # optional: not a dependency of gearcalc

@@ -174,6 +174,12 @@ class Result:
             out["detail"] = plain(self.detail)
         return out
 
+    def _repr_html_(self) -> str:
+        """The summary as an HTML table of field, value and unit (Jupyter)."""
+        from .render import html_vertical
+
+        return html_vertical(self.summary, self.labels, " ".join(p for p in (self.kind, self.name) if p))
+
     def to_pandas(self, table: str | None = None):
         """The summary as a one-row pandas DataFrame, or a detail table (``table="rollers"``) with a row per
         element. pandas is not a dependency of gearcalc: install it to use this."""

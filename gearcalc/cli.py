@@ -153,6 +153,7 @@ EXAMPLES = {
     "accuracy": examples("gearcalc accuracy pins --tols 1e-3,1e-6", "gearcalc accuracy --plot accuracy.png"),
     "check": examples("gearcalc check configs", "gearcalc check gear.toml --resolved > resolved.toml"),
     "new": examples("gearcalc new rows > gear.toml", "gearcalc new pins -o pins.toml     # --force replaces a file"),
+    "schema": examples("gearcalc schema rows -o gearcalc-rows.schema.json   # the file 'gearcalc new' points at"),
 }
 
 
@@ -1034,28 +1035,45 @@ def new_cmd(
                                          "edited) unless --force is given."),
     force: bool = typer.Option(False, "--force", help="With -o: replace an existing file."),
 ):
-    """Print a complete, commented template design of that kind (every key, its unit, its default)."""
+    """Print a complete, commented template design of that kind (every key, its unit, its default).
 
-    def body() -> int:
-        from .output import descriptor
-        from .template import template
+    Its first line, #:schema ./gearcalc-KIND.schema.json, points TOML editors (taplo) at the file that
+    'gearcalc schema KIND -o gearcalc-KIND.schema.json' writes."""
+    from .template import template
 
-        if kind not in registry.kinds():
-            raise Abort(f"new {clip(kind)}: unknown kind; must be one of {', '.join(registry.kinds())}"
-                        + did_you_mean(kind, list(registry.kinds())))
-        check_output_path(output)
-        if output and output != "-" and not force and descriptor(output) is None and os.path.isfile(output):
-            raise Abort(f"new -o {output}: the file exists; add --force to replace it")
-        text = template(registry.get(kind))
-        from .output import to_file, write_stdout
+    finish(lambda: _write_kind_text("new", kind, output, force, template), False)
 
-        if to_file(output):
-            write_atomic(output, text)
-        else:
-            write_stdout(text)
-        return EXIT_OK
 
-    finish(body, False)
+@app.command("schema", epilog=EXAMPLES["schema"])
+def schema_cmd(
+    kind: str = typer.Argument(..., metavar="KIND", help="pins | zstk | rows"),
+    output: Optional[str] = typer.Option(None, "--output", "-o", help="Write to this new file instead of stdout "
+                                         "('-': stdout); an existing file is refused unless --force is given."),
+    force: bool = typer.Option(False, "--force", help="With -o: replace an existing file."),
+):
+    """Print the JSON Schema (draft 2020-12) of KIND's design files, for TOML editors: types, units, bounds, words,
+    required and unknown keys (cross-key rules are checked by 'gearcalc check' only)."""
+    from .schemajson import schema_text
+
+    finish(lambda: _write_kind_text("schema", kind, output, force, schema_text), False)
+
+
+def _write_kind_text(command: str, kind: str, output: Optional[str], force: bool, make) -> int:
+    """Write ``make(calculator)`` for ``gearcalc new|schema KIND [-o FILE] [--force]``."""
+    from .output import descriptor, to_file, write_stdout
+
+    if kind not in registry.kinds():
+        raise Abort(f"{command} {clip(kind)}: unknown kind; must be one of {', '.join(registry.kinds())}"
+                    + did_you_mean(kind, list(registry.kinds())))
+    check_output_path(output)
+    if output and output != "-" and not force and descriptor(output) is None and os.path.isfile(output):
+        raise Abort(f"{command} -o {output}: the file exists; add --force to replace it")
+    text = make(registry.get(kind))
+    if to_file(output):
+        write_atomic(output, text)
+    else:
+        write_stdout(text)
+    return EXIT_OK
 
 
 def finish(body, debug: bool) -> None:

@@ -491,6 +491,12 @@ def _show(value: Any) -> str:
 
 def check_value(f: Field, value: Any) -> tuple[Any, str | None]:
     """Check one value against its field; return (normalised value, error or None)."""
+    if isinstance(value, str) and f.type in ("number", "integer") and value not in f.choices:
+        converted, why = quantity_value(f, value)  # "2 kN*m" on a key in N·m: 2000
+        if why:
+            return value, why
+        if converted is not None:
+            value = int(converted) if f.type == "integer" and converted.is_integer() else converted
     if isinstance(value, str) and f.choices and f.type != "string":
         if value in f.choices:
             return value, None
@@ -563,6 +569,27 @@ def with_unit(text: str, unit: str) -> float | None:
     except (ValueError, OverflowError):
         return None
     return y if y is not None and math.isfinite(y) else None
+
+
+def quantity_value(f: Field, text: str) -> tuple[float | None, str | None]:
+    """A number with a unit (``"2 kN*m"``) on a key with a unit in its name, in the key's unit (pint, imported
+    only here): (value, None); (None, why) for a unit of another quantity; (None, None) when the text is no
+    quantity (the check's hint then proposes a bare number)."""
+    unit = units.unit_of(f.name)
+    text = text.strip()
+    m = _NUMBER.match(text) if unit and len(text) <= _HINT_CHARS else None
+    rest = text[m.end():].strip() if m else ""
+    if not rest:
+        return None, None
+    try:
+        number = float(m.group(0))
+    except (ValueError, OverflowError):
+        return None, None
+    if not math.isfinite(number):
+        return None, None
+    from .quantity import convert
+
+    return convert(number, rest, unit)
 
 
 def _string_hint(f: Field, value: str) -> str:

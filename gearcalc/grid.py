@@ -595,6 +595,8 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]], word: str 
         table, _, name = key.partition(".")
         field = calc.table(table).field(name) if calc and calc.table(table) else None
         if field is not None:
+            if field.type in ("number", "integer") and isinstance(values, list):  # "10kN": the number in the key's unit
+                values[:] = [_quantity(field, v) for v in values]
             for v in _values_to_check(values):
                 _, problem = check_value(field, v)
                 if problem:
@@ -609,6 +611,16 @@ def validate_axes(raw: dict, source: str, axes: dict[str, list[Any]], word: str 
             raise SweepError("; ".join(f"{word}{key}={_clip(values[0])}: {m.removeprefix(prefix)}"
                                        for m in exc.messages)) from None
 
+
+
+def _quantity(field, value):
+    """A quantity string on a numeric key (``"10 kN"``) as the number in the key's unit; any other value as is."""
+    if not isinstance(value, str):
+        return value
+    from .design import check_value
+
+    number, problem = check_value(field, value)
+    return value if problem or isinstance(number, str) else number
 
 
 def _clip(value) -> str:

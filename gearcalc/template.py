@@ -29,6 +29,7 @@ def _comment(f: Field) -> str:
 def template(calc: Calculator) -> str:
     """The template text; it parses as TOML and runs as it is."""
     lines = [
+        f"#:schema ./gearcalc-{calc.kind}.schema.json",  # taplo: 'gearcalc schema KIND -o' writes that file
         f"# gearcalc {calc.kind} design: {calc.title}",
         "# Every key with its unit (in the name), its default and its constraint.",
         "# Commented keys are optional alternatives; delete what you do not need.",

@@ -338,7 +338,7 @@ def test_batch_equals_design_by_design():
     (("rows", FIG3, "--format", "jsn"), "did you mean 'json'?"),
     (("new", "rwos"), "did you mean 'rows'?"),
     (("accuracy", "zstc"), "did you mean 'zstk'?"),
-    (("rows", FIG3, "--set", 'gear.module_mm="5 mm"'), "write the bare number 5 (the unit, mm, is in the key's name)"),
+    (("rows", FIG3, "--set", 'gear.module_mm="5 apples"'), "write a bare number in mm (the unit is in the key's name)"),
     (("pins", CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--set", 'load.mode="reduce"'), "did you mean 'reducer'?"),
 ])
 def test_error_messages_tell_the_fix(args, fix):
@@ -437,7 +437,7 @@ def test_new_refuses_to_replace_a_file(tmp_path):
 
 def test_new_writes_through_a_special_file(tmp_path):
     r = cli_proc("new", "rows", "-o", "/dev/stdout")  # standard output, a pipe here
-    assert r.code == 0 and r.out.startswith("# gearcalc rows design")
+    assert r.code == 0 and r.out.startswith("#:schema ./gearcalc-rows.schema.json\n# gearcalc rows design")
 
 
 # ------------------------------------------------------------------------- --plot without matplotlib

@@ -5,6 +5,7 @@ the key and the constraint, in bounded time and memory, and never costs the othe
 Every test writes only inside its own tmp_path; special files (FIFOs, symlinks to /dev/zero) are made
 there privately.
 """
+import json
 import os
 import subprocess
 import sys
@@ -291,14 +292,25 @@ HINTS = [
 ]
 
 
+@pytest.fixture
+def no_pint(monkeypatch):
+    """The loader as without pint installed: quantity strings get the bare number proposed (the hint path)."""
+    from gearcalc import quantity
+
+    def missing():
+        raise ImportError("no pint")
+
+    monkeypatch.setattr(quantity, "_registry", missing)
+
+
 @pytest.mark.parametrize("name,value,hint", HINTS)
-def test_hint_numbers(name, value, hint):
+def test_hint_numbers(no_pint, name, value, hint):
     _, err = dmod.check_value(Field(name, "number", ge=0), value)
     assert hint in err, err
     assert len(err) < 200
 
 
-def test_hint_never_proposes_a_wrong_number():
+def test_hint_never_proposes_a_wrong_number(no_pint):
     # the old regex gave 1000 for "10000", 2.5 for "2.5e3", 0 for "05", 10 for "10 kN", 0.25 for "0.25 in"
     for name, value, wrong in [("force_N", "10000", " 1000"), ("force_N", "2.5e3", " 2.5"),
                                ("force_N", "05", " 0"), ("force_N", "10 kN", " 10 "),
@@ -308,8 +320,8 @@ def test_hint_never_proposes_a_wrong_number():
 
 
 def test_hint_through_the_cli():
-    r = cli("check", ZSTK, "--set", 'load.radial_N="10 kN"')
-    assert r.code == 2 and "load.radial_N = \"10 kN\"" in r.err and "write the bare number 10000" in r.err
+    r = cli("check", ZSTK, "--set", 'load.radial_N="10 apples"')
+    assert r.code == 2 and "load.radial_N = \"10 apples\"" in r.err and "write a bare number in N" in r.err
     r = cli("check", ROWS, "--set", 'gear.sun_teeth="05"')
     assert r.code == 2 and "write it without quotes: 5" in r.err
 
@@ -361,13 +373,16 @@ def test_set_says_what_is_wrong_with_a_number(item, words):
     assert r.code == 2 and words in r.err and "one key takes one value" not in r.err, r.err
 
 
-def test_set_and_vary_with_a_unit_get_the_hint_a_file_gets(tmp_path):
+def test_set_and_vary_with_a_unit_convert_as_a_file_does(tmp_path):
     p = tmp_path / "d.toml"
     p.write_text(ZSTK.read_text().replace("radial_N = 10000.0", 'radial_N = "10kN"'))
-    in_file = cli("check", p)
-    assert in_file.code == 2 and "write the bare number 10000" in in_file.err  # 10 kN = 10000 N
-    r = cli("check", ZSTK, "--set", "load.radial_N=10kN")
-    assert r.code == 2 and "write the bare number 10000 (10kN = 10000 N" in r.err, r.err
+    in_file = cli("check", "--resolved", p)
+    assert in_file.code == 0 and "radial_N = 10000.0" in in_file.out, in_file.err  # 10 kN = 10000 N
+    r = cli("check", "--resolved", ZSTK, "--set", "load.radial_N=10kN")
+    assert r.code == 0 and "radial_N = 10000.0" in r.out, r.err
+    r = cli("sweep", ZSTK, "--vary", "load.radial_N=10kN,20000", "-f", "csv", "--fields", "load.radial_N")
+    assert r.code == 0 and r.out.splitlines()[1:] == ["10000.0", "20000"], r.out + r.err
+    # a range takes bare numbers only: the hint proposes them
     r = cli("sweep", ZSTK, "--vary", "load.radial_N=1kN:50kN:1kN", "-f", "csv")
     assert r.code == 2 and "write the bare numbers 1000:50000:1000 (in N" in r.err, r.err
 
@@ -396,3 +411,65 @@ def test_check_resolved_shows_the_values_the_computation_takes(tmp_path, path, l
         s.pop("model_time_ms", None)
         s.pop("allowable_stress_source", None)  # "default" before, "design" once written out
     assert after == before  # the resolved design computes the same results
+
+
+# ----------------------------------------------------------------------------- units in values (issue 38 item 4)
+@pytest.mark.parametrize("name,value,expected", [
+    ("torque_Nm", "200 N*m", 200.0),
+    ("torque_Nm", "2 kN*m", 2000.0),          # 1 kN·m = 1000 N·m
+    ("torque_Nm", "2 kN·m", 2000.0),
+    ("length_mm", "0.1 in", 2.54),            # 1 in = 25.4 mm exactly
+    ("length_mm", "1 m", 1000.0),
+    ("force_N", "10kN", 10000.0),
+    ("modulus_MPa", "200 GPa", 200000.0),     # 1 GPa = 1000 MPa
+    ("speed_rpm", "100 1/min", 100.0),        # min^-1 is revolutions per minute
+    ("speed_rpm", "1 Hz", 60.0),              # one revolution a second
+    ("angle_deg", "30°", 30.0),
+])
+def test_quantity_strings_are_converted_to_the_keys_unit(name, value, expected):
+    v, err = dmod.check_value(Field(name, "number", ge=0), value)
+    assert err is None and v == pytest.approx(expected, rel=1e-12), (v, err)
+
+
+@pytest.mark.parametrize("name,value,words", [
+    ("length_mm", "2 kN*m", "kN*m is a torque, this key is a length (mm)"),
+    ("torque_Nm", "10 kN", "kN is a force, this key is a torque (N·m)"),
+    ("speed_rpm", "5 deg", "deg is an angle, this key is a speed of rotation (rpm)"),
+])
+def test_a_quantity_of_another_dimension_is_named(name, value, words):
+    _, err = dmod.check_value(Field(name, "number", ge=0), value)
+    assert err == words
+
+
+def test_converted_values_are_checked_against_the_bounds():
+    _, err = dmod.check_value(Field("length_mm", "number", le=1000.0), "2 m")  # 2000 mm > 1000
+    assert err and err.startswith("must be a number <= 1000"), err
+
+
+def test_the_resolved_design_shows_the_converted_number(tmp_path):
+    p = tmp_path / "d.toml"
+    p.write_text(ZSTK.read_text().replace("eccentricity_mm = 6.0", 'eccentricity_mm = "0.25 in"'))
+    r = cli("check", "--resolved", p)
+    assert r.code == 0 and "eccentricity_mm = 6.35" in r.out, r.err  # 0.25 in = 6.35 mm
+    r = cli("zstk", p, "-f", "json")
+    assert r.code in (0, 1) and json.loads(r.out)["design"]["geometry"]["eccentricity_mm"] == 6.35
+
+
+def test_pint_is_imported_only_when_a_quantity_string_appears(tmp_path):
+    code = ("import sys; from gearcalc.cli import main; sys.argv = ['gearcalc'] + sys.argv[1:]\n"
+            "try:\n    main()\nexcept SystemExit:\n    pass\n"
+            "sys.stderr.write('PINT=%s' % ('pint' in sys.modules))")
+    p = tmp_path / "d.toml"
+    p.write_text(ZSTK.read_text().replace("eccentricity_mm = 6.0", 'eccentricity_mm = "6 mm"'))
+    for args, imported in ((["--help"], False), (["check", str(ZSTK)], False), (["zstk", str(ZSTK)], False),
+                           (["check", str(p)], True)):
+        r = subprocess.run([sys.executable, "-c", code, *args], capture_output=True, text=True, cwd=tmp_path)
+        assert f"PINT={imported}" in r.stderr, (args, r.stderr[-500:])
+
+
+@pytest.mark.parametrize("value", ["1 2**2**2**2**2**2**2 m", "1 m^2^2^2^2^2^2^2^2", "1 m**(10**10)", "1 mm*99**9",
+                                   "1 m*1000000", "1 __import__('os')"])
+def test_a_unit_text_pint_would_compute_for_ever_is_not_a_quantity(value):
+    # pint's parser evaluates powers of numbers (2**2**...: a number of 2**65536 bits): such texts never reach it
+    _, err = dmod.check_value(Field("length_mm", "number", ge=0), value)
+    assert err.startswith("must be a number") and "write a bare number in mm" in err, err
