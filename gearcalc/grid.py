@@ -34,6 +34,9 @@ point's summary at once (measured peaks: rows 1.7 KB, pins 2.8 KB a point with i
 output text), so 300 000 points peak below 1 GB."""
 
 LAZY_FROM = 100_000
+
+ITER_BLOCK = 65_536
+"""Points of a :class:`Grid` built at a time when it is iterated point by point."""
 """A range axis of more values than this is a lazy :class:`Range` rather than a list."""
 
 
@@ -279,8 +282,15 @@ class Grid(Sequence):
         return {key: point[key] for key in self.keys}
 
     def __iter__(self):
-        combos = itertools.product(*(self.axes[k] for k in self.keys))
-        return (dict(zip(self.keys, c)) for c in itertools.islice(combos, self.start, self.stop))
+        # a block of points at a time from the axis columns of the block: the cost follows the points iterated, not
+        # the grid (itertools.product over the axes from the grid's start walked every point before it)
+        if not self.keys:
+            yield from ({} for _ in range(self.start, self.stop))
+            return
+        for a in range(self.start, self.stop, ITER_BLOCK):
+            block = Grid(self.axes, a, min(a + ITER_BLOCK, self.stop))
+            for combo in zip(*(block.column(k) for k in self.keys)):
+                yield dict(zip(self.keys, combo))
 
     def column(self, key: str, array: bool = False) -> list[Any]:
         """The values of one varied key over the points, in order (built for these points only: a chunk of a

@@ -179,6 +179,7 @@ def sweep(base, raw, axes, points, options):
     import numpy as np
 
     from ..design import check_value
+    from ..grid import Grid
 
     size = len(points)
     cols = {f"{t.name}.{f.name}": base.values[t.name][f.name] for t in TABLES for f in t.fields}
@@ -187,8 +188,13 @@ def sweep(base, raw, axes, points, options):
         field = next((t.field(name) for t in TABLES if t.name == table), None)
         if field is None:
             return None
-        resolved = {_hashable(v): check_value(field, v)[0] for v in axes[key]}
-        cols[key] = [resolved[_hashable(pt[key])] for pt in points]
+        column = points.column(key) if isinstance(points, Grid) else [pt[key] for pt in points]
+        resolved = {}  # the values of these points only (a chunk of a long axis costs the chunk, not the axis)
+        for v in column:
+            h = _hashable(v)
+            if h not in resolved:
+                resolved[h] = check_value(field, v)[0]
+        cols[key] = [resolved[_hashable(v)] for v in column]
     p = _prepare(cols, size)
     if not np.all(p.valid):
         k = int(np.argmax(~p.valid))
