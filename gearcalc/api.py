@@ -201,8 +201,9 @@ def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None
           overrides: Iterable[tuple[str, Any]] | Mapping[str, Any] = (), chunk: int | None = None,
           scheduler=None) -> Iterator:
     """Evaluate one design over the product grid of ``axes`` (the first axis varies slowest), a chunk at a
-    time: yields :class:`~gearcalc.render.Columns` (``.data[field]`` lists, the varied keys first; rows
-    with ``.rows()``, a DataFrame with ``.to_pandas()``), in grid order.  Memory is bounded by the chunk,
+    time: yields :class:`~gearcalc.render.Columns` (``.data[field]`` lists, the varied keys first, each made from
+    the chunk's numpy array when first read; rows with ``.rows()``, a DataFrame with ``.to_pandas()``), in grid
+    order.  Memory is bounded by the chunk,
     not by the grid.  ``scheduler``: the chunks are computed on a Dask cluster (an address, ``"local:N"``
     or a ``distributed.Client``; needs the ``dask`` extra), the same values in the same order.
     A point whose output would be infinite or NaN has every output None and its message in the chunk's
@@ -230,8 +231,12 @@ def sweep(design, axes: Mapping[str, Iterable[Any]], *, model: str | None = None
             from .engine import check_model
 
             check_model(model, kind)
-    if scheduler is None:
-        yield from sw.stream(raw, source, axes, Options(tol=tol, model=model), chunk=chunk)
+    from .render import LazyLists
+
+    if scheduler is None:  # numpy columns made lists as they are read (LazyLists): the same values
+        for part in sw.stream(raw, source, axes, Options(tol=tol, model=model), chunk=chunk, arrays=True):
+            part.data = LazyLists(part.data)
+            yield part
         return
     from .distributed import Cluster
 
