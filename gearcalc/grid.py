@@ -912,12 +912,12 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     problem = cost_problem(axes, total, seconds, jobs)
     if problem:  # before any point is computed
         raise SweepError(problem)
-    if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
-        keep_freed_memory()
     size = chunk or chunk_points(seconds)
     if jobs > 1:  # enough chunks to keep every worker busy
         size = min(size, max(1, -(-total // (4 * jobs))))
     ranges = [(k, min(k + size, total)) for k in range(0, total, size)]
+    if post is not None and len(ranges) > 1:  # a CSV sweep of the CLI in chunks: freed and allocated again
+        keep_freed_memory()
     header = None
     if len(ranges) > 1:
         header = columns_of(raw, source, axes, options)

@@ -162,3 +162,22 @@ def test_api_sweep_columns_are_lists_made_on_demand():
                 assert type(v) is list and [type(x) for x in v] == [type(x) for x in w.data[k]], k
             assert json.dumps(g.data) == json.dumps(w.data)
             assert pickle.loads(pickle.dumps(g.data)) == w.data
+
+
+def test_pins_geometry_axis_costs_its_geometries():
+    """An ideal-level grid over a geometry axis costs each distinct geometry as alone (1 ms + 35 us a pin-disc,
+    kinds/pins.py sweep_cost): chunks of about a second's work, a grid of hours refused; a friction axis stays
+    at 25 us a point (it cost 25 us a point whatever the axes: one chunk of 1e4 geometries, 21 s and ~1 GB)."""
+    src = CONFIGS / "pins_paper_cyc_u10_fixed.toml"
+    raw = tomllib.loads(src.read_text())
+    per_geometry = 1e-3 + 35e-6 * 22 * 1                    # the config: 22 pins, one disc
+    geo = {"gearing.eccentricity_mm": sw.Range(3.0, 0.00015, 10_000)}
+    total, seconds = sw.prepare(raw, str(src), geo, Options())
+    assert seconds == 2.5e-5 + per_geometry
+    assert sw.chunk_points(seconds) < 1_000
+    both = {**geo, "friction.sliding": [0.05, 0.1]}          # two points a geometry
+    assert sw.prepare(raw, str(src), both, Options())[1] == 2.5e-5 + per_geometry / 2
+    assert sw.prepare(raw, str(src), {"friction.sliding": sw.Range(0.01, 1e-5, 10_000)}, Options())[1] == 2.5e-5
+    huge = {"gearing.eccentricity_mm": sw.Range(3.0, 1.5e-6, 1_000_000)}
+    assert "more than a sweep may take" in sw.cost_problem(huge, 1_000_000, sw.prepare(raw, str(src), huge,
+                                                                                          Options())[1])
