@@ -179,7 +179,7 @@ def sweep(base, raw, axes, points, options):
     import numpy as np
 
     from ..design import check_value
-    from ..grid import Grid
+    from ..grid import Grid, Range
 
     size = len(points)
     cols = {f"{t.name}.{f.name}": base.values[t.name][f.name] for t in TABLES for f in t.fields}
@@ -189,6 +189,9 @@ def sweep(base, raw, axes, points, options):
         if field is None:
             return None
         column = points.column(key) if isinstance(points, Grid) else [pt[key] for pt in points]
+        if isinstance(axes[key], Range) and not axes[key].ints and isinstance(points, Grid):
+            cols[key] = column  # floats: check_value(field, x)[0] is x itself for every float x
+            continue
         resolved = {}  # the values of these points only (a chunk of a long axis costs the chunk, not the axis)
         for v in column:
             h = _hashable(v)
