@@ -31,7 +31,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-BASELINE = "215bcd196011"
+BASELINE = "6b8745a3374b"
 """The commit compared against by default (issue 36 item 8: the speed fixes of 2026-12-07)."""
 
 CASES = {  # name: (config, --vary specs (full), --vary specs (quick))
