@@ -242,8 +242,9 @@ def sweep(design, axes: Mapping[str, Any], *, model: str | None = None, tol: flo
           overrides: Iterable[Any] | Mapping[str, Any] = (), chunk: int | None = None,
           scheduler=None) -> Iterator:
     """Evaluate one design over the product grid of ``axes`` (the first axis varies slowest), a chunk at a
-    time: yields :class:`~gearcalc.render.Columns` (``.data[field]`` lists, the varied keys first; rows
-    with ``.rows()``, a DataFrame with ``.to_pandas()``), in grid order.  Memory is bounded by the chunk,
+    time: yields :class:`~gearcalc.render.Columns` (``.data[field]`` lists, the varied keys first, each made from
+    the chunk's numpy array when first read; rows with ``.rows()``, a DataFrame with ``.to_pandas()``), in grid
+    order.  Memory is bounded by the chunk,
     not by the grid.  ``scheduler``: the chunks are computed on a Dask cluster (an address, ``"local:N"``
     or a ``distributed.Client``; needs the ``dask`` extra), the same values in the same order.
     A point that is not a valid design, or whose output would be infinite or NaN, has every output None, its
@@ -315,8 +316,12 @@ def sweep_grid(design, axes: Mapping[str, Iterable[Any]], *, model: str | None =
 def _chunks(raw: dict, source: str, axes: dict, opts: Options, chunk, prepared: tuple, scheduler) -> Iterator:
     from . import grid as sw
 
-    if scheduler is None:
-        yield from _quietly(sw.stream(raw, source, axes, opts, chunk=chunk, prepared=prepared))
+    if scheduler is None:  # numpy columns made lists as they are read (render.LazyLists): the same values
+        from .render import LazyLists
+
+        for part in _quietly(sw.stream(raw, source, axes, opts, chunk=chunk, prepared=prepared, arrays=True)):
+            part.data = LazyLists(part.data)
+            yield part
         return
     from .distributed import Cluster
 

@@ -38,6 +38,9 @@ point's summary at once (measured peaks: rows 1.7 KB, pins 2.8 KB a point with i
 output text), so 300 000 points peak below 1 GB."""
 
 LAZY_FROM = 100_000
+
+ITER_BLOCK = 65_536
+"""Points of a :class:`Grid` built at a time when it is iterated point by point."""
 """A range axis of more values than this is a lazy :class:`Range` rather than a list."""
 
 
@@ -283,10 +286,15 @@ class Grid(Sequence):
         return {key: point[key] for key in self.keys}
 
     def __iter__(self):
-        # from the columns of these points: O(points), where itertools.product would copy every axis whole (an
-        # axis of 1e8 values, for a chunk of 65 536 points)
-        columns = [self.column(k) for k in self.keys]
-        return (dict(zip(self.keys, c)) for c in zip(*columns)) if columns else iter([{}] * len(self))
+        # a block of points at a time from the axis columns of the block: the cost follows the points iterated, not
+        # the grid (itertools.product over the axes from the grid's start walked every point before it)
+        if not self.keys:
+            yield from ({} for _ in range(self.start, self.stop))
+            return
+        for a in range(self.start, self.stop, ITER_BLOCK):
+            block = Grid(self.axes, a, min(a + ITER_BLOCK, self.stop))
+            for combo in zip(*(block.column(k) for k in self.keys)):
+                yield dict(zip(self.keys, combo))
 
     def column(self, key: str, array: bool = False) -> list[Any]:
         """The values of one varied key over the points, in order (built for these points only: a chunk of a
@@ -1087,8 +1095,6 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     problem = cost_problem(axes, total, seconds, jobs)
     if problem:  # before any point is computed
         raise SweepError(problem)
-    if post is not None and total > CHUNK_POINTS:  # a big CSV sweep of the CLI: chunks freed and allocated again
-        keep_freed_memory()
     size = chunk or chunk_points(seconds)
     if jobs > 1 and not chunk:  # enough chunks to keep every worker busy
         size = min(size, max(1, -(-total // (4 * jobs))))
@@ -1096,6 +1102,8 @@ def stream(raw: dict, source: str, axes: dict[str, list[Any]], options, chunk: i
     if plan is not None:
         size, skip = plan(size, total)
     ranges = [(k, min(k + size, total)) for k in range(0, total, size)]
+    if post is not None and len(ranges) > 1:  # a CSV sweep of the CLI in chunks: freed and allocated again
+        keep_freed_memory()
     header = None
     if len(ranges) > 1:  # the columns of the whole grid: a resumed run's are those of the interrupted one
         header = columns_of(raw, source, axes, options)

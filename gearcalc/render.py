@@ -758,6 +758,63 @@ class Columns:
         return pd.DataFrame(self.data)
 
 
+class LazyLists(dict):
+    """Columns (a dict of column name -> list) whose numpy arrays become lists when first read: the Python API's
+    ``Columns.data`` holds lists as it promises, and a caller reading a few columns of a big sweep does not pay
+    for turning every other array into Python values.  Every way of reading a value (``[]``, ``get``,
+    ``values``, ``items``, iteration, ``dict(...)``, ``==``, pickling) sees lists."""
+
+    def __getitem__(self, key):
+        v = dict.__getitem__(self, key)
+        if hasattr(v, "tolist"):
+            v = v.tolist()
+            dict.__setitem__(self, key, v)
+        return v
+
+    def _all(self) -> "LazyLists":
+        for key in dict.keys(self):
+            self[key]
+        return self
+
+    def get(self, key, default=None):
+        return self[key] if key in self else default
+
+    def __iter__(self):  # overridden: dict(self) and {**self} then read through __getitem__
+        return iter(dict.keys(self))
+
+    def values(self):
+        return dict.values(self._all())
+
+    def items(self):
+        return dict.items(self._all())
+
+    def pop(self, key, *default):
+        if key in self:
+            self[key]
+        return dict.pop(self, key, *default)
+
+    def popitem(self):
+        self._all()
+        return dict.popitem(self)
+
+    def setdefault(self, key, default=None):
+        return self[key] if key in self else dict.setdefault(self, key, default)
+
+    def copy(self) -> dict:
+        return dict(self._all())
+
+    def __eq__(self, other):
+        return dict.__eq__(self._all(), other)
+
+    __hash__ = None
+
+    def __repr__(self) -> str:
+        return dict.__repr__(self._all())
+
+    def __reduce__(self):
+        return dict, (dict(self._all()),)
+
+
 def _quote(text: str) -> str:
     if any(ch in text for ch in ',"\n\r'):
         return '"' + text.replace('"', '""') + '"'

@@ -7,13 +7,14 @@ texts :mod:`~gearcalc.pins.report`.  No numpy at module level: ``check``/``new``
 """
 from __future__ import annotations
 
+import math
 import time
 
 from ..calculator import Calculator, DesignError, Options, Problems, Result
 from ..pins import checks as C
 from ..pins import report as R
-from ..pins.schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, FORMULA_SWEEP_KEYS, HEADER,  # noqa: F401 (tests)
-                           IDEAL_SWEEP_KEYS, IDEAL_WORK_MAX, MODELS, TABLES)
+from ..pins.schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, FORMULA_SWEEP_KEYS, GEOMETRY_KEYS,  # noqa: F401
+                           HEADER, IDEAL_SWEEP_KEYS, IDEAL_WORK_MAX, MODELS, TABLES)
 
 KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level -> design key
     "z1": "gearing.satellite_teeth", "z2": "gearing.pins", "e": "gearing.eccentricity_mm",
@@ -195,7 +196,8 @@ def sweep(base, raw, axes, points, options):
 
 def sweep_cost(base, axes, options) -> float:
     """Estimated seconds of one point of a sweep (:func:`gearcalc.grid.point_seconds`), measured on one core
-    (2026-12-07): :func:`sweep`'s arrays 25 us a point (43 000 points/s end to end); point by point the formula
+    (2026-12-07): :func:`sweep`'s arrays 25 us a point (43 000 points/s end to end), plus, at the ideal level,
+    each distinct geometry of the grid's geometry axes as alone (1-2 ms measured); point by point the formula
     level 1 ms, the ideal level 1 ms + 35 us a pin-disc (:data:`IDEAL_WORK_MAX`), the contact level 0.22 ms a pin
     and pass of the torque fixed point (38-40 ms for ``configs/pins_paper_circ_u30_rotating.toml``: 62 pins,
     3 passes)."""
@@ -203,12 +205,18 @@ def sweep_cost(base, axes, options) -> float:
         level = select_level(base, options.model)
     except DesignError:
         return 1e-3  # the sweep reports the error at its first point
-    if all(k in {"formula": FORMULA_SWEEP_KEYS, "ideal": IDEAL_SWEEP_KEYS}.get(level, ()) for k in axes):
+    vectorised = all(k in {"formula": FORMULA_SWEEP_KEYS, "ideal": IDEAL_SWEEP_KEYS}.get(level, ()) for k in axes)
+    geometries = math.prod(len(v) for k, v in axes.items() if k in GEOMETRY_KEYS)
+    if vectorised and (level != "ideal" or geometries == 1):
         return 2.5e-5
     if level == "formula" or not base.has("gearing"):
         return 1e-3
     z2 = max([base["gearing.pins"]] + [v for v in axes.get("gearing.pins", []) if isinstance(v, int)])
     if level == "ideal":
+        n_d = max([base["gearing.discs"]] + [v for v in axes.get("gearing.discs", []) if isinstance(v, int)])
+        if vectorised:  # each distinct geometry solved once (as alone: 1-2 ms measured), then 25 us a point
+            points = math.prod(len(v) for v in axes.values())
+            return 2.5e-5 + (1e-3 + 35e-6 * z2 * n_d) * geometries / max(points, 1)
         return 1e-3 + 35e-6 * z2 * base["gearing.discs"]
     return 2.2e-4 * z2 * C.contact_passes(base.get(KEYS["shaft"]) == "V")
 

@@ -180,6 +180,7 @@ def sweep(base, raw, axes, points, options):
     import numpy as np
 
     from ..design import check_value
+    from ..grid import Grid, Range
 
     size = len(points)
     cols = {f"{t.name}.{f.name}": base.values[t.name][f.name] for t in TABLES for f in t.fields}
@@ -188,8 +189,15 @@ def sweep(base, raw, axes, points, options):
         field = next((t.field(name) for t in TABLES if t.name == table), None)
         if field is None:
             return None
-        column = [pt[key] for pt in points]  # this chunk's values only (an axis may have 1e8)
-        resolved = {_hashable(v): check_value(field, v)[0] for v in column}
+        column = points.column(key) if isinstance(points, Grid) else [pt[key] for pt in points]
+        if isinstance(axes[key], Range) and not axes[key].ints and isinstance(points, Grid):
+            cols[key] = column  # floats: check_value(field, x)[0] is x itself for every float x
+            continue
+        resolved = {}  # the values of these points only (a chunk of a long axis costs the chunk, not the axis)
+        for v in column:
+            h = _hashable(v)
+            if h not in resolved:
+                resolved[h] = check_value(field, v)[0]
         cols[key] = [resolved[_hashable(v)] for v in column]
     p = _prepare(cols, size)
     if not np.all(p.valid):  # each invalid point's first problem (its row's error); the valid ones are computed

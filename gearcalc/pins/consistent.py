@@ -205,6 +205,16 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     if P == 1 and n_d[0] == 1 and cyc.solved is not None and cyc.solved.size == 1 and gear[0] == cyc.solved[0] \
             and cyc.grid_t.size:
         return _one_point(cyc, float(mu[0]), int(sig[0]), tol)
+    if P > 1:  # points of the same gear, friction, discs and mode (a torque or speed axis) evaluated once
+        key = np.stack((gear, mu.view(np.int64), n_d, sig), axis=1)
+        _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
+        if first.size < P:
+            sel = np.sort(first)                   # each distinct point where it first appears, in order
+            rank = np.empty(first.size, dtype=np.int64)
+            rank[np.argsort(first)] = np.arange(first.size)
+            back = rank[inv.reshape(-1)]
+            part = consistent_cycles(cyc, gear[sel], mu[sel], n_d[sel], tol, sig[sel], chunk_nodes)
+            return ConsistentCycles(**{f: getattr(part, f)[..., back] for f in ConsistentCycles.__dataclass_fields__})
     per_gear = np.bincount(cyc.grid_gear, minlength=cyc.status.size) if cyc.grid_gear.size else \
         np.zeros(cyc.status.size, dtype=np.int64)
     nodes = per_gear[gear]
