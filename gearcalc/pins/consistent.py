@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cycle import disc_offsets, sum_over_discs
+from .cycle import disc_offsets, disc_sum_range
 from .geometry import as_arrays, Cycloid, MULTIPLIER, REDUCER
 from .ideal import _colsum, _contacts_geo, _GearTable, IdealCycles, _node_sums
 from ..quadrature import richardson_mean
@@ -300,11 +300,9 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     res["bearing_mean"], res["crank_mean"] = means[:P], means[P:] * n_d
     for i in np.flatnonzero(n_d > 1):          # the discs' torques summed (pins.md §12.7): a handful of points
         sl = slice(seg[i], seg[i] + counts[i])
-        tot_c = sum_over_discs(t[sl], crank[sl], disc_offsets(int(n_d[i]), int(z2[i])), 1.0)
-        if np.isnan(tot_c).all():              # the mode jams at every node: no crank torque (and no warning)
-            res["crank_max"][i] = res["crank_min"][i] = np.nan
-        else:
-            res["crank_max"][i], res["crank_min"][i] = np.nanmax(tot_c), np.nanmin(tot_c)
+        # both one-sided limits at every disc's jump (NaN where the mode jams at every node: no crank torque)
+        res["crank_min"][i], res["crank_max"][i] = disc_sum_range(t[sl], crank[sl],
+                                                                  disc_offsets(int(n_d[i]), int(z2[i])), 1.0)
     own_jam = np.where(sig == REDUCER, jam[0], jam[1])
     if own_jam.any():
         for key in ("force", "force_phase", "loss", "loss_phase", "total", "stress", "bearing_max", "bearing_mean",

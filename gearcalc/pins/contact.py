@@ -71,7 +71,7 @@ from .contact_profiles import (PROFILE_RULES, CircularProfile, Contacts, Cycloid
                                circular_profile, cycloid_profile, full_tooth, tooth_centre_distance,
                                zero_backlash_tooth_circle)
 from .contact_settings import DEFAULT_SETTINGS, ContactSettings
-from .cycle import disc_offsets, sum_over_discs
+from .cycle import disc_offsets, disc_sum_range, sum_over_discs
 from .friction import PinFriction, peak_coefficient
 from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .operating import SCALAR_OPS
@@ -838,8 +838,11 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
     ca, sa = np.cos(ang), np.sin(ang)
     B_r, B_t = Bx * ca + By * sa, -Bx * sa + By * ca
     T_H = model.sigma * g.e * B_t / 1e3                 # N·mm -> N·m, one disc
-    if n_discs > 1:
+    if n_discs > 1:   # the ripple from both one-sided limits at every disc's jump (pins.md §12.7)
+        lo, hi = disc_sum_range(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
         T_H = sum_over_discs(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
+    else:
+        lo, hi = float(T_H.min()), float(T_H.max())
     B = np.hypot(B_r, B_t)
     span = theta[-1] - theta[0]
 
@@ -858,7 +861,7 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = F / effective_radius(g.R_b, pick(sol.delta), ct.wx * ct.ny - ct.wy * ct.nx)
     stress = float(np.max(ratio[flank])) if np.any(flank) else math.nan
-    return CrankBearing(T_H, B_r, B_t, B, np.degrees(np.arctan2(B_t, B_r)), mean(T_H), float(T_H.max() - T_H.min()),
+    return CrankBearing(T_H, B_r, B_t, B, np.degrees(np.arctan2(B_t, B_r)), mean(T_H), hi - lo,
                         float(B.max()), mean(B), stress, bool(np.any(crest)))
 
 
