@@ -27,7 +27,7 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     "load_pin_radius": "pin_load.pin_radius_mm", "load_axle_radius": "pin_load.axle_radius_mm",
     "paper_pi": "pin_load.paper_pi", "face_width": "contact.face_width_mm", "model": "friction.model",
     "alias": "contact.friction_in_equilibrium", "law": "contact.law", "stiffness": "contact.stiffness_N_per_mm",
-    "allowable": "material.allowable_stress_MPa",
+    "allowable": "material.allowable_stress_MPa", "bearing_C": "bearing.C_N", "bearing_p": "bearing.exponent",
 }
 VIOLATION_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile", "sliding", "load_pin_radius",
                   "load_axle_radius")

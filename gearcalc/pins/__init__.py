@@ -89,6 +89,7 @@ _NAMES = {
     "points": ("IdealPoints", "ideal_points"),
     "outputs": ("STEEL_E_MPA", "STEEL_NU", "STEEL_E_STAR_MPA", "ConsistentEfficiencies", "consistent_efficiencies",
                 "satellite_torque", "crank_torque", "contact_stress", "axle_pressure", "pin_loss_bound",
-                "ConsistentPoint", "consistent_point", "consistent_outputs", "CrankDetail", "crank_detail"),
+                "ConsistentPoint", "consistent_point", "consistent_outputs", "bearing_life", "CrankDetail",
+                "crank_detail"),
 }
 __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), _MODULES, _NAMES)

@@ -321,7 +321,7 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
         theta, pin_shift, pin_sign = t * Tp_deg, 0, -1
     else:                        # theta = T_p (1 - t), pin i = j + 1 mod z2
         theta, pin_shift, pin_sign = (1.0 - t) * Tp_deg, 1, 1
-    order = np.argsort(theta, kind="stable")
+    order = _crank_order(theta, sigma)
     have_P = torque_sat is not None and omega_V is not None
     loaded = st.loaded[:, order]
     jj, nn = np.nonzero(loaded.T)[1], order[np.nonzero(loaded.T)[0]]      # row-major by node, then pin
@@ -338,6 +338,17 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
         loaded=st.loaded.sum(axis=0)[order], contact_theta=theta[nn], pin=(pin_sign * jj + pin_shift) % g.z2,
         phase=np.degrees(st.phase[jj, nn]), force=F, sliding_speed=slide, pin_speed=spin,
         contact_loss=contact_loss_power(F, v, mu_eff) if have_P else None)
+
+
+def _crank_order(theta, sigma: int):
+    """The nodes in crank-angle order.
+
+    A repeated angle (a jump) keeps its one-sided limits in crank-angle order: the reducer's theta = T_p (1 - t)
+    runs against t, so its ties go in reverse node order (the left limit in t is the right limit in theta).
+    """
+    if sigma == MULTIPLIER:
+        return np.argsort(theta, kind="stable")
+    return theta.size - 1 - np.argsort(theta[::-1], kind="stable")
 
 
 def disc_offsets(n_discs: int, z2: int) -> np.ndarray:

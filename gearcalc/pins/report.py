@@ -665,3 +665,24 @@ def _ratio(ratio: float) -> str:
     from ..floatfmt import apart
 
     return apart(ratio, 1.0)[0]
+
+
+BEARING_KEYS = ("bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h", "bearing_L10_h_err")
+
+
+def bearing_columns(pts, exponent, rating, speed, n: int) -> dict:
+    """The crank bearing's equivalent load and L10_h (:func:`gearcalc.pins.outputs.bearing_life`) as summary
+    columns over the n points of the ideal level (None: undefined; L10_h needs bearing.C_N and the crank speed)."""
+    import numpy as np
+
+    from .outputs import bearing_life
+
+    p = pts.consistent
+    if p is None or p.bearing_pmean is None:
+        return {k: [None] * n for k in BEARING_KEYS}
+    vals = bearing_life(p.bearing_pmean, p.bearing_pmean_err, exponent, p.torque_sat, rating, speed)
+    out = {}
+    for key, v in zip(BEARING_KEYS, vals):
+        v = np.broadcast_to(np.asarray(v, dtype=float), (n,))
+        out[key] = [x if math.isfinite(x) else None for x in v.tolist()]
+    return out

@@ -121,6 +121,12 @@ TABLES = (
               "margin_contact_stress = 1 - contact_stress_max_MPa/[sigma_H] (needs contact.face_width_mm)", gt=0,
               le=1e6),
     ), doc="The allowable contact stress of the tooth-pin contacts (optional)", optional=True, in_template=False),
+    Table("bearing", (
+        Field("C_N", "number", REQUIRED, "C, basic dynamic load rating of one disc's crank bearing (ISO 281): "
+              "bearing_L10_h at load.crank_speed_rpm", gt=0, le=MAX_FORCE_N, example=10000.0),
+        Field("exponent", "number", 10.0 / 3.0, "p, ISO 281 life exponent: 3 ball bearings, 10/3 roller "
+              "bearings (the default: crank bearings of cycloidal drives are mostly needle/roller)", ge=1, le=10),
+    ), doc="The crank bearing's rating life (optional; ideal level)", optional=True, in_template=False),
 )
 
 HEADER = """KHV planetary pin gearing after Prudnikov (seed 000): levels formula | ideal | contact.
@@ -138,7 +144,8 @@ SUMMARY_KEYS = (
     "pin_loss_max_W", "pin_loss_max_phase_deg", "pin_loss_bound_W",
     "pin_speed_max_rpm", "pin_speed_signed_min_rpm", "pin_speed_signed_max_rpm", "spin_reversals",
     "sliding_speed_max_m_s", "crank_torque_mean_Nm", "crank_torque_ripple_Nm", "bearing_force_max_N",
-    "bearing_force_mean_N", "contact_stress_max_MPa", "axle_pressure_max_MPa", "friction_model",
+    "bearing_force_mean_N", "bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h",
+    "bearing_L10_h_err", "contact_stress_max_MPa", "axle_pressure_max_MPa", "friction_model",
     "loaded_pins_min", "loaded_pins_max", "psi_star_deg", "rolling_ok",
     "exit_entry_force_ratio", "low_spin_fraction", "te_pp_arcsec", "backlash_deg", "equilibrium_residual",
     "contact_law", "tooth_radius_mm", "tooth_circle_radius_mm",
@@ -162,4 +169,5 @@ PIN_LOAD_KEYS = ("pin_load.normal_force_N", "pin_load.pin_speed_rpm", "pin_load.
 FORMULA_SWEEP_KEYS = PIN_LOAD_KEYS + ("friction.sliding", "friction.rolling_mm", "friction.axle",
                                       "material.allowable_stress_MPa")
 IDEAL_SWEEP_KEYS = OPERATING_KEYS + GEOMETRY_KEYS + PIN_LOAD_KEYS + ("contact.face_width_mm",
-                                                                    "material.allowable_stress_MPa")
+                                                                    "material.allowable_stress_MPa", "bearing.C_N",
+                                                                    "bearing.exponent")
