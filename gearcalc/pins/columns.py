@@ -294,7 +294,9 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
     one = n == 1
     z1, z2, n_d, e, Rb, K1g, Rpg, rot, r = _gear(v, one)
     op = operating(v, one)
-    bearing_p = np.where(np.isnan(floats(v["bearing_p"])), 10.0 / 3.0, floats(v["bearing_p"]))   # ISO 281 roller
+    absent = [None] * n                       # callers without [bearing] keys (tests, the API's own dicts)
+    bearing_p = floats(v.get("bearing_p", absent))
+    bearing_p = np.where(np.isnan(bearing_p), 10.0 / 3.0, bearing_p)      # ISO 281: roller bearings
     if one:
         bearing_p = float(bearing_p.reshape(-1)[0])
     pts = ideal_points(
@@ -329,7 +331,7 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
         warnings[i].append(R.MULTI_DISC_PEAKS)
     mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V
     columns = R.ideal_columns(arrays, op["mode"], rot, rolls, models, n)
-    columns.update(R.bearing_columns(pts, bearing_p, floats(v["bearing_C"]), op["speed"], n))
+    columns.update(R.bearing_columns(pts, bearing_p, floats(v.get("bearing_C", absent)), op["speed"], n))
     overflow = None
     for i, (lam, locked) in enumerate(zip(columns["loss_ratio"], columns["self_locking"])):
         if errors[i] is not None or lam is not None:
