@@ -88,3 +88,72 @@ def test_a_bad_exponent_is_refused_naming_the_key(tmp_path):
     r = runner.invoke(app, ["run", str(PAPER), "--set", "bearing.C_N=10000", "--set", "bearing.exponent=0.5"])
     assert r.exit_code == 2
     assert "bearing.exponent" in r.stderr
+
+
+# ---------------------------------------------------------------- the duty cycle (pins.md §8.3)
+
+DUTY = {"torque_Nm": [100.0, 50.0, 150.0], "crank_speed_rpm": [1000.0, 1500.0, 500.0], "time_share": [0.5, 0.3, 0.2]}
+
+
+def duty_file(tmp_path, duty=DUTY, **tables):
+    import tomllib
+
+    import tomli_w
+
+    raw = tomllib.loads(PAPER.read_text())
+    raw["duty"] = duty
+    raw.update(tables)
+    p = tmp_path / "duty.toml"
+    p.write_text(tomli_w.dumps(raw))
+    return p
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_duty_cycle_equals_a_hand_combination_of_per_row_runs(tmp_path, mode):
+    """Each row run alone (--set load.torque_Nm, load.crank_speed_rpm), combined here by hand: ISO 281 for a varying
+    load and speed weights the rows' P^p by their revolutions t_i n_i; L10_h at the time-weighted mean speed;
+    efficiency and loss time-weighted; the largest contact stress and its (1-based) row."""
+    C, p = 60_000.0, 10.0 / 3.0
+    path = duty_file(tmp_path, bearing={"C_N": C}, contact={"face_width_mm": 10.0})
+    r = runner.invoke(app, ["run", str(path), "--format", "json", "--set", f"load.mode={mode}"])
+    assert r.exit_code in (0, 1), r.stderr
+    s = json.loads(r.stdout)["summary"]
+    rows = [run_json("--set", f"load.torque_Nm={T}", "--set", f"load.crank_speed_rpm={n}", "--set", f"load.mode={mode}",
+                     "--set", f"bearing.C_N={C}", "--set", "contact.face_width_mm=10")["summary"]
+            for T, n in zip(DUTY["torque_Nm"], DUTY["crank_speed_rpm"])]
+    t, n = DUTY["time_share"], DUTY["crank_speed_rpm"]
+    w = [ti * ni for ti, ni in zip(t, n)]
+    P = (sum(wi * row["bearing_equivalent_load_N"] ** p for wi, row in zip(w, rows)) / sum(w)) ** (1 / p)
+    n_mean = sum(w) / sum(t)
+    assert s["duty_rows"] == 3
+    assert s["duty_bearing_equivalent_load_N"] == pytest.approx(P, rel=1e-13)
+    assert s["duty_bearing_L10_h"] == pytest.approx(1e6 / (60 * n_mean) * (C / P) ** p, rel=1e-12)
+    assert s["duty_efficiency"] == pytest.approx(sum(ti * row["efficiency"] for ti, row in zip(t, rows)) / sum(t),
+                                                 rel=1e-14)
+    assert s["duty_loss_mean_W"] == pytest.approx(sum(ti * row["loss_mean_W"] for ti, row in zip(t, rows)) / sum(t),
+                                                  rel=1e-13)
+    stress = [row["contact_stress_max_MPa"] for row in rows]
+    assert s["duty_contact_stress_max_MPa"] == max(stress)
+    assert s["duty_contact_stress_max_row"] == stress.index(max(stress)) + 1 == 3     # the 150 N·m row
+    # the design's own fields are its [load] point's, unchanged by the duty table
+    own = run_json("--set", f"load.mode={mode}", "--set", f"bearing.C_N={C}", "--set", "contact.face_width_mm=10")
+    assert s["efficiency"] == own["summary"]["efficiency"]
+    assert s["bearing_L10_h"] == own["summary"]["bearing_L10_h"]
+
+
+def test_duty_rows_of_unequal_length_are_refused_naming_the_keys(tmp_path):
+    bad = dict(DUTY, time_share=[0.5, 0.5])
+    r = runner.invoke(app, ["run", str(duty_file(tmp_path, bad))])
+    assert r.exit_code == 2
+    assert "duty.time_share" in r.stderr and "same length" in r.stderr
+
+
+def test_a_duty_design_in_a_batch_equals_it_alone(tmp_path):
+    path = duty_file(tmp_path, bearing={"C_N": 60_000.0})
+    alone = json.loads(runner.invoke(app, ["run", str(path), "--format", "json"]).stdout)["summary"]
+    r = runner.invoke(app, ["run", str(path), str(PAPER), "--format", "json"])
+    assert r.exit_code in (0, 1), r.stderr
+    both = json.loads(r.stdout)
+    first = both[0]["summary"] if isinstance(both, list) else both
+    for k in ("duty_bearing_L10_h", "duty_efficiency", "duty_loss_mean_W", "duty_bearing_equivalent_load_N"):
+        assert first[k] == alone[k]
