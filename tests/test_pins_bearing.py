@@ -157,3 +157,24 @@ def test_a_duty_design_in_a_batch_equals_it_alone(tmp_path):
     first = both[0]["summary"] if isinstance(both, list) else both
     for k in ("duty_bearing_L10_h", "duty_efficiency", "duty_loss_mean_W", "duty_bearing_equivalent_load_N"):
         assert first[k] == alone[k]
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_contact_level_l10_from_the_detail_table(mode):
+    """The contact level (circular-arc paper design): P from the --detail crank table by the trapezoid rule over its
+    crank angles, written here, lies within the stated error of the summary's (its error is the difference
+    between the Richardson-corrected and the plain trapezoid p-mean, pins.md §8.2); L10_h from it likewise."""
+    C, n, p = 10_000.0, 1000.0, 10.0 / 3.0
+    r = runner.invoke(app, ["run", str(CONFIGS / "pins_paper_circ_u10_fixed.toml"), "--format", "json", "--detail",
+                            "--set", f"bearing.C_N={C}", "--set", f"load.mode={mode}"])
+    assert r.exit_code in (0, 1), r.stderr
+    d = json.loads(r.stdout)
+    s, rows = d["summary"], d["detail"]["crank"]
+    assert s["model"] == "contact"
+    th = np.array([row["theta_deg"] for row in rows])
+    B = np.array([row["bearing_force_N"] for row in rows])
+    P = (np.sum(0.5 * (B[1:] ** p + B[:-1] ** p) * np.diff(th)) / (th[-1] - th[0])) ** (1 / p)
+    assert abs(P - s["bearing_equivalent_load_N"]) <= s["bearing_equivalent_load_err_N"] * (1 + 1e-9)
+    assert 0 < s["bearing_equivalent_load_err_N"] < 1e-6 * P
+    L10_h = (C / P) ** p * 1e6 / (60.0 * n)
+    assert abs(L10_h - s["bearing_L10_h"]) <= s["bearing_L10_h_err"] * (1 + 1e-9)

@@ -128,7 +128,7 @@ TABLES = (
               "bearing_L10_h at load.crank_speed_rpm", gt=0, le=MAX_FORCE_N, example=10000.0),
         Field("exponent", "number", 10.0 / 3.0, "p, ISO 281 life exponent: 3 ball bearings, 10/3 roller "
               "bearings (the default: crank bearings of cycloidal drives are mostly needle/roller)", ge=1, le=10),
-    ), doc="The crank bearing's rating life (optional; ideal level)", optional=True, in_template=False),
+    ), doc="The crank bearing's rating life (optional)", optional=True, in_template=False),
     Table("duty", (
         Field("torque_Nm", "numbers", REQUIRED, "T_i, each row's torque on load.torque_shaft", gt=0,
               le=MAX_TORQUE_NM, example=[100.0, 50.0]),
