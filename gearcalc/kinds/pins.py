@@ -29,6 +29,7 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     "paper_pi": "pin_load.paper_pi", "face_width": "contact.face_width_mm", "model": "friction.model",
     "alias": "contact.friction_in_equilibrium", "law": "contact.law", "stiffness": "contact.stiffness_N_per_mm",
     "allowable": "material.allowable_stress_MPa", "torsion": "contact.stiffness_curve",
+    "bearing_C": "bearing.C_N", "bearing_p": "bearing.exponent",
 }
 VIOLATION_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile", "sliding", "load_pin_radius",
                   "load_axle_radius")
@@ -86,6 +87,9 @@ def check(design, problems: Problems) -> None:
         found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, **{n: a[n] for n in GEAR_ARGS},
                                   is_modified=_modified(design))
     R.report_problems(found, problems)
+    duty = _duty_problem(design, tables)
+    if duty is not None:
+        problems.error(*duty)
     if "gearing" not in tables or found and found[-1][1] == "overflow":
         return
     level = select_level(design, None)
@@ -94,6 +98,47 @@ def check(design, problems: Problems) -> None:
         problem = cost_problem(design, level) or (admissibility_problem(design, level) if level != "formula" else None)
     if problem is not None:
         problems.error(*problem)
+
+
+def _duty_problem(design, tables):
+    """(key, message) when the [duty] table's arrays do not form rows (pins.md §8.3), else None."""
+    from ..pins.schema import MAX_DUTY_ROWS
+
+    if not design.has("duty"):
+        return None
+    if "gearing" not in tables or "load" not in tables:
+        return "duty", "a duty cycle needs [gearing] and [load] (the rows vary load.torque_Nm and crank_speed_rpm)"
+    n = [len(design.get("duty." + k) or ()) for k in ("torque_Nm", "crank_speed_rpm", "time_share")]
+    if len(set(n)) != 1:
+        return ("duty.time_share", f"duty.torque_Nm, duty.crank_speed_rpm and duty.time_share must have the same "
+                f"length (one entry per row): {n[0]}, {n[1]} and {n[2]} given")
+    if not 1 <= n[0] <= MAX_DUTY_ROWS:
+        return "duty.torque_Nm", f"a duty cycle has 1 to {MAX_DUTY_ROWS} rows ({n[0]} given)"
+    return None
+
+
+def _duty(design, options: Options, base: Result) -> Result:
+    """The duty cycle's fields (:func:`gearcalc.pins.duty.duty_combine`) added to the design's own result: each row
+    is the design at that torque and crank speed, computed as a batch (the ideal level: all rows together)."""
+    import dataclasses
+
+    from ..pins.duty import duty_combine
+
+    T, n, t = (design.get("duty." + k) for k in ("torque_Nm", "crank_speed_rpm", "time_share"))
+    rows = []
+    for T_i, n_i in zip(T, n):
+        values = {k: dict(v) for k, v in design.values.items() if k != "duty"}
+        values["load"].update(torque_Nm=T_i, crank_speed_rpm=n_i)
+        rows.append(dataclasses.replace(design, values=values, given=set(design.given), warnings=[]))
+    results = batch(rows, options)
+    for i, r in enumerate(results):
+        if isinstance(r, BaseException):
+            raise r
+        base.warnings.extend(f"duty row {i + 1}: {w}" for w in r.warnings)
+    p = design.get("bearing.exponent") if design.has("bearing") else None
+    base.summary.update(duty_combine([r.summary for r in results], t, n, 10.0 / 3.0 if p is None else p,
+                                     design.get("bearing.C_N") if design.has("bearing") else None))
+    return base
 
 
 def cost_problem(design, level: str):
@@ -132,7 +177,12 @@ def select_level(design, model: str | None, budget: bool = False) -> str:
 
 def compute(design, options: Options) -> Result:
     """Run the level the design needs (or ``--model``): the formula and ideal levels as a group of one (a batch
-    equals ``compute`` design by design), the contact level on its own."""
+    equals ``compute`` design by design), the contact level on its own; a ``[duty]`` cycle adds its rows."""
+    if design.has("duty"):
+        import dataclasses
+
+        own = dataclasses.replace(design, values={k: v for k, v in design.values.items() if k != "duty"})
+        return _duty(design, options, compute(own, options))
     t0 = time.perf_counter()
     level = select_level(design, options.model, budget=True)
     if level != "contact":
@@ -152,7 +202,8 @@ def batch(designs, options: Options) -> list:
     from ..pins.batching import run_batch
 
     return run_batch(designs, lambda d: select_level(d, options.model, budget=True),
-                     lambda d, level: level == "ideal" and C.computed_alone(d[KEYS["z2"]], d[KEYS["n_d"]], options.tol),
+                     lambda d, level: d.has("duty") or (
+                         level == "ideal" and C.computed_alone(d[KEYS["z2"]], d[KEYS["n_d"]], options.tol)),
                      lambda d: compute(d, options), lambda ds, level: _group(ds, level, options, time.perf_counter()))
 
 
@@ -175,7 +226,8 @@ def sweep(base, raw, axes, points, options):
 
     t0 = time.perf_counter()
     level = select_level(base, options.model)
-    if any(k not in {"formula": FORMULA_SWEEP_KEYS, "ideal": IDEAL_SWEEP_KEYS}.get(level, ()) for k in axes):
+    if base.has("duty") or any(k not in {"formula": FORMULA_SWEEP_KEYS, "ideal": IDEAL_SWEEP_KEYS}.get(level, ())
+                               for k in axes):      # a duty cycle: point by point (each point's rows as a batch)
         return None
     n, varied = len(points), set(axes)
 

@@ -80,7 +80,7 @@ _NAMES = {
     "operating": ("SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime", "efficiency_reducer_err",
                   "shaft_torques", "EfficiencyTorques", "efficiency_torques", "ScaledCycle", "scale_unit_cycle"),
     "cycle": ("cycle_breakpoints", "CycleState", "cycle_state", "cycle_loss_ratio", "state_loss_ratio", "CycleDetail",
-              "cycle_detail", "disc_offsets", "sum_over_discs", "disc_sum_peak"),
+              "cycle_detail", "disc_offsets", "sum_over_discs", "disc_sum_range", "disc_sum_peak"),
     "ideal": ("CycleIntegral", "mean_loss_ratio", "FINAL_BLOCK_CELLS", "NODE_ROWS", "GRID_ROWS", "FIRST_LEVELS_MAX",
               "first_levels", "cycle_pieces", "TOO_FEW_TEETH", "UNDERCUT", "TOO_COSTLY", "DISC_SAMPLES_MAX",
               "DISC_WORK_MAX", "IdealCycles", "REFINE_SAMPLES", "admissibility", "ideal_cycles"),
@@ -89,6 +89,7 @@ _NAMES = {
     "points": ("IdealPoints", "ideal_points"),
     "outputs": ("STEEL_E_MPA", "STEEL_NU", "STEEL_E_STAR_MPA", "ConsistentEfficiencies", "consistent_efficiencies",
                 "satellite_torque", "crank_torque", "contact_stress", "axle_pressure", "pin_loss_bound",
-                "ConsistentPoint", "consistent_point", "consistent_outputs", "CrankDetail", "crank_detail"),
+                "ConsistentPoint", "consistent_point", "consistent_outputs", "bearing_life", "CrankDetail",
+                "crank_detail"),
 }
 __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), _MODULES, _NAMES)

@@ -294,13 +294,19 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
     one = n == 1
     z1, z2, n_d, e, Rb, K1g, Rpg, rot, r = _gear(v, one)
     op = operating(v, one)
+    absent = [None] * n                       # callers without [bearing] keys (tests, the API's own dicts)
+    bearing_p = floats(v.get("bearing_p", absent))
+    bearing_p = np.where(np.isnan(bearing_p), 10.0 / 3.0, bearing_p)      # ISO 281: roller bearings
+    if one:
+        bearing_p = float(bearing_p.reshape(-1)[0])
     pts = ideal_points(
         z1, z2, e, Rb, K1g, Rpg, n_d, rot, r, op["sliding"], op["rolling"], op["axle"],
         words_equal(op["mode"], "multiplier", one), words_equal(op["shaft"], "V", one), op["torque"], op["speed"],
         np.array([m == "consistent" for m in models]), floats(v["face_width"]), tol=tol,
         xp=SCALAR_OPS if one else ARRAY_OPS,
         # a consistent design alone needs no friction-free peaks
-        first_order_peaks=not (one and n_d == 1 and models[0] == "consistent" and model_errors[0] is None))
+        first_order_peaks=not (one and n_d == 1 and models[0] == "consistent" and model_errors[0] is None),
+        bearing_exponent=bearing_p)
     # admissibility (pins.md §4.2, §12.10) and the warning of §4.5, per point
     errors: list = [None] * n
     warnings: list[list[str]] = [[] for _ in range(n)]
@@ -325,6 +331,7 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
         warnings[i].append(R.MULTI_DISC_PEAKS)
     mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V
     columns = R.ideal_columns(arrays, op["mode"], rot, rolls, models, n)
+    columns.update(R.bearing_columns(pts, bearing_p, floats(v.get("bearing_C", absent)), op["speed"], n))
     overflow = None
     for i, (lam, locked) in enumerate(zip(columns["loss_ratio"], columns["self_locking"])):
         if errors[i] is not None or lam is not None:

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cycle import disc_offsets, sum_over_discs
+from .cycle import disc_offsets, disc_sum_range
 from .geometry import as_arrays, Cycloid, MULTIPLIER, REDUCER
 from .ideal import _colsum, _contacts_geo, _GearTable, IdealCycles, _node_sums
 from ..quadrature import richardson_mean
@@ -97,7 +97,9 @@ class ConsistentCycles:
         one over the cycle;
     stress : largest F/(T_sat R_eff) [1/mm^2] (the Hertz peak pressure is sqrt(E* T_sat stress/(pi b)));
     bearing_max, bearing_mean : largest and mean |B|/T_sat of one disc's crank bearing [1/mm];
-    crank_mean, crank_min, crank_max : crank torque along the power flow over T_sat, summed over the discs [-].
+    crank_mean, crank_min, crank_max : crank torque along the power flow over T_sat, summed over the discs [-];
+    bearing_pmean, bearing_pmean_err : cycle mean of (|B|/T_sat)^p, p = ``bearing_exponent`` [1/mm^p], and its
+        quadrature error (the trapezoid rules at h and 2h differ by it; the mean is their Richardson value).
     The peaks are the largest values at the nodes of the final grid (error O(h^2)).  The result of one point
     with one disc on a gear solved alone (a design computed alone) also has ``scalars``: the same values as
     Python scalars (each field's ``[..., 0].tolist()``).
@@ -119,6 +121,8 @@ class ConsistentCycles:
     crank_mean: np.ndarray
     crank_min: np.ndarray
     crank_max: np.ndarray
+    bearing_pmean: np.ndarray
+    bearing_pmean_err: np.ndarray
 
 
 CONSISTENT_CHUNK_NODES = 2 ** 18
@@ -151,7 +155,7 @@ def _point_nodes(cyc: IdealCycles, gear):
 
 
 def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, mode=None,
-                      chunk_nodes: int = CONSISTENT_CHUNK_NODES) -> ConsistentCycles:
+                      chunk_nodes: int = CONSISTENT_CHUNK_NODES, bearing_exponent=10.0 / 3.0) -> ConsistentCycles:
     r"""The friction-consistent efficiency model (pins.md §4.9) of operating points, both modes.
 
     Every point has a solved gear (``gear``: its index in the gears of ``cyc``, which must be admissible)
@@ -202,18 +206,20 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     mu = np.zeros(P) + mu
     n_d = np.zeros(P, dtype=np.int64) + n_discs
     sig = np.zeros(P, dtype=np.int64) + (MULTIPLIER if mode is None else mode)
+    pe = np.zeros(P) + bearing_exponent
     if P == 1 and n_d[0] == 1 and cyc.solved is not None and cyc.solved.size == 1 and gear[0] == cyc.solved[0] \
             and cyc.grid_t.size:
-        return _one_point(cyc, float(mu[0]), int(sig[0]), tol)
-    if P > 1:  # points of the same gear, friction, discs and mode (a torque or speed axis) evaluated once
-        key = np.stack((gear, mu.view(np.int64), n_d, sig), axis=1)
+        return _one_point(cyc, float(mu[0]), int(sig[0]), tol, float(pe[0]))
+    if P > 1:  # points of the same gear, friction, discs, mode and exponent (a torque or speed axis) once
+        key = np.stack((gear, mu.view(np.int64), n_d, sig, pe.view(np.int64)), axis=1)
         _, first, inv = np.unique(key, axis=0, return_index=True, return_inverse=True)
         if first.size < P:
             sel = np.sort(first)                   # each distinct point where it first appears, in order
             rank = np.empty(first.size, dtype=np.int64)
             rank[np.argsort(first)] = np.arange(first.size)
             back = rank[inv.reshape(-1)]
-            part = consistent_cycles(cyc, gear[sel], mu[sel], n_d[sel], tol, sig[sel], chunk_nodes)
+            part = consistent_cycles(cyc, gear[sel], mu[sel], n_d[sel], tol, sig[sel], chunk_nodes,
+                                     bearing_exponent=pe[sel])
             return ConsistentCycles(**{f: getattr(part, f)[..., back] for f in ConsistentCycles.__dataclass_fields__})
     per_gear = np.bincount(cyc.grid_gear, minlength=cyc.status.size) if cyc.grid_gear.size else \
         np.zeros(cyc.status.size, dtype=np.int64)
@@ -221,7 +227,8 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     if P > 1 and int(nodes.sum()) > chunk_nodes:   # many points (a sweep): a chunk of points at a time
         chunk = np.cumsum(nodes) // chunk_nodes        # non-decreasing chunk number per point
         cuts = [0, *(np.flatnonzero(np.diff(chunk)) + 1).tolist(), P]
-        parts = [consistent_cycles(cyc, gear[a:b], mu[a:b], n_d[a:b], tol, sig[a:b], chunk_nodes=1 << 62)
+        parts = [consistent_cycles(cyc, gear[a:b], mu[a:b], n_d[a:b], tol, sig[a:b], chunk_nodes=1 << 62,
+                                   bearing_exponent=pe[a:b])
                  for a, b in zip(cuts[:-1], cuts[1:])]
         return ConsistentCycles(**{f: np.concatenate([getattr(q, f) for q in parts], axis=-1)
                                    for f in ConsistentCycles.__dataclass_fields__})
@@ -241,9 +248,9 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     r_p1 = G.r_p1[slot]
     z2 = G.z2[slot]
     mu_n = mu[pt]
-    block = np.full((15, P), np.nan)                    # one allocation for every field (rows as views)
+    block = np.full((17, P), np.nan)                    # one allocation for every field (rows as views)
     names = ("force", "force_phase", "loss", "loss_phase", "total", "stress", "bearing_max", "bearing_mean",
-             "crank_mean", "crank_min", "crank_max")
+             "crank_mean", "crank_min", "crank_max", "bearing_pmean", "bearing_pmean_err")
     res = {"loss_ratio": block[0:2], "err": block[2:4]}
     res.update({k: block[4 + r] for r, k in enumerate(names)})
     conv = np.zeros((2, P), dtype=bool)
@@ -308,17 +315,18 @@ def consistent_cycles(cyc: IdealCycles, gear, mu, n_discs=1, tol: float = 1e-6, 
     wr = richardson_mean(w[0], w[1])        # Richardson-corrected means (pins.md §8)
     means = np.bincount(np.concatenate((pt, pt + P)), np.concatenate((wr * Bm, wr * crank_m)), minlength=2 * P)
     res["bearing_mean"], res["crank_mean"] = means[:P], means[P:] * n_d
+    Bp = Bm ** pe[pt]                          # the bearing's equivalent load (pins.md §8.2): mean of |B|^p
+    res["bearing_pmean"] = np.bincount(pt, wr * Bp, minlength=P)
+    res["bearing_pmean_err"] = np.abs(np.bincount(pt, (w[0] - w[1]) * Bp, minlength=P))
     for i in np.flatnonzero(n_d > 1):          # the discs' torques summed (pins.md §12.7): a handful of points
         sl = slice(seg[i], seg[i] + counts[i])
-        tot_c = sum_over_discs(t[sl], crank[sl], disc_offsets(int(n_d[i]), int(z2[i])), 1.0)
-        if np.isnan(tot_c).all():              # the mode jams at every node: no crank torque (and no warning)
-            res["crank_max"][i] = res["crank_min"][i] = np.nan
-        else:
-            res["crank_max"][i], res["crank_min"][i] = np.nanmax(tot_c), np.nanmin(tot_c)
+        # both one-sided limits at every disc's jump (NaN where the mode jams at every node: no crank torque)
+        res["crank_min"][i], res["crank_max"][i] = disc_sum_range(t[sl], crank[sl],
+                                                                  disc_offsets(int(n_d[i]), int(z2[i])), 1.0)
     own_jam = np.where(sig == REDUCER, jam[0], jam[1])
     if own_jam.any():
         for key in ("force", "force_phase", "loss", "loss_phase", "total", "stress", "bearing_max", "bearing_mean",
-                    "crank_mean", "crank_min", "crank_max"):
+                    "crank_mean", "crank_min", "crank_max", "bearing_pmean", "bearing_pmean_err"):
             res[key] = np.where(own_jam, np.nan, res[key])
     # continue the doubling where the final grid does not meet the tolerance (friction near the jam limit)
     redo_m, redo_p = np.nonzero(~conv & ~jam & (mu > 0.0)[None, :])
@@ -352,7 +360,7 @@ def _seq_sums(rows):
     return np.cumsum(rows, axis=1)[:, -1]
 
 
-def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> ConsistentCycles:
+def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float, p: float) -> ConsistentCycles:
     """:func:`consistent_cycles` of one point with one disc on the whole grid of a gear solved alone.
 
     The same formulas, sums (in node order) and acceptance, operation for operation, so the same numbers bit for
@@ -389,7 +397,8 @@ def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> Consisten
     # forces, peaks, crank bearing and crank torque of the point's own mode
     own = 0 if sigma == REDUCER else 1
     res = dict.fromkeys(("force", "force_phase", "loss", "loss_phase", "total", "stress", "bearing_max",
-                         "bearing_mean", "crank_mean", "crank_min", "crank_max"), nan)
+                         "bearing_mean", "crank_mean", "crank_min", "crank_max", "bearing_pmean",
+                         "bearing_pmean_err"), nan)
     if not jam[own]:                 # c = 1/D > 0 at every node (else every field of the mode stays NaN)
         smu = sigma * mu
         c = 1.0 / D2[own]
@@ -417,6 +426,9 @@ def _one_point(cyc: IdealCycles, mu: float, sigma: int, tol: float) -> Consisten
         if not np.isfinite(c).all():   # 1/D overflows where D is subnormal: those nodes count 0 in the means
             both = np.where(np.isfinite(c), both, 0.0)
         res["bearing_mean"], res["crank_mean"] = _seq_sums(richardson_mean(w[0], w[1]) * both).tolist()
+        Bp = both[0] ** p                      # the bearing's equivalent load (pins.md §8.2): mean of |B|^p
+        res["bearing_pmean"], d = _seq_sums(np.stack((richardson_mean(w[0], w[1]) * Bp, (w[0] - w[1]) * Bp))).tolist()
+        res["bearing_pmean_err"] = abs(d)
     if mu > 0.0:
         redo = [m for m in range(2) if not conv[m] and not jam[m]]
         if redo:   # continue the doubling where the final grid does not meet the tolerance (near the jam limit)

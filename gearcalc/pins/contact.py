@@ -71,7 +71,7 @@ from .contact_profiles import (PROFILE_RULES, CircularProfile, Contacts, Cycloid
                                circular_profile, cycloid_profile, full_tooth, tooth_centre_distance,
                                zero_backlash_tooth_circle)
 from .contact_settings import DEFAULT_SETTINGS, ContactSettings
-from .cycle import disc_offsets, sum_over_discs
+from .cycle import disc_offsets, disc_sum_range, sum_over_discs
 from .friction import PinFriction, peak_coefficient
 from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .operating import SCALAR_OPS
@@ -674,7 +674,9 @@ class CrankBearing:
     crank_torque_mean, crank_torque_ripple : cycle mean and peak-to-peak of ``crank_torque`` [N·m];
     bearing_force_max, bearing_force_mean : peak and cycle mean of |B| [N];
     stress_factor : the largest F/R_eff over the loaded flank contacts [N/mm] (NaN: none);
-    crest_loaded : a loaded contact sits on a crest corner (a sharp edge: no Hertz stress there).
+    crest_loaded : a loaded contact sits on a crest corner (a sharp edge: no Hertz stress there);
+    mean_weights, trapezoid_weights : the cycle mean's weights over the final grid (the Richardson-corrected ones
+    and the plain trapezoid's, each summing to 1; the mean of any history v is sum(w v)), or None (pins.md §8.2).
     """
 
     crank_torque: np.ndarray
@@ -688,6 +690,8 @@ class CrankBearing:
     bearing_force_mean: float
     stress_factor: float
     crest_loaded: bool
+    mean_weights: np.ndarray | None = None
+    trapezoid_weights: np.ndarray | None = None
 
 
 def effective_radius(R_b, delta, inv_D):
@@ -838,8 +842,11 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
     ca, sa = np.cos(ang), np.sin(ang)
     B_r, B_t = Bx * ca + By * sa, -Bx * sa + By * ca
     T_H = model.sigma * g.e * B_t / 1e3                 # N·mm -> N·m, one disc
-    if n_discs > 1:
+    if n_discs > 1:   # the ripple from both one-sided limits at every disc's jump (pins.md §12.7)
+        lo, hi = disc_sum_range(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
         T_H = sum_over_discs(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
+    else:
+        lo, hi = float(T_H.min()), float(T_H.max())
     B = np.hypot(B_r, B_t)
     span = theta[-1] - theta[0]
 
@@ -858,8 +865,15 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
     with np.errstate(divide="ignore", invalid="ignore"):
         ratio = F / effective_radius(g.R_b, pick(sol.delta), ct.wx * ct.ny - ct.wy * ct.nx)
     stress = float(np.max(ratio[flank])) if np.any(flank) else math.nan
-    return CrankBearing(T_H, B_r, B_t, B, np.degrees(np.arctan2(B_t, B_r)), mean(T_H), float(T_H.max() - T_H.min()),
-                        float(B.max()), mean(B), stress, bool(np.any(crest)))
+    w_mean = w_trap = None
+    if span > 0.0:                  # the means' weights, for the bearing's p-mean (pins.md §8.2)
+        h = np.diff(theta) / span
+        w_trap = np.zeros(theta.size)
+        w_trap[:-1] += 0.5 * h
+        w_trap[1:] += 0.5 * h
+        w_mean = w_trap if w is None else w / span
+    return CrankBearing(T_H, B_r, B_t, B, np.degrees(np.arctan2(B_t, B_r)), mean(T_H), hi - lo,
+                        float(B.max()), mean(B), stress, bool(np.any(crest)), w_mean, w_trap)
 
 
 @dataclass

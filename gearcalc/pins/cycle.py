@@ -22,7 +22,7 @@ from .efficiency import contact_loss_power, pin_spin, sliding_speed
 from .geometry import Cycloid, lever_arm, MULTIPLIER, pitch_distance
 
 __all__ = ["cycle_breakpoints", "CycleState", "cycle_state", "cycle_loss_ratio", "state_loss_ratio", "CycleDetail",
-           "cycle_detail", "disc_offsets", "sum_over_discs", "disc_sum_peak"]
+           "cycle_detail", "disc_offsets", "sum_over_discs", "disc_sum_range", "disc_sum_peak"]
 
 
 # Over one period the load-side phases of the pins are psi_j(t) = 2 pi (j + t)/z2, j = 0 .. z2-1,
@@ -321,7 +321,7 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
         theta, pin_shift, pin_sign = t * Tp_deg, 0, -1
     else:                        # theta = T_p (1 - t), pin i = j + 1 mod z2
         theta, pin_shift, pin_sign = (1.0 - t) * Tp_deg, 1, 1
-    order = np.argsort(theta, kind="stable")
+    order = _crank_order(theta, sigma)
     have_P = torque_sat is not None and omega_V is not None
     loaded = st.loaded[:, order]
     jj, nn = np.nonzero(loaded.T)[1], order[np.nonzero(loaded.T)[0]]      # row-major by node, then pin
@@ -338,6 +338,17 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
         loaded=st.loaded.sum(axis=0)[order], contact_theta=theta[nn], pin=(pin_sign * jj + pin_shift) % g.z2,
         phase=np.degrees(st.phase[jj, nn]), force=F, sliding_speed=slide, pin_speed=spin,
         contact_loss=contact_loss_power(F, v, mu_eff) if have_P else None)
+
+
+def _crank_order(theta, sigma: int):
+    """The nodes in crank-angle order.
+
+    A repeated angle (a jump) keeps its one-sided limits in crank-angle order: the reducer's theta = T_p (1 - t)
+    runs against t, so its ties go in reverse node order (the left limit in t is the right limit in theta).
+    """
+    if sigma == MULTIPLIER:
+        return np.argsort(theta, kind="stable")
+    return theta.size - 1 - np.argsort(theta[::-1], kind="stable")
 
 
 def disc_offsets(n_discs: int, z2: int) -> np.ndarray:
@@ -405,6 +416,75 @@ def sum_over_discs(x, values, shifts, period, origin: float = 0.0, zero_outside:
         y = np.mod(x + s - origin, period) + origin
         total += np.interp(y, x, values, left=fill, right=fill)
     return total
+
+
+def _one_sided(y, x, values, right: bool):
+    """Linear interpolation of samples taking the one-sided limit at a jump.
+
+    x is non-decreasing, a repeated x is a jump: the right limit (the last of the repeated samples) if ``right``,
+    else the left one; clamped outside [x[0], x[-1]].
+    """
+    n = x.size
+    i = np.clip(np.searchsorted(x, y, side="right" if right else "left"), 1, n - 1)
+    x0, x1, v0, v1 = x[i - 1], x[i], values[i - 1], values[i]
+    dx = x1 - x0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r = np.where(dx > 0.0, (y - x0) / dx, 1.0 if not right else 0.0)
+    out = v0 + np.clip(r, 0.0, 1.0) * (v1 - v0)
+    return np.where(y <= x[0], values[0], np.where(y >= x[-1], values[-1], out))
+
+
+def disc_sum_range(x, values, shifts, period, origin: float = 0.0):
+    r"""Least and greatest value over the cycle of a sampled periodic history summed over discs, jumps included.
+
+    The sum V(x) = sum_d v(x + s_d) jumps wherever one disc's history jumps; both one-sided limits of V are taken
+    at every disc's samples (the union of the shifted sample points), so neither side of a jump is lost
+    (pins.md §8, §12.7: the crank-torque ripple with several discs).
+
+    .. math:: V(x^\pm) = \sum_d v\big((x + s_d)^\pm\big), \qquad
+        \min V, \ \max V \ \text{over } x \in \bigcup_d \{x_j - s_d\}, \ \pm
+
+    Parameters
+    ----------
+    x : ndarray
+        Sample points, non-decreasing (repeated points hold one-sided limits) [unit of x].
+    values : ndarray
+        Samples at x [unit of the quantity].
+    shifts : array_like
+        The discs' shifts (0 for the first) [unit of x].
+    period : float
+        The period of v [unit of x]; points are wrapped into [origin, origin + period).
+    origin : float
+        Start of the wrapped range [unit of x].
+
+    Returns
+    -------
+    lo, hi : float
+        Least and greatest value of V, NaN samples ignored (NaN if all are NaN) [unit of the quantity].
+
+    Examples
+    --------
+    >>> disc_sum_range(np.array([0.0, 0.5, 0.5, 1.0]), np.array([0.0, 0.0, 1.0, 1.0]), [0.0, 0.25], 1.0)
+    (0.0, 2.0)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §8, §12.7.
+    """
+    x = np.asarray(x, dtype=float)
+    values = np.asarray(values, dtype=float)
+    shifts = np.asarray(shifts, dtype=float)
+    pts = np.mod((x[None, :] - shifts[:, None]).ravel() - origin, period) + origin
+    left = np.zeros(pts.size)
+    right = np.zeros(pts.size)
+    for s in shifts:  # a handful of discs: loop over discs, vectorised over samples
+        y = np.mod(pts + s - origin, period) + origin
+        left += _one_sided(np.where(y == origin, origin + period, y), x, values, False)   # v(origin^-) = v(end^-)
+        right += _one_sided(y, x, values, True)
+    both = np.concatenate((left, right))
+    if np.isnan(both).all():
+        return math.nan, math.nan
+    return float(np.nanmin(both)), float(np.nanmax(both))
 
 
 def disc_sum_peak(phase, values, n_d: int):

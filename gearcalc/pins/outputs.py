@@ -23,7 +23,7 @@ import numpy as np
 
 from .. import hertz, units
 from .consistent import consistent_cycles
-from .cycle import disc_offsets, sum_over_discs
+from .cycle import _crank_order, disc_offsets, sum_over_discs
 from .efficiency import efficiency_multiplier, efficiency_reducer
 from .friction import peak_coefficient
 from .geometry import MULTIPLIER, REDUCER
@@ -31,7 +31,7 @@ from .operating import ARRAY_OPS, SCALAR_OPS, efficiency_reducer_err, shaft_torq
 
 __all__ = ["STEEL_E_MPA", "STEEL_NU", "STEEL_E_STAR_MPA", "ConsistentEfficiencies", "consistent_efficiencies",
            "satellite_torque", "crank_torque", "contact_stress", "axle_pressure", "pin_loss_bound", "ConsistentPoint",
-           "consistent_point", "consistent_outputs", "CrankDetail", "crank_detail"]
+           "consistent_point", "consistent_outputs", "bearing_life", "CrankDetail", "crank_detail"]
 
 STEEL_E_MPA, STEEL_NU = 2.1e5, 0.3
 """Steel pins and satellite: Young's modulus [MPa] and Poisson's ratio (the Hertz contact stress of pins.md §8;
@@ -271,7 +271,9 @@ class ConsistentPoint:
     force_phase [deg], loss_max, loss_peak, loss_bound [W], loss_phase [deg].  pins.md §8: crank_torque_mean,
     crank_torque_ripple [N·m] (all discs; NaN for first-order points), bearing_force_max, bearing_force_mean [N]
     (one disc), contact_stress_max [MPa], axle_pressure_max [MPa] (NaN for fixed pins).  torque_scale: T_sat
-    of the friction-consistent over the first-order efficiency [-].
+    of the friction-consistent over the first-order efficiency [-].  torque_sat: T_sat [N·mm];
+    bearing_pmean, bearing_pmean_err: the cycle mean of (|B|/T_sat)^p and its error
+    (:class:`gearcalc.pins.ConsistentCycles`; :func:`bearing_life`).
     """
 
     eta_vh: object
@@ -303,6 +305,9 @@ class ConsistentPoint:
     contact_stress_max: object
     axle_pressure_max: object
     torque_scale: object
+    torque_sat: object = None
+    bearing_pmean: object = None
+    bearing_pmean_err: object = None
 
 
 def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V, axle_radius, rotating,
@@ -406,12 +411,13 @@ def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, 
         bearing_force_max=Ts * c["bearing_max"], bearing_force_mean=Ts * c["bearing_mean"],
         contact_stress_max=contact_stress(Ts, c["stress"], face_width, e_star),
         axle_pressure_max=xp.where(rotating, axle_pressure(F, axle_radius, face_width), nan),
-        torque_scale=Ts / torque_sat_first_order)
+        torque_scale=Ts / torque_sat_first_order, torque_sat=Ts, bearing_pmean=c["bearing_pmean"],
+        bearing_pmean_err=c["bearing_pmean_err"])
 
 
 def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
                        axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque,
-                       torque_on_V, tol: float = 1e-6):
+                       torque_on_V, tol: float = 1e-6, bearing_exponent=10.0 / 3.0):
     """:func:`consistent_point` of n operating points of solved gears (pins.md §4.9, §8), the admissible ones.
 
     Runs :func:`gearcalc.pins.consistent_cycles` for the points whose gear is admissible (``status`` 0) with
@@ -460,7 +466,7 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
     if one:
         return _consistent_output(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
                                   axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque,
-                                  torque_on_V, tol)
+                                  torque_on_V, tol, bearing_exponent)
     nd_a = np.zeros(n, dtype=np.int64) + np.asarray(n_discs)
     good = (np.zeros(n, dtype=np.int64) + np.asarray(status)) == 0
     cons = np.asarray(consistent) & good
@@ -470,7 +476,8 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
     mult = np.asarray(multiplier)[sel]
     mu_a = np.zeros(n) + np.asarray(mu_eff, dtype=float)
     mu_c = np.where(cons[sel], mu_a[sel], 0.0)           # first-order points: friction-free forces
-    cc = consistent_cycles(cyc, gear[sel], mu_c, nd_a[sel], tol, mode=np.where(mult, MULTIPLIER, REDUCER))
+    cc = consistent_cycles(cyc, gear[sel], mu_c, nd_a[sel], tol, mode=np.where(mult, MULTIPLIER, REDUCER),
+                           bearing_exponent=(np.zeros(n) + bearing_exponent)[sel])
     b, f_sl = np.asarray(face_width)[sel], np.asarray(sliding_friction)[sel]
     rel_abs = np.asarray(cyc.rel_abs)[gear[sel]]
     if one:                                             # Python floats from here on
@@ -500,7 +507,7 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
 
 def _consistent_output(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
                        axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque, torque_on_V,
-                       tol: float):
+                       tol: float, bearing_exponent=10.0 / 3.0):
     """:func:`consistent_outputs` of one point (n = 1): the same values, with Python scalars in between."""
     good = int(np.asarray(status).reshape(-1)[0]) == 0
     cons = np.asarray(consistent) & good
@@ -509,7 +516,8 @@ def _consistent_output(cyc, gear, status, consistent, multiplier, mu_eff, torque
     cons0, mult = bool(cons[0]), bool(np.asarray(multiplier).reshape(-1)[0])
     mu = float(np.asarray(mu_eff, dtype=float).reshape(-1)[0])
     n_d = int(np.asarray(n_discs).reshape(-1)[0])
-    cc = consistent_cycles(cyc, gear, mu if cons0 else 0.0, n_d, tol, mode=MULTIPLIER if mult else REDUCER)
+    cc = consistent_cycles(cyc, gear, mu if cons0 else 0.0, n_d, tol, mode=MULTIPLIER if mult else REDUCER,
+                           bearing_exponent=float(np.asarray(bearing_exponent).reshape(-1)[0]))
     c = getattr(cc, "scalars", None)
     if c is None:
         c = {f: (getattr(cc, f)[..., 0].tolist()) for f in cc.__dataclass_fields__}
@@ -519,6 +527,67 @@ def _consistent_output(cyc, gear, status, consistent, multiplier, mu_eff, torque
                          float(np.asarray(cyc.rel_abs)[int(np.asarray(gear).reshape(-1)[0])]), float(torque),
                          bool(np.asarray(torque_on_V).reshape(-1)[0]), SCALAR_OPS)
     return ConsistentPoint(**{key: (v.item() if hasattr(v, "item") else v) for key, v in p.__dict__.items()}), cons
+
+
+def bearing_life(pmean, pmean_err, exponent, torque_sat, rating, crank_speed, xp=ARRAY_OPS):
+    r"""The crank bearing's equivalent load and its basic rating life L10 (ISO 281), with their errors.
+
+    The bearing-force history |B(theta)| of one disc's crank bearing over the cycle (pins.md §4.9, §8) gives the
+    equivalent constant load P as its p-mean; the life in millions of revolutions and in hours at the crank
+    speed n_H follow from the dynamic load rating C (ISO 281 basic rating life, 90 % reliability).  The error of
+    the cycle mean (its quadrature error) is carried to P and L10_h to first order.
+
+    .. math::
+
+        P = T_{sat}\,\Big(\frac{1}{T}\int_0^T \hat B^p\,d\theta\Big)^{1/p}, \qquad
+        L_{10} = \Big(\frac{C}{P}\Big)^p\ [10^6\ \mathrm{rev}], \qquad
+        L_{10h} = \frac{10^6}{60\,n_H}\,L_{10}, \qquad
+        \delta P = \frac{P}{p}\,\frac{\delta m}{m}, \qquad \delta L_{10h} = p\,L_{10h}\,\frac{\delta P}{P}
+
+    Parameters
+    ----------
+    pmean : float or array_like
+        m, the cycle mean of (|B|/T_sat)^p [mm^-p] (:class:`gearcalc.pins.ConsistentCycles` ``bearing_pmean``).
+    pmean_err : float or array_like
+        delta m, its quadrature error [mm^-p].
+    exponent : float or array_like
+        p, the life exponent [-]: 3 for ball bearings, 10/3 for roller bearings (ISO 281).
+    torque_sat : float or array_like
+        T_sat, the satellite torque of one disc [N·mm].
+    rating : float or array_like
+        C, the bearing's basic dynamic load rating [N] (NaN: not given; the lives are then NaN).
+    crank_speed : float or array_like
+        n_H, the crank speed [rpm] (NaN: not given; L10_h is then NaN).
+    xp : :data:`gearcalc.pins.ARRAY_OPS` or :data:`gearcalc.pins.SCALAR_OPS`
+
+    Returns
+    -------
+    P, P_err : equivalent load and its error [N]; L10_h, L10_h_err : life and its error [h].
+
+    Examples
+    --------
+    A constant bearing force of 5 kN (m = 5^3 per unit T_sat, T_sat = 1000 N·mm, |B| = 5000 N), a ball bearing
+    of C = 10 kN at 1000 rpm: L10 = 2^3 = 8 million revolutions, 8e6/60000 h.
+
+    >>> P, dP, L, dL = bearing_life(125.0, 0.0, 3.0, 1000.0, 10000.0, 1000.0, SCALAR_OPS)
+    >>> round(P, 9), round(L, 9), dL
+    (5000.0, 133.333333333, 0.0)
+
+    References
+    ----------
+    .. [1] ISO 281:2007, Rolling bearings -- Dynamic load ratings and rating life, eq. (1) and the
+       mean load of a varying load (Annex, P_m = (integral of F^p dN / N)^(1/p)).
+    .. [2] docs/spec/pins.md §8.2.
+    """
+    m, dm, p, Ts, C, n = (np.asarray(x, dtype=float) for x in (pmean, pmean_err, exponent, torque_sat, rating,
+                                                                 crank_speed))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        P = Ts * m ** (1.0 / p)
+        P_err = P / p * dm / m
+        L10_h = 1e6 / (60.0 * n) * (C / P) ** p
+        L_err = p * L10_h * P_err / P
+    out = (P, P_err, L10_h, L_err)
+    return tuple(float(x) for x in out) if xp is SCALAR_OPS else out
 
 
 # ------------------------------------------------------------------ the crank table of pins.md §8
@@ -580,7 +649,7 @@ def crank_detail(history, t, sigma: int, z2: int, torque_sat: float, n_discs: in
     pins.md §4.9 (crank-bearing force, crank torque), §8 (the detail table), §12.7 (several discs).
     """
     theta = t * 360.0 / z2 if sigma == MULTIPLIER else (1.0 - t) * 360.0 / z2
-    order = np.argsort(theta, kind="stable")                # as gearcalc.pins.cycle_detail orders the nodes
+    order = _crank_order(theta, sigma)                      # as gearcalc.pins.cycle_detail orders the nodes
     T_H = history["crank"] * torque_sat / units.NMM_PER_NM
     if n_discs > 1:
         T_H = sum_over_discs(t, T_H, disc_offsets(n_discs, z2), 1.0)

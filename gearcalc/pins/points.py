@@ -80,7 +80,7 @@ class IdealPoints:
 
 def ideal_points(z1, z2, e, Rb, K1, Rp, n_d, rotating, axle_radius, sliding, rolling, axle, multiplier, torque_on_V,
                  torque, crank_speed, consistent, face_width, tol: float = 1e-6, xp=None,
-                 first_order_peaks: bool = True) -> IdealPoints:
+                 first_order_peaks: bool = True, bearing_exponent=10.0 / 3.0) -> IdealPoints:
     r"""The ideal level (pins.md §4) at n operating points: the geometries solved once, the points scaled.
 
     .. math:: \bar\lambda = \mu_{eff}\,\bar\lambda_1, \qquad F \propto T_{sat}, \qquad v \propto \omega_V
@@ -166,7 +166,7 @@ def ideal_points(z1, z2, e, Rb, K1, Rp, n_d, rotating, axle_radius, sliding, rol
     p, cons = consistent_outputs(
         cyc, gi, status, np.asarray(consistent), np.atleast_1d(np.asarray(multiplier)), mu, sc.torque_sat,
         sc.omega_V, axle_radius, rotating, rolls, z1, k, n_d, face_width, np.atleast_1d(sliding), torque,
-        np.atleast_1d(np.asarray(torque_on_V)), tol)
+        np.atleast_1d(np.asarray(torque_on_V)), tol, bearing_exponent)
     nd_a = np.zeros(np.size(consistent), dtype=np.int64) + np.asarray(n_d)
     return IdealPoints(cyc, gi, one, z1, z2, e, Rp, Rb, omk, n_d, k, K1, status, psi_star, psi_0, mu, rolls, lam, E,
                        et, sc, p, cons, cons & (nd_a == 1), cons & (nd_a > 1))

@@ -368,7 +368,29 @@ def crank_fields(cl, design, force_max) -> dict:
             "bearing_force_max_N": cb.bearing_force_max, "bearing_force_mean_N": cb.bearing_force_mean,
             "contact_stress_max_MPa": stress,
             "axle_pressure_max_MPa": (plain(axle_pressure(force_max, r, b))
-                                      if rotating and b is not None and force_max is not None else None)}
+                                      if rotating and b is not None and force_max is not None else None),
+            **contact_bearing_fields(cb, design)}
+
+
+def contact_bearing_fields(cb, design) -> dict:
+    """The crank bearing's equivalent load and L10_h at the contact level (pins.md §8.2): the p-mean of one disc's
+    |B| with the cycle mean's weights; its error the difference from the plain trapezoid's p-mean (the
+    Richardson-corrected mean's error is below it)."""
+    import numpy as np
+
+    from .outputs import bearing_life
+
+    if cb.mean_weights is None:
+        return dict.fromkeys(BEARING_KEYS)
+    p = design.get("bearing.exponent") if design.has("bearing") else None
+    p = 10.0 / 3.0 if p is None else float(p)
+    Bp = np.asarray(cb.bearing_force, dtype=float) ** p
+    m = float(np.sum(cb.mean_weights * Bp))
+    dm = abs(m - float(np.sum(cb.trapezoid_weights * Bp)))
+    C = design.get("bearing.C_N") if design.has("bearing") else None
+    n = design.get("load.crank_speed_rpm")
+    vals = bearing_life(m, dm, p, 1.0, math.nan if C is None else C, math.nan if n is None else n)
+    return {k: (float(v) if math.isfinite(float(v)) else None) for k, v in zip(BEARING_KEYS, vals)}
 
 
 def crest_warning(crank) -> list[str]:
@@ -665,3 +687,24 @@ def _ratio(ratio: float) -> str:
     from ..floatfmt import apart
 
     return apart(ratio, 1.0)[0]
+
+
+BEARING_KEYS = ("bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h", "bearing_L10_h_err")
+
+
+def bearing_columns(pts, exponent, rating, speed, n: int) -> dict:
+    """The crank bearing's equivalent load and L10_h (:func:`gearcalc.pins.outputs.bearing_life`) as summary
+    columns over the n points of the ideal level (None: undefined; L10_h needs bearing.C_N and the crank speed)."""
+    import numpy as np
+
+    from .outputs import bearing_life
+
+    p = pts.consistent
+    if p is None or p.bearing_pmean is None:
+        return {k: [None] * n for k in BEARING_KEYS}
+    vals = bearing_life(p.bearing_pmean, p.bearing_pmean_err, exponent, p.torque_sat, rating, speed)
+    out = {}
+    for key, v in zip(BEARING_KEYS, vals):
+        v = np.broadcast_to(np.asarray(v, dtype=float), (n,))
+        out[key] = [x if math.isfinite(x) else None for x in v.tolist()]
+    return out

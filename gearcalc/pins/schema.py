@@ -10,12 +10,14 @@ from ..registry import LEVELS
 from ..units import MAX_FORCE_N, MAX_FRICTION, MAX_LENGTH_MM, MAX_SPEED_RPM, MAX_TEETH, MAX_TORQUE_NM, MIN_LENGTH_MM
 from .profiles import PROFILES
 
-__all__ = ["MODELS", "MAX_DISCS", "IDEAL_WORK_MAX", "IDEAL_SWEEP_WORK_MAX", "CONTACT_NODES_MAX", "CONTACT_WORK_MAX",
-           "GROUP_PINS_MAX", "GROUP_TOL_MIN", "MAX_STIFFNESS_N_PER_MM", "TABLES", "HEADER", "SUMMARY_KEYS",
-           "OPERATING_KEYS", "GEOMETRY_KEYS", "PIN_LOAD_KEYS", "FORMULA_SWEEP_KEYS", "IDEAL_SWEEP_KEYS"]
+__all__ = ["MODELS", "MAX_DISCS", "MAX_DUTY_ROWS", "IDEAL_WORK_MAX", "IDEAL_SWEEP_WORK_MAX", "CONTACT_NODES_MAX",
+           "CONTACT_WORK_MAX", "GROUP_PINS_MAX", "GROUP_TOL_MIN", "MAX_STIFFNESS_N_PER_MM", "TABLES", "HEADER",
+           "SUMMARY_KEYS", "OPERATING_KEYS", "GEOMETRY_KEYS", "PIN_LOAD_KEYS", "FORMULA_SWEEP_KEYS", "IDEAL_SWEEP_KEYS"]
 
 MODELS = LEVELS["pins"]
 MAX_DISCS = 64
+MAX_DUTY_ROWS = 1000
+"""Rows of a duty cycle: each is an operating point (at the contact level a full solve each)."""
 """Satellite discs (drives use 1-3); the cost grows with n_d, and 64 discs take ~0.4 s."""
 IDEAL_WORK_MAX = 200_000
 """Cost budget of one ideal-level design: pins x discs (z2 n_d).  The cycle and the disc sums cost about
@@ -123,6 +125,21 @@ TABLES = (
               "margin_contact_stress = 1 - contact_stress_max_MPa/[sigma_H] (needs contact.face_width_mm)", gt=0,
               le=1e6),
     ), doc="The allowable contact stress of the tooth-pin contacts (optional)", optional=True, in_template=False),
+    Table("bearing", (
+        Field("C_N", "number", REQUIRED, "C, basic dynamic load rating of one disc's crank bearing (ISO 281): "
+              "bearing_L10_h at load.crank_speed_rpm", gt=0, le=MAX_FORCE_N, example=10000.0),
+        Field("exponent", "number", 10.0 / 3.0, "p, ISO 281 life exponent: 3 ball bearings, 10/3 roller "
+              "bearings (the default: crank bearings of cycloidal drives are mostly needle/roller)", ge=1, le=10),
+    ), doc="The crank bearing's rating life (optional)", optional=True, in_template=False),
+    Table("duty", (
+        Field("torque_Nm", "numbers", REQUIRED, "T_i, each row's torque on load.torque_shaft", gt=0,
+              le=MAX_TORQUE_NM, example=[100.0, 50.0]),
+        Field("crank_speed_rpm", "numbers", REQUIRED, "n_i, each row's crank speed", gt=0, le=MAX_SPEED_RPM,
+              example=[1000.0, 1500.0]),
+        Field("time_share", "numbers", REQUIRED, "t_i, each row's share of the time (normalised: any positive "
+              "scale)", gt=0, le=1e12, example=[0.3, 0.7]),
+    ), doc="A duty cycle: rows of (torque, crank speed, time share) evaluated as one design, as arrays of equal "
+           "length (pins.md §8.3; optional)", optional=True, in_template=False),
 )
 
 HEADER = """KHV planetary pin gearing after Prudnikov (seed 000): levels formula | ideal | contact.
@@ -140,12 +157,16 @@ SUMMARY_KEYS = (
     "pin_loss_max_W", "pin_loss_max_phase_deg", "pin_loss_bound_W",
     "pin_speed_max_rpm", "pin_speed_signed_min_rpm", "pin_speed_signed_max_rpm", "spin_reversals",
     "sliding_speed_max_m_s", "crank_torque_mean_Nm", "crank_torque_ripple_Nm", "bearing_force_max_N",
-    "bearing_force_mean_N", "contact_stress_max_MPa", "axle_pressure_max_MPa", "friction_model",
+    "bearing_force_mean_N", "bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h",
+    "bearing_L10_h_err", "contact_stress_max_MPa", "axle_pressure_max_MPa", "friction_model",
     "loaded_pins_min", "loaded_pins_max", "psi_star_deg", "rolling_ok",
     "exit_entry_force_ratio", "low_spin_fraction", "te_pp_arcsec", "backlash_deg", "equilibrium_residual",
     "contact_law", "tooth_radius_mm", "tooth_circle_radius_mm",
     "n_crank", "model_time_ms", "tolerance_met",
     "F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W",
+    "duty_rows", "duty_efficiency", "duty_efficiency_err", "duty_loss_mean_W", "duty_bearing_equivalent_load_N",
+    "duty_bearing_equivalent_load_err_N", "duty_bearing_L10_h", "duty_bearing_L10_h_err",
+    "duty_contact_stress_max_MPa", "duty_contact_stress_max_row",
     "model_reason", "margin_self_locking", "margin_rolling", "margin_contact_stress", "failed_checks",
 )
 
@@ -164,4 +185,5 @@ PIN_LOAD_KEYS = ("pin_load.normal_force_N", "pin_load.pin_speed_rpm", "pin_load.
 FORMULA_SWEEP_KEYS = PIN_LOAD_KEYS + ("friction.sliding", "friction.rolling_mm", "friction.axle",
                                       "material.allowable_stress_MPa")
 IDEAL_SWEEP_KEYS = OPERATING_KEYS + GEOMETRY_KEYS + PIN_LOAD_KEYS + ("contact.face_width_mm",
-                                                                    "material.allowable_stress_MPa")
+                                                                    "material.allowable_stress_MPa", "bearing.C_N",
+                                                                    "bearing.exponent")

@@ -1,0 +1,180 @@
+"""The crank bearing's equivalent load and L10 life (issue 37 item 5; pins.md §8.2).
+
+Independent references: the equivalent load recomputed from the ``--detail`` crank table (the bearing force of one
+disc at every node of the final grid, ordered by crank angle; a trapezoid rule over the crank angle, written here),
+and the ISO 281 life L10 = (C/P)^p 10^6 revolutions, L10_h = L10 10^6/(60 n) (written here).
+"""
+from __future__ import annotations
+
+import json
+import math
+
+import numpy as np
+import pytest
+from typer.testing import CliRunner
+
+from gearcalc.cli import app
+
+from conftest import CONFIGS
+
+runner = CliRunner()
+PAPER = CONFIGS / "pins_paper_cyc_u10_fixed.toml"
+
+
+def run_json(*args):
+    r = runner.invoke(app, ["run", str(PAPER), "--format", "json", *args])
+    assert r.exit_code in (0, 1), r.stderr
+    return json.loads(r.stdout)
+
+
+@pytest.mark.parametrize("p", [3.0, 10.0 / 3.0])
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_l10_from_a_p_mean_computed_from_the_detail_table(p, mode):
+    """L10 from a cubic (p = 3) or 10/3-power mean computed here from the detail table: the trapezoid rule over the
+    table's crank angles (the jump in the loaded pin count is a repeated angle holding both sides).  The trapezoid
+    at the final grid's spacing h differs from the summary's Richardson value by about (T_h - T_2h)/3, a third of
+    the stated error, so the stated error must cover the difference."""
+    C, n = 10_000.0, 1000.0
+    d = run_json("--detail", "--set", f"bearing.C_N={C}", "--set", f"bearing.exponent={p!r}",
+                 "--set", f"load.mode={mode}")
+    s, rows = d["summary"], d["detail"]["crank"]
+    th = np.array([r["theta_deg"] for r in rows])
+    B = np.array([r["bearing_force_N"] for r in rows])
+    assert np.all(np.diff(th) >= 0)
+    mean_p = np.sum(0.5 * (B[1:] ** p + B[:-1] ** p) * np.diff(th)) / (th[-1] - th[0])
+    P = mean_p ** (1.0 / p)
+    assert B.min() <= P <= B.max()
+    assert s["bearing_force_mean_N"] <= s["bearing_equivalent_load_N"] + s["bearing_equivalent_load_err_N"]
+    assert abs(P - s["bearing_equivalent_load_N"]) <= s["bearing_equivalent_load_err_N"]
+    assert 0 < s["bearing_equivalent_load_err_N"] < 1e-6 * P      # the default --tol 1e-6 (a relative target)
+    L10_h = (C / P) ** p * 1e6 / (60.0 * n)
+    assert abs(L10_h - s["bearing_L10_h"]) <= s["bearing_L10_h_err"]
+    assert s["bearing_L10_h_err"] == pytest.approx(p * s["bearing_L10_h"] * s["bearing_equivalent_load_err_N"]
+                                                   / s["bearing_equivalent_load_N"], rel=1e-12)
+
+
+def test_without_a_rating_the_load_is_given_and_the_life_is_empty():
+    """P needs only the force history (default exponent 10/3, ISO 281 roller); L10_h needs bearing.C_N."""
+    s = run_json()["summary"]
+    assert s["bearing_equivalent_load_N"] > 0 and s["bearing_L10_h"] is None and s["bearing_L10_h_err"] is None
+    s2 = run_json("--set", "bearing.C_N=10000", "--set", f"bearing.exponent={10 / 3!r}")["summary"]
+    assert s2["bearing_equivalent_load_N"] == s["bearing_equivalent_load_N"]
+
+
+def test_life_scales_as_the_rating_to_the_power_p_and_inversely_with_speed():
+    a = run_json("--set", "bearing.C_N=10000", "--set", "bearing.exponent=3")["summary"]
+    b = run_json("--set", "bearing.C_N=20000", "--set", "bearing.exponent=3",
+                 "--set", "load.crank_speed_rpm=2000")["summary"]
+    assert b["bearing_L10_h"] == pytest.approx(a["bearing_L10_h"] * 2 ** 3 / 2, rel=1e-12)
+
+
+def test_a_sweep_gives_the_same_bearing_fields_as_each_point_alone():
+    """The vectorised sweep (all points at once) and each point computed alone: the same numbers."""
+    r = runner.invoke(app, ["sweep", str(PAPER), "--vary", "bearing.C_N=10000,30000", "--vary",
+                            "load.torque_Nm=50,100", "--vary", "bearing.exponent=3,3.5", "--format", "json"])
+    assert r.exit_code in (0, 1), r.stderr
+    rows = json.loads(r.stdout)
+    assert len(rows) == 8
+    for row in rows:
+        alone = run_json(*(x for k in ("bearing.C_N", "load.torque_Nm", "bearing.exponent")
+                           for x in ("--set", f"{k}={row[k]}")))["summary"]
+        for key in ("bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h",
+                    "bearing_L10_h_err"):
+            assert row[key] == pytest.approx(alone[key], rel=1e-12)
+            assert math.isfinite(row[key])
+
+
+def test_a_bad_exponent_is_refused_naming_the_key(tmp_path):
+    r = runner.invoke(app, ["run", str(PAPER), "--set", "bearing.C_N=10000", "--set", "bearing.exponent=0.5"])
+    assert r.exit_code == 2
+    assert "bearing.exponent" in r.stderr
+
+
+# ---------------------------------------------------------------- the duty cycle (pins.md §8.3)
+
+DUTY = {"torque_Nm": [100.0, 50.0, 150.0], "crank_speed_rpm": [1000.0, 1500.0, 500.0], "time_share": [0.5, 0.3, 0.2]}
+
+
+def duty_file(tmp_path, duty=DUTY, **tables):
+    import tomllib
+
+    import tomli_w
+
+    raw = tomllib.loads(PAPER.read_text())
+    raw["duty"] = duty
+    raw.update(tables)
+    p = tmp_path / "duty.toml"
+    p.write_text(tomli_w.dumps(raw))
+    return p
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_duty_cycle_equals_a_hand_combination_of_per_row_runs(tmp_path, mode):
+    """Each row run alone (--set load.torque_Nm, load.crank_speed_rpm), combined here by hand: ISO 281 for a varying
+    load and speed weights the rows' P^p by their revolutions t_i n_i; L10_h at the time-weighted mean speed;
+    efficiency and loss time-weighted; the largest contact stress and its (1-based) row."""
+    C, p = 60_000.0, 10.0 / 3.0
+    path = duty_file(tmp_path, bearing={"C_N": C}, contact={"face_width_mm": 10.0})
+    r = runner.invoke(app, ["run", str(path), "--format", "json", "--set", f"load.mode={mode}"])
+    assert r.exit_code in (0, 1), r.stderr
+    s = json.loads(r.stdout)["summary"]
+    rows = [run_json("--set", f"load.torque_Nm={T}", "--set", f"load.crank_speed_rpm={n}", "--set", f"load.mode={mode}",
+                     "--set", f"bearing.C_N={C}", "--set", "contact.face_width_mm=10")["summary"]
+            for T, n in zip(DUTY["torque_Nm"], DUTY["crank_speed_rpm"])]
+    t, n = DUTY["time_share"], DUTY["crank_speed_rpm"]
+    w = [ti * ni for ti, ni in zip(t, n)]
+    P = (sum(wi * row["bearing_equivalent_load_N"] ** p for wi, row in zip(w, rows)) / sum(w)) ** (1 / p)
+    n_mean = sum(w) / sum(t)
+    assert s["duty_rows"] == 3
+    assert s["duty_bearing_equivalent_load_N"] == pytest.approx(P, rel=1e-13)
+    assert s["duty_bearing_L10_h"] == pytest.approx(1e6 / (60 * n_mean) * (C / P) ** p, rel=1e-12)
+    assert s["duty_efficiency"] == pytest.approx(sum(ti * row["efficiency"] for ti, row in zip(t, rows)) / sum(t),
+                                                 rel=1e-14)
+    assert s["duty_loss_mean_W"] == pytest.approx(sum(ti * row["loss_mean_W"] for ti, row in zip(t, rows)) / sum(t),
+                                                  rel=1e-13)
+    stress = [row["contact_stress_max_MPa"] for row in rows]
+    assert s["duty_contact_stress_max_MPa"] == max(stress)
+    assert s["duty_contact_stress_max_row"] == stress.index(max(stress)) + 1 == 3     # the 150 N·m row
+    # the design's own fields are its [load] point's, unchanged by the duty table
+    own = run_json("--set", f"load.mode={mode}", "--set", f"bearing.C_N={C}", "--set", "contact.face_width_mm=10")
+    assert s["efficiency"] == own["summary"]["efficiency"]
+    assert s["bearing_L10_h"] == own["summary"]["bearing_L10_h"]
+
+
+def test_duty_rows_of_unequal_length_are_refused_naming_the_keys(tmp_path):
+    bad = dict(DUTY, time_share=[0.5, 0.5])
+    r = runner.invoke(app, ["run", str(duty_file(tmp_path, bad))])
+    assert r.exit_code == 2
+    assert "duty.time_share" in r.stderr and "same length" in r.stderr
+
+
+def test_a_duty_design_in_a_batch_equals_it_alone(tmp_path):
+    path = duty_file(tmp_path, bearing={"C_N": 60_000.0})
+    alone = json.loads(runner.invoke(app, ["run", str(path), "--format", "json"]).stdout)["summary"]
+    r = runner.invoke(app, ["run", str(path), str(PAPER), "--format", "json"])
+    assert r.exit_code in (0, 1), r.stderr
+    both = json.loads(r.stdout)
+    first = both[0]["summary"] if isinstance(both, list) else both
+    for k in ("duty_bearing_L10_h", "duty_efficiency", "duty_loss_mean_W", "duty_bearing_equivalent_load_N"):
+        assert first[k] == alone[k]
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_contact_level_l10_from_the_detail_table(mode):
+    """The contact level (circular-arc paper design): P from the --detail crank table by the trapezoid rule over its
+    crank angles, written here, lies within the stated error of the summary's (its error is the difference
+    between the Richardson-corrected and the plain trapezoid p-mean, pins.md §8.2); L10_h from it likewise."""
+    C, n, p = 10_000.0, 1000.0, 10.0 / 3.0
+    r = runner.invoke(app, ["run", str(CONFIGS / "pins_paper_circ_u10_fixed.toml"), "--format", "json", "--detail",
+                            "--set", f"bearing.C_N={C}", "--set", f"load.mode={mode}"])
+    assert r.exit_code in (0, 1), r.stderr
+    d = json.loads(r.stdout)
+    s, rows = d["summary"], d["detail"]["crank"]
+    assert s["model"] == "contact"
+    th = np.array([row["theta_deg"] for row in rows])
+    B = np.array([row["bearing_force_N"] for row in rows])
+    P = (np.sum(0.5 * (B[1:] ** p + B[:-1] ** p) * np.diff(th)) / (th[-1] - th[0])) ** (1 / p)
+    assert abs(P - s["bearing_equivalent_load_N"]) <= s["bearing_equivalent_load_err_N"] * (1 + 1e-9)
+    assert 0 < s["bearing_equivalent_load_err_N"] < 1e-6 * P
+    L10_h = (C / P) ** p * 1e6 / (60.0 * n)
+    assert abs(L10_h - s["bearing_L10_h"]) <= s["bearing_L10_h_err"] * (1 + 1e-9)
