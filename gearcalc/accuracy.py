@@ -218,7 +218,7 @@ def _pins_high(design, s: dict, level: str, tol: float) -> tuple[float, float] |
         from .pins import contact_level
 
         own = contact_level.contact_rule
-        contact_level.contact_rule = lambda t: HIGH_RULE_CONTACT   # another rule than any tol of the report uses
+        contact_level.contact_rule = lambda tol, settings=None: HIGH_RULE_CONTACT  # a rule no tol of the report uses
         try:
             hs = _rerun(design, level, HIGH_TOL_CONTACT_CHECK)
         finally:
