@@ -309,9 +309,17 @@ def test_design_error_at_a_point_is_that_points_message(tmp_path, cluster):
     args = ["sweep", CONFIGS / "zstk_merko_example.toml", "--vary", "geometry.eccentricity_mm=6.0,10.0,20.0,24.0",
             "--vary", "geometry.inner_raceway_radius_mm=50.0,70.0,80.0"]
     (c1, e1, one), (c2, e2, two) = _both(tmp_path, args, cluster.address)
-    assert c1 == c2 == 2 and e1 == e2 and one is two is None  # -o is never left half written
+    # since the margins (issue 36) such a point is a row with its reason in the ``error`` column and the sweep
+    # goes on (exit 2): the cluster writes the in-process output byte for byte, with the same messages
+    assert c1 == c2 == 2 and e1 == e2 and one == two and one is not None
     assert "geometry.eccentricity_mm" in e2 and "'geometry.inner_raceway_radius_mm': 80.0" in e2
     assert "Traceback" not in e2
+    import csv
+    import io
+
+    rows = list(csv.DictReader(io.StringIO(one.decode())))
+    bad = [(r["geometry.eccentricity_mm"], r["geometry.inner_raceway_radius_mm"]) for r in rows if r["error"]]
+    assert len(rows) == 12 and bad == [("20.0", "80.0"), ("24.0", "80.0")]  # R_H - R_B - e <= 0 there only
 
 
 # ------------------------------------------------------------------------------------------- failures

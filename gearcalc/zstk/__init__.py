@@ -60,6 +60,6 @@ _NAMES = {
                  "position_direction_max", "critical_placement", "evaluate_placement", "roller_envelope"),
     "capacity": ("AllowableLoad", "allowable_load_closed_form", "allowable_load_root", "allowable_load",
                  "allowable_load_sweeping"),
-    "outputs": ("Outputs", "stack_outputs", "RollerDetail", "roller_detail"),
+    "outputs": ("Outputs", "stack_outputs", "RollerDetail", "roller_detail", "Margins", "margins"),
 }
 __all__, __getattr__, __dir__ = lazy_names(__name__, globals(), _MODULES, _NAMES)
