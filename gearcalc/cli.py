@@ -1001,7 +1001,7 @@ def export_cmd(
             err(f"{dmod.display_name(file)}: warning: {w}")
         try:
             drawing = ex.drawing(d, chord_tol)
-            data = ex.write(drawing, ext)
+            data = ex.write(drawing, ext, chord_tol)
         except ex.ExportError as exc:
             raise Abort(f"{dmod.display_name(file)}: {exc}") from None
         write_atomic(output, data)
