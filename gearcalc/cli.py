@@ -914,8 +914,9 @@ def _is_terminal(stream) -> bool:
 def report_cmd(
     files: List[str] = typer.Argument(..., metavar="FILE...", help="Design files (TOML) or folders; '-' reads "
                                       "standard input."),
-    output: str = typer.Option(..., "--output", "-o", help="The report: FILE.html (self-contained) or FILE.pdf "
-                               "(printed by a headless Chromium)."),
+    output: str = typer.Option(..., "--output", "-o", metavar="FILE",
+                               help="The report: FILE.html (self-contained) or FILE.pdf (printed by a headless "
+                                    "Chromium)."),
     sets: Optional[List[str]] = O_SET,
     tol: float = O_TOL,
     model: Optional[str] = O_MODEL,
@@ -975,7 +976,8 @@ def report_cmd(
 @app.command("export", epilog=EXAMPLES["export"])
 def export_cmd(
     file: str = typer.Argument(..., metavar="FILE", help="A pins or zstk design file (TOML)."),
-    output: str = typer.Option(..., "--output", "-o", help="FILE.dxf (needs the 'dxf' extra), FILE.svg or FILE.csv."),
+    output: str = typer.Option(..., "--output", "-o", metavar="FILE",
+                               help="FILE.dxf (needs the 'dxf' extra), FILE.svg or FILE.csv."),
     chord_tol: float = typer.Option(1e-3, "--chord-tol", metavar="MM", help="Largest distance of a chord from the "
                                     "curve it replaces [mm] (default 1 µm); arcs are written as exact arcs."),
     sets: Optional[List[str]] = O_SET,

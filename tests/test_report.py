@@ -130,3 +130,11 @@ def test_renders_in_headless_chromium(tmp_path, config):
     assert shot.exists() and png_ink(shot) > 0.02     # text, tables and figures: not a blank page
     dom = subprocess.run(common + ["--dump-dom", out.as_uri()], capture_output=True, text=True, timeout=240).stdout
     assert "Summary of checks" in dom and "<svg" in dom
+
+
+@pytest.mark.skipif(BROWSER is None, reason="no Chromium on PATH (Debian: apt-get install chromium)")
+def test_pdf_through_chromium(tmp_path):
+    out = tmp_path / "calc.pdf"
+    r = cli("report", CONFIGS / "zstk_merko_example.toml", "-o", out)
+    assert r.code == 0, r.err
+    assert out.read_bytes()[:5] == b"%PDF-" and out.stat().st_size > 20_000
