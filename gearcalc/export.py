@@ -137,6 +137,8 @@ def _pins(design) -> Drawing:
     from .pins.contact_level import gear, satellite_profile
     from .pins.contact_profiles import InadmissibleProfile
 
+    if "gearing" not in design.values:
+        raise ExportError("no [gearing] table (a formula-level design of one pin's load): no profile to export")
     gv = design.values["gearing"]
     z1, z2, e = int(gv["satellite_teeth"]), int(gv["pins"]), float(gv["eccentricity_mm"])
     g, Rp = gear(z1, z2, e, gv.get("pin_circle_radius_mm"), gv.get("curtate_ratio"), float(gv["pin_radius_mm"]))

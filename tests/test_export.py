@@ -169,6 +169,8 @@ def test_zstk_svg_and_dxf_match_the_detail(tmp_path):
 def test_bad_input(tmp_path):
     r = cli("export", CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", "-o", tmp_path / "x.svg")
     assert r.code == 2 and "pins and zstk" in r.err
+    r = cli("export", CONFIGS / "pins_paper_formula_cyc_u10.toml", "-o", tmp_path / "x.svg")
+    assert r.code == 2 and "[gearing]" in r.err and not (tmp_path / "x.svg").exists()
     r = cli("export", CONFIGS / "zstk_merko_example.toml", "-o", tmp_path / "x.png")
     assert r.code == 2 and "FILE.dxf" in r.err
     r = cli("export", CONFIGS / "zstk_merko_example.toml", "-o", tmp_path / "x.svg", "--chord-tol", "0")
