@@ -97,8 +97,8 @@ def results_of(rec) -> list[tuple[str, str, str, str]]:
     s = rec.result.summary
     rows = []
     for key, value in s.items():
-        if key.startswith("margin_") or key == "failed_checks" or key == "name":
-            continue
+        if key.startswith("margin_") or key == "failed_checks" or key == "name" or value is None:
+            continue  # a field the design's model level does not compute is left out
         base, unit = split_unit(key)
         if base.endswith("_err"):
             continue

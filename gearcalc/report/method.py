@@ -118,16 +118,19 @@ def _zstk(s, d, rollers) -> list[tuple[str, str]]:
 
 
 def _pins(s, d) -> list[tuple[str, str]]:
-    lines = [(f"λ̄ = (1/T_p)∫ μ_eff·Σ|l_i|·|ρ_i − R_b| / Σ l_i² dθ = {_g(s.get('loss_ratio'))}",
-              "pins.md §4.6 [derived]"),
-             (f"P̄_loss = λ̄·T_V·|ω_V| = {_g(s.get('loss_mean_W'))} W; efficiency = {_g(s.get('efficiency'))} "
-              f"({s.get('mode')})", "pins.md §4.6")]
+    lines = []
+    if s.get("loss_ratio") is not None:
+        lines += [(f"λ̄ = (1/T_p)∫ μ_eff·Σ|l_i|·|ρ_i − R_b| / Σ l_i² dθ = {_g(s.get('loss_ratio'))}",
+                   "pins.md §4.6 [derived]"),
+                  (f"P̄_loss = λ̄·T_V·|ω_V| = {_g(s.get('loss_mean_W'))} W; efficiency = {_g(s.get('efficiency'))} "
+                   f"({s.get('mode')})", "pins.md §4.6")]
     if s.get("P_tr_W") is not None:
         lines.append((f"F_tr1 = {_g(s.get('F_tr1_N'))} N, F_tr2 = {_g(s.get('F_tr2_N'))} N; P_tr1 = "
                       f"{_g(s.get('P_tr1_W'))} W, P_tr2 = {_g(s.get('P_tr2_W'))} W; P_tr = {_g(s.get('P_tr_W'))} W",
                       "Prudnikov eqs. (3)–(7)"))
-    lines.append((f"P_i,max ≤ F_max·|ω|_max·(f_c r + f_k) = {_g(s.get('pin_loss_bound_W'))} W "
-                  f"(peak force {_g(s.get('pin_force_max_N'))} N)", "Prudnikov eq. (7); pins.md §10"))
+    if s.get("pin_loss_bound_W") is not None:
+        lines.append((f"P_i,max ≤ F_max·|ω|_max·(f_c r + f_k) = {_g(s.get('pin_loss_bound_W'))} W "
+                      f"(peak force {_g(s.get('pin_force_max_N'))} N)", "Prudnikov eq. (7); pins.md §10"))
     if s.get("contact_stress_max_MPa") is not None:
         lines.append((f"p0 = √(F·E*/(π·l·ρ)) at the critical contact = {_g(s.get('contact_stress_max_MPa'))} MPa",
                       "Johnson 1985 §4.2 (Hertz line contact)"))
