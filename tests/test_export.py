@@ -175,3 +175,29 @@ def test_bad_input(tmp_path):
     assert r.code == 2 and "FILE.dxf" in r.err
     r = cli("export", CONFIGS / "zstk_merko_example.toml", "-o", tmp_path / "x.svg", "--chord-tol", "0")
     assert r.code == 2 and "--chord-tol" in r.err
+
+
+def test_cycloid_dxf_and_svg_read_back(tmp_path):
+    """The DXF polyline (ezdxf) and the SVG path (xml.etree) hold the same vertices, on the analytic curve."""
+    ezdxf = pytest.importorskip("ezdxf")
+    config = "pins_paper_cyc_u10_fixed.toml"
+    dxf, svg = tmp_path / "p.dxf", tmp_path / "p.svg"
+    assert cli("export", CONFIGS / config, "-o", dxf).code == 0
+    assert cli("export", CONFIGS / config, "-o", svg).code == 0
+    doc = ezdxf.readfile(str(dxf))
+    assert doc.header["$INSUNITS"] == 4
+    (poly,) = [e for e in doc.modelspace() if e.dxf.layer == "PROFILE"]
+    assert poly.closed
+    pd = np.array([(x, y) for x, y, *_ in poly.get_points()])
+    path = next(p for p in ET.parse(svg).getroot().iter("{http://www.w3.org/2000/svg}path")
+                if p.get("class") == "PROFILE")
+    d = path.get("d")
+    assert d.startswith("M ") and d.endswith(" Z")
+    ps = np.array(re.findall(r"[ML] (\S+) (\S+)", d), dtype=float)
+    g, fams = analytic_cycloid(config)
+    for name, pts in (("dxf", pd), ("svg", ps)):
+        dev = np.min([dist_to_polyline(pts, f) for f in fams], axis=0).max()
+        print(f"{name}: {len(pts)} vertices, max vertex deviation {dev:.3g} mm")
+        assert dev <= 1e-6
+        assert crests(np.vstack([pts, pts[:1]])) == g.z1
+    assert np.allclose(pd, ps[:len(pd)], rtol=0, atol=1e-12)

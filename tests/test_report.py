@@ -141,3 +141,13 @@ def test_pdf_through_chromium(tmp_path):
     r = cli("report", CONFIGS / "zstk_merko_example.toml", "-o", out)
     assert r.code == 0, r.err
     assert out.read_bytes()[:5] == b"%PDF-" and out.stat().st_size > 20_000
+
+
+def test_without_matplotlib_the_page_says_figures_need_the_plot_extra(monkeypatch):
+    import sys
+
+    from gearcalc.report import FIGURE_HINT, figures_of
+
+    monkeypatch.setitem(sys.modules, "matplotlib", None)   # import matplotlib raises ImportError
+    assert figures_of([object()]) == ({}, FIGURE_HINT)
+    assert "gearcalc[plot]" in FIGURE_HINT
