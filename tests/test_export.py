@@ -86,7 +86,7 @@ def test_cycloid_csv_vertices_and_chords_within_tolerance(tmp_path, config, mods
     inner = np.concatenate([a + q * (b - a) for q in np.linspace(0.1, 0.9, 9)])
     chord_dev = np.min([dist_to_polyline(inner, f) for f in fams], axis=0).max()
     print(f"{config}: vertices {len(prof)}, max vertex deviation {vertex_dev:.3g} mm, max chord deviation "
-          f"{chord_dev:.3g} mm")
+          f"{chord_dev:.6g} mm")
     assert vertex_dev <= 1e-6                    # every vertex on the analytic curve (dense polyline: ~1e-7 mm)
     assert chord_dev <= TOL * (1 + 1e-3) + 1e-6  # every chord within --chord-tol
     assert np.array_equal(prof[0], prof[-1])     # closed
