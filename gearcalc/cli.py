@@ -153,6 +153,10 @@ EXAMPLES = {
     "accuracy": examples("gearcalc accuracy pins --tols 1e-3,1e-6", "gearcalc accuracy --plot accuracy.png"),
     "check": examples("gearcalc check configs", "gearcalc check gear.toml --resolved > resolved.toml"),
     "new": examples("gearcalc new rows > gear.toml", "gearcalc new pins -o pins.toml     # --force replaces a file"),
+    "report": examples("gearcalc report configs/zstk_merko_example.toml -o calc.html",
+                       "gearcalc report a.toml b.toml -o calc.pdf       # PDF through a headless Chromium"),
+    "export": examples("gearcalc export configs/pins_paper_cyc_u10_fixed.toml -o profile.dxf   # the dxf extra",
+                       "gearcalc export configs/zstk_merko_example.toml -o chain.svg --chord-tol 0.0001"),
     "schema": examples("gearcalc schema rows -o gearcalc-rows.schema.json   # the file 'gearcalc new' points at"),
 }
 
@@ -904,6 +908,108 @@ def _is_terminal(stream) -> bool:
         return stream.isatty()
     except (AttributeError, ValueError, OSError):
         return False
+
+
+@app.command("report", epilog=EXAMPLES["report"])
+def report_cmd(
+    files: List[str] = typer.Argument(..., metavar="FILE...", help="Design files (TOML) or folders; '-' reads "
+                                      "standard input."),
+    output: str = typer.Option(..., "--output", "-o", metavar="FILE",
+                               help="The report: FILE.html (self-contained) or FILE.pdf (printed by a headless "
+                                    "Chromium)."),
+    sets: Optional[List[str]] = O_SET,
+    tol: float = O_TOL,
+    model: Optional[str] = O_MODEL,
+    debug: bool = O_DEBUG,
+):
+    """A calculation report of the designs: one self-contained HTML page (inline SVG figures, nothing loaded
+    from the network) with the checks, inputs and where each came from, assumptions, method, results and
+    references; or PDF when a Chromium is on PATH. Exit status as for run."""
+
+    def body() -> int:
+        from . import design as dmod
+        from . import engine
+
+        ext = os.path.splitext(output)[1].lower()
+        if ext not in (".html", ".htm", ".pdf"):
+            raise Abort(f"-o {clip(output)}: a report is FILE.html or FILE.pdf")
+        try:
+            import jinja2  # noqa: F401
+        except ImportError:
+            raise Abort("report needs jinja2: pip install jinja2") from None
+        from .report import browser, build, html_to_pdf
+
+        exe = browser() if ext == ".pdf" else None
+        if ext == ".pdf" and exe is None:
+            raise Abort(f"-o {clip(output)}: a PDF needs Chromium on PATH (apt-get install chromium); or write "
+                        "-o FILE.html and print it to PDF from a browser")
+        check_tol(tol)
+        overrides = dmod.parse_set(sets or []) if sets else []
+        paths = dmod.expand_paths(files)
+        if not paths:
+            raise Abort("no design files found in " + " ".join(files))
+        check_outputs(output, None, paths)
+        designs, worst = engine.load_designs(paths, overrides, None, err, debug)
+        for kind in sorted({d.kind for d in designs}):
+            try:
+                engine.check_model(model, kind)
+            except ValueError as exc:
+                raise Abort(str(exc)) from None
+        records, status = engine.run(designs, Options(tol=tol, model=model, detail=True), say=err, debug=debug)
+        worst = max(worst, status)
+        if not records:
+            return worst
+        html = build(records, designs, {k for k, _ in overrides}, tol, model)
+        if exe is not None:
+            try:
+                write_atomic(output, html_to_pdf(html, exe))
+            except (OSError, ValueError) as exc:
+                err(f"-o {clip(output)}: {exc}")
+                return max(worst, EXIT_IO)
+        else:
+            write_atomic(output, html)
+        return worst
+
+    finish(body, debug)
+
+
+@app.command("export", epilog=EXAMPLES["export"])
+def export_cmd(
+    file: str = typer.Argument(..., metavar="FILE", help="A pins or zstk design file (TOML)."),
+    output: str = typer.Option(..., "--output", "-o", metavar="FILE",
+                               help="FILE.dxf (needs the 'dxf' extra), FILE.svg or FILE.csv."),
+    chord_tol: float = typer.Option(1e-3, "--chord-tol", metavar="MM", help="Largest distance of a chord from the "
+                                    "curve it replaces [mm] (default 1 µm); arcs are written as exact arcs."),
+    sets: Optional[List[str]] = O_SET,
+    debug: bool = O_DEBUG,
+):
+    """The geometry to manufacture: pins, the satellite's tooth profile as made (cycloidal with its
+    modifications, or circular arcs), the pin circle and the crank centre; zstk, the rings and rollers at the
+    reported placement. Units: mm."""
+
+    def body() -> int:
+        from . import design as dmod
+        from . import export as ex
+
+        ext = os.path.splitext(output)[1].lower()
+        if ext not in ex.FORMATS:
+            raise Abort(f"-o {clip(output)}: export writes FILE.dxf, FILE.svg or FILE.csv")
+        if not (0.0 < chord_tol <= 1.0):
+            raise Abort(f"--chord-tol {chord_tol:g}: must be > 0 and <= 1 mm")
+        check_outputs(output, None, [file])
+        overrides = dmod.parse_set(sets or []) if sets else []
+        d = dmod.load(file, overrides)
+        for w in d.warnings:
+            err(f"{dmod.display_name(file)}: warning: {w}")
+        try:
+            drawing = ex.drawing(d, chord_tol)
+            data = ex.write(drawing, ext, chord_tol)
+        except ex.ExportError as exc:
+            raise Abort(f"{dmod.display_name(file)}: {exc}") from None
+        write_atomic(output, data)
+        return EXIT_OK
+
+    finish(body, debug)
 
 
 @app.command("accuracy", epilog=EXAMPLES["accuracy"])
