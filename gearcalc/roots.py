@@ -321,10 +321,13 @@ def maximize_bracketed(f, a, b, fa, fb, target, maxiter: int = 60, sections: int
     .. math:: f_i + \max\Big((f_i - f_{i-1})\frac{x_{i+1} - x_i}{x_i - x_{i-1}},\
               (f_i - f_{i+1})\frac{x_i - x_{i-1}}{x_{i+1} - x_i}\Big)
 
-    (with equal spacing, the larger drop to a neighbour).  It holds at a kink where f peaks (f is concave
-    across it); a convex kink (f the larger of two smooth pieces) is never a maximum and leaves the bracket as
-    it shrinks.  An element whose bracket reaches the round-off of x (16 eps (|a| + |b| + b - a)) before its
-    bound meets the target stops there, ``converged`` False, with the bound it reached.
+    (with equal spacing, the larger drop to a neighbour).  The best sample is a new point or the previous best,
+    never a bracket end: where an end is the largest sample (f flat, or its maximum at that end) the bound above
+    still holds for f concave (0 for a constant f), and the bracket shrinks towards that end.  It holds at a
+    kink where f peaks (f is concave across it); a convex kink (f the larger of two smooth pieces) is never a
+    maximum and leaves the bracket as it shrinks.  An element whose bracket reaches the round-off of x
+    (16 eps (|a| + |b| + b - a)) before its bound meets the target stops there, ``converged`` False, with the
+    bound it reached.
 
     Parameters
     ----------
@@ -383,9 +386,12 @@ def maximize_bracketed(f, a, b, fa, fb, target, maxiter: int = 60, sections: int
         allf = np.concatenate([fl[:, None], vals, np.where(fresh, fl, fbest)[:, None], fh[:, None]], axis=1)
         order = np.argsort(allx, axis=1, kind="stable")
         allx, allf = np.take_along_axis(allx, order, 1), np.take_along_axis(allf, order, 1)
-        inner = allf.copy()
-        inner[:, 0] = inner[:, -1] = -np.inf
-        i = np.argmax(inner, axis=1)
+        # the best point: a new sample or the previous best, never a bracket end nor the first iteration's
+        # placeholder (a copy of the left end: taken as the best where that end is the largest sample, e.g. a flat
+        # f, its left neighbour would be itself and the bound inf)
+        cand = np.concatenate([np.full((act.size, 1), -np.inf), vals,
+                               np.where(fresh, -np.inf, fbest)[:, None], np.full((act.size, 1), -np.inf)], axis=1)
+        i = np.argmax(np.take_along_axis(cand, order, 1), axis=1)
         rows = np.arange(act.size)
         xl, xi, xr = allx[rows, i - 1], allx[rows, i], allx[rows, i + 1]
         fl2, fi, fr2 = allf[rows, i - 1], allf[rows, i], allf[rows, i + 1]

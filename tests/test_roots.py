@@ -116,3 +116,20 @@ def test_maximize_bracketed_bound_covers_the_maximum(f, a, b, exact, target):
     assert bool(r.converged[0]) and r.bound[0] <= target
     assert r.value[0] <= ref + 1e-15 and ref <= r.value[0] + r.bound[0] + 1e-15
     assert r.iterations <= 40
+
+
+@pytest.mark.parametrize("f,exact", [
+    (lambda x: np.full_like(x, 2.5), 2.5),   # constant: the maximum is every sample (e.g. zstk at e = 0)
+    (lambda x: -x, 0.0),                     # decreasing: the maximum is the left end of the bracket
+])
+def test_maximize_bracketed_left_end_best_has_a_finite_bound(f, exact):
+    # regression: the first iteration's placeholder for the best point repeated the left end; when that end was
+    # (or tied with) the largest sample it was taken as the best point, its left neighbour was itself and the bound
+    # was inf (not converged) -- the concentric zstk design's sigma_max_err_MPa came out inf.  The exact maxima
+    # on [0, 1] are f(0).
+    from gearcalc.roots import maximize_bracketed
+
+    a, b = np.array([0.0]), np.array([1.0])
+    r = maximize_bracketed(lambda x, i: f(x), a, b, f(a), f(b), 1e-12)
+    assert bool(r.converged[0]) and np.isfinite(r.bound[0]) and r.bound[0] <= 1e-12
+    assert r.value[0] <= exact <= r.value[0] + r.bound[0]

@@ -91,6 +91,27 @@ def test_fuzz_record_error_covers_the_true_error(tmp_path):
     assert s["sigma_max_err_MPa"] <= 1e-6 * s["sigma_max_MPa"]
 
 
+CONCENTRIC = FUZZ.replace("7.034255315488871", "20.0").replace("2.744229891852557", "10.0") \
+    .replace("0.24745724117236048", "0.0").replace("1e-09", "0.0").replace("2.9763014968836328", "1.0") \
+    .replace("563502.5585652901", "1.0")
+
+
+def test_concentric_design_error_is_finite_and_covers_the_true_error(tmp_path):
+    # the design hypothesis found (tests/test_props_zstk.py): e = 0, every roller equal, so sigma_max does not
+    # depend on the roller position (flat up to round-off); the joint search's bound came out inf (exit 2).
+    # Reference: at e = 0 every chain phase is equivalent (rotational symmetry), so the maximum over the load
+    # direction at phase 0 is the answer
+    path = tmp_path / "concentric.toml"
+    path.write_text(CONCENTRIC)
+    s = api.compute(api.load(path)).summary
+    assert math.isfinite(s["sigma_max_err_MPa"])
+    ch = z.close_chain(20.0, 10.0, 0.0, 0.0, s["N"], "outer")
+    mats = z.Materials.from_elastic(1.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
+    ref = reference_max(ch, mats, 1.0, 0.0, phase=0.0, directions=720)
+    assert abs(ref - s["sigma_max_MPa"]) <= s["sigma_max_err_MPa"] + 1e-12 * ref
+    assert s["sigma_max_err_MPa"] <= 1e-6 * s["sigma_max_MPa"]
+
+
 def test_shipped_envelope_config_error_covers_the_true_error():
     # configs/zstk_merko_A_envelope.toml: scheme A (phase 0), every load direction
     s = api.compute(api.load(CONFIGS / "zstk_merko_A_envelope.toml")).summary
