@@ -84,7 +84,8 @@ def checks_of(rec) -> list[dict]:
         margin = s[key]
         status = "FAIL" if name in failed or (margin is not None and margin < 0) else (
             "not checked" if margin is None else "PASS")
-        out.append({"name": name, "text": text, "value": fmt(s.get(value_key)) if value_key else "—",
+        shown = value_key and margin is not None  # a check that does not apply shows no value
+        out.append({"name": name, "text": text, "value": fmt(s.get(value_key)) if shown else "—",
                     "allowable": fmt(s.get(allow_key)) if allow_key else "—", "margin": fmt(margin),
                     "exact": exact(margin), "status": status})
     return out

@@ -8,13 +8,14 @@ import math
 CHECKS = {
     # (kind, check): (value field, allowable field, what is checked)
     ("pins", "self_locking"): ("efficiency", None, "not self-locking (efficiency > 0)"),
-    ("pins", "rolling"): ("exit_entry_force_ratio", None, "the pins' bushings roll (f·R_b ≥ f_c·r + f_k)"),
+    ("pins", "rolling"): (None, None, "the pins' bushings roll (f·R_b ≥ f_c·r + f_k)"),
     ("pins", "contact_stress"): ("contact_stress_max_MPa", None, "Hertz contact stress ≤ allowable"),
     ("zstk", "sigma"): ("sigma_max_MPa", "allowable_stress_MPa", "Hertz stress σ_max ≤ [σ_H] (eqs. (1)-(2))"),
     ("zstk", "closure"): ("N", "N_admissible_max", "the chain closes (N ≤ N_admissible_max)"),
     ("zstk", "clearance"): ("clearance_mm", None, "clearance keeps the rollers loaded"),
-    ("rows", "bore"): ("torsion_diameter_mm", None, "sun bore fits the torsion diameter"),
-    ("rows", "rim"): ("rim_width_mm", None, "rim width within the carrier"),
+    ("rows", "bore"): (None, None, "the sun's bore stays inside its root and torsion diameters"),
+    ("rows", "rim"): (None, None, "the sun's rim under the roots is at least 2.7 m thick"),
+    ("rows", "bridge_fit"): ("bridge_max_mm", None, "every span's bridge fits between the planets"),
 }
 
 ASSUMPTIONS = {
