@@ -130,3 +130,13 @@ def test_table_and_stribeck_laws():
     assert float(s.coefficient(0.0)) == pytest.approx(0.15, rel=1e-12)              # breakaway
     assert float(s.coefficient(0.1)) == pytest.approx(0.05 + 0.1 * np.exp(-1) + 0.001, rel=1e-12)
     assert float(s.coefficient(10.0)) == pytest.approx(0.05 + 0.1, rel=1e-12)       # full film: mu_c + k_v v
+
+
+@pytest.mark.parametrize("n_w", [4, 8, 10])
+def test_resultant_range_closed_form_for_even_hole_counts(n_w):
+    # pins.md §4.10: sum of sin over the loaded half = cos(phi_0 - pi/n_w)/sin(pi/n_w), sum of sin^2 = n_w/4, so
+    # Q/(T/R_w) ranges over [4 cot(pi/n_w)/n_w, 4/(n_w sin(pi/n_w))] (n_w = 8: 1.2071, 1.3066)
+    phase = np.linspace(0.0, 2 * np.pi / n_w, 2001)
+    _, Q = w.w_hole_forces(1.0, n_w, 1.0, phase)
+    assert Q.min() == pytest.approx(4 / (n_w * np.tan(np.pi / n_w)), rel=1e-9)
+    assert Q.max() == pytest.approx(4 / (n_w * np.sin(np.pi / n_w)), rel=1e-9)
