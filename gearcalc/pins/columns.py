@@ -23,6 +23,7 @@ from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .ideal import DISC_SAMPLES_MAX, DISC_WORK_MAX, TOO_COSTLY
 from .margins import margin_columns
 from .operating import ARRAY_OPS, SCALAR_OPS, floats
+from .output_mech import output_fields
 from .points import ideal_points
 from .schema import SUMMARY_KEYS
 
@@ -246,6 +247,19 @@ def _gear(v, one: bool):
     return z1, z2, n_d, e, Rb, K1, Rp, np.array([bool(x) for x in v["rotating"]]), floats(v["r"])
 
 
+def _output_errors(v, n: int, pts, errors: list) -> None:
+    """The output mechanism's and the drag's problems per point (:func:`gearcalc.pins.output_keys.output_problem`)."""
+    from ..calculator import DesignError
+    from .output_keys import OUTPUT_ARGS, output_problem
+
+    Rp = np.zeros(n) + np.asarray(pts.Rp, dtype=float)
+    for i in range(n):
+        if errors[i] is None:
+            a = {name: v[name][i] for name in (*OUTPUT_ARGS, "e", "Rb")}
+            problem = output_problem(a, "ideal", float(Rp[i]))
+            errors[i] = DesignError(*problem) if problem else None
+
+
 def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> IdealColumns:
     r"""The ideal level (pins.md §4) of n designs or sweep points, numpy over them.
 
@@ -321,6 +335,9 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
         warnings[i].append(R.pitch_point_inside(at(Rb, i), at(Rp, i) * at(omk, i), p0))
     errors = [err if err is not None else m_err for err, m_err in zip(errors, model_errors)]
     arrays = R.ideal_fields(pts)
+    if any(m not in (None, "ideal") for m in v.get("w_mech", ())) or any(d for d in v.get("drag", ())):
+        _output_errors(v, n, pts, errors)      # the output mechanism and the crank's drag (pins.md §4.10)
+    arrays = output_fields(arrays, v, pts, n)
     for i in np.flatnonzero(pts.multi_disc):
         warnings[i].append(R.MULTI_DISC_PEAKS)
     mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V

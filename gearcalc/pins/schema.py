@@ -16,6 +16,8 @@ __all__ = ["MODELS", "MAX_DISCS", "IDEAL_WORK_MAX", "IDEAL_SWEEP_WORK_MAX", "CON
 
 MODELS = LEVELS["pins"]
 MAX_DISCS = 64
+MAX_HOLES = 64
+"""Output-mechanism holes (drives use 6-12)."""
 """Satellite discs (drives use 1-3); the cost grows with n_d, and 64 discs take ~0.4 s."""
 IDEAL_WORK_MAX = 200_000
 """Cost budget of one ideal-level design: pins x discs (z2 n_d).  The cycle and the disc sums cost about
@@ -103,7 +105,22 @@ TABLES = (
         Field("torque_Nm", "number", REQUIRED, "T, torque on that shaft", gt=0, le=MAX_TORQUE_NM, example=100.0),
         Field("crank_speed_rpm", "number", None, "n_H; powers and pin speeds need it", gt=0, le=MAX_SPEED_RPM,
               example=1000.0),
+        Field("drag_torque_Nm", "number", None, "T_d, no-load drag torque at the crank (seals), whatever the load; "
+              "absent: none (ideal level, pins.md §4.10)", ge=0, le=MAX_TORQUE_NM),
     ), doc="Operating point; required with [gearing]", optional=True),
+    Table("output", (
+        Field("mechanism", "string", "ideal", "ideal: the output coupling transmits pure torque; pins_in_holes: "
+              "n_w pins in holes of radius r_w + e, its forces on the crank bearing and its loss in the efficiency "
+              "(ideal level, pins.md §4.10)", choices=("ideal", "pins_in_holes")),
+        Field("holes", "integer", None, "n_w, holes (pins_in_holes)", ge=3, le=MAX_HOLES),
+        Field("hole_circle_radius_mm", "number", None, "R_w, radius of the holes' circle (pins_in_holes)",
+              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM),
+        Field("pin_radius_mm", "number", None, "r_w, output pin (or its bushing) radius; holes r_w + e",
+              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM),
+        Field("friction", "number", None, "f_w, pin-hole friction (a rolling bushing: its equivalent); absent: "
+              "friction.sliding", ge=0, le=MAX_FRICTION),
+    ), doc="The output (W) mechanism between the satellite and the slow shaft (optional)", optional=True,
+        in_template=False),
     Table("contact", (
         Field("law", "string", "hertz", "contact law: hertz (steel, ISO/TS 16281), palmgren, linear",
               choices=("hertz", "palmgren", "linear")),
@@ -147,6 +164,7 @@ SUMMARY_KEYS = (
     "n_crank", "model_time_ms", "tolerance_met",
     "F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W",
     "model_reason", "margin_self_locking", "margin_rolling", "margin_contact_stress", "failed_checks",
+    "output_mechanism", "w_loss_ratio", "w_force_max_N", "backdrive_startup_torque_Nm",
 )
 
 
@@ -164,4 +182,6 @@ PIN_LOAD_KEYS = ("pin_load.normal_force_N", "pin_load.pin_speed_rpm", "pin_load.
 FORMULA_SWEEP_KEYS = PIN_LOAD_KEYS + ("friction.sliding", "friction.rolling_mm", "friction.axle",
                                       "material.allowable_stress_MPa")
 IDEAL_SWEEP_KEYS = OPERATING_KEYS + GEOMETRY_KEYS + PIN_LOAD_KEYS + ("contact.face_width_mm",
-                                                                    "material.allowable_stress_MPa")
+                                                                    "material.allowable_stress_MPa") + (
+    "load.drag_torque_Nm", "output.mechanism", "output.holes", "output.hole_circle_radius_mm", "output.pin_radius_mm",
+    "output.friction")
