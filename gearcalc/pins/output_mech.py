@@ -46,26 +46,34 @@ def w_unit_resultants(n_holes, hole_circle_radius):
     Returns
     -------
     q_min, q_max, q_mean : float
-        [1/mm] (the mean: the midpoint rule over :data:`PHASES` phases; even n_w: 4/(pi R_w) to 1e-4).
+        [1/mm].  The mean: Gauss-Legendre (16 nodes) on each half of the pattern period, where Q/T is smooth (a
+        hole crosses the crank arm at phase 0, for odd n_w the opposite side at half the period): exact to
+        rounding (even n_w: 4/(pi R_w)).
     q_phases : ndarray
-        Q/T at the :data:`PHASES` phases, [1/mm].
+        Q/T at :data:`PHASES` phases over the period (midpoints), [1/mm].
 
     Examples
     --------
     >>> q = w_unit_resultants(8, 1.0)
-    >>> round(q[0], 4), round(q[1], 4)
-    (1.2071, 1.3066)
+    >>> round(q[0], 4), round(q[1], 4), round(q[2] * np.pi / 4, 12)
+    (1.2071, 1.3066, 1.0)
 
     References
     ----------
     .. [1] docs/spec/pins.md §4.10 (the range's closed form for even n_w).
     """
-    ends = np.array([0.0, math.pi / n_holes])               # the extremes (even n_w: at a hole on the arm, between)
-    mids = (np.arange(PHASES) + 0.5) / PHASES * 2.0 * math.pi / n_holes
+    period = 2.0 * math.pi / n_holes
+    x, wgt = np.polynomial.legendre.leggauss(16)
+    half = period / 2.0
+    nodes = np.concatenate(((x + 1.0) * half / 2.0, half + (x + 1.0) * half / 2.0))
+    _, qg = w_hole_forces(1.0, n_holes, hole_circle_radius, nodes)
+    q_mean = float(np.dot(np.concatenate((wgt, wgt)), qg) * (half / 2.0) / period)
+    ends = np.array([0.0, half])                     # the extremes (even n_w: a hole on the arm, or between)
+    mids = (np.arange(PHASES) + 0.5) / PHASES * period
     _, qe = w_hole_forces(1.0, n_holes, hole_circle_radius, ends)
     _, qm = w_hole_forces(1.0, n_holes, hole_circle_radius, mids)
-    both = np.concatenate((qe, qm))
-    return float(both.min()), float(both.max()), float(qm.mean()), qm
+    both = np.concatenate((qe, qm, qg))
+    return float(both.min()), float(both.max()), q_mean, qm
 
 
 def _arr(x, n):
