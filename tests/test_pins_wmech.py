@@ -245,3 +245,29 @@ def test_the_contact_level_refuses_the_mechanism():
     d = _with(output=W8, contact={"law": "linear", "stiffness_N_per_mm": 1e6})
     with pytest.raises(InputError, match=r"output\.mechanism.*contact level"):
         _run(d)
+
+
+def test_efficiency_map_contour_from_the_plotted_data():
+    # issue 37 item 4: a torque x speed sweep drawn as a contour map beside the curves; the map's data are the
+    # sweep's efficiencies at their grid places
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    import gearcalc.api as api
+    from gearcalc.plot import sweep_figure
+    d = _with(load={"drag_torque_Nm": 0.5}, output=W8)
+    axes = {"load.torque_Nm": [1.0, 10.0, 100.0, 1000.0], "load.crank_speed_rpm": [100.0, 1000.0, 3000.0]}
+    rows = []
+    for chunk in api.sweep(d, axes):
+        rows.extend(chunk.rows())
+    fig = sweep_figure("pins", rows, list(axes))
+    ax_map = fig.axes[1]
+    x_key, y_key, xs, ys, Z = ax_map.gearcalc_map
+    assert (x_key, y_key) == ("load.torque_Nm", "load.crank_speed_rpm")
+    for r in rows:
+        assert Z[ys.index(r[y_key])][xs.index(r[x_key])] == r["efficiency"]
+    filled = next(c for c in ax_map.collections if hasattr(c, "levels"))
+    eff = [r["efficiency"] for r in rows]
+    assert filled.levels[0] <= min(eff) and max(eff) <= filled.levels[-1]
+    assert len(fig.axes[0].lines) == 3          # the curves stay: one per speed
+    plt.close(fig)
