@@ -6,11 +6,17 @@ from __future__ import annotations
 
 import math
 
-__all__ = ["OUTPUT_ARGS", "output_problem"]
+__all__ = ["OUTPUT_ARGS", "LAW_ARGS", "output_problem", "law_problem"]
 
 OUTPUT_ARGS = {"w_mech": "output.mechanism", "w_holes": "output.holes", "w_radius": "output.hole_circle_radius_mm",
                "w_pin": "output.pin_radius_mm", "w_friction": "output.friction", "drag": "load.drag_torque_Nm"}
 """Argument name -> design key of the output mechanism and the drag (in gearcalc.kinds.pins.KEYS)."""
+
+LAW_ARGS = {"f_law": "friction.law", "f_v": "friction.table_speed_m_s", "f_mu": "friction.table_mu",
+            "f_s": "friction.stribeck_static", "f_c": "friction.stribeck_coulomb",
+            "f_vs": "friction.stribeck_speed_m_s",
+            "f_delta": "friction.stribeck_exponent", "f_kv": "friction.stribeck_viscous_s_per_m"}
+"""Argument name -> design key of the teeth's sliding law (in gearcalc.kinds.pins.KEYS)."""
 
 
 def output_problem(a: dict, level: str, Rp=None):
@@ -67,4 +73,62 @@ def output_problem(a: dict, level: str, Rp=None):
     if Rp is not None and a.get("Rb") is not None and not R_w + r_h < Rp - a["Rb"] - e:
         return OUTPUT_ARGS["w_radius"], (f"= {R_w:.6g} mm: the holes (radius r_w + e = {r_h:.6g} mm) reach past the "
                                          f"satellite's root circle R_p - R_b - e = {Rp - a['Rb'] - e:.6g} mm")
+    return None
+
+
+def law_problem(a: dict, level: str):
+    r"""(key, message) of the first problem of the teeth's sliding law's keys, else None (pins.md §4.10).
+
+    .. math:: 0 \le v_1 < v_2 < \dots < v_m, \qquad m \ge 2
+
+    (a table's speeds; the Stribeck law needs mu_s, mu_c and v_s; any law but coulomb needs the ideal level, fixed
+    pins and a crank speed.)
+
+    Parameters
+    ----------
+    a : dict
+        The design's values by argument name (:data:`LAW_ARGS`, ``rotating``, ``speed``; None: absent).
+    level : str
+        The level that runs.
+
+    Returns
+    -------
+    problem : tuple of (str, str) or None
+        The design key and the message.
+
+    Examples
+    --------
+    >>> law_problem({"f_law": "table", "f_v": [0.0, 1.0], "f_mu": [0.1], "rotating": False, "speed": 1000.0},
+    ...             "ideal")[0]
+    'friction.table_mu'
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.10, §7.
+    """
+    law = a.get("f_law") or "coulomb"
+    if law == "coulomb":
+        return None
+    if level != "ideal":
+        return "friction.law", (f'= "{law}": only the ideal level takes a speed-dependent law (pins.md §4.10); the '
+                                f"{level} level uses friction.sliding")
+    if a.get("rotating"):
+        return "friction.law", f'= "{law}": for fixed pins only (rotating pins roll; pins.md §4.10)'
+    if a.get("speed") is None:
+        return "load.crank_speed_rpm", f'missing: friction.law = "{law}" needs the crank speed (sliding speeds)'
+    if law == "table":
+        v, mu = a.get("f_v"), a.get("f_mu")
+        if v is None or mu is None:
+            key = "friction.table_speed_m_s" if v is None else "friction.table_mu"
+            return key, 'missing: required with friction.law = "table"'
+        if len(v) < 2:
+            return "friction.table_speed_m_s", "needs at least 2 speeds"
+        if len(mu) != len(v):
+            return "friction.table_mu", f"has {len(mu)} values: must have as many as table_speed_m_s ({len(v)})"
+        if any(b <= a_ for a_, b in zip(v, v[1:])):
+            return "friction.table_speed_m_s", "must increase strictly"
+        return None
+    for name, what in (("f_s", "stribeck_static"), ("f_c", "stribeck_coulomb"), ("f_vs", "stribeck_speed_m_s")):
+        if a.get(name) is None:
+            return f"friction.{what}", 'missing: required with friction.law = "stribeck"'
     return None

@@ -94,6 +94,19 @@ TABLES = (
         Field("model", "string", None, "consistent (default): the friction forces enter the satellite's force "
               "balance, each mode solved on its own (pins.md §4.9); first-order: forces without friction, losses "
               "charged afterwards (§4.6-4.7, the paper's)", choices=("consistent", "first-order")),
+        Field("law", "string", None, "the teeth's sliding law: coulomb (absent: f = friction.sliding) | table "
+              "(mu(v) from table_speed_m_s, table_mu) | stribeck (mu_c + (mu_s - mu_c) exp(-(v/v_s)^delta) + k_v v); "
+              "ideal level, fixed pins, needs load.crank_speed_rpm (pins.md §4.10)",
+              choices=("coulomb", "table", "stribeck")),
+        Field("table_speed_m_s", "numbers", None, "v_k, sliding speeds of the mu(v) table, increasing", ge=0,
+              le=1e4),
+        Field("table_mu", "numbers", None, "mu_k, coefficients of the mu(v) table (linear between, held beyond)",
+              ge=0, le=MAX_FRICTION),
+        Field("stribeck_static", "number", None, "mu_s, breakaway coefficient", ge=0, le=MAX_FRICTION),
+        Field("stribeck_coulomb", "number", None, "mu_c, mixed-film floor", ge=0, le=MAX_FRICTION),
+        Field("stribeck_speed_m_s", "number", None, "v_s, Stribeck speed", gt=0, le=1e4),
+        Field("stribeck_exponent", "number", None, "delta, shape exponent (absent: 2)", gt=0, le=10),
+        Field("stribeck_viscous_s_per_m", "number", None, "k_v, viscous gradient (absent: 0)", ge=0, le=1e3),
     ), doc="Friction coefficients"),
     Table("load", (
         Field("mode", "string", REQUIRED, "multiplier: V (the slow satellite output shaft) drives H (the fast "
@@ -164,7 +177,7 @@ SUMMARY_KEYS = (
     "n_crank", "model_time_ms", "tolerance_met",
     "F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W",
     "model_reason", "margin_self_locking", "margin_rolling", "margin_contact_stress", "failed_checks",
-    "output_mechanism", "w_loss_ratio", "w_force_max_N", "backdrive_startup_torque_Nm",
+    "output_mechanism", "w_loss_ratio", "w_force_max_N", "backdrive_startup_torque_Nm", "sliding_friction_mean",
 )
 
 
