@@ -199,9 +199,17 @@ def output_fields(arrays: dict, v: dict, pts, n: int) -> dict:
         upd["contact_stress_max_MPa"] = get("contact_stress_max_MPa") * np.sqrt(scale)     # Hertz: sigma ∝ sqrt(F)
         bmax, bmean = get("bearing_force_max_N") * scale, get("bearing_force_mean_N") * scale
         wmax = nan.copy()
-        for i in np.flatnonzero(has_w & np.isfinite(T_sat)):
+        ok = (np.zeros(n) + np.asarray(pts.status)) == 0                 # admissible gears only
+        gi = np.zeros(n, dtype=np.int64) + np.asarray(pts.gi).reshape(-1)[:n] if not one else np.zeros(1, np.int64)
+        mu = _arr(pts.mu, n)
+        cons = np.zeros(n, dtype=bool) | np.asarray(pts.cons).reshape(-1)[:n]
+        unit = {}          # |B + Q x| is linear in T_sat: one unit-torque history per gear, friction, mode, holes
+        for i in np.flatnonzero(has_w & np.isfinite(T_sat) & ok):
             qmin, qmax, qmean, qph = q[(int(n_w[i]), float(R_w[i]))]
-            bmax[i], bmean[i] = _bearing(pts, i, qph, T_sat[i], bool(mult[i]))
+            key = (int(gi[i]), float(mu[i]), bool(mult[i]), bool(cons[i]), int(n_w[i]), float(R_w[i]))
+            if key not in unit:
+                unit[key] = _bearing(pts, i, qph, 1.0, bool(mult[i]))
+            bmax[i], bmean[i] = unit[key][0] * T_sat[i], unit[key][1] * T_sat[i]
             wmax[i] = qmax * T_sat[i]
         upd.update(bearing_force_max_N=bmax, bearing_force_mean_N=bmean)
         for key, val in upd.items():
