@@ -169,7 +169,12 @@ def sweep_figure(kind: str | None, rows: list[dict[str, Any]], axes: list[str]):
     if colour is not None and len(styles) > len(STYLES):
         colour = None                      # too many line styles to tell apart: a legend beside the axes
     beside = colour is None and len(curves) > LEGEND_MAX
-    fig, ax = plt.subplots(figsize=(10.5 if beside else 7.5, 5.2))
+    grid2 = map_grid(rows, axes, y_key, x_key)
+    if grid2 is None:
+        fig, ax = plt.subplots(figsize=(10.5 if beside else 7.5, 5.2))
+    else:                               # two numeric axes of >= 3 values: the curves and a contour map beside them
+        fig, (ax, ax_map) = plt.subplots(1, 2, figsize=((10.5 if beside else 7.5) + 6.5, 5.2))
+        _contour_map(fig, ax_map, grid2, y_key)
     if colour is not None:
         import matplotlib as mpl
 
@@ -209,6 +214,47 @@ def sweep_figure(kind: str | None, rows: list[dict[str, Any]], axes: list[str]):
         ax.legend(fontsize=8)
     fig.suptitle(f"gearcalc sweep: {y_key} against {x_key}", fontsize=11)
     return fig
+
+
+def map_grid(rows: list[dict[str, Any]], axes: list[str], z_key: str, x_key: str):
+    """The grid of a contour map of ``z_key`` (issue 37: the efficiency map), or None: exactly two axes, both
+    numeric (not true/false) with at least 3 values each and every combination present.  (x_key, y_key, xs, ys,
+    Z) with xs, ys the sorted values and Z[j, i] the result at (xs[i], ys[j]) (NaN: undefined)."""
+    if len(axes) != 2 or x_key not in axes or not z_key:
+        return None
+    y_key = axes[0] if axes[1] == x_key else axes[1]
+    if not all(_is_number(r[a]) for r in rows for a in axes):
+        return None
+    xs, ys = sorted(dict.fromkeys(r[x_key] for r in rows)), sorted(dict.fromkeys(r[y_key] for r in rows))
+    if len(xs) < 3 or len(ys) < 3 or len(rows) != len(xs) * len(ys):
+        return None
+    z = [[float("nan")] * len(xs) for _ in ys]
+    ix, iy = {v: i for i, v in enumerate(xs)}, {v: j for j, v in enumerate(ys)}
+    for r in rows:
+        v = r.get(z_key)
+        z[iy[r[y_key]]][ix[r[x_key]]] = float("nan") if not _is_number(v) else float(v)
+    return x_key, y_key, xs, ys, z
+
+
+def _contour_map(fig, ax, grid2, z_key: str) -> None:
+    """Filled contours of the map (:func:`map_grid`) with labelled lines and a colour bar; the grid is kept on the
+    axes as ``ax.gearcalc_map`` (tests read the plotted data there)."""
+    import numpy as np
+
+    x_key, y_key, xs, ys, z = grid2
+    Z = np.ma.masked_invalid(np.array(z, dtype=float))
+    ax.gearcalc_map = grid2
+    if Z.count() and float(Z.max()) > float(Z.min()):
+        filled = ax.contourf(xs, ys, Z, levels=12, cmap="viridis")
+        lines = ax.contour(xs, ys, Z, levels=filled.levels, colors="k", linewidths=0.5)
+        ax.clabel(lines, fontsize=7, fmt="%.3g")
+        fig.colorbar(filled, ax=ax).set_label(_label(z_key))
+    else:                               # a constant (or empty) map: its value said, no contours
+        ax.text(0.5, 0.5, f"{z_key} = {float(Z.max()):.4g} everywhere" if Z.count() else f"no {z_key}",
+                ha="center", va="center", transform=ax.transAxes)
+    ax.set_xlabel(_label(x_key.split(".")[-1]))
+    ax.set_ylabel(_label(y_key.split(".")[-1]))
+    ax.set_title(f"{z_key} map", fontsize=10)
 
 
 def plot_accuracy(rows: list[dict[str, Any]], path: str) -> None:

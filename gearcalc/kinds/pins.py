@@ -13,6 +13,7 @@ import time
 from ..calculator import Calculator, DesignError, Options, Problems, Result
 from ..pins import checks as C
 from ..pins import report as R
+from ..pins.output_keys import LAW_ARGS, OUTPUT_ARGS, law_problem, output_problem
 from ..pins.schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, FORMULA_SWEEP_KEYS, GEOMETRY_KEYS,  # noqa: F401
                            HEADER, IDEAL_SWEEP_KEYS, IDEAL_WORK_MAX, MODELS, TABLES)
 
@@ -30,6 +31,8 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     "alias": "contact.friction_in_equilibrium", "law": "contact.law", "stiffness": "contact.stiffness_N_per_mm",
     "allowable": "material.allowable_stress_MPa", "torsion": "contact.stiffness_curve",
     "bearing_C": "bearing.C_N", "bearing_p": "bearing.exponent",
+    **OUTPUT_ARGS,                                  # the output mechanism and the crank's drag (pins.md §4.10)
+    **LAW_ARGS,                                     # the teeth's speed-dependent sliding law (pins.md §4.10)
 }
 VIOLATION_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile", "sliding", "load_pin_radius",
                   "load_axle_radius")
@@ -94,6 +97,8 @@ def check(design, problems: Problems) -> None:
         return
     level = select_level(design, None)
     problem = _law_problem(a) if "contact" in tables or level == "contact" else None
+    if problem is None and level in ("ideal", "contact"):
+        problem = output_problem(a, level, _pin_circle(a)) or law_problem(a, level)
     if problem is None and not problems.errors:
         problem = cost_problem(design, level) or (admissibility_problem(design, level) if level != "formula" else None)
     if problem is not None:
@@ -163,6 +168,16 @@ def admissibility_problem(design, level: str):
     except DesignError as exc:
         return exc.key, exc.message
     return None
+
+
+def _pin_circle(a):
+    """R_p [mm] from either key (None: neither given or not computable)."""
+    if a["Rp"] is not None:
+        return a["Rp"]
+    try:
+        return a["e"] * a["z2"] / ((a["z2"] - a["z1"]) * a["K1"])
+    except (TypeError, ZeroDivisionError):
+        return None
 
 
 def select_level(design, model: str | None, budget: bool = False) -> str:
@@ -309,9 +324,13 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     from ..pins.margins import margin_columns
 
     a = _one(design)
+    problem = output_problem(a, "contact") or law_problem(a, "contact")
+    if problem:
+        raise DesignError(*problem)
     cols, _ = level_columns({n: [x] for n, x in a.items()}, "contact", [design.name], options.tol,
                             design.has("pin_load"), DEFAULT_FRICTION_MODEL)
     summary = {k: v[0] for k, v in cols.items()}
+    summary["output_mechanism"] = "ideal"          # pure torque at the output (pins.md §4.10)
     g, law, profile, overlap = _satellite(design, a)
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
     model = friction_model(design)

@@ -23,6 +23,7 @@ from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .ideal import DISC_SAMPLES_MAX, DISC_WORK_MAX, TOO_COSTLY
 from .margins import margin_columns
 from .operating import ARRAY_OPS, SCALAR_OPS, floats
+from .output_mech import output_fields
 from .points import ideal_points
 from .schema import SUMMARY_KEYS
 
@@ -246,6 +247,57 @@ def _gear(v, one: bool):
     return z1, z2, n_d, e, Rb, K1, Rp, np.array([bool(x) for x in v["rotating"]]), floats(v["r"])
 
 
+def _law_coefficients(v, n: int, op: dict, one: bool):
+    """The teeth's power-weighted mean coefficient per point for a speed-dependent law (pins.md §4.10).
+
+    Put in ``op["sliding"]`` where the law applies; (mu-bar per point (NaN: Coulomb), the law's DesignError per
+    point).
+    """
+    from ..calculator import DesignError
+    from .geometry import crest_cutoff
+    from .output_keys import LAW_ARGS, law_problem
+    from .speed_friction import _omega_V, _law_of, power_weighted_coefficient
+
+    mu_bar, errs, seen = np.full(n, np.nan), [None] * n, {}
+    for i in range(n):
+        a = {name: v[name][i] for name in (*LAW_ARGS, "rotating", "speed")}
+        if (a["f_law"] or "coulomb") == "coulomb":
+            continue
+        problem = law_problem(a, "ideal")
+        if problem:
+            errs[i] = DesignError(*problem)
+            continue
+        z1, z2, e, Rb, K1, Rp = (v[name][i] for name in ("z1", "z2", "e", "Rb", "K1", "Rp"))
+        key = (z1, z2, e, Rb, K1, Rp, a["speed"], *(repr(a[name]) for name in LAW_ARGS))
+        if key not in seen:
+            try:
+                g = Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb) if K1 is not None else \
+                    Cycloid.from_pin_circle(z1, z2, e, Rp, Rb)
+                seen[key] = power_weighted_coefficient(_law_of(a), g, crest_cutoff(g), _omega_V(z1, z2, a["speed"]))
+            except (ValueError, ArithmeticError):       # an inadmissible gear: said by the level's own checks
+                seen[key] = np.nan
+        mu_bar[i] = seen[key]
+    if one:
+        if mu_bar[0] == mu_bar[0]:
+            op["sliding"] = np.float64(mu_bar[0])
+    else:
+        op["sliding"] = np.where(np.isnan(mu_bar), op["sliding"], mu_bar)
+    return mu_bar, errs
+
+
+def _output_errors(v, n: int, pts, errors: list) -> None:
+    """The output mechanism's and the drag's problems per point (:func:`gearcalc.pins.output_keys.output_problem`)."""
+    from ..calculator import DesignError
+    from .output_keys import OUTPUT_ARGS, output_problem
+
+    Rp = np.zeros(n) + np.asarray(pts.Rp, dtype=float)
+    for i in range(n):
+        if errors[i] is None:
+            a = {name: v[name][i] for name in (*OUTPUT_ARGS, "e", "Rb")}
+            problem = output_problem(a, "ideal", float(Rp[i]))
+            errors[i] = DesignError(*problem) if problem else None
+
+
 def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> IdealColumns:
     r"""The ideal level (pins.md §4) of n designs or sweep points, numpy over them.
 
@@ -299,6 +351,9 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
     bearing_p = np.where(np.isnan(bearing_p), 10.0 / 3.0, bearing_p)      # ISO 281: roller bearings
     if one:
         bearing_p = float(bearing_p.reshape(-1)[0])
+    mu_bar, law_errors = None, None
+    if any(x not in (None, "coulomb") for x in v.get("f_law", ())):   # a speed-dependent law (pins.md §4.10)
+        mu_bar, law_errors = _law_coefficients(v, n, op, one)
     pts = ideal_points(
         z1, z2, e, Rb, K1g, Rpg, n_d, rot, r, op["sliding"], op["rolling"], op["axle"],
         words_equal(op["mode"], "multiplier", one), words_equal(op["shaft"], "V", one), op["torque"], op["speed"],
@@ -326,7 +381,14 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
         p0 = None if np.isnan(at(psi_0, i)) else float(at(psi_0, i))
         warnings[i].append(R.pitch_point_inside(at(Rb, i), at(Rp, i) * at(omk, i), p0))
     errors = [err if err is not None else m_err for err, m_err in zip(errors, model_errors)]
+    if law_errors is not None:
+        errors = [err if err is not None else l_err for err, l_err in zip(errors, law_errors)]
     arrays = R.ideal_fields(pts)
+    if any(m not in (None, "ideal") for m in v.get("w_mech", ())) or any(d for d in v.get("drag", ())):
+        _output_errors(v, n, pts, errors)      # the output mechanism and the crank's drag (pins.md §4.10)
+    arrays = output_fields(arrays, v, pts, n)
+    mu_col = np.full(n, np.nan) if mu_bar is None else mu_bar
+    arrays["sliding_friction_mean"] = mu_col[0] if one else mu_col
     for i in np.flatnonzero(pts.multi_disc):
         warnings[i].append(R.MULTI_DISC_PEAKS)
     mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V

@@ -32,7 +32,8 @@ from typing import NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["FrictionLaw", "Coulomb", "FRICTION_LAWS", "register_friction_law", "friction_law", "rolling_condition",
+__all__ = ["FrictionLaw", "Coulomb", "TableLaw", "StribeckLaw", "FRICTION_LAWS", "register_friction_law",
+           "friction_law", "rolling_condition",
            "rotating_loss_coefficient", "friction_regime", "peak_coefficient", "contact_loss_power", "PinFriction"]
 
 
@@ -79,7 +80,72 @@ class Coulomb(NamedTuple):
         return self.f
 
 
-FRICTION_LAWS = {"coulomb": Coulomb}
+class TableLaw(NamedTuple):
+    r"""A user table mu(v): linear interpolation in the sliding speed, held constant beyond the table's ends.
+
+    .. math:: \mu(v) = \mu_k + (\mu_{k+1} - \mu_k)\,\frac{v - v_k}{v_{k+1} - v_k}, \qquad v_k \le v \le v_{k+1}
+
+    speed_m_s : the table's sliding speeds v_k [m/s], strictly increasing, >= 0; mu : the coefficients mu_k [-], >= 0
+    (design keys ``friction.table_speed_m_s`` and ``friction.table_mu``, pins.md §4.10).  The pressure is not used.
+    Speeds are in m/s: a caller with speeds per unit crank speed scales them first.
+
+    Examples
+    --------
+    >>> law = TableLaw((0.0, 1.0), (0.12, 0.06))
+    >>> law.coefficient(np.array([0.5, 2.0])).tolist()
+    [0.09, 0.06]
+    >>> isinstance(law, FrictionLaw)
+    True
+    """
+
+    speed_m_s: tuple
+    mu: tuple
+    name: str = "table"
+    constant: bool = False
+
+    def coefficient(self, speed, pressure=None):
+        """The coefficient mu [-] at the sliding speeds [m/s] (linear interpolation, constant beyond the ends)."""
+        return np.interp(np.abs(np.asarray(speed, dtype=float)), np.asarray(self.speed_m_s, dtype=float),
+                         np.asarray(self.mu, dtype=float))
+
+
+class StribeckLaw(NamedTuple):
+    r"""The Stribeck curve of a lubricated sliding contact (static, Coulomb and viscous parts).
+
+    .. math:: \mu(v) = \mu_c + (\mu_s - \mu_c)\,e^{-(|v|/v_s)^{\delta}} + k_v\,|v|
+
+    mu_s : the static (breakaway) coefficient [-]; mu_c : the Coulomb (mixed-film floor) coefficient [-];
+    v_s : the Stribeck speed [m/s] (> 0); delta : the shape exponent [-] (> 0; 2 is Gaussian, Armstrong-Hélouvry's
+    usual value); k_v : the viscous gradient [s/m] (>= 0, the full-film rise).  The pressure is not used (a
+    pressure-dependent film is a further law).  Speeds are in m/s.
+
+    Source: B. Armstrong-Hélouvry, P. Dupont, C. Canudas de Wit, "A survey of models, analysis tools and compensation
+    methods for the control of machines with friction", Automatica 30(7), 1083-1138, 1994 (the Stribeck friction
+    model, their eq. (1)-(3) family); L. C. Bo, D. Pavelescu, "The friction-speed relation and its influence on the
+    critical velocity of stick-slip motion", Wear 82(3), 277-289, 1982 (the exponent delta).  pins.md §4.10.
+
+    Examples
+    --------
+    >>> law = StribeckLaw(0.15, 0.05, 0.1, 2.0, 0.01)
+    >>> round(float(law.coefficient(0.0)), 12), round(float(law.coefficient(1.0)), 6)
+    (0.15, 0.06)
+    """
+
+    mu_s: float
+    mu_c: float
+    v_s: float
+    delta: float = 2.0
+    k_v: float = 0.0
+    name: str = "stribeck"
+    constant: bool = False
+
+    def coefficient(self, speed, pressure=None):
+        """The coefficient mu [-] at the sliding speeds [m/s]."""
+        v = np.abs(np.asarray(speed, dtype=float))
+        return self.mu_c + (self.mu_s - self.mu_c) * np.exp(-(v / self.v_s) ** self.delta) + self.k_v * v
+
+
+FRICTION_LAWS = {"coulomb": Coulomb, "table": TableLaw, "stribeck": StribeckLaw}
 """Friction laws by name: name -> a class (or function) taking the law's parameters and returning a
 :class:`FrictionLaw`."""
 
@@ -138,7 +204,7 @@ def friction_law(name: str, *args, **params) -> FrictionLaw:
     >>> friction_law("coulmb", 0.1)
     Traceback (most recent call last):
         ...
-    ValueError: unknown friction law 'coulmb'; known: coulomb
+    ValueError: unknown friction law 'coulmb'; known: coulomb, table, stribeck
 
     References
     ----------

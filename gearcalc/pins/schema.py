@@ -18,6 +18,9 @@ MODELS = LEVELS["pins"]
 MAX_DISCS = 64
 MAX_DUTY_ROWS = 1000
 """Rows of a duty cycle: each is an operating point (at the contact level a full solve each)."""
+
+MAX_HOLES = 64
+"""Output-mechanism holes (drives use 6-12)."""
 """Satellite discs (drives use 1-3); the cost grows with n_d, and 64 discs take ~0.4 s."""
 IDEAL_WORK_MAX = 200_000
 """Cost budget of one ideal-level design: pins x discs (z2 n_d).  The cycle and the disc sums cost about
@@ -94,6 +97,19 @@ TABLES = (
         Field("model", "string", None, "consistent (default): the friction forces enter the satellite's force "
               "balance, each mode solved on its own (pins.md §4.9); first-order: forces without friction, losses "
               "charged afterwards (§4.6-4.7, the paper's)", choices=("consistent", "first-order")),
+        Field("law", "string", None, "the teeth's sliding law: coulomb (absent: f = friction.sliding) | table "
+              "(mu(v) from table_speed_m_s, table_mu) | stribeck (mu_c + (mu_s - mu_c) exp(-(v/v_s)^delta) + k_v v); "
+              "ideal level, fixed pins, needs load.crank_speed_rpm (pins.md §4.10)",
+              choices=("coulomb", "table", "stribeck")),
+        Field("table_speed_m_s", "numbers", None, "v_k, sliding speeds of the mu(v) table, increasing", ge=0,
+              le=1e4),
+        Field("table_mu", "numbers", None, "mu_k, coefficients of the mu(v) table (linear between, held beyond)",
+              ge=0, le=MAX_FRICTION),
+        Field("stribeck_static", "number", None, "mu_s, breakaway coefficient", ge=0, le=MAX_FRICTION),
+        Field("stribeck_coulomb", "number", None, "mu_c, mixed-film floor", ge=0, le=MAX_FRICTION),
+        Field("stribeck_speed_m_s", "number", None, "v_s, Stribeck speed", gt=0, le=1e4),
+        Field("stribeck_exponent", "number", None, "delta, shape exponent (absent: 2)", gt=0, le=10),
+        Field("stribeck_viscous_s_per_m", "number", None, "k_v, viscous gradient (absent: 0)", ge=0, le=1e3),
     ), doc="Friction coefficients"),
     Table("load", (
         Field("mode", "string", REQUIRED, "multiplier: V (the slow satellite output shaft) drives H (the fast "
@@ -105,7 +121,22 @@ TABLES = (
         Field("torque_Nm", "number", REQUIRED, "T, torque on that shaft", gt=0, le=MAX_TORQUE_NM, example=100.0),
         Field("crank_speed_rpm", "number", None, "n_H; powers and pin speeds need it", gt=0, le=MAX_SPEED_RPM,
               example=1000.0),
+        Field("drag_torque_Nm", "number", None, "T_d, no-load drag torque at the crank (seals), whatever the load; "
+              "absent: none (ideal level, pins.md §4.10)", ge=0, le=MAX_TORQUE_NM),
     ), doc="Operating point; required with [gearing]", optional=True),
+    Table("output", (
+        Field("mechanism", "string", "ideal", "ideal: the output coupling transmits pure torque; pins_in_holes: "
+              "n_w pins in holes of radius r_w + e, its forces on the crank bearing and its loss in the efficiency "
+              "(ideal level, pins.md §4.10)", choices=("ideal", "pins_in_holes")),
+        Field("holes", "integer", None, "n_w, holes (pins_in_holes)", ge=3, le=MAX_HOLES),
+        Field("hole_circle_radius_mm", "number", None, "R_w, radius of the holes' circle (pins_in_holes)",
+              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM),
+        Field("pin_radius_mm", "number", None, "r_w, output pin (or its bushing) radius; holes r_w + e",
+              ge=MIN_LENGTH_MM, le=MAX_LENGTH_MM),
+        Field("friction", "number", None, "f_w, pin-hole friction (a rolling bushing: its equivalent); absent: "
+              "friction.sliding", ge=0, le=MAX_FRICTION),
+    ), doc="The output (W) mechanism between the satellite and the slow shaft (optional)", optional=True,
+        in_template=False),
     Table("contact", (
         Field("law", "string", "hertz", "contact law: hertz (steel, ISO/TS 16281), palmgren, linear",
               choices=("hertz", "palmgren", "linear")),
@@ -168,6 +199,7 @@ SUMMARY_KEYS = (
     "duty_bearing_equivalent_load_err_N", "duty_bearing_L10_h", "duty_bearing_L10_h_err",
     "duty_contact_stress_max_MPa", "duty_contact_stress_max_row",
     "model_reason", "margin_self_locking", "margin_rolling", "margin_contact_stress", "failed_checks",
+    "output_mechanism", "w_loss_ratio", "w_force_max_N", "backdrive_startup_torque_Nm", "sliding_friction_mean",
 )
 
 
@@ -186,4 +218,6 @@ FORMULA_SWEEP_KEYS = PIN_LOAD_KEYS + ("friction.sliding", "friction.rolling_mm",
                                       "material.allowable_stress_MPa")
 IDEAL_SWEEP_KEYS = OPERATING_KEYS + GEOMETRY_KEYS + PIN_LOAD_KEYS + ("contact.face_width_mm",
                                                                     "material.allowable_stress_MPa", "bearing.C_N",
-                                                                    "bearing.exponent")
+                                                                    "bearing.exponent") + (
+    "load.drag_torque_Nm", "output.mechanism", "output.holes", "output.hole_circle_radius_mm", "output.pin_radius_mm",
+    "output.friction")
