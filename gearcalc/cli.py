@@ -273,24 +273,25 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
         raise Abort("'-' (standard input) can be given once")
     check_outputs(output, plot, files)  # never overwrite an input design
     from . import engine
+    from .design import InputError
     from .render import parse_fields
 
-    designs, worst = engine.load_designs(files, overrides, kind_hint, err, debug)
-    for kind in sorted({d.kind for d in designs}):
-        try:
-            engine.check_model(model, kind)
-        except ValueError as exc:
-            raise Abort(str(exc)) from None
     chosen = parse_fields(fields)
-    bar = Progress(len(designs), "designs")  # shown on a terminal once the work has run about a second
+    bars = []
+
+    def progress(n: int):
+        bars.append(Progress(n, "designs"))  # shown on a terminal once the work has run about a second
+        return bars[0].advance
+
     try:
-        with on_cluster(cluster):
-            records, status = engine.run(designs, Options(tol=tol, model=model, detail=detail), say=err,
-                                         advance=bar.advance, debug=debug, jobs=jobs, verbose=verbose,
-                                         cluster=cluster)
+        opts = Options(tol=tol, model=model, detail=detail)
+        records, worst = engine.compute_files(files, overrides, kind_hint, opts, say=err, progress=progress,
+                                              debug=debug, jobs=jobs, verbose=verbose, cluster=on_cluster(cluster))
+    except InputError as exc:  # an unknown --model level, before any computation
+        raise Abort(str(exc)) from None
     finally:
-        bar.stop()
-    worst = max(worst, status)
+        for bar in bars:
+            bar.stop()
     if conditions:  # the designs shown; the exit status is the computation's
         from .explore.where import keep_records
 
@@ -608,13 +609,13 @@ def on_cluster(cluster):
     """The body of a command on the ``--scheduler`` cluster (closed at the end: its futures cancelled, a local
     cluster stopped), an unusable one an :class:`Abort`; with no cluster, the body alone."""
     if cluster is None:
-        yield
+        yield None
         return
     from .distributed import SchedulerError
 
     try:
         with cluster:
-            yield
+            yield cluster
     except SchedulerError as exc:
         raise Abort(str(exc)) from None
 
