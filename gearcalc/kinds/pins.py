@@ -114,9 +114,10 @@ def admissibility_problem(design, level: str):
         err = status and R.admissibility_error(status, a["z1"], a["z2"], psi_star, a["Rb"], rho_c, K1)
         return (err.key, err.message) if err else None
     try:
-        _satellite(design, a)
+        made = _satellite(design, a)
     except DesignError as exc:
         return exc.key, exc.message
+    design.keep("pins", _satellite_values(a), made)  # for its computation (_contact): built once per run
     return None
 
 
@@ -232,6 +233,15 @@ def _law_problem(a):
     return R.problem(rule, law=a["law"]) if rule else None
 
 
+SATELLITE_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "law", "face_width", "stiffness", "profile", "tooth_radius",
+                  "tooth_circle_radius", "radial_mod", "equidistant_mod")
+"""The arguments :func:`_satellite` reads."""
+
+
+def _satellite_values(a) -> tuple:
+    return tuple(a[n] for n in SATELLITE_ARGS)
+
+
 def _satellite(design, a):
     """(gear, contact law, satellite profile, overlap) of the contact level (pins.md §5.2-5.4); DesignError for
     a missing constant of the law or an inadmissible profile."""
@@ -260,7 +270,8 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     cols, _ = level_columns({n: [x] for n, x in a.items()}, "contact", [design.name], options.tol,
                             design.has("pin_load"), DEFAULT_FRICTION_MODEL)
     summary = {k: v[0] for k, v in cols.items()}
-    g, law, profile, overlap = _satellite(design, a)
+    made = design.take("pins", _satellite_values(a)) if hasattr(design, "take") else None
+    g, law, profile, overlap = made if made is not None else _satellite(design, a)
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
     model = friction_model(design)
     try:
