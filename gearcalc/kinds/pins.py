@@ -283,7 +283,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))
     if not cl.balanced:
         raise R.stiffness_error(design, law, cl.residual, options.tol)
-    summary.update(R.contact_summary(design, g, law, profile, cl, model))
+    summary.update(_contact_summary(design, g, law, profile, cl, model))
     R.contact_notes(design, summary, options.tol, warnings, failed, cl, a["mode"] == "multiplier")
     summary.update({k: v[0] for k, v in margin_columns({k: [v] for k, v in summary.items()},
                                                        {n: [x] for n, x in a.items()}).items()})
@@ -294,6 +294,41 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
         detail.update(cl.torsion[1] if options.detail else {})
     detail.update(cl.detail or {})
     return summary
+
+
+def _contact_summary(design, g, law, profile, cl, model: str) -> dict:
+    """The contact level's summary fields (pins.md §8) from :class:`gearcalc.pins.contact_level.ContactLevel`
+    ``cl`` of ``design`` with gear ``g``, contact ``law``, satellite ``profile`` and friction ``model``."""
+    geo = profile.summary_fields()
+    multiplier = design["load.mode"] == "multiplier"
+    s = R.contact_fields(design["gearing.profile"], design["gearing.rotating_pins"], design["load.mode"], g, law, geo,
+                         cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual, cl.rolling_ok)
+    s.update(R.efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, multiplier, R.plain))
+    s.update(_crank_fields(cl, design, s["pin_force_max_N"]))
+    s["friction_model"] = model
+    if cl.operating is not None:
+        s.update(R.operating_fields(cl.operating))
+    return s
+
+
+def _crank_fields(cl, design, force_max) -> dict:
+    """The crank torque, crank-bearing force, contact stress and axle pressure of the contact level (pins.md §8)
+    from its :class:`~gearcalc.pins.contact.CrankBearing` ``cl.crank``: the crank torque only with the requested
+    mode's friction-consistent forces (null first-order or jammed), the stress with ``contact.face_width_mm``
+    over the flank contacts, the axle pressure for rotating pins (F_max/(2 r b))."""
+    from ..pins.outputs import STEEL_E_STAR_MPA, axle_pressure, contact_stress
+
+    cb, b = cl.crank, design.get("contact.face_width_mm")
+    own = cl.consistent and (design["load.mode"] == "multiplier") not in cl.modes.jams
+    stress = (R.plain(contact_stress(1.0, cb.stress_factor, b, STEEL_E_STAR_MPA))
+              if b is not None and math.isfinite(cb.stress_factor) else None)
+    rotating, r = design["gearing.rotating_pins"], design.get("gearing.axle_radius_mm")
+    return {"crank_torque_mean_Nm": cb.crank_torque_mean if own else None,
+            "crank_torque_ripple_Nm": cb.crank_torque_ripple if own else None,
+            "bearing_force_max_N": cb.bearing_force_max, "bearing_force_mean_N": cb.bearing_force_mean,
+            "contact_stress_max_MPa": stress,
+            "axle_pressure_max_MPa": (R.plain(axle_pressure(force_max, r, b))
+                                      if rotating and b is not None and force_max is not None else None)}
 
 
 def plot(records, path: str) -> list:

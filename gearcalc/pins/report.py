@@ -11,7 +11,7 @@ from ..calculator import DesignError, Result
 
 __all__ = ["PEAK_KEYS", "CONSISTENT_FIELDS", "OUTPUT_KEYS", "FORMULA_KEYS", "fmt", "cycle_notes",
            "admissibility_error", "profile_error", "tooth_overlap", "column", "columns", "plain", "ideal_columns",
-           "problem", "warning", "friction_alias_error", "contact_notes", "contact_summary",
+           "problem", "warning", "friction_alias_error", "contact_notes",
            "cost_problem", "contact_error", "result", "report_problems"]
 
 PEAK_KEYS = ("pin_force_max_N", "pin_force_max_phase_deg", "pin_loss_max_W", "pin_loss_max_phase_deg", "loss_peak_W",
@@ -305,15 +305,17 @@ def other_mode_jams(multiplier: bool) -> str:
             "forces in the moment balance: efficiency_" + ("multiplier" if multiplier else "reducer") + " is empty")
 
 
-def contact_fields(design, g, law, geo, tc, pk, metrics, backlash, residual, rolling_ok) -> dict:
-    """The contact level's summary fields from its results (pins.md §8): the cycle ``tc``
+def contact_fields(profile: str, rotating: bool, mode: str, g, law, geo, tc, pk, metrics, backlash, residual,
+                   rolling_ok) -> dict:
+    """The contact level's summary fields from its results (pins.md §8) for the design's ``profile`` name,
+    ``rotating`` pins and load ``mode``: the cycle ``tc``
     (:class:`~gearcalc.pins.contact.TorqueCycle`), its peaks ``pk``, engagement ``metrics``, backlash [deg] and
     equilibrium residual."""
     from .contact import deflection_sized        # the contact level ran: loaded
     cyc, sol = tc.cycle, tc.cycle.sol
     return {
-        "model": "contact", "profile": design["gearing.profile"], "rotating_pins": design["gearing.rotating_pins"],
-        "mode": design["load.mode"], "ratio": g.ratio, "curtate_ratio": g.K1,
+        "model": "contact", "profile": profile, "rotating_pins": rotating, "mode": mode, "ratio": g.ratio,
+        "curtate_ratio": g.K1,
         "rolling_ok": None if rolling_ok is None else bool(rolling_ok[0]),
         "loss_ratio": tc.loss_ratio, "loss_ratio_err": tc.loss_ratio_err, "n_crank": cyc.n_crank,
         # the quadrature, the torque fixed point, the nodes' check of the pieces' contact sets and a deflection-sized
@@ -351,26 +353,6 @@ def efficiency_fields(et_m, et_r, locked: dict, multiplier: bool, plain) -> dict
     return s
 
 
-def crank_fields(cl, design, force_max) -> dict:
-    """The crank torque, crank-bearing force, contact stress and axle pressure of the contact level (pins.md §8)
-    from its :class:`~gearcalc.pins.contact.CrankBearing` ``cl.crank``: the crank torque only with the requested
-    mode's friction-consistent forces (null first-order or jammed), the stress with ``contact.face_width_mm``
-    over the flank contacts, the axle pressure for rotating pins (F_max/(2 r b))."""
-    from .outputs import STEEL_E_STAR_MPA, axle_pressure, contact_stress
-
-    cb, b = cl.crank, design.get("contact.face_width_mm")
-    own = cl.consistent and (design["load.mode"] == "multiplier") not in cl.modes.jams
-    stress = (plain(contact_stress(1.0, cb.stress_factor, b, STEEL_E_STAR_MPA))
-              if b is not None and math.isfinite(cb.stress_factor) else None)
-    rotating, r = design["gearing.rotating_pins"], design.get("gearing.axle_radius_mm")
-    return {"crank_torque_mean_Nm": cb.crank_torque_mean if own else None,
-            "crank_torque_ripple_Nm": cb.crank_torque_ripple if own else None,
-            "bearing_force_max_N": cb.bearing_force_max, "bearing_force_mean_N": cb.bearing_force_mean,
-            "contact_stress_max_MPa": stress,
-            "axle_pressure_max_MPa": (plain(axle_pressure(force_max, r, b))
-                                      if rotating and b is not None and force_max is not None else None)}
-
-
 def crest_warning(crank) -> list[str]:
     """The warning of loaded contacts on the crest corners of the teeth (k >= 2, pins.md §5.2, §8), or none."""
     if crank is None or not crank.crest_loaded:
@@ -386,20 +368,6 @@ def operating_fields(ov) -> dict:
             "pin_loss_max_phase_deg": ov.loss_phase, "pin_loss_bound_W": ov.loss_bound,
             "pin_speed_max_rpm": ov.spin_abs_max, "pin_speed_signed_min_rpm": ov.spin_min,
             "pin_speed_signed_max_rpm": ov.spin_max, "sliding_speed_max_m_s": ov.sliding_speed_max}
-
-
-def contact_summary(design, g, law, profile, cl, model: str) -> dict:
-    """The contact level's summary fields (pins.md §8) from :class:`gearcalc.pins.contact_level.ContactLevel`
-    ``cl`` of ``design`` with gear ``g``, contact ``law``, satellite ``profile`` and friction ``model``."""
-    geo = profile.summary_fields()
-    s = contact_fields(design, g, law, geo, cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual,
-                       cl.rolling_ok)
-    s.update(efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, design["load.mode"] == "multiplier", plain))
-    s.update(crank_fields(cl, design, s["pin_force_max_N"]))
-    s["friction_model"] = model
-    if cl.operating is not None:
-        s.update(operating_fields(cl.operating))
-    return s
 
 
 def cost_problem(level: str, z2: int, n_d: int, torque_on_V: bool):
