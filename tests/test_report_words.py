@@ -13,3 +13,8 @@ def test_pins_report_computes_no_stress():
 
 def test_contact_fields_take_values_not_the_design():
     assert "design" not in inspect.signature(report.contact_fields).parameters
+
+
+def test_the_ideal_fields_are_chosen_by_the_physics_not_the_report():
+    # the friction-consistent values replacing the first-order ones, scaled peaks: gearcalc.pins.columns
+    assert not hasattr(report, "ideal_fields")
