@@ -221,20 +221,12 @@ def compute_files(paths, *, kind: str | None = None, model: str | None = None, t
             say(line)
 
     files = dmod.expand_paths(paths, warn=tell)
-    designs, worst = engine.load_designs(files, pairs, kind, tell)
-    for k in sorted({d.kind for d in designs}):
-        engine.check_model(model, k, MODEL)
-    opts = Options(tol=tol, model=model, detail=detail)
+    cluster = None if scheduler is None else _on_cluster(scheduler, tell)
     with _quiet():
-        if scheduler is None:
-            records, status = engine.run(designs, opts, say=tell, advance=progress, jobs=jobs, verbose=verbose)
-        else:
-            from .distributed import Cluster
-
-            with _scheduler_errors(), Cluster(scheduler, say=tell) as cluster:
-                records, status = engine.run(designs, opts, say=tell, advance=progress, verbose=verbose,
-                                             cluster=cluster)
-    batch.records, batch.status = records, max(worst, status)
+        records, status = engine.compute_files(files, pairs, kind, Options(tol=tol, model=model, detail=detail),
+                                               say=tell, progress=progress and (lambda n: progress), verbose=verbose,
+                                               jobs=jobs if scheduler is None else 1, cluster=cluster, option=MODEL)
+    batch.records, batch.status = records, status
     return batch
 
 
@@ -495,6 +487,15 @@ def _scheduler_errors():
         if message.startswith("--scheduler"):
             message = "scheduler" + message[len("--scheduler"):]
         raise InputError([message]) from None
+
+
+@contextmanager
+def _on_cluster(scheduler, say):
+    """The Dask cluster of ``scheduler`` for one computation (its errors as InputError, :func:`_scheduler_errors`)."""
+    from .distributed import Cluster
+
+    with _scheduler_errors(), Cluster(scheduler, say=say) as cluster:
+        yield cluster
 
 
 def _paths(paths) -> list[str]:

@@ -106,6 +106,61 @@ O_RESUME = typer.Option(False, "--resume", help="With -o FILE (CSV or Parquet): 
                         ".FILE.partial when the run stops, and continue an interrupted run's from its next chunk.")
 
 
+SHARED = {
+    "fmt": (Optional[str], O_FORMAT),
+    "detail": (bool, O_DETAIL),
+    "output": (Optional[str], O_OUTPUT),
+    "sets": (Optional[List[str]], O_SET),
+    "tol": (float, O_TOL),
+    "model": (Optional[str], O_MODEL),
+    "plot": (Optional[str], O_PLOT),
+    "debug": (bool, O_DEBUG),
+    "jobs": (int, O_JOBS),
+    "fields": (Optional[str], O_FIELDS),
+    "verbose": (bool, O_VERBOSE),
+    "scheduler": (Optional[str], O_SCHEDULER),
+    "sample": (Optional[str], O_SAMPLE),
+    "seed": (int, O_SEED),
+    "where_": (Optional[List[str]], O_WHERE),
+    "resume": (bool, O_RESUME),
+}
+"""The options several commands share, each declared once: parameter name -> (type, typer option)."""
+
+COMPUTE = ("fmt", "detail", "output", "sets", "tol", "model", "plot", "debug", "jobs", "fields", "verbose")
+"""The options of every computing command (the kind commands, ``run``), in the order their help lists them."""
+
+
+def shared(*names: str):
+    """Give a command the shared options ``names`` (:data:`SHARED`) after its own parameters, in this order
+    (sqlite-utils' ``output_options``): the command takes them as keyword arguments (``**options``)."""
+    import functools
+    import inspect
+
+    def decorate(fn):
+        sig = inspect.signature(fn)
+        own = [p for p in sig.parameters.values() if p.kind is not inspect.Parameter.VAR_KEYWORD]
+        added = [inspect.Parameter(n, inspect.Parameter.KEYWORD_ONLY, default=SHARED[n][1], annotation=SHARED[n][0])
+                 for n in names]
+
+        @functools.wraps(fn)
+        def command(*args, **kwargs):
+            return fn(*args, **kwargs)
+
+        command.__signature__ = sig.replace(parameters=own + added)
+        command.__annotations__ = {**typing_hints(fn), **{n: SHARED[n][0] for n in names}}
+        del command.__wrapped__  # typer reads the signature above, not the function's own
+        return command
+
+    return decorate
+
+
+def typing_hints(fn) -> dict:
+    """A function's evaluated annotations (this module's are strings: ``from __future__ import annotations``)."""
+    import typing
+
+    return typing.get_type_hints(fn)
+
+
 def model_levels(kinds) -> str:
     """The --model help with the levels of these kinds, cheapest first (the registry's: the calculators' own
     lists, without importing a calculator)."""
@@ -257,14 +312,14 @@ def check_tol(tol: float) -> None:
         raise Abort(f"--tol {tol}: {problem}")
 
 
-def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str], detail: bool,
+def compute_files(paths: List[str], kind_hint: Optional[str], *, fmt: Optional[str], detail: bool,
                   output: Optional[str], sets: Optional[List[str]], tol: float, model: Optional[str],
                   plot: Optional[str], debug: bool, jobs: int = 1, fields: Optional[str] = None,
-                  verbose: bool = False, scheduler: Optional[str] = None, where: Optional[List[str]] = None) -> int:
+                  verbose: bool = False, scheduler: Optional[str] = None, where_: Optional[List[str]] = None) -> int:
     """The body of every computing command; returns the exit code."""
     from . import design as dmod
 
-    conditions = _where(where)
+    conditions = _where(where_)
     fmt = pick_format(fmt, output)
     check_tol(tol)
     cluster = dask_cluster(scheduler, jobs, debug)
@@ -277,24 +332,25 @@ def compute_files(paths: List[str], kind_hint: Optional[str], fmt: Optional[str]
         raise Abort("'-' (standard input) can be given once")
     check_outputs(output, plot, files)  # never overwrite an input design
     from . import engine
+    from .design import InputError
     from .render import parse_fields
 
-    designs, worst = engine.load_designs(files, overrides, kind_hint, err, debug)
-    for kind in sorted({d.kind for d in designs}):
-        try:
-            engine.check_model(model, kind)
-        except ValueError as exc:
-            raise Abort(str(exc)) from None
     chosen = parse_fields(fields)
-    bar = Progress(len(designs), "designs")  # shown on a terminal once the work has run about a second
+    bars = []
+
+    def progress(n: int):
+        bars.append(Progress(n, "designs"))  # shown on a terminal once the work has run about a second
+        return bars[0].advance
+
     try:
-        with on_cluster(cluster):
-            records, status = engine.run(designs, Options(tol=tol, model=model, detail=detail), say=err,
-                                         advance=bar.advance, debug=debug, jobs=jobs, verbose=verbose,
-                                         cluster=cluster)
+        opts = Options(tol=tol, model=model, detail=detail)
+        records, worst = engine.compute_files(files, overrides, kind_hint, opts, say=err, progress=progress,
+                                              debug=debug, jobs=jobs, verbose=verbose, cluster=on_cluster(cluster))
+    except InputError as exc:  # an unknown --model level, before any computation
+        raise Abort(str(exc)) from None
     finally:
-        bar.stop()
-    worst = max(worst, status)
+        for bar in bars:
+            bar.stop()
     if conditions:  # the designs shown; the exit status is the computation's
         from .explore.where import keep_records
 
@@ -334,23 +390,13 @@ def _emit(records, fmt, detail, output, plot, worst, fields=None, array=None) ->
 
 
 def _kind_command(kind: str, summary: str):
+    @shared(*COMPUTE)
     def command(
         files: List[str] = typer.Argument(..., metavar="FILE...",
                                           help="Design files (TOML); '-' reads standard input."),
-        fmt: Optional[str] = O_FORMAT,
-        detail: bool = O_DETAIL,
-        output: Optional[str] = O_OUTPUT,
-        sets: Optional[List[str]] = O_SET,
-        tol: float = O_TOL,
-        model: Optional[str] = O_MODEL,
-        plot: Optional[str] = O_PLOT,
-        debug: bool = O_DEBUG,
-        jobs: int = O_JOBS,
-        fields: Optional[str] = O_FIELDS,
-        verbose: bool = O_VERBOSE,
+        **options,
     ):
-        finish(lambda: compute_files(files, kind, fmt, detail, output, sets, tol, model, plot, debug, jobs, fields,
-                                     verbose), debug)
+        finish(lambda: compute_files(files, kind, **options), options["debug"])
 
     command.__doc__ = summary
     command.__name__ = kind
@@ -363,57 +409,35 @@ for _kind in registry.KINDS:  # the registry is the one list of kinds
 
 
 @app.command("run", cls=_help_of(), epilog=EXAMPLES["run"])
+@shared(*COMPUTE, "scheduler", "where_")
 def run_cmd(
     paths: List[str] = typer.Argument(
         ..., metavar="PATH...", help="Design files or folders (every *.toml below a folder); '-' reads stdin."),
-    fmt: Optional[str] = O_FORMAT,
-    detail: bool = O_DETAIL,
-    output: Optional[str] = O_OUTPUT,
-    sets: Optional[List[str]] = O_SET,
-    tol: float = O_TOL,
-    model: Optional[str] = O_MODEL,
-    plot: Optional[str] = O_PLOT,
-    debug: bool = O_DEBUG,
-    jobs: int = O_JOBS,
-    fields: Optional[str] = O_FIELDS,
-    verbose: bool = O_VERBOSE,
-    scheduler: Optional[str] = O_SCHEDULER,
-    where_: Optional[List[str]] = O_WHERE,
+    **options,
 ):
     """Compute any design files, dispatching on their `kind`.
 
     JSON: an array when PATH is a folder or several PATHs are given (even if one design is computed),
     one object for a single file."""
-    finish(lambda: compute_files(paths, None, fmt, detail, output, sets, tol, model, plot, debug, jobs, fields,
-                                 verbose, scheduler, where_), debug)
+    finish(lambda: compute_files(paths, None, **options), options["debug"])
 
 
 @app.command("sweep", cls=_help_of(), epilog=EXAMPLES["sweep"])
+@shared("fmt", "output", "sets", "tol", "model", "plot", "debug", "jobs", "fields", "scheduler", "sample", "seed",
+        "where_", "resume")
 def sweep_cmd(
     file: str = typer.Argument(..., metavar="FILE", help="One design file ('-' reads standard input)."),
     vary: List[str] = typer.Option(..., "--vary", help="KEY=SPEC: an axis of the grid; SPEC is start:stop:step "
                                    "or v1,v2,...; several --vary make a product grid (the first varies slowest)."),
-    fmt: Optional[str] = O_FORMAT,
-    output: Optional[str] = O_OUTPUT,
-    sets: Optional[List[str]] = O_SET,
-    tol: float = O_TOL,
-    model: Optional[str] = O_MODEL,
-    plot: Optional[str] = O_PLOT,
-    debug: bool = O_DEBUG,
-    jobs: int = O_JOBS,
-    fields: Optional[str] = O_FIELDS,
-    scheduler: Optional[str] = O_SCHEDULER,
-    sample: Optional[str] = O_SAMPLE,
-    seed: int = O_SEED,
-    where_: Optional[List[str]] = O_WHERE,
-    resume: bool = O_RESUME,
+    **options,
 ):
     """Evaluate one design over a grid of key values; one output row per point.
 
     Exit 1 when any point fails a design check (the count is said on stderr), as the same design alone
     would."""
 
-    def body() -> int:
+    def body(fmt, output, sets, tol, model, plot, debug, jobs, fields, scheduler, sample, seed, where_,
+             resume) -> int:
         from . import design as dmod
         from . import grid as sw
         from .engine import check_model
@@ -473,7 +497,7 @@ def sweep_cmd(
             err(f"{where}: {line}")
         return max(code, EXIT_CHECK) if set(failed) - {"errors"} else code
 
-    finish(body, debug)
+    finish(lambda: body(**options), options["debug"])
 
 
 def _where(items):
@@ -513,6 +537,7 @@ O_RANGE = typer.Option(..., "--vary", metavar="KEY=LO:HI", help="A varied key an
 
 
 @app.command("optimize", cls=_help_of(), epilog=EXAMPLES["optimize"])
+@shared("fmt", "output", "sets", "tol", "model", "plot", "debug", "jobs", "scheduler")
 def optimize_cmd(
     file: str = typer.Argument(..., metavar="FILE", help="One design file ('-' reads standard input)."),
     vary: List[str] = O_RANGE,
@@ -523,15 +548,7 @@ def optimize_cmd(
     seed: int = O_SEED,
     save: Optional[str] = typer.Option(None, "--save", metavar="DIR",
                                        help="Write each optimum or front member as a design file into DIR."),
-    fmt: Optional[str] = O_FORMAT,
-    output: Optional[str] = O_OUTPUT,
-    sets: Optional[List[str]] = O_SET,
-    tol: float = O_TOL,
-    model: Optional[str] = O_MODEL,
-    plot: Optional[str] = O_PLOT,
-    debug: bool = O_DEBUG,
-    jobs: int = O_JOBS,
-    scheduler: Optional[str] = O_SCHEDULER,
+    **options,
 ):
     """Find the design that minimises or maximises outputs over ranges of keys.
 
@@ -540,10 +557,11 @@ def optimize_cmd(
     params = locals_of(locals())
     from .explore.commands import optimize_body
 
-    finish(lambda: optimize_body(params), debug)
+    finish(lambda: optimize_body(params), params.debug)
 
 
 @app.command("sensitivity", cls=_help_of(), epilog=EXAMPLES["sensitivity"])
+@shared("fields", "fmt", "output", "sets", "tol", "model", "debug", "jobs", "scheduler")
 def sensitivity_cmd(
     file: str = typer.Argument(..., metavar="FILE", help="One design file ('-' reads standard input)."),
     vary: List[str] = O_RANGE,
@@ -552,28 +570,21 @@ def sensitivity_cmd(
     samples: Optional[int] = typer.Option(None, "--samples", metavar="N", help="Sobol': the base size N (N (d+2) "
                                           "points; default 256); Morris: trajectories (N (d+1) points; default 64)."),
     seed: int = O_SEED,
-    fields: Optional[str] = O_FIELDS,
-    fmt: Optional[str] = O_FORMAT,
-    output: Optional[str] = O_OUTPUT,
-    sets: Optional[List[str]] = O_SET,
-    tol: float = O_TOL,
-    model: Optional[str] = O_MODEL,
-    debug: bool = O_DEBUG,
-    jobs: int = O_JOBS,
-    scheduler: Optional[str] = O_SCHEDULER,
+    **options,
 ):
     """Which varied key drives each output: Sobol' indices with confidence intervals, or Morris mu*."""
     params = locals_of(locals())
     from .explore.commands import sensitivity_body
 
-    finish(lambda: sensitivity_body(params), debug)
+    finish(lambda: sensitivity_body(params), params.debug)
 
 
 def locals_of(values: dict):
-    """A command's parameters as attributes."""
+    """A command's parameters as attributes (its shared ``**options`` among them)."""
     import types
 
-    return types.SimpleNamespace(**values)
+    values = dict(values)
+    return types.SimpleNamespace(**values.pop("options", {}), **values)
 
 
 def dask_cluster(scheduler: Optional[str], jobs: int, debug: bool):
@@ -612,13 +623,13 @@ def on_cluster(cluster):
     """The body of a command on the ``--scheduler`` cluster (closed at the end: its futures cancelled, a local
     cluster stopped), an unusable one an :class:`Abort`; with no cluster, the body alone."""
     if cluster is None:
-        yield
+        yield None
         return
     from .distributed import SchedulerError
 
     try:
         with cluster:
-            yield
+            yield cluster
     except SchedulerError as exc:
         raise Abort(str(exc)) from None
 

@@ -73,6 +73,20 @@ class Design:
     def is_given(self, dotted: str) -> bool:
         return dotted in self.given
 
+    def keep(self, what: str, key: Any, value: Any) -> None:
+        """Leave ``value`` (what a kind's check prepared from the values ``key``, e.g. its arrays) for this design's
+        computation in this run (:meth:`take`): each design prepared once.  Not pickled (a worker prepares again)."""
+        self.__dict__.setdefault("_kept", {})[what] = (key, value)
+
+    def take(self, what: str, key: Any) -> Any:
+        """The value :meth:`keep` left, when made from the values ``key`` (the design unchanged since), else None;
+        taken once (a second computation of the design prepares afresh)."""
+        kept = self.__dict__.get("_kept", {}).pop(what, None)
+        return kept[1] if kept is not None and kept[0] == key else None
+
+    def __getstate__(self) -> dict:
+        return {k: v for k, v in self.__dict__.items() if k != "_kept"}
+
     def resolved(self, implicit: bool = False) -> dict[str, Any]:
         """The fully resolved design as plain data (for the JSON echo and reproducibility); ``implicit``: with the
         values the computation takes for keys left out (``check --resolved``: every key the computation uses)."""

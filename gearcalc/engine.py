@@ -46,6 +46,29 @@ def load_designs(files: Iterable[str], overrides=(), kind_hint: str | None = Non
     return designs, worst
 
 
+def compute_files(files: list, overrides, kind_hint: str | None, opts: Options, *, say: Callable = print,
+                  progress: Callable | None = None, debug: bool = False, jobs: int = 1, verbose: bool = False,
+                  cluster=None, option: str = "--model") -> tuple[list, int]:
+    """The one batch: load and validate ``files``, check the model level, compute; (records, worst exit status).
+
+    The command line (``gearcalc run`` and the kind commands) and :func:`gearcalc.api.compute_files` call it,
+    each with its own words: ``option`` names the model level in a message (``--model``, ``model =``), an
+    unknown level an ``InputError`` before anything is computed.  ``progress(n)``: called with the number of
+    designs to compute, returns the ``advance(k)`` callback (or None).  ``cluster``: None, or a context manager
+    entered for the computation only, yielding the Dask cluster (:class:`gearcalc.distributed.Cluster`) or None.
+    """
+    import contextlib
+
+    designs, worst = load_designs(files, overrides, kind_hint, say, debug)
+    for kind in sorted({d.kind for d in designs}):
+        check_model(opts.model, kind, option)
+    advance = progress(len(designs)) if progress is not None else None
+    with cluster if cluster is not None else contextlib.nullcontext() as on:
+        records, status = run(designs, opts, say=say, advance=advance, debug=debug, jobs=jobs, verbose=verbose,
+                              cluster=on)
+    return records, max(worst, status)
+
+
 def check_model(model: str | None, kind: str, option: str = "--model") -> None:
     """A model level chosen by name: an ``InputError`` (a ``ValueError``) listing the kind's levels when it has no
     such level, naming the choice as ``{option} LEVEL`` (the Python API's option is ``model =``)."""

@@ -95,3 +95,21 @@ def test_to_pandas_when_pandas_is_installed():
     res = gearcalc.compute(FIG3, detail=True)
     assert res.to_pandas()["K"][0] == res.summary["K"]
     assert len(res.to_pandas("rows")) == 3 and isinstance(res.to_pandas(), pd.DataFrame)
+
+
+def test_one_batch_engine_serves_the_cli_and_the_api(monkeypatch):
+    # issue 35 item 2: `gearcalc run`, the kind commands and gearcalc.compute_files call the same batch function
+    from gearcalc import engine
+
+    real, callers = engine.compute_files, []
+
+    def spy(*args, **kw):
+        callers.append(kw.get("option", "--model"))
+        return real(*args, **kw)
+
+    monkeypatch.setattr(engine, "compute_files", spy)
+    assert cli("run", FIG3, "--format", "json").code == 0
+    assert cli("rows", FIG3, "--format", "json", "--model", "bogus").code == 2
+    batch = gearcalc.compute_files([FIG3])
+    assert batch.status == 0 and len(batch.records) == 1
+    assert callers == ["--model", "--model", "model ="]

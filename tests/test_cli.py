@@ -447,3 +447,19 @@ def test_plot_without_matplotlib_names_both_installs(tmp_path, monkeypatch):
     assert r.code == 2 and r.out  # the data are written first
     assert "pip install 'gearcalc[plot]'" in r.err and "pip install '.[plot]'" in r.err
     assert not (tmp_path / "x.png").exists()
+
+
+def test_shared_options_are_declared_once():
+    # issue 35 item 2: an option several commands take is one declaration (cli.SHARED), given by @shared
+    import inspect
+
+    from gearcalc import cli as c
+
+    commands = {i.name or i.callback.__name__: i.callback for i in c.app.registered_commands}
+    for name in ("pins", "zstk", "rows", "run", "sweep", "optimize", "sensitivity"):
+        params = inspect.signature(commands[name]).parameters
+        for option, (_, declared) in c.SHARED.items():
+            if option in params:
+                assert params[option].default is declared, (name, option)
+        if name in ("pins", "zstk", "rows", "run"):
+            assert set(c.COMPUTE) <= set(params), name

@@ -164,9 +164,10 @@ def admissibility_problem(design, level: str):
         err = status and R.admissibility_error(status, a["z1"], a["z2"], psi_star, a["Rb"], rho_c, K1)
         return (err.key, err.message) if err else None
     try:
-        _satellite(design, a)
+        made = _satellite(design, a)
     except DesignError as exc:
         return exc.key, exc.message
+    design.keep("pins", _satellite_values(a), made)  # for its computation (_contact): built once per run
     return None
 
 
@@ -299,6 +300,15 @@ def _law_problem(a):
     return R.problem(rule, law=a["law"]) if rule else None
 
 
+SATELLITE_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "law", "face_width", "stiffness", "profile", "tooth_radius",
+                  "tooth_circle_radius", "radial_mod", "equidistant_mod")
+"""The arguments :func:`_satellite` reads."""
+
+
+def _satellite_values(a) -> tuple:
+    return tuple(a[n] for n in SATELLITE_ARGS)
+
+
 def _satellite(design, a):
     """(gear, contact law, satellite profile, overlap) of the contact level (pins.md §5.2-5.4); DesignError for
     a missing constant of the law or an inadmissible profile."""
@@ -331,7 +341,8 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
                             design.has("pin_load"), DEFAULT_FRICTION_MODEL)
     summary = {k: v[0] for k, v in cols.items()}
     summary["output_mechanism"] = "ideal"          # pure torque at the output (pins.md §4.10)
-    g, law, profile, overlap = _satellite(design, a)
+    made = design.take("pins", _satellite_values(a)) if hasattr(design, "take") else None
+    g, law, profile, overlap = made if made is not None else _satellite(design, a)
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
     model = friction_model(design)
     try:
@@ -343,7 +354,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))
     if not cl.balanced:
         raise R.stiffness_error(design, law, cl.residual, options.tol)
-    summary.update(R.contact_summary(design, g, law, profile, cl, model))
+    summary.update(_contact_summary(design, g, law, profile, cl, model))
     R.contact_notes(design, summary, options.tol, warnings, failed, cl, a["mode"] == "multiplier")
     summary.update({k: v[0] for k, v in margin_columns({k: [v] for k, v in summary.items()},
                                                        {n: [x] for n, x in a.items()}).items()})
@@ -354,6 +365,63 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
         detail.update(cl.torsion[1] if options.detail else {})
     detail.update(cl.detail or {})
     return summary
+
+
+def _contact_summary(design, g, law, profile, cl, model: str) -> dict:
+    """The contact level's summary fields (pins.md §8) from :class:`gearcalc.pins.contact_level.ContactLevel`
+    ``cl`` of ``design`` with gear ``g``, contact ``law``, satellite ``profile`` and friction ``model``."""
+    geo = profile.summary_fields()
+    multiplier = design["load.mode"] == "multiplier"
+    s = R.contact_fields(design["gearing.profile"], design["gearing.rotating_pins"], design["load.mode"], g, law, geo,
+                         cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual, cl.rolling_ok)
+    s.update(R.efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, multiplier, R.plain))
+    s.update(_crank_fields(cl, design, s["pin_force_max_N"]))
+    s["friction_model"] = model
+    if cl.operating is not None:
+        s.update(R.operating_fields(cl.operating))
+    return s
+
+
+def _crank_fields(cl, design, force_max) -> dict:
+    """The crank torque, crank-bearing force, contact stress and axle pressure of the contact level (pins.md §8)
+    from its :class:`~gearcalc.pins.contact.CrankBearing` ``cl.crank``: the crank torque only with the requested
+    mode's friction-consistent forces (null first-order or jammed), the stress with ``contact.face_width_mm``
+    over the flank contacts, the axle pressure for rotating pins (F_max/(2 r b))."""
+    from ..pins.outputs import STEEL_E_STAR_MPA, axle_pressure, contact_stress
+
+    cb, b = cl.crank, design.get("contact.face_width_mm")
+    own = cl.consistent and (design["load.mode"] == "multiplier") not in cl.modes.jams
+    stress = (R.plain(contact_stress(1.0, cb.stress_factor, b, STEEL_E_STAR_MPA))
+              if b is not None and math.isfinite(cb.stress_factor) else None)
+    rotating, r = design["gearing.rotating_pins"], design.get("gearing.axle_radius_mm")
+    return {"crank_torque_mean_Nm": cb.crank_torque_mean if own else None,
+            "crank_torque_ripple_Nm": cb.crank_torque_ripple if own else None,
+            "bearing_force_max_N": cb.bearing_force_max, "bearing_force_mean_N": cb.bearing_force_mean,
+            "contact_stress_max_MPa": stress,
+            "axle_pressure_max_MPa": (R.plain(axle_pressure(force_max, r, b))
+                                      if rotating and b is not None and force_max is not None else None),
+            **_contact_bearing_fields(cb, design)}
+
+
+def _contact_bearing_fields(cb, design) -> dict:
+    """The crank bearing's equivalent load and L10_h at the contact level (pins.md §8.2): the p-mean of one disc's
+    |B| with the cycle mean's weights; its error the difference from the plain trapezoid's p-mean (the
+    Richardson-corrected mean's error is below it)."""
+    import numpy as np
+
+    from ..pins.outputs import bearing_life
+
+    if cb.mean_weights is None:
+        return dict.fromkeys(R.BEARING_KEYS)
+    p = design.get("bearing.exponent") if design.has("bearing") else None
+    p = 10.0 / 3.0 if p is None else float(p)
+    Bp = np.asarray(cb.bearing_force, dtype=float) ** p
+    m = float(np.sum(cb.mean_weights * Bp))
+    dm = abs(m - float(np.sum(cb.trapezoid_weights * Bp)))
+    C = design.get("bearing.C_N") if design.has("bearing") else None
+    n = design.get("load.crank_speed_rpm")
+    vals = bearing_life(m, dm, p, 1.0, math.nan if C is None else C, math.nan if n is None else n)
+    return {k: (float(v) if math.isfinite(float(v)) else None) for k, v in zip(R.BEARING_KEYS, vals)}
 
 
 def plot(records, path: str) -> list:

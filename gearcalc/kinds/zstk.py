@@ -31,6 +31,7 @@ def check(design, problems) -> None:
 
     with quiet_numpy():  # an overflow at an input's extreme (R_H = 1e-320) is a problem said below, not a warning
         p = _prepare(_design_columns([design]), 1)
+    design.keep("zstk", _values(design), p)  # for its computation (_prepared): prepared once per run
     for key, msg in _problems(p, 0):
         problems.error(key, msg)
     if p.valid[0]:
@@ -67,6 +68,17 @@ def cost_problem(design, n: int, model: str):
 def _design_columns(designs) -> dict:
     """The resolved values of validated designs, one list per dotted key."""
     return {f"{t.name}.{f.name}": [d.values[t.name][f.name] for d in designs] for t in TABLES for f in t.fields}
+
+
+def _values(design) -> tuple:
+    """The values :func:`_prepare` reads of a design (what its prepared arrays are made from)."""
+    return tuple(_hashable(design[key]) for key in DESIGN_KEYS)
+
+
+def _prepared(design):
+    """One design prepared (:func:`_prepare`): the arrays its check prepared (:meth:`Design.keep`), else anew."""
+    p = design.take("zstk", _values(design)) if hasattr(design, "take") else None
+    return p if p is not None else _prepare(_design_columns([design]), 1)
 
 
 def _prepare(cols: dict, size: int):
@@ -127,7 +139,7 @@ def compute(design, options: Options) -> Result:
     A single-position design is a stack of one (:func:`_solve_stack`, the same code as ``batch`` and
     ``sweep``); "cycle" and "envelope" designs run their phase and direction sweeps first.
     """
-    p = _prepare(_design_columns([design]), 1)
+    p = _prepared(design)
     if not p.valid[0]:
         raise _invalid(p, 0)
     model = options.model or "equilibrium"
@@ -150,13 +162,20 @@ def batch(designs, options: Options) -> list:
     out: list = [None] * len(designs)
     if not designs:
         return out
-    p = _prepare(_design_columns(designs), len(designs))
+    if len(designs) == 1:
+        p = _prepared(designs[0])
+    else:
+        p = _prepare(_design_columns(designs), len(designs))
+        sweeping = p.valid & (p.cycle | p.envelope)
+        for k, d in enumerate(designs):  # a stacked design's own arrays are not needed: let them go
+            if not sweeping[k] and hasattr(d, "take"):
+                d.take("zstk", None)
     stack = np.flatnonzero(p.valid & ~p.cycle & ~p.envelope)
     for k in np.flatnonzero(~p.valid).tolist():
         out[k] = _invalid(p, k)
     for k in np.flatnonzero(p.valid & (p.cycle | p.envelope)).tolist():
         try:
-            out[k] = _compute_sweeping(designs[k], _prepare(_design_columns([designs[k]]), 1), options)
+            out[k] = _compute_sweeping(designs[k], p if len(designs) == 1 else _prepared(designs[k]), options)
         except Exception as exc:  # returned, not raised (the batch contract)
             out[k] = exc
     if stack.size:

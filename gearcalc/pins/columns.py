@@ -383,7 +383,7 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
     errors = [err if err is not None else m_err for err, m_err in zip(errors, model_errors)]
     if law_errors is not None:
         errors = [err if err is not None else l_err for err, l_err in zip(errors, law_errors)]
-    arrays = R.ideal_fields(pts)
+    arrays = _ideal_fields(pts)
     if any(m not in (None, "ideal") for m in v.get("w_mech", ())) or any(d for d in v.get("drag", ())):
         _output_errors(v, n, pts, errors)      # the output mechanism and the crank's drag (pins.md §4.10)
     arrays = output_fields(arrays, v, pts, n)
@@ -483,3 +483,47 @@ def level_columns(v, level: str, names: list, tol: float, pin_load: bool, defaul
         out.update(formula_columns(v))
     out.update(margin_columns(out, v))
     return {key: out[key] for key in SUMMARY_KEYS}, ideal
+
+
+def _ideal_fields(pts) -> dict:
+    """The ideal level's summary fields (pins.md §8) from :class:`gearcalc.pins.points.IdealPoints`.
+
+    Per field an array over the points, or the one point's value (NaN: undefined).  The friction-consistent
+    values (:data:`gearcalc.pins.report.CONSISTENT_FIELDS`) replace the first-order ones at the points of that
+    model (the per-pin peaks only with one disc; with several, the friction-free peaks are scaled to the
+    friction-consistent torque).
+    """
+    one, et, sc, xp = pts.one, pts.et, pts.sc, (SCALAR_OPS if pts.one else ARRAY_OPS)
+    field = pts.field
+    arrays = {
+        "efficiency": et.efficiency, "efficiency_err": et.efficiency_err, "self_locking": et.self_locking,
+        "efficiency_multiplier": et.eta_vh, "efficiency_multiplier_err": et.eta_vh_err,
+        "efficiency_reducer": et.eta_hv, "efficiency_reducer_err": et.eta_hv_err, "loss_ratio": pts.lam,
+        "loss_ratio_err": pts.E, "torque_in_Nm": et.torque_in, "torque_out_Nm": et.torque_out,
+        "loss_mean_W": sc.loss_mean, "loss_peak_W": sc.loss_peak,
+        "pin_force_max_N": sc.force_max, "pin_loss_max_W": sc.loss_max, "pin_loss_bound_W": sc.loss_bound,
+        "pin_speed_max_rpm": sc.spin_abs_max, "pin_speed_signed_min_rpm": sc.spin_min,
+        "pin_speed_signed_max_rpm": sc.spin_max, "spin_reversals": sc.spin_reversals,
+        "sliding_speed_max_m_s": sc.sliding_speed_max,
+        "ratio": pts.z1 / pts.k, "curtate_ratio": pts.K1, "loaded_pins_min": field("loaded_min"),
+        "loaded_pins_max": field("loaded_max"), "psi_star_deg": xp.degrees(pts.psi_star),
+        "n_crank": field("n_crank"), "tolerance_met": field("converged"),
+        "pin_force_max_phase_deg": sc.force_phase, "pin_loss_max_phase_deg": sc.loss_phase,
+    }
+    p, n = pts.consistent, np.size(pts.cons)
+    if p is None:                                 # no admissible point
+        ext = {key: (math.nan if one else np.full(n, np.nan)) for key, _ in R.OUTPUT_KEYS}
+    else:
+        ext = {key: getattr(p, name) for key, name in R.CONSISTENT_FIELDS}
+    warn_nd = pts.multi_disc
+    if np.any(warn_nd):          # several discs: the friction-free peaks, at the friction-consistent torque
+        scale = p.torque_scale
+        for key in ("pin_force_max_N", "pin_loss_max_W", "loss_peak_W", "pin_loss_bound_W"):
+            arrays[key] = arrays[key] * scale if one else np.where(warn_nd, arrays[key] * scale, arrays[key])
+    for key, v in ext.items():
+        if key in arrays:       # the friction-consistent values replace the first-order ones (pins.md §4.9)
+            m_ = pts.peaks if key in R.PEAK_KEYS else pts.cons
+            arrays[key] = ((v if m_[0] else arrays[key]) if one else np.where(m_, v, arrays[key]))
+        else:
+            arrays[key] = v
+    return arrays

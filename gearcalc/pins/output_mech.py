@@ -114,7 +114,7 @@ def output_fields(arrays: dict, v: dict, pts, n: int) -> dict:
     Parameters
     ----------
     arrays : dict
-        :func:`gearcalc.pins.report.ideal_fields` of the points (arrays over them, or one point's scalars).
+        the ideal fields (:mod:`gearcalc.pins.columns`) of the points (arrays over them, or one point's scalars).
     v : dict
         The points' values by argument name (:data:`OUTPUT_ARGS` among them; lists, None where absent).
     pts : IdealPoints

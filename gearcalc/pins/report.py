@@ -11,7 +11,7 @@ from ..calculator import DesignError, Result
 
 __all__ = ["PEAK_KEYS", "CONSISTENT_FIELDS", "OUTPUT_KEYS", "FORMULA_KEYS", "fmt", "cycle_notes",
            "admissibility_error", "profile_error", "tooth_overlap", "column", "columns", "plain", "ideal_columns",
-           "problem", "warning", "friction_alias_error", "contact_notes", "contact_summary",
+           "problem", "warning", "friction_alias_error", "contact_notes",
            "cost_problem", "contact_error", "result", "report_problems"]
 
 PEAK_KEYS = ("pin_force_max_N", "pin_force_max_phase_deg", "pin_loss_max_W", "pin_loss_max_phase_deg", "loss_peak_W",
@@ -305,15 +305,17 @@ def other_mode_jams(multiplier: bool) -> str:
             "forces in the moment balance: efficiency_" + ("multiplier" if multiplier else "reducer") + " is empty")
 
 
-def contact_fields(design, g, law, geo, tc, pk, metrics, backlash, residual, rolling_ok) -> dict:
-    """The contact level's summary fields from its results (pins.md §8): the cycle ``tc``
+def contact_fields(profile: str, rotating: bool, mode: str, g, law, geo, tc, pk, metrics, backlash, residual,
+                   rolling_ok) -> dict:
+    """The contact level's summary fields from its results (pins.md §8) for the design's ``profile`` name,
+    ``rotating`` pins and load ``mode``: the cycle ``tc``
     (:class:`~gearcalc.pins.contact.TorqueCycle`), its peaks ``pk``, engagement ``metrics``, backlash [deg] and
     equilibrium residual."""
     from .contact import deflection_sized        # the contact level ran: loaded
     cyc, sol = tc.cycle, tc.cycle.sol
     return {
-        "model": "contact", "profile": design["gearing.profile"], "rotating_pins": design["gearing.rotating_pins"],
-        "mode": design["load.mode"], "ratio": g.ratio, "curtate_ratio": g.K1,
+        "model": "contact", "profile": profile, "rotating_pins": rotating, "mode": mode, "ratio": g.ratio,
+        "curtate_ratio": g.K1,
         "rolling_ok": None if rolling_ok is None else bool(rolling_ok[0]),
         "loss_ratio": tc.loss_ratio, "loss_ratio_err": tc.loss_ratio_err, "n_crank": cyc.n_crank,
         # the quadrature, the torque fixed point, the nodes' check of the pieces' contact sets and a deflection-sized
@@ -351,48 +353,6 @@ def efficiency_fields(et_m, et_r, locked: dict, multiplier: bool, plain) -> dict
     return s
 
 
-def crank_fields(cl, design, force_max) -> dict:
-    """The crank torque, crank-bearing force, contact stress and axle pressure of the contact level (pins.md §8)
-    from its :class:`~gearcalc.pins.contact.CrankBearing` ``cl.crank``: the crank torque only with the requested
-    mode's friction-consistent forces (null first-order or jammed), the stress with ``contact.face_width_mm``
-    over the flank contacts, the axle pressure for rotating pins (F_max/(2 r b))."""
-    from .outputs import STEEL_E_STAR_MPA, axle_pressure, contact_stress
-
-    cb, b = cl.crank, design.get("contact.face_width_mm")
-    own = cl.consistent and (design["load.mode"] == "multiplier") not in cl.modes.jams
-    stress = (plain(contact_stress(1.0, cb.stress_factor, b, STEEL_E_STAR_MPA))
-              if b is not None and math.isfinite(cb.stress_factor) else None)
-    rotating, r = design["gearing.rotating_pins"], design.get("gearing.axle_radius_mm")
-    return {"crank_torque_mean_Nm": cb.crank_torque_mean if own else None,
-            "crank_torque_ripple_Nm": cb.crank_torque_ripple if own else None,
-            "bearing_force_max_N": cb.bearing_force_max, "bearing_force_mean_N": cb.bearing_force_mean,
-            "contact_stress_max_MPa": stress,
-            "axle_pressure_max_MPa": (plain(axle_pressure(force_max, r, b))
-                                      if rotating and b is not None and force_max is not None else None),
-            **contact_bearing_fields(cb, design)}
-
-
-def contact_bearing_fields(cb, design) -> dict:
-    """The crank bearing's equivalent load and L10_h at the contact level (pins.md §8.2): the p-mean of one disc's
-    |B| with the cycle mean's weights; its error the difference from the plain trapezoid's p-mean (the
-    Richardson-corrected mean's error is below it)."""
-    import numpy as np
-
-    from .outputs import bearing_life
-
-    if cb.mean_weights is None:
-        return dict.fromkeys(BEARING_KEYS)
-    p = design.get("bearing.exponent") if design.has("bearing") else None
-    p = 10.0 / 3.0 if p is None else float(p)
-    Bp = np.asarray(cb.bearing_force, dtype=float) ** p
-    m = float(np.sum(cb.mean_weights * Bp))
-    dm = abs(m - float(np.sum(cb.trapezoid_weights * Bp)))
-    C = design.get("bearing.C_N") if design.has("bearing") else None
-    n = design.get("load.crank_speed_rpm")
-    vals = bearing_life(m, dm, p, 1.0, math.nan if C is None else C, math.nan if n is None else n)
-    return {k: (float(v) if math.isfinite(float(v)) else None) for k, v in zip(BEARING_KEYS, vals)}
-
-
 def crest_warning(crank) -> list[str]:
     """The warning of loaded contacts on the crest corners of the teeth (k >= 2, pins.md §5.2, §8), or none."""
     if crank is None or not crank.crest_loaded:
@@ -408,20 +368,6 @@ def operating_fields(ov) -> dict:
             "pin_loss_max_phase_deg": ov.loss_phase, "pin_loss_bound_W": ov.loss_bound,
             "pin_speed_max_rpm": ov.spin_abs_max, "pin_speed_signed_min_rpm": ov.spin_min,
             "pin_speed_signed_max_rpm": ov.spin_max, "sliding_speed_max_m_s": ov.sliding_speed_max}
-
-
-def contact_summary(design, g, law, profile, cl, model: str) -> dict:
-    """The contact level's summary fields (pins.md §8) from :class:`gearcalc.pins.contact_level.ContactLevel`
-    ``cl`` of ``design`` with gear ``g``, contact ``law``, satellite ``profile`` and friction ``model``."""
-    geo = profile.summary_fields()
-    s = contact_fields(design, g, law, geo, cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual,
-                       cl.rolling_ok)
-    s.update(efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, design["load.mode"] == "multiplier", plain))
-    s.update(crank_fields(cl, design, s["pin_force_max_N"]))
-    s["friction_model"] = model
-    if cl.operating is not None:
-        s.update(operating_fields(cl.operating))
-    return s
 
 
 def cost_problem(level: str, z2: int, n_d: int, torque_on_V: bool):
@@ -482,51 +428,6 @@ def loss_ratio_overflow(curtate_given: bool, value) -> DesignError:
     key = "gearing.curtate_ratio" if curtate_given else "gearing.pin_circle_radius_mm"
     return DesignError(key, f"= {fmt(value)}: the loss ratio overflows floating point (it grows as 1/K1, "
                             "K1 = e*z2/(k*R_p): the curtate ratio is too small for this gear)")
-
-
-def ideal_fields(pts) -> dict:
-    """The ideal level's summary fields from :class:`gearcalc.pins.points.IdealPoints` (pins.md §8): per field
-    an array over the points, or the one point's value (NaN: undefined).  The friction-consistent values
-    (:data:`CONSISTENT_FIELDS`) replace the first-order ones at the points of that model (the per-pin peaks
-    only with one disc; with several, the friction-free peaks are scaled to the friction-consistent torque)."""
-    import numpy as np
-
-    from .operating import ARRAY_OPS, SCALAR_OPS
-
-    one, et, sc, xp = pts.one, pts.et, pts.sc, (SCALAR_OPS if pts.one else ARRAY_OPS)
-    field = pts.field
-    arrays = {
-        "efficiency": et.efficiency, "efficiency_err": et.efficiency_err, "self_locking": et.self_locking,
-        "efficiency_multiplier": et.eta_vh, "efficiency_multiplier_err": et.eta_vh_err,
-        "efficiency_reducer": et.eta_hv, "efficiency_reducer_err": et.eta_hv_err, "loss_ratio": pts.lam,
-        "loss_ratio_err": pts.E, "torque_in_Nm": et.torque_in, "torque_out_Nm": et.torque_out,
-        "loss_mean_W": sc.loss_mean, "loss_peak_W": sc.loss_peak,
-        "pin_force_max_N": sc.force_max, "pin_loss_max_W": sc.loss_max, "pin_loss_bound_W": sc.loss_bound,
-        "pin_speed_max_rpm": sc.spin_abs_max, "pin_speed_signed_min_rpm": sc.spin_min,
-        "pin_speed_signed_max_rpm": sc.spin_max, "spin_reversals": sc.spin_reversals,
-        "sliding_speed_max_m_s": sc.sliding_speed_max,
-        "ratio": pts.z1 / pts.k, "curtate_ratio": pts.K1, "loaded_pins_min": field("loaded_min"),
-        "loaded_pins_max": field("loaded_max"), "psi_star_deg": xp.degrees(pts.psi_star),
-        "n_crank": field("n_crank"), "tolerance_met": field("converged"),
-        "pin_force_max_phase_deg": sc.force_phase, "pin_loss_max_phase_deg": sc.loss_phase,
-    }
-    p, n = pts.consistent, np.size(pts.cons)
-    if p is None:                                 # no admissible point
-        ext = {key: (math.nan if one else np.full(n, np.nan)) for key, _ in OUTPUT_KEYS}
-    else:
-        ext = {key: getattr(p, name) for key, name in CONSISTENT_FIELDS}
-    warn_nd = pts.multi_disc
-    if np.any(warn_nd):          # several discs: the friction-free peaks, at the friction-consistent torque
-        scale = p.torque_scale
-        for key in ("pin_force_max_N", "pin_loss_max_W", "loss_peak_W", "pin_loss_bound_W"):
-            arrays[key] = arrays[key] * scale if one else np.where(warn_nd, arrays[key] * scale, arrays[key])
-    for key, v in ext.items():
-        if key in arrays:       # the friction-consistent values replace the first-order ones (pins.md §4.9)
-            m_ = pts.peaks if key in PEAK_KEYS else pts.cons
-            arrays[key] = ((v if m_[0] else arrays[key]) if one else np.where(m_, v, arrays[key]))
-        else:
-            arrays[key] = v
-    return arrays
 
 
 # ---------------------------------------------------------------- plain values of the fields
@@ -663,8 +564,8 @@ def contact_notes(design, s, tol: float, warnings, failed, cl, multiplier: bool)
 
 def ideal_columns(arrays: dict, mode, rotating, rolls, models: list, n: int) -> dict:
     """The ideal level's summary columns (plain Python lists over the n points; None: undefined) from the
-    fields of :func:`ideal_fields`, the points' mode (a word, or a list of them), rotating pins and rolling
-    (bools, or arrays) and friction models."""
+    fields of :func:`~gearcalc.pins.columns._ideal_fields`, the points' mode (a word, or a list of them), rotating
+    pins and rolling (bools, or arrays) and friction models."""
     import numpy as np
 
     if n == 1:
