@@ -21,16 +21,6 @@ from gearcalc.design import validate
 from props_common import assert_all_finite, in_schema
 
 
-@pytest.fixture(autouse=True)
-def _first_order_default(monkeypatch):
-    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
-    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
-    tests/test_pins_consistent.py)."""
-    from gearcalc.kinds import pins as kind_pins
-
-    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
-
-
 CALC = registry.get("pins")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}
 PROPS = settings(max_examples=30, deadline=None, derandomize=True)
@@ -81,7 +71,9 @@ def designs(draw, rotating=None, discs=None, speed=None, pin_load=None, profile=
     raw = {
         "kind": "pins", "name": "hyp", "gearing": g,
         "friction": {"sliding": draw(st.floats(0.0, 0.3)), "rolling_mm": draw(st.floats(0.0, 0.05)),
-                     "axle": draw(st.floats(0.0, 0.3))},
+                     "axle": draw(st.floats(0.0, 0.3)),
+                     # the first-order model (pins.md §4.6-4.7), whose laws these properties state
+                     "model": "first-order"},
         "load": {"mode": mode or draw(st.sampled_from(["multiplier", "reducer"])),
                  "torque_shaft": shaft or draw(st.sampled_from(["H", "V"])),
                  "torque_Nm": 10 ** draw(st.floats(-2.0, 4.0))},
@@ -241,7 +233,7 @@ def test_modes_share_lambda_and_zero_friction_is_lossless(raw):
     assert abs(red["loss_ratio"] - mult["loss_ratio"]) <= red["loss_ratio_err"] + mult["loss_ratio_err"] + 1e-15
     # pins.md §9 and §4.8 identity 8: f = f_k = f_c = 0 gives eta = 1 exactly, error 0
     ideal = copy.deepcopy(raw)
-    ideal["friction"] = {"sliding": 0.0, "rolling_mm": 0.0, "axle": 0.0}
+    ideal["friction"] = {**ideal["friction"], "sliding": 0.0, "rolling_mm": 0.0, "axle": 0.0}
     s = run(ideal, detail=False).summary
     assert s["efficiency"] == 1.0 and s["efficiency_err"] == 0.0 and s["loss_ratio"] == 0.0
     assert s["efficiency_reducer"] == 1.0 and s["efficiency_multiplier"] == 1.0
