@@ -17,13 +17,13 @@ from gearcalc import registry
 from gearcalc import grid as sw
 from gearcalc.calculator import DesignError, Options
 from gearcalc.cli import app
-from test_pins_cli import BASE, CONFIGS, changed
+from kinds.test_pins import BASE, CONFIGS, changed
 
 
 PINS = registry.get("pins")
 runner = CliRunner()
 # these tests pin the first-order model's numbers (pins.md §4.6-4.7; the default is the friction-consistent model
-# of §4.9, tests/test_pins_consistent.py): BASE says friction.model = "first-order", and so do the shipped designs here
+# of §4.9, tests/pins/test_consistent.py): BASE says friction.model = "first-order", and so do the shipped designs here
 FIRST_ORDER = [("friction.model", "first-order")]
 
 
@@ -109,7 +109,7 @@ def test_batch_equals_compute_design_by_design(model, detail):
 def test_batch_equals_compute_where_a_scalar_square_would_round_otherwise():
     # curtate ratios where numpy's scalar (1 - K1) ** 2 is not the product (test_pins.POW_SENSITIVE_K1): one
     # design alone (scalar bookkeeping) and in a batch give the same numbers, bit for bit
-    from test_pins import POW_SENSITIVE_K1
+    from pins.test_geometry import POW_SENSITIVE_K1
 
     designs = [make(gearing__curtate_ratio=K1, gearing__pin_radius_mm=1.0, **extra) for K1 in POW_SENSITIVE_K1
                for extra in ({}, {"gearing__satellite_teeth": 60, "gearing__pins": 62, "load__mode": "reducer"})]

@@ -1,6 +1,6 @@
 """Property-based tests (issue 7) of the ``pins`` calculator, end to end on random valid designs.
 
-tests/test_pins.py holds the physics-level properties (``loss_ratio``, ``pin_forces`` and the
+tests/pins/test_geometry.py holds the physics-level properties (``loss_ratio``, ``pin_forces`` and the
 Willis forms over random gears).  This file checks the identities of pins.md on what
 ``CALCULATOR.compute`` returns for random TOML designs (cycloidal gears with k = 1..3, fixed or
 rotating pins, one to three discs, both modes, torque on either shaft, with or without a crank

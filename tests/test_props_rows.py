@@ -1,6 +1,6 @@
 """Property-based tests (issue 7) of the ``rows`` calculator, end to end on random valid designs.
 
-tests/test_rows_sharing.py already holds the physics-level properties of the share solvers
+tests/rows/test_sharing.py already holds the physics-level properties of the share solvers
 (``stepwise_shares``/``exact_shares`` over random kappa, b̄, n).  This file extends them to whole
 designs: random TOML dicts over the schema of ``gearcalc.kinds.rows`` (every table, optional
 [bridges] and [mass]), validated by the shared loader and computed by ``CALCULATOR.compute`` at

@@ -1,6 +1,6 @@
 """Property-based tests (issue 7) of the ``zstk`` calculator, end to end on random valid designs.
 
-tests/test_zstk.py holds the physics-level properties (tangency, closure of random chains,
+tests/zstk/test_chain.py holds the physics-level properties (tangency, closure of random chains,
 equilibrium of ``zstk.evaluate`` at random phases and directions, scaling).  This file checks the
 same invariants, and the output contract, on what ``CALCULATOR.compute`` returns for random TOML
 designs: the summary and the per-roller detail table (``--detail``), at every model level, for

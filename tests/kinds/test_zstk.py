@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 
 from gearcalc.cli import app
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = ROOT / "configs"
 EXAMPLE = CONFIGS / "zstk_merko_example.toml"
 runner = CliRunner()

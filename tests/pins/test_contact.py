@@ -22,9 +22,9 @@ from gearcalc import pins
 from gearcalc.pins import contact as pc
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from gearcalc.quadrature import integrate_adaptive
-from test_pins_cli import design, run, summary  # the pins CLI helpers, shared
+from kinds.test_pins import design, run, summary  # the pins CLI helpers, shared
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = ROOT / "configs"
 
 
@@ -733,7 +733,7 @@ def test_contact_efficiency_errors_are_honest_on_the_paper_configs(fname, model,
     # with its own error estimate added.)
     from gearcalc import api
 
-    path = Path(__file__).resolve().parents[1] / "configs" / fname
+    path = Path(__file__).resolve().parents[2] / "configs" / fname
     run_ = functools.partial(api.compute, str(path), model=model, overrides=changes)
     s, ref = run_(tol=1e-6).summary, run_(tol=1e-8).summary
     for mode in ("reducer", "multiplier"):

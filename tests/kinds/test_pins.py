@@ -14,7 +14,7 @@ from typer.testing import CliRunner
 from gearcalc.cli import app
 
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = ROOT / "configs"
 runner = CliRunner()
 FIRST_ORDER = ("--set", "friction.model=first-order")
@@ -26,7 +26,7 @@ BASE = {
     "gearing": {"profile": "cycloidal", "satellite_teeth": 20, "pins": 22, "eccentricity_mm": 3.9,
                 "curtate_ratio": 0.75, "pin_radius_mm": 1.95, "axle_radius_mm": 0.95, "rotating_pins": False},
     # these tests pin the first-order model's numbers (pins.md §4.6-4.7; the default is the friction-consistent
-    # model of §4.9, tests/test_pins_consistent.py): the designs say so, and so does FIRST_ORDER for the configs
+    # model of §4.9, tests/pins/test_consistent.py): the designs say so, and so does FIRST_ORDER for the configs
     "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1, "model": "first-order"},
     "load": {"mode": "multiplier", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
 }
