@@ -218,6 +218,7 @@ def one_exponent_blocks(rng, count: int):
         yield x[np.floor(np.log10(np.abs(x))) == np.floor(np.log10(np.abs(x[0])))]
 
 
+@pytest.mark.slow
 def test_one_exponent_path_is_the_general_path_bit_for_bit():
     rng = np.random.default_rng(14)
     fast = 0

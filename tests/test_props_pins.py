@@ -95,6 +95,7 @@ def omegas(s, raw):
 
 
 # ------------------------------------------------------------------ 1. no NaN or infinity anywhere
+@pytest.mark.slow
 @PROPS
 @given(designs())
 def test_every_output_finite_at_every_level(raw):

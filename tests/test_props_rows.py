@@ -21,6 +21,9 @@ from gearcalc.calculator import Options
 from gearcalc.design import validate
 from props_common import assert_all_finite, in_schema
 
+
+pytestmark = pytest.mark.slow  # one of the few long files (`pytest -m "not slow"`: the quick loop)
+
 CALC = registry.get("rows")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}
 LEVELS = (None,) + CALC.models        # None: the default level choice

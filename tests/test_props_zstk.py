@@ -132,6 +132,7 @@ def test_reference_level_finite(raw):
     assert res.summary["stepping_residual_mm"] < 1e-9
 
 
+@pytest.mark.slow
 @NESTED
 @given(designs(scheme="cycle", direction="envelope", r_b_max=0.85),
        st.sampled_from(["equilibrium", "fixed-direction"]))

@@ -122,6 +122,7 @@ def random_chains(seed, count):
     return out
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("case", random_chains(34, 4), ids=lambda c: f"N{c[0].n}")
 def test_random_chains_error_covers_the_true_error(case):
     ch, mats, load, clearance = case

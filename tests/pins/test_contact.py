@@ -742,6 +742,7 @@ def test_contact_efficiency_errors_are_honest_on_the_paper_configs(fname, model,
         assert abs(eta - ref[f"efficiency_{mode}"]) <= 0.5 * err     # measured: at most 0.14 of it
 
 
+@pytest.mark.slow
 def test_a_tiny_torque_is_an_input_error_never_a_crash():
     # issue 34: torque_Nm = 1e-20 was an IndexError in _interior_states (no sign change located: the contacts
     # never change sets), exit 70. pins.md §9: the deflections are then below the round-off of the pin positions,

@@ -584,6 +584,7 @@ def test_the_first_rounds_guess_by_pin_count_changes_no_result(tol, monkeypatch)
             assert np.array_equal(getattr(a, f), getattr(b, f)), f
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("g", HONESTY[:4] + HONESTY[5:6], ids=lambda g: f"z{g.z1}-{g.z2}-K{g.K1:.9g}")
 def test_ideal_cycles_peaks_against_a_dense_sweep(g):
     # the refined peaks (pins.md §12.1) against 200001 crank angles of one period, pointwise (pin_forces)
