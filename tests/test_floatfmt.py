@@ -246,6 +246,7 @@ def test_blocks_of_one_exponent_are_repr(e, mantissas, negative):
         assert mismatches(x) == []
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, derandomize=True)
 @given(st.lists(st.integers(0, 2**64 - 1), min_size=1, max_size=200), st.integers(0, 5), st.integers(0, 40))
 def test_cells_width_holds_every_cell_and_cells_write_in_place(patterns, lead, extra):

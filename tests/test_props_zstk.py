@@ -100,6 +100,7 @@ def on_line(raw):
 
 
 # ------------------------------------------------------------------ 1. no NaN or infinity anywhere
+@pytest.mark.slow
 @PROPS
 @given(designs())
 def test_every_output_finite_at_every_level(raw):
@@ -348,6 +349,7 @@ def test_symmetric_configurations(raw, scheme, gamma):
 
 
 # ------------------------------------------------------------------ 4. sweeps: envelopes dominate
+@pytest.mark.slow
 @FEW
 @given(designs(direction="envelope"), st.floats(-180.0, 180.0))
 def test_direction_envelope_dominates_every_direction(raw, gamma):

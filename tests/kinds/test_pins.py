@@ -453,6 +453,7 @@ def test_sweep_runs_point_by_point(tmp_path):
     assert float(rows[0]["efficiency"]) < float(rows[1]["efficiency"])
 
 
+@pytest.mark.slow
 def test_plot(tmp_path):
     pytest.importorskip("matplotlib")
     out = tmp_path / "p.png"
@@ -464,6 +465,7 @@ def test_plot(tmp_path):
     assert code == 0 and out2.stat().st_size > 1000
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("changes", [{}, {"gearing__pins": 21}, {"gearing__pins": 23, "load__mode": "reducer"},
                                      {"gearing__curtate_ratio": 0.9}])
 def test_peaks_against_dense_pointwise_evaluation(tmp_path, changes):

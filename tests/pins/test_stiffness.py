@@ -140,6 +140,7 @@ def test_outputs_only_when_asked_and_then_all_with_errors():
             assert s[key] == plain.summary[key], key
 
 
+@pytest.mark.slow
 def test_the_pins_figure_draws_the_loop_and_the_te(tmp_path):
     pytest.importorskip("matplotlib")
     import gearcalc.plot as gplot
