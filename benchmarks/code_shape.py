@@ -9,6 +9,10 @@ Prints, from the source alone (ast; nothing is imported):
   the graph of ``from . import x`` / ``from .x import y`` / ``import gearcalc.pins.x`` edges);
 - the private names (``_x``) one module of the package imports from another;
 - functions of the package with more than 8 parameters and the largest count; functions over 80 lines.
+
+``python benchmarks/code_shape.py --tests`` instead counts the tests that mirror the code (issue 35 item 3): the
+modules of ``gearcalc`` over 100 lines, and those with a test file at the mirrored path (``gearcalc/x.py`` ->
+``tests/test_x.py``, ``gearcalc/pkg/x.py`` -> ``tests/pkg/test_x.py``); the rest are listed.
 """
 from __future__ import annotations
 
@@ -159,5 +163,33 @@ def main(root: str = "gearcalc/pins") -> None:
     print(f"  of them in the contact modules: {sum(m in contact for _, _, m, _ in long_)}")
 
 
+def mirrored_tests(src: str = "gearcalc", tests: str = "tests", min_lines: int = 100) -> tuple:
+    """(modules over ``min_lines`` lines, those with a mirrored test file) as sorted lists of source paths."""
+    src_root, test_root = pathlib.Path(src), pathlib.Path(tests)
+    big, mirrored = [], []
+    for path in sorted(src_root.rglob("*.py")):
+        if path.name == "__main__.py" or len(path.read_text().splitlines()) <= min_lines:
+            continue
+        rel = path.relative_to(src_root)
+        stem = rel.parent.name if path.name == "__init__.py" else rel.stem     # a package's __init__: the package
+        folder = rel.parent.parent if path.name == "__init__.py" else rel.parent
+        big.append(str(path))
+        if (test_root / folder / f"test_{stem}.py").exists():
+            mirrored.append(str(path))
+    return big, mirrored
+
+
+def tests_main(src: str = "gearcalc", tests: str = "tests") -> None:
+    big, mirrored = mirrored_tests(src, tests)
+    print(f"modules over 100 lines: {len(big)}; with a mirrored test file: {len(mirrored)} "
+          f"({100 * len(mirrored) / max(len(big), 1):.0f} %)")
+    for path in big:
+        if path not in mirrored:
+            print(f"  no tests/.../test_<module>.py: {path}")
+
+
 if __name__ == "__main__":
-    main(*sys.argv[1:])
+    if sys.argv[1:2] == ["--tests"]:
+        tests_main(*sys.argv[2:])
+    else:
+        main(*sys.argv[1:])

@@ -71,6 +71,7 @@ def test_rows_estimates_are_honest_and_model_errors_are_the_level_differences():
     assert by[("hard_soft_sun", "stepwise")]["ran"] == "exact"
 
 
+@pytest.mark.slow
 def test_zstk_estimates_are_honest_at_a_loose_tolerance():
     # the sweeps' estimates are tested where they matter most: tol 1e-3, maxima between grid points
     rows = _check_honest(A.report(["zstk"], (1e-3,), budget=0,
@@ -83,6 +84,7 @@ def test_zstk_estimates_are_honest_at_a_loose_tolerance():
     assert fixed[0]["model_error"] > 1e-4  # off the symmetric configurations v || u is a model error
 
 
+@pytest.mark.slow
 def test_pins_ideal_estimates_are_honest():
     rows = _check_honest(A.report(["pins"], (1e-3, 1e-6), budget=0, levels={"ideal"}, references=False))
     assert {r["ran"] for r in rows} == {"ideal"} and len(rows) >= 2 * 6  # every cycloidal suite design

@@ -91,6 +91,7 @@ def test_largest_loads_on_a_tiny_and_a_huge_design(kind, scale):
     assert r.code in (0, 1), (r.code, r.err[-400:])
 
 
+@pytest.mark.slow
 def test_no_numpy_warnings_on_stderr_even_with_debug():
     # K1 = 1e-300: lambda = 7.6e298 (self-locking, exit 1) and 1/(1+lambda)^2 overflows to 0 on the way, which
     # numpy reports as a RuntimeWarning with a source line: noise for a user. Since 0.3 no numpy warning escapes

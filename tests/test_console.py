@@ -61,6 +61,7 @@ def test_other_arguments_reach_the_cli():
     assert p.returncode == 0 and "Usage: gearcalc rows" in p.stdout
 
 
+@pytest.mark.slow
 def test_console_keeps_every_exit_code_and_all_output(write, tmp_path):
     # console.main() leaves with os._exit after flushing: the process status must be the one main() chose, and a
     # large piped output must arrive whole (a lost buffer would cut the CSV short).

@@ -455,6 +455,7 @@ def test_the_resolved_design_shows_the_converted_number(tmp_path):
     assert r.code in (0, 1) and json.loads(r.out)["design"]["geometry"]["eccentricity_mm"] == 6.35
 
 
+@pytest.mark.slow
 def test_pint_is_imported_only_when_a_quantity_string_appears(tmp_path):
     code = ("import sys; from gearcalc.cli import main; sys.argv = ['gearcalc'] + sys.argv[1:]\n"
             "try:\n    main()\nexcept SystemExit:\n    pass\n"

@@ -25,7 +25,7 @@ from conftest import CONFIGS, PAPER, cli
 
 distributed = pytest.importorskip("distributed", reason="the dask extra: pip install -e '.[test]'")
 
-pytestmark = [pytest.mark.dask, pytest.mark.xdist_group("dask")]  # one cluster, started once, in one xdist worker
+pytestmark = [pytest.mark.dask, pytest.mark.slow, pytest.mark.xdist_group("dask")]  # one cluster, started once
 
 ENVELOPE = CONFIGS / "zstk_merko_A_envelope.toml"  # point by point, ~0.1 s a point: a sweep that lasts
 START_TIMEOUT = 60

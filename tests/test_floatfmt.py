@@ -218,6 +218,7 @@ def one_exponent_blocks(rng, count: int):
         yield x[np.floor(np.log10(np.abs(x))) == np.floor(np.log10(np.abs(x[0])))]
 
 
+@pytest.mark.slow
 def test_one_exponent_path_is_the_general_path_bit_for_bit():
     rng = np.random.default_rng(14)
     fast = 0
@@ -245,6 +246,7 @@ def test_blocks_of_one_exponent_are_repr(e, mantissas, negative):
         assert mismatches(x) == []
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, derandomize=True)
 @given(st.lists(st.integers(0, 2**64 - 1), min_size=1, max_size=200), st.integers(0, 5), st.integers(0, 40))
 def test_cells_width_holds_every_cell_and_cells_write_in_place(patterns, lead, extra):

@@ -17,6 +17,9 @@ import tomli_w
 
 from conftest import CONFIGS, cli
 
+
+pytestmark = pytest.mark.slow  # one of the few long files (`pytest -m "not slow"`: the quick loop)
+
 SEEDS = sorted(CONFIGS.glob("*.toml"))
 TEXTS = [p.read_text() for p in SEEDS]
 EXTREMES = [0, -1, -1e300, 1e300, 1e-300, 5e-324, 2**63 - 1, -(2**63), 1e15, 0.5, 3, 7.0, 1000, 1001]

@@ -178,6 +178,7 @@ SOLVE_TIME = ("no contact can carry the torque", "cannot resolve this geometry i
 """The two bad-input findings of the contact level that only its solve can make (pins.md §5.5)."""
 
 
+@pytest.mark.slow
 def test_check_agrees_with_run_on_random_pins_designs(tmp_path):
     # issue 13: check said ok while run said bad input for 19 of 60 random designs (undercut, too few teeth
     # for k, equidistant_mod_mm without contact.face_width_mm).  Seeded: the same 30 designs every run.

@@ -17,21 +17,21 @@ from gearcalc import registry
 from gearcalc import grid as sw
 from gearcalc.calculator import DesignError, Options
 from gearcalc.cli import app
-from test_pins_cli import BASE, CONFIGS, changed
-
-
-@pytest.fixture(autouse=True)
-def _first_order_default(monkeypatch):
-    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
-    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
-    tests/test_pins_consistent.py)."""
-    from gearcalc.kinds import pins as kind_pins
-
-    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
+from kinds.test_pins import BASE, CONFIGS, changed
 
 
 PINS = registry.get("pins")
 runner = CliRunner()
+# these tests pin the first-order model's numbers (pins.md §4.6-4.7; the default is the friction-consistent model
+# of §4.9, tests/pins/test_consistent.py): BASE says friction.model = "first-order", and so do the shipped designs here
+FIRST_ORDER = [("friction.model", "first-order")]
+
+
+def _read(src):
+    """A shipped design's table with friction.model = "first-order"."""
+    raw = dmod.read_toml(src)
+    dmod.apply_set(raw, FIRST_ORDER)
+    return raw
 
 
 def make(**changes):
@@ -69,7 +69,7 @@ VARIANTS = [
     {"gearing__eccentricity_mm": 1e-6, "gearing__curtate_ratio": None, "gearing__pin_circle_radius_mm": 57.2},
     PIN_LOAD, {"contact__face_width_mm": 10.0},                                # contact level (or --model ideal)
 ]
-DESIGNS = [make(**v) for v in VARIANTS] + [dmod.load(str(CONFIGS / f)) for f in (
+DESIGNS = [make(**v) for v in VARIANTS] + [dmod.load(str(CONFIGS / f), FIRST_ORDER) for f in (
     "pins_paper_cyc_u10_fixed.toml", "pins_paper_cyc_u30_rotating.toml", "pins_paper_formula_cyc_u10.toml",
     "pins_paper_formula_circ_u30.toml")]
 
@@ -109,7 +109,7 @@ def test_batch_equals_compute_design_by_design(model, detail):
 def test_batch_equals_compute_where_a_scalar_square_would_round_otherwise():
     # curtate ratios where numpy's scalar (1 - K1) ** 2 is not the product (test_pins.POW_SENSITIVE_K1): one
     # design alone (scalar bookkeeping) and in a batch give the same numbers, bit for bit
-    from test_pins import POW_SENSITIVE_K1
+    from pins.test_geometry import POW_SENSITIVE_K1
 
     designs = [make(gearing__curtate_ratio=K1, gearing__pin_radius_mm=1.0, **extra) for K1 in POW_SENSITIVE_K1
                for extra in ({}, {"gearing__satellite_teeth": 60, "gearing__pins": 62, "load__mode": "reducer"})]
@@ -141,7 +141,7 @@ SRC = str(CONFIGS / "pins_paper_cyc_u10_fixed.toml")
 
 
 def _sweep_rows(axes, src=SRC, options=None, raw=None):
-    raw = dmod.read_toml(src) if raw is None else raw
+    raw = _read(src) if raw is None else raw
     out = sw.evaluate(raw, src, axes, options or Options())
     return out.rows() if hasattr(out, "rows") else out
 
@@ -149,14 +149,14 @@ def _sweep_rows(axes, src=SRC, options=None, raw=None):
 def _point(src, point, options, raw=None):
     import copy
 
-    trial = copy.deepcopy(dmod.read_toml(src) if raw is None else raw)
+    trial = copy.deepcopy(_read(src) if raw is None else raw)
     dmod.apply_set(trial, list(point.items()))
     return PINS.compute(dmod.validate(trial, src), options).summary
 
 
 def _assert_rows_equal_points(axes, src=SRC, options=None, raw=None, vectorised=True):
     options = options or Options()
-    base = dmod.validate(dmod.read_toml(src) if raw is None else raw, src)
+    base = dmod.validate(_read(src) if raw is None else raw, src)
     points = sw.grid_points(axes)
     assert (PINS.sweep(base, raw, axes, points, options) is not None) == vectorised
     rows = _sweep_rows(axes, src, options, raw)
@@ -189,7 +189,7 @@ def test_geometry_and_operating_sweep_equals_point_by_point():
                                "gearing.rotating_pins": [False, True], "load.mode": ["multiplier", "reducer"],
                                "gearing.axle_radius_mm": [0.5, 0.95], "pin_load.normal_force_N": [1000.0, 1920.0]},
                               src=str(CONFIGS / "pins_paper_cyc_u10_rotating.toml"),
-                              raw={**dmod.read_toml(str(CONFIGS / "pins_paper_cyc_u10_rotating.toml")),
+                              raw={**_read(str(CONFIGS / "pins_paper_cyc_u10_rotating.toml")),
                                    "pin_load": {"normal_force_N": 1920.0, "pin_speed_rpm": 14.0,
                                                 "pin_radius_mm": 1.95, "axle_radius_mm": 0.95}})
 
@@ -203,7 +203,7 @@ def test_formula_sweep_equals_point_by_point():
 def test_sweeps_that_cannot_be_vectorised_fall_back():
     # the contact level, a key outside the vectorised set, and a grid with an invalid or inadmissible point
     _assert_rows_equal_points({"gearing.equidistant_mod_mm": [0.0]}, vectorised=False)
-    base = dmod.load(SRC)
+    base = dmod.load(SRC, FIRST_ORDER)
     for axes in ({"gearing.curtate_ratio": [0.75, 0.999999]},                     # undercut at the second
                  {"gearing.pins": [22, 40]},                                       # pins overlap at the second
                  {"gearing.satellite_teeth": [20, 22]}):                           # z2 <= z1 at the second
@@ -225,7 +225,7 @@ def test_vectorised_point_checks_agree_with_the_loader(z1, dz, e, K1, Rb, rot, r
 
     from gearcalc.kinds import pins as kp
 
-    raw = {**dmod.read_toml(SRC)}
+    raw = _read(SRC)
     raw["gearing"] = {**raw["gearing"], "satellite_teeth": z1, "pins": z1 + dz, "eccentricity_mm": e,
                       "curtate_ratio": K1, "pin_radius_mm": Rb, "rotating_pins": rot, "axle_radius_mm": r}
     try:
@@ -234,19 +234,20 @@ def test_vectorised_point_checks_agree_with_the_loader(z1, dz, e, K1, Rb, rot, r
         ok = True
     except dmod.InputError:
         ok = False
-    base = dmod.load(SRC)
+    base = dmod.load(SRC, FIRST_ORDER)
     point = {f"gearing.{k}": v for k, v in raw["gearing"].items() if k != "profile"}
     assert kp._points_pass_checks(base, lambda key: [point.get(key, base.get(key))], 1, "ideal") == ok
 
 
 def test_cli_geometry_sweep_equals_single_runs():
-    r = runner.invoke(app, ["sweep", SRC, "--vary", "gearing.eccentricity_mm=3.5:3.9:0.2", "--format", "csv"])
+    fo = ("--set", "friction.model=first-order")
+    r = runner.invoke(app, ["sweep", SRC, *fo, "--vary", "gearing.eccentricity_mm=3.5:3.9:0.2", "--format", "csv"])
     assert r.exit_code == 0, r.stderr
     rows = list(csv.DictReader(io.StringIO(r.stdout)))
     assert [float(x["gearing.eccentricity_mm"]) for x in rows] == [3.5, 3.7, 3.9]
     for row in rows:
-        one = runner.invoke(app, ["pins", SRC, "--set", f"gearing.eccentricity_mm={row['gearing.eccentricity_mm']}",
-                                  "--format", "csv"])
+        e = row["gearing.eccentricity_mm"]
+        one = runner.invoke(app, ["pins", SRC, *fo, "--set", f"gearing.eccentricity_mm={e}", "--format", "csv"])
         assert one.exit_code == 0, one.stderr
         (ref,) = list(csv.DictReader(io.StringIO(one.stdout)))
         for k, v in ref.items():

@@ -69,6 +69,7 @@ def png_size(path) -> tuple[int, int]:
 ROWS1, ZSTK1 = CONFIGS / "rows_fig3_n3_nw3_B2.4.toml", CONFIGS / "zstk_merko_example.toml"
 
 
+@pytest.mark.slow
 def test_plot_of_a_mixed_batch_draws_every_kind(tmp_path):
     # before: the first kind's figure only, silently; now each kind's figure, stacked top to bottom
     sizes = {}

@@ -1,6 +1,6 @@
 """Property-based tests (issue 7) of the ``pins`` calculator, end to end on random valid designs.
 
-tests/test_pins.py holds the physics-level properties (``loss_ratio``, ``pin_forces`` and the
+tests/pins/test_geometry.py holds the physics-level properties (``loss_ratio``, ``pin_forces`` and the
 Willis forms over random gears).  This file checks the identities of pins.md on what
 ``CALCULATOR.compute`` returns for random TOML designs (cycloidal gears with k = 1..3, fixed or
 rotating pins, one to three discs, both modes, torque on either shaft, with or without a crank
@@ -19,16 +19,6 @@ from gearcalc import registry
 from gearcalc.calculator import DesignError, Options
 from gearcalc.design import validate
 from props_common import assert_all_finite, in_schema
-
-
-@pytest.fixture(autouse=True)
-def _first_order_default(monkeypatch):
-    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
-    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
-    tests/test_pins_consistent.py)."""
-    from gearcalc.kinds import pins as kind_pins
-
-    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
 
 
 CALC = registry.get("pins")
@@ -81,7 +71,9 @@ def designs(draw, rotating=None, discs=None, speed=None, pin_load=None, profile=
     raw = {
         "kind": "pins", "name": "hyp", "gearing": g,
         "friction": {"sliding": draw(st.floats(0.0, 0.3)), "rolling_mm": draw(st.floats(0.0, 0.05)),
-                     "axle": draw(st.floats(0.0, 0.3))},
+                     "axle": draw(st.floats(0.0, 0.3)),
+                     # the first-order model (pins.md §4.6-4.7), whose laws these properties state
+                     "model": "first-order"},
         "load": {"mode": mode or draw(st.sampled_from(["multiplier", "reducer"])),
                  "torque_shaft": shaft or draw(st.sampled_from(["H", "V"])),
                  "torque_Nm": 10 ** draw(st.floats(-2.0, 4.0))},
@@ -103,6 +95,7 @@ def omegas(s, raw):
 
 
 # ------------------------------------------------------------------ 1. no NaN or infinity anywhere
+@pytest.mark.slow
 @PROPS
 @given(designs())
 def test_every_output_finite_at_every_level(raw):
@@ -241,7 +234,7 @@ def test_modes_share_lambda_and_zero_friction_is_lossless(raw):
     assert abs(red["loss_ratio"] - mult["loss_ratio"]) <= red["loss_ratio_err"] + mult["loss_ratio_err"] + 1e-15
     # pins.md §9 and §4.8 identity 8: f = f_k = f_c = 0 gives eta = 1 exactly, error 0
     ideal = copy.deepcopy(raw)
-    ideal["friction"] = {"sliding": 0.0, "rolling_mm": 0.0, "axle": 0.0}
+    ideal["friction"] = {**ideal["friction"], "sliding": 0.0, "rolling_mm": 0.0, "axle": 0.0}
     s = run(ideal, detail=False).summary
     assert s["efficiency"] == 1.0 and s["efficiency_err"] == 0.0 and s["loss_ratio"] == 0.0
     assert s["efficiency_reducer"] == 1.0 and s["efficiency_multiplier"] == 1.0

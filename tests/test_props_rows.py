@@ -1,6 +1,6 @@
 """Property-based tests (issue 7) of the ``rows`` calculator, end to end on random valid designs.
 
-tests/test_rows_sharing.py already holds the physics-level properties of the share solvers
+tests/rows/test_sharing.py already holds the physics-level properties of the share solvers
 (``stepwise_shares``/``exact_shares`` over random kappa, b̄, n).  This file extends them to whole
 designs: random TOML dicts over the schema of ``gearcalc.kinds.rows`` (every table, optional
 [bridges] and [mass]), validated by the shared loader and computed by ``CALCULATOR.compute`` at
@@ -20,6 +20,9 @@ from gearcalc import rows as R
 from gearcalc.calculator import Options
 from gearcalc.design import validate
 from props_common import assert_all_finite, in_schema
+
+
+pytestmark = pytest.mark.slow  # one of the few long files (`pytest -m "not slow"`: the quick loop)
 
 CALC = registry.get("rows")
 SCHEMA = {t.name: {f.name: f for f in t.fields} for t in CALC.tables}

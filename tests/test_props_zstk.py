@@ -1,6 +1,6 @@
 """Property-based tests (issue 7) of the ``zstk`` calculator, end to end on random valid designs.
 
-tests/test_zstk.py holds the physics-level properties (tangency, closure of random chains,
+tests/zstk/test_chain.py holds the physics-level properties (tangency, closure of random chains,
 equilibrium of ``zstk.evaluate`` at random phases and directions, scaling).  This file checks the
 same invariants, and the output contract, on what ``CALCULATOR.compute`` returns for random TOML
 designs: the summary and the per-roller detail table (``--detail``), at every model level, for
@@ -100,6 +100,7 @@ def on_line(raw):
 
 
 # ------------------------------------------------------------------ 1. no NaN or infinity anywhere
+@pytest.mark.slow
 @PROPS
 @given(designs())
 def test_every_output_finite_at_every_level(raw):
@@ -132,6 +133,7 @@ def test_reference_level_finite(raw):
     assert res.summary["stepping_residual_mm"] < 1e-9
 
 
+@pytest.mark.slow
 @NESTED
 @given(designs(scheme="cycle", direction="envelope", r_b_max=0.85),
        st.sampled_from(["equilibrium", "fixed-direction"]))
@@ -347,6 +349,7 @@ def test_symmetric_configurations(raw, scheme, gamma):
 
 
 # ------------------------------------------------------------------ 4. sweeps: envelopes dominate
+@pytest.mark.slow
 @FEW
 @given(designs(direction="envelope"), st.floats(-180.0, 180.0))
 def test_direction_envelope_dominates_every_direction(raw, gamma):

@@ -19,6 +19,7 @@ ZSTK = CONFIGS / "zstk_merko_example.toml"
 cells = st.text(alphabet=st.characters(blacklist_categories=("Cs", "Cc")), min_size=0, max_size=40)
 
 
+@pytest.mark.slow
 @settings(max_examples=150, deadline=None, derandomize=True)
 @given(st.integers(1, 6), st.integers(1, 5), st.integers(20, 160), st.data())
 def test_every_line_fits_the_width(ncols, nrows, width, data):

@@ -29,6 +29,7 @@ def alone(base, axes):
     return Columns({**cols, "error": [None] * len(rows)})  # a sweep row's last column: why a point has no results
 
 
+@pytest.mark.slow
 def test_bridges_sweep_equals_each_point_alone():
     axes = {"rows.count": [1, 3, 4], "gear.ratio": [2.3, 4.0], "rows.planets_per_row": [3, 7],
             "bridges.first_span": ["axes_only", 0.1], "rows.relative_width": [0.4, 3.0, 40.0]}
@@ -133,6 +134,7 @@ def test_the_cost_rule_is_one_for_every_kind():
     assert grid.cost_problem(big, 20_000, seconds, workers=10) is None  # --jobs 10
 
 
+@pytest.mark.slow
 def test_costly_points_make_small_chunks():
     # a contact-level point costs ~41 ms (kinds/pins.py sweep_cost): chunks of about a second's work
     # (grid.FIRST_OUTPUT_SECONDS), so a streamed sweep shows its first rows at once, not after 65 536 points

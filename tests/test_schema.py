@@ -120,6 +120,7 @@ def _integral_float_on_integer_key(raw, calc) -> bool:
     return False
 
 
+@pytest.mark.slow
 def test_the_schema_and_check_agree_on_seeded_mutations(tmp_path):
     import tomli_w
 

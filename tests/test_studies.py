@@ -45,6 +45,7 @@ def _stopped(monkeypatch, k, *args, design=DESIGN):
     return r
 
 
+@pytest.mark.slow
 def test_resume_after_sigint_is_byte_identical(tmp_path):
     ref, out = tmp_path / "ref.csv", tmp_path / "out.csv"
     assert cli("sweep", DESIGN, *BIG, "-o", ref).code == 0
@@ -114,6 +115,7 @@ def test_parquet_resume_is_row_identical(tmp_path, monkeypatch):
     assert _leftovers(tmp_path) == []
 
 
+@pytest.mark.slow
 def test_parquet_types_values_and_metadata(tmp_path):
     out = tmp_path / "s.parquet"
     r = cli("sweep", DESIGN, *SMALL, "-o", out, "--tol", "1e-7")
@@ -200,6 +202,7 @@ def test_sweep_grid_to_xarray():
     assert g.to_pandas().shape == (6, len(g.data))
 
 
+@pytest.mark.slow
 @pytest.mark.dask
 @pytest.mark.xdist_group("dask")
 def test_resume_on_scheduler(tmp_path):

@@ -86,6 +86,7 @@ def n_configs():
     return len(list(CONFIGS.glob("*.toml")))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("cols,rows", [(80, 24), (120, 40)])
 def test_run_configs_one_line_per_design_that_fits(cols, rows):
     code, out, err = run_tty("run", CONFIGS, cols=cols, rows=rows)

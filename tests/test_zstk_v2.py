@@ -154,6 +154,7 @@ def scan_root(sigma_of_load, allowable, q_lo, q_hi, points=400):
     return 0.5 * (a + b)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("clearance, direction", [(0.01, 0.0), (0.05, 20.0), (-0.01, 0.0), (-0.02, 33.0)])
 def test_allowable_load_with_clearance_against_a_scan(clearance, direction):
     allow = 1500.0
@@ -256,6 +257,7 @@ def nested_reference(ch, mats, load, clearance, tol=1e-9):
     return max(sw.value, sw2.value)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("geometry, n, clearance", [((100.0, 50.0, 6.0, 6.0), 8, 0.01),   # (8, 0.0): as (3, 0.0)
                                                     ((100.0, 20.0, 60.0, 5.0), 5, 0.0),
                                                     ((100.0, 50.0, 6.0, 6.0), 3, 0.0),

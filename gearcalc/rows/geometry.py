@@ -7,7 +7,7 @@ Pure functions over floats and numpy arrays alike, written with arithmetic opera
 imports no numpy, so ``gearcalc check`` (which derives the face widths) stays light.  The one
 trigonometric function and the guarded division dispatch on the type: the math module for a Python
 number (the result stays a Python float), numpy for an array; the two agree bit for bit on the range of
-pressure angles (tests/test_rows_geometry.py).  Units mm, rad.
+pressure angles (tests/rows/test_geometry.py).  Units mm, rad.
 
 References
 ----------

@@ -18,6 +18,7 @@ def _grid(axes):
     return rows
 
 
+@pytest.mark.slow
 def test_constrained_optimum_matches_a_dense_grid():
     # minimise the peak line load with K <= 1.4: the wider the face and the more rows, the lower w_max but the
     # higher K, so the constraint is active; the reference is the best point of a 1e-4 grid of the width
@@ -36,6 +37,7 @@ def test_constrained_optimum_matches_a_dense_grid():
     assert r.evaluations > 256
 
 
+@pytest.mark.slow
 def test_integer_keys_only_find_the_best_combination():
     # every combination computed (a grid of 4 x 4) is the reference
     vary = {"rows.count": (2, 5), "rows.planets_per_row": (3, 6)}

@@ -35,6 +35,7 @@ def _salib_layout(yA, yB, yAB):
     return Y.ravel()  # SALib's order: A_j, AB_1j .. AB_dj, B_j for every row j
 
 
+@pytest.mark.slow
 def test_sobol_estimators_equal_salib_on_the_same_samples():
     salib = pytest.importorskip("SALib.analyze.sobol")
     A, B, AB = saltelli_unit(1024, 3, seed=4)
@@ -48,6 +49,7 @@ def test_sobol_estimators_equal_salib_on_the_same_samples():
         assert np.all(ours[k] > 0.5 * ref[k]) and np.all(ours[k] < 2 * ref[k])
 
 
+@pytest.mark.slow
 def test_sobol_indices_of_ishigami_within_their_intervals():
     S1, ST = ishigami_indices()
     A, B, AB = saltelli_unit(8192, 3, seed=0)

@@ -71,6 +71,7 @@ def test_the_commands_name_their_files():
         assert vary and box and objective and where
 
 
+@pytest.mark.slow
 def test_seed000_multiplier_efficiency_under_a_contact_stress_limit():
     path = EXAMPLES / "seed000_pins_multiplier.toml"
     vary, box, objective, where = command(path)
@@ -114,6 +115,7 @@ def test_seed003_smallest_outer_raceway_carrying_the_required_load():
     assert r.converged
 
 
+@pytest.mark.slow
 def test_seed004_rows_and_width_of_least_relative_mass():
     path = EXAMPLES / "seed004_rows_mass.toml"
     vary, box, objective, where = command(path)

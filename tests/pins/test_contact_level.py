@@ -95,7 +95,7 @@ from gearcalc import api  # noqa: E402
 from gearcalc.pins import contact as pc  # noqa: E402
 from gearcalc.pins.outputs import STEEL_E_STAR_MPA  # noqa: E402
 
-CONFIGS = Path(__file__).resolve().parent.parent / "configs"
+CONFIGS = Path(__file__).resolve().parents[2] / "configs"
 
 
 def _contact(name, **over):

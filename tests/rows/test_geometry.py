@@ -107,4 +107,4 @@ def test_check_imports_no_numpy():
 def _root():
     from pathlib import Path
 
-    return Path(__file__).resolve().parents[1]
+    return Path(__file__).resolve().parents[2]

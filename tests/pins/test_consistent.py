@@ -25,6 +25,9 @@ from gearcalc.kinds import pins as kind_pins
 
 from conftest import CONFIGS
 
+
+pytestmark = pytest.mark.slow  # one of the few long files (`pytest -m "not slow"`: the quick loop)
+
 runner = CliRunner()
 
 

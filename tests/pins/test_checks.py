@@ -177,7 +177,7 @@ def test_design_problems_of_the_circular_profile_and_its_warnings():
 
 def test_ideal_admissibility():
     assert C.ideal_admissibility(**PAPER)[0] == 0
-    status, psi_star, _, _ = C.ideal_admissibility(3, 12, 1.0, None, 0.75, 0.5)   # tests/test_pins.py's gear
+    status, psi_star, _, _ = C.ideal_admissibility(3, 12, 1.0, None, 0.75, 0.5)   # tests/pins/test_geometry.py's gear
     assert status == TOO_FEW_TEETH and psi_star <= 2 * math.pi / 12   # pins.md §12.10: psi* <= 2 pi/z2
     status, _, rho_c, K1 = C.ideal_admissibility(**dict(PAPER, K1=0.999999))
     assert status == UNDERCUT and 1.95 >= rho_c and K1 == pytest.approx(0.999999, rel=1e-12)   # pins.md §4.2

@@ -22,9 +22,9 @@ from gearcalc import pins
 from gearcalc.pins import contact as pc
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from gearcalc.quadrature import integrate_adaptive
-from test_pins_cli import design, run, summary  # the pins CLI helpers, shared
+from kinds.test_pins import design, run, summary  # the pins CLI helpers, shared
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = ROOT / "configs"
 
 
@@ -733,7 +733,7 @@ def test_contact_efficiency_errors_are_honest_on_the_paper_configs(fname, model,
     # with its own error estimate added.)
     from gearcalc import api
 
-    path = Path(__file__).resolve().parents[1] / "configs" / fname
+    path = Path(__file__).resolve().parents[2] / "configs" / fname
     run_ = functools.partial(api.compute, str(path), model=model, overrides=changes)
     s, ref = run_(tol=1e-6).summary, run_(tol=1e-8).summary
     for mode in ("reducer", "multiplier"):
@@ -742,6 +742,7 @@ def test_contact_efficiency_errors_are_honest_on_the_paper_configs(fname, model,
         assert abs(eta - ref[f"efficiency_{mode}"]) <= 0.5 * err     # measured: at most 0.14 of it
 
 
+@pytest.mark.slow
 def test_a_tiny_torque_is_an_input_error_never_a_crash():
     # issue 34: torque_Nm = 1e-20 was an IndexError in _interior_states (no sign change located: the contacts
     # never change sets), exit 70. pins.md §9: the deflections are then below the round-off of the pin positions,

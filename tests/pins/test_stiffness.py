@@ -17,7 +17,7 @@ from gearcalc.pins.friction import PinFriction
 from gearcalc.pins.stiffness import (ARCMIN_PER_RAD, linear_torsional_stiffness, torsion_curve, twist,
                                      unloaded_transmission_error)
 
-CONFIGS = Path(__file__).resolve().parent.parent / "configs"
+CONFIGS = Path(__file__).resolve().parents[2] / "configs"
 G1 = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)     # k = 1: every pin on its flank, psi* = pi (§4.3)
 R_P1 = G1.e * G1.z1 / G1.k                                    # satellite pitch radius r_p1 = e z1/k (§4.1)
 
@@ -140,6 +140,7 @@ def test_outputs_only_when_asked_and_then_all_with_errors():
             assert s[key] == plain.summary[key], key
 
 
+@pytest.mark.slow
 def test_the_pins_figure_draws_the_loop_and_the_te(tmp_path):
     pytest.importorskip("matplotlib")
     import gearcalc.plot as gplot

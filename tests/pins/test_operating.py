@@ -15,17 +15,6 @@ from gearcalc.pins import contact as pc
 from gearcalc.pins import ARRAY_OPS, MULTIPLIER, REDUCER, SCALAR_OPS, Cycloid
 
 
-@pytest.fixture(autouse=True)
-def _first_order_default(monkeypatch):
-    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
-    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
-    tests/test_pins_consistent.py)."""
-    from gearcalc.kinds import pins as kind_pins
-
-    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
-
-
-
 def gear(z1=21, z2=22, e=3.9, K1=0.75, Rb=1.95):
     return Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb)
 

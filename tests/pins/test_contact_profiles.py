@@ -16,7 +16,7 @@ from gearcalc.pins import REDUCER, Cycloid
 from gearcalc.pins import contact as pc
 from gearcalc.pins import contact_profiles as cp
 from gearcalc.pins.contact_law import contact_law
-from test_pins_contact import circ_u10, circular_model, full_u10  # the contact tests' shared geometry
+from pins.test_contact import circ_u10, circular_model, full_u10  # the contact tests' shared geometry
 
 
 def _brute_distance(R_t, g, n=200001):

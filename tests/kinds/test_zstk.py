@@ -12,7 +12,7 @@ from typer.testing import CliRunner
 
 from gearcalc.cli import app
 
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = ROOT / "configs"
 EXAMPLE = CONFIGS / "zstk_merko_example.toml"
 runner = CliRunner()
@@ -131,6 +131,7 @@ def test_correction_fields(tmp_path):
     assert g["roller_gap_mm"] == pytest.approx(6.0 + g["correction_mm"]) and g["correction_mm"] > 0
 
 
+@pytest.mark.slow
 def test_envelope_and_cycle_honest_error(tmp_path):
     # the sweep's error estimate must cover the difference to the reference level (8x grids)
     p = design(tmp_path)
@@ -301,6 +302,7 @@ def test_cycle_with_envelope(tmp_path):
     assert both["phase_samples"] >= 32 and both["direction_samples"] >= 64
 
 
+@pytest.mark.slow
 def test_plot(tmp_path):
     pytest.importorskip("matplotlib")
     out = tmp_path / "zstk.png"

@@ -14,26 +14,20 @@ from typer.testing import CliRunner
 from gearcalc.cli import app
 
 
-@pytest.fixture(autouse=True)
-def _first_order_default(monkeypatch):
-    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
-    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
-    tests/test_pins_consistent.py)."""
-    from gearcalc.kinds import pins as kind_pins
-
-    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
-
-
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = ROOT / "configs"
 runner = CliRunner()
+FIRST_ORDER = ("--set", "friction.model=first-order")
+"""The first-order model for a shipped design (pins.md §4.6-4.7), whose file leaves the default (§4.9)."""
 
 BASE = {
     "kind": "pins",
     "name": "test design",
     "gearing": {"profile": "cycloidal", "satellite_teeth": 20, "pins": 22, "eccentricity_mm": 3.9,
                 "curtate_ratio": 0.75, "pin_radius_mm": 1.95, "axle_radius_mm": 0.95, "rotating_pins": False},
-    "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1},
+    # these tests pin the first-order model's numbers (pins.md §4.6-4.7; the default is the friction-consistent
+    # model of §4.9, tests/pins/test_consistent.py): the designs say so, and so does FIRST_ORDER for the configs
+    "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1, "model": "first-order"},
     "load": {"mode": "multiplier", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
 }
 
@@ -98,7 +92,7 @@ CYC = ["pins_paper_cyc_u10_fixed.toml", "pins_paper_cyc_u10_rotating.toml",
 
 @pytest.mark.parametrize("fname", CYC)
 def test_cycloidal_configs(fname):
-    s, code, _ = summary(CONFIGS / fname)
+    s, code, _ = summary(CONFIGS / fname, *FIRST_ORDER)
     assert code == 0 and s["model"] == "ideal" and s["tolerance_met"] is True
     # pins.md §10: a plausibility band of roughly 0.75-0.95
     assert 0.75 < s["efficiency"] < 0.95
@@ -113,23 +107,23 @@ def test_cycloidal_configs(fname):
 def test_rotating_beats_fixed_when_mu_rot_below_f():
     # pins.md §10 structural trend: mu_rot = (0.1*0.95 + 0.01)/1.95 = 0.054 < f = 0.1
     for u in ("u10", "u30"):
-        fixed = summary(CONFIGS / f"pins_paper_cyc_{u}_fixed.toml")[0]
-        rot = summary(CONFIGS / f"pins_paper_cyc_{u}_rotating.toml")[0]
+        fixed = summary(CONFIGS / f"pins_paper_cyc_{u}_fixed.toml", *FIRST_ORDER)[0]
+        rot = summary(CONFIGS / f"pins_paper_cyc_{u}_rotating.toml", *FIRST_ORDER)[0]
         assert rot["efficiency"] > fixed["efficiency"]
         assert rot["loss_ratio"] / fixed["loss_ratio"] == pytest.approx((0.1 * 0.95 + 0.01) / 1.95 / 0.1, rel=1e-5)
 
 
 def test_circular_example_runs_the_contact_level():
     # the spec example (a circular profile is not conjugate: pins.md §1, §7) now computes at the contact level
-    s, code, err = summary(CONFIGS / "pins_paper_circ_u10_fixed.toml")
+    s, code, err = summary(CONFIGS / "pins_paper_circ_u10_fixed.toml", *FIRST_ORDER)
     assert code == 0 and s["model"] == "contact" and s["profile"] == "circular" and "Traceback" not in err
     assert s["tolerance_met"] is True and s["efficiency_err"] <= 1e-6 * s["loss_ratio"]
 
 
 def test_json_and_csv_agree(tmp_path):
     f = CONFIGS / "pins_paper_cyc_u10_rotating.toml"
-    s, _, _ = summary(f)
-    _, out, _ = run(f, "--format", "csv")
+    s, _, _ = summary(f, *FIRST_ORDER)
+    _, out, _ = run(f, *FIRST_ORDER, "--format", "csv")
     row = next(iter(csv.DictReader(io.StringIO(out))))
     for k, v in s.items():
         if k == "model_time_ms":
@@ -141,12 +135,12 @@ def test_json_and_csv_agree(tmp_path):
 
 
 def test_table_output_runs():
-    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--format", "table")
+    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", *FIRST_ORDER, "--format", "table")
     assert code == 0 and "efficiency" in out
 
 
 def test_detail_tables(tmp_path):
-    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--format", "json", "--detail")
+    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", *FIRST_ORDER, "--format", "json", "--detail")
     obj = json.loads(out)
     crank, contacts = obj["detail"]["crank"], obj["detail"]["contacts"]
     s = obj["summary"]
@@ -156,7 +150,7 @@ def test_detail_tables(tmp_path):
     assert max(r["loss_W"] for r in crank) == pytest.approx(s["loss_peak_W"], rel=1e-12)
     thetas = [r["theta_deg"] for r in crank]
     assert thetas == sorted(thetas) and thetas[0] == 0.0 and thetas[-1] == pytest.approx(360 / 22)
-    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", "--format", "csv", "--detail")
+    code, out, _ = run(CONFIGS / "pins_paper_cyc_u10_fixed.toml", *FIRST_ORDER, "--format", "csv", "--detail")
     assert code == 0 and out.startswith("name,table,")
 
 
@@ -459,17 +453,19 @@ def test_sweep_runs_point_by_point(tmp_path):
     assert float(rows[0]["efficiency"]) < float(rows[1]["efficiency"])
 
 
+@pytest.mark.slow
 def test_plot(tmp_path):
     pytest.importorskip("matplotlib")
     out = tmp_path / "p.png"
-    code, _, err = run(CONFIGS / "pins_paper_cyc_u10_rotating.toml", "--plot", out, "--format", "csv")
+    code, _, err = run(CONFIGS / "pins_paper_cyc_u10_rotating.toml", *FIRST_ORDER, "--plot", out, "--format", "csv")
     assert code == 0, err
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     out2 = tmp_path / "f.png"
-    code, _, err = run(CONFIGS / "pins_paper_formula_cyc_u10.toml", "--plot", out2, "--format", "csv")
+    code, _, err = run(CONFIGS / "pins_paper_formula_cyc_u10.toml", *FIRST_ORDER, "--plot", out2, "--format", "csv")
     assert code == 0 and out2.stat().st_size > 1000
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("changes", [{}, {"gearing__pins": 21}, {"gearing__pins": 23, "load__mode": "reducer"},
                                      {"gearing__curtate_ratio": 0.9}])
 def test_peaks_against_dense_pointwise_evaluation(tmp_path, changes):

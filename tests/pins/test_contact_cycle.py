@@ -490,7 +490,7 @@ def test_later_passes_start_from_the_full_pass_nodes_on_the_band_design(monkeypa
     # of the full passes' (the reference: settings.cycle_relinearise off)
     from gearcalc.pins.contact_level import ContactDesign, contact_level, gear, satellite_profile
 
-    cfg = tomllib.loads((Path(__file__).resolve().parents[1] / "configs" / "pins_circ_band_u10.toml").read_text())
+    cfg = tomllib.loads((Path(__file__).resolve().parents[2] / "configs" / "pins_circ_band_u10.toml").read_text())
     G, F, L = cfg["gearing"], cfg["friction"], cfg["load"]
     g = gear(G["satellite_teeth"], G["pins"], G["eccentricity_mm"], G["pin_circle_radius_mm"], None,
              G["pin_radius_mm"])[0]

@@ -16,17 +16,6 @@ from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
 from gearcalc.quadrature import integrate_adaptive
 
 
-@pytest.fixture(autouse=True)
-def _first_order_default(monkeypatch):
-    """These tests pin the first-order model's numbers (pins.md §4.6-4.7): every design runs with
-    friction.model = "first-order" (the default is the friction-consistent model of §4.9,
-    tests/test_pins_consistent.py)."""
-    from gearcalc.kinds import pins as kind_pins
-
-    monkeypatch.setattr(kind_pins, "DEFAULT_FRICTION_MODEL", "first-order")
-
-
-
 def gear(z1=20, z2=22, e=3.9, K1=0.75, Rb=1.95):
     return Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb)
 
@@ -595,6 +584,7 @@ def test_the_first_rounds_guess_by_pin_count_changes_no_result(tol, monkeypatch)
             assert np.array_equal(getattr(a, f), getattr(b, f)), f
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("g", HONESTY[:4] + HONESTY[5:6], ids=lambda g: f"z{g.z1}-{g.z2}-K{g.K1:.9g}")
 def test_ideal_cycles_peaks_against_a_dense_sweep(g):
     # the refined peaks (pins.md §12.1) against 200001 crank angles of one period, pointwise (pin_forces)

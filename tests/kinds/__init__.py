@@ -1,0 +1,1 @@
+"""Tests of gearcalc.kinds (tests/kinds/test_<module>.py mirrors gearcalc/kinds/<module>.py)."""

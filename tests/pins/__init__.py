@@ -1,0 +1,1 @@
+"""Tests of gearcalc.pins (tests/pins/test_<module>.py mirrors gearcalc/pins/<module>.py)."""
