@@ -559,6 +559,12 @@ def worker_pool(jobs: int, keep_memory: bool = False, slots: Slots | None = None
             return future
 
         def _stop_workers(self) -> None:
+            # The call queue's feeder thread may be blocked writing chunks into a pipe that the stopped workers no
+            # longer read; the manager thread joins it when it finds the pool broken, and on CPython 3.11.2 that
+            # join never returns (seen: a batch with --jobs 2 hung after SIGINT). Nothing is left to send.
+            queue = getattr(self, "_call_queue", None)
+            if queue is not None:
+                queue.cancel_join_thread()
             for proc in list((getattr(self, "_processes", None) or {}).values()):
                 if proc.is_alive():
                     proc.terminate()
