@@ -558,13 +558,18 @@ def worker_pool(jobs: int, keep_memory: bool = False, slots: Slots | None = None
             future.__class__ = QuietFuture  # the same object the pool's manager thread holds
             return future
 
-        def _stop_workers(self) -> None:
-            # The call queue's feeder thread may be blocked writing chunks into a pipe that the stopped workers no
-            # longer read; the manager thread joins it when it finds the pool broken, and on CPython 3.11.2 that
-            # join never returns (seen: a batch with --jobs 2 hung after SIGINT). Nothing is left to send.
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            # The call queue's feeder thread may be blocked writing chunks into a pipe that stopped workers no longer
+            # read; the manager thread joins it when it finds the pool broken (a worker ended by SIGTERM or SIGHUP
+            # to the process group, or by _stop_workers), and on CPython 3.11.2 that join never returns (seen: a
+            # batch with --jobs 2 hung after each stop signal). The workers' own exit does not wait for it: the
+            # feeder goes on sending the end-of-work markers while the manager joins the workers.
             queue = getattr(self, "_call_queue", None)
             if queue is not None:
                 queue.cancel_join_thread()
+
+        def _stop_workers(self) -> None:
             for proc in list((getattr(self, "_processes", None) or {}).values()):
                 if proc.is_alive():
                     proc.terminate()
