@@ -31,7 +31,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 
-BASELINE = "6b8745a3374b"
+BASELINE = "4ab824a370f5"
 """The commit compared against by default (issue 36 item 8: the speed fixes of 2026-12-07)."""
 
 CASES = {  # name: (config, --vary specs (full), --vary specs (quick))
