@@ -170,7 +170,7 @@ TABLES = (
         Field("time_share", "numbers", REQUIRED, "t_i, each row's share of the time (normalised: any positive "
               "scale)", gt=0, le=1e12, example=[0.3, 0.7]),
     ), doc="A duty cycle: rows of (torque, crank speed, time share) evaluated as one design, as arrays of equal "
-           "length (pins.md §8.3; optional)", optional=True, in_template=False),
+           "length or as [[duty]] rows (pins.md §8.3; optional)", optional=True, in_template=False, rows=True),
 )
 
 HEADER = """KHV planetary pin gearing after Prudnikov (seed 000): levels formula | ideal | contact.
