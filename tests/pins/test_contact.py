@@ -853,7 +853,7 @@ def test_reducer_with_interfering_teeth_self_locks_in_two_passes_not_eight(monke
 
 
 def _sample(name, profile, z1, z2, e, K1, R_b, r, mode):
-    """A design of tests/test_guards.py's random sample: rotating pins, f = 0.1, 100 N*m on H, Hertz contacts of
+    """A design of the guards' random sample (tests/kinds/test_pins.py, _random_pins_design): rotating pins, f = 0.1, 100 N*m on H, Hertz contacts of
     10 mm."""
     return {"kind": "pins", "name": name, "gearing": {
         "profile": profile, "satellite_teeth": z1, "pins": z2, "eccentricity_mm": e, "curtate_ratio": K1,
@@ -877,7 +877,7 @@ def cycles(monkeypatch):
 
 
 WANDERING = _sample("z 3/5 circular, rotating pins", "circular", 3, 5, 2.215, 0.811, 2.446, 1.433, "reducer")
-"""A design of tests/test_guards.py's random sample (seed 13, no. 29) whose loss ratio jumps with the torque: the
+"""A design of the guards' random sample (tests/kinds/test_pins.py, _random_pins_design) (seed 13, no. 29) whose loss ratio jumps with the torque: the
 number of pieces of its cycle changes between 29 and 50 from one pass to the next."""
 
 
@@ -982,7 +982,7 @@ def test_no_numpy_warning_when_a_mode_jams_at_K1_above_1():
 
 
 FAR = _sample("z 6/10 circular, rotating pins", "circular", 6, 10, 4.155, 0.5, 3.462, 2.385, "multiplier")
-"""Design no. 52 of tests/test_guards.py's random sample (seed 13): its cycle held, with a stated error of 4e-6, a
+"""Design no. 52 of the guards' random sample (tests/kinds/test_pins.py, _random_pins_design) (seed 13): its cycle held, with a stated error of 4e-6, a
 reducer loss ratio 0.180 where the crank angles solved one by one give 0.198 (pins.md §7 "Several equilibria")."""
 
 
@@ -1011,7 +1011,7 @@ def test_a_satellite_turning_beyond_a_deflection_is_not_scanned_denser(cycles):
 
 def test_paper_designs_turn_by_a_deflection(cycles):
     # the paper's u = 10 circular-arc design: a pin centre moves by 0.042 of its radius at most, below travel_max
-    r = api.compute(Path(__file__).parents[1] / "configs" / "pins_paper_circ_u10_fixed.toml", model="contact")
+    r = api.compute(CONFIGS / "pins_paper_circ_u10_fixed.toml", model="contact")
     travel = [pc.pin_travel(t.cycle.sol.tau, t.model.g) for t in cycles]
     assert max(travel) == pytest.approx(0.042, abs=0.001) and max(travel) < pc.DEFAULT_SETTINGS.travel_max
     assert r.summary["tolerance_met"] is True and not any("pin centre" in w for w in r.warnings)
