@@ -853,8 +853,8 @@ def test_reducer_with_interfering_teeth_self_locks_in_two_passes_not_eight(monke
 
 
 def _sample(name, profile, z1, z2, e, K1, R_b, r, mode):
-    """A design of the guards' random sample (tests/kinds/test_pins.py, _random_pins_design): rotating pins, f = 0.1, 100 N*m on H, Hertz contacts of
-    10 mm."""
+    """A design of the guards' random sample (kinds/test_pins._random_pins_design): rotating pins, f = 0.1,
+    100 N*m on H, Hertz contacts of 10 mm."""
     return {"kind": "pins", "name": name, "gearing": {
         "profile": profile, "satellite_teeth": z1, "pins": z2, "eccentricity_mm": e, "curtate_ratio": K1,
         "pin_radius_mm": R_b, "axle_radius_mm": r, "rotating_pins": True},
@@ -877,7 +877,7 @@ def cycles(monkeypatch):
 
 
 WANDERING = _sample("z 3/5 circular, rotating pins", "circular", 3, 5, 2.215, 0.811, 2.446, 1.433, "reducer")
-"""A design of the guards' random sample (tests/kinds/test_pins.py, _random_pins_design) (seed 13, no. 29) whose loss ratio jumps with the torque: the
+"""A design of the guards' random sample (seed 13, no. 29) whose loss ratio jumps with the torque: the
 number of pieces of its cycle changes between 29 and 50 from one pass to the next."""
 
 
@@ -982,7 +982,7 @@ def test_no_numpy_warning_when_a_mode_jams_at_K1_above_1():
 
 
 FAR = _sample("z 6/10 circular, rotating pins", "circular", 6, 10, 4.155, 0.5, 3.462, 2.385, "multiplier")
-"""Design no. 52 of the guards' random sample (tests/kinds/test_pins.py, _random_pins_design) (seed 13): its cycle held, with a stated error of 4e-6, a
+"""Design no. 52 of the guards' random sample (seed 13): its cycle held, with a stated error of 4e-6, a
 reducer loss ratio 0.180 where the crank angles solved one by one give 0.198 (pins.md §7 "Several equilibria")."""
 
 
