@@ -459,18 +459,6 @@ def test_sweep_runs_point_by_point(tmp_path):
 
 
 @pytest.mark.slow
-def test_plot(tmp_path):
-    pytest.importorskip("matplotlib")
-    out = tmp_path / "p.png"
-    code, _, err = run(CONFIGS / "pins_paper_cyc_u10_rotating.toml", *FIRST_ORDER, "--plot", out, "--format", "csv")
-    assert code == 0, err
-    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    out2 = tmp_path / "f.png"
-    code, _, err = run(CONFIGS / "pins_paper_formula_cyc_u10.toml", *FIRST_ORDER, "--plot", out2, "--format", "csv")
-    assert code == 0 and out2.stat().st_size > 1000
-
-
-@pytest.mark.slow
 @pytest.mark.parametrize("changes", [{}, {"gearing__pins": 21}, {"gearing__pins": 23, "load__mode": "reducer"},
                                      {"gearing__curtate_ratio": 0.9}])
 def test_peaks_against_dense_pointwise_evaluation(tmp_path, changes):
