@@ -148,21 +148,6 @@ def test_equilibrium_at_every_crank_angle_cycloid_with_clearance():
     assert np.all(sol.tau > 0)                  # reducer: the satellite turns forward through the clearance
 
 
-def test_transmission_error_has_period_Tp():
-    # pins.md §5.6: phi(theta + T_p) - phi(theta) = -k T_p/z1 exactly, i.e. tau is T_p-periodic
-    m = circular_model()
-    s = m.state(np.array([0.0, m.g.period, 0.1, 0.1 + m.g.period]))
-    assert s.tau[1] == pytest.approx(s.tau[0], abs=1e-14)
-    assert s.tau[3] == pytest.approx(s.tau[2], abs=1e-14)
-
-
-def test_dtau_dtheta_matches_the_derivative_of_the_solved_tau():
-    m = circular_model()
-    th, h = 0.1, 1e-5
-    s = m.state(np.array([th - h, th, th + h]))
-    assert s.dtau[1] == pytest.approx((s.tau[2] - s.tau[0]) / (2 * h), rel=1e-5)
-
-
 def test_cycle_power_balance_with_friction_in_equilibrium():
     # pins.md §5.5: with the friction forces in the balance, the cycle work of the coupling and of the crank
     # bearing equals the cycle loss; the elastic energy stored in the contacts returns over a period

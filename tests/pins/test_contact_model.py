@@ -1,7 +1,8 @@
 """Tests of the contact model's equilibrium at given crank angles (gearcalc.pins.contact_model; pins.md §5.1, §5.5).
 
 Independent references: a design of the guards' random sample whose satellite turns so far that no contact carries
-the torque (the design error named at its crank angle); the moment balance's residual at the solved states.
+the torque (the design error named at its crank angle); the period T_p of the transmission error (pins.md §5.6:
+phi(theta + T_p) - phi(theta) = -k T_p/z1 exactly); central differences of the solved rotation for d tau/d theta.
 """
 import numpy as np
 import pytest
@@ -11,7 +12,7 @@ from gearcalc.calculator import DesignError
 from gearcalc.pins import contact as pc
 from gearcalc.pins import contact_model as pcm
 
-from pins.test_contact import _sample
+from pins.test_contact import _sample, circular_model
 
 
 def test_a_bracket_that_the_next_search_does_not_hold_is_no_equilibrium_not_an_internal_error():
@@ -27,3 +28,18 @@ def test_a_bracket_that_the_next_search_does_not_hold_is_no_equilibrium_not_an_i
         pcm._bracket_root(lambda t: np.array([1.0, -1.0, 1.0]) * (t - 0.5) + np.array([0.0, 0.0, 9.0]), theta,
                          np.zeros(3), np.ones(3), 1e-12)
     assert exc.value.theta.tolist() == [0.3]
+
+
+def test_transmission_error_has_period_Tp():
+    # pins.md §5.6: phi(theta + T_p) - phi(theta) = -k T_p/z1 exactly, i.e. tau is T_p-periodic
+    m = circular_model()
+    s = m.state(np.array([0.0, m.g.period, 0.1, 0.1 + m.g.period]))
+    assert s.tau[1] == pytest.approx(s.tau[0], abs=1e-14)
+    assert s.tau[3] == pytest.approx(s.tau[2], abs=1e-14)
+
+
+def test_dtau_dtheta_matches_the_derivative_of_the_solved_tau():
+    m = circular_model()
+    th, h = 0.1, 1e-5
+    s = m.state(np.array([th - h, th, th + h]))
+    assert s.dtau[1] == pytest.approx((s.tau[2] - s.tau[0]) / (2 * h), rel=1e-5)

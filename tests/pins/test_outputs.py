@@ -5,7 +5,7 @@ contact stress and the axle pressure.
 Independent references: the equivalent load recomputed from the ``--detail`` crank table (the bearing force of one
 disc at every node of the final grid, ordered by crank angle; a trapezoid rule over the crank angle, written here),
 the ISO 281 life L10 = (C/P)^p 10^6 revolutions, L10_h = L10 10^6/(60 n) (written here), and the closed forms named
-at each test.
+at each test (Hertz's line contact, a constant load's p-mean, the discs' equal shares).
 """
 from __future__ import annotations
 
@@ -14,6 +14,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from gearcalc.cli import app
@@ -112,3 +114,40 @@ def test_contact_level_l10_from_the_detail_table(mode):
     assert 0 < s["bearing_equivalent_load_err_N"] < 1e-6 * P
     L10_h = (C / P) ** p * 1e6 / (60.0 * n)
     assert abs(L10_h - s["bearing_L10_h"]) <= s["bearing_L10_h_err"] * (1 + 1e-9)
+
+
+# ---------------------------------------------------------------- the outputs' closed forms
+
+@settings(max_examples=100, deadline=None)
+@given(T=st.floats(1.0, 1e8), u=st.floats(1e-6, 1.0), b=st.floats(0.1, 100.0))
+def test_contact_stress_is_hertzs_line_contact(T, u, b):
+    # Johnson 1985, eq. (4.45): p0 = sqrt(F E*/(pi b R)) with F/R = T_sat u; steel on steel E* = E/(2(1 - nu^2))
+    # (E = 210 GPa, nu = 0.3: 115 384.6 MPa)
+    from gearcalc.pins.outputs import contact_stress
+
+    E_star = 210_000.0 / (2 * (1 - 0.3 ** 2))
+    assert float(contact_stress(T, u, b, E_star)) == pytest.approx(math.sqrt(T * u * E_star / (math.pi * b)), rel=1e-12)
+    assert math.isnan(float(contact_stress(T, u, float("nan"), E_star)))           # no face width, no stress
+
+
+@pytest.mark.parametrize("p", [3.0, 10.0 / 3.0])
+def test_a_constant_bearing_force_is_its_own_equivalent_load(p):
+    # ISO 281: the p-mean of a constant load is that load; |B|/T_sat = 4/mm at T_sat = 2000 N mm: P = 8000 N; with
+    # C = 40 kN at 1500 rpm, L10_h = 10^6/(60 x 1500) x 5^p h; the errors carried to first order: dP = P/p dm/m
+    from gearcalc.pins.outputs import bearing_life
+
+    m = 4.0 ** p
+    P, dP, L, dL = (float(x) for x in bearing_life(m, 1e-6 * m, p, 2000.0, 40_000.0, 1500.0))
+    assert P == pytest.approx(8000.0, rel=1e-14)
+    assert L == pytest.approx(1e6 / (60 * 1500.0) * 5.0 ** p, rel=1e-13)
+    assert dP == pytest.approx(8000.0 / p * 1e-6, rel=1e-12) and dL == pytest.approx(p * L * dP / P, rel=1e-12)
+    assert all(math.isnan(float(x)) for x in bearing_life(m, 0.0, p, 2000.0, float("nan"), 1500.0)[2:])
+
+
+def test_the_discs_share_the_output_torque_and_the_axle_pressure_is_on_the_projected_area():
+    # pins.md §12.7: n_d discs share T_V equally (100 N m over 3 discs: 33 333.3 N mm each, summing to 10^5 N mm);
+    # pins.md §8: p = F/(2 r b), 1900 N on 2 x 0.95 mm x 10 mm = 100 MPa
+    from gearcalc.pins.outputs import axle_pressure, satellite_torque
+
+    assert 3 * satellite_torque(100.0, 3) == pytest.approx(1e5, rel=1e-15)
+    assert axle_pressure(1900.0, 0.95, 10.0) == pytest.approx(100.0, rel=1e-15)
