@@ -24,7 +24,8 @@ def test_a_pin_loaded_just_before_phase_zero_enters_there():
     # the contact level's compliance loads a pin at phase 359.5 deg, i.e. -0.5: it entered first (by hand: 0, 0.5, 30.5)
     got = since_entry(np.array([359.5, 0.0, 30.0]), "multiplier")
     assert got.tolist() == pytest.approx([0.0, 0.5, 30.5], abs=1e-12)
-    assert since_entry([180.0], "multiplier").tolist() == [0.0]          # 180 stays 180: the interval's closed end
+    # (-180, 180]: -180 is the same phase as 180, the interval's closed end, so both pins entered together
+    assert since_entry([180.0, -180.0, 170.0], "multiplier").tolist() == [10.0, 10.0, 0.0]
 
 
 @pytest.mark.slow
