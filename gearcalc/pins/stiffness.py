@@ -162,7 +162,7 @@ def bearing_twist(g, torque_sat, bearing_stiffness: float):
     the mesh's centre distance: second order).  Friction and non-conjugate (circular) teeth move B's line of
     action off P by O(mu) and by their normals' spread: the same formula, first order.
 
-    .. math:: 	au_b = rac{T_{sat}}{k_b\,r_{p1}^2}, \qquad r_{p1} = rac{e z_1}{k}
+    .. math:: \tau_b = \frac{T_{sat}}{k_b\,r_{p1}^2}, \qquad r_{p1} = \frac{e z_1}{k}
 
     Parameters
     ----------
