@@ -94,11 +94,15 @@ def test_without_a_rating_the_load_is_given_and_the_life_is_null():
 
 def test_a_sweep_equals_each_point_alone():
     # the ideal level vectorises a sweep's points (one group): the mechanism's bearing life per point, as alone
-    torques, modes = [50.0, 100.0], ["multiplier", "reducer"]
-    rows = [r for chunk in api.sweep(_design(), {"load.mode": modes, "load.torque_Nm": torques}) for r in chunk.rows()]
+    # (points with and without the mechanism in one group: each takes its own bearing fields)
+    axes = {"output.mechanism": ["ideal", "pins_in_holes"], "load.mode": ["multiplier", "reducer"],
+            "load.torque_Nm": [50.0, 100.0]}
+    rows = [r for chunk in api.sweep(_design(), axes) for r in chunk.rows()]
+    assert len(rows) == 8
     for r in rows:
         d = _design(r["load.mode"])
         d["load"]["torque_Nm"] = r["load.torque_Nm"]
+        d["output"]["mechanism"] = r["output.mechanism"]
         alone = api.compute(d).summary
         for key in ("bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h", "bearing_L10_h_err",
                     "bearing_force_max_N"):
