@@ -289,7 +289,8 @@ class ContactDesign:
 
 
 def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: float, play_free: bool,
-                  detail: bool = False, settings: ContactSettings | None = None, torsion: bool = False) -> ContactLevel:
+                  detail: bool = False, settings: ContactSettings | None = None, torsion: bool = False,
+                  bearing_stiffness: float | None = None) -> ContactLevel:
     r"""The compliant contact level (pins.md §5) of one design at one operating point.
 
     The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the
@@ -322,6 +323,8 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     torsion : bool
         Also the torsional stiffness, lost motion, hysteresis and transmission error with the crank held
         (:func:`~gearcalc.pins.stiffness.torsion_outputs`; pins.md §5.8), T_r the torque on V (u T on H).
+    bearing_stiffness : float or None
+        k_b, radial stiffness of one disc's crank bearing [N/µm], in series in the torsion outputs (None: rigid).
 
     Examples
     --------
@@ -383,6 +386,7 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
 
         held = pc.ContactModel(g, design.profile, design.law, 1.0, pc.REDUCER,
                                PinFriction(mu, f, rolls) if consistent else None, settings)
-        tor = torsion_outputs(held, torque if on_V else torque * g.ratio, n_discs, play)
+        tor = torsion_outputs(held, torque if on_V else torque * g.ratio, n_discs, play,
+                              bearing_stiffness=None if bearing_stiffness is None else 1e3 * bearing_stiffness)
     return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, pk, metrics, play, ov,
                         tables, crank, tor)
