@@ -333,7 +333,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     from ..pins.contact_level import ContactDesign, contact_level
     from ..pins.margins import margin_columns
 
-    from ..pins.output_contact import contact_output_fields, contact_w, drag_lock_text
+    from ..pins.output_contact import contact_output_fields, contact_w
 
     a = _one(design)
     problem = output_problem(a, "contact", _pin_circle(a)) or law_problem(a, "contact")
@@ -358,9 +358,9 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
         raise R.stiffness_error(design, law, cl.residual, options.tol)
     summary.update(_contact_summary(design, g, law, profile, cl, model))
     R.contact_notes(design, summary, options.tol, warnings, failed, cl, a["mode"] == "multiplier")
-    fields, drag_locked = contact_output_fields(w, summary, cl, a, g.ratio, a["n_d"])
+    fields, drag_lock = contact_output_fields(w, summary, cl, a, g.ratio, a["n_d"])
     summary.update(fields)
-    failed.extend([drag_lock_text(summary["backdrive_startup_torque_Nm"])] if drag_locked else [])
+    failed.extend(drag_lock)
     summary.update({k: v[0] for k, v in margin_columns({k: [v] for k, v in summary.items()},
                                                        {n: [x] for n, x in a.items()}).items()})
     failed.extend(R.stress_failure(summary, a["allowable"]))

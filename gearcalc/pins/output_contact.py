@@ -117,8 +117,21 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
     fields : dict
         The fields to update (``output_mechanism`` always; the efficiencies, torques, mean loss, self-locking,
         bearing force and the mechanism's fields when it or a drag is there).
-    drag_locked : bool
-        The requested multiplier cannot be back-driven (the load is below the start-up torque).
+    failed : list of str
+        The failed check of a requested multiplier that cannot be back-driven (the load below the start-up
+        torque), else empty.
+
+    Examples
+    --------
+    A drag of 1 N·m on teeth of efficiencies 0.8 and 0.75, u = 10, 100 N·m on V (pins.md §4.10: 0.75 - 10/100):
+
+    >>> from types import SimpleNamespace as NS
+    >>> cl = NS(locked={True: False, False: False}, et_reducer=NS(eta_hv=[0.8]), et_multiplier=NS(eta_vh=[0.75]))
+    >>> a = dict(mode="multiplier", shaft="V", torque=100.0, speed=None)
+    >>> f, failed = contact_output_fields(ContactW("ideal", 0.0, 1.0, None, 100.0), {"self_locking": False}, cl, a,
+    ...                                   10.0, 1)
+    >>> round(f["efficiency"], 12), round(f["backdrive_startup_torque_Nm"], 9), failed
+    (0.65, 13.333333333, [])
 
     References
     ----------
@@ -131,12 +144,12 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
     out = {"output_mechanism": w.mechanism, "w_loss_ratio": None, "w_force_max_N": None,
            "backdrive_startup_torque_Nm": None}
     if not w.active:
-        return out, False
+        return out, []
     mult, locked = a["mode"] == "multiplier", cl.locked
     hv0 = math.nan if locked[False] else float(cl.et_reducer.eta_hv[0])
     vh0 = math.nan if locked[True] else float(cl.et_multiplier.eta_vh[0])
     w_H = math.nan if a["speed"] is None else a["speed"] * math.pi / 30.0      # as the ideal level
-    r = {k: float(v) for k, v in series_values(hv0, vh0, w.loss_ratio, w.drag, a["torque"], ratio, mult,
+    r = {k: float(v) for k, v in series_values((hv0, vh0), w.loss_ratio, w.drag, a["torque"], ratio, mult,
                                                 a["shaft"] == "V", w_H).items()}
     drag_locked = bool(r["locked"]) and not locked[True]
     lock = bool(summary["self_locking"]) or drag_locked
@@ -156,10 +169,10 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
             out["w_force_max_N"] = w.unit[1] * T_sat
             out["bearing_force_max_N"], out["bearing_force_mean_N"] = w_bearing_peak_mean(
                 cb.bearing_radial, cb.bearing_tangential, np.asarray(w.unit[3]) * T_sat, cb.mean_weights)
-    return out, drag_locked
+    return out, [_drag_lock_text(out["backdrive_startup_torque_Nm"])] if drag_locked else []
 
 
-def drag_lock_text(startup) -> str:
+def _drag_lock_text(startup) -> str:
     """The failed check of a multiplier loaded below its back-driving start-up torque (pins.md §4.10)."""
     at = "" if startup is None else f" T_V,start = {startup:.6g} N·m"
     return (f"self-locking in the multiplier mode: the load is below the back-driving start-up torque{at} (the "

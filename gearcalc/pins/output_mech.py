@@ -177,7 +177,7 @@ def output_fields(arrays: dict, v: dict, pts, n: int) -> dict:
             if key not in q:
                 q[key] = w_unit_resultants(*key)
             lam_w[i] = f_w[i] * e[i] * (u[i] + 1.0) * q[key][2]       # |omega_H/omega_V - 1| = u + 1 (fixed pins)
-        r = series_values(hv0, vh0, lam_w, drag, T, u, mult, on_V, speed * math.pi / 30.0)
+        r = series_values((hv0, vh0), lam_w, drag, T, u, mult, on_V, speed * math.pi / 30.0)
         hv, vh, locked, T_in, T_out, loss, start, T_V = (r[key] for key in (
             "eta_HV", "eta_VH", "locked", "torque_in", "torque_out", "loss", "startup", "torque_V"))
         with np.errstate(divide="ignore", invalid="ignore"):

@@ -331,7 +331,7 @@ def teeth_torque(torque, loss_ratio_w, drag_torque, multiplier, torque_on_V):
     return np.where(torque_on_V, T * np.where(mult, 1.0 - lw, 1.0 + lw), np.where(mult, T + Td, T - Td))
 
 
-def series_values(eta_HV, eta_VH, loss_ratio_w, drag_torque, torque, ratio, multiplier, torque_on_V, omega_H):
+def series_values(teeth_efficiencies, loss_ratio_w, drag_torque, torque, ratio, multiplier, torque_on_V, omega_H):
     r"""The teeth in series with the output mechanism and a crank drag: efficiencies, torques, loss, start-up.
 
     Both modes' efficiencies, the shaft torques, the mean loss and the back-driving start-up torque (pins.md §4.10).
@@ -343,8 +343,8 @@ def series_values(eta_HV, eta_VH, loss_ratio_w, drag_torque, torque, ratio, mult
 
     Parameters
     ----------
-    eta_HV, eta_VH : float or array_like
-        The teeth's efficiencies, [-].
+    teeth_efficiencies : tuple of (float or array_like)
+        The teeth's (eta_HV, eta_VH), [-].
     loss_ratio_w : float or array_like
         Cycle-mean loss ratio of the output mechanism (0: the ideal mechanism), [-].
     drag_torque : float or array_like
@@ -367,7 +367,7 @@ def series_values(eta_HV, eta_VH, loss_ratio_w, drag_torque, torque, ratio, mult
 
     Examples
     --------
-    >>> v = series_values(0.8, 0.75, 0.0, 1.0, 100.0, 10.0, False, True, 1.0)     # reducer, T_V = 100 N·m
+    >>> v = series_values((0.8, 0.75), 0.0, 1.0, 100.0, 10.0, False, True, 1.0)     # reducer, T_V = 100 N·m
     >>> round(float(v["eta_HV"]), 12), float(v["torque_in"]), round(float(v["loss"]), 9)
     (0.740740740741, 13.5, 3.5)
 
@@ -375,8 +375,8 @@ def series_values(eta_HV, eta_VH, loss_ratio_w, drag_torque, torque, ratio, mult
     ----------
     .. [1] docs/spec/pins.md §4.10; Sensinger 2013 (the output mechanism as a factor).
     """
-    hv0, vh0, lam_w, drag, T, u, mult = (np.asarray(x) for x in (eta_HV, eta_VH, loss_ratio_w, drag_torque, torque,
-                                                                  ratio, multiplier))
+    hv0, vh0, lam_w, drag, T, u, mult = (np.asarray(x) for x in (*teeth_efficiencies, loss_ratio_w, drag_torque,
+                                                                  torque, ratio, multiplier))
     hv1, vh1 = hv0 / (1.0 + lam_w), vh0 * (1.0 - lam_w)
     with np.errstate(divide="ignore", invalid="ignore"):
         T_V = np.where(torque_on_V, T, np.where(mult, (T + drag) * u / vh1, (T - drag) * u * hv1))
