@@ -45,7 +45,9 @@ def contact_w(a: dict, ratio: float) -> ContactW:
     .. math:: \bar\lambda_W = f_w\,e\,(u + 1)\,\overline{Q/T}, \qquad \overline{Q/T} = \frac{4}{\pi R_w}
         \ \text{(even } n_w)
 
-    (|omega_H/omega_V - 1| = u + 1 with fixed pins; f_w is ``output.friction``, else ``friction.sliding``.)
+    (|omega_H/omega_V - 1| = u + 1 with fixed pins; f_w is ``output.friction``, else ``friction.sliding``.  A
+    multiplier with lambda_W >= 1 self-locks through the mechanism: no positive satellite torque, its teeth are
+    solved at the given torque.)
 
     Parameters
     ----------
@@ -80,8 +82,10 @@ def contact_w(a: dict, ratio: float) -> ContactW:
         unit = w_unit_resultants(int(a["w_holes"]), float(a["w_radius"]))
         f_w = a["sliding"] if a.get("w_friction") is None else a["w_friction"]
         lam = f_w * a["e"] * (ratio + 1.0) * unit[2]
+    mult = a["mode"] == "multiplier"
+    locks = mult and lam >= 1.0         # the mechanism alone self-locks the multiplier: its teeth at the given torque
     T = a["torque"] if unit is None and drag == 0.0 else float(
-        teeth_torque(a["torque"], lam, drag, a["mode"] == "multiplier", a["shaft"] == "V"))
+        teeth_torque(a["torque"], 0.0 if locks else lam, drag, mult, a["shaft"] == "V"))
     return ContactW(mech, lam, drag, unit, T)
 
 
@@ -165,15 +169,18 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
         out["w_loss_ratio"] = w.loss_ratio
         T_sat = 1e3 * r["torque_V"] * r["sat_factor"] / n_discs             # [N·mm]
         cb = cl.crank
-        if math.isfinite(T_sat) and cb is not None:
+        if r["torque_V"] > 0.0 and r["sat_factor"] > 0.0 and cb is not None:     # (lambda_W >= 1 locks: none)
             out["w_force_max_N"] = w.unit[1] * T_sat
             out["bearing_force_max_N"], out["bearing_force_mean_N"] = w_bearing_peak_mean(
                 cb.bearing_radial, cb.bearing_tangential, np.asarray(w.unit[3]) * T_sat, cb.mean_weights)
-    return out, [_drag_lock_text(out["backdrive_startup_torque_Nm"])] if drag_locked else []
+    return out, [_lock_text(out["backdrive_startup_torque_Nm"], w.loss_ratio)] if drag_locked else []
 
 
-def _drag_lock_text(startup) -> str:
-    """The failed check of a multiplier loaded below its back-driving start-up torque (pins.md §4.10)."""
+def _lock_text(startup, loss_ratio_w) -> str:
+    """The failed check of a multiplier the output mechanism or the crank's drag locks (pins.md §4.10)."""
+    if loss_ratio_w >= 1.0:
+        return (f"self-locking in the multiplier mode: the output mechanism's loss ratio {loss_ratio_w:.6g} >= 1 "
+                "(pins.md §4.10); no efficiency. A lower output.friction lowers it")
     at = "" if startup is None else f" T_V,start = {startup:.6g} N·m"
     return (f"self-locking in the multiplier mode: the load is below the back-driving start-up torque{at} (the "
             "crank's drag load.drag_torque_Nm; pins.md §4.10); no efficiency")

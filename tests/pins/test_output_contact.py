@@ -35,3 +35,16 @@ def test_a_drag_that_locks_the_multiplier_is_a_failed_check():
     assert f["self_locking"] is True and f["efficiency"] is None and f["torque_in_Nm"] is None
     assert f["backdrive_startup_torque_Nm"] == pytest.approx(10 * 10 / 0.75, rel=1e-14)
     assert len(failed) == 1 and "start-up torque" in failed[0]
+
+
+@pytest.mark.parametrize("shaft", ["H", "V"])
+def test_a_mechanism_that_locks_the_multiplier_leaves_the_teeth_at_the_given_torque(shaft):
+    # lambda_W = 4 f_w e (u + 1)/(pi R_w) = 4 x 0.9 x 3.9 x 11/(35 pi) = 1.40 >= 1: eta_VH (1 - lambda_W) < 0, the
+    # satellite gets no positive torque (before: the teeth were asked for T_V (1 - lambda_W) < 0)
+    w = contact_w({**A, "w_friction": 0.9, "shaft": shaft}, 10.0)
+    assert w.loss_ratio > 1.0 and w.teeth_torque == 100.0
+    cl = NS(locked={True: False, False: False}, et_reducer=NS(eta_hv=[0.8]), et_multiplier=NS(eta_vh=[0.75]),
+            crank=NS(bearing_radial=[1.0], bearing_tangential=[1.0], mean_weights=None))
+    f, failed = contact_output_fields(w, {"self_locking": False}, cl, {**A, "shaft": shaft}, 10.0, 1)
+    assert f["self_locking"] is True and f["w_force_max_N"] is None and "bearing_force_max_N" not in f
+    assert len(failed) == 1 and "loss ratio 1.40" in failed[0]
