@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .wmech import backdrive_startup_torque, bearing_force_with_w, drag_efficiencies, w_hole_forces
+from .wmech import bearing_force_with_w, series_values, w_hole_forces
 
 __all__ = ["NEW_FIELDS", "BEARING_FIELDS", "w_unit_resultants", "output_fields", "w_bearing_columns"]
 
@@ -219,19 +219,12 @@ def _series(out: dict, v: dict, pts, n: int, has_w, drag) -> dict:
         if key not in q:
             q[key] = w_unit_resultants(*key)
         lam_w[i] = f_w[i] * e[i] * (u[i] + 1.0) * q[key][2]       # |omega_H/omega_V - 1| = u + 1 (fixed pins)
-    hv1, vh1 = hv0 / (1.0 + lam_w), vh0 * (1.0 - lam_w)
+    r = series_values((hv0, vh0), lam_w, drag, T, u, mult, on_V, speed * math.pi / 30.0)
+    hv, vh, locked, T_in, T_out, loss, start, T_V = (r[key] for key in (
+        "eta_HV", "eta_VH", "locked", "torque_in", "torque_out", "loss", "startup", "torque_V"))
     with np.errstate(divide="ignore", invalid="ignore"):
-        T_V = np.where(on_V, T, np.where(mult, (T + drag) * u / vh1, (T - drag) * u * hv1))
-        hv, vh = drag_efficiencies(hv1, vh1, drag, T_V, u)
-        T_H = np.where(mult, T_V * vh1 / u - drag, T_V / (u * hv1) + drag)
-        locked = mult & ~(vh > 0.0)
-        vh = np.where(vh > 0.0, vh, np.nan)
-        T_in, T_out = np.where(mult, T_V, T_H), np.where(mult, T_H, T_V)
-        omega_H = speed * math.pi / 30.0
-        loss = np.where(mult, T_V * omega_H / u - T_H * omega_H, T_H * omega_H - T_V * omega_H / u)
-        T_sat = 1e3 * T_V / n_d * np.where(mult, 1.0 - lam_w, 1.0 + lam_w)      # [N·mm]
-        scale = np.where(T_V_old > 0.0, T_V / T_V_old * np.where(mult, 1.0 - lam_w, 1.0 + lam_w), np.nan)
-        start = np.where(drag > 0.0, backdrive_startup_torque(drag, u, vh1), np.nan)
+        T_sat = 1e3 * T_V / n_d * r["sat_factor"]      # [N·mm]
+        scale = np.where(T_V_old > 0.0, T_V / T_V_old * r["sat_factor"], np.nan)
     upd = {"efficiency_reducer": hv, "efficiency_multiplier": vh, "efficiency": np.where(mult, vh, hv),
            "torque_in_Nm": T_in, "torque_out_Nm": T_out, "loss_mean_W": loss,
            "self_locking": np.where(locked, 1.0, sl)}
