@@ -143,6 +143,7 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
     """
     import numpy as np
 
+    from .report import output_lock_text
     from .wmech import series_values, w_bearing_peak_mean
 
     out = {"output_mechanism": w.mechanism, "w_loss_ratio": None, "w_force_max_N": None,
@@ -174,7 +175,7 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
             out["bearing_force_max_N"], out["bearing_force_mean_N"] = w_bearing_peak_mean(
                 cb.bearing_radial, cb.bearing_tangential, np.asarray(w.unit[3]) * T_sat, cb.mean_weights)
             out.update(_w_bearing_life(cb, np.asarray(w.unit[3]) * T_sat, a))
-    return out, [_lock_text(out["backdrive_startup_torque_Nm"], w.loss_ratio)] if drag_locked else []
+    return out, [output_lock_text(out["backdrive_startup_torque_Nm"], w.loss_ratio)] if drag_locked else []
 
 
 def _w_bearing_life(cb, w_resultants, a: dict) -> dict:
@@ -202,13 +203,3 @@ def _w_bearing_life(cb, w_resultants, a: dict) -> dict:
     C, n = a.get("bearing_C"), a.get("speed")
     vals = bearing_life(m, dm, p, 1.0, math.nan if C is None else C, math.nan if n is None else n)
     return {k: (float(v) if math.isfinite(float(v)) else None) for k, v in zip(BEARING_KEYS, vals)}
-
-
-def _lock_text(startup, loss_ratio_w) -> str:
-    """The failed check of a multiplier the output mechanism or the crank's drag locks (pins.md §4.10)."""
-    if loss_ratio_w >= 1.0:
-        return (f"self-locking in the multiplier mode: the output mechanism's loss ratio {loss_ratio_w:.6g} >= 1 "
-                "(pins.md §4.10); no efficiency. A lower output.friction lowers it")
-    at = "" if startup is None else f" T_V,start = {startup:.6g} N·m"
-    return (f"self-locking in the multiplier mode: the load is below the back-driving start-up torque{at} (the "
-            "crank's drag load.drag_torque_Nm; pins.md §4.10); no efficiency")

@@ -331,3 +331,22 @@ def test_contact_level_bearing_life_holds_the_mechanisms_resultant(mode):
     assert s["bearing_equivalent_load_N"] > 1.5 * r0.summary["bearing_equivalent_load_N"]     # the rise, ~1.6x
     n = d["load"]["crank_speed_rpm"]
     assert s["bearing_L10_h"] == pytest.approx(1e6 / (60 * n) * (C / s["bearing_equivalent_load_N"]) ** p, rel=1e-12)
+
+
+def test_a_multiplier_the_mechanism_locks_has_no_shaft_torques_at_either_level():
+    """lambda_W >= 1 (f_w = 0.9 here: lambda_W = 4 f_w e (u + 1)/(pi R_w) = 1.40) locks the multiplier by the
+    mechanism alone (pins.md §4.10): no efficiency, no shaft torques, no mechanism force, the teeth at the given
+    torque (the pin forces of the design without the mechanism, bit for bit), and the failed check names the
+    mechanism's loss ratio, at the ideal and the contact level alike (before: negative torques at the ideal level)."""
+    d = _with(output={**W8, "friction": 0.9})
+    lam = 4 * 0.9 * 3.9 * 11 / (np.pi * 35.0)
+    for model, extra in (("ideal", {}), ("contact", {"contact": CONTACT})):
+        import gearcalc.api as api
+        r = api.compute({**d, **extra}, model=model)
+        r0 = api.compute({**_with(), **extra}, model=model)
+        s = r.summary
+        assert s["w_loss_ratio"] == pytest.approx(lam, rel=1e-12) and s["self_locking"] is True
+        assert s["efficiency"] is None and s["torque_in_Nm"] is None and s["torque_out_Nm"] is None
+        assert s["w_force_max_N"] is None and s["loss_mean_W"] is None
+        assert s["pin_force_max_N"] == r0.summary["pin_force_max_N"], model
+        assert any("output mechanism's loss ratio" in f for f in r.failed), (model, r.failed)
