@@ -251,6 +251,7 @@ def test_grid_column_array_of_a_lazy_range():
             assert arr == listed
 
 
+@pytest.mark.slow
 def test_stream_arrays_same_csv_and_json_as_lists():
     """Chunks with float64 array columns (the CLI's CSV path) write the same bytes as chunks of lists, and the
     public chunks (arrays=False) hold lists only."""

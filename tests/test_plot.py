@@ -87,6 +87,7 @@ def test_plot_of_a_mixed_batch_draws_every_kind(tmp_path):
     assert "--plot" not in r.err  # every design drawn: nothing to say
 
 
+@pytest.mark.slow
 def test_designs_a_figure_leaves_out_are_named(tmp_path):
     # a rows figure holds 4 designs (gearcalc/rows/plot.py): the fifth is named on stderr
     files = sorted(CONFIGS.glob("rows_fig3_c1_*.toml")) + sorted(CONFIGS.glob("rows_fig3_c2_*.toml"))[:2]
@@ -216,6 +217,7 @@ def test_pins_engagement_in_the_same_range_at_both_levels(tmp_path, mode):
 
 
 # ------------------------------------------------------------------------- accuracy --plot
+@pytest.mark.slow
 def test_accuracy_tick_labels_do_not_overprint():
     # times within one decade (zstk's levels: 25-300 ms on this machine) got minor labels 3x10^1, 4x10^1 ...
     # printed over each other; the rows are made up in the shape of gearcalc.accuracy.summarise's

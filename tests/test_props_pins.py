@@ -222,6 +222,7 @@ def test_lambda_independent_of_torque_and_speed_linear_in_friction(raw, kt, kn, 
     assert r["loss_ratio"] == pytest.approx(kf * base["loss_ratio"], rel=1e-12, abs=1e-300)
 
 
+@pytest.mark.slow
 @PROPS
 @given(designs(mode="multiplier"))
 def test_modes_share_lambda_and_zero_friction_is_lossless(raw):

@@ -325,6 +325,7 @@ def test_zero_clearance_load_scaling(raw, k):
     assert b.summary["approach_direction_deg"] == pytest.approx(a.summary["approach_direction_deg"], abs=1e-7)
 
 
+@pytest.mark.slow
 @PROPS
 @given(designs(), st.sampled_from("ABCD"), st.sampled_from([0.0, 180.0]))
 def test_symmetric_configurations(raw, scheme, gamma):

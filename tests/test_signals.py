@@ -61,8 +61,11 @@ needs_proc_children = pytest.mark.skipif(_children(os.getpid()) is None, reason=
 
 
 @needs_proc_children
-@pytest.mark.parametrize("name", list(STOPS))
-@pytest.mark.parametrize("what", ["sweep", "batch"])
+@pytest.mark.parametrize("what,name", [
+    # a batch with jobs is long: SIGINT and SIGTERM in the quick loop, the other three in the slow set (CI)
+    pytest.param(what, name, id=f"{what}-{name}",
+                 marks=pytest.mark.slow if what == "batch" and name not in ("INT", "TERM") else ())
+    for what in ("sweep", "batch") for name in STOPS])
 def test_stop_signal_to_the_process_group_with_jobs(tmp_path, name, what):
     # a terminal's Ctrl-C, Ctrl-\ or hang-up, or `kill -- -PGID`, signals gearcalc and its --jobs workers
     # together: one line from the main process, its exit status, no traceback from a worker, no file left

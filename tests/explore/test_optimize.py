@@ -48,6 +48,7 @@ def test_integer_keys_only_find_the_best_combination():
     assert r.value == best["w_max_N_per_mm"] and r.converged
 
 
+@pytest.mark.slow
 def test_jobs_give_the_same_optimum():
     vary = {"rows.relative_width": (1.6, 3.0), "rows.count": (2, 5)}
     one = gearcalc.optimize(ROWS, vary, "w_max_N_per_mm:min", where=["K<=1.4"], budget=64)
