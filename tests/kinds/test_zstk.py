@@ -1,4 +1,5 @@
-"""CLI tests of `gearcalc zstk`: the spec's example, the configs, outputs, exit codes, bad input."""
+"""Tests of the zstk adapter (gearcalc/kinds/zstk.py) through `gearcalc zstk` and the API: the spec's example, the
+configs, outputs, exit codes, bad input, the Tresca shear reported for the design's Poisson ratios."""
 import csv
 import io
 import json
@@ -7,9 +8,12 @@ import subprocess
 import sys
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from conftest import cli
+from gearcalc import api, hertz
 from gearcalc.cli import app
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -344,3 +348,77 @@ def test_a_huge_load_direction_is_reduced_exactly(angle, tmp_path):
         return s
 
     assert summary(angle) == summary(math.remainder(angle, 360.0))
+
+
+# ---------------------------------------------------------------- zstk v2 (issue 16) through the adapter
+# Tresca: the brute force over depth of Johnson's axis stresses (tests/test_hertz.py); the worked example's depth
+# 0.786151 b with b = 2 F/(pi l sigma) (Johnson eq. 4.43).
+def compute(**sets):
+    return api.compute(api.load(EXAMPLE, overrides=sets), detail=True)
+
+
+def col(res, key):
+    return np.array([row[key] for row in res.detail["rollers"]], dtype=float)
+
+
+# ----------------------------------------------------------------------------- item 3: Tresca shear
+def axis_stresses(t, nu):
+    """Johnson 1985 eq. 2.25 along the axis (x = 0) of a Hertz line contact, over p0; plane strain."""
+    s = np.sqrt(1.0 + t * t)
+    sx = -((1.0 + 2.0 * t * t) / s - 2.0 * t)
+    sz = -1.0 / s
+    return sx, nu * (sx + sz), sz
+
+
+def brute_tresca(nu):
+    from scipy.optimize import minimize_scalar
+
+    def tau(t):
+        p = np.sort(np.stack(axis_stresses(np.asarray(t, float), nu)), axis=0)
+        return 0.5 * (p[-1] - p[0])
+
+    t = np.linspace(0.0, 3.0, 30001)
+    k = int(np.argmax(tau(t)))
+    r = minimize_scalar(lambda x: -tau(x), bracket=(t[k - 1], t[k], t[k + 1]), tol=1e-12)
+    return -r.fun, r.x
+
+
+def test_product_reports_tresca_for_the_design_nu():
+    # all bodies nu = 0.2: tau = 0.3302 sigma at 0.3217 b (summary at the critical contact, per contact in detail)
+    res = compute(**{"material.roller_poisson": 0.2, "material.ring_poisson": 0.2})
+    s = res.summary
+    ratio, depth = (float(x) for x in brute_tresca(0.2))
+    assert s["tau_max_MPa"] == pytest.approx(ratio * s["sigma_max_MPa"], rel=1e-9)
+    i = s["sigma_max_roller"]
+    assert s["tau_max_depth_mm"] == pytest.approx(depth * col(res, "b_B_mm")[i], rel=1e-5)
+    assert np.allclose(col(res, "tau_max_B_MPa"), ratio * col(res, "sigma_B_MPa"), rtol=1e-9)
+    assert np.allclose(col(res, "tau_depth_H_mm"), depth * col(res, "b_H_mm"), rtol=1e-5)
+    # mixed: the smaller nu of a contact's two bodies governs (the body where the shear is largest)
+    mixed = compute(**{"material.roller_poisson": 0.3, "material.inner_ring_poisson": 0.1})
+    assert np.allclose(col(mixed, "tau_max_B_MPa"), brute_tresca(0.1)[0] * col(mixed, "sigma_B_MPa"), rtol=1e-9)
+    assert np.allclose(col(mixed, "tau_max_H_MPa"), brute_tresca(0.3)[0] * col(mixed, "sigma_H_MPa"), rtol=1e-9)
+
+
+def test_worked_example_tresca_equals_the_in_plane_value():
+    s = compute().summary
+    assert s["tau_max_MPa"] == hertz.TAU_MAX_RATIO * s["sigma_max_MPa"]
+    # depth = 0.786151 b, b = 2 F/(pi l sigma) of the critical contact (Johnson eq. 4.43)
+    res = compute()
+    b = 2 * col(res, "F_B_N")[0] / (math.pi * 20.0 * s["sigma_max_MPa"])
+    assert s["tau_max_depth_mm"] == pytest.approx(0.786151377757423 * b, rel=1e-12)
+
+
+# ----------------------------------------------------------------------------- item 4: separator = false
+def test_separator_false_is_refused():
+    for command in ("zstk", "check"):
+        r = cli(command, EXAMPLE, "--set", "geometry.separator=false", "--set", "geometry.roller_gap_mm=0")
+        assert r.code == 2
+        assert "geometry.separator" in r.err + r.out and "roller-to-roller contact" in r.err + r.out
+    assert compute(**{"geometry.separator": True}).summary == compute().summary
+
+
+def test_cost_guard_refuses_before_starting():
+    r = cli("zstk", EXAMPLE, "--set", "geometry.inner_raceway_radius_mm=97.5", "--set", "geometry.eccentricity_mm=0.5",
+            "--set", "geometry.roller_gap_mm=0.05", "--set", "geometry.rollers=2000", "--set", "geometry.scheme=cycle",
+            "--set", "load.direction_deg=envelope", "--model", "reference")
+    assert r.code == 2 and "over the budget" in r.err and "geometry.rollers" in r.err

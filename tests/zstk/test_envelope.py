@@ -8,6 +8,8 @@ import numpy as np
 import pytest
 
 from gearcalc import zstk as z
+from conftest import CONFIGS
+from gearcalc import api
 
 CHAIN = z.close_chain(100.0, 50.0, 6.0, 6.0, 8)            # Merko et al. worked example, N = 8
 STEEL = z.Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
@@ -85,3 +87,82 @@ def test_sweep_grid_reads_the_constants_at_call_time(monkeypatch):
     assert z.sweep_grid(reference=True).factor == 8
     monkeypatch.setattr(envelope, "GRID_CAP", 128)
     assert z.sweep_grid().cap == 128
+
+
+# ---------------------------------------------------------------- the joint "cycle" + "envelope" search (issue 16)
+# Expected: the old nested sweep (direction_maxima over a phase grid per pitch, then a full direction sweep),
+# independent of the roller-position formulation; spec §9's hard case N = 248 (509.3923211253138 MPa, the nested
+# sweep's result).
+EXAMPLE = CONFIGS / "zstk_merko_example.toml"
+
+
+# ----------------------------------------------------------------------------- item 5: joint search
+def nested_reference(ch, mats, load, clearance, tol=1e-9):
+    """The former nested sweep: phases per pitch x the direction envelope, then the full direction sweep."""
+    n = ch.n
+    m = min(720, max(180, 16 * n))
+    gg = 2 * np.pi * np.arange(m) / m
+    sw = z.maximise_periodic(lambda ph: z.direction_maxima(ch, mats, ph, gg, load, clearance, 1e-8),
+                             0.0, 2 * np.pi / n, 64, tol, 2 ** 16, 1e-8)
+    sw2 = z.maximise_periodic(lambda g: z.sigma_max_at(ch, mats, sw.x, g, load, clearance), 0.0, 2 * np.pi, 720, tol,
+                              2 ** 16, 1e-8)
+    return max(sw.value, sw2.value)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("geometry, n, clearance", [((100.0, 50.0, 6.0, 6.0), 8, 0.01),   # (8, 0.0): as (3, 0.0)
+                                                    ((100.0, 20.0, 60.0, 5.0), 5, 0.0),
+                                                    ((100.0, 50.0, 6.0, 6.0), 3, 0.0),
+                                                    ((100.0, 50.0, 10.0, 1.0), 5, -0.02)])
+def test_joint_search_against_the_nested_sweep(geometry, n, clearance):
+    ch = z.close_chain(*geometry, n)
+    mats = z.Materials.from_elastic(20.0, 2.1e5, 0.3, 1.5e5, 0.25, 2.1e5, 0.25)
+    pl = z.critical_placement(ch, mats, Q, clearance, tol=1e-6, refine_rtol=1e-5)
+    ref = nested_reference(ch, mats, Q, clearance)
+    assert abs(pl.value - ref) <= pl.err + 1e-9 * ref
+    assert pl.err <= 1e-6 * pl.value
+    # the placement reproduces the value
+    assert float(z.sigma_max_at(ch, mats, pl.phase, pl.gamma, Q, clearance)) == pytest.approx(pl.value, rel=1e-9)
+
+
+def test_hard_case_n248():
+    # spec §9: R_H = 100, R_B = 97.5, e = 0.5, c = 0.05, N = 248: the maximum is scheme A with the load toward
+    # the narrowest gap (the former nested sweep's result, 509.3923211253138 MPa)
+    s = api.compute(api.load(EXAMPLE, overrides={
+        "geometry.inner_raceway_radius_mm": 97.5, "geometry.eccentricity_mm": 0.5, "geometry.roller_gap_mm": 0.05,
+        "geometry.scheme": "cycle", "load.direction_deg": "envelope"})).summary
+    assert s["N"] == 248
+    assert abs(s["sigma_max_MPa"] - 509.3923211253138) <= s["sigma_max_err_MPa"] + 1e-12 * 509.4
+    assert s["sigma_max_err_MPa"] <= 1e-6 * s["sigma_max_MPa"]
+
+
+def test_grid_rows_without_refinement_equal_a_re_evaluation():
+    # above refine_rows_max_n the rows keep the quantities of each roller's best grid direction: they equal
+    # evaluating the chain at that direction
+    ch = z.close_chain(100.0, 50.0, 6.0, 6.0, 8)
+    theta = z.roller_angles(0.1, 8, ch.limiting_ratio)
+    d_b, d_h, g_b, g_h = z.roller_envelope(ch, STEEL, theta, Q, 0.0, 1e-6, 360,
+                                           grid=z.SweepGrid(refine_rows_max_n=0))
+    for i in range(8):
+        st = z.evaluate(ch, STEEL, theta[None, :], np.array([g_b[0, i]]), Q)
+        assert d_b["sigma_inner"][0, i] == pytest.approx(st.sigma_inner[0, i], rel=1e-12)
+        assert d_b["force_inner"][0, i] == pytest.approx(st.force_inner[0, i], rel=1e-12)
+        st = z.evaluate(ch, STEEL, theta[None, :], np.array([g_h[0, i]]), Q)
+        assert d_h["sigma_outer"][0, i] == pytest.approx(st.sigma_outer[0, i], rel=1e-12)
+
+
+@pytest.mark.parametrize("clearance", [0.0, 0.01])
+def test_roller_sigma_is_roller_zero_of_the_full_evaluation(clearance):
+    # §8: f(phi, rho) = max(sigma_0B, sigma_0H) of the chain with roller 0 at phi, load at its normal + rho;
+    # roller k at phase phi_0 is roller 0 at phi_0 + 2 pi k/N
+    ch = z.close_chain(100.0, 50.0, 6.0, 6.0, 8)
+    pos = np.array([0.0, 0.3, 2.0, 3.1])
+    rel = np.array([0.0, -0.2, 0.4, 1.0])
+    f = z.roller_sigma(ch, STEEL, pos, rel, Q, clearance)
+    theta = z.roller_angles(pos, 8, ch.limiting_ratio)
+    nb0 = np.array([z.evaluate(ch, STEEL, theta[i:i + 1], 0.0, Q, clearance).normal_angle[0, 0] for i in range(4)])
+    st = z.evaluate(ch, STEEL, theta, nb0 + rel, Q, clearance)
+    assert np.array_equal(f, np.maximum(st.sigma_inner[:, 0], st.sigma_outer[:, 0]))
+    pitch = 2 * np.pi / 8
+    shifted = z.evaluate(ch, STEEL, z.roller_angles(pos - 3 * pitch, 8, ch.limiting_ratio), nb0 + rel, Q, clearance)
+    assert np.allclose(np.maximum(shifted.sigma_inner[:, 3], shifted.sigma_outer[:, 3]), f, rtol=1e-12)
