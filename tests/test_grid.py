@@ -9,6 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import gearcalc
 from conftest import CONFIGS, cli
 from gearcalc import grid as sw
 from gearcalc.calculator import Options
@@ -360,3 +361,43 @@ def test_slots_only_where_workers_are_forked():
         assert slots.store(slot, [b"x" * (slots.size + 1)]) is None  # too large: the caller uses the pipe
         slots.give(slot)
         slots.close()
+
+
+# ---------------------------------------------------------------- the cost of a sweep, estimated before it starts
+BRIDGES = {"kind": "rows", "gear": {"sun_teeth": 18, "module_mm": 5.0, "ratio": 6.0},
+           "rows": {"count": 3, "planets_per_row": 3, "relative_width": 3.0}, "sun": {"torque_Nm": 1e3},
+           "bridges": {}}
+
+
+def test_the_cost_rule_is_one_for_every_kind():
+    # the same budget (600 s) takes a pins contact-level grid of 1e4 points (kinds/pins.py sweep_cost: 0.22 ms a
+    # pin and pass x 62 pins x 3 passes = 41 ms a point: 409 s) and refuses 2e4 (818 s), unless 10 processes
+    # share it
+    from conftest import CONFIGS
+    from gearcalc import grid
+    from gearcalc.calculator import Options
+
+    raw = gearcalc.design.read_toml(CONFIGS / "pins_paper_circ_u30_rotating.toml")
+    axes = {"friction.sliding": grid.Range(0.01, 1e-5, 10_000)}
+    total, seconds = grid.prepare(raw, "x.toml", axes, Options())
+    assert total == 10_000 and grid.cost_problem(axes, total, seconds) is None
+    big = {"friction.sliding": grid.Range(0.01, 1e-6, 20_000)}
+    assert "20000 points" in grid.cost_problem(big, 20_000, seconds)
+    assert grid.cost_problem(big, 20_000, seconds, workers=10) is None  # --jobs 10
+
+
+@pytest.mark.slow
+def test_costly_points_make_small_chunks():
+    # a contact-level point costs ~41 ms (kinds/pins.py sweep_cost): chunks of about a second's work
+    # (grid.FIRST_OUTPUT_SECONDS), so a streamed sweep shows its first rows at once, not after 65 536 points
+    from conftest import CONFIGS
+    from gearcalc import grid
+
+    raw = gearcalc.design.read_toml(CONFIGS / "pins_paper_circ_u30_rotating.toml")
+    seconds = grid.prepare(raw, "x.toml", {"friction.sliding": [0.1]})[1]
+    size = grid.chunk_points(seconds)
+    assert 1 <= size < 64 and size == int(grid.FIRST_OUTPUT_SECONDS / seconds)
+    parts = list(gearcalc.sweep(raw, {"friction.sliding": [0.05 + 0.001 * k for k in range(size + 1)]}))
+    assert [p.n for p in parts] == [size, 1]
+    # cheap vectorised points keep big chunks (rows with bridges, n = 3: 22 us a point, 45 454 points)
+    assert grid.chunk_points(grid.prepare(BRIDGES, "x.toml", {"rows.count": [3]})[1]) > 10_000
