@@ -4,6 +4,7 @@ import csv
 import io
 import json
 import tomllib
+from collections.abc import Sequence
 
 import pytest
 from hypothesis import given, settings
@@ -401,3 +402,50 @@ def test_costly_points_make_small_chunks():
     assert [p.n for p in parts] == [size, 1]
     # cheap vectorised points keep big chunks (rows with bridges, n = 3: 22 us a point, 45 454 points)
     assert grid.chunk_points(grid.prepare(BRIDGES, "x.toml", {"rows.count": [3]})[1]) > 10_000
+
+
+# ---------------------------------------------------------------- a chunk reads its own points (issue 36 item 8)
+# The work a chunk of a sweep does follows the chunk, not the grid: counted, not timed.
+class CountingAxis(Sequence):
+    """An axis of values that counts the values read (a stand-in for a long lazy axis)."""
+
+    def __init__(self, values):
+        self.values, self.reads = list(values), 0
+
+    def __len__(self):
+        return len(self.values)
+
+    def __getitem__(self, k):
+        out = self.values[k]
+        self.reads += len(out) if isinstance(k, slice) else 1
+        return out
+
+
+def test_grid_iter_of_a_late_chunk_reads_the_chunk_only():
+    """Iterating the last 10 points of a 100 000-point axis reads about 10 values (itertools.product over the
+    axis read all of them, for every chunk: a sweep quadratic in the grid size)."""
+    axis = CountingAxis(range(100_000))
+    g = sw.Grid({"a": [1, 2], "b": axis})
+    part = g[len(g) - 10:]
+    points = list(part)
+    assert points == [{"a": 2, "b": v} for v in range(99_990, 100_000)]
+    assert axis.reads <= 20
+
+
+def test_grid_iter_is_the_product_in_order():
+    """Every slice of a grid iterates as the same slice of the plain product (first axis slowest), over block
+    boundaries too."""
+    import itertools
+
+    axes = {"a": [1, 2, 3], "b": sw.Range(0.5, 0.1, 7), "c": ["x", "y"], "d": sw.Range(1, 2, 5, ints=True)}
+    full = [dict(zip(axes, c)) for c in itertools.product(*axes.values())]
+    g = sw.Grid(axes)
+    for start, stop in ((0, len(full)), (5, 6), (13, 200), (199, 210), (len(full) - 1, len(full))):
+        assert list(g[start:stop]) == full[start:stop]
+    old = sw.ITER_BLOCK
+    try:
+        sw.ITER_BLOCK = 4
+        assert list(g[3:50]) == full[3:50]
+    finally:
+        sw.ITER_BLOCK = old
+    assert list(sw.Grid({})) == [{}]

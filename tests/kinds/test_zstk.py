@@ -671,3 +671,34 @@ def test_cli_sweep_impossible_point_exit_2():
     assert r.code == 2, r
     assert "geometry.eccentricity_mm" in r.err and "must be" in r.err and "'geometry.eccentricity_mm': 12" in r.err
     assert "Traceback" not in r.err
+
+
+def test_zstk_sweep_checks_the_values_of_its_chunk_only(monkeypatch):
+    """A zstk chunk checks the distinct values of its own points (it checked every value of the axis for every
+    chunk); the columns are those of the whole-axis check."""
+    from gearcalc import design
+    from gearcalc.design import validate
+    from gearcalc.kinds import zstk
+
+    src = CONFIGS / "zstk_merko_example.toml"
+    raw = tomllib.loads(src.read_text())
+    axes = sw.parse_vary(["load.radial_N=1000:50999:1"])
+    base = validate(raw, str(src))
+    calls = []
+    real = design.check_value
+
+    def counting(field, value):
+        calls.append(value)
+        return real(field, value)
+
+    monkeypatch.setattr(design, "check_value", counting)
+    g = sw.Grid(axes)
+    cols = zstk.sweep(base, raw, axes, g[49_990:], Options())
+    assert len(calls) == 10
+    monkeypatch.setattr(design, "check_value", real)
+    alone = zstk.sweep(base, raw, axes, list(g[49_990:]), Options())
+    assert cols == alone
+    floats = sw.parse_vary(["load.radial_N=1000.0:20000.0:0.5"])   # a float axis: its values taken as they are
+    g = sw.Grid(floats)
+    assert zstk.sweep(base, raw, floats, g[100:300], Options()) == zstk.sweep(base, raw, floats, list(g[100:300]),
+                                                                               Options())
