@@ -449,3 +449,25 @@ def test_grid_iter_is_the_product_in_order():
     finally:
         sw.ITER_BLOCK = old
     assert list(sw.Grid({})) == [{}]
+
+
+# ---------------------------------------------------------------- a point that is not a valid design (issue 36 item 1)
+def test_invalid_sweep_points_are_rows_and_the_sweep_goes_on():
+    # the example of the issue: R_H = 50 and 55 leave no room for the rollers with R_B = 50 and e = 6
+    r = cli("sweep", CONFIGS / "zstk_merko_example.toml", "--vary", "geometry.outer_raceway_radius_mm=50:70:5",
+            "--format", "csv", "--fields", "sigma_max_MPa,margin_sigma,failed_checks,error")
+    assert r.code == 2, r
+    rows = list(csv.DictReader(io.StringIO(r.out)))
+    assert [x["geometry.outer_raceway_radius_mm"] for x in rows] == ["50", "55", "60", "65", "70"]
+    assert rows[0]["error"].startswith("geometry.inner_raceway_radius_mm = 50: must be < outer_raceway_radius_mm")
+    assert rows[1]["error"].startswith("geometry.eccentricity_mm = 6: must be")
+    assert rows[0]["sigma_max_MPa"] == rows[1]["sigma_max_MPa"] == ""
+    assert all(x["error"] == "" and float(x["sigma_max_MPa"]) > 0 for x in rows[2:])
+    assert "2 of 5 points have no results" in r.err and "at {'geometry.outer_raceway_radius_mm': 50}" in r.err
+    # the API: the same rows, the messages in Columns.errors
+    (part,) = gearcalc.sweep(CONFIGS / "zstk_merko_example.toml",
+                             {"geometry.outer_raceway_radius_mm": [50.0, 55.0, 60.0]})
+    assert [e is None for e in part.data["error"]] == [False, False, True] and len(part.errors) == 2
+    # a key the kind does not have is still refused before the sweep starts
+    r = cli("sweep", CONFIGS / "zstk_merko_example.toml", "--vary", "geometry.outer_radius_mm=50:70:5")
+    assert r.code == 2 and "outer_radius_mm" in r.err and not r.out
