@@ -3,6 +3,7 @@ import copy
 import csv
 import io
 import json
+import time
 import tomllib
 from collections.abc import Sequence
 
@@ -471,3 +472,31 @@ def test_invalid_sweep_points_are_rows_and_the_sweep_goes_on():
     # a key the kind does not have is still refused before the sweep starts
     r = cli("sweep", CONFIGS / "zstk_merko_example.toml", "--vary", "geometry.outer_radius_mm=50:70:5")
     assert r.code == 2 and "outer_radius_mm" in r.err and not r.out
+
+
+# ---------------------------------------------------------------- grids that cannot be built (issue 13)
+PINS = CONFIGS / "pins_paper_cyc_u10_rotating.toml"
+
+
+def test_sweep_point_cap_is_refused_without_materialising():
+    # 1e300 points: refused from the arithmetic alone (the grid is never built)
+    t = time.perf_counter()
+    with pytest.raises(sw.SweepError, match="more than the cap"):
+        sw.parse_spec("k", "1:1e300:1")
+    with pytest.raises(sw.SweepError, match="more than"):
+        sw.parse_vary(["a=1:1000:1", "b=1:1000:1", "c=1:101:1"])  # 1.01e8 points > MAX_POINTS = 1e8
+    assert time.perf_counter() - t < 1.0
+
+
+@pytest.mark.parametrize("spec,message", [
+    ("1:2:5e-324", "step is too small"),                 # (2-1)/5e-324 = inf: OverflowError before
+    ("1e308:-1e308:-1e300", "overflows"),               # stop - start = -inf: OverflowError before
+    ("1:1.0000000000000002:1e-17", "resolution"),       # 1 + 1e-17 == 1: every point the same number
+    ("1e400:2:1", "finite"),
+])
+def test_vary_specs_whose_arithmetic_overflows_exit_2(spec, message):
+    with pytest.raises(sw.SweepError, match=message):
+        sw.parse_spec("gearing.eccentricity_mm", spec)
+    r = cli("sweep", PINS, "--vary", f"gearing.eccentricity_mm={spec}")
+    assert r.code == 2, r
+    assert "Traceback" not in r.err

@@ -702,3 +702,53 @@ def test_zstk_sweep_checks_the_values_of_its_chunk_only(monkeypatch):
     g = sw.Grid(floats)
     assert zstk.sweep(base, raw, floats, g[100:300], Options()) == zstk.sweep(base, raw, floats, list(g[100:300]),
                                                                                Options())
+
+
+# ------------------------------------------------------------- guards (issue 13): cost, angles, tiny load, round-off
+def test_zstk_sweep_cost_guard_names_rollers():
+    # R_B = 99.6, e = 0.1, c = 0: N = 1619 rollers; "cycle" + "envelope" took 112 s with the nested sweep, ~3 s
+    # with the joint search (zstk.md §8).  At --model reference its first grid is 3 x 1619 x 65 roller positions
+    # x 256 relative directions = 8.08e7 roller-configurations > SWEEP_WORK_MAX = 6e6 (zstk/schema.py): refused
+    # before it starts; at the default model (1.4e6) check accepts it
+    sets = ["--set", "geometry.inner_raceway_radius_mm=99.6", "--set", "geometry.eccentricity_mm=0.1",
+            "--set", "geometry.roller_gap_mm=0.0", "--set", 'geometry.scheme="cycle"',
+            "--set", 'load.direction_deg="envelope"']
+    r = cli("zstk", EXAMPLE, *sets, "--model", "reference")
+    assert r.code == 2, r
+    assert "geometry.rollers" in r.err and "8.08e+07" in r.err and "envelope" in r.err
+    assert cli("check", EXAMPLE, *sets).code == 0
+
+
+def test_direction_1e17_equals_its_remainder():
+    # 1e17 = 360 k + 280 exactly (10^17 = 0 mod 8 and 10 mod 45, so 280 mod 360), i.e. -80 deg
+    assert 10 ** 17 % 360 == 280
+    opts = Options(tol=1e-6)
+    calc = registry.get("zstk")
+    for clearance in (0.0, 0.01):
+        big = calc.compute(load(str(EXAMPLE), [("load.direction_deg", 1e17), ("load.clearance_mm", clearance)]),
+                           opts)
+        small = calc.compute(load(str(EXAMPLE), [("load.direction_deg", -80.0), ("load.clearance_mm", clearance)]),
+                             opts)
+        for key in ("sigma_max_MPa", "sigma_max_load_direction_deg", "approach_um", "loaded_rollers"):
+            assert big.summary[key] == small.summary[key], key
+
+
+def test_zstk_tiny_load_is_refused():
+    # 5e-324 N returned solver_residual = 1.0 and pass = true; the schema now starts at MIN_FORCE_N = 1 uN,
+    # where the worked example with 0.01 mm clearance balances Q to ~4e-8 (the error estimate includes it)
+    from gearcalc.zstk import schema as kz
+
+    r = cli("zstk", EXAMPLE, "--set", "load.radial_N=5e-324")
+    assert r.code == 2 and "load.radial_N" in r.err
+    s = registry.get("zstk").compute(load(str(EXAMPLE), [("load.radial_N", kz.MIN_FORCE_N),
+                                                      ("load.clearance_mm", 0.01)]), Options(tol=1e-6)).summary
+    assert s["solver_residual"] < 1e-6 and s["sigma_max_MPa"] > 0 and s["sigma_max_err_MPa"] > 0
+
+
+def test_sweep_error_estimates_have_a_round_off_floor():
+    # a cycle/envelope estimate is at least 4 eps |sigma_max| (kinds/zstk.ROUNDOFF_ULPS)
+    import numpy as np
+
+    for sets in ([("geometry.scheme", "cycle")], [("load.direction_deg", "envelope")]):
+        s = registry.get("zstk").compute(load(str(EXAMPLE), sets), Options(tol=1e-3)).summary
+        assert s["sigma_max_err_MPa"] >= 4 * np.finfo(float).eps * s["sigma_max_MPa"]
