@@ -226,6 +226,7 @@ def test_correction_sign_and_roller_growth(raw):
 
 
 # ------------------------------------------------------------------ 3. equilibrium and forces
+@pytest.mark.slow
 @PROPS
 @given(designs(), st.sampled_from(["equilibrium", "fixed-direction"]))
 def test_force_equilibrium_from_the_detail_table(raw, model):

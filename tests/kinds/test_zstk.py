@@ -623,7 +623,7 @@ VARIANTS = [
 ]
 
 
-@pytest.mark.parametrize("model", ["equilibrium", "fixed-direction"])
+@pytest.mark.parametrize("model", [pytest.param("equilibrium", marks=pytest.mark.slow), "fixed-direction"])  # CI: both
 def test_batch_of_mixed_designs_equals_compute(model):
     """Different N, clearance, direction, scheme, material and sweeping designs in one batch, in order."""
     designs = [load(str(EXAMPLE), v) for v in VARIANTS] * 2
