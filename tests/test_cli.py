@@ -466,6 +466,7 @@ def test_shared_options_are_declared_once():
 
 
 # ---------------------------------------------------------------- the progress bar
+@pytest.mark.slow  # a terminal and a contact-level sweep: long
 def test_the_progress_bar_says_the_time_left(tmp_path):
     # on a terminal's stderr a sweep's bar has a "left" column (rich's TimeRemainingColumn: the time once the
     # rate is known): a pins contact-level sweep of 12 points (its ~41 ms a point estimated)

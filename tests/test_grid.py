@@ -196,9 +196,11 @@ def _bits(values) -> bytes:
 
 
 AWKWARD_RANGES = [
-    (1.5, 1.5 / (1e6 - 1), 1_000_000), (0.0, 0.1, 200_000), (0.0, 1 / 3, 300_000), (5.0, -0.1, 200_000),
+    pytest.param(1.5, 1.5 / (1e6 - 1), 1_000_000, marks=pytest.mark.slow),  # a million points: long (CI)
+    (0.0, 0.1, 200_000), (0.0, 1 / 3, 300_000), (5.0, -0.1, 200_000),
     (-3.0, 1e-5, 600_001), (1e11, 0.37, 100_000), (9.99999, 1e-7, 200_000), (1e-12, 1e-13, 100_000),
-    (-1.0, 2e-6, 1_000_001), (123456.789, 0.001, 200_000), (2.2, 0.005, 1961), (0.999999999999, 1e-13, 50_000),
+    pytest.param(-1.0, 2e-6, 1_000_001, marks=pytest.mark.slow),
+    (123456.789, 0.001, 200_000), (2.2, 0.005, 1961), (0.999999999999, 1e-13, 50_000),
     (-0.0, -0.1, 10), (0.0, -0.1, 10), (1e15, 1.0, 10_000), (99999999999.5, 0.25, 20_000), (1e300, -1e297, 100),
     (3.0, -1.5 / (2.5e5 - 1), 250_000),
 ]
@@ -214,6 +216,7 @@ def test_range_take_is_bit_identical_to_per_point_values(start, step, count):
     assert _bits(r[-5:]) == _bits([r[k] for k in range(count - 5, count)])
 
 
+@pytest.mark.slow  # 300 random ranges: long; the awkward ranges above stay in the quick loop
 @settings(max_examples=300, deadline=None)
 @given(st.floats(-1e13, 1e13, allow_nan=False), st.floats(1e-10, 1e4) | st.floats(-1e4, -1e-10),
        st.integers(1, 3000), st.integers(0, 10**7))
