@@ -55,3 +55,14 @@ def test_a_box_of_invalid_designs_is_refused_with_the_designs_reason():
     with pytest.raises(gearcalc.InputError, match=r"no point of the sample is a valid design, e\.g\. sun\.bore_mm"):
         gearcalc.optimize(ROWS, {"gear.module_mm": (2.0, 3.5)}, "w_max_N_per_mm:max",
                           overrides={"sun.bore_mm": 60}, budget=8)
+
+
+def test_sensitivity_says_how_many_points_are_not_designs():
+    # modules in [2, 6] with a 60 mm bore: those below 60/15.5 = 3.87 are not designs (rows.md's root diameter);
+    # Saltelli's scheme evaluates N (d + 2) = 8 x 4 = 32 points, some of each kind
+    r = gearcalc.sensitivity(ROWS, {"gear.module_mm": (2.0, 6.0), "rows.relative_width": (1.6, 3.0)},
+                             overrides={"sun.bore_mm": 60}, samples=8, fields=["K"])
+    assert r.evaluations == 32
+    (note,) = [n for n in r.notes if "not valid designs" in n]
+    invalid = int(note.split(" of ")[0])
+    assert 0 < invalid < 32 and "of 32 points are not valid designs (e.g. sun.bore_mm = 60" in note
