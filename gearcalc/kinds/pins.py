@@ -34,9 +34,8 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     **OUTPUT_ARGS,                                  # the output mechanism and the crank's drag (pins.md §4.10)
     **LAW_ARGS,                                     # the teeth's speed-dependent sliding law (pins.md §4.10)
 }
-VIOLATION_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile", "sliding", "load_pin_radius",
-                  "load_axle_radius")
-GEAR_ARGS = VIOLATION_ARGS[:9] + ("tooth_radius", "tooth_circle_radius", "load_pin_radius", "load_axle_radius")
+GEAR_FIELDS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile")
+"""The fields of :class:`gearcalc.pins.checks.GearGiven`, argument names of :data:`KEYS`."""
 
 DEFAULT_FRICTION_MODEL = "consistent"
 """The friction model of a design that names none (pins.md §4.9, §7; tests of first-order numbers patch it)."""
@@ -77,8 +76,19 @@ def _modified(design) -> bool:
     return design.has("gearing") and C.modified(design["gearing.equidistant_mod_mm"], design["gearing.radial_mod_mm"])
 
 
+def _gear_given(values) -> C.GearGiven:
+    """The gear as given (``values(key)``: one design's value, or a list over designs or points)."""
+    return C.GearGiven(*(values(KEYS[name]) for name in GEAR_FIELDS))
+
+
+def _pin_load_given(values) -> C.PinLoadGiven:
+    """The per-pin load's radii as given (``values(key)`` as for :func:`_gear_given`)."""
+    return C.PinLoadGiven(values(KEYS["load_pin_radius"]), values(KEYS["load_axle_radius"]))
+
+
 def _violations(values):
-    return C.violations(**{name: values(KEYS[name]) for name in VIOLATION_ARGS})
+    """:func:`gearcalc.pins.checks.violations` of designs or points (``values(key)``: a list, None where absent)."""
+    return C.violations(_gear_given(values), values(KEYS["sliding"]), _pin_load_given(values))
 
 
 def check(design, problems: Problems) -> None:
@@ -87,8 +97,9 @@ def check(design, problems: Problems) -> None:
 
     a, tables = _one(design), _tables(design)
     with quiet_numpy():  # an overflow at an input's extreme is a problem said below, never a numpy warning
-        found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, **{n: a[n] for n in GEAR_ARGS},
-                                  is_modified=_modified(design))
+        found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, _gear_given(design.get),
+                                  _pin_load_given(design.get), a["tooth_radius"], a["tooth_circle_radius"],
+                                  _modified(design))
     R.report_problems(found, problems)
     duty = _duty_problem(design, tables)
     if duty is not None:
@@ -291,8 +302,8 @@ def sweep_cost(base, axes, options) -> float:
 
 def _points_pass_checks(base, values, n: int, level: str) -> bool:
     """Whether every point passes the checks its varied keys can break (else: point by point, as the loader)."""
-    return C.points_pass(_violations(values), level == "formula", base.has("pin_load"),
-                         *(values(KEYS[name]) for name in ("z1", "z2", "n_d", "e", "Rb", "K1", "Rp")))
+    return C.points_pass(_violations(values), level == "formula", base.has("pin_load"), _gear_given(values),
+                         values(KEYS["n_d"]))
 
 
 def _law_problem(a):

@@ -19,7 +19,7 @@ from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_
                      IDEAL_WORK_MAX)
 
 __all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVEL_KEYS", "level_reason",
-           "contact_law_problem", "Violations", "violations",
+           "contact_law_problem", "GearGiven", "PinLoadGiven", "Violations", "violations",
            "pin_circle_curtate", "tooth_too_large", "design_problems", "ideal_admissibility", "ideal_over_budget",
            "contact_passes", "contact_over_budget", "computed_alone", "points_pass"]
 
@@ -238,6 +238,60 @@ for ``gearcalc check``; a test checks its names are those of :data:`gearcalc.pin
 
 
 @dataclass(frozen=True)
+class GearGiven:
+    """A pin gear's keys as a design gives them, in the physics' names (pins.md §3, §7).
+
+    Each field holds one design's value (:func:`design_problems`) or a list of the values of n designs or sweep
+    points (:func:`violations`, :func:`points_pass`); None where the key is not given.
+
+    Attributes
+    ----------
+    z1, z2 : int or None
+        Satellite teeth and pins, [-] (None: no gear).
+    e : float or None
+        Eccentricity, [mm].
+    Rp : float or None
+        Pin circle radius R_p, [mm] (None: K1 given instead).
+    K1 : float or None
+        Curtate ratio, [-] (None: R_p given instead).
+    Rb : float or None
+        Pin (bushing) radius R_b, [mm].
+    r : float or None
+        Axle radius of rotating pins, [mm].
+    rotating : bool
+        Rotating pins (bushings on axles).
+    profile : str
+        The satellite's profile, "cycloidal" or "circular".
+    """
+
+    z1: object
+    z2: object
+    e: object
+    Rp: object
+    K1: object
+    Rb: object
+    r: object
+    rotating: object
+    profile: object
+
+
+@dataclass(frozen=True)
+class PinLoadGiven:
+    """The radii of the per-pin load ``[pin_load]`` (pins.md §3), one design's or lists over points (None: absent).
+
+    Attributes
+    ----------
+    pin_radius : float or None
+        Bushing radius R, [mm].
+    axle_radius : float or None
+        Axle radius r, [mm].
+    """
+
+    pin_radius: object
+    axle_radius: object
+
+
+@dataclass(frozen=True)
 class Violations:
     """The cross-key rules over designs or points (:func:`violations`): boolean arrays of shape (n,).
 
@@ -253,7 +307,7 @@ class Violations:
     geometry: object
 
 
-def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_radius, load_axle_radius) -> Violations:
+def violations(gear: GearGiven, sliding, pin_load: PinLoadGiven) -> Violations:
     r"""The cross-key rules of n designs or sweep points (pins.md §7, §9), as arrays.
 
     .. math:: r < R\ \text{(per-pin load)},\quad f\ \text{given},\quad R_p \oplus K_1,\quad
@@ -264,16 +318,12 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
 
     Parameters
     ----------
-    z1, z2 : list of int or None
-        Teeth and pins per point (None: no gear).
-    e, Rp, K1, Rb, r : list of float or None
-        Eccentricity, pin circle, curtate ratio, pin and axle radii [mm] (None: not given).
-    rotating : list of bool; profile : list of str
-        Rotating pins; "cycloidal" or "circular".
+    gear : GearGiven
+        The gear per point, lists of n values (None: not given; z1, z2 None: no gear).
     sliding : list of float or None
         f (None: not given).
-    load_pin_radius, load_axle_radius : list of float or None
-        R and r of the per-pin load [mm] (pins.md §3).
+    pin_load : PinLoadGiven
+        R and r of the per-pin load per point [mm] (pins.md §3), lists of n values.
 
     Returns
     -------
@@ -281,8 +331,8 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
 
     Examples
     --------
-    >>> v = violations([20], [22], [3.9], [None], [0.75], [1.95], [None], [True], ["cycloidal"], [None],
-    ...                [1.95], [2.0])
+    >>> gear = GearGiven([20], [22], [3.9], [None], [0.75], [1.95], [None], [True], ["cycloidal"])
+    >>> v = violations(gear, [None], PinLoadGiven([1.95], [2.0]))
     >>> v.pin_load_axle.tolist(), v.no_sliding.tolist(), v.one_circle.tolist(), v.no_axle.tolist()
     ([True], [True], [False], [True])
 
@@ -295,15 +345,16 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
     import numpy as np
 
     from .operating import floats
-    from .geometry import geometry_violations
+    from .geometry import PinMounting, geometry_violations
 
-    K1g, Rpg, r_ = floats(K1), floats(Rp), floats(r)
-    rot = np.array([bool(v) for v in rotating])
-    has_g = all(v is not None for v in z1 + z2)
-    geometry = geometry_violations(z1 if has_g else 0, z2 if has_g else 0, floats(e), Rpg, K1g, floats(Rb), r_, rot,
-                                   np.array([p == "cycloidal" for p in profile]))
+    K1g, Rpg, r_ = floats(gear.K1), floats(gear.Rp), floats(gear.r)
+    rot = np.array([bool(v) for v in gear.rotating])
+    has_g = all(v is not None for v in gear.z1 + gear.z2)
+    geometry = geometry_violations(gear.z1 if has_g else 0, gear.z2 if has_g else 0, floats(gear.e), Rpg, K1g,
+                                   floats(gear.Rb), PinMounting(r_, rot),
+                                   np.array([p == "cycloidal" for p in gear.profile]))
     with np.errstate(invalid="ignore"):
-        return Violations(pin_load_axle=floats(load_axle_radius) >= floats(load_pin_radius),
+        return Violations(pin_load_axle=floats(pin_load.axle_radius) >= floats(pin_load.pin_radius),
                           no_sliding=np.array([v is None for v in sliding]),
                           one_circle=np.isnan(K1g) == np.isnan(Rpg), no_axle=rot & np.isnan(r_), geometry=geometry)
 
@@ -352,36 +403,30 @@ def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
     return float(Rp), (e * z2 / ((z2 - z1) * Rp) if K1 is None else K1), float(omk)
 
 
-def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rotating, profile, tooth_radius,
-                    tooth_circle_radius, is_modified, load_pin_radius, load_axle_radius) -> list:
+def design_problems(bad: Violations, tables: set, gear: GearGiven, pin_load: PinLoadGiven, tooth_radius,
+                    tooth_circle_radius, is_modified: bool) -> list:
     """The cross-key problems of one design (pins.md §5.3, §7, §9) in the order ``gearcalc check`` reports them.
 
     (severity "error" or "warn", rule of :data:`gearcalc.pins.report.PROBLEMS` or the name of a warning, the numbers
-    of its message).  ``bad``: :func:`violations` of the design (arrays of one); ``tables``: the design's tables
-    among "gearing", "pin_load", "load"; ``Rp``, ``K1``: as given (None: not). The list ends early without a gear
-    (the gear's rules and the level's do not apply) and at a curtate ratio that overflows R_p (the rules after it
-    cannot be evaluated): ``gearcalc check`` stops there too.
+    of its message).  The list ends early without a gear (the gear's rules and the level's do not apply) and at a
+    curtate ratio that overflows R_p (the rules after it cannot be evaluated): ``gearcalc check`` stops there too.
+    The steps: the tables (:func:`_table_problems`), the gear (:func:`_gear_problems`), its pins' axles
+    (:func:`_axle_problems`), its profile (:func:`_profile_problems`).
 
     Parameters
     ----------
     bad : Violations
         :func:`violations` of the design (arrays of one).
     tables : set of str
-        The design's tables.
-    z1, z2 : int or None
-        Teeth and pins, [-].
-    e, Rp, K1, Rb, r : float or None
-        Eccentricity [mm], pin circle [mm], curtate ratio [-], pin and axle radii [mm], as given.
-    rotating : bool
-        Rotating pins.
-    profile : str
-        "cycloidal" or "circular".
+        The design's tables among "gearing", "pin_load", "load".
+    gear : GearGiven
+        The design's gear, one value per field, as given (R_p, K1: None where not given).
+    pin_load : PinLoadGiven
+        R and r of the per-pin load, [mm].
     tooth_radius, tooth_circle_radius : float or str
         rho_t and R_t [mm], or "full" and "zero_backlash".
     is_modified : bool
         A modified cycloid.
-    load_pin_radius, load_axle_radius : float or None
-        R and r of the per-pin load, [mm].
 
     Returns
     -------
@@ -390,10 +435,11 @@ def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rota
 
     Examples
     --------
-    >>> bad = violations([20], [22], [3.9], [None], [0.75], [9.0], [None], [False], ["cycloidal"], [0.1],
-    ...                  [None], [None])
-    >>> [(s, rule) for s, rule, _ in design_problems(bad, {"gearing", "load"}, 20, 22, 3.9, None, 0.75, 9.0, None,
-    ...                                               False, "cycloidal", "full", "zero_backlash", False, None, None)]
+    >>> one = GearGiven(20, 22, 3.9, None, 0.75, 9.0, None, False, "cycloidal")
+    >>> points = GearGiven(*([v] for v in vars(one).values()))
+    >>> bad = violations(points, [0.1], PinLoadGiven([None], [None]))
+    >>> [(s, rule) for s, rule, _ in design_problems(bad, {"gearing", "load"}, one, PinLoadGiven(None, None),
+    ...                                               "full", "zero_backlash", False)]
     [('error', 'overlap')]
 
     References
@@ -402,16 +448,43 @@ def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rota
     """
     if not tables & {"gearing", "pin_load"}:
         return [("error", "no_tables", {})]
+    out = _table_problems(bad, tables, pin_load)
+    if "gearing" not in tables:
+        return out
+    gear_out, stop = _gear_problems(bad, gear)
+    out.extend(gear_out)
+    if stop:
+        return out
+    out.extend(_axle_problems(bad, gear))
+    out.extend(_profile_problems(bad, gear, tooth_radius, tooth_circle_radius, is_modified))
+    return out
+
+
+def _table_problems(bad: Violations, tables: set, pin_load: PinLoadGiven) -> list:
+    """The problems of one design's tables (:func:`design_problems`'s first step, pins.md §3, §7).
+
+    The per-pin load's axle; with [gearing], [load] and friction.sliding missing.
+    """
     out = []
     if "pin_load" in tables and bad.pin_load_axle[0]:
-        out.append(("error", "pin_load_axle", {"r": load_axle_radius, "R": load_pin_radius}))
+        out.append(("error", "pin_load_axle", {"r": pin_load.axle_radius, "R": pin_load.pin_radius}))
     if "gearing" not in tables:
         return out
     if "load" not in tables:
         out.append(("error", "no_load", {}))
     if bad.no_sliding[0]:
         out.append(("error", "no_sliding", {}))
-    geo = bad.geometry
+    return out
+
+
+def _gear_problems(bad: Violations, gear: GearGiven) -> tuple[list, bool]:
+    """(problems, stop) of one design's gear (pins.md §4.1, §7, §9).
+
+    k >= 1, one of R_p and K1, R_p finite (else ``stop``: the rules after it cannot be evaluated), K1 < 1, no
+    overlapping pins.
+    """
+    geo, out = bad.geometry, []
+    z1, z2, e, Rp, K1 = gear.z1, gear.z2, gear.e, gear.Rp, gear.K1
     ok_teeth = not geo.teeth[0]
     if not ok_teeth:
         out.append(("error", "teeth", {"z1": z1, "z2": z2}))
@@ -422,19 +495,33 @@ def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rota
         k = z2 - z1
         if geo.overflow[0]:        # e.g. K1 = 5e-324: R_p = inf (was exit 70)
             out.append(("error", "overflow", {"K1": K1_, "e": e, "ratio": z2 / k}))
-            return out
+            return out, True
         if geo.curtate[0]:
             out.append(("error", "curtate_K1", {"K1": K1_}) if K1 is not None else
                        ("error", "curtate_Rp", {"Rp": Rp_, "K1": K1_, "limit": e * z2 / k, "e": e}))
         if geo.overlap[0]:         # R_b >= R_p sin(pi/z2) (geometry_violations)
-            out.append(("error", "overlap", {"Rb": Rb, "limit": float(geo.overlap_limit[0]), "Rp": Rp_, "z2": z2}))
-    if rotating:
-        if bad.no_axle[0]:
-            out.append(("error", "no_axle", {}))
-        elif geo.axle[0]:
-            out.append(("error", "axle", {"r": r, "Rb": Rb}))
-    circular = profile == "circular"
-    if circular and ok_teeth and tooth_radius != "full" and (Rp is None) != (K1 is None):
+            out.append(("error", "overlap", {"Rb": gear.Rb, "limit": float(geo.overlap_limit[0]), "Rp": Rp_,
+                                             "z2": z2}))
+    return out, False
+
+
+def _axle_problems(bad: Violations, gear: GearGiven) -> list:
+    """The problems of one design's rotating pins (pins.md §7): an axle radius given, and r < R_b."""
+    if not gear.rotating:
+        return []
+    if bad.no_axle[0]:
+        return [("error", "no_axle", {})]
+    return [("error", "axle", {"r": gear.r, "Rb": gear.Rb})] if bad.geometry.axle[0] else []
+
+
+def _profile_problems(bad: Violations, gear: GearGiven, tooth_radius, tooth_circle_radius, is_modified) -> list:
+    """The problems of one design's profile (pins.md §5.3).
+
+    A circular tooth that fits (R_b + rho_t < R_p - e); the warnings of the keys of the other profile.
+    """
+    out, circular = [], gear.profile == "circular"
+    z1, z2, e, Rp, K1, Rb = gear.z1, gear.z2, gear.e, gear.Rp, gear.K1, gear.Rb
+    if circular and not bad.geometry.teeth[0] and tooth_radius != "full" and (Rp is None) != (K1 is None):
         Rp_, _, _ = pin_circle_curtate(z1, z2, e, Rp, K1)
         if tooth_too_large(Rb, tooth_radius, Rp_, e):
             out.append(("error", "tooth_too_large", {"rho_t": tooth_radius, "sum": Rb + tooth_radius,
@@ -627,14 +714,13 @@ def computed_alone(z2: int, n_discs: int, tol: float) -> bool:
     return tol < GROUP_TOL_MIN or z2 * n_discs > GROUP_PINS_MAX
 
 
-def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d, e, Rb, K1, Rp) -> bool:
+def points_pass(bad: Violations, formula: bool, has_pin_load: bool, gear: GearGiven, n_d) -> bool:
     """Whether every point of a vectorised sweep passes the rules its varied keys can break.
 
-    ``bad``: :func:`violations` of the points; ``formula``: the sweep runs the formula level; the gear as lists
-    per point (None: not given).  The rules of :func:`design_problems` as arrays (the per-pin load's axle; at
-    the ideal level f given, k >= 1, one of R_p and K1, the gear's geometry, the axle) and the cost budgets:
-    :func:`ideal_over_budget` per point, and :data:`~gearcalc.pins.schema.IDEAL_SWEEP_WORK_MAX` pin-discs over
-    the distinct geometries (solved together; a larger grid runs point by point, bounded memory).
+    The rules of :func:`design_problems` as arrays (the per-pin load's axle; at the ideal level f given, k >= 1,
+    one of R_p and K1, the gear's geometry, the axle) and the cost budgets: :func:`ideal_over_budget` per point,
+    and :data:`~gearcalc.pins.schema.IDEAL_SWEEP_WORK_MAX` pin-discs over the distinct geometries (solved together;
+    a larger grid runs point by point, bounded memory).
 
     Parameters
     ----------
@@ -644,14 +730,10 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d,
         The sweep runs the formula level.
     has_pin_load : bool
         The design has a per-pin load.
-    z1, z2, n_d : list of int or None
-        Teeth, pins and discs per point, [-].
-    e, Rb : list of float or None
-        Eccentricity and pin radius per point, [mm].
-    K1 : list of float or None
-        Curtate ratio per point, [-].
-    Rp : list of float or None
-        Pin circle radius per point, [mm].
+    gear : GearGiven
+        The gear per point, lists of n values (None: not given).
+    n_d : list of int
+        Discs per point, [-].
 
     Returns
     -------
@@ -660,10 +742,10 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d,
 
     Examples
     --------
-    >>> bad = violations([20, 20], [22, 22], [3.9, 3.9], [None, None], [0.75, 0.75], [1.95, 9.0], [None, None],
-    ...                  [False, False], ["cycloidal"] * 2, [0.1, 0.1], [None, None], [None, None])
-    >>> points_pass(bad, False, False, [20, 20], [22, 22], [1, 1], [3.9, 3.9], [1.95, 9.0], [0.75, 0.75],
-    ...             [None, None])   # the second point's pins overlap
+    >>> gear = GearGiven([20, 20], [22, 22], [3.9, 3.9], [None, None], [0.75, 0.75], [1.95, 9.0], [None, None],
+    ...                  [False, False], ["cycloidal"] * 2)
+    >>> bad = violations(gear, [0.1, 0.1], PinLoadGiven([None, None], [None, None]))
+    >>> points_pass(bad, False, False, gear, [1, 1])   # the second point's pins overlap
     False
 
     References
@@ -680,11 +762,11 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d,
         return True
     if np.any(bad.no_sliding) or np.any(bad.geometry.teeth) or np.any(bad.one_circle):
         return False
-    z1, z2, n_d = (np.array(v, dtype=np.int64) for v in (z1, z2, n_d))
+    z1, z2, n_d = (np.array(v, dtype=np.int64) for v in (gear.z1, gear.z2, n_d))
     if np.any(ideal_over_budget(z2, n_d)):         # reported point by point
         return False
-    key = np.nan_to_num(np.stack([z1, z2, n_d, floats(e), floats(Rb), floats(K1), floats(Rp)], axis=1).astype(float),
-                        nan=-1.0)
+    key = np.nan_to_num(np.stack([z1, z2, n_d, floats(gear.e), floats(gear.Rb), floats(gear.K1), floats(gear.Rp)],
+                                 axis=1).astype(float), nan=-1.0)
     geometries = np.unique(key, axis=0)         # each distinct geometry is solved once
     if float((geometries[:, 1] * geometries[:, 2]).sum()) > IDEAL_SWEEP_WORK_MAX:
         return False

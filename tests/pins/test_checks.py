@@ -86,11 +86,15 @@ def test_pin_circle_curtate_from_either_given():
     assert math.isclose(omk, 1 - K1, rel_tol=1e-14)
 
 
+def _gear(p) -> C.GearGiven:
+    return C.GearGiven(**{f: p[f] for f in ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile")})
+
+
 def _violations(**over):
     p = dict(z1=[20], z2=[22], e=[3.9], Rp=[None], K1=[0.75], Rb=[1.95], r=[0.95], rotating=[False],
              profile=["cycloidal"], sliding=[0.1], load_pin_radius=[None], load_axle_radius=[None])
     p.update(over)
-    return C.violations(**p)
+    return C.violations(_gear(p), p["sliding"], C.PinLoadGiven(p["load_pin_radius"], p["load_axle_radius"]))
 
 
 def test_violations_at_the_pin_overlap_limit():
@@ -130,7 +134,9 @@ def _problems(bad, tables=("gearing", "load"), **over):
     p = dict(PAPER, r=None, rotating=False, profile="cycloidal", tooth_radius="full",
              tooth_circle_radius="zero_backlash", is_modified=False, load_pin_radius=None, load_axle_radius=None)
     p.update(over)
-    return [(s, rule) for s, rule, _ in C.design_problems(bad, set(tables), **p)]
+    found = C.design_problems(bad, set(tables), _gear(p), C.PinLoadGiven(p["load_pin_radius"], p["load_axle_radius"]),
+                              p["tooth_radius"], p["tooth_circle_radius"], p["is_modified"])
+    return [(s, rule) for s, rule, _ in found]
 
 
 def test_design_problems_in_the_order_check_reports_them():
@@ -201,10 +207,14 @@ def test_points_pass():
     ok = _violations(**{k: v for k, v in pts.items() if k != "n_d"}, r=[None] * n, rotating=[False] * n,
                      profile=["cycloidal"] * n, sliding=[0.1] * n, load_pin_radius=[None] * n,
                      load_axle_radius=[None] * n)
-    assert C.points_pass(ok, False, False, *pts.values())
-    assert not C.points_pass(ok, False, False, *dict(pts, n_d=[1, 1, 10_000]).values())   # z2 n_d over budget
+
+    def gear(p):
+        return _gear(dict(p, r=[None] * n, rotating=[False] * n, profile=["cycloidal"] * n))
+
+    assert C.points_pass(ok, False, False, gear(pts), pts["n_d"])
+    assert not C.points_pass(ok, False, False, gear(pts), [1, 1, 10_000])   # z2 n_d over budget
     big = dict(pts, z2=[IDEAL_SWEEP_WORK_MAX // 2 + 1] * n, z1=[IDEAL_SWEEP_WORK_MAX // 2] * n)
-    assert not C.points_pass(ok, False, False, *big.values())   # sum of z2 n_d over the distinct geometries
+    assert not C.points_pass(ok, False, False, gear(big), big["n_d"])   # sum of z2 n_d over the distinct geometries
     curtate = _violations(K1=[0.75, 1.2, 0.75])
-    assert not C.points_pass(curtate, False, False, *dict(pts, K1=[0.75, 1.2, 0.75]).values())
-    assert C.points_pass(curtate, True, False, *pts.values())   # the formula level: only the [pin_load] rule
+    assert not C.points_pass(curtate, False, False, gear(dict(pts, K1=[0.75, 1.2, 0.75])), pts["n_d"])
+    assert C.points_pass(curtate, True, False, gear(pts), pts["n_d"])   # the formula level: only the [pin_load] rule
