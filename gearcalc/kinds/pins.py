@@ -162,7 +162,12 @@ def cost_problem(design, level: str):
     (:data:`IDEAL_WORK_MAX`, :data:`CONTACT_WORK_MAX`), else None.  ``check`` and compute share it."""
     if level not in ("ideal", "contact") or not design.has("gearing"):
         return None
-    return R.cost_problem(level, design["gearing.pins"], design["gearing.discs"], design.get(KEYS["shaft"]) == "V")
+    z2, n_d, on_V = design[KEYS["z2"]], design[KEYS["n_d"]], design.get(KEYS["shaft"]) == "V"
+    if level == "ideal" and C.ideal_over_budget(z2, n_d):
+        return R.ideal_cost_problem(z2, n_d)
+    if level == "contact" and C.contact_over_budget(z2, on_V):
+        return R.contact_cost_problem(z2, C.contact_passes(on_V), C.contact_pins_max(on_V), on_V)
+    return None
 
 
 def admissibility_problem(design, level: str):
@@ -241,7 +246,38 @@ def _group(designs, level: str, options: Options, t0: float) -> list:
     cols, ideal = level_columns(_args(lambda key: [d.get(key) for d in designs]), level, [d.name for d in designs],
                                 options.tol, any(d.has("pin_load") for d in designs), DEFAULT_FRICTION_MODEL)
     cols["model_reason"] = [level_reason(d, options.model) for d in designs]
-    return R.group_results(designs, cols, ideal, options.tol, options.detail, t0)
+    return _group_results(designs, cols, ideal, options, t0)
+
+
+def _rolling(a) -> C.RollingValues:
+    """The design's values in the rolling condition (``a``: :func:`_one`)."""
+    return C.RollingValues(a["sliding"], a["Rb"], a["axle"], a["r"], a["rolling"])
+
+
+def _group_results(designs, cols, ideal, options: Options, t0: float) -> list:
+    """Per design of a group computed together (:func:`gearcalc.pins.columns.level_columns`: its columns ``cols``
+    and the ideal level's :class:`~gearcalc.pins.columns.IdealColumns` or None) its Result or DesignError, with
+    the notes of :func:`gearcalc.pins.report.cycle_notes`; ``model_time_ms`` is the group's time since ``t0`` per
+    design."""
+    out = []
+    for i, d in enumerate(designs):
+        summary, warnings, failed, tables = {k: col[i] for k, col in cols.items()}, [], [], {}
+        if ideal is not None:
+            if ideal.errors[i] is not None:
+                out.append(ideal.errors[i])
+                continue
+            a = _one(d)
+            law = d.has("contact") and (d.is_given(KEYS["law"]) or d.is_given(KEYS["stiffness"]))
+            warnings = ([R.CONTACT_TABLE_UNUSED] if law else []) + ideal.warnings[i]
+            R.cycle_notes(summary, _rolling(a), a["speed"], options.tol, warnings, failed)
+            failed.extend(R.stress_failure(summary, a["allowable"]))
+            tables = ideal.detail(i) if options.detail else {}
+        out.append(R.result(summary, tables, warnings, failed))
+    per_design = (time.perf_counter() - t0) * 1e3 / len(designs)
+    for r in out:
+        if isinstance(r, Result):
+            r.summary["model_time_ms"] = per_design
+    return out
 
 
 def sweep(base, raw, axes, points, options):
@@ -334,7 +370,7 @@ def _satellite(design, a):
         return (g, law, *satellite_profile(g, a["profile"], a["tooth_radius"], a["tooth_circle_radius"],
                                            a["radial_mod"], a["equidistant_mod"]))
     except InadmissibleProfile as exc:
-        raise R.profile_error(exc, design, g) from None
+        raise R.profile_error(exc, g, a["radial_mod"], a["equidistant_mod"]) from None
 
 
 def _contact(design, options: Options, warnings, failed, detail) -> dict:
@@ -360,13 +396,16 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
         cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"]),
                            {n: a[n] for n in OPERATING}, model, options.tol, profile.play_free, options.detail,
                            torsion=bool(a["torsion"]))
-    except (pc.NoEquilibrium, pc.Unresolvable) as exc:
-        raise R.contact_error(exc, design, g) from None
+    except pc.NoEquilibrium as exc:
+        raise R.no_equilibrium_error(exc, a["z1"], a["profile"], a["tooth_circle_radius"],
+                                     a["equidistant_mod"]) from None
+    except pc.Unresolvable:
+        raise R.unresolvable_error(a["e"], g.R_p, a["Rb"], a["torque"]) from None
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))
     if not cl.balanced:
-        raise R.stiffness_error(design, law, cl.residual, options.tol)
+        raise R.stiffness_error(law, a["face_width"], a["torque"], cl.residual, options.tol)
     summary.update(_contact_summary(design, g, law, profile, cl, model))
-    R.contact_notes(design, summary, options.tol, warnings, failed, cl, a["mode"] == "multiplier")
+    R.contact_notes(summary, _rolling(a), a["speed"], options.tol, warnings, failed, cl)
     summary.update({k: v[0] for k, v in margin_columns({k: [v] for k, v in summary.items()},
                                                        {n: [x] for n, x in a.items()}).items()})
     failed.extend(R.stress_failure(summary, a["allowable"]))
@@ -384,7 +423,7 @@ def _contact_summary(design, g, law, profile, cl, model: str) -> dict:
     geo = profile.summary_fields()
     multiplier = design["load.mode"] == "multiplier"
     s = R.contact_fields(design["gearing.profile"], design["gearing.rotating_pins"], design["load.mode"], g, law, geo,
-                         cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual, cl.rolling_ok)
+                         cl)
     s.update(R.efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, multiplier, R.plain))
     s.update(_crank_fields(cl, design, s["pin_force_max_N"]))
     s["friction_model"] = model

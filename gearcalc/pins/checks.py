@@ -21,7 +21,8 @@ from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_
 __all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVEL_KEYS", "level_reason",
            "contact_law_problem", "GearGiven", "PinLoadGiven", "Violations", "violations",
            "pin_circle_curtate", "tooth_too_large", "design_problems", "ideal_admissibility", "ideal_over_budget",
-           "contact_passes", "contact_over_budget", "computed_alone", "points_pass"]
+           "contact_passes", "contact_over_budget", "contact_pins_max", "computed_alone", "points_pass",
+           "RollingValues"]
 
 
 def friction_model(model, alias, default: str) -> tuple[str, bool]:
@@ -680,6 +681,33 @@ def contact_over_budget(z2: int, torque_on_V: bool) -> bool:
     return z2 * CONTACT_NODES_MAX * contact_passes(torque_on_V) > CONTACT_WORK_MAX
 
 
+def contact_pins_max(torque_on_V: bool) -> int:
+    r"""The most pins the contact level's budget allows (pins.md §9): the bound :func:`contact_over_budget` applies.
+
+    .. math:: z_{2,max} = \left\lfloor \frac{W_{contact}}{N_{nodes}\,n_{passes}} \right\rfloor
+
+    Parameters
+    ----------
+    torque_on_V : bool
+        The torque is given on V (one pass) rather than on H (three).
+
+    Returns
+    -------
+    z2_max : int
+        Pins, [-].
+
+    Examples
+    --------
+    >>> contact_pins_max(False), contact_pins_max(True)
+    (114, 344)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7, §9.
+    """
+    return CONTACT_WORK_MAX // (CONTACT_NODES_MAX * contact_passes(torque_on_V))
+
+
 def computed_alone(z2: int, n_discs: int, tol: float) -> bool:
     r"""Whether a batch computes an ideal-level design alone rather than in a group (memory, pins.md §6).
 
@@ -771,3 +799,43 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, gear: GearGi
     if float((geometries[:, 1] * geometries[:, 2]).sum()) > IDEAL_SWEEP_WORK_MAX:
         return False
     return not (np.any(bad.geometry.any()) or np.any(bad.no_axle))
+
+
+@dataclass(frozen=True)
+class RollingValues:
+    r"""One design's values in the rolling condition of rotating pins, f R_b >= f_c r + f_k (pins.md §4.5).
+
+    :func:`gearcalc.pins.friction.rolling_condition` decides it; :meth:`sides` gives its two sides for the message
+    of a design that fails it.
+
+    Attributes
+    ----------
+    sliding : float
+        Tooth-pin sliding friction f, [-].
+    pin_radius : float
+        Bushing radius R_b, [mm].
+    axle_friction : float
+        Bushing-axle friction f_c, [-].
+    axle_radius : float or None
+        Axle radius r, [mm] (None: not given).
+    rolling : float
+        Rolling friction f_k, [mm].
+
+    Examples
+    --------
+    >>> [round(x, 12) for x in RollingValues(0.1, 1.95, 0.1, 0.95, 5.0).sides()]
+    [0.195, 5.095]
+    """
+
+    sliding: float
+    pin_radius: float
+    axle_friction: float
+    axle_radius: object
+    rolling: float
+
+    def sides(self) -> tuple[float, float]:
+        r"""(f R_b, f_c r + f_k) [mm]: the moment arms that drive and that resist the bushing.
+
+        .. math:: f\,R_b \ \ge\ f_c\,r + f_k
+        """
+        return self.sliding * self.pin_radius, self.axle_friction * self.axle_radius + self.rolling
