@@ -401,7 +401,8 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
                                      a["equidistant_mod"]) from None
     except pc.Unresolvable:
         raise R.unresolvable_error(a["e"], g.R_p, a["Rb"], a["torque"]) from None
-    warnings.extend(R.mode_warnings(cl.modes, a["mode"]))
+    turns = {mult: C.satellite_turn(t) for mult, t in cl.modes.runs.items()}    # deflection-sized (pins.md §7)
+    warnings.extend(R.mode_warnings(cl.modes, a["mode"], turns))
     if not cl.balanced:
         raise R.stiffness_error(law, a["face_width"], a["torque"], cl.residual, options.tol)
     summary.update(_contact_summary(design, g, law, profile, cl, model))
@@ -423,7 +424,7 @@ def _contact_summary(design, g, law, profile, cl, model: str) -> dict:
     geo = profile.summary_fields()
     multiplier = design["load.mode"] == "multiplier"
     s = R.contact_fields(design["gearing.profile"], design["gearing.rotating_pins"], design["load.mode"], g, law, geo,
-                         cl)
+                         cl, C.satellite_turn(cl.modes.requested))
     s.update(R.efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, multiplier, R.plain))
     s.update(_crank_fields(cl, design, s["pin_force_max_N"]))
     s["friction_model"] = model

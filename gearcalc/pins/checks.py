@@ -22,7 +22,7 @@ __all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVE
            "contact_law_problem", "GearGiven", "PinLoadGiven", "Violations", "violations",
            "pin_circle_curtate", "tooth_too_large", "design_problems", "ideal_admissibility", "ideal_over_budget",
            "contact_passes", "contact_over_budget", "contact_pins_max", "computed_alone", "points_pass",
-           "RollingValues"]
+           "RollingValues", "SatelliteTurn", "satellite_turn"]
 
 
 def friction_model(model, alias, default: str) -> tuple[str, bool]:
@@ -839,3 +839,68 @@ class RollingValues:
         .. math:: f\,R_b \ \ge\ f_c\,r + f_k
         """
         return self.sliding * self.pin_radius, self.axle_friction * self.axle_radius + self.rolling
+
+
+@dataclass(frozen=True)
+class SatelliteTurn:
+    """How far the satellite turns under the load in one mode's contact cycle (pins.md §6-7, §8).
+
+    Attributes
+    ----------
+    turn_max : float
+        The largest rotation max |tau|, [rad].
+    turn_range : float
+        The transmission error peak to peak, max tau - min tau, [rad].
+    travel : float
+        The largest pin-centre travel over the pin radius (:func:`gearcalc.pins.contact_cycle.pin_travel`), [-].
+    travel_max : float
+        The largest travel the contact level's results are trusted for (``ContactSettings.travel_max``), [-].
+    sized : bool
+        A deflection-sized rotation (:func:`gearcalc.pins.contact_cycle.deflection_sized`): travel <= travel_max.
+    """
+
+    turn_max: float
+    turn_range: float
+    travel: float
+    travel_max: float
+    sized: bool
+
+
+def satellite_turn(cycle) -> SatelliteTurn:
+    r"""The satellite's rotation under the load in one mode's contact cycle and whether it is a deflection.
+
+    The rule of pins.md §7 ("Several equilibria"): a pin centre that travels more than ``travel_max`` of its radius
+    meets its tooth far from its nominal place; the loss ratio is then not known to the stated error.
+
+    .. math:: \frac{\max|\tau|\,(R_p + e)}{R_b} \le \text{travel}_{max}
+
+    Parameters
+    ----------
+    cycle : gearcalc.pins.contact.TorqueCycle
+        One mode's cycle at its torque (its model's gear and settings, its solved rotations tau [rad]).
+
+    Returns
+    -------
+    SatelliteTurn
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> import numpy as np
+    >>> from gearcalc.pins.geometry import Cycloid
+    >>> from gearcalc.pins.contact import DEFAULT_SETTINGS
+    >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    >>> tc = NS(cycle=NS(sol=NS(tau=np.array([1e-3, -2e-3]))), model=NS(g=g, settings=DEFAULT_SETTINGS))
+    >>> turn = satellite_turn(tc)
+    >>> turn.turn_max, round(turn.turn_range, 12), turn.sized
+    (0.002, 0.003, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6-7, §8.
+    """
+    from .contact_cycle import deflection_sized, pin_travel    # the contact level ran: loaded
+
+    tau, g, travel_max = cycle.cycle.sol.tau, cycle.model.g, cycle.model.settings.travel_max
+    return SatelliteTurn(turn_max=float(abs(tau).max()), turn_range=float(tau.max() - tau.min()),
+                         travel=pin_travel(tau, g), travel_max=travel_max, sized=deflection_sized(tau, g, travel_max))

@@ -210,11 +210,12 @@ def stiffness_error(law, face_width, torque, residual: float, tol: float) -> Des
                                          "passes a sharp crest corner: a curtate ratio further from 1)")
 
 
-def mode_warnings(modes, mode: str) -> list[str]:
+def mode_warnings(modes, mode: str, turns: dict) -> list[str]:
     """The warnings of the contact level's modes (:class:`gearcalc.pins.contact.ModeCycles`): the requested mode
-    jams (its numbers are the frictionless balance's), a torque fixed point that did not settle, a cycle whose nodes
-    contradict their pieces' contact sets (:attr:`gearcalc.pins.contact.ContactCycle.held`)."""
-    from .contact_cycle import deflection_sized, pin_travel    # the contact level ran: loaded
+    jams (its numbers are the frictionless balance's), a torque fixed point that did not settle, a satellite that
+    turns beyond a deflection (``turns``: per mode, True for the multiplier, its
+    :class:`gearcalc.pins.checks.SatelliteTurn`), a cycle whose nodes contradict their pieces' contact sets
+    (:attr:`gearcalc.pins.contact.ContactCycle.held`)."""
     out = []
     multiplier = mode == "multiplier"
     if multiplier in modes.jams:
@@ -226,13 +227,13 @@ def mode_warnings(modes, mode: str) -> list[str]:
         if not t.settled:
             out.append(f"the torque fixed point T_V = u T_H/eta did not settle in {len(t.history)} passes (loss ratios "
                        f"{t.history[-2]:.10g}, {t.history[-1]:.10g})")
-        st = t.model.settings
-        sized = deflection_sized(t.cycle.sol.tau, t.model.g, st.travel_max)
+        st, turn = t.model.settings, turns[mult]
+        sized = turn.sized
         if not sized:
-            travel = pin_travel(t.cycle.sol.tau, t.model.g)
             out.append(f"in the {'multiplier' if mult else 'reducer'} mode the satellite turns by up to "
-                       f"{fmt(math.degrees(float(abs(t.cycle.sol.tau).max())))} deg under the load: a pin centre "
-                       f"moves by {fmt(travel)} of the pin radius from its nominal place (more than {st.travel_max:g}: "
+                       f"{fmt(math.degrees(turn.turn_max))} deg under the load: a pin centre "
+                       f"moves by {fmt(turn.travel)} of the pin radius from its nominal place (more than "
+                       f"{turn.travel_max:g}: "
                        f"not a deflection; the balance can have several solutions, pins.md §7); its loss ratio is not "
                        f"known to the stated error")
         if not t.cycle.held:
@@ -270,15 +271,15 @@ def other_mode_jams(multiplier: bool) -> str:
             "forces in the moment balance: efficiency_" + ("multiplier" if multiplier else "reducer") + " is empty")
 
 
-def contact_fields(profile: str, rotating: bool, mode: str, g, law, geo, cl) -> dict:
+def contact_fields(profile: str, rotating: bool, mode: str, g, law, geo, cl, turn) -> dict:
     """The contact level's summary fields from its results (pins.md §8) for the design's ``profile`` name,
     ``rotating`` pins and load ``mode`` on gear ``g`` with contact ``law`` and the profile's ``geo`` fields: from
     :class:`~gearcalc.pins.contact_level.ContactLevel` ``cl`` the requested mode's cycle
-    (:class:`~gearcalc.pins.contact.TorqueCycle`), its peaks, engagement metrics, backlash [deg], equilibrium
+    (:class:`~gearcalc.pins.contact.TorqueCycle`) and its satellite ``turn``
+    (:class:`gearcalc.pins.checks.SatelliteTurn`), its peaks, engagement metrics, backlash [deg], equilibrium
     residual and rolling condition."""
-    from .contact import deflection_sized        # the contact level ran: loaded
     tc, pk, metrics, rolling_ok = cl.modes.requested, cl.peaks, cl.metrics, cl.rolling_ok
-    cyc, sol = tc.cycle, tc.cycle.sol
+    cyc = tc.cycle
     return {
         "model": "contact", "profile": profile, "rotating_pins": rotating, "mode": mode, "ratio": g.ratio,
         "curtate_ratio": g.K1,
@@ -286,15 +287,14 @@ def contact_fields(profile: str, rotating: bool, mode: str, g, law, geo, cl) -> 
         "loss_ratio": tc.loss_ratio, "loss_ratio_err": tc.loss_ratio_err, "n_crank": cyc.n_crank,
         # the quadrature, the torque fixed point, the nodes' check of the pieces' contact sets and a deflection-sized
         # rotation (pins.md §6-7)
-        "tolerance_met": (bool(cyc.converged) and bool(tc.settled) and bool(cyc.held)
-                          and deflection_sized(sol.tau, g, tc.model.settings.travel_max)),
+        "tolerance_met": bool(cyc.converged) and bool(tc.settled) and bool(cyc.held) and turn.sized,
         "pin_force_max_N": pk.force if math.isfinite(tc.torque_V) else None,
         "pin_force_max_phase_deg": math.degrees(pk.force_phase), "loaded_pins_min": pk.loaded_min,
         "loaded_pins_max": pk.loaded_max,
         "psi_star_deg": math.degrees(pk.psi_star) if pk.psi_star is not None else None,
         "exit_entry_force_ratio": metrics["exit_entry_force_ratio"],
         "low_spin_fraction": metrics["low_spin_fraction"], "spin_reversals": metrics["spin_reversals"],
-        "te_pp_arcsec": math.degrees(float(sol.tau.max() - sol.tau.min())) * 3600.0,
+        "te_pp_arcsec": math.degrees(turn.turn_range) * 3600.0,
         "backlash_deg": cl.backlash,
         "equilibrium_residual": cl.residual,
         "contact_law": law.name, "tooth_radius_mm": geo.get("tooth_radius_mm"),
