@@ -218,3 +218,25 @@ def test_points_pass():
     curtate = _violations(K1=[0.75, 1.2, 0.75])
     assert not C.points_pass(curtate, False, False, gear(dict(pts, K1=[0.75, 1.2, 0.75])), pts["n_d"])
     assert C.points_pass(curtate, True, False, gear(pts), pts["n_d"])   # the formula level: only the [pin_load] rule
+
+
+def test_the_rule_and_word_functions_are_small():
+    # issue 35 (benchmarks/code_shape.py's counts): at most 8 parameters and 80 lines per function of the pins
+    # rules (checks), words (report), figure (plot) and geometry_violations
+    import ast
+    import pathlib
+
+    import gearcalc
+
+    pins = pathlib.Path(gearcalc.__file__).parent / "pins"
+    for module in ("checks", "report", "plot", "geometry"):
+        for node in ast.walk(ast.parse((pins / f"{module}.py").read_text(encoding="utf-8"))):
+            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            if module == "geometry" and node.name != "geometry_violations":
+                continue               # the rest of geometry.py is another change's
+            a = node.args
+            params = len(a.posonlyargs) + len(a.args) + len(a.kwonlyargs) + (a.vararg is not None) + (
+                a.kwarg is not None)
+            assert params <= 8, (module, node.name, params)
+            assert node.end_lineno - node.lineno + 1 <= 80, (module, node.name)
