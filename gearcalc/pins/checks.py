@@ -678,7 +678,7 @@ def contact_over_budget(z2: int, torque_on_V: bool) -> bool:
     ----------
     .. [1] docs/spec/pins.md §7, §9.
     """
-    return z2 * CONTACT_NODES_MAX * contact_passes(torque_on_V) > CONTACT_WORK_MAX
+    return z2 > contact_pins_max(torque_on_V)   # z2 N p > W for whole pins: the bound of the message, once
 
 
 def contact_pins_max(torque_on_V: bool) -> int:

@@ -195,6 +195,7 @@ def test_cost_budgets_at_their_limits():
     z2_H = CONTACT_WORK_MAX // (CONTACT_NODES_MAX * 3)      # schema.CONTACT_WORK_MAX: 114 pins on H, 344 on V
     z2_V = CONTACT_WORK_MAX // CONTACT_NODES_MAX
     assert (z2_H, z2_V) == (114, 344)
+    assert (C.contact_pins_max(False), C.contact_pins_max(True)) == (z2_H, z2_V)   # the bound its message names
     assert not C.contact_over_budget(z2_H, False) and C.contact_over_budget(z2_H + 1, False)
     assert not C.contact_over_budget(z2_V, True) and C.contact_over_budget(z2_V + 1, True)
     assert not C.computed_alone(GROUP_PINS_MAX, 1, GROUP_TOL_MIN) and C.computed_alone(GROUP_PINS_MAX + 1, 1, 1e-6)
