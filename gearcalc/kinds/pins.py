@@ -249,9 +249,15 @@ def _group(designs, level: str, options: Options, t0: float) -> list:
     return _group_results(designs, cols, ideal, options, t0)
 
 
-def _rolling(a) -> C.RollingValues:
-    """The design's values in the rolling condition (``a``: :func:`_one`)."""
-    return C.RollingValues(a["sliding"], a["Rb"], a["axle"], a["r"], a["rolling"])
+def _rolling(value) -> C.RollingValues:
+    """The design's values in the rolling condition (``value(name)``: the value of an argument name of :data:`KEYS`,
+    e.g. ``a.get`` of :func:`_one`)."""
+    return C.RollingValues(*(value(name) for name in ("sliding", "Rb", "axle", "r", "rolling")))
+
+
+def _value_of(design):
+    """``value(name)``: the design's value of an argument name of :data:`KEYS` (None: absent)."""
+    return lambda name: design.get(KEYS[name])
 
 
 def _group_results(designs, cols, ideal, options: Options, t0: float) -> list:
@@ -266,11 +272,11 @@ def _group_results(designs, cols, ideal, options: Options, t0: float) -> list:
             if ideal.errors[i] is not None:
                 out.append(ideal.errors[i])
                 continue
-            a = _one(d)
+            value = _value_of(d)
             law = d.has("contact") and (d.is_given(KEYS["law"]) or d.is_given(KEYS["stiffness"]))
             warnings = ([R.CONTACT_TABLE_UNUSED] if law else []) + ideal.warnings[i]
-            R.cycle_notes(summary, _rolling(a), a["speed"], options.tol, warnings, failed)
-            failed.extend(R.stress_failure(summary, a["allowable"]))
+            R.cycle_notes(summary, _rolling(value), value("speed"), options.tol, warnings, failed)
+            failed.extend(R.stress_failure(summary, value("allowable")))
             tables = ideal.detail(i) if options.detail else {}
         out.append(R.result(summary, tables, warnings, failed))
     per_design = (time.perf_counter() - t0) * 1e3 / len(designs)
@@ -406,7 +412,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     if not cl.balanced:
         raise R.stiffness_error(law, a["face_width"], a["torque"], cl.residual, options.tol)
     summary.update(_contact_summary(design, g, law, profile, cl, model))
-    R.contact_notes(summary, _rolling(a), a["speed"], options.tol, warnings, failed, cl)
+    R.contact_notes(summary, _rolling(a.get), a["speed"], options.tol, warnings, failed, cl)
     summary.update({k: v[0] for k, v in margin_columns({k: [v] for k, v in summary.items()},
                                                        {n: [x] for n, x in a.items()}).items()})
     failed.extend(R.stress_failure(summary, a["allowable"]))
