@@ -34,6 +34,11 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     **OUTPUT_ARGS,                                  # the output mechanism and the crank's drag (pins.md §4.10)
     **LAW_ARGS,                                     # the teeth's speed-dependent sliding law (pins.md §4.10)
 }
+CONTACT_LEVEL_ARGS = ("law", "stiffness")
+"""The [contact] keys (argument names of :data:`KEYS`) that ask for the contact level (pins.md §3): a table with
+face_width_mm alone (or with the friction alias) does not change the level; the ideal level gives the Hertz stress
+of its own forces with it."""
+
 GEAR_FIELDS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile")
 """The fields of :class:`gearcalc.pins.checks.GearGiven`, argument names of :data:`KEYS`."""
 
@@ -53,14 +58,14 @@ def _one(design) -> dict:
 
 def _tables(design) -> set:
     """The design's tables that choose its level: "contact" only where [contact] names a law or a stiffness
-    (:data:`gearcalc.pins.checks.CONTACT_LEVEL_KEYS`; face_width_mm alone gives the ideal level's stress)."""
-    asks = design.has("contact") and any(design.is_given("contact." + k) for k in C.CONTACT_LEVEL_KEYS)
+    (:data:`CONTACT_LEVEL_ARGS`; face_width_mm alone gives the ideal level's stress)."""
+    asks = design.has("contact") and any(design.is_given(KEYS[name]) for name in CONTACT_LEVEL_ARGS)
     return {t for t in ("gearing", "pin_load", "load") if design.has(t)} | ({"contact"} if asks else set())
 
 
 def level_reason(design, model: str | None) -> str:
-    """Why the design runs at its level (the summary's model_reason; :func:`gearcalc.pins.checks.level_reason`)."""
-    return C.level_reason(model, _tables(design), design.get(KEYS["profile"]), _modified(design))
+    """Why the design runs at its level (the summary's model_reason; :func:`gearcalc.pins.checks.level_cause`)."""
+    return R.level_reason(C.level_cause(model, _tables(design), design.get(KEYS["profile"]), _modified(design)), model)
 
 
 def friction_model(design) -> str:

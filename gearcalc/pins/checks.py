@@ -18,7 +18,7 @@ from .profiles import PROFILES, tooth_too_large
 from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_TOL_MIN, IDEAL_SWEEP_WORK_MAX,
                      IDEAL_WORK_MAX)
 
-__all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVEL_KEYS", "level_reason",
+__all__ = ["CHECKS", "friction_model", "modified", "select_level", "level_cause",
            "contact_law_problem", "GearGiven", "PinLoadGiven", "Violations", "violations",
            "pin_circle_curtate", "tooth_too_large", "design_problems", "ideal_admissibility", "ideal_over_budget",
            "contact_passes", "contact_over_budget", "contact_pins_max", "computed_alone", "points_pass",
@@ -147,20 +147,18 @@ CHECKS = (Check("self_locking", "the requested mode self-locks"),
 """The pins design checks (pins.md §8): their margins, the summary fields margin_<name>, are
 :mod:`gearcalc.pins.margins`'."""
 
-CONTACT_LEVEL_KEYS = ("law", "stiffness_N_per_mm")
-"""The [contact] keys that ask for the contact level (pins.md §3): a table with face_width_mm alone (or with the
-friction alias) does not change the level; the ideal level gives the Hertz stress of its own forces with it."""
+def level_cause(model, tables, profile, is_modified: bool) -> str:
+    """Why a design runs at the level :func:`select_level` gives it.
 
-
-def level_reason(model, tables, profile, is_modified: bool) -> str:
-    """Why a design runs at the level :func:`select_level` gives it, in words (the summary's ``model_reason``).
+    A cause of :data:`gearcalc.pins.report.LEVEL_REASONS` (the summary's ``model_reason`` in words).
 
     Parameters
     ----------
     model : str or None
         The level forced by the caller, else None.
     tables : set of str
-        The design's tables.
+        The design's tables among "gearing", "pin_load", "load" and "contact" (the last where it names a
+        contact law).
     profile : str or None
         The tooth profile's name.
     is_modified : bool
@@ -168,29 +166,29 @@ def level_reason(model, tables, profile, is_modified: bool) -> str:
 
     Returns
     -------
-    str
-        The reason.
+    cause : str
+        "forced", "pin_load" (no gear), "circular", "modified", "contact_law" or "cycloid".
 
     Examples
     --------
-    >>> level_reason(None, {"gearing", "load"}, "cycloidal", False), level_reason("contact", {"gearing"}, None, False)
-    ('an unmodified cycloidal profile (rigid contacts)', '--model contact')
+    >>> level_cause(None, {"gearing", "load"}, "cycloidal", False), level_cause("contact", {"gearing"}, None, False)
+    ('cycloid', 'forced')
 
     References
     ----------
     .. [1] gearcalc specification docs/spec/pins.md §7 (design keys: the level each table calls for), §8.
     """
     if model is not None:
-        return f"--model {model}"
+        return "forced"
     if "gearing" not in tables:
-        return "[pin_load] without [gearing]: the paper's per-pin formula"
+        return "pin_load"
     if profile == "circular":
-        return "a circular profile"
+        return "circular"
     if is_modified:
-        return "a modified cycloid"
+        return "modified"
     if "contact" in tables:
-        return "[contact] names a contact law (contact.law or contact.stiffness_N_per_mm)"
-    return "an unmodified cycloidal profile (rigid contacts)"
+        return "contact_law"
+    return "cycloid"
 
 
 def contact_law_problem(law: str, face_width, stiffness):

@@ -15,7 +15,8 @@ from ..render import fmt_number as fmt
 __all__ = ["PEAK_KEYS", "CONSISTENT_FIELDS", "OUTPUT_KEYS", "FORMULA_KEYS", "cycle_notes",
            "admissibility_error", "profile_error", "tooth_overlap", "column", "columns", "plain", "ideal_columns",
            "problem", "warning", "friction_alias_error", "contact_notes", "ideal_cost_problem", "contact_cost_problem",
-           "no_equilibrium_error", "unresolvable_error", "result", "report_problems"]
+           "no_equilibrium_error", "unresolvable_error", "result", "report_problems", "LEVEL_REASONS",
+           "level_reason"]
 
 PEAK_KEYS = ("pin_force_max_N", "pin_force_max_phase_deg", "pin_loss_max_W", "pin_loss_max_phase_deg", "loss_peak_W",
              "pin_loss_bound_W")
@@ -41,6 +42,23 @@ SELF_LOCKING_EMPTY = ("efficiency", "efficiency_err", "efficiency_multiplier", "
 """The fields a self-locking design may leave empty; a table labels them "self-locking" (pins.md §4.7)."""
 
 FORMULA_KEYS = ("F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W")
+
+
+LEVEL_REASONS = {
+    "forced": "--model {model}",
+    "pin_load": "[pin_load] without [gearing]: the paper's per-pin formula",
+    "circular": "a circular profile",
+    "modified": "a modified cycloid",
+    "contact_law": "[contact] names a contact law (contact.law or contact.stiffness_N_per_mm)",
+    "cycloid": "an unmodified cycloidal profile (rigid contacts)",
+}
+"""Why a design runs at its level (the summary's ``model_reason``): cause of
+:func:`gearcalc.pins.checks.level_cause` -> words."""
+
+
+def level_reason(cause: str, model=None) -> str:
+    """The words of a level's ``cause`` (:data:`LEVEL_REASONS`), with the level ``model`` forced by the caller."""
+    return LEVEL_REASONS[cause].format(model=model)
 
 
 def admissibility_error(status: int, z1, z2, psi_star: float, Rb, rho_c: float, K1) -> DesignError:

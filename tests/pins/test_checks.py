@@ -241,3 +241,21 @@ def test_the_rule_and_word_functions_are_small():
                 a.kwarg is not None)
             assert params <= 8, (module, node.name, params)
             assert node.end_lineno - node.lineno + 1 <= 80, (module, node.name)
+
+
+def test_the_rules_know_no_design_key():
+    # issue 35 item 2: the physics names no design-file key; the keys are the adapter's (kinds/pins.py KEYS) and
+    # the report's words (e.g. the level's reason, report.LEVEL_REASONS)
+    import ast
+    import inspect
+
+    from gearcalc.kinds.pins import KEYS
+
+    tree = ast.parse(inspect.getsource(C))
+    docstrings = {id(n.value) for n in ast.walk(tree) if isinstance(n, ast.Expr)}   # the documentation's words
+    texts = [n.value for n in ast.walk(tree)
+             if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in docstrings]
+    for key in KEYS.values():
+        name = key.partition(".")[2]
+        with_unit = any(unit in name for unit in ("_mm", "_N", "_MPa", "_rpm"))   # e.g. stiffness_N_per_mm
+        assert not any(key in t or (with_unit and name in t) for t in texts), key
