@@ -155,8 +155,17 @@ def render_csv(records: list[Record], detail: bool = False, joined: bool = False
     return write_csv(rows) if rows else "name,table\n"
 
 
+def fmt_number(x: float) -> str:
+    """A number with 6 significant digits: a table cell's (:func:`fmt_value`) and a message's.
+
+    >>> fmt_number(1.4909365e-16), fmt_number(57.199999999999996)
+    ('1.49094e-16', '57.2')
+    """
+    return f"{x:.6g}"
+
+
 def fmt_value(value: Any) -> str:
-    """Format a value for a table cell (6 significant digits).
+    """Format a value for a table cell (6 significant digits, :func:`fmt_number`).
 
     >>> fmt_value(1.4909365e-16), fmt_value(True), fmt_value(None), fmt_value([1, 2])
     ('1.49094e-16', 'yes', 'n/a', '1 2')
@@ -167,7 +176,7 @@ def fmt_value(value: Any) -> str:
     if isinstance(value, bool):
         return "yes" if value else "no"
     if isinstance(value, float):
-        return f"{value:.6g}"
+        return fmt_number(value)
     if isinstance(value, list):
         return " ".join(fmt_value(v) for v in value) or "-"
     return str(value)

@@ -59,7 +59,7 @@ NOT_A_FORMULA = {
     "gearcalc.pins.contact:solve_modes": "driver: runs cycle_at_torque for each mode (its math there)",
     "gearcalc.pins.columns:operating": "value conversion (the operating point's columns)",
     "gearcalc.pins.columns:friction_models": "rule dispatch: the friction model per point",
-    "gearcalc.pins.checks:level_reason": "words: why a level runs (select_level's rule)",
+    "gearcalc.pins.checks:level_cause": "rule dispatch: why a level runs (select_level's rule)",
     "gearcalc.pins.margins:margin_columns": "driver: the three margin functions over summary columns",
 }
 

@@ -34,9 +34,13 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     **OUTPUT_ARGS,                                  # the output mechanism and the crank's drag (pins.md §4.10)
     **LAW_ARGS,                                     # the teeth's speed-dependent sliding law (pins.md §4.10)
 }
-VIOLATION_ARGS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile", "sliding", "load_pin_radius",
-                  "load_axle_radius")
-GEAR_ARGS = VIOLATION_ARGS[:9] + ("tooth_radius", "tooth_circle_radius", "load_pin_radius", "load_axle_radius")
+CONTACT_LEVEL_ARGS = ("law", "stiffness")
+"""The [contact] keys (argument names of :data:`KEYS`) that ask for the contact level (pins.md §3): a table with
+face_width_mm alone (or with the friction alias) does not change the level; the ideal level gives the Hertz stress
+of its own forces with it."""
+
+GEAR_FIELDS = ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile")
+"""The fields of :class:`gearcalc.pins.checks.GearGiven`, argument names of :data:`KEYS`."""
 
 DEFAULT_FRICTION_MODEL = "consistent"
 """The friction model of a design that names none (pins.md §4.9, §7; tests of first-order numbers patch it)."""
@@ -54,14 +58,14 @@ def _one(design) -> dict:
 
 def _tables(design) -> set:
     """The design's tables that choose its level: "contact" only where [contact] names a law or a stiffness
-    (:data:`gearcalc.pins.checks.CONTACT_LEVEL_KEYS`; face_width_mm alone gives the ideal level's stress)."""
-    asks = design.has("contact") and any(design.is_given("contact." + k) for k in C.CONTACT_LEVEL_KEYS)
+    (:data:`CONTACT_LEVEL_ARGS`; face_width_mm alone gives the ideal level's stress)."""
+    asks = design.has("contact") and any(design.is_given(KEYS[name]) for name in CONTACT_LEVEL_ARGS)
     return {t for t in ("gearing", "pin_load", "load") if design.has(t)} | ({"contact"} if asks else set())
 
 
 def level_reason(design, model: str | None) -> str:
-    """Why the design runs at its level (the summary's model_reason; :func:`gearcalc.pins.checks.level_reason`)."""
-    return C.level_reason(model, _tables(design), design.get(KEYS["profile"]), _modified(design))
+    """Why the design runs at its level (the summary's model_reason; :func:`gearcalc.pins.checks.level_cause`)."""
+    return R.level_reason(C.level_cause(model, _tables(design), design.get(KEYS["profile"]), _modified(design)), model)
 
 
 def friction_model(design) -> str:
@@ -77,8 +81,19 @@ def _modified(design) -> bool:
     return design.has("gearing") and C.modified(design["gearing.equidistant_mod_mm"], design["gearing.radial_mod_mm"])
 
 
+def _gear_given(values) -> C.GearGiven:
+    """The gear as given (``values(key)``: one design's value, or a list over designs or points)."""
+    return C.GearGiven(*(values(KEYS[name]) for name in GEAR_FIELDS))
+
+
+def _pin_load_given(values) -> C.PinLoadGiven:
+    """The per-pin load's radii as given (``values(key)`` as for :func:`_gear_given`)."""
+    return C.PinLoadGiven(values(KEYS["load_pin_radius"]), values(KEYS["load_axle_radius"]))
+
+
 def _violations(values):
-    return C.violations(**{name: values(KEYS[name]) for name in VIOLATION_ARGS})
+    """:func:`gearcalc.pins.checks.violations` of designs or points (``values(key)``: a list, None where absent)."""
+    return C.violations(_gear_given(values), values(KEYS["sliding"]), _pin_load_given(values))
 
 
 def check(design, problems: Problems) -> None:
@@ -87,8 +102,9 @@ def check(design, problems: Problems) -> None:
 
     a, tables = _one(design), _tables(design)
     with quiet_numpy():  # an overflow at an input's extreme is a problem said below, never a numpy warning
-        found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, **{n: a[n] for n in GEAR_ARGS},
-                                  is_modified=_modified(design))
+        found = C.design_problems(_violations(lambda key: [design.get(key)]), tables, _gear_given(design.get),
+                                  _pin_load_given(design.get), a["tooth_radius"], a["tooth_circle_radius"],
+                                  _modified(design))
     R.report_problems(found, problems)
     duty = _duty_problem(design, tables)
     if duty is not None:
@@ -151,7 +167,12 @@ def cost_problem(design, level: str):
     (:data:`IDEAL_WORK_MAX`, :data:`CONTACT_WORK_MAX`), else None.  ``check`` and compute share it."""
     if level not in ("ideal", "contact") or not design.has("gearing"):
         return None
-    return R.cost_problem(level, design["gearing.pins"], design["gearing.discs"], design.get(KEYS["shaft"]) == "V")
+    z2, n_d, on_V = design[KEYS["z2"]], design[KEYS["n_d"]], design.get(KEYS["shaft"]) == "V"
+    if level == "ideal" and C.ideal_over_budget(z2, n_d):
+        return R.ideal_cost_problem(z2, n_d)
+    if level == "contact" and C.contact_over_budget(z2, on_V):
+        return R.contact_cost_problem(z2, C.contact_passes(on_V), C.contact_pins_max(on_V), on_V)
+    return None
 
 
 def admissibility_problem(design, level: str):
@@ -230,7 +251,44 @@ def _group(designs, level: str, options: Options, t0: float) -> list:
     cols, ideal = level_columns(_args(lambda key: [d.get(key) for d in designs]), level, [d.name for d in designs],
                                 options.tol, any(d.has("pin_load") for d in designs), DEFAULT_FRICTION_MODEL)
     cols["model_reason"] = [level_reason(d, options.model) for d in designs]
-    return R.group_results(designs, cols, ideal, options.tol, options.detail, t0)
+    return _group_results(designs, cols, ideal, options, t0)
+
+
+def _rolling(value) -> C.RollingValues:
+    """The design's values in the rolling condition (``value(name)``: the value of an argument name of :data:`KEYS`,
+    e.g. ``a.get`` of :func:`_one`)."""
+    return C.RollingValues(*(value(name) for name in ("sliding", "Rb", "axle", "r", "rolling")))
+
+
+def _value_of(design):
+    """``value(name)``: the design's value of an argument name of :data:`KEYS` (None: absent)."""
+    return lambda name: design.get(KEYS[name])
+
+
+def _group_results(designs, cols, ideal, options: Options, t0: float) -> list:
+    """Per design of a group computed together (:func:`gearcalc.pins.columns.level_columns`: its columns ``cols``
+    and the ideal level's :class:`~gearcalc.pins.columns.IdealColumns` or None) its Result or DesignError, with
+    the notes of :func:`gearcalc.pins.report.cycle_notes`; ``model_time_ms`` is the group's time since ``t0`` per
+    design."""
+    out = []
+    for i, d in enumerate(designs):
+        summary, warnings, failed, tables = {k: col[i] for k, col in cols.items()}, [], [], {}
+        if ideal is not None:
+            if ideal.errors[i] is not None:
+                out.append(ideal.errors[i])
+                continue
+            value = _value_of(d)
+            law = d.has("contact") and (d.is_given(KEYS["law"]) or d.is_given(KEYS["stiffness"]))
+            warnings = ([R.CONTACT_TABLE_UNUSED] if law else []) + ideal.warnings[i]
+            R.cycle_notes(summary, _rolling(value), value("speed"), options.tol, warnings, failed)
+            failed.extend(R.stress_failure(summary, value("allowable")))
+            tables = ideal.detail(i) if options.detail else {}
+        out.append(R.result(summary, tables, warnings, failed))
+    per_design = (time.perf_counter() - t0) * 1e3 / len(designs)
+    for r in out:
+        if isinstance(r, Result):
+            r.summary["model_time_ms"] = per_design
+    return out
 
 
 def sweep(base, raw, axes, points, options):
@@ -291,8 +349,8 @@ def sweep_cost(base, axes, options) -> float:
 
 def _points_pass_checks(base, values, n: int, level: str) -> bool:
     """Whether every point passes the checks its varied keys can break (else: point by point, as the loader)."""
-    return C.points_pass(_violations(values), level == "formula", base.has("pin_load"),
-                         *(values(KEYS[name]) for name in ("z1", "z2", "n_d", "e", "Rb", "K1", "Rp")))
+    return C.points_pass(_violations(values), level == "formula", base.has("pin_load"), _gear_given(values),
+                         values(KEYS["n_d"]))
 
 
 def _law_problem(a):
@@ -323,7 +381,7 @@ def _satellite(design, a):
         return (g, law, *satellite_profile(g, a["profile"], a["tooth_radius"], a["tooth_circle_radius"],
                                            a["radial_mod"], a["equidistant_mod"]))
     except InadmissibleProfile as exc:
-        raise R.profile_error(exc, design, g) from None
+        raise R.profile_error(exc, g, a["radial_mod"], a["equidistant_mod"]) from None
 
 
 def _contact(design, options: Options, warnings, failed, detail) -> dict:
@@ -352,13 +410,17 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
                            {**{n: a[n] for n in OPERATING}, "torque": w.teeth_torque}, model, options.tol,
                            profile.play_free, options.detail, torsion=bool(a["torsion"]),
                            bearing_stiffness=a["bearing_k"])
-    except (pc.NoEquilibrium, pc.Unresolvable) as exc:
-        raise R.contact_error(exc, design, g) from None
-    warnings.extend(R.mode_warnings(cl.modes, a["mode"]))
+    except pc.NoEquilibrium as exc:
+        raise R.no_equilibrium_error(exc, a["z1"], a["profile"], a["tooth_circle_radius"],
+                                     a["equidistant_mod"]) from None
+    except pc.Unresolvable:
+        raise R.unresolvable_error(a["e"], g.R_p, a["Rb"], a["torque"]) from None
+    turns = {mult: C.satellite_turn(t) for mult, t in cl.modes.runs.items()}    # deflection-sized (pins.md §7)
+    warnings.extend(R.mode_warnings(cl.modes, a["mode"], turns))
     if not cl.balanced:
-        raise R.stiffness_error(design, law, cl.residual, options.tol)
+        raise R.stiffness_error(law, a["face_width"], a["torque"], cl.residual, options.tol)
     summary.update(_contact_summary(design, g, law, profile, cl, model))
-    R.contact_notes(design, summary, options.tol, warnings, failed, cl, a["mode"] == "multiplier")
+    R.contact_notes(summary, _rolling(a.get), a["speed"], options.tol, warnings, failed, cl)
     fields, drag_lock = contact_output_fields(w, summary, cl, a, g.ratio, a["n_d"])
     summary.update(fields)
     failed.extend(drag_lock)
@@ -379,7 +441,7 @@ def _contact_summary(design, g, law, profile, cl, model: str) -> dict:
     geo = profile.summary_fields()
     multiplier = design["load.mode"] == "multiplier"
     s = R.contact_fields(design["gearing.profile"], design["gearing.rotating_pins"], design["load.mode"], g, law, geo,
-                         cl.modes.requested, cl.peaks, cl.metrics, cl.backlash, cl.residual, cl.rolling_ok)
+                         cl, C.satellite_turn(cl.modes.requested))
     s.update(R.efficiency_fields(cl.et_multiplier, cl.et_reducer, cl.locked, multiplier, R.plain))
     s.update(_crank_fields(cl, design, s["pin_force_max_N"]))
     s["friction_model"] = model

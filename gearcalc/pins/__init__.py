@@ -71,7 +71,7 @@ _NAMES = {
     "geometry": ("REDUCER", "MULTIPLIER", "Cycloid", "GeometryViolations", "geometry_violations", "s_factor",
                  "pitch_distance", "lever_arm", "contact_point", "contact_angle_offset", "crest_cutoff",
                  "crest_cutoffs", "spin_reversal_phase", "spin_reversal_phases", "curvature_radius",
-                 "min_curvature_radius", "pin_centre_curve", "tooth_profile"),
+                 "min_curvature_radius", "pin_centre_curve", "tooth_profile", "PinMounting"),
     "forces": ("pin_phase", "lever_sum", "pin_forces", "loss_ratio", "full_circle_lever_sum"),
     "friction": ("FrictionLaw", "Coulomb", "FRICTION_LAWS", "register_friction_law", "friction_law",
                  "peak_coefficient", "PinFriction"),

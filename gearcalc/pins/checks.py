@@ -18,10 +18,11 @@ from .profiles import PROFILES, tooth_too_large
 from .schema import (CONTACT_NODES_MAX, CONTACT_WORK_MAX, GROUP_PINS_MAX, GROUP_TOL_MIN, IDEAL_SWEEP_WORK_MAX,
                      IDEAL_WORK_MAX)
 
-__all__ = ["CHECKS", "friction_model", "modified", "select_level", "CONTACT_LEVEL_KEYS", "level_reason",
-           "contact_law_problem", "Violations", "violations",
+__all__ = ["CHECKS", "friction_model", "modified", "select_level", "level_cause",
+           "contact_law_problem", "GearGiven", "PinLoadGiven", "Violations", "violations",
            "pin_circle_curtate", "tooth_too_large", "design_problems", "ideal_admissibility", "ideal_over_budget",
-           "contact_passes", "contact_over_budget", "computed_alone", "points_pass"]
+           "contact_passes", "contact_over_budget", "contact_pins_max", "computed_alone", "points_pass",
+           "RollingValues", "SatelliteTurn", "satellite_turn"]
 
 
 def friction_model(model, alias, default: str) -> tuple[str, bool]:
@@ -146,20 +147,18 @@ CHECKS = (Check("self_locking", "the requested mode self-locks"),
 """The pins design checks (pins.md §8): their margins, the summary fields margin_<name>, are
 :mod:`gearcalc.pins.margins`'."""
 
-CONTACT_LEVEL_KEYS = ("law", "stiffness_N_per_mm")
-"""The [contact] keys that ask for the contact level (pins.md §3): a table with face_width_mm alone (or with the
-friction alias) does not change the level; the ideal level gives the Hertz stress of its own forces with it."""
+def level_cause(model, tables, profile, is_modified: bool) -> str:
+    """Why a design runs at the level :func:`select_level` gives it.
 
-
-def level_reason(model, tables, profile, is_modified: bool) -> str:
-    """Why a design runs at the level :func:`select_level` gives it, in words (the summary's ``model_reason``).
+    A cause of :data:`gearcalc.pins.report.LEVEL_REASONS` (the summary's ``model_reason`` in words).
 
     Parameters
     ----------
     model : str or None
         The level forced by the caller, else None.
     tables : set of str
-        The design's tables.
+        The design's tables among "gearing", "pin_load", "load" and "contact" (the last where it names a
+        contact law).
     profile : str or None
         The tooth profile's name.
     is_modified : bool
@@ -167,29 +166,29 @@ def level_reason(model, tables, profile, is_modified: bool) -> str:
 
     Returns
     -------
-    str
-        The reason.
+    cause : str
+        "forced", "pin_load" (no gear), "circular", "modified", "contact_law" or "cycloid".
 
     Examples
     --------
-    >>> level_reason(None, {"gearing", "load"}, "cycloidal", False), level_reason("contact", {"gearing"}, None, False)
-    ('an unmodified cycloidal profile (rigid contacts)', '--model contact')
+    >>> level_cause(None, {"gearing", "load"}, "cycloidal", False), level_cause("contact", {"gearing"}, None, False)
+    ('cycloid', 'forced')
 
     References
     ----------
     .. [1] gearcalc specification docs/spec/pins.md §7 (design keys: the level each table calls for), §8.
     """
     if model is not None:
-        return f"--model {model}"
+        return "forced"
     if "gearing" not in tables:
-        return "[pin_load] without [gearing]: the paper's per-pin formula"
+        return "pin_load"
     if profile == "circular":
-        return "a circular profile"
+        return "circular"
     if is_modified:
-        return "a modified cycloid"
+        return "modified"
     if "contact" in tables:
-        return "[contact] names a contact law (contact.law or contact.stiffness_N_per_mm)"
-    return "an unmodified cycloidal profile (rigid contacts)"
+        return "contact_law"
+    return "cycloid"
 
 
 def contact_law_problem(law: str, face_width, stiffness):
@@ -238,6 +237,60 @@ for ``gearcalc check``; a test checks its names are those of :data:`gearcalc.pin
 
 
 @dataclass(frozen=True)
+class GearGiven:
+    """A pin gear's keys as a design gives them, in the physics' names (pins.md §3, §7).
+
+    Each field holds one design's value (:func:`design_problems`) or a list of the values of n designs or sweep
+    points (:func:`violations`, :func:`points_pass`); None where the key is not given.
+
+    Attributes
+    ----------
+    z1, z2 : int or None
+        Satellite teeth and pins, [-] (None: no gear).
+    e : float or None
+        Eccentricity, [mm].
+    Rp : float or None
+        Pin circle radius R_p, [mm] (None: K1 given instead).
+    K1 : float or None
+        Curtate ratio, [-] (None: R_p given instead).
+    Rb : float or None
+        Pin (bushing) radius R_b, [mm].
+    r : float or None
+        Axle radius of rotating pins, [mm].
+    rotating : bool
+        Rotating pins (bushings on axles).
+    profile : str
+        The satellite's profile, "cycloidal" or "circular".
+    """
+
+    z1: object
+    z2: object
+    e: object
+    Rp: object
+    K1: object
+    Rb: object
+    r: object
+    rotating: object
+    profile: object
+
+
+@dataclass(frozen=True)
+class PinLoadGiven:
+    """The radii of the per-pin load ``[pin_load]`` (pins.md §3), one design's or lists over points (None: absent).
+
+    Attributes
+    ----------
+    pin_radius : float or None
+        Bushing radius R, [mm].
+    axle_radius : float or None
+        Axle radius r, [mm].
+    """
+
+    pin_radius: object
+    axle_radius: object
+
+
+@dataclass(frozen=True)
 class Violations:
     """The cross-key rules over designs or points (:func:`violations`): boolean arrays of shape (n,).
 
@@ -253,7 +306,7 @@ class Violations:
     geometry: object
 
 
-def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_radius, load_axle_radius) -> Violations:
+def violations(gear: GearGiven, sliding, pin_load: PinLoadGiven) -> Violations:
     r"""The cross-key rules of n designs or sweep points (pins.md §7, §9), as arrays.
 
     .. math:: r < R\ \text{(per-pin load)},\quad f\ \text{given},\quad R_p \oplus K_1,\quad
@@ -264,16 +317,12 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
 
     Parameters
     ----------
-    z1, z2 : list of int or None
-        Teeth and pins per point (None: no gear).
-    e, Rp, K1, Rb, r : list of float or None
-        Eccentricity, pin circle, curtate ratio, pin and axle radii [mm] (None: not given).
-    rotating : list of bool; profile : list of str
-        Rotating pins; "cycloidal" or "circular".
+    gear : GearGiven
+        The gear per point, lists of n values (None: not given; z1, z2 None: no gear).
     sliding : list of float or None
         f (None: not given).
-    load_pin_radius, load_axle_radius : list of float or None
-        R and r of the per-pin load [mm] (pins.md §3).
+    pin_load : PinLoadGiven
+        R and r of the per-pin load per point [mm] (pins.md §3), lists of n values.
 
     Returns
     -------
@@ -281,8 +330,8 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
 
     Examples
     --------
-    >>> v = violations([20], [22], [3.9], [None], [0.75], [1.95], [None], [True], ["cycloidal"], [None],
-    ...                [1.95], [2.0])
+    >>> gear = GearGiven([20], [22], [3.9], [None], [0.75], [1.95], [None], [True], ["cycloidal"])
+    >>> v = violations(gear, [None], PinLoadGiven([1.95], [2.0]))
     >>> v.pin_load_axle.tolist(), v.no_sliding.tolist(), v.one_circle.tolist(), v.no_axle.tolist()
     ([True], [True], [False], [True])
 
@@ -295,15 +344,16 @@ def violations(z1, z2, e, Rp, K1, Rb, r, rotating, profile, sliding, load_pin_ra
     import numpy as np
 
     from .operating import floats
-    from .geometry import geometry_violations
+    from .geometry import PinMounting, geometry_violations
 
-    K1g, Rpg, r_ = floats(K1), floats(Rp), floats(r)
-    rot = np.array([bool(v) for v in rotating])
-    has_g = all(v is not None for v in z1 + z2)
-    geometry = geometry_violations(z1 if has_g else 0, z2 if has_g else 0, floats(e), Rpg, K1g, floats(Rb), r_, rot,
-                                   np.array([p == "cycloidal" for p in profile]))
+    K1g, Rpg, r_ = floats(gear.K1), floats(gear.Rp), floats(gear.r)
+    rot = np.array([bool(v) for v in gear.rotating])
+    has_g = all(v is not None for v in gear.z1 + gear.z2)
+    geometry = geometry_violations(gear.z1 if has_g else 0, gear.z2 if has_g else 0, floats(gear.e), Rpg, K1g,
+                                   floats(gear.Rb), PinMounting(r_, rot),
+                                   np.array([p == "cycloidal" for p in gear.profile]))
     with np.errstate(invalid="ignore"):
-        return Violations(pin_load_axle=floats(load_axle_radius) >= floats(load_pin_radius),
+        return Violations(pin_load_axle=floats(pin_load.axle_radius) >= floats(pin_load.pin_radius),
                           no_sliding=np.array([v is None for v in sliding]),
                           one_circle=np.isnan(K1g) == np.isnan(Rpg), no_axle=rot & np.isnan(r_), geometry=geometry)
 
@@ -352,36 +402,30 @@ def pin_circle_curtate(z1: int, z2: int, e: float, Rp, K1):
     return float(Rp), (e * z2 / ((z2 - z1) * Rp) if K1 is None else K1), float(omk)
 
 
-def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rotating, profile, tooth_radius,
-                    tooth_circle_radius, is_modified, load_pin_radius, load_axle_radius) -> list:
+def design_problems(bad: Violations, tables: set, gear: GearGiven, pin_load: PinLoadGiven, tooth_radius,
+                    tooth_circle_radius, is_modified: bool) -> list:
     """The cross-key problems of one design (pins.md §5.3, §7, §9) in the order ``gearcalc check`` reports them.
 
     (severity "error" or "warn", rule of :data:`gearcalc.pins.report.PROBLEMS` or the name of a warning, the numbers
-    of its message).  ``bad``: :func:`violations` of the design (arrays of one); ``tables``: the design's tables
-    among "gearing", "pin_load", "load"; ``Rp``, ``K1``: as given (None: not). The list ends early without a gear
-    (the gear's rules and the level's do not apply) and at a curtate ratio that overflows R_p (the rules after it
-    cannot be evaluated): ``gearcalc check`` stops there too.
+    of its message).  The list ends early without a gear (the gear's rules and the level's do not apply) and at a
+    curtate ratio that overflows R_p (the rules after it cannot be evaluated): ``gearcalc check`` stops there too.
+    The steps: the tables (:func:`_table_problems`), the gear (:func:`_gear_problems`), its pins' axles
+    (:func:`_axle_problems`), its profile (:func:`_profile_problems`).
 
     Parameters
     ----------
     bad : Violations
         :func:`violations` of the design (arrays of one).
     tables : set of str
-        The design's tables.
-    z1, z2 : int or None
-        Teeth and pins, [-].
-    e, Rp, K1, Rb, r : float or None
-        Eccentricity [mm], pin circle [mm], curtate ratio [-], pin and axle radii [mm], as given.
-    rotating : bool
-        Rotating pins.
-    profile : str
-        "cycloidal" or "circular".
+        The design's tables among "gearing", "pin_load", "load".
+    gear : GearGiven
+        The design's gear, one value per field, as given (R_p, K1: None where not given).
+    pin_load : PinLoadGiven
+        R and r of the per-pin load, [mm].
     tooth_radius, tooth_circle_radius : float or str
         rho_t and R_t [mm], or "full" and "zero_backlash".
     is_modified : bool
         A modified cycloid.
-    load_pin_radius, load_axle_radius : float or None
-        R and r of the per-pin load, [mm].
 
     Returns
     -------
@@ -390,10 +434,11 @@ def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rota
 
     Examples
     --------
-    >>> bad = violations([20], [22], [3.9], [None], [0.75], [9.0], [None], [False], ["cycloidal"], [0.1],
-    ...                  [None], [None])
-    >>> [(s, rule) for s, rule, _ in design_problems(bad, {"gearing", "load"}, 20, 22, 3.9, None, 0.75, 9.0, None,
-    ...                                               False, "cycloidal", "full", "zero_backlash", False, None, None)]
+    >>> one = GearGiven(20, 22, 3.9, None, 0.75, 9.0, None, False, "cycloidal")
+    >>> points = GearGiven(*([v] for v in vars(one).values()))
+    >>> bad = violations(points, [0.1], PinLoadGiven([None], [None]))
+    >>> [(s, rule) for s, rule, _ in design_problems(bad, {"gearing", "load"}, one, PinLoadGiven(None, None),
+    ...                                               "full", "zero_backlash", False)]
     [('error', 'overlap')]
 
     References
@@ -402,16 +447,43 @@ def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rota
     """
     if not tables & {"gearing", "pin_load"}:
         return [("error", "no_tables", {})]
+    out = _table_problems(bad, tables, pin_load)
+    if "gearing" not in tables:
+        return out
+    gear_out, stop = _gear_problems(bad, gear)
+    out.extend(gear_out)
+    if stop:
+        return out
+    out.extend(_axle_problems(bad, gear))
+    out.extend(_profile_problems(bad, gear, tooth_radius, tooth_circle_radius, is_modified))
+    return out
+
+
+def _table_problems(bad: Violations, tables: set, pin_load: PinLoadGiven) -> list:
+    """The problems of one design's tables (:func:`design_problems`'s first step, pins.md §3, §7).
+
+    The per-pin load's axle; with [gearing], [load] and friction.sliding missing.
+    """
     out = []
     if "pin_load" in tables and bad.pin_load_axle[0]:
-        out.append(("error", "pin_load_axle", {"r": load_axle_radius, "R": load_pin_radius}))
+        out.append(("error", "pin_load_axle", {"r": pin_load.axle_radius, "R": pin_load.pin_radius}))
     if "gearing" not in tables:
         return out
     if "load" not in tables:
         out.append(("error", "no_load", {}))
     if bad.no_sliding[0]:
         out.append(("error", "no_sliding", {}))
-    geo = bad.geometry
+    return out
+
+
+def _gear_problems(bad: Violations, gear: GearGiven) -> tuple[list, bool]:
+    """(problems, stop) of one design's gear (pins.md §4.1, §7, §9).
+
+    k >= 1, one of R_p and K1, R_p finite (else ``stop``: the rules after it cannot be evaluated), K1 < 1, no
+    overlapping pins.
+    """
+    geo, out = bad.geometry, []
+    z1, z2, e, Rp, K1 = gear.z1, gear.z2, gear.e, gear.Rp, gear.K1
     ok_teeth = not geo.teeth[0]
     if not ok_teeth:
         out.append(("error", "teeth", {"z1": z1, "z2": z2}))
@@ -422,19 +494,33 @@ def design_problems(bad: Violations, tables: set, z1, z2, e, Rp, K1, Rb, r, rota
         k = z2 - z1
         if geo.overflow[0]:        # e.g. K1 = 5e-324: R_p = inf (was exit 70)
             out.append(("error", "overflow", {"K1": K1_, "e": e, "ratio": z2 / k}))
-            return out
+            return out, True
         if geo.curtate[0]:
             out.append(("error", "curtate_K1", {"K1": K1_}) if K1 is not None else
                        ("error", "curtate_Rp", {"Rp": Rp_, "K1": K1_, "limit": e * z2 / k, "e": e}))
         if geo.overlap[0]:         # R_b >= R_p sin(pi/z2) (geometry_violations)
-            out.append(("error", "overlap", {"Rb": Rb, "limit": float(geo.overlap_limit[0]), "Rp": Rp_, "z2": z2}))
-    if rotating:
-        if bad.no_axle[0]:
-            out.append(("error", "no_axle", {}))
-        elif geo.axle[0]:
-            out.append(("error", "axle", {"r": r, "Rb": Rb}))
-    circular = profile == "circular"
-    if circular and ok_teeth and tooth_radius != "full" and (Rp is None) != (K1 is None):
+            out.append(("error", "overlap", {"Rb": gear.Rb, "limit": float(geo.overlap_limit[0]), "Rp": Rp_,
+                                             "z2": z2}))
+    return out, False
+
+
+def _axle_problems(bad: Violations, gear: GearGiven) -> list:
+    """The problems of one design's rotating pins (pins.md §7): an axle radius given, and r < R_b."""
+    if not gear.rotating:
+        return []
+    if bad.no_axle[0]:
+        return [("error", "no_axle", {})]
+    return [("error", "axle", {"r": gear.r, "Rb": gear.Rb})] if bad.geometry.axle[0] else []
+
+
+def _profile_problems(bad: Violations, gear: GearGiven, tooth_radius, tooth_circle_radius, is_modified) -> list:
+    """The problems of one design's profile (pins.md §5.3).
+
+    A circular tooth that fits (R_b + rho_t < R_p - e); the warnings of the keys of the other profile.
+    """
+    out, circular = [], gear.profile == "circular"
+    z1, z2, e, Rp, K1, Rb = gear.z1, gear.z2, gear.e, gear.Rp, gear.K1, gear.Rb
+    if circular and not bad.geometry.teeth[0] and tooth_radius != "full" and (Rp is None) != (K1 is None):
         Rp_, _, _ = pin_circle_curtate(z1, z2, e, Rp, K1)
         if tooth_too_large(Rb, tooth_radius, Rp_, e):
             out.append(("error", "tooth_too_large", {"rho_t": tooth_radius, "sum": Rb + tooth_radius,
@@ -590,7 +676,34 @@ def contact_over_budget(z2: int, torque_on_V: bool) -> bool:
     ----------
     .. [1] docs/spec/pins.md §7, §9.
     """
-    return z2 * CONTACT_NODES_MAX * contact_passes(torque_on_V) > CONTACT_WORK_MAX
+    return z2 > contact_pins_max(torque_on_V)   # z2 N p > W for whole pins: the bound of the message, once
+
+
+def contact_pins_max(torque_on_V: bool) -> int:
+    r"""The most pins the contact level's budget allows (pins.md §9): the bound :func:`contact_over_budget` applies.
+
+    .. math:: z_{2,max} = \left\lfloor \frac{W_{contact}}{N_{nodes}\,n_{passes}} \right\rfloor
+
+    Parameters
+    ----------
+    torque_on_V : bool
+        The torque is given on V (one pass) rather than on H (three).
+
+    Returns
+    -------
+    z2_max : int
+        Pins, [-].
+
+    Examples
+    --------
+    >>> contact_pins_max(False), contact_pins_max(True)
+    (114, 344)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §7, §9.
+    """
+    return CONTACT_WORK_MAX // (CONTACT_NODES_MAX * contact_passes(torque_on_V))
 
 
 def computed_alone(z2: int, n_discs: int, tol: float) -> bool:
@@ -627,14 +740,13 @@ def computed_alone(z2: int, n_discs: int, tol: float) -> bool:
     return tol < GROUP_TOL_MIN or z2 * n_discs > GROUP_PINS_MAX
 
 
-def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d, e, Rb, K1, Rp) -> bool:
+def points_pass(bad: Violations, formula: bool, has_pin_load: bool, gear: GearGiven, n_d) -> bool:
     """Whether every point of a vectorised sweep passes the rules its varied keys can break.
 
-    ``bad``: :func:`violations` of the points; ``formula``: the sweep runs the formula level; the gear as lists
-    per point (None: not given).  The rules of :func:`design_problems` as arrays (the per-pin load's axle; at
-    the ideal level f given, k >= 1, one of R_p and K1, the gear's geometry, the axle) and the cost budgets:
-    :func:`ideal_over_budget` per point, and :data:`~gearcalc.pins.schema.IDEAL_SWEEP_WORK_MAX` pin-discs over
-    the distinct geometries (solved together; a larger grid runs point by point, bounded memory).
+    The rules of :func:`design_problems` as arrays (the per-pin load's axle; at the ideal level f given, k >= 1,
+    one of R_p and K1, the gear's geometry, the axle) and the cost budgets: :func:`ideal_over_budget` per point,
+    and :data:`~gearcalc.pins.schema.IDEAL_SWEEP_WORK_MAX` pin-discs over the distinct geometries (solved together;
+    a larger grid runs point by point, bounded memory).
 
     Parameters
     ----------
@@ -644,14 +756,10 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d,
         The sweep runs the formula level.
     has_pin_load : bool
         The design has a per-pin load.
-    z1, z2, n_d : list of int or None
-        Teeth, pins and discs per point, [-].
-    e, Rb : list of float or None
-        Eccentricity and pin radius per point, [mm].
-    K1 : list of float or None
-        Curtate ratio per point, [-].
-    Rp : list of float or None
-        Pin circle radius per point, [mm].
+    gear : GearGiven
+        The gear per point, lists of n values (None: not given).
+    n_d : list of int
+        Discs per point, [-].
 
     Returns
     -------
@@ -660,10 +768,10 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d,
 
     Examples
     --------
-    >>> bad = violations([20, 20], [22, 22], [3.9, 3.9], [None, None], [0.75, 0.75], [1.95, 9.0], [None, None],
-    ...                  [False, False], ["cycloidal"] * 2, [0.1, 0.1], [None, None], [None, None])
-    >>> points_pass(bad, False, False, [20, 20], [22, 22], [1, 1], [3.9, 3.9], [1.95, 9.0], [0.75, 0.75],
-    ...             [None, None])   # the second point's pins overlap
+    >>> gear = GearGiven([20, 20], [22, 22], [3.9, 3.9], [None, None], [0.75, 0.75], [1.95, 9.0], [None, None],
+    ...                  [False, False], ["cycloidal"] * 2)
+    >>> bad = violations(gear, [0.1, 0.1], PinLoadGiven([None, None], [None, None]))
+    >>> points_pass(bad, False, False, gear, [1, 1])   # the second point's pins overlap
     False
 
     References
@@ -680,12 +788,117 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, z1, z2, n_d,
         return True
     if np.any(bad.no_sliding) or np.any(bad.geometry.teeth) or np.any(bad.one_circle):
         return False
-    z1, z2, n_d = (np.array(v, dtype=np.int64) for v in (z1, z2, n_d))
+    z1, z2, n_d = (np.array(v, dtype=np.int64) for v in (gear.z1, gear.z2, n_d))
     if np.any(ideal_over_budget(z2, n_d)):         # reported point by point
         return False
-    key = np.nan_to_num(np.stack([z1, z2, n_d, floats(e), floats(Rb), floats(K1), floats(Rp)], axis=1).astype(float),
-                        nan=-1.0)
+    key = np.nan_to_num(np.stack([z1, z2, n_d, floats(gear.e), floats(gear.Rb), floats(gear.K1), floats(gear.Rp)],
+                                 axis=1).astype(float), nan=-1.0)
     geometries = np.unique(key, axis=0)         # each distinct geometry is solved once
     if float((geometries[:, 1] * geometries[:, 2]).sum()) > IDEAL_SWEEP_WORK_MAX:
         return False
     return not (np.any(bad.geometry.any()) or np.any(bad.no_axle))
+
+
+@dataclass(frozen=True)
+class RollingValues:
+    r"""One design's values in the rolling condition of rotating pins, f R_b >= f_c r + f_k (pins.md §4.5).
+
+    :func:`gearcalc.pins.friction.rolling_condition` decides it; :meth:`sides` gives its two sides for the message
+    of a design that fails it.
+
+    Attributes
+    ----------
+    sliding : float
+        Tooth-pin sliding friction f, [-].
+    pin_radius : float
+        Bushing radius R_b, [mm].
+    axle_friction : float
+        Bushing-axle friction f_c, [-].
+    axle_radius : float or None
+        Axle radius r, [mm] (None: not given).
+    rolling : float
+        Rolling friction f_k, [mm].
+
+    Examples
+    --------
+    >>> [round(x, 12) for x in RollingValues(0.1, 1.95, 0.1, 0.95, 5.0).sides()]
+    [0.195, 5.095]
+    """
+
+    sliding: float
+    pin_radius: float
+    axle_friction: float
+    axle_radius: object
+    rolling: float
+
+    def sides(self) -> tuple[float, float]:
+        r"""(f R_b, f_c r + f_k) [mm]: the moment arms that drive and that resist the bushing.
+
+        .. math:: f\,R_b \ \ge\ f_c\,r + f_k
+        """
+        return self.sliding * self.pin_radius, self.axle_friction * self.axle_radius + self.rolling
+
+
+@dataclass(frozen=True)
+class SatelliteTurn:
+    """How far the satellite turns under the load in one mode's contact cycle (pins.md §6-7, §8).
+
+    Attributes
+    ----------
+    turn_max : float
+        The largest rotation max |tau|, [rad].
+    turn_range : float
+        The transmission error peak to peak, max tau - min tau, [rad].
+    travel : float
+        The largest pin-centre travel over the pin radius (:func:`gearcalc.pins.contact_cycle.pin_travel`), [-].
+    travel_max : float
+        The largest travel the contact level's results are trusted for (``ContactSettings.travel_max``), [-].
+    sized : bool
+        A deflection-sized rotation (:func:`gearcalc.pins.contact_cycle.deflection_sized`): travel <= travel_max.
+    """
+
+    turn_max: float
+    turn_range: float
+    travel: float
+    travel_max: float
+    sized: bool
+
+
+def satellite_turn(cycle) -> SatelliteTurn:
+    r"""The satellite's rotation under the load in one mode's contact cycle and whether it is a deflection.
+
+    The rule of pins.md §7 ("Several equilibria"): a pin centre that travels more than ``travel_max`` of its radius
+    meets its tooth far from its nominal place; the loss ratio is then not known to the stated error.
+
+    .. math:: \frac{\max|\tau|\,(R_p + e)}{R_b} \le \text{travel}_{max}
+
+    Parameters
+    ----------
+    cycle : gearcalc.pins.contact.TorqueCycle
+        One mode's cycle at its torque (its model's gear and settings, its solved rotations tau [rad]).
+
+    Returns
+    -------
+    SatelliteTurn
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace as NS
+    >>> import numpy as np
+    >>> from gearcalc.pins.geometry import Cycloid
+    >>> from gearcalc.pins.contact import DEFAULT_SETTINGS
+    >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
+    >>> tc = NS(cycle=NS(sol=NS(tau=np.array([1e-3, -2e-3]))), model=NS(g=g, settings=DEFAULT_SETTINGS))
+    >>> turn = satellite_turn(tc)
+    >>> turn.turn_max, round(turn.turn_range, 12), turn.sized
+    (0.002, 0.003, True)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6-7, §8.
+    """
+    from .contact_cycle import deflection_sized, pin_travel    # the contact level ran: loaded
+
+    tau, g, travel_max = cycle.cycle.sol.tau, cycle.model.g, cycle.model.settings.travel_max
+    return SatelliteTurn(turn_max=float(abs(tau).max()), turn_range=float(tau.max() - tau.min()),
+                         travel=pin_travel(tau, g), travel_max=travel_max, sized=deflection_sized(tau, g, travel_max))

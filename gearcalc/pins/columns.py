@@ -393,8 +393,8 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
         warnings[i].append(R.MULTI_DISC_PEAKS)
     mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V
     columns = R.ideal_columns(arrays, op["mode"], rot, rolls, models, n)
-    columns.update(w_bearing_columns(R.bearing_columns(pts, bearing_p, floats(v.get("bearing_C", absent)),
-                                                       op["speed"], n), arrays, n))   # with |B + Q x| (pins.md §8.2)
+    columns.update(w_bearing_columns(_bearing_columns(pts, bearing_p, floats(v.get("bearing_C", absent)),
+                                                      op["speed"], n), arrays, n))   # with |B + Q x| (pins.md §8.2)
     overflow = None
     for i, (lam, locked) in enumerate(zip(columns["loss_ratio"], columns["self_locking"])):
         if errors[i] is not None or lam is not None:
@@ -528,3 +528,22 @@ def _ideal_fields(pts) -> dict:
         else:
             arrays[key] = v
     return arrays
+
+
+def _bearing_columns(pts, exponent, rating, speed, n: int) -> dict:
+    """The crank bearing's equivalent load and L10_h over the n points of the ideal level (pins.md §8.2).
+
+    :func:`gearcalc.pins.outputs.bearing_life` of the points ``pts`` as summary columns (None: undefined; L10_h needs
+    bearing.C_N and the crank speed).
+    """
+    from .outputs import bearing_life
+
+    p = pts.consistent
+    if p is None or p.bearing_pmean is None:
+        return {k: [None] * n for k in R.BEARING_KEYS}
+    vals = bearing_life(p.bearing_pmean, p.bearing_pmean_err, exponent, p.torque_sat, rating, speed)
+    out = {}
+    for key, v in zip(R.BEARING_KEYS, vals):
+        v = np.broadcast_to(np.asarray(v, dtype=float), (n,))
+        out[key] = [x if math.isfinite(x) else None for x in v.tolist()]
+    return out

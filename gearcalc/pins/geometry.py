@@ -24,7 +24,7 @@ import numpy as np
 __all__ = ["REDUCER", "MULTIPLIER", "Cycloid", "GeometryViolations", "geometry_violations", "s_factor",
            "pitch_distance", "lever_arm", "contact_point", "contact_angle_offset", "crest_cutoff", "crest_cutoffs",
            "spin_reversal_phase", "spin_reversal_phases", "curvature_radius", "min_curvature_radius",
-           "pin_centre_curve", "tooth_profile"]
+           "pin_centre_curve", "tooth_profile", "PinMounting"]
 
 REDUCER, MULTIPLIER = 1, -1
 """sigma: +1 reducer (H drives V), -1 multiplier (V drives H)."""
@@ -117,8 +117,33 @@ class GeometryViolations:
         return self.teeth | self.overflow | self.curtate | self.overlap | self.axle
 
 
-def geometry_violations(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, pin_radius, axle_radius=np.nan,
-                        rotating=False, cycloidal=True) -> GeometryViolations:
+@dataclass(frozen=True)
+class PinMounting:
+    """How the pins are held (pins.md §3, §7): fixed, or rotating bushings on axles of radius r.
+
+    Attributes
+    ----------
+    axle_radius : float or array_like
+        r [mm] (NaN: none given).
+    rotating : bool or array_like of bool
+        Rotating pins (bushings on axles).
+
+    Examples
+    --------
+    >>> PinMounting(0.95, True).rotating
+    True
+    """
+
+    axle_radius: object = np.nan
+    rotating: object = False
+
+
+FIXED_PINS = PinMounting()
+"""Fixed pins without an axle (:class:`PinMounting`'s defaults)."""
+
+
+def geometry_violations(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, pin_radius,
+                        mounting: PinMounting = FIXED_PINS, cycloidal=True) -> GeometryViolations:
     r"""The geometric validity rules of a pin gear, over arrays of gears (pins.md §4.2, §7, §9).
 
     .. math::
@@ -142,10 +167,8 @@ def geometry_violations(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, 
         K1 [-], NaN where R_p is given.
     pin_radius : float or array_like
         R_b [mm].
-    axle_radius : float or array_like
-        r [mm] (NaN: none).
-    rotating : bool or array_like of bool
-        rotating pins (bushings on axles).
+    mounting : PinMounting
+        the pins' axle radius r [mm] (NaN: none) and whether they rotate (bushings on axles); fixed pins by default.
     cycloidal : bool or array_like of bool
         cycloidal satellite profile (K1 < 1 applies to it only).
 
@@ -166,7 +189,8 @@ def geometry_violations(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, 
     """
     z1 = np.atleast_1d(np.asarray(z1, dtype=np.int64))
     z2 = np.atleast_1d(np.asarray(z2, dtype=np.int64))
-    e, Rb, r = (np.atleast_1d(np.asarray(x, dtype=float)) for x in (eccentricity, pin_radius, axle_radius))
+    e, Rb, r = (np.atleast_1d(np.asarray(x, dtype=float)) for x in (eccentricity, pin_radius,
+                                                                     mounting.axle_radius))
     K1g, Rpg = (np.atleast_1d(np.asarray(x, dtype=float)) for x in (curtate_ratio, pin_circle_radius))
     with np.errstate(all="ignore"):
         k = z2 - z1
@@ -178,8 +202,8 @@ def geometry_violations(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, 
         limit = Rp * sines[inv.reshape(-1)]
         return GeometryViolations(
             teeth=z2 <= z1, overflow=useK & ~np.isfinite(Rp), curtate=np.asarray(cycloidal) & (K1 >= 1.0),
-            overlap=Rb >= limit, axle=np.asarray(rotating) & (r >= Rb), pin_circle_radius=Rp, curtate_ratio=K1,
-            overlap_limit=limit)
+            overlap=Rb >= limit, axle=np.asarray(mounting.rotating) & (r >= Rb), pin_circle_radius=Rp,
+            curtate_ratio=K1, overlap_limit=limit)
 
 
 def s_factor(psi, K1, one_minus_K1):

@@ -1,6 +1,8 @@
 """The texts and field lists of the ``pins`` calculator: summary fields filled from the physics results,
 warnings and failed-check messages (pins.md §8, §9).
 
+Words only: the helpers take numbers (the design's values from the adapter, :mod:`gearcalc.kinds.pins`, the results
+of the physics) and read no design; a number in a message is :func:`gearcalc.render.fmt_number`'s (``fmt``).
 Imports nothing heavy (numpy, the physics) at module level.
 """
 from __future__ import annotations
@@ -8,11 +10,13 @@ from __future__ import annotations
 import math
 
 from ..calculator import DesignError, Result
+from ..render import fmt_number as fmt
 
-__all__ = ["PEAK_KEYS", "CONSISTENT_FIELDS", "OUTPUT_KEYS", "FORMULA_KEYS", "fmt", "cycle_notes",
+__all__ = ["PEAK_KEYS", "CONSISTENT_FIELDS", "OUTPUT_KEYS", "FORMULA_KEYS", "cycle_notes",
            "admissibility_error", "profile_error", "tooth_overlap", "column", "columns", "plain", "ideal_columns",
-           "problem", "warning", "friction_alias_error", "contact_notes",
-           "cost_problem", "contact_error", "result", "report_problems"]
+           "problem", "warning", "friction_alias_error", "contact_notes", "ideal_cost_problem", "contact_cost_problem",
+           "no_equilibrium_error", "unresolvable_error", "result", "report_problems", "LEVEL_REASONS",
+           "level_reason"]
 
 PEAK_KEYS = ("pin_force_max_N", "pin_force_max_phase_deg", "pin_loss_max_W", "pin_loss_max_phase_deg", "loss_peak_W",
              "pin_loss_bound_W")
@@ -40,9 +44,21 @@ SELF_LOCKING_EMPTY = ("efficiency", "efficiency_err", "efficiency_multiplier", "
 FORMULA_KEYS = ("F_tr1_N", "F_tr2_N", "P_tr1_W", "P_tr2_W", "P_tr_W", "P_tr_fixed_W")
 
 
-def fmt(x) -> str:
-    """A number in a message: 6 significant digits."""
-    return f"{x:.6g}"
+LEVEL_REASONS = {
+    "forced": "--model {model}",
+    "pin_load": "[pin_load] without [gearing]: the paper's per-pin formula",
+    "circular": "a circular profile",
+    "modified": "a modified cycloid",
+    "contact_law": "[contact] names a contact law (contact.law or contact.stiffness_N_per_mm)",
+    "cycloid": "an unmodified cycloidal profile (rigid contacts)",
+}
+"""Why a design runs at its level (the summary's ``model_reason``): cause of
+:func:`gearcalc.pins.checks.level_cause` -> words."""
+
+
+def level_reason(cause: str, model=None) -> str:
+    """The words of a level's ``cause`` (:data:`LEVEL_REASONS`), with the level ``model`` forced by the caller."""
+    return LEVEL_REASONS[cause].format(model=model)
 
 
 def admissibility_error(status: int, z1, z2, psi_star: float, Rb, rho_c: float, K1) -> DesignError:
@@ -62,16 +78,16 @@ def admissibility_error(status: int, z1, z2, psi_star: float, Rb, rho_c: float, 
         f"over the loaded arc, min rho_c = {fmt(rho_c)} mm (K1 = {fmt(K1)})")
 
 
-def cycle_notes(design, s, tol: float, warnings, failed) -> None:
+def cycle_notes(s, rolling, speed, tol: float, warnings, failed) -> None:
     """Append the warnings and failed checks shared by the cycle levels (pins.md §4.5, §4.7, §6, §12.4) of the
-    summary ``s`` of ``design`` computed to ``tol``."""
-    f, fk, fc, Rb = (design["friction.sliding"], design["friction.rolling_mm"], design["friction.axle"],
-                     design["gearing.pin_radius_mm"])
+    summary ``s`` computed to ``tol``: ``rolling`` the design's :class:`gearcalc.pins.checks.RollingValues`,
+    ``speed`` its crank speed [rpm] (None: not given)."""
     if s["rolling_ok"] is False:  # a failed check (margin_rolling < 0); the model goes on with fixed pins
-        r = design["gearing.axle_radius_mm"]
-        failed.append(f"rolling condition f*R_b >= f_c*r + f_k fails (f = {fmt(f)}, R_b = {fmt(Rb)} mm, "
-                        f"f_c = {fmt(fc)}, r = {fmt(r)} mm, f_k = {fmt(fk)} mm: {fmt(f * Rb)} < "
-                        f"{fmt(fc * r + fk)}): the bushings cannot turn; treated as fixed pins sliding with f")
+        v = rolling
+        drive, resist = v.sides()
+        failed.append(f"rolling condition f*R_b >= f_c*r + f_k fails (f = {fmt(v.sliding)}, R_b = {fmt(v.pin_radius)} "
+                      f"mm, f_c = {fmt(v.axle_friction)}, r = {fmt(v.axle_radius)} mm, f_k = {fmt(v.rolling)} mm: "
+                      f"{fmt(drive)} < {fmt(resist)}): the bushings cannot turn; treated as fixed pins sliding with f")
     lam, E = s["loss_ratio"], s["loss_ratio_err"]
     jammed = s["self_locking"] and lam is None         # friction-consistent model: no positive normal forces
     if not s["tolerance_met"] and not jammed:
@@ -94,14 +110,14 @@ def cycle_notes(design, s, tol: float, warnings, failed) -> None:
     if s.get("friction_model") == "consistent" and s[f"efficiency_{other}"] is None:
         warnings.append(f"the {other} mode self-locks (friction-consistent model, pins.md §4.9): "
                         f"efficiency_{other} is empty")
-    if design["load.crank_speed_rpm"] is None:
+    if speed is None:
         warnings.append("loss_mean_W, loss_peak_W, pin_loss_max_W, pin_loss_bound_W and the pin and sliding speeds "
                         "need load.crank_speed_rpm; they are left empty")
 
 
-def profile_error(exc, design, g) -> DesignError:
+def profile_error(exc, g, radial_mod, equidistant_mod) -> DesignError:
     """The DesignError of an inadmissible contact-level profile (:class:`gearcalc.pins.contact.InadmissibleProfile`,
-    pins.md §5.2-5.3, §9) of ``design`` with gear ``g``."""
+    pins.md §5.2-5.3, §9) on gear ``g`` with the design's profile modifications Delta R_p and Delta R_b [mm]."""
     v, Rb, Rp, e = exc.values, g.R_b, g.R_p, g.e
     if exc.reason == "no_full_tooth":
         return DesignError("gearing.tooth_radius_mm",
@@ -121,17 +137,18 @@ def profile_error(exc, design, g) -> DesignError:
                            "or use \"zero_backlash\"")
     if exc.reason == "design_curve":
         return DesignError("gearing.radial_mod_mm",
-                           f"= {fmt(design['gearing.radial_mod_mm'])}: the design curve's K1 = e*z2/(k*(R_p + Delta "
+                           f"= {fmt(radial_mod)}: the design curve's K1 = e*z2/(k*(R_p + Delta "
                            f"R_p)) = {fmt(v['K1'])} must be < 1")
     if exc.reason == "modification":
-        return DesignError("gearing.equidistant_mod_mm", f"= {fmt(design['gearing.equidistant_mod_mm'])}: R_b + Delta "
+        return DesignError("gearing.equidistant_mod_mm", f"= {fmt(equidistant_mod)}: R_b + Delta "
                                                          f"R_b = {fmt(v['R_b'])} mm must be > 0")
     if exc.reason == "too_few_teeth":         # the ideal level's text (pins.md §12.10)
         from .ideal import TOO_FEW_TEETH
 
         return admissibility_error(TOO_FEW_TEETH, g.z1, g.z2, v["psi_star"], Rb, math.nan, g.K1)
-    key = "gearing.equidistant_mod_mm" if design["gearing.equidistant_mod_mm"] != 0.0 else "gearing.pin_radius_mm"
-    return DesignError(key, f"= {fmt(design[key])}: undercut: R_b + Delta R_b = {fmt(v['R_b'])} mm must be < the "
+    key, value = (("gearing.equidistant_mod_mm", equidistant_mod) if equidistant_mod != 0.0
+                  else ("gearing.pin_radius_mm", Rb))
+    return DesignError(key, f"= {fmt(value)}: undercut: R_b + Delta R_b = {fmt(v['R_b'])} mm must be < the "
                             f"least radius of curvature of the design curve over the loaded arc, min rho_c = "
                             f"{fmt(v['rho_c'])} mm")
 
@@ -143,53 +160,18 @@ def tooth_overlap(profile) -> str:
             "adjacent tooth circles overlap")
 
 
-def no_equilibrium_error(exc, design, z1: int) -> DesignError:
-    """A contact-level crank angle where no satellite rotation balances the torque (pins.md §5.5)."""
-    key = "gearing.tooth_circle_radius_mm" if design["gearing.profile"] == "circular" else "gearing.equidistant_mod_mm"
-    return DesignError(key, f"= {design[key]}: no contact can carry the torque at crank angle "
+def no_equilibrium_error(exc, z1: int, profile: str, tooth_circle_radius, equidistant_mod) -> DesignError:
+    """A contact-level crank angle where no satellite rotation balances the torque (pins.md §5.5)
+    (:class:`gearcalc.pins.contact.NoEquilibrium`), named on the tooth circle R_t (a circular ``profile``) or the
+    equidistant modification Delta R_b [mm] (a cycloid) as the design gives them."""
+    key, value = (("gearing.tooth_circle_radius_mm", tooth_circle_radius) if profile == "circular"
+                  else ("gearing.equidistant_mod_mm", equidistant_mod))
+    return DesignError(key, f"= {value}: no contact can carry the torque at crank angle "
                             f"{fmt(math.degrees(float(exc.theta[0])))} deg: no satellite rotation within "
                             f"+-180/z1 = {fmt(180.0 / z1)} deg balances T_V = {fmt(exc.torque_V)} N*m (the "
                             "teeth do not mesh with the pins, or the torque crushes the contacts, or the satellite "
                             "turns so far under it that the search misses a balance among several; pins.md "
                             "§5.5, §7)")
-
-
-def contact_error(exc, design, g) -> DesignError:
-    """The DesignError of the contact level of ``design`` (gear ``g``) finding no equilibrium
-    (:class:`gearcalc.pins.contact.NoEquilibrium`) or a geometry below floating-point resolution
-    (:class:`~gearcalc.pins.contact.Unresolvable`)."""
-    from .contact import NoEquilibrium
-
-    if isinstance(exc, NoEquilibrium):
-        return no_equilibrium_error(exc, design, design["gearing.satellite_teeth"])
-    return unresolvable_error(design["gearing.eccentricity_mm"], g.R_p, design["gearing.pin_radius_mm"],
-                              design.get("load.torque_Nm"))
-
-
-def group_results(designs, cols, ideal, tol: float, detail: bool, t0: float) -> list:
-    """Per design of a group computed together (:func:`gearcalc.pins.columns.level_columns`: its columns ``cols``
-    and the ideal level's :class:`~gearcalc.pins.columns.IdealColumns` or None) its Result or DesignError, with
-    the notes of :func:`cycle_notes`; ``model_time_ms`` is the group's time since ``t0`` per design."""
-    import time
-
-    out = []
-    for i, d in enumerate(designs):
-        summary, warnings, failed, tables = {k: col[i] for k, col in cols.items()}, [], [], {}
-        if ideal is not None:
-            if ideal.errors[i] is not None:
-                out.append(ideal.errors[i])
-                continue
-            law = d.has("contact") and (d.is_given("contact.law") or d.is_given("contact.stiffness_N_per_mm"))
-            warnings = ([CONTACT_TABLE_UNUSED] if law else []) + ideal.warnings[i]
-            cycle_notes(d, summary, tol, warnings, failed)
-            failed.extend(stress_failure(summary, d.get("material.allowable_stress_MPa")))
-            tables = ideal.detail(i) if detail else {}
-        out.append(result(summary, tables, warnings, failed))
-    per_design = (time.perf_counter() - t0) * 1e3 / len(designs)
-    for r in out:
-        if isinstance(r, Result):
-            r.summary["model_time_ms"] = per_design
-    return out
 
 
 def stress_failure(s, allowable) -> list:
@@ -224,8 +206,8 @@ def report_problems(found, problems) -> None:
 
 
 def unresolvable_error(e, Rp, Rb, torque=None) -> DesignError:
-    """A contact-level geometry below floating-point resolution (``torque``: load.torque_Nm, named as the other
-    cause: the deflections scale with it)."""
+    """A contact-level geometry below floating-point resolution (:class:`gearcalc.pins.contact.Unresolvable`):
+    e, R_p, R_b [mm]; ``torque``: load.torque_Nm [N*m], named as the other cause: the deflections scale with it."""
     under = "" if torque is None else f" under load.torque_Nm = {fmt(torque)} N*m"
     hint = "" if torque is None else "; a larger torque deflects the contacts more"
     return DesignError("gearing.eccentricity_mm",
@@ -234,11 +216,12 @@ def unresolvable_error(e, Rp, Rb, torque=None) -> DesignError:
                        f"below the round-off of the pin positions{hint})")
 
 
-def stiffness_error(design, law, residual: float, tol: float) -> DesignError:
-    """The moment balance not met to 1/100 of --tol: the torque too high for the contact stiffness (pins.md §5.5)."""
+def stiffness_error(law, face_width, torque, residual: float, tol: float) -> DesignError:
+    """The moment balance not met to 1/100 of --tol: the torque [N*m] too high for the contact stiffness (the
+    contact ``law``, the face width b [mm]; pins.md §5.5)."""
     stiff = (f"contact.stiffness_N_per_mm = {fmt(law.constant)} N/mm" if law.name == "linear"
-             else f"the {law.name} law with contact.face_width_mm = {fmt(design['contact.face_width_mm'])} mm")
-    return DesignError("load.torque_Nm", f"= {fmt(design['load.torque_Nm'])}: the torque is too high for the "
+             else f"the {law.name} law with contact.face_width_mm = {fmt(face_width)} mm")
+    return DesignError("load.torque_Nm", f"= {fmt(torque)}: the torque is too high for the "
                                          f"contact stiffness ({stiff}): the satellite's moment balance is met only "
                                          f"to {residual:.3g} of the torque at some crank angle (more than 1/100 of "
                                          f"--tol {tol:g} and than its round-off floor; pins.md §5.5); "
@@ -247,11 +230,12 @@ def stiffness_error(design, law, residual: float, tol: float) -> DesignError:
                                          "passes a sharp crest corner: a curtate ratio further from 1)")
 
 
-def mode_warnings(modes, mode: str) -> list[str]:
+def mode_warnings(modes, mode: str, turns: dict) -> list[str]:
     """The warnings of the contact level's modes (:class:`gearcalc.pins.contact.ModeCycles`): the requested mode
-    jams (its numbers are the frictionless balance's), a torque fixed point that did not settle, a cycle whose nodes
-    contradict their pieces' contact sets (:attr:`gearcalc.pins.contact.ContactCycle.held`)."""
-    from .contact_cycle import deflection_sized, pin_travel    # the contact level ran: loaded
+    jams (its numbers are the frictionless balance's), a torque fixed point that did not settle, a satellite that
+    turns beyond a deflection (``turns``: per mode, True for the multiplier, its
+    :class:`gearcalc.pins.checks.SatelliteTurn`), a cycle whose nodes contradict their pieces' contact sets
+    (:attr:`gearcalc.pins.contact.ContactCycle.held`)."""
     out = []
     multiplier = mode == "multiplier"
     if multiplier in modes.jams:
@@ -263,13 +247,13 @@ def mode_warnings(modes, mode: str) -> list[str]:
         if not t.settled:
             out.append(f"the torque fixed point T_V = u T_H/eta did not settle in {len(t.history)} passes (loss ratios "
                        f"{t.history[-2]:.10g}, {t.history[-1]:.10g})")
-        st = t.model.settings
-        sized = deflection_sized(t.cycle.sol.tau, t.model.g, st.travel_max)
+        st, turn = t.model.settings, turns[mult]
+        sized = turn.sized
         if not sized:
-            travel = pin_travel(t.cycle.sol.tau, t.model.g)
             out.append(f"in the {'multiplier' if mult else 'reducer'} mode the satellite turns by up to "
-                       f"{fmt(math.degrees(float(abs(t.cycle.sol.tau).max())))} deg under the load: a pin centre "
-                       f"moves by {fmt(travel)} of the pin radius from its nominal place (more than {st.travel_max:g}: "
+                       f"{fmt(math.degrees(turn.turn_max))} deg under the load: a pin centre "
+                       f"moves by {fmt(turn.travel)} of the pin radius from its nominal place (more than "
+                       f"{turn.travel_max:g}: "
                        f"not a deflection; the balance can have several solutions, pins.md §7); its loss ratio is not "
                        f"known to the stated error")
         if not t.cycle.held:
@@ -307,14 +291,15 @@ def other_mode_jams(multiplier: bool) -> str:
             "forces in the moment balance: efficiency_" + ("multiplier" if multiplier else "reducer") + " is empty")
 
 
-def contact_fields(profile: str, rotating: bool, mode: str, g, law, geo, tc, pk, metrics, backlash, residual,
-                   rolling_ok) -> dict:
+def contact_fields(profile: str, rotating: bool, mode: str, g, law, geo, cl, turn) -> dict:
     """The contact level's summary fields from its results (pins.md §8) for the design's ``profile`` name,
-    ``rotating`` pins and load ``mode``: the cycle ``tc``
-    (:class:`~gearcalc.pins.contact.TorqueCycle`), its peaks ``pk``, engagement ``metrics``, backlash [deg] and
-    equilibrium residual."""
-    from .contact import deflection_sized        # the contact level ran: loaded
-    cyc, sol = tc.cycle, tc.cycle.sol
+    ``rotating`` pins and load ``mode`` on gear ``g`` with contact ``law`` and the profile's ``geo`` fields: from
+    :class:`~gearcalc.pins.contact_level.ContactLevel` ``cl`` the requested mode's cycle
+    (:class:`~gearcalc.pins.contact.TorqueCycle`) and its satellite ``turn``
+    (:class:`gearcalc.pins.checks.SatelliteTurn`), its peaks, engagement metrics, backlash [deg], equilibrium
+    residual and rolling condition."""
+    tc, pk, metrics, rolling_ok = cl.modes.requested, cl.peaks, cl.metrics, cl.rolling_ok
+    cyc = tc.cycle
     return {
         "model": "contact", "profile": profile, "rotating_pins": rotating, "mode": mode, "ratio": g.ratio,
         "curtate_ratio": g.K1,
@@ -322,17 +307,16 @@ def contact_fields(profile: str, rotating: bool, mode: str, g, law, geo, tc, pk,
         "loss_ratio": tc.loss_ratio, "loss_ratio_err": tc.loss_ratio_err, "n_crank": cyc.n_crank,
         # the quadrature, the torque fixed point, the nodes' check of the pieces' contact sets and a deflection-sized
         # rotation (pins.md §6-7)
-        "tolerance_met": (bool(cyc.converged) and bool(tc.settled) and bool(cyc.held)
-                          and deflection_sized(sol.tau, g, tc.model.settings.travel_max)),
+        "tolerance_met": bool(cyc.converged) and bool(tc.settled) and bool(cyc.held) and turn.sized,
         "pin_force_max_N": pk.force if math.isfinite(tc.torque_V) else None,
         "pin_force_max_phase_deg": math.degrees(pk.force_phase), "loaded_pins_min": pk.loaded_min,
         "loaded_pins_max": pk.loaded_max,
         "psi_star_deg": math.degrees(pk.psi_star) if pk.psi_star is not None else None,
         "exit_entry_force_ratio": metrics["exit_entry_force_ratio"],
         "low_spin_fraction": metrics["low_spin_fraction"], "spin_reversals": metrics["spin_reversals"],
-        "te_pp_arcsec": math.degrees(float(sol.tau.max() - sol.tau.min())) * 3600.0,
-        "backlash_deg": backlash,
-        "equilibrium_residual": residual,
+        "te_pp_arcsec": math.degrees(turn.turn_range) * 3600.0,
+        "backlash_deg": cl.backlash,
+        "equilibrium_residual": cl.residual,
         "contact_law": law.name, "tooth_radius_mm": geo.get("tooth_radius_mm"),
         "tooth_circle_radius_mm": geo.get("tooth_circle_radius_mm"),
     }
@@ -372,19 +356,22 @@ def operating_fields(ov) -> dict:
             "pin_speed_signed_max_rpm": ov.spin_max, "sliding_speed_max_m_s": ov.sliding_speed_max}
 
 
-def cost_problem(level: str, z2: int, n_d: int, torque_on_V: bool):
-    """(key, message) of a design over its level's cost budget (:func:`gearcalc.pins.checks.ideal_over_budget`,
-    :func:`~gearcalc.pins.checks.contact_over_budget`; pins.md §9), else None."""
-    from .checks import contact_over_budget, contact_passes, ideal_over_budget
-    from .schema import CONTACT_NODES_MAX, CONTACT_WORK_MAX, IDEAL_WORK_MAX
+def ideal_cost_problem(z2: int, n_d: int) -> tuple[str, str]:
+    """(key, message) of a design over the ideal level's budget of pin-discs
+    (:func:`gearcalc.pins.checks.ideal_over_budget`, pins.md §9): named on the discs when there are several."""
+    from .schema import IDEAL_WORK_MAX
 
-    if level == "ideal" and ideal_over_budget(z2, n_d):
-        key = "gearing.discs" if n_d > 1 else "gearing.pins"
-        return key, ideal_cost_text(n_d if n_d > 1 else z2, z2, n_d, IDEAL_WORK_MAX)
-    if level == "contact" and contact_over_budget(z2, torque_on_V):
-        return "gearing.pins", contact_cost_text(z2, CONTACT_NODES_MAX, contact_passes(torque_on_V), CONTACT_WORK_MAX,
-                                                 torque_on_V)
-    return None
+    key = "gearing.discs" if n_d > 1 else "gearing.pins"
+    return key, ideal_cost_text(n_d if n_d > 1 else z2, z2, n_d, IDEAL_WORK_MAX)
+
+
+def contact_cost_problem(z2: int, passes: int, pins_max: int, torque_on_V: bool) -> tuple[str, str]:
+    """(key, message) of a design over the contact level's budget of contact solves
+    (:func:`gearcalc.pins.checks.contact_over_budget`, pins.md §9): its ``passes`` of the torque fixed point and the
+    most pins the budget allows (:func:`gearcalc.pins.checks.contact_pins_max`)."""
+    from .schema import CONTACT_NODES_MAX, CONTACT_WORK_MAX
+
+    return "gearing.pins", contact_cost_text(z2, CONTACT_NODES_MAX, passes, CONTACT_WORK_MAX, pins_max, torque_on_V)
 
 
 def ideal_cost_text(key_value, z2: int, n_d: int, budget: int) -> str:
@@ -393,12 +380,12 @@ def ideal_cost_text(key_value, z2: int, n_d: int, budget: int) -> str:
             f"level's budget of {budget} pin-discs (about 35 us each: ~10 s, ~0.5 GB); use fewer pins or discs")
 
 
-def contact_cost_text(z2: int, nodes: int, passes: int, budget: int, on_V: bool) -> str:
-    """A design over the contact level's budget of contact solves (pins.md §9)."""
+def contact_cost_text(z2: int, nodes: int, passes: int, budget: int, pins_max: int, on_V: bool) -> str:
+    """A design over the contact level's budget of contact solves (pins.md §9); at most ``pins_max`` pins."""
     where = "with the torque on V" if on_V else "with the torque on H (3 passes of the torque fixed point)"
     return (f"= {z2}: too many pins for the contact level: {z2} pins x {nodes} crank angles x {passes} pass(es) = "
             f"{z2 * nodes * passes} contact solves exceeds its budget of {budget} (~10 s): at most "
-            f"{budget // (nodes * passes)} pins {where}; a cycloidal profile without modifications or [contact] "
+            f"{pins_max} pins {where}; a cycloidal profile without modifications or [contact] "
             "runs the ideal level, which takes up to 10 000 pins")
 
 
@@ -545,21 +532,23 @@ def friction_alias_error(model, alias) -> DesignError:
     return DesignError(*problem("friction_alias", alias=str(alias).lower(), model=model))
 
 
-def contact_notes(design, s, tol: float, warnings, failed, cl, multiplier: bool) -> None:
+def contact_notes(s, rolling, speed, tol: float, warnings, failed, cl) -> None:
     """The warnings and failed checks of the contact level's summary ``s`` (pins.md §4.9, §8) from its
-    :class:`~gearcalc.pins.contact_level.ContactLevel` ``cl``: :func:`cycle_notes`, then the self-locking of the
-    requested mode in the friction-consistent model, the other mode jamming, contacts on crest corners."""
+    :class:`~gearcalc.pins.contact_level.ContactLevel` ``cl``: :func:`cycle_notes` (``rolling``, ``speed``: its
+    arguments), then the self-locking of the requested mode (``s["mode"]``) in the friction-consistent model, the
+    other mode jamming, contacts on crest corners."""
     modes, consistent, crank = cl.modes, cl.consistent, cl.crank
+    multiplier = s["mode"] == "multiplier"
     stalled = modes.requested.stalled and multiplier not in modes.jams
     if (consistent or stalled) and s["self_locking"]:
         # the shared notes word self-locking for the first-order multiplier; this level words it per mode
         s["self_locking"] = False
-        cycle_notes(design, s, tol, warnings, failed)
+        cycle_notes(s, rolling, speed, tol, warnings, failed)
         s["self_locking"] = True
-        failed.append(contact_self_locking(design["load.mode"], multiplier in modes.jams, modes.requested.loss_ratio,
+        failed.append(contact_self_locking(s["mode"], multiplier in modes.jams, modes.requested.loss_ratio,
                                            stalled, consistent))
     else:
-        cycle_notes(design, s, tol, warnings, failed)
+        cycle_notes(s, rolling, speed, tol, warnings, failed)
     warnings.extend(other_mode_jams(mult) for mult in modes.jams if mult != multiplier)
     warnings.extend(crest_warning(crank))
 
@@ -593,24 +582,6 @@ def _ratio(ratio: float) -> str:
 
 
 BEARING_KEYS = ("bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h", "bearing_L10_h_err")
-
-
-def bearing_columns(pts, exponent, rating, speed, n: int) -> dict:
-    """The crank bearing's equivalent load and L10_h (:func:`gearcalc.pins.outputs.bearing_life`) as summary
-    columns over the n points of the ideal level (None: undefined; L10_h needs bearing.C_N and the crank speed)."""
-    import numpy as np
-
-    from .outputs import bearing_life
-
-    p = pts.consistent
-    if p is None or p.bearing_pmean is None:
-        return {k: [None] * n for k in BEARING_KEYS}
-    vals = bearing_life(p.bearing_pmean, p.bearing_pmean_err, exponent, p.torque_sat, rating, speed)
-    out = {}
-    for key, v in zip(BEARING_KEYS, vals):
-        v = np.broadcast_to(np.asarray(v, dtype=float), (n,))
-        out[key] = [x if math.isfinite(x) else None for x in v.tolist()]
-    return out
 
 
 def output_lock_text(startup, loss_ratio_w: float) -> str:

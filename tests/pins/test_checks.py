@@ -86,11 +86,15 @@ def test_pin_circle_curtate_from_either_given():
     assert math.isclose(omk, 1 - K1, rel_tol=1e-14)
 
 
+def _gear(p) -> C.GearGiven:
+    return C.GearGiven(**{f: p[f] for f in ("z1", "z2", "e", "Rp", "K1", "Rb", "r", "rotating", "profile")})
+
+
 def _violations(**over):
     p = dict(z1=[20], z2=[22], e=[3.9], Rp=[None], K1=[0.75], Rb=[1.95], r=[0.95], rotating=[False],
              profile=["cycloidal"], sliding=[0.1], load_pin_radius=[None], load_axle_radius=[None])
     p.update(over)
-    return C.violations(**p)
+    return C.violations(_gear(p), p["sliding"], C.PinLoadGiven(p["load_pin_radius"], p["load_axle_radius"]))
 
 
 def test_violations_at_the_pin_overlap_limit():
@@ -130,7 +134,9 @@ def _problems(bad, tables=("gearing", "load"), **over):
     p = dict(PAPER, r=None, rotating=False, profile="cycloidal", tooth_radius="full",
              tooth_circle_radius="zero_backlash", is_modified=False, load_pin_radius=None, load_axle_radius=None)
     p.update(over)
-    return [(s, rule) for s, rule, _ in C.design_problems(bad, set(tables), **p)]
+    found = C.design_problems(bad, set(tables), _gear(p), C.PinLoadGiven(p["load_pin_radius"], p["load_axle_radius"]),
+                              p["tooth_radius"], p["tooth_circle_radius"], p["is_modified"])
+    return [(s, rule) for s, rule, _ in found]
 
 
 def test_design_problems_in_the_order_check_reports_them():
@@ -189,6 +195,7 @@ def test_cost_budgets_at_their_limits():
     z2_H = CONTACT_WORK_MAX // (CONTACT_NODES_MAX * 3)      # schema.CONTACT_WORK_MAX: 114 pins on H, 344 on V
     z2_V = CONTACT_WORK_MAX // CONTACT_NODES_MAX
     assert (z2_H, z2_V) == (114, 344)
+    assert (C.contact_pins_max(False), C.contact_pins_max(True)) == (z2_H, z2_V)   # the bound its message names
     assert not C.contact_over_budget(z2_H, False) and C.contact_over_budget(z2_H + 1, False)
     assert not C.contact_over_budget(z2_V, True) and C.contact_over_budget(z2_V + 1, True)
     assert not C.computed_alone(GROUP_PINS_MAX, 1, GROUP_TOL_MIN) and C.computed_alone(GROUP_PINS_MAX + 1, 1, 1e-6)
@@ -201,10 +208,54 @@ def test_points_pass():
     ok = _violations(**{k: v for k, v in pts.items() if k != "n_d"}, r=[None] * n, rotating=[False] * n,
                      profile=["cycloidal"] * n, sliding=[0.1] * n, load_pin_radius=[None] * n,
                      load_axle_radius=[None] * n)
-    assert C.points_pass(ok, False, False, *pts.values())
-    assert not C.points_pass(ok, False, False, *dict(pts, n_d=[1, 1, 10_000]).values())   # z2 n_d over budget
+
+    def gear(p):
+        return _gear(dict(p, r=[None] * n, rotating=[False] * n, profile=["cycloidal"] * n))
+
+    assert C.points_pass(ok, False, False, gear(pts), pts["n_d"])
+    assert not C.points_pass(ok, False, False, gear(pts), [1, 1, 10_000])   # z2 n_d over budget
     big = dict(pts, z2=[IDEAL_SWEEP_WORK_MAX // 2 + 1] * n, z1=[IDEAL_SWEEP_WORK_MAX // 2] * n)
-    assert not C.points_pass(ok, False, False, *big.values())   # sum of z2 n_d over the distinct geometries
+    assert not C.points_pass(ok, False, False, gear(big), big["n_d"])   # sum of z2 n_d over the distinct geometries
     curtate = _violations(K1=[0.75, 1.2, 0.75])
-    assert not C.points_pass(curtate, False, False, *dict(pts, K1=[0.75, 1.2, 0.75]).values())
-    assert C.points_pass(curtate, True, False, *pts.values())   # the formula level: only the [pin_load] rule
+    assert not C.points_pass(curtate, False, False, gear(dict(pts, K1=[0.75, 1.2, 0.75])), pts["n_d"])
+    assert C.points_pass(curtate, True, False, gear(pts), pts["n_d"])   # the formula level: only the [pin_load] rule
+
+
+def test_the_rule_and_word_functions_are_small():
+    # issue 35 (benchmarks/code_shape.py's counts): at most 8 parameters and 80 lines per function of the pins
+    # rules (checks), words (report), figure (plot) and geometry_violations
+    import ast
+    import pathlib
+
+    import gearcalc
+
+    pins = pathlib.Path(gearcalc.__file__).parent / "pins"
+    for module in ("checks", "report", "plot", "geometry"):
+        for node in ast.walk(ast.parse((pins / f"{module}.py").read_text(encoding="utf-8"))):
+            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            if module == "geometry" and node.name != "geometry_violations":
+                continue               # the rest of geometry.py is another change's
+            a = node.args
+            params = len(a.posonlyargs) + len(a.args) + len(a.kwonlyargs) + (a.vararg is not None) + (
+                a.kwarg is not None)
+            assert params <= 8, (module, node.name, params)
+            assert node.end_lineno - node.lineno + 1 <= 80, (module, node.name)
+
+
+def test_the_rules_know_no_design_key():
+    # issue 35 item 2: the physics names no design-file key; the keys are the adapter's (kinds/pins.py KEYS) and
+    # the report's words (e.g. the level's reason, report.LEVEL_REASONS)
+    import ast
+    import inspect
+
+    from gearcalc.kinds.pins import KEYS
+
+    tree = ast.parse(inspect.getsource(C))
+    docstrings = {id(n.value) for n in ast.walk(tree) if isinstance(n, ast.Expr)}   # the documentation's words
+    texts = [n.value for n in ast.walk(tree)
+             if isinstance(n, ast.Constant) and isinstance(n.value, str) and id(n) not in docstrings]
+    for key in KEYS.values():
+        name = key.partition(".")[2]
+        with_unit = any(unit in name for unit in ("_mm", "_N", "_MPa", "_rpm"))   # e.g. stiffness_N_per_mm
+        assert not any(key in t or (with_unit and name in t) for t in texts), key

@@ -116,7 +116,7 @@ def test_geometry_violations_rule_by_rule():
     Rb = [1.95, 1.95, 1.95, 20.0, 1.95, 1.95]
     r = [np.nan, np.nan, np.nan, np.nan, 2.0, np.nan]
     rot = [False, False, False, False, True, False]
-    v = pins.geometry_violations(z1, z2, 3.9, np.nan, K1, Rb, r, rot, True)
+    v = pins.geometry_violations(z1, z2, 3.9, np.nan, K1, Rb, pins.PinMounting(r, rot), True)
     assert v.teeth.tolist() == [False, True, False, False, False, False]      # z2 > z1
     assert v.curtate[2] and not v.curtate[0]                                  # K1 < 1 (cycloid)
     assert v.overlap[3] and not v.overlap[0]                                  # R_b < R_p sin(pi/z2)

@@ -26,14 +26,16 @@ def test_the_cost_problems_name_the_key_and_the_budget():
     # pins.md §9: the ideal level's budget is 200 000 pin-discs (z2 x n_d), the contact level's 1 500 000 contact
     # solves of 4352 crank angles x 3 passes with the torque on H (1 pass on V): 1 500 000 // 13 056 = 114 pins on H,
     # 1 500 000 // 4352 = 344 pins on V
-    assert R.cost_problem("ideal", 10_000, 20, False) is None                   # 200 000: at the budget, allowed
-    key, text = R.cost_problem("ideal", 10_000, 21, False)
+    from gearcalc.pins import checks as C
+
+    assert not C.ideal_over_budget(10_000, 20) and C.ideal_over_budget(10_000, 21)   # 200 000: at the budget, allowed
+    key, text = R.ideal_cost_problem(10_000, 21)
     assert key == "gearing.discs" and "10000 x 21 = 210000" in text and "200000" in text
-    assert R.cost_problem("contact", 114, 1, False) is None
-    key, text = R.cost_problem("contact", 115, 1, False)
+    assert C.contact_pins_max(False) == 114 and C.contact_pins_max(True) == 344
+    assert not C.contact_over_budget(114, False) and C.contact_over_budget(115, False)
+    assert not C.contact_over_budget(344, True) and C.contact_over_budget(345, True)
+    key, text = R.contact_cost_problem(115, C.contact_passes(False), C.contact_pins_max(False), False)
     assert key == "gearing.pins" and "at most 114 pins" in text
-    assert R.cost_problem("contact", 344, 1, True) is None and R.cost_problem("contact", 345, 1, True)[0] == \
-        "gearing.pins"
 
 
 def test_too_few_teeth_names_the_loaded_arc_and_the_pin_pitch():
