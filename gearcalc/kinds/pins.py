@@ -348,7 +348,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     try:
         cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"]),
                            {n: a[n] for n in OPERATING}, model, options.tol, profile.play_free, options.detail,
-                           torsion=bool(a["torsion"]))
+                           settings=options.settings, torsion=bool(a["torsion"]))
     except (pc.NoEquilibrium, pc.Unresolvable) as exc:
         raise R.contact_error(exc, design, g) from None
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))

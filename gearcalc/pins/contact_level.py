@@ -28,14 +28,15 @@ from .geometry import Cycloid
 from .operating import ARRAY_OPS
 from .profiles import ProfileParams, make_profile
 
-__all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "ContactDesign",
-           "contact_level"]
+__all__ = ["contact_rule", "gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel",
+           "ContactDesign", "contact_level"]
 
 
 def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
     r"""The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6).
 
-    The composite trapezoid per smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the
+    ``settings.rule`` where given (an explicit rule whatever the tolerance); else the composite trapezoid per smooth
+    piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the
     Gauss-Kronrod pair ``"gk7"`` (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's
     interpolated states on the final grid, :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured
     2026-11-27 on the eight paper designs, CPU time of both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time
@@ -51,7 +52,7 @@ def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
     tol : float
         Relative accuracy target, [-].
     settings : ContactSettings, optional
-        The contact level's settings (``gk_below``).
+        The contact level's settings (``rule``, ``gk_below``; None: :data:`DEFAULT_SETTINGS`).
 
     Returns
     -------
@@ -60,15 +61,18 @@ def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
 
     Examples
     --------
-    >>> contact_rule(1e-6), contact_rule(1e-9)
-    ('trapezoid', 'gk7')
+    >>> contact_rule(1e-6), contact_rule(1e-9), contact_rule(1e-6, ContactSettings(rule="gk15"))
+    ('trapezoid', 'gk7', 'gk15')
 
     References
     ----------
     .. [1] A. S. Kronrod, Nodes and Weights of Quadrature Formulas, Consultants Bureau, New York, 1965;
        docs/spec/pins.md §6.
     """
-    return "gk7" if tol < (DEFAULT_SETTINGS if settings is None else settings).gk_below else "trapezoid"
+    s = DEFAULT_SETTINGS if settings is None else settings
+    if s.rule is not None:
+        return s.rule
+    return "gk7" if tol < s.gk_below else "trapezoid"
 
 
 def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
