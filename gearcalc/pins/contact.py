@@ -61,15 +61,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..quadrature import richardson_mean
-from .contact_cycle import (BreakpointRoots, ContactCycle, CycleGrid, CyclePeaks, nested_trapezoid_weights,
-                            piece_places, backlash, contact_losses, cycle_breakpoints, cycle_peaks, deflection_sized,
-                            engagement_metrics, free_play, gk_interpolated, mean_loss_ratio, piece_guess, piece_keys,
-                            pin_travel, relinearised_cycle)
+from .contact_cycle import (ContactCycle, CycleGrid, CyclePeaks, backlash, contact_losses, cycle_peaks,
+                            deflection_sized, engagement_metrics, free_play, mean_loss_ratio, pin_travel)
+from .contact_interp import gk_interpolated, piece_guess, piece_keys
 from .contact_law import HERTZ_EXPONENT, PALMGREN_COEFFICIENT, ContactLaw, contact_law, palmgren_line_constant
 from .contact_model import EPS, ContactModel, Jam, NoEquilibrium, Solution
 from .contact_profiles import (PROFILE_RULES, CircularProfile, Contacts, CycloidProfile, InadmissibleProfile, Pose,
                                circular_profile, cycloid_profile, full_tooth, tooth_centre_distance,
                                zero_backlash_tooth_circle)
+from .contact_relinearise import nested_trapezoid_weights, piece_places, relinearised_cycle
+from .contact_roots import BreakpointRoots, cycle_breakpoints
 from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .cycle import disc_offsets, disc_sum_range, sum_over_discs
 from .friction import PinFriction, peak_coefficient
