@@ -296,13 +296,12 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
                   detail: bool = False, settings: ContactSettings | None = None, torsion: bool = False) -> ContactLevel:
     r"""The compliant contact level (pins.md §5) of one design at one operating point.
 
-    The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the
-    cycle mean of the loss ratio uses the shared quadrature with contact entry/exit and spin reversals as
-    breakpoints.  With the torque given on H the torque on V is iterated to the fixed point
-    T_V = u T_H/eta (multiplier) or eta u T_H (reducer) (pins.md §7).  The friction model "consistent"
-    (pins.md §4.9, §5.5) puts the friction forces into the moment balance and solves each mode with its own
-    forces (a mode that jams self-locks), unless there is no friction at all; "first-order" solves the
-    requested mode with frictionless forces and takes both efficiencies from its loss ratio (§4.7).
+    The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the cycle
+    mean of the loss ratio uses the shared quadrature with contact entry/exit and spin reversals as breakpoints.
+    With the torque given on H the torque on V is iterated to the fixed point T_V = u T_H/eta (multiplier) or
+    eta u T_H (reducer) (pins.md §7).  The friction model "consistent" (pins.md §4.9, §5.5) puts the friction forces
+    into the moment balance and solves each mode with its own forces (a mode that jams self-locks), unless there is
+    no friction at all; "first-order" solves the requested mode with frictionless forces (§4.7).
 
     .. math:: \eta_{HV} = \frac{1}{1 + \bar\lambda}, \qquad \eta_{VH} = 1 - \bar\lambda
 
@@ -313,16 +312,12 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     point : dict
         The operating point (:data:`gearcalc.pins.columns.OPERATING`): sliding f, rolling f_k [mm], axle f_c,
         mode ("multiplier" or "reducer"), shaft ("H" or "V") of torque T [N·m], speed n_H [rpm] (None: none).
-    friction_model : str
-        "consistent" or "first-order".
-    tol : float
-        Relative accuracy target.
-    play_free : bool
-        The profile has no play by construction (:func:`backlash_deg`).
-    detail : bool
-        Build the detail tables (pins.md §8).
+    friction_model, tol : str, float
+        "consistent" or "first-order"; the relative accuracy target.
+    play_free, detail : bool
+        The profile has no play by construction (:func:`backlash_deg`); build the detail tables (pins.md §8).
     settings : ContactSettings or None
-        The numerical settings (:mod:`gearcalc.pins.contact_settings`; None: the defaults).
+        The numerical settings, the cycle mean's rule among them (:func:`contact_rule`; None: the defaults).
     torsion : bool
         Also the torsional stiffness, lost motion, hysteresis and transmission error with the crank held
         (:func:`~gearcalc.pins.stiffness.torsion_outputs`; pins.md §5.8), T_r the torque on V (u T on H).
@@ -343,6 +338,7 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     Returns
     -------
     ContactLevel
+        The modes, their efficiencies and the requested mode's outputs.
 
     Raises
     ------
@@ -350,9 +346,8 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
 
     References
     ----------
-    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
-       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
-       docs/spec/pins.md §4.7, §4.9, §5, §7, §10.
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V», Машиностроение
+       (seed file 000_fe288dec6e7c72f0.txt); docs/spec/pins.md §4.7, §4.9, §5, §7, §10.
     """
     g, n_discs = design.g, design.n_discs
     mu_a, rolls_a, rolling_ok = contact_friction(design.rotating, g.R_b, design.axle_radius, point["sliding"],
@@ -365,28 +360,39 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     residual, excess = pc.equilibrium_residual(modes.runs.values(), tol)
     if not excess <= 1.0:
         return ContactLevel(modes, residual, False, consistent, rolling_ok)
-    tc = modes.requested
     et_m, et_r, locked = pc.mode_efficiencies(modes, consistent, np.array([torque], dtype=float), g.ratio,
                                               np.array([multiplier]), np.array([on_V]))
-    w_H = units.rpm_to_rad_s(point["speed"]) if point["speed"] is not None else None
-    cyc = tc.cycle
-    pk = pc.cycle_peaks(cyc, g, n_discs, rolls)
-    metrics = pc.engagement_metrics(cyc.sol, cyc.spin if rolls else np.zeros(cyc.sol.force.shape[1:]))
-    play = backlash_deg(tc.model, play_free)
-    ov = pc.operating_values(pk, g, tc.loss_ratio, tc.torque_V, w_H, mu, f, rolls) if w_H is not None else None
-    # the crank torque, bearing force and contact stress from the requested mode's own forces (friction in the
-    # balance unless first-order or jammed: then the friction-free forces, and no crank-torque history, pins.md §8)
-    own = consistent and multiplier not in modes.jams
-    # the friction forces each state was solved with (at a piece end they can differ from its own sliding's)
-    crank = pc.crank_bearing(tc.model, cyc.sol, cyc.sol.traction if own else None, n_discs,
-                             None if cyc.nodes is None else cyc.nodes[1])
-    tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs, crank, own) if detail else None
+    outs = _requested_outputs(design, point, modes, consistent, (mu, f, rolls), play_free, detail)
     tor = None
     if torsion:
         from .stiffness import torsion_outputs
 
         held = pc.ContactModel(g, design.profile, design.law, 1.0, pc.REDUCER,
                                PinFriction(mu, f, rolls) if consistent else None, settings)
-        tor = torsion_outputs(held, torque if on_V else torque * g.ratio, n_discs, play)
-    return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, pk, metrics, play, ov,
-                        tables, crank, tor)
+        tor = torsion_outputs(held, torque if on_V else torque * g.ratio, n_discs, outs[2])
+    return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, *outs, tor)
+
+
+def _requested_outputs(design: ContactDesign, point: dict, modes, consistent: bool, friction: tuple, play_free: bool,
+                       detail: bool) -> tuple:
+    """(peaks, metrics, backlash, operating, detail, crank) of the requested mode's cycle (:func:`contact_level`).
+
+    The crank torque, bearing force and contact stress come from the requested mode's own forces (friction in the
+    balance unless first-order or jammed: then the friction-free forces, and no crank-torque history, pins.md §8).
+    ``friction``: (mu_eff, f, rolls).
+    """
+    g, n_discs, (mu, f, rolls) = design.g, design.n_discs, friction
+    multiplier = point["mode"] == "multiplier"
+    tc = modes.requested
+    w_H = units.rpm_to_rad_s(point["speed"]) if point["speed"] is not None else None
+    cyc = tc.cycle
+    pk = pc.cycle_peaks(cyc, g, n_discs, rolls)
+    metrics = pc.engagement_metrics(cyc.sol, cyc.spin if rolls else np.zeros(cyc.sol.force.shape[1:]))
+    play = backlash_deg(tc.model, play_free)
+    ov = pc.operating_values(pk, g, tc.loss_ratio, tc.torque_V, w_H, mu, f, rolls) if w_H is not None else None
+    own = consistent and multiplier not in modes.jams
+    # the friction forces each state was solved with (at a piece end they can differ from its own sliding's)
+    crank = pc.crank_bearing(tc.model, cyc.sol, cyc.sol.traction if own else None, n_discs,
+                             None if cyc.nodes is None else cyc.nodes[1])
+    tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs, crank, own) if detail else None
+    return pk, metrics, play, ov, tables, crank
