@@ -103,6 +103,9 @@ class Table:
     ``optional=True`` means the table may be absent, and an absent table is not computed
     ("model only what the design needs"); its fields' defaults then do not apply.
     ``in_template=False`` writes the table commented out in ``gearcalc new``.
+    ``rows=True``: a table of rows, whose fields are arrays of equal length (one entry a row); the file may
+    give it column-wise (``[duty]`` with arrays) or row-wise as an array of tables (``[[duty]]``, one table
+    a row), which is read as the columns (:func:`gearcalc.design.columns_of_rows`).
     """
 
     name: str
@@ -110,6 +113,7 @@ class Table:
     doc: str = ""
     optional: bool = False
     in_template: bool = True
+    rows: bool = False
 
     def field(self, name: str) -> Field | None:
         for f in self.fields:

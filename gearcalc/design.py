@@ -686,10 +686,43 @@ def _unknown_key_hint(key: str, table: str | None, calc: Calculator) -> str:
     return f" (did you mean '{bare[close[0]]}'?)" if close else ""
 
 
+def columns_of_rows(raw: dict, where: str, kind_hint: str | None = None) -> dict:
+    """Read a ``[[table]]`` array of tables of a rows table (``Table.rows``) as its columns.
+
+    ``[[duty]]`` rows ``{torque_Nm = 100, crank_speed_rpm = 1000, time_share = 0.3}`` become the table
+    ``duty = {torque_Nm = [...], crank_speed_rpm = [...], time_share = [...]}`` that the column-wise form gives,
+    so that both forms are one design (the same checks, ``--set duty.torque_Nm=[...]`` on either).  Every row
+    must give every key of the table: a missing or unknown key is an error naming the row (1-based).
+    Anything else (an unknown kind, a list that is not of tables) is left to :func:`validate`.  Returns
+    ``raw`` itself when it has no such rows, else a shallow copy (the caller's mapping is not changed).
+    """
+    kind = raw.get("kind", kind_hint)
+    if not isinstance(kind, str) or kind not in registry.kinds():
+        return raw
+    errors: list[str] = []
+    for table in registry.get(kind).tables:
+        rows = raw.get(table.name)
+        if not table.rows or not isinstance(rows, list) or not rows or not all(isinstance(r, dict) for r in rows):
+            continue
+        names = [f.name for f in table.fields]
+        for i, row in enumerate(rows, 1):
+            errors += [f"{where}: {table.name}[{i}].{_clip(key)}: unknown key; a [[{table.name}]] row takes "
+                       + ", ".join(names) for key in row if key not in names][:MAX_UNKNOWN_SHOWN]
+            errors += [f"{where}: {table.name}[{i}].{name}: missing; every [[{table.name}]] row gives "
+                       + ", ".join(names) for name in names if name not in row]
+            if len(errors) > MAX_UNKNOWN_SHOWN:
+                break
+        raw = {**raw, table.name: {name: [row.get(name) for row in rows] for name in names}}
+    if errors:
+        raise InputError(errors)
+    return raw
+
+
 def validate(raw: dict, source: str, kind_hint: str | None = None) -> Design:
     """Validate a parsed design against its calculator; raise InputError listing every problem."""
     where = display_name(source)
     errors: list[str] = []
+    raw = columns_of_rows(raw, where, kind_hint)
     kind = raw.get("kind")
     if kind is None:
         if kind_hint is None:
@@ -776,6 +809,7 @@ def load(source: str, overrides: list[tuple[str, Any]] | None = None, kind_hint:
     """Read, override and validate one design file (``-`` for stdin)."""
     raw = read_toml(source)
     if overrides:
+        raw = columns_of_rows(raw, display_name(source), kind_hint)
         apply_set(raw, overrides)
     try:
         return validate(raw, source, kind_hint)

@@ -69,12 +69,19 @@ def json_schema(calc: Calculator) -> dict[str, Any]:
     required = ["kind"]
     for table in calc.tables:
         needed = [f.name for f in table.fields if f.default is REQUIRED]
-        properties[table.name] = {
+        columns = {
             "type": "object",
             "description": table.doc + (" (optional table)" if table.optional else ""),
             "properties": {f.name: field_schema(f) for f in table.fields},
             "required": needed,
             "additionalProperties": False,
+        }
+        properties[table.name] = columns if not table.rows else {
+            "description": columns["description"],
+            "anyOf": [columns, {"type": "array", "minItems": 1, "description": f"[[{table.name}]] rows",
+                                "items": {"type": "object", "required": [f.name for f in table.fields],
+                                          "properties": {f.name: field_schema(f)["items"] for f in table.fields},
+                                          "additionalProperties": False}}],
         }
         if needed and not table.optional:
             required.append(table.name)

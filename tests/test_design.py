@@ -474,3 +474,58 @@ def test_a_unit_text_pint_would_compute_for_ever_is_not_a_quantity(value):
     # pint's parser evaluates powers of numbers (2**2**...: a number of 2**65536 bits): such texts never reach it
     _, err = dmod.check_value(Field("length_mm", "number", ge=0), value)
     assert err.startswith("must be a number") and "write a bare number in mm" in err, err
+
+
+# ---------------------------------------------------------------- a rows table given as [[rows]] (pins.md §8.3)
+PINS = CONFIGS / "pins_paper_cyc_u10_fixed.toml"
+DUTY_ROWS = [(100.0, 1000.0, 0.3), (50.0, 1500.0, 0.7), (150.0, 500.0, 0.25)]
+
+
+def duty_as_rows(rows=DUTY_ROWS, extra=""):
+    return PINS.read_text() + "".join(
+        f"\n[[duty]]\ntorque_Nm = {t}\ncrank_speed_rpm = {n}\ntime_share = {s}\n" for t, n, s in rows) + extra
+
+
+def duty_as_columns(rows=DUTY_ROWS):
+    t, n, s = zip(*rows)
+    return PINS.read_text() + f"\n[duty]\ntorque_Nm = {list(t)}\ncrank_speed_rpm = {list(n)}\ntime_share = {list(s)}\n"
+
+
+def test_duty_rows_are_the_same_design_as_duty_columns(tmp_path):
+    """The two spellings of one duty cycle (an array of tables, a table of arrays) give the same design: the
+    same resolved keys and the same computed summary (the reference is the column-wise form)."""
+    rows, cols = tmp_path / "rows.toml", tmp_path / "cols.toml"
+    rows.write_text(duty_as_rows())
+    cols.write_text(duty_as_columns())
+    assert dmod.load(str(rows)).resolved() == dmod.load(str(cols)).resolved()
+    a, b = (json.loads(cli("run", p, "-f", "json", "--set", "contact.face_width_mm=10").out) for p in (rows, cols))
+    for s in (a, b):
+        s.pop("file"), s["summary"].pop("model_time_ms", None)
+    assert a == b and a["summary"]["duty_rows"] == 3 and a["summary"]["duty_contact_stress_max_MPa"] > 0
+
+
+def test_set_overrides_a_column_of_duty_rows(tmp_path):
+    rows = tmp_path / "rows.toml"
+    rows.write_text(duty_as_rows())
+    d = dmod.load(str(rows), overrides=[("duty.torque_Nm", [10.0, 20.0, 30.0])])
+    assert d["duty.torque_Nm"] == [10.0, 20.0, 30.0] and d["duty.time_share"] == [0.3, 0.7, 0.25]
+
+
+def test_a_duty_row_with_a_missing_or_unknown_key_is_named_by_its_row(tmp_path):
+    rows = tmp_path / "rows.toml"
+    rows.write_text(duty_as_rows(extra="\n[[duty]]\ntorque_Nm = 10.0\ntime_sharee = 1.0\n"))
+    r = cli("run", rows)
+    assert r.code == 2 and "Traceback" not in r.err
+    assert f"{rows}: duty[4].time_sharee: unknown key" in r.err
+    assert f"{rows}: duty[4].crank_speed_rpm: missing" in r.err and f"{rows}: duty[4].time_share: missing" in r.err
+
+
+def test_the_api_reads_duty_rows_without_changing_the_callers_mapping():
+    import tomllib
+
+    import gearcalc
+
+    raw = tomllib.loads(duty_as_rows())
+    before = json.dumps(raw, sort_keys=True)
+    s = gearcalc.compute(raw).summary
+    assert s["duty_rows"] == 3 and json.dumps(raw, sort_keys=True) == before

@@ -100,51 +100,6 @@ def test_rows_margins_value_and_sign_on_a_seeded_random_set():
         assert bool(alone.failed) == bool(s["failed_checks"])
 
 
-def test_pins_margins_value_and_sign_on_a_seeded_random_set():
-    rng = random.Random(362)
-    base = CONFIGS / "pins_paper_cyc_u10_rotating.toml"
-    sliding = [0.05] + sorted(rng.uniform(0.0, 1.0) for _ in range(10))  # 0.05: the bushings cannot roll
-    axle = sorted(rng.uniform(0.0, 0.4) for _ in range(3))
-    seen = set()
-    for mode in ("multiplier", "reducer"):
-        for model in ("first-order", "consistent"):
-            (part,) = gearcalc.sweep(base, {"friction.sliding": sliding, "friction.axle": axle,
-                                            "gearing.rotating_pins": [True, False]},
-                                     overrides={"load.mode": mode, "friction.model": model,
-                                                "contact.face_width_mm": 10.0,
-                                                "material.allowable_stress_MPa": 3400.0})
-            for s in part.rows():
-                agrees_with_flags("pins", s)
-                seen.update(s["failed_checks"])
-                f, fc = s["friction.sliding"], s["friction.axle"]
-                drive, resist = f * 1.95, fc * 0.95 + 0.01  # R_b, r, f_k of the design file
-                if s["gearing.rotating_pins"]:
-                    assert s["margin_rolling"] == pytest.approx((drive - resist) / max(drive, resist), rel=1e-12)
-                if s["contact_stress_max_MPa"] is None:  # a jammed mode has no forces
-                    assert s["margin_contact_stress"] is None and s["self_locking"]
-                else:
-                    assert s["margin_contact_stress"] == pytest.approx(1 - s["contact_stress_max_MPa"] / 3400.0,
-                                                                       rel=1e-12)
-                lam = s["loss_ratio"]
-                if not s["self_locking"]:
-                    eta = 1 - lam if mode == "multiplier" else 1 / (1 + lam)
-                    assert s["margin_self_locking"] == pytest.approx(eta, rel=1e-12)
-                    assert s["efficiency"] == pytest.approx(eta, rel=1e-12)  # the requested mode's efficiency
-    assert seen == {"self_locking", "rolling", "contact_stress"}  # every check fails somewhere in the set
-
-
-def test_pins_face_width_alone_keeps_the_ideal_level_with_its_stress():
-    # issue 37 item 6: the stress of the ideal level's own forces, no switch to the contact level
-    path = CONFIGS / "pins_paper_cyc_u10_rotating.toml"
-    r = gearcalc.compute(path, overrides={"contact.face_width_mm": 10.0, "material.allowable_stress_MPa": 3000.0})
-    forced = gearcalc.compute(path, model="ideal", overrides={"contact.face_width_mm": 10.0})
-    assert r.model == "ideal" and r.summary["model_reason"] == "an unmodified cycloidal profile (rigid contacts)"
-    assert r.summary["contact_stress_max_MPa"] == forced.summary["contact_stress_max_MPa"] > 3000.0
-    assert r.summary["failed_checks"] == ["contact_stress"] and "allowable_stress_MPa = 3000" in r.failed[0]
-    law = gearcalc.compute(path, overrides={"contact.face_width_mm": 10.0, "contact.law": "hertz"})
-    assert law.model == "contact" and law.summary["model_reason"].startswith("[contact] names a contact law")
-
-
 def test_invalid_sweep_points_are_rows_and_the_sweep_goes_on():
     # the example of the issue: R_H = 50 and 55 leave no room for the rollers with R_B = 50 and e = 6
     r = cli("sweep", CONFIGS / "zstk_merko_example.toml", "--vary", "geometry.outer_raceway_radius_mm=50:70:5",

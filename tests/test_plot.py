@@ -2,6 +2,7 @@
 import pytest
 
 from conftest import CONFIGS, cli
+from pins.test_output_mech import W8, _with
 
 pytest.importorskip("matplotlib")
 PNG = b"\x89PNG\r\n\x1a\n"
@@ -240,3 +241,29 @@ def test_accuracy_tick_labels_do_not_overprint():
         assert not [t for t in ax.get_xticklabels(minor=True) if t.get_text()]
         tols = [t.get_window_extent(r) for t in ax.texts]  # the tol labels of coinciding points
         assert not any(overlaps(a, b) for i, a in enumerate(tols) for b in tols[i + 1:])
+
+
+def test_efficiency_map_contour_from_the_plotted_data():
+    # issue 37 item 4: a torque x speed sweep drawn as a contour map beside the curves; the map's data are the
+    # sweep's efficiencies at their grid places
+    pytest.importorskip("matplotlib")
+    import matplotlib.pyplot as plt
+
+    import gearcalc.api as api
+    from gearcalc.plot import sweep_figure
+    d = _with(load={"drag_torque_Nm": 0.5}, output=W8)
+    axes = {"load.torque_Nm": [1.0, 10.0, 100.0, 1000.0], "load.crank_speed_rpm": [100.0, 1000.0, 3000.0]}
+    rows = []
+    for chunk in api.sweep(d, axes):
+        rows.extend(chunk.rows())
+    fig = sweep_figure("pins", rows, list(axes))
+    ax_map = fig.axes[1]
+    x_key, y_key, xs, ys, Z = ax_map.gearcalc_map
+    assert (x_key, y_key) == ("load.torque_Nm", "load.crank_speed_rpm")
+    for r in rows:
+        assert Z[ys.index(r[y_key])][xs.index(r[x_key])] == r["efficiency"]
+    filled = next(c for c in ax_map.collections if hasattr(c, "levels"))
+    eff = [r["efficiency"] for r in rows]
+    assert filled.levels[0] <= min(eff) and max(eff) <= filled.levels[-1]
+    assert len(fig.axes[0].lines) == 3          # the curves stay: one per speed
+    plt.close(fig)

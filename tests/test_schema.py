@@ -147,3 +147,14 @@ def test_the_schema_and_check_agree_on_seeded_mutations(tmp_path):
     print("schema vs check:", counts)
     assert not disagreements, disagreements[:10]
     assert counts["agree_reject"] > MUTATIONS // 2 and counts["agree_accept"] > 0
+
+
+def test_duty_rows_and_duty_columns_both_validate():
+    """pins.md §8.3: a duty cycle is given as arrays of equal length or as [[duty]] rows; the schema accepts
+    both and refuses a row with an unknown key, as the loader does."""
+    base = tomllib.loads((CONFIGS / "pins_paper_cyc_u10_fixed.toml").read_text())
+    cols = {**base, "duty": {"torque_Nm": [100.0, 50.0], "crank_speed_rpm": [1e3, 1.5e3], "time_share": [0.3, 0.7]}}
+    rows = {**base, "duty": [{"torque_Nm": 100.0, "crank_speed_rpm": 1e3, "time_share": 0.3}]}
+    bad = {**base, "duty": [{"torque_Nm": 100.0, "crank_speed_rpm": 1e3, "time_sharee": 0.3}]}
+    v = validator("pins")
+    assert v.is_valid(cols) and v.is_valid(rows) and not v.is_valid(bad)

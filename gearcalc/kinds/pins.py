@@ -30,7 +30,7 @@ KEYS = {    # argument name of gearcalc.pins.checks, .columns, .contact_level ->
     "paper_pi": "pin_load.paper_pi", "face_width": "contact.face_width_mm", "model": "friction.model",
     "alias": "contact.friction_in_equilibrium", "law": "contact.law", "stiffness": "contact.stiffness_N_per_mm",
     "allowable": "material.allowable_stress_MPa", "torsion": "contact.stiffness_curve",
-    "bearing_C": "bearing.C_N", "bearing_p": "bearing.exponent",
+    "bearing_C": "bearing.C_N", "bearing_p": "bearing.exponent", "bearing_k": "bearing.radial_stiffness_N_per_um",
     **OUTPUT_ARGS,                                  # the output mechanism and the crank's drag (pins.md §4.10)
     **LAW_ARGS,                                     # the teeth's speed-dependent sliding law (pins.md §4.10)
 }
@@ -346,7 +346,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
     model = friction_model(design)
     try:
-        cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"]),
+        cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"], a["bearing_k"]),
                            {n: a[n] for n in OPERATING}, model, options.tol, profile.play_free, options.detail,
                            settings=options.settings, torsion=bool(a["torsion"]))
     except (pc.NoEquilibrium, pc.Unresolvable) as exc:

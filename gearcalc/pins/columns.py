@@ -23,7 +23,7 @@ from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .ideal import DISC_SAMPLES_MAX, DISC_WORK_MAX, TOO_COSTLY
 from .margins import margin_columns
 from .operating import ARRAY_OPS, SCALAR_OPS, floats
-from .output_mech import output_fields
+from .output_mech import output_fields, w_bearing_columns
 from .points import ideal_points
 from .schema import SUMMARY_KEYS
 
@@ -393,7 +393,8 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
         warnings[i].append(R.MULTI_DISC_PEAKS)
     mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V
     columns = R.ideal_columns(arrays, op["mode"], rot, rolls, models, n)
-    columns.update(R.bearing_columns(pts, bearing_p, floats(v.get("bearing_C", absent)), op["speed"], n))
+    columns.update(w_bearing_columns(R.bearing_columns(pts, bearing_p, floats(v.get("bearing_C", absent)),
+                                                       op["speed"], n), arrays, n))   # with |B + Q x| (pins.md §8.2)
     overflow = None
     for i, (lam, locked) in enumerate(zip(columns["loss_ratio"], columns["self_locking"])):
         if errors[i] is not None or lam is not None:

@@ -518,6 +518,10 @@ class _TorquePasses:
         else:
             settled = False
         E = _fixed_point_error(cyc, history, remainder, (locked and not stalled) or not settled)
+        if self.friction is not None:
+            from .contact_choice import friction_choice_error
+
+            E += friction_choice_error(model, cyc)     # the friction directions' discrete choice (pins.md §6)
         if frictionless:
             lam, E = 0.0, 0.0
         return TorqueCycle(cyc, model, T_V, lam, E, history, settled, locked, stalled)

@@ -281,7 +281,8 @@ class ContactDesign:
     """One design at the contact level (the parameter object of :func:`contact_level`).
 
     The gear ``g``, its ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating``
-    pins on axles of radius ``axle_radius`` [mm] (None: fixed pins).
+    pins on axles of radius ``axle_radius`` [mm] (None: fixed pins); ``bearing_stiffness`` k_b, the radial stiffness
+    of one disc's crank bearing [N/µm], in series in the torsion outputs (None: rigid).
     """
 
     g: Cycloid
@@ -290,6 +291,7 @@ class ContactDesign:
     n_discs: int
     rotating: bool
     axle_radius: float | None
+    bearing_stiffness: float | None = None
 
 
 def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: float, play_free: bool,
@@ -308,7 +310,7 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     Parameters
     ----------
     design : ContactDesign
-        The gear, satellite profile, contact law, discs and pins (rotating, on axles of radius r [mm]).
+        The gear, satellite profile, contact law, discs, pins (rotating, on axles of radius r [mm]), crank bearing.
     point : dict
         The operating point (:data:`gearcalc.pins.columns.OPERATING`): sliding f, rolling f_k [mm], axle f_c,
         mode ("multiplier" or "reducer"), shaft ("H" or "V") of torque T [N·m], speed n_H [rpm] (None: none).
@@ -320,7 +322,8 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
         The numerical settings, the cycle mean's rule among them (:func:`contact_rule`; None: the defaults).
     torsion : bool
         Also the torsional stiffness, lost motion, hysteresis and transmission error with the crank held
-        (:func:`~gearcalc.pins.stiffness.torsion_outputs`; pins.md §5.8), T_r the torque on V (u T on H).
+        (:func:`~gearcalc.pins.stiffness.torsion_outputs`; pins.md §5.8), T_r the torque on V (u T on H), the crank
+        bearing's stiffness ``design.bearing_stiffness`` in series.
 
     Examples
     --------
@@ -363,14 +366,22 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     et_m, et_r, locked = pc.mode_efficiencies(modes, consistent, np.array([torque], dtype=float), g.ratio,
                                               np.array([multiplier]), np.array([on_V]))
     outs = _requested_outputs(design, point, modes, consistent, (mu, f, rolls), play_free, detail)
-    tor = None
-    if torsion:
-        from .stiffness import torsion_outputs
-
-        held = pc.ContactModel(g, design.profile, design.law, 1.0, pc.REDUCER,
-                               PinFriction(mu, f, rolls) if consistent else None, settings)
-        tor = torsion_outputs(held, torque if on_V else torque * g.ratio, n_discs, outs[2])
+    fr = PinFriction(mu, f, rolls) if consistent else None
+    tor = _torsion(design, fr, settings, torque if on_V else torque * g.ratio, outs[2]) if torsion else None
     return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, *outs, tor)
+
+
+def _torsion(design: ContactDesign, friction, settings, torque_V: float, play: float) -> tuple:
+    """(summary, tables) of the torsion outputs with the crank held (:func:`contact_level`, pins.md §5.8).
+
+    :func:`~gearcalc.pins.stiffness.torsion_outputs` of a reducer at unit torque with the friction forces of
+    ``friction`` in the balance (None: none) at ``torque_V`` [N·m] on V, the crank bearing's stiffness in series.
+    """
+    from .stiffness import torsion_outputs
+
+    held = pc.ContactModel(design.g, design.profile, design.law, 1.0, pc.REDUCER, friction, settings)
+    k_b = design.bearing_stiffness
+    return torsion_outputs(held, torque_V, design.n_discs, play, bearing_stiffness=None if k_b is None else 1e3 * k_b)
 
 
 def _requested_outputs(design: ContactDesign, point: dict, modes, consistent: bool, friction: tuple, play_free: bool,

@@ -86,8 +86,23 @@ def duty_combine(rows, share, speed, exponent, rating):
     out["duty_efficiency"] = _weighted([r["efficiency"] for r in rows], share)
     out["duty_efficiency_err"] = _weighted([r["efficiency_err"] for r in rows], share)
     out["duty_loss_mean_W"] = _weighted([r["loss_mean_W"] for r in rows], share)
+    out.update(_duty_bearing(rows, rev, share, p, rating))
+    stress = [r["contact_stress_max_MPa"] for r in rows]
+    if all(s is not None for s in stress) and stress:
+        i = max(range(len(stress)), key=lambda j: stress[j])
+        out["duty_contact_stress_max_MPa"], out["duty_contact_stress_max_row"] = stress[i], i + 1
+    return out
+
+
+def _duty_bearing(rows, rev, share, p: float, rating) -> dict:
+    """The duty's bearing fields of :func:`duty_combine`.
+
+    The revolution-weighted p-mean of the rows' equivalent loads, its first-order error, and L10_h at the
+    time-weighted mean speed (empty where a row has no load).
+    """
     F = [r["bearing_equivalent_load_N"] for r in rows]
     dF = [r["bearing_equivalent_load_err_N"] for r in rows]
+    out = {}
     if all(f is not None for f in F) and all(d is not None for d in dF) and math.fsum(rev) > 0.0:
         mean = math.fsum(w * f ** p for w, f in zip(rev, F)) / math.fsum(rev)
         F_eq = mean ** (1.0 / p)
@@ -100,8 +115,4 @@ def duty_combine(rows, share, speed, exponent, rating):
             life = 1e6 / (60.0 * n_mean) * (float(rating) / F_eq) ** p
             out["duty_bearing_L10_h"] = life
             out["duty_bearing_L10_h_err"] = p * life * err / F_eq
-    stress = [r["contact_stress_max_MPa"] for r in rows]
-    if all(s is not None for s in stress) and stress:
-        i = max(range(len(stress)), key=lambda j: stress[j])
-        out["duty_contact_stress_max_MPa"], out["duty_contact_stress_max_row"] = stress[i], i + 1
     return out

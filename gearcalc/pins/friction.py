@@ -433,12 +433,26 @@ class PinFriction(NamedTuple):
         law = self.law
         if not self.rolls:
             return -(self.sliding if law is None else law.coefficient(np.abs(v), force)) * np.sign(v)
-        lead = np.argmax(force, axis=0)
-        v_lead = np.take_along_axis(v, lead[None], axis=0)
-        is_lead = np.arange(v.shape[0])[:, None, None] == lead[None]
-        rel = v - v_lead
+        is_lead, rel = self._lead(force, v)
         f = self.sliding if law is None else law.coefficient(np.abs(rel), force)
         return np.where(is_lead, -self.mu_eff * np.sign(v), -f * np.sign(rel))
+
+    def _lead(self, force, v):
+        """The rolling pin's lead contact (the larger force) and the speeds relative to it: (is_lead, v - v_lead)."""
+        lead = np.argmax(force, axis=0)
+        v_lead = np.take_along_axis(v, lead[None], axis=0)
+        return np.arange(v.shape[0])[:, None, None] == lead[None], v - v_lead
+
+    def slip(self, force, v):
+        """The sliding speed whose sign sets each contact's friction direction in :meth:`traction` (c, R, n).
+
+        Fixed pins: v_t; rolling pins: v_t at the lead contact, v_t - omega_pin R_b at the other one
+        (pins.md §5.5; the tangential force is -mu sign(slip)).
+        """
+        if not self.rolls:
+            return np.asarray(v)
+        is_lead, rel = self._lead(force, v)
+        return np.where(is_lead, v, rel)
 
     def losses(self, force, v, R_b: float):
         """Per-contact loss per unit crank speed, the pin spin and the sliding speeds (pins.md §5.6, §4.6).

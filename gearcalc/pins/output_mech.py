@@ -16,10 +16,13 @@ import numpy as np
 
 from .wmech import backdrive_startup_torque, bearing_force_with_w, drag_efficiencies, w_hole_forces
 
-__all__ = ["NEW_FIELDS", "w_unit_resultants", "output_fields"]
+__all__ = ["NEW_FIELDS", "BEARING_FIELDS", "w_unit_resultants", "output_fields", "w_bearing_columns"]
 
 NEW_FIELDS = ("output_mechanism", "w_loss_ratio", "w_force_max_N", "backdrive_startup_torque_Nm")
 """The summary fields this module adds (pins.md §8)."""
+
+BEARING_FIELDS = ("bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h", "bearing_L10_h_err")
+"""The crank bearing's life fields (pins.md §8.2), with pins_in_holes from |B + Q x| (:func:`w_bearing_columns`)."""
 
 PHASES = 64
 """Hole-pattern phases over one pattern period for the resultant's extremes and the bearing force's mean."""
@@ -85,8 +88,12 @@ def _col(v, name, n, default):
     return np.array([default if x is None else x for x in vals], dtype=float)
 
 
-def _bearing(pts, i, q_phases, T_sat, multiplier):
-    """Peak and mean of |B + Q x| of point i over the crank angles and the hole phases [N] (pins.md §4.10)."""
+def _bearing(pts, i, q_phases, T_sat, multiplier, exponent: float = 10.0 / 3.0):
+    """Peak, mean and p-mean of |B + Q x| of point i over the crank angles and the hole phases (pins.md §4.10, §8.2).
+
+    (peak [N], mean [N], mean of |B + Q x|^p [N^p], its error [N^p]): the error is the larger change of the p-mean
+    to either of the two interleaved half grids (every other crank angle and hole phase, even or odd).
+    """
     from .consistent import crank_history
     from .geometry import MULTIPLIER, REDUCER, Cycloid
 
@@ -98,7 +105,10 @@ def _bearing(pts, i, q_phases, T_sat, multiplier):
     h = crank_history(g, float(at(pts.psi_star)), t, t, float(at(pts.mu)), MULTIPLIER if multiplier else REDUCER,
                       consistent=consistent)
     B = bearing_force_with_w(h["Bx"][:, None] * T_sat, h["By"][:, None] * T_sat, q_phases[None, :] * T_sat)
-    return float(np.nanmax(B)), float(np.nanmean(B))
+    Bp = B ** exponent
+    m = float(np.nanmean(Bp))
+    err = max(abs(float(np.nanmean(Bp[::2, ::2])) - m), abs(float(np.nanmean(Bp[1::2, 1::2])) - m))
+    return float(np.nanmax(B)), float(np.nanmean(B)), m, err
 
 
 def output_fields(arrays: dict, v: dict, pts, n: int) -> dict:
@@ -109,7 +119,8 @@ def output_fields(arrays: dict, v: dict, pts, n: int) -> dict:
         T_{sat} = \frac{T_V}{n_d}(1 \pm \bar\lambda_W)
 
     (+ reducer: the satellite also drives the mechanism's loss; - multiplier.)  The force-like fields scale with
-    T_sat; the bearing force is |B + Q x| over the crank angles and the hole phases (:func:`_bearing`).
+    T_sat; the bearing force is |B + Q x| over the crank angles and the hole phases, and so are the bearing's
+    equivalent load and life (:data:`BEARING_FIELDS`, pins.md §8.2; :func:`_w_bearing`).
 
     Parameters
     ----------
@@ -125,7 +136,8 @@ def output_fields(arrays: dict, v: dict, pts, n: int) -> dict:
     Returns
     -------
     arrays : dict
-        The fields, updated where a point has the mechanism or a drag, with :data:`NEW_FIELDS` added.
+        The fields, updated where a point has the mechanism or a drag, with :data:`NEW_FIELDS` added (and
+        :data:`BEARING_FIELDS` where a point has the mechanism).
 
     Examples
     --------
@@ -140,7 +152,7 @@ def output_fields(arrays: dict, v: dict, pts, n: int) -> dict:
 
     References
     ----------
-    .. [1] docs/spec/pins.md §4.10; Sensinger 2013 (the output mechanism as a factor); Blagojević et al. 2011.
+    .. [1] docs/spec/pins.md §4.10, §8.2; Sensinger 2013 (the output mechanism as a factor); Blagojević et al. 2011.
     """
     one = pts.one
     mech = [(m or "ideal") for m in (v.get("w_mech") or [None] * n)]
@@ -152,77 +164,158 @@ def output_fields(arrays: dict, v: dict, pts, n: int) -> dict:
     new = {"output_mechanism": np.array(mech, dtype=object), "w_loss_ratio": nan.copy(),
            "w_force_max_N": nan.copy(), "backdrive_startup_torque_Nm": nan.copy()}
     if active.any():
-        n_w = _col(v, "w_holes", n, 0.0)
-        R_w, f_w = _col(v, "w_radius", n, np.nan), _col(v, "w_friction", n, np.nan)
-        sliding = _col(v, "sliding", n, np.nan)
-        f_w = np.where(np.isnan(f_w), sliding, f_w)
-        z1, k = _arr(pts.z1, n), _arr(pts.k, n)
-        u = z1 / k
-        e = _arr(pts.e, n)
-        n_d = _arr(pts.n_d, n)
-        mult = np.array([m == "multiplier" for m in (v["mode"])])
-        on_V = np.array([s == "V" for s in v["shaft"]])
-        T = _col(v, "torque", n, np.nan)
-        speed = _col(v, "speed", n, np.nan)
-
-        def get(key):
-            return _arr(out[key], n)
-
-        sl = np.zeros(n) + np.asarray(out["self_locking"], dtype=float)        # NaN: undefined
-        hv0, vh0 = get("efficiency_reducer"), get("efficiency_multiplier")
-        T_V_old = np.where(mult, get("torque_in_Nm"), get("torque_out_Nm"))
-        q = {}
-        lam_w = np.zeros(n)
-        for i in np.flatnonzero(has_w):
-            key = (int(n_w[i]), float(R_w[i]))
-            if key not in q:
-                q[key] = w_unit_resultants(*key)
-            lam_w[i] = f_w[i] * e[i] * (u[i] + 1.0) * q[key][2]       # |omega_H/omega_V - 1| = u + 1 (fixed pins)
-        hv1, vh1 = hv0 / (1.0 + lam_w), vh0 * (1.0 - lam_w)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            T_V = np.where(on_V, T, np.where(mult, (T + drag) * u / vh1, (T - drag) * u * hv1))
-            hv, vh = drag_efficiencies(hv1, vh1, drag, T_V, u)
-            T_H = np.where(mult, T_V * vh1 / u - drag, T_V / (u * hv1) + drag)
-            locked = mult & ~(vh > 0.0)
-            vh = np.where(vh > 0.0, vh, np.nan)
-            T_in, T_out = np.where(mult, T_V, T_H), np.where(mult, T_H, T_V)
-            omega_H = speed * math.pi / 30.0
-            loss = np.where(mult, T_V * omega_H / u - T_H * omega_H, T_H * omega_H - T_V * omega_H / u)
-            T_sat = 1e3 * T_V / n_d * np.where(mult, 1.0 - lam_w, 1.0 + lam_w)      # [N·mm]
-            scale = np.where(T_V_old > 0.0, T_V / T_V_old * np.where(mult, 1.0 - lam_w, 1.0 + lam_w), np.nan)
-            start = np.where(drag > 0.0, backdrive_startup_torque(drag, u, vh1), np.nan)
-        upd = {"efficiency_reducer": hv, "efficiency_multiplier": vh, "efficiency": np.where(mult, vh, hv),
-               "torque_in_Nm": T_in, "torque_out_Nm": T_out, "loss_mean_W": loss,
-               "self_locking": np.where(locked, 1.0, sl)}
-        for key in _SCALED:
-            upd[key] = get(key) * scale
-        upd["contact_stress_max_MPa"] = get("contact_stress_max_MPa") * np.sqrt(scale)     # Hertz: sigma ∝ sqrt(F)
-        bmax, bmean = get("bearing_force_max_N") * scale, get("bearing_force_mean_N") * scale
-        wmax = nan.copy()
-        ok = (np.zeros(n) + np.asarray(pts.status)) == 0                 # admissible gears only
-        gi = np.zeros(n, dtype=np.int64) + np.asarray(pts.gi).reshape(-1)[:n] if not one else np.zeros(1, np.int64)
-        mu = _arr(pts.mu, n)
-        cons = np.zeros(n, dtype=bool) | np.asarray(pts.cons).reshape(-1)[:n]
-        unit = {}          # |B + Q x| is linear in T_sat: one unit-torque history per gear, friction, mode, holes
-        for i in np.flatnonzero(has_w & np.isfinite(T_sat) & ok):
-            qmin, qmax, qmean, qph = q[(int(n_w[i]), float(R_w[i]))]
-            key = (int(gi[i]), float(mu[i]), bool(mult[i]), bool(cons[i]), int(n_w[i]), float(R_w[i]))
-            if key not in unit:
-                unit[key] = _bearing(pts, i, qph, 1.0, bool(mult[i]))
-            bmax[i], bmean[i] = unit[key][0] * T_sat[i], unit[key][1] * T_sat[i]
-            wmax[i] = qmax * T_sat[i]
-        upd.update(bearing_force_max_N=bmax, bearing_force_mean_N=bmean)
+        st = _series(out, v, pts, n, has_w, drag)
+        upd = st.pop("upd")
+        upd.update(_w_bearing(out, v, pts, n, has_w, st))
+        sl = st["sl"]
+        life = {key: upd.pop(key) for key in BEARING_FIELDS}
         for key, val in upd.items():
-            out[key] = np.where(active, val, sl if key == "self_locking" else get(key))
-        new["w_loss_ratio"] = np.where(has_w, lam_w, np.nan)
-        new["w_force_max_N"] = wmax
-        new["backdrive_startup_torque_Nm"] = start
+            out[key] = np.where(active, val, sl if key == "self_locking" else _arr(out[key], n))
+        if has_w.any():
+            out.update(life)
+        new["w_loss_ratio"] = np.where(has_w, st["lam_w"], np.nan)
+        new["w_force_max_N"] = st["wmax"]
+        new["backdrive_startup_torque_Nm"] = st["start"]
         sl_new = out["self_locking"]
         out["self_locking"] = sl_new == 1.0 if not np.isnan(sl_new).any() else sl_new
         if one:
-            for key in upd:
+            for key in list(upd) + (list(life) if has_w.any() else []):
                 x = out[key][0]
                 out[key] = bool(x) if key == "self_locking" and x == x else x
     for key, val in new.items():
         out[key] = val[0] if one else val
     return out
+
+
+def _series(out: dict, v: dict, pts, n: int, has_w, drag) -> dict:
+    """The mechanism in series with the teeth and the crank's drag (:func:`output_fields`).
+
+    The efficiencies, shaft torques, mean loss, self-locking and the force-like fields scaled to the satellite
+    torque T_sat ("upd"), with the values the bearing needs (T_sat [N·mm], lam_w, the unit resultants q, ...).
+    """
+    n_w = _col(v, "w_holes", n, 0.0)
+    R_w, f_w = _col(v, "w_radius", n, np.nan), _col(v, "w_friction", n, np.nan)
+    sliding = _col(v, "sliding", n, np.nan)
+    f_w = np.where(np.isnan(f_w), sliding, f_w)
+    z1, k = _arr(pts.z1, n), _arr(pts.k, n)
+    u = z1 / k
+    e = _arr(pts.e, n)
+    n_d = _arr(pts.n_d, n)
+    mult = np.array([m == "multiplier" for m in (v["mode"])])
+    on_V = np.array([s == "V" for s in v["shaft"]])
+    T = _col(v, "torque", n, np.nan)
+    speed = _col(v, "speed", n, np.nan)
+
+    def get(key):
+        return _arr(out[key], n)
+
+    sl = np.zeros(n) + np.asarray(out["self_locking"], dtype=float)        # NaN: undefined
+    hv0, vh0 = get("efficiency_reducer"), get("efficiency_multiplier")
+    T_V_old = np.where(mult, get("torque_in_Nm"), get("torque_out_Nm"))
+    q = {}
+    lam_w = np.zeros(n)
+    for i in np.flatnonzero(has_w):
+        key = (int(n_w[i]), float(R_w[i]))
+        if key not in q:
+            q[key] = w_unit_resultants(*key)
+        lam_w[i] = f_w[i] * e[i] * (u[i] + 1.0) * q[key][2]       # |omega_H/omega_V - 1| = u + 1 (fixed pins)
+    hv1, vh1 = hv0 / (1.0 + lam_w), vh0 * (1.0 - lam_w)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        T_V = np.where(on_V, T, np.where(mult, (T + drag) * u / vh1, (T - drag) * u * hv1))
+        hv, vh = drag_efficiencies(hv1, vh1, drag, T_V, u)
+        T_H = np.where(mult, T_V * vh1 / u - drag, T_V / (u * hv1) + drag)
+        locked = mult & ~(vh > 0.0)
+        vh = np.where(vh > 0.0, vh, np.nan)
+        T_in, T_out = np.where(mult, T_V, T_H), np.where(mult, T_H, T_V)
+        omega_H = speed * math.pi / 30.0
+        loss = np.where(mult, T_V * omega_H / u - T_H * omega_H, T_H * omega_H - T_V * omega_H / u)
+        T_sat = 1e3 * T_V / n_d * np.where(mult, 1.0 - lam_w, 1.0 + lam_w)      # [N·mm]
+        scale = np.where(T_V_old > 0.0, T_V / T_V_old * np.where(mult, 1.0 - lam_w, 1.0 + lam_w), np.nan)
+        start = np.where(drag > 0.0, backdrive_startup_torque(drag, u, vh1), np.nan)
+    upd = {"efficiency_reducer": hv, "efficiency_multiplier": vh, "efficiency": np.where(mult, vh, hv),
+           "torque_in_Nm": T_in, "torque_out_Nm": T_out, "loss_mean_W": loss,
+           "self_locking": np.where(locked, 1.0, sl)}
+    for key in _SCALED:
+        upd[key] = get(key) * scale
+    upd["contact_stress_max_MPa"] = get("contact_stress_max_MPa") * np.sqrt(scale)     # Hertz: sigma ∝ sqrt(F)
+    return dict(upd=upd, sl=sl, lam_w=lam_w, q=q, n_w=n_w, R_w=R_w, mult=mult, T_sat=T_sat, scale=scale,
+                speed=speed, start=start)
+
+
+def _w_bearing(out: dict, v: dict, pts, n: int, has_w, st: dict) -> dict:
+    """The crank bearing with the mechanism's resultant (:func:`output_fields`; pins.md §4.10, §8.2).
+
+    Peak and mean of |B + Q x| [N], and the bearing's equivalent load and L10_h from its p-mean over the crank
+    angles and the hole phases (:func:`gearcalc.pins.outputs.bearing_life`); the points without the mechanism
+    keep the teeth's, scaled to their T_sat.  Sets ``st["wmax"]``, the resultant's peak [N].
+    """
+    from .outputs import bearing_life
+
+    n_w, R_w, mult, T_sat, q = st["n_w"], st["R_w"], st["mult"], st["T_sat"], st["q"]
+    bmax, bmean = _arr(out["bearing_force_max_N"], n) * st["scale"], _arr(out["bearing_force_mean_N"], n) * st["scale"]
+    wmax, pm, dpm = np.full(n, np.nan), np.full(n, np.nan), np.full(n, np.nan)
+    p = np.where(np.isnan(_col(v, "bearing_p", n, np.nan)), 10.0 / 3.0, _col(v, "bearing_p", n, np.nan))
+    ok = (np.zeros(n) + np.asarray(pts.status)) == 0                 # admissible gears only
+    gi = np.zeros(n, dtype=np.int64) + np.asarray(pts.gi).reshape(-1)[:n] if not pts.one else np.zeros(1, np.int64)
+    mu = _arr(pts.mu, n)
+    cons = np.zeros(n, dtype=bool) | np.asarray(pts.cons).reshape(-1)[:n]
+    unit = {}          # |B + Q x| is linear in T_sat: one unit-torque history per gear, friction, mode, holes, p
+    for i in np.flatnonzero(has_w & np.isfinite(T_sat) & ok):
+        qmin, qmax, qmean, qph = q[(int(n_w[i]), float(R_w[i]))]
+        key = (int(gi[i]), float(mu[i]), bool(mult[i]), bool(cons[i]), int(n_w[i]), float(R_w[i]), float(p[i]))
+        if key not in unit:
+            unit[key] = _bearing(pts, i, qph, 1.0, bool(mult[i]), float(p[i]))
+        bmax[i], bmean[i] = unit[key][0] * T_sat[i], unit[key][1] * T_sat[i]
+        pm[i], dpm[i] = unit[key][2], unit[key][3]
+        wmax[i] = qmax * T_sat[i]
+    st["wmax"] = wmax
+    with np.errstate(divide="ignore", invalid="ignore"):
+        life = bearing_life(pm, dpm, p, np.abs(T_sat), _col(v, "bearing_C", n, np.nan), st["speed"])
+    return dict(bearing_force_max_N=bmax, bearing_force_mean_N=bmean, **dict(zip(BEARING_FIELDS, life)))
+
+
+def w_bearing_columns(columns: dict, arrays: dict, n: int) -> dict:
+    r"""The bearing's life columns (:data:`BEARING_FIELDS`) with the mechanism's values where a point has it.
+
+    A point with pins_in_holes takes the equivalent load and life of |B + Q x| (:func:`output_fields`), the others
+    keep the teeth's (pins.md §8.2).
+
+    .. math:: P = T_{sat}\Big(\frac{1}{N M}\sum_{i,j} \hat B_W(\theta_i, \varphi_j)^p\Big)^{1/p}, \qquad
+        L_{10h} = \frac{10^6}{60\,n_H}\Big(\frac{C}{P}\Big)^p
+
+    Parameters
+    ----------
+    columns : dict
+        The teeth's columns (:func:`gearcalc.pins.report.bearing_columns`: lists over the n points, None: undefined).
+    arrays : dict
+        :func:`output_fields`'s fields, which hold :data:`BEARING_FIELDS` when a point has pins_in_holes (NaN for the
+        others).
+    n : int
+        The number of points.
+
+    Returns
+    -------
+    dict
+        The columns to update with (``columns`` itself when no point has the mechanism).
+
+    Examples
+    --------
+    >>> cols = {k: [1.0, 2.0] for k in BEARING_FIELDS}
+    >>> arr = {**{k: np.array([5.0, np.nan]) for k in BEARING_FIELDS},
+    ...        "output_mechanism": np.array(["pins_in_holes", "ideal"], dtype=object)}
+    >>> w_bearing_columns(cols, arr, 2)["bearing_L10_h"]
+    [5.0, 2.0]
+
+    References
+    ----------
+    .. [1] ISO 281:2007 (the mean load of a varying load); docs/spec/pins.md §4.10, §8.2.
+    """
+    if BEARING_FIELDS[0] not in arrays:
+        return columns
+    out = {}
+    for key in BEARING_FIELDS:
+        w = np.broadcast_to(np.asarray(arrays[key], dtype=float), (n,))
+        mech = np.broadcast_to(np.asarray(arrays["output_mechanism"], dtype=object), (n,))
+        out[key] = [(None if not math.isfinite(x) else x) if m == "pins_in_holes" else c
+                    for x, m, c in zip(w.tolist(), mech.tolist(), columns[key])]
+    return {**columns, **out}

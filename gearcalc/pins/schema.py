@@ -157,11 +157,14 @@ TABLES = (
               le=1e6),
     ), doc="The allowable contact stress of the tooth-pin contacts (optional)", optional=True, in_template=False),
     Table("bearing", (
-        Field("C_N", "number", REQUIRED, "C, basic dynamic load rating of one disc's crank bearing (ISO 281): "
-              "bearing_L10_h at load.crank_speed_rpm", gt=0, le=MAX_FORCE_N, example=10000.0),
+        Field("C_N", "number", None, "C, basic dynamic load rating of one disc's crank bearing (ISO 281): "
+              "bearing_L10_h at load.crank_speed_rpm (absent: no life)", gt=0, le=MAX_FORCE_N, example=10000.0),
         Field("exponent", "number", 10.0 / 3.0, "p, ISO 281 life exponent: 3 ball bearings, 10/3 roller "
               "bearings (the default: crank bearings of cycloidal drives are mostly needle/roller)", ge=1, le=10),
-    ), doc="The crank bearing's rating life (optional)", optional=True, in_template=False),
+        Field("radial_stiffness_N_per_um", "number", None, "k_b, radial stiffness of one disc's crank bearing: "
+              "in series with the pin contacts in the torsional stiffness (contact.stiffness_curve; absent: rigid)",
+              gt=0, le=1e9),
+    ), doc="The crank bearing's rating life and stiffness (optional)", optional=True, in_template=False),
     Table("duty", (
         Field("torque_Nm", "numbers", REQUIRED, "T_i, each row's torque on load.torque_shaft", gt=0,
               le=MAX_TORQUE_NM, example=[100.0, 50.0]),
@@ -170,7 +173,7 @@ TABLES = (
         Field("time_share", "numbers", REQUIRED, "t_i, each row's share of the time (normalised: any positive "
               "scale)", gt=0, le=1e12, example=[0.3, 0.7]),
     ), doc="A duty cycle: rows of (torque, crank speed, time share) evaluated as one design, as arrays of equal "
-           "length (pins.md §8.3; optional)", optional=True, in_template=False),
+           "length or as [[duty]] rows (pins.md §8.3; optional)", optional=True, in_template=False, rows=True),
 )
 
 HEADER = """KHV planetary pin gearing after Prudnikov (seed 000): levels formula | ideal | contact.

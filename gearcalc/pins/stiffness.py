@@ -23,8 +23,8 @@ import numpy as np
 from ..roots import find_root
 from .cycle import disc_offsets
 
-__all__ = ["ARCMIN_PER_RAD", "FRACTIONS", "twist", "linear_torsional_stiffness", "TorsionCurve", "torsion_curve",
-           "unloaded_transmission_error", "torsion_outputs",
+__all__ = ["ARCMIN_PER_RAD", "FRACTIONS", "twist", "bearing_twist", "linear_torsional_stiffness", "TorsionCurve",
+           "torsion_curve", "unloaded_transmission_error", "torsion_outputs",
            "N_TORSION", "N_TE"]
 
 ARCMIN_PER_RAD = 10800.0 / math.pi
@@ -53,7 +53,8 @@ def _bracket(G, n: int, limit: float):
     return np.minimum(a, b), np.maximum(a, b), open_
 
 
-def twist(model, theta, torque_sat, direction, xtol: float = 1e-15, n_discs: int = 1):
+def twist(model, theta, torque_sat, direction, xtol: float = 1e-15, n_discs: int = 1,
+          bearing_stiffness: float | None = None):
     r"""Output twist of the satellite with the crank held, at given torques and loading directions.
 
     The root tau of the moment balance about O1 (pins.md §5.5) with the required moment -T_sat (a positive torque
@@ -82,6 +83,8 @@ def twist(model, theta, torque_sat, direction, xtol: float = 1e-15, n_discs: int
         Discs n_d on the one output: they twist alike and carry n_d T_sat together, each at its own crank angle
         (shifted by :func:`~gearcalc.pins.cycle.disc_offsets` pin pitches; equal shares where the shifts are whole
         pitches), [-].
+    bearing_stiffness : float or None, optional
+        k_b, radial stiffness of one disc's crank bearing, [N/mm], in series (:func:`bearing_twist`); None: rigid.
 
     Returns
     -------
@@ -106,21 +109,31 @@ def twist(model, theta, torque_sat, direction, xtol: float = 1e-15, n_discs: int
     ----------
     .. [1] docs/spec/pins.md §5.5, §5.8.
     """
-    from .contact import NoEquilibrium
-
     theta = np.atleast_1d(np.asarray(theta, dtype=float))
-    M_req = -np.asarray(torque_sat, dtype=float)
-    s = np.asarray(direction, dtype=float)
-    n = theta.size
-    tau = np.zeros(n)
+    M_req = -np.asarray(torque_sat, dtype=float) * np.ones(theta.size)
+    tau = np.zeros(theta.size)
     live = M_req != 0.0
     if not live.any():
         return tau
+    tau[live] = _contact_twist(model, theta[live], M_req[live],
+                               (np.asarray(direction, dtype=float) * np.ones(theta.size))[live], xtol, n_discs)
+    if bearing_stiffness is not None:
+        tau[live] += bearing_twist(model.g, -M_req[live], bearing_stiffness)
+    return tau
+
+
+def _contact_twist(model, theta, M, sv, xtol: float, n_discs: int):
+    """The contacts' twist (O1 held) at the required moments M != 0 (:func:`twist`).
+
+    The root of the discs' moment balance, frictionless first, then with the friction directions of that solution's
+    contacts.
+    """
+    from .contact import NoEquilibrium
+
     # the discs: their crank angles shifted by disc_offsets pin pitches, one pose per distinct shift (pins.md §12.7)
     shifts, counts = np.unique(disc_offsets(n_discs, model.g.z2), return_counts=True)
-    poses = [model.pose(theta[live] + sh * model.g.period) for sh in shifts]
+    poses = [model.pose(theta + sh * model.g.period) for sh in shifts]
     w = counts / float(n_discs)
-    M, sv = M_req[live], s[live]
 
     def solve(tractions):
         def G(t):
@@ -128,26 +141,69 @@ def twist(model, theta, torque_sat, direction, xtol: float = 1e-15, n_discs: int
 
         a, b, open_ = _bracket(G, M.size, math.pi / model.g.z1)
         if open_.any():
-            raise NoEquilibrium(theta[live][open_])
+            raise NoEquilibrium(theta[open_])
         return find_root(G, a, b, xtol=xtol, rtol=0.0).root
 
     t = solve([None] * len(poses))
     if model.friction is not None:
         cts = [model.contacts(p, t) for p in poses]
         t = solve([model.friction.traction(model.law.force(ct.delta), (ct.xn + model.g.R_b) * sv) for ct in cts])
-    tau[live] = t
-    return tau
+    return t
 
 
-def linear_torsional_stiffness(theta, g, psi_star: float, stiffness: float, n_discs: int = 1, sigma: int = 1):
-    r"""Torsional stiffness at the output of an unmodified cycloid with linear contacts and a rigid crank.
+def bearing_twist(g, torque_sat, bearing_stiffness: float):
+    r"""Output twist from the crank bearing's radial compliance, in series with the contacts (pins.md §5.8).
+
+    Every normal of the conjugate contacts passes through the pitch point P, r_p1 = e z1/k from O1 along the crank
+    arm (the ideal level's lever arms, pins.md §4.4: l_j = r_p1 (t.n_j), t across the arm), so the contacts'
+    resultant B on the satellite carries the moment about O1 with its component across the arm alone:
+    B_t = T_sat/r_p1.  The bearing gives way by d_t = B_t/k_b across the arm; with the crank held and the teeth in
+    mesh the satellite rolls on the pins about P: it turns by d_t/r_p1 (a displacement along the arm only changes
+    the mesh's centre distance: second order).  Friction and non-conjugate (circular) teeth move B's line of
+    action off P by O(mu) and by their normals' spread: the same formula, first order.
+
+    .. math:: \tau_b = \frac{T_{sat}}{k_b\,r_{p1}^2}, \qquad r_{p1} = \frac{e z_1}{k}
+
+    Parameters
+    ----------
+    g : Cycloid
+        The gear (e, z1, k).
+    torque_sat : array_like
+        Signed torque on one satellite (disc), [N·mm].
+    bearing_stiffness : float
+        k_b, radial stiffness of one disc's crank bearing, [N/mm].
+
+    Returns
+    -------
+    tau_b : ndarray
+        The bearing's share of the output twist, [rad].
+
+    Examples
+    --------
+    >>> from gearcalc.pins.geometry import Cycloid
+    >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)   # r_p1 = 3.9 * 21 = 81.9 mm
+    >>> round(float(bearing_twist(g, 81.9 ** 2, 1.0)), 12)
+    1.0
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.4 (the lever arms), §5.8 (the crank bearing in series).
+    """
+    return np.asarray(torque_sat, dtype=float) / (bearing_stiffness * g.r_p1 ** 2)
+
+
+def linear_torsional_stiffness(theta, g, psi_star: float, stiffness: float, n_discs: int = 1, sigma: int = 1,
+                               bearing_stiffness: float | None = None):
+    r"""Torsional stiffness at the output of an unmodified cycloid with linear contacts and a rigid or compliant crank.
 
     A rotation tau of the satellite about O1 presses pin i by tau l_i (l_i the ideal level's lever arm, pins.md
     §4.4), so F_i = k_lin l_i tau and the moment is k_lin tau sum l_i^2 over the loaded pins (no friction, small
-    rotations: the closed form the contact level must reproduce as k_lin grows, pins.md §5.8).
+    rotations: the closed form the contact level must reproduce as k_lin grows, pins.md §5.8).  A crank bearing of
+    radial stiffness k_b per disc adds, in series, the twist T_sat/(k_b r_p1^2) of each disc (:func:`bearing_twist`:
+    the discs' bearings in parallel, n_d k_b r_p1^2 at the output).
 
-    .. math:: K = k_{lin} \sum_d S(\theta + \Delta_d T_p) \cdot 10^{-3}\,\frac{\pi}{10800}, \qquad
-        S = \sum_{j\in L} l_j^2
+    .. math:: K_c = k_{lin} \sum_d S(\theta + \Delta_d T_p), \quad S = \sum_{j\in L} l_j^2, \qquad
+        \frac{1}{K} = \left(\frac{1}{K_c} + \frac{1}{n_d k_b r_{p1}^2}\right) \cdot 10^{3}\,\frac{10800}{\pi}
 
     Parameters
     ----------
@@ -164,6 +220,8 @@ def linear_torsional_stiffness(theta, g, psi_star: float, stiffness: float, n_di
         (:func:`~gearcalc.pins.cycle.disc_offsets`), [-].
     sigma : int, optional
         The loaded pins: +1 those of a positive torque (:func:`twist`; the reducer's), -1 those of a negative one.
+    bearing_stiffness : float or None, optional
+        k_b, radial stiffness of one disc's crank bearing, [N/mm]; None: rigid.
 
     Returns
     -------
@@ -186,7 +244,10 @@ def linear_torsional_stiffness(theta, g, psi_star: float, stiffness: float, n_di
 
     theta = np.asarray(theta, dtype=float)
     S = sum(lever_sum(theta + sh * g.period, g, psi_star, sigma) for sh in disc_offsets(n_discs, g.z2))
-    return stiffness * S * 1e-3 / ARCMIN_PER_RAD
+    K = stiffness * S
+    if bearing_stiffness is not None:
+        K = 1.0 / (1.0 / K + 1.0 / (n_discs * bearing_stiffness * g.r_p1 ** 2))
+    return K * 1e-3 / ARCMIN_PER_RAD
 
 
 @dataclass
@@ -207,7 +268,8 @@ class TorsionCurve:
     sides: np.ndarray
 
 
-def torsion_curve(model, theta, rated_torque: float, n_discs: int = 1, fractions=FRACTIONS) -> TorsionCurve:
+def torsion_curve(model, theta, rated_torque: float, n_discs: int = 1, fractions=FRACTIONS,
+                  bearing_stiffness: float | None = None) -> TorsionCurve:
     r"""Twist against output torque with the crank held: stiffness, lost motion and hysteresis per crank angle.
 
     Loading 0 -> +T_r -> 0 -> -T_r -> 0 at each crank angle (:func:`twist`, friction against the twist's direction
@@ -234,6 +296,8 @@ def torsion_curve(model, theta, rated_torque: float, n_discs: int = 1, fractions
         Discs sharing the torque, [-].
     fractions : tuple of float, optional
         The torques as fractions of T_r; must hold 0.03, 0.5 and 1.0.
+    bearing_stiffness : float or None, optional
+        k_b, radial stiffness of one disc's crank bearing, [N/mm] (:func:`twist`); None: rigid.
 
     Returns
     -------
@@ -262,7 +326,7 @@ def torsion_curve(model, theta, rated_torque: float, n_discs: int = 1, fractions
     d = (signs_d[:, None, None] * np.ones((f, n))[None])[::(1 if branches == 4 else 2)]
     th = np.broadcast_to(theta, T.shape)
     tau = twist(model, th.ravel(), (T * rated_torque * 1e3 / n_discs).ravel(), d.ravel(),
-                n_discs=n_discs).reshape(T.shape)
+                n_discs=n_discs, bearing_stiffness=bearing_stiffness).reshape(T.shape)
     tw = tau * ARCMIN_PER_RAD
     if branches == 1:
         tw = np.stack((tw[0], tw[0], tw[1], tw[1]))
@@ -335,7 +399,8 @@ def _sampling_err(v, largest: bool) -> float:
     return float(max(abs(v[i] - half), abs(v[i - 1] - v[i]), abs(v[(i + 1) % v.size] - v[i])))
 
 
-def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: float, xtol: float = 1e-15):
+def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: float, xtol: float = 1e-15,
+                    bearing_stiffness: float | None = None):
     r"""Torsional stiffness, lost motion, hysteresis, backlash and transmission error of one design (pins.md §5.8).
 
     :func:`torsion_curve` at ``N_TORSION`` crank angles over one pin pitch T_p (the contact pattern repeats with
@@ -345,7 +410,8 @@ def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: floa
     transmission error over one cycle (tau is T_p-periodic, pins.md §5.6) at no load
     (:func:`unloaded_transmission_error`) and at T_r (loading branch), peak-to-peak on ``N_TE`` angles, error as
     above (for its largest and its least value).  The backlash is the contact level's
-    (:func:`gearcalc.pins.contact.backlash`, min over the cycle).
+    (:func:`gearcalc.pins.contact.backlash`, min over the cycle).  A crank bearing of radial stiffness k_b adds its
+    twist in series (:func:`bearing_twist`).
 
     .. math:: K = \min_\theta K(\theta), \quad LM = \max_\theta LM(\theta), \quad
         \mathrm{TE}_{pp} = \max_\theta \tau - \min_\theta \tau
@@ -362,6 +428,8 @@ def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: floa
         The contact level's backlash, [deg].
     xtol : float, optional
         The twist solver's tolerance, [rad].
+    bearing_stiffness : float or None, optional
+        k_b, radial stiffness of one disc's crank bearing, [N/mm]; None: rigid.
 
     Returns
     -------
@@ -385,24 +453,33 @@ def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: floa
     """
     Tp = model.g.period
     th = np.arange(N_TORSION) * (Tp / N_TORSION)
-    c = torsion_curve(model, th, rated_torque, n_discs)
-    tol_am = 2.0 * xtol * ARCMIN_PER_RAD
+    c = torsion_curve(model, th, rated_torque, n_discs, bearing_stiffness=bearing_stiffness)
+    th_te = np.arange(N_TE) * (Tp / N_TE)
+    te0 = unloaded_transmission_error(model, th_te) * ARCMIN_PER_RAD * 60.0
+    te1 = twist(model, th_te, np.full(N_TE, rated_torque * 1e3 / n_discs), np.ones(N_TE), xtol,
+                n_discs, bearing_stiffness) * ARCMIN_PER_RAD * 60.0
+    summary = _torsion_summary(c, te0, te1, rated_torque, backlash_deg, 2.0 * xtol * ARCMIN_PER_RAD,
+                               model.friction is not None)
+    return summary, _torsion_tables(c, th_te, te0, te1)
+
+
+def _torsion_summary(c: TorsionCurve, te0, te1, rated_torque: float, backlash_deg: float, tol_am: float,
+                     friction: bool) -> dict:
+    """The summary fields of :func:`torsion_outputs` from its curves and TE samples.
+
+    Errors: :func:`_sampling_err` plus the solver's tolerance ``tol_am`` [arcmin] carried through.
+    """
     i = int(np.argmin(c.stiffness))
     k = float(c.stiffness[i])
     k_span = np.abs(c.twist[0, -1, i] - c.twist[0, int(np.argmin(np.abs(np.asarray(FRACTIONS) - 0.5))), i])
     lm, hy = float(c.lost_motion.max()), float(c.hysteresis.max())
-    th_te = np.arange(N_TE) * (Tp / N_TE)
-    te0 = unloaded_transmission_error(model, th_te) * ARCMIN_PER_RAD * 60.0
-    te1 = twist(model, th_te, np.full(N_TE, rated_torque * 1e3 / n_discs), np.ones(N_TE), xtol,
-                n_discs) * ARCMIN_PER_RAD * 60.0
-    deg = math.degrees
-    summary = {
+    return {
         "torsional_stiffness_Nm_per_arcmin": k,
         "torsional_stiffness_Nm_per_arcmin_err": _sampling_err(c.stiffness, False) + k * tol_am / k_span,
-        "torsional_stiffness_crank_deg": deg(float(th[i])),
+        "torsional_stiffness_crank_deg": math.degrees(float(c.theta[i])),
         "lost_motion_arcmin": lm, "lost_motion_arcmin_err": _sampling_err(c.lost_motion, True) + tol_am,
         "hysteresis_arcmin": hy, "hysteresis_arcmin_err": _sampling_err(c.hysteresis, True) + (
-            tol_am if model.friction is not None else 0.0),
+            tol_am if friction else 0.0),
         "backlash_arcmin": backlash_deg * 60.0, "backlash_arcmin_err": 1e-12 * backlash_deg * 60.0 + tol_am,
         "rated_torque_Nm": rated_torque,
         "te_unloaded_pp_arcsec": float(np.ptp(te0)),
@@ -411,14 +488,23 @@ def torsion_outputs(model, rated_torque: float, n_discs: int, backlash_deg: floa
         "te_rated_pp_arcsec": float(np.ptp(te1)),
         "te_rated_pp_arcsec_err": _sampling_err(te1, True) + _sampling_err(te1, False) + 60.0 * tol_am,
     }
+
+
+def _torsion_tables(c: TorsionCurve, th_te, te0, te1) -> dict:
+    """The detail tables of :func:`torsion_outputs`.
+
+    The loop at the crank angle of the least stiffness, the figures and the transmission error per crank angle.
+    """
+    deg = math.degrees
+    i = int(np.argmin(c.stiffness))
     names = ("loading +", "unloading +", "loading -", "unloading -")
     sign = (1.0, 1.0, -1.0, -1.0)
-    torsion = [{"branch": names[b], "crank_deg": deg(float(th[i])), "torque_Nm": sign[b] * float(T),
+    torsion = [{"branch": names[b], "crank_deg": deg(float(c.theta[i])), "torque_Nm": sign[b] * float(T),
                 "twist_arcmin": float(c.twist[b, j, i])}
                for b in range(4) for j, T in (enumerate(c.torque) if b in (0, 2) else list(enumerate(c.torque))[::-1])]
     crank = [{"crank_deg": deg(float(t)), "stiffness_Nm_per_arcmin": float(c.stiffness[j]),
               "lost_motion_arcmin": float(c.lost_motion[j]), "hysteresis_arcmin": float(c.hysteresis[j])}
-             for j, t in enumerate(th)]
+             for j, t in enumerate(c.theta)]
     te = [{"crank_deg": deg(float(t)), "te_unloaded_arcsec": float(te0[j]), "te_rated_arcsec": float(te1[j])}
           for j, t in enumerate(th_te)]
-    return summary, {"torsion": torsion, "torsion_crank": crank, "transmission_error": te}
+    return {"torsion": torsion, "torsion_crank": crank, "transmission_error": te}

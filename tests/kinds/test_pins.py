@@ -1,8 +1,11 @@
-"""CLI tests of `gearcalc pins`: example designs, output formats, levels, hard cases and bad input (pins.md §9)."""
+"""CLI tests of `gearcalc pins`: example designs, output formats, levels, hard cases and bad input (pins.md §9);
+``gearcalc check`` refuses what a run refuses (issue 13)."""
 import copy
 import csv
 import io
 import json
+import math
+import random
 import subprocess
 import sys
 from pathlib import Path
@@ -11,7 +14,9 @@ import pytest
 import tomli_w
 from typer.testing import CliRunner
 
+from conftest import cli
 from gearcalc.cli import app
+from gearcalc.design import read_toml
 
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -454,18 +459,6 @@ def test_sweep_runs_point_by_point(tmp_path):
 
 
 @pytest.mark.slow
-def test_plot(tmp_path):
-    pytest.importorskip("matplotlib")
-    out = tmp_path / "p.png"
-    code, _, err = run(CONFIGS / "pins_paper_cyc_u10_rotating.toml", *FIRST_ORDER, "--plot", out, "--format", "csv")
-    assert code == 0, err
-    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
-    out2 = tmp_path / "f.png"
-    code, _, err = run(CONFIGS / "pins_paper_formula_cyc_u10.toml", *FIRST_ORDER, "--plot", out2, "--format", "csv")
-    assert code == 0 and out2.stat().st_size > 1000
-
-
-@pytest.mark.slow
 @pytest.mark.parametrize("changes", [{}, {"gearing__pins": 21}, {"gearing__pins": 23, "load__mode": "reducer"},
                                      {"gearing__curtate_ratio": 0.9}])
 def test_peaks_against_dense_pointwise_evaluation(tmp_path, changes):
@@ -566,3 +559,76 @@ def test_sweep_over_geometry_is_vectorised(tmp_path):
     c = load(str(design(tmp_path, "c.toml", contact__law="hertz", contact__face_width_mm=10.0)))
     assert registry.get("pins").sweep(c, {}, {"friction.sliding": [0.1]}, [{"friction.sliding": 0.1}],
                                       Options()) is None
+
+
+# ---------------------------------------------------------------- check == run (issue 13; moved from test_guards.py)
+
+PINS = CONFIGS / "pins_paper_cyc_u10_rotating.toml"
+
+
+
+def _random_pins_design(rng: random.Random) -> dict:
+    """A valid-looking pins design: every value inside its field's bounds, the combination not checked."""
+    raw = read_toml(str(PINS))
+    g = raw["gearing"]
+    g["profile"] = rng.choice(["cycloidal", "cycloidal", "circular"])
+    z1 = rng.choice([rng.randint(2, 6), rng.randint(2, 40)])
+    k = rng.choice([1, 1, 2, 3, 4])
+    g["satellite_teeth"], g["pins"] = z1, z1 + k
+    g["eccentricity_mm"] = round(rng.uniform(0.5, 5.0), 3)
+    g["curtate_ratio"] = round(rng.uniform(0.2, 0.95), 3)
+    r_p = g["eccentricity_mm"] * (z1 + k) / (k * g["curtate_ratio"])
+    g["pin_radius_mm"] = round(rng.uniform(0.2, 1.02) * r_p * math.sin(math.pi / (z1 + k)), 3)
+    g["axle_radius_mm"] = round(g["pin_radius_mm"] * rng.uniform(0.3, 0.8), 3)
+    if g["profile"] == "cycloidal" and rng.random() < 0.3:
+        g["equidistant_mod_mm"] = round(rng.uniform(0.0, 0.05), 4)
+    if g["profile"] == "circular" or rng.random() < 0.2:
+        raw["contact"] = {"law": "hertz"} if rng.random() < 0.2 else {"law": "hertz", "face_width_mm": 10.0}
+    return raw
+
+
+SOLVE_TIME = ("no contact can carry the torque", "cannot resolve this geometry in floating point")
+"""The two bad-input findings of the contact level that only its solve can make (pins.md §5.5)."""
+
+
+@pytest.mark.slow
+def test_check_agrees_with_run_on_random_pins_designs(tmp_path):
+    # issue 13: check said ok while run said bad input for 19 of 60 random designs (undercut, too few teeth
+    # for k, equidistant_mod_mm without contact.face_width_mm).  Seeded: the same 30 designs every run.
+    rng = random.Random(13)
+    refused = 0
+    for i in range(30):
+        raw = _random_pins_design(rng)
+        path = tmp_path / f"d{i}.toml"
+        path.write_text(tomli_w.dumps(raw))
+        c = cli("check", path)
+        if c.code == 2:
+            refused += 1
+            continue                        # check refuses: run refuses too (validate runs the same check)
+        r = cli("pins", path, "--tol", "1e-3", "-o", tmp_path / f"d{i}.csv")
+        assert r.code != 70, r
+        if r.code == 2 and any(m in r.err for m in SOLVE_TIME):
+            continue                        # found by the contact solve itself (pins.md §5.5)
+        assert (r.code == 2) == (c.code == 2), (raw, c, r)
+    assert refused > 0                      # the sample holds some bad designs
+
+
+def test_check_reports_the_compute_time_checks():
+    # the three classes of the issue, each refused by check with the key compute names
+    cases = [
+        # undercut: z1 = 2, z2 = 3, K1 = 0.8, e = 1 (R_p = 3.75 mm): R_b = 2.9 mm is above the least curvature
+        # radius of the pin-centre curve (pins.admissibility), below the overlap limit R_p sin(60 deg) = 3.25 mm
+        ([("gearing.satellite_teeth", 2), ("gearing.pins", 3), ("gearing.curtate_ratio", 0.8),
+          ("gearing.eccentricity_mm", 1.0), ("gearing.pin_radius_mm", 2.9), ("gearing.axle_radius_mm", 1.0)],
+         "gearing.pin_radius_mm", PINS),
+        # too few teeth: z1 = 2, z2 = 4 (k = 2), K1 = 0.5, e = 1 (R_p = 4 mm), R_b = 2.5 mm: psi* <= 360/z2
+        ([("gearing.satellite_teeth", 2), ("gearing.pins", 4), ("gearing.curtate_ratio", 0.5),
+          ("gearing.eccentricity_mm", 1.0), ("gearing.pin_radius_mm", 2.5), ("gearing.axle_radius_mm", 1.0)],
+         "gearing.satellite_teeth", PINS),
+        ([("gearing.equidistant_mod_mm", 0.01)], "contact.face_width_mm", PINS),          # contact level, no [contact]
+    ]
+    for sets, key, base in cases:
+        args = [a for k, v in sets for a in ("--set", f"{k}={v!r}")]
+        c, r = cli("check", base, *args), cli("pins", base, *args)
+        assert c.code == 2 and r.code == 2, (sets, c, r)
+        assert key in c.err and key in r.err

@@ -131,30 +131,3 @@ def test_cycloid_foot_point_from_nominal_meets_the_bracketed_newton(z1, z2, tau)
     assert len(calls) <= 3
 
 
-def test_profiles_by_name_behind_one_protocol():
-    # issue 35 item 1: tooth profiles chosen by name from a registry, one documented Protocol
-    from gearcalc.pins import profiles, schema
-    from gearcalc.pins.geometry import Cycloid
-    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
-    for name in profiles.PROFILES:
-        prof, overlap = profiles.make_profile(name, g)
-        assert isinstance(prof, profiles.ToothProfile) and overlap is False and prof.play_free
-    assert profiles.make_profile("circular", g)[0].summary_fields().keys() == {"tooth_radius_mm",
-                                                                              "tooth_circle_radius_mm"}
-    assert not profiles.make_profile("cycloidal", g, profiles.ProfileParams(equidistant_mod=0.01))[0].play_free
-    with pytest.raises(ValueError, match=r"unknown tooth profile 'involute'; known: cycloidal, circular"):
-        profiles.make_profile("involute", g)
-    gearing = next(t for t in schema.TABLES if t.name == "gearing")
-    assert tuple(next(f for f in gearing.fields if f.name == "profile").choices) == tuple(profiles.PROFILES)
-
-
-def test_a_new_profile_is_a_module_plus_its_registration(monkeypatch):
-    # the registry entry names the module and factory; nothing else changes to compute with it
-    from gearcalc.pins import profiles
-    from gearcalc.pins.contact_level import satellite_profile
-    from gearcalc.pins.geometry import Cycloid
-    monkeypatch.setitem(profiles.PROFILES, "arcs", profiles.ProfileEntry("gearcalc.pins.contact_profiles",
-                                                                         "circular_teeth"))
-    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
-    prof, _ = satellite_profile(g, "arcs", 3.0, "zero_backlash", 0.0, 0.0)
-    assert prof.contacts_per_pin == 2 and prof.rho_t == 3.0

@@ -86,3 +86,14 @@ def test_the_coulomb_law_through_the_interface_is_the_contact_levels_own_bit_for
         tc = pc.cycle_at_torque(pc.ContactCase(g, prof, law, 1, friction, 10.0, True), False, True, tol=1e-4)
         out.append((tc.loss_ratio, tc.loss_ratio_err, tc.cycle.sol.tau.tobytes(), tc.cycle.loss.tobytes()))
     assert out[0] == out[1]
+
+
+def test_table_and_stribeck_laws():
+    law = fr.friction_law("table", speed_m_s=(0.0, 0.5, 2.0), mu=(0.12, 0.08, 0.05))
+    # by hand: 0.25 m/s halfway between 0.12 and 0.08; 1.25 m/s halfway between 0.08 and 0.05; ends held
+    assert law.coefficient(np.array([0.25, 1.25, 5.0, -0.25])).tolist() == pytest.approx([0.10, 0.065, 0.05, 0.10])
+    assert isinstance(law, fr.FrictionLaw) and not law.constant
+    s = fr.friction_law("stribeck", mu_s=0.15, mu_c=0.05, v_s=0.1, delta=2.0, k_v=0.01)
+    assert float(s.coefficient(0.0)) == pytest.approx(0.15, rel=1e-12)              # breakaway
+    assert float(s.coefficient(0.1)) == pytest.approx(0.05 + 0.1 * np.exp(-1) + 0.001, rel=1e-12)
+    assert float(s.coefficient(10.0)) == pytest.approx(0.05 + 0.1, rel=1e-12)       # full film: mu_c + k_v v

@@ -90,29 +90,6 @@ def test_s_factor_matches_law_of_cosines_and_is_cancellation_free():
     assert pins.s_factor(p, 1 - d, d) == pytest.approx(math.sqrt(d * d + (1 - d) * p * p), rel=1e-9)
 
 
-@pytest.mark.parametrize("z2", [22, 50, 62, 200])
-def test_pin_phase_exact_and_consistent(z2):
-    # pins at 0 and pi are exact; elsewhere the phase agrees with the naive formula
-    assert pins.pin_phase(0, 0.0, z2) == 0.0
-    if z2 % 2 == 0:
-        assert pins.pin_phase(z2 // 2, 0.0, z2) == math.pi
-        assert pins.pin_phase(z2 // 2, 0.0, z2, MULTIPLIER) == math.pi
-    theta = np.linspace(-7, 7, 301)
-    i = np.arange(z2)[:, None]
-    naive = np.mod(2 * np.pi * i / z2 - theta[None, :], 2 * np.pi)
-    ph = pins.pin_phase(i, theta[None, :], z2)
-    d = np.abs(ph - naive)
-    assert np.all(np.minimum(d, 2 * np.pi - d) < 1e-12)
-    assert np.all((ph >= 0) & (ph <= 2 * np.pi))
-    phm = pins.pin_phase(i, theta[None, :], z2, MULTIPLIER)
-    d = np.abs(phm - np.mod(-naive, 2 * np.pi))
-    assert np.all(np.minimum(d, 2 * np.pi - d) < 1e-12)
-    # a pin index outside [0, z2) is the same pin: the same phase, bit for bit, both modes
-    for shift in (-2 * z2, z2, 3 * z2):
-        assert np.array_equal(pins.pin_phase(i + shift, theta[None, :], z2), ph)
-        assert np.array_equal(pins.pin_phase(i + shift, theta[None, :], z2, MULTIPLIER), phm)
-
-
 def test_contact_point_lies_on_the_normal_through_the_pitch_point():
     g = gear()
     psi = np.linspace(0.01, 3.1, 50)
@@ -204,67 +181,6 @@ GEARS = [gear(21, 22), gear(20, 22), gear(60, 62), gear(30, 33, K1=0.6), gear(11
 
 
 @pytest.mark.parametrize("g", GEARS, ids=lambda g: f"z{g.z1}-{g.z2}")
-@pytest.mark.parametrize("sigma", [REDUCER, MULTIPLIER])
-def test_identity1_equilibrium_at_every_angle(g, sigma):
-    ps = pins.crest_cutoff(g)
-    theta = np.linspace(-1, 1, 333)
-    T = 12345.0
-    F = pins.pin_forces(theta, g, ps, T, sigma)
-    psi = pins.pin_phase(np.arange(g.z2)[:, None], theta[None, :], g.z2, sigma)
-    moment = np.sum(F * np.abs(pins.lever_arm(psi, g)), axis=0)
-    assert np.allclose(moment, T, rtol=1e-12)
-    # the loaded pins are those with 0 < psi~ < psi*; fewer than half for k >= 2
-    n_loaded = np.count_nonzero(F > 0, axis=0)
-    if g.k >= 2:
-        assert n_loaded.max() < g.z2 / 2
-
-
-@pytest.mark.parametrize("z2,K1", [(22, 0.75), (62, 0.5), (12, 0.95), (200, 0.99)])
-def test_identity2_full_circle_sum(z2, K1):
-    g = Cycloid.from_curtate_ratio(z2 - 1, z2, 3.9, K1, 0.5)
-    theta = np.linspace(0, 1, 37)
-    psi = pins.pin_phase(np.arange(z2)[:, None], theta[None, :], z2)
-    lhs = np.sum((pins.lever_arm(psi, g) / g.r_p1) ** 2, axis=0)
-    assert np.allclose(lhs, pins.full_circle_lever_sum(theta, z2, K1), rtol=1e-12)
-
-
-@pytest.mark.parametrize("z2,K1", [(12, 0.9), (22, 0.75), (62, 0.5)])
-def test_identity3_k1_mean_is_z2_over_4_but_pointwise_ripples(z2, K1):
-    g = Cycloid.from_curtate_ratio(z2 - 1, z2, 3.9, K1, 0.5)
-    bp = pins.cycle_breakpoints(g, math.pi, None)
-    r = integrate_adaptive(lambda t, m: pins.cycle_state(t, m, g, math.pi).S / g.r_p1 ** 2, bp, tol=1e-12,
-                           n_max=2 ** 20)
-    assert abs(r.value[0] - z2 / 4) <= max(r.err[0], 1e-12 * z2)
-    # the pointwise sum is not z2/4: the published F_max = 4 k T/(e z1 z2) is an approximation
-    theta = np.linspace(0, 2 * np.pi / z2, 101)
-    S = pins.lever_sum(theta, g, math.pi) / g.r_p1 ** 2
-    ripple = (S.max() - S.min()) / (z2 / 4)
-    assert ripple > 1e-6
-    F_pub = 4 * 1000.0 / (g.z2 * g.r_p1)            # 4 T/(z2 r_p1), k = 1
-    F_true = 1000.0 * g.r_p1 / (S * g.r_p1 ** 2)
-    assert np.max(np.abs(F_true / F_pub - 1)) > 1e-6
-
-
-def test_identity3_ripple_grows_with_K1():
-    rip = []
-    for K1 in (0.5, 0.8, 0.95):
-        g = Cycloid.from_curtate_ratio(21, 22, 3.9, K1, 0.5)
-        S = pins.lever_sum(np.linspace(0, 2 * np.pi / 22, 201), g, math.pi)
-        rip.append(np.ptp(S) / S.mean())
-    assert rip[0] < rip[1] < rip[2]
-
-
-@pytest.mark.parametrize("g", GEARS, ids=lambda g: f"z{g.z1}-{g.z2}")
-def test_identity4_period_is_Tp_and_not_half(g):
-    ps = pins.crest_cutoff(g)
-    theta = np.linspace(0, 2 * np.pi / g.z2, 57)[1:-1] + 1e-3
-    lam = pins.loss_ratio(theta, g, ps, 0.1)
-    assert np.allclose(pins.loss_ratio(theta + g.period, g, ps, 0.1), lam, rtol=1e-12)
-    assert np.allclose(pins.loss_ratio(theta - 5 * g.period, g, ps, 0.1), lam, rtol=1e-12)
-    assert np.max(np.abs(pins.loss_ratio(theta + g.period / 2, g, ps, 0.1) - lam)) > 1e-6
-
-
-@pytest.mark.parametrize("g", GEARS, ids=lambda g: f"z{g.z1}-{g.z2}")
 def test_a_window_that_is_not_a_full_period_is_biased(g):
     # the mean over half a period differs from the cycle mean by far more than the error estimate
     ps = pins.crest_cutoff(g)
@@ -273,27 +189,6 @@ def test_a_window_that_is_not_a_full_period_is_biased(g):
     half = integrate_adaptive(lambda t, m: pins.cycle_loss_ratio(t, m, g, ps, 0.1),
                               np.append(bp[bp < 0.5], 0.5), tol=1e-10, n_max=2 ** 20)
     assert abs(half.value[0] / 0.5 - full.loss_ratio) > 100 * full.loss_ratio_err
-
-
-@pytest.mark.parametrize("g", GEARS, ids=lambda g: f"z{g.z1}-{g.z2}")
-def test_identity5_mirror_between_modes(g):
-    ps = pins.crest_cutoff(g)
-    theta = np.linspace(-2, 2, 301)
-    assert np.allclose(pins.loss_ratio(theta, g, ps, 0.1, REDUCER),
-                       pins.loss_ratio(-theta, g, ps, 0.1, MULTIPLIER), rtol=1e-12)
-
-
-def test_cycle_integrand_equals_pointwise_loss_ratio():
-    # cycle_loss_ratio(t) is lambda_multiplier(theta = t T_p) and lambda_reducer(theta = (1 - t) T_p)
-    for g in GEARS:
-        ps = pins.crest_cutoff(g)
-        bp = pins.cycle_breakpoints(g, ps, None)
-        t = np.linspace(0, 1, 203)[1:-1]
-        t = t[np.min(np.abs(t[:, None] - bp[None, :]), axis=1) > 1e-6]
-        mid = 0.5 * (bp[np.searchsorted(bp, t) - 1] + bp[np.searchsorted(bp, t)])
-        lam = pins.cycle_loss_ratio(t, mid, g, ps, 0.1)
-        assert np.allclose(lam, pins.loss_ratio(t * g.period, g, ps, 0.1, MULTIPLIER), rtol=1e-12)
-        assert np.allclose(lam, pins.loss_ratio((1 - t) * g.period, g, ps, 0.1, REDUCER), rtol=1e-12)
 
 
 def ez_cross(r):
@@ -452,15 +347,6 @@ def test_tiny_eccentricity_self_locks_in_the_multiplier():
     assert 0 < pins.efficiency_reducer(r.loss_ratio) < 1e-4
 
 
-def test_disc_sum_of_a_periodic_history():
-    # two discs half a period apart on a sine: sum is 0 everywhere; shift of one period: doubles
-    x = np.linspace(0, 1, 201)
-    v = np.sin(2 * np.pi * x)
-    assert np.allclose(pins.sum_over_discs(x, v, [0.0, 0.5], 1.0), 0.0, atol=1e-3)
-    assert np.allclose(pins.sum_over_discs(x, v, [0.0, 1.0], 1.0), 2 * v, atol=1e-12)
-    assert pins.disc_offsets(3, 22).tolist() == pytest.approx([0.0, 1 / 3, 2 / 3])
-
-
 @pytest.mark.parametrize("z1,z2", [(49, 50), (48, 50), (21, 22)])
 def test_pins_exactly_at_0_and_pi_keep_lambda_continuous(z1, z2):
     # at theta = 0 pins sit exactly at psi = 0 and (z2 even) pi; lambda is continuous through theta = 0
@@ -515,86 +401,10 @@ def test_reported_error_bounds_the_actual_error_at_every_tolerance(g):
         assert abs(r.loss_ratio - ref.loss_ratio) <= r.loss_ratio_err + ref.loss_ratio_err, tol
 
 
-def test_ideal_cycles_of_a_batch_equal_each_gear_alone():
-    # pins.ideal_cycles: a gear's numbers do not depend on the gears solved with it (bit for bit)
-    gs = HONESTY[:8] + [gear(20, 22, K1=0.75, Rb=1.0), gear(20, 22, K1=0.5), gear(3, 12, Rb=0.5)]  # last: too few teeth
-    n_d = np.array([1, 2, 1, 3, 1, 1, 1, 1, 1, 1, 1])
-    both = Cycloid(*(np.array([getattr(x, f) for x in gs]) for f in ("z1", "z2", "e", "R_p", "R_b", "one_minus_K1")))
-    together = pins.ideal_cycles(both, n_d, tol=1e-6)
-    assert together.status.tolist() == [0] * 10 + [pins.TOO_FEW_TEETH]
-    fields = ("psi_star", "psi_0", "rho_c_min", "loss_ratio", "loss_ratio_err", "converged", "n_crank", "force",
-              "force_phase", "loss", "loss_phase", "total", "rel_min", "rel_max", "rel_abs", "loaded_min", "loaded_max")
-    for i, gi in enumerate(gs):
-        alone = pins.ideal_cycles(pins.geometry.as_arrays(gi), n_d[i], tol=1e-6)
-        for f in fields:
-            assert np.array_equal(getattr(alone, f), getattr(together, f)[i:i + 1], equal_nan=True), (i, f)
-        if alone.status[0] == 0:
-            for a, b in zip(alone.grid(0), together.grid(i)):
-                assert np.array_equal(a, b)
-
-
 # Curtate ratios for which numpy's scalar (1 - K1) ** 2 (a pow() call) is not the correctly rounded square
 # (1 - K1) * (1 - K1) (glibc, x86-64), while an array's ** 2 multiplies: a one-gear code path that squared a
 # scalar gave other numbers than the same gear solved in a batch.
 POW_SENSITIVE_K1 = (0.3648, 0.4898, 0.6824, 0.7449)
-
-
-def test_a_gear_alone_equals_it_in_a_batch_where_a_scalar_square_would_round_otherwise():
-    gs = [gear(z1, z1 + 2, K1=K1, Rb=1.0) for z1 in (20, 60) for K1 in POW_SENSITIVE_K1]
-    both = Cycloid(*(np.array([getattr(x, f) for x in gs]) for f in ("z1", "z2", "e", "R_p", "R_b", "one_minus_K1")))
-    together = pins.ideal_cycles(both, 1, tol=1e-6)
-    for i, gi in enumerate(gs):
-        alone = pins.ideal_cycles(pins.geometry.as_arrays(gi), 1, tol=1e-6)
-        for f in ("loss_ratio", "loss_ratio_err", "force", "force_phase", "loss", "loss_phase", "total", "rel_min",
-                  "rel_max", "rel_abs", "n_crank"):
-            assert np.array_equal(getattr(alone, f), getattr(together, f)[i:i + 1]), (i, f)
-
-
-@pytest.mark.parametrize("g", [gear(20, 22), gear(60, 62)], ids=["u10", "u30"])
-def test_the_first_rounds_levels_change_no_result(g, monkeypatch):
-    # pins.first_levels is speed only: the levels guessed for the quadrature's first round (capped at
-    # FIRST_LEVELS_MAX, then predicted from the observed rate) leave every number as it is
-    assert [pins.first_levels(t) for t in (1e-3, 1e-6, 1e-9, 1e-12)] == [2, 4, 6, 6]
-    capped = pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=1e-9)
-    monkeypatch.setattr(pins.ideal, "FIRST_LEVELS_MAX", 99)
-    assert pins.first_levels(1e-9) == 9
-    one_round = pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=1e-9)
-    for f in ("loss_ratio", "loss_ratio_err", "n_crank", "force", "force_phase", "loss", "total", "rel_abs"):
-        assert np.array_equal(getattr(capped, f), getattr(one_round, f)), f
-    assert np.array_equal(capped.grid_t, one_round.grid_t)
-
-
-@pytest.mark.parametrize("tol", [1e-6, 1e-9])
-def test_the_first_rounds_guess_by_pin_count_changes_no_result(tol, monkeypatch):
-    # issue 15: the first round guesses one level less per doubling of z2 beyond 28 (the u = 30 paper gear,
-    # z2 = 62, is accepted at 128 intervals at --tol 1e-6, where the guess of z2 = 22 evaluated 256); speed only
-    assert pins.first_levels(1e-6, 22) == 4 and pins.first_levels(1e-6, 62) == 3
-    assert pins.first_levels(1e-6, np.array([22, 62, 112, 10_000])).tolist() == [4, 3, 2, 2]
-    gs = [gear(20, 22), gear(60, 62), gear(99, 100, K1=0.9)]
-    both = Cycloid(*(np.array([getattr(x, f) for x in gs]) for f in ("z1", "z2", "e", "R_p", "R_b", "one_minus_K1")))
-    guessed = [pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=tol) for g in gs] + [
-        pins.ideal_cycles(both, 1, tol=tol)]
-    plain = pins.ideal.first_levels
-    monkeypatch.setattr(pins.ideal, "first_levels", lambda t, z2=None: plain(t))
-    fixed = [pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=tol) for g in gs] + [
-        pins.ideal_cycles(both, 1, tol=tol)]
-    for a, b in zip(guessed, fixed):
-        for f in ("loss_ratio", "loss_ratio_err", "n_crank", "force", "force_phase", "loss", "total", "rel_abs",
-                  "grid_t", "grid_sums"):
-            assert np.array_equal(getattr(a, f), getattr(b, f)), f
-
-
-@pytest.mark.slow
-@pytest.mark.parametrize("g", HONESTY[:4] + HONESTY[5:6], ids=lambda g: f"z{g.z1}-{g.z2}-K{g.K1:.9g}")
-def test_ideal_cycles_peaks_against_a_dense_sweep(g):
-    # the refined peaks (pins.md §12.1) against 200001 crank angles of one period, pointwise (pin_forces)
-    r = pins.ideal_cycles(pins.geometry.as_arrays(g), 1, tol=1e-6)
-    theta = np.linspace(0.0, g.period, 200001)
-    F = pins.pin_forces(theta, g, float(r.psi_star[0]), 1.0, MULTIPLIER)
-    psi = pins.pin_phase(np.arange(g.z2)[:, None], theta[None, :], g.z2, MULTIPLIER)
-    P = pins.contact_loss_power(F, np.abs(pins.pitch_distance(psi, g) - g.R_b), 1.0)
-    for got, dense in ((r.force[0], F.max()), (r.loss[0], P.max()), (r.total[0], P.sum(axis=0).max())):
-        assert dense <= got * (1 + 1e-12) and got <= dense * (1 + 1e-6)
 
 
 @pytest.mark.parametrize("z1,k,K1", [(20, 2, 0.75), (60, 2, 0.75), (20, 3, 0.5), (10, 2, 0.95), (100, 4, 0.3),
@@ -666,19 +476,3 @@ def test_shaft_torques_balance_the_powers(multiplier, on_V):
     assert pins.efficiency_reducer_err(lam, E) == pytest.approx(abs(d) * E, rel=1e-8)
 
 
-def test_one_gears_admissibility_is_remembered_and_handed_out_as_copies():
-    # pins.md §4.2, §12.10: loading a design checks it and its solve asks again; the second answer comes from the
-    # remembered first, equal to a fresh computation (the many-gear path) and not shared with the caller
-    from gearcalc.pins import ideal
-
-    g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
-    one = Cycloid(*(np.atleast_1d(v) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
-    ideal._ADMISSIBLE_ONE.clear()
-    first = ideal.admissibility(one)
-    first[1][0] = -1.0                                   # the caller's copy: the remembered value stays
-    again = ideal.admissibility(one)
-    fresh = ideal._admissibility(one)
-    assert len(ideal._ADMISSIBLE_ONE) == 1
-    assert all(np.array_equal(a, b) for a, b in zip(again, fresh)) and again[1][0] > 0.0
-    two = Cycloid(*(np.repeat(np.atleast_1d(v), 2) for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
-    assert np.array_equal(ideal.admissibility(two)[1], np.repeat(fresh[1], 2))

@@ -14,7 +14,7 @@ from gearcalc import api
 from gearcalc.pins.contact import MULTIPLIER, REDUCER, ContactModel, Cycloid, CycloidProfile, backlash, contact_law
 from gearcalc.pins.forces import lever_arm, lever_sum, pin_phase
 from gearcalc.pins.friction import PinFriction
-from gearcalc.pins.stiffness import (ARCMIN_PER_RAD, linear_torsional_stiffness, torsion_curve, twist,
+from gearcalc.pins.stiffness import (ARCMIN_PER_RAD, bearing_twist, linear_torsional_stiffness, torsion_curve, twist,
                                      unloaded_transmission_error)
 
 CONFIGS = Path(__file__).resolve().parents[2] / "configs"
@@ -65,6 +65,63 @@ def test_closed_form_by_hand_at_one_crank_angle():
     lev = R_P1 * np.sin(psi) / s
     K = 1e10 * np.sum(np.where((psi > 0) & (psi < math.pi), lev ** 2, 0.0)) * 1e-3 * math.pi / 10800.0
     assert torsion_curve(_model(), np.array([0.1]), 1000.0).sides[0, 0] == pytest.approx(K, rel=1e-6)
+
+
+def test_contact_normals_meet_at_the_pitch_point_so_the_bearing_carries_T_over_r_p1():
+    # pins.md §5.8, bearing_twist: every loaded normal of the conjugate cycloid passes through P, r_p1 = e z1/k from
+    # O1 (§4.4), so arm_j = P x n_j and the contacts' resultant B has B_t = M/r_p1 across O1P.  P fitted by least
+    # squares from the contact model's own normals and arms (an independent code: solved penetrations)
+    m = _model(stiffness=1e10)
+    pose = m.pose(np.array([0.1]))
+    T_sat = 1e5                                                    # N·mm
+    tau = twist(m, np.array([0.1]), np.array([T_sat]), np.array([1.0]))
+    ct = m.contacts(pose, tau)
+    F = m.law.force(ct.delta)[..., 0]
+    on = F > 0
+    nx, ny, arm = ct.nx[..., 0][on], ct.ny[..., 0][on], ct.arm[..., 0][on]
+    P, *_ = np.linalg.lstsq(np.column_stack((ny, -nx)), arm, rcond=None)    # arm = P_x n_y - P_y n_x
+    # measured 2026-12-07: the lines miss the fitted P by <= 6.0e-7 mm (7.4e-9 r_p1: the normals of the deflected,
+    # twisted state), |P| = r_p1 to 5e-9
+    assert np.abs(P[0] * ny - P[1] * nx - arm).max() < 1e-7 * R_P1
+    assert math.hypot(*P) == pytest.approx(R_P1, rel=1e-7)
+    B = np.array([np.sum(F[on] * nx), np.sum(F[on] * ny)])
+    M = np.sum(F[on] * arm)
+    assert abs(M) == pytest.approx(T_sat, rel=1e-7)       # the root to 1e-15 rad times k S ~ 3e14 N·mm/rad: 5e-9
+    assert abs(P[0] * B[1] - P[1] * B[0]) / R_P1 == pytest.approx(T_sat / R_P1, rel=1e-7)   # B_t r_p1 = M
+
+
+def test_bearing_in_series_gives_the_closed_form_stiffness():
+    # pins.md §5.8: the crank bearing (k_b per disc) in series with the contacts: 1/K = 1/(k_lin sum_d S_d)
+    # + 1/(n_d k_b r_p1^2), S of the ideal level's lever arms (forces.lever_sum); a stiff linear law (1e10 N/mm):
+    # the contacts' own closed form holds to 1.5e-7 (test above), the bearing term is exact
+    th = np.linspace(0.0, G1.period, 5)
+    k_b = 2e5                                                      # N/mm = 200 N/um
+    c = torsion_curve(_model(), th, 1000.0, n_discs=2, bearing_stiffness=k_b)
+    S = lever_sum(th, G1, math.pi, REDUCER)
+    by_hand = 1.0 / (1.0 / (1e10 * 2 * S) + 1.0 / (2 * k_b * R_P1 ** 2)) * 1e-3 * math.pi / 10800.0
+    np.testing.assert_allclose(c.sides[0], by_hand, rtol=1e-6)
+    np.testing.assert_allclose(c.sides[0], linear_torsional_stiffness(th, G1, math.pi, 1e10, 2, REDUCER, k_b),
+                               rtol=1e-6)
+    rigid = torsion_curve(_model(), th, 1000.0, n_discs=2)
+    assert (c.sides[0] < 0.5 * rigid.sides[0]).all()               # the bearing dominates at these stiffnesses
+    assert float(bearing_twist(G1, 1e5, k_b)) == 1e5 / (k_b * R_P1 ** 2)
+
+
+def test_bearing_stiffness_key_enters_the_summary_and_rigid_is_the_default():
+    # [bearing] radial_stiffness_N_per_um (issue 37 item 1): absent, the crank is rigid (as before); given, the
+    # least stiffness K obeys 1/K - 1/K_rigid = 1/(n_d k_b r_p1^2) at the same crank angle (the series term is
+    # the same at every angle, so the least stays where it was)
+    path = str(CONFIGS / "pins_paper_cyc_u10_fixed.toml")
+    over = {"contact.face_width_mm": 10.0, "contact.law": "linear", "contact.stiffness_N_per_mm": 1e6,
+            "contact.stiffness_curve": True}
+    rigid = api.compute(path, model="contact", overrides=over).summary
+    soft = api.compute(path, model="contact", overrides={**over, "bearing.radial_stiffness_N_per_um": 500.0}).summary
+    assert soft["torsional_stiffness_crank_deg"] == rigid["torsional_stiffness_crank_deg"]
+    n_d = 1                                                        # gearing.discs: the default
+    r_p1 = 3.9 * 20 / 2                                            # e z1/k of pins_paper_cyc_u10_fixed (z1 20, k 2)
+    term = 1.0 / (n_d * 5e5 * r_p1 ** 2) / (1e-3 * math.pi / 10800.0)   # arcmin per N·m
+    got = 1.0 / soft["torsional_stiffness_Nm_per_arcmin"] - 1.0 / rigid["torsional_stiffness_Nm_per_arcmin"]
+    assert got == pytest.approx(term, rel=1e-6)
 
 
 def test_without_friction_the_loop_closes_and_with_it_opens():

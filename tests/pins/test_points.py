@@ -1,4 +1,5 @@
-"""The pins batch hook and the vectorised sweep (issue 6): the same results as ``compute`` design by design.
+"""The pins batch hook and the vectorised sweep (issue 6; gearcalc.pins.points: many operating points at once, through
+the kinds/pins adapter): the same results as ``compute`` design by design.
 
 Expected values here are ``compute`` itself (the contract of ``batch`` and ``sweep``: identical to one
 design at a time) and the point-by-point evaluation of ``gearcalc sweep``.

@@ -1,8 +1,11 @@
-"""The crank bearing's equivalent load and L10 life (issue 37 item 5; pins.md §8.2).
+"""Tests of the ideal level's outputs of one operating point (gearcalc.pins.outputs; pins.md §4.9, §8): the crank
+bearing's equivalent load and L10 life (issue 37 item 5; pins.md §8.2), the satellite and crank torques, the
+contact stress and the axle pressure.
 
 Independent references: the equivalent load recomputed from the ``--detail`` crank table (the bearing force of one
 disc at every node of the final grid, ordered by crank angle; a trapezoid rule over the crank angle, written here),
-and the ISO 281 life L10 = (C/P)^p 10^6 revolutions, L10_h = L10 10^6/(60 n) (written here).
+the ISO 281 life L10 = (C/P)^p 10^6 revolutions, L10_h = L10 10^6/(60 n) (written here), and the closed forms named
+at each test (Hertz's line contact, a constant load's p-mean, the discs' equal shares).
 """
 from __future__ import annotations
 
@@ -11,6 +14,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from typer.testing import CliRunner
 
 from gearcalc.cli import app
@@ -90,75 +95,6 @@ def test_a_bad_exponent_is_refused_naming_the_key(tmp_path):
     assert "bearing.exponent" in r.stderr
 
 
-# ---------------------------------------------------------------- the duty cycle (pins.md §8.3)
-
-DUTY = {"torque_Nm": [100.0, 50.0, 150.0], "crank_speed_rpm": [1000.0, 1500.0, 500.0], "time_share": [0.5, 0.3, 0.2]}
-
-
-def duty_file(tmp_path, duty=DUTY, **tables):
-    import tomllib
-
-    import tomli_w
-
-    raw = tomllib.loads(PAPER.read_text())
-    raw["duty"] = duty
-    raw.update(tables)
-    p = tmp_path / "duty.toml"
-    p.write_text(tomli_w.dumps(raw))
-    return p
-
-
-@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
-def test_duty_cycle_equals_a_hand_combination_of_per_row_runs(tmp_path, mode):
-    """Each row run alone (--set load.torque_Nm, load.crank_speed_rpm), combined here by hand: ISO 281 for a varying
-    load and speed weights the rows' P^p by their revolutions t_i n_i; L10_h at the time-weighted mean speed;
-    efficiency and loss time-weighted; the largest contact stress and its (1-based) row."""
-    C, p = 60_000.0, 10.0 / 3.0
-    path = duty_file(tmp_path, bearing={"C_N": C}, contact={"face_width_mm": 10.0})
-    r = runner.invoke(app, ["run", str(path), "--format", "json", "--set", f"load.mode={mode}"])
-    assert r.exit_code in (0, 1), r.stderr
-    s = json.loads(r.stdout)["summary"]
-    rows = [run_json("--set", f"load.torque_Nm={T}", "--set", f"load.crank_speed_rpm={n}", "--set", f"load.mode={mode}",
-                     "--set", f"bearing.C_N={C}", "--set", "contact.face_width_mm=10")["summary"]
-            for T, n in zip(DUTY["torque_Nm"], DUTY["crank_speed_rpm"])]
-    t, n = DUTY["time_share"], DUTY["crank_speed_rpm"]
-    w = [ti * ni for ti, ni in zip(t, n)]
-    P = (sum(wi * row["bearing_equivalent_load_N"] ** p for wi, row in zip(w, rows)) / sum(w)) ** (1 / p)
-    n_mean = sum(w) / sum(t)
-    assert s["duty_rows"] == 3
-    assert s["duty_bearing_equivalent_load_N"] == pytest.approx(P, rel=1e-13)
-    assert s["duty_bearing_L10_h"] == pytest.approx(1e6 / (60 * n_mean) * (C / P) ** p, rel=1e-12)
-    assert s["duty_efficiency"] == pytest.approx(sum(ti * row["efficiency"] for ti, row in zip(t, rows)) / sum(t),
-                                                 rel=1e-14)
-    assert s["duty_loss_mean_W"] == pytest.approx(sum(ti * row["loss_mean_W"] for ti, row in zip(t, rows)) / sum(t),
-                                                  rel=1e-13)
-    stress = [row["contact_stress_max_MPa"] for row in rows]
-    assert s["duty_contact_stress_max_MPa"] == max(stress)
-    assert s["duty_contact_stress_max_row"] == stress.index(max(stress)) + 1 == 3     # the 150 N·m row
-    # the design's own fields are its [load] point's, unchanged by the duty table
-    own = run_json("--set", f"load.mode={mode}", "--set", f"bearing.C_N={C}", "--set", "contact.face_width_mm=10")
-    assert s["efficiency"] == own["summary"]["efficiency"]
-    assert s["bearing_L10_h"] == own["summary"]["bearing_L10_h"]
-
-
-def test_duty_rows_of_unequal_length_are_refused_naming_the_keys(tmp_path):
-    bad = dict(DUTY, time_share=[0.5, 0.5])
-    r = runner.invoke(app, ["run", str(duty_file(tmp_path, bad))])
-    assert r.exit_code == 2
-    assert "duty.time_share" in r.stderr and "same length" in r.stderr
-
-
-def test_a_duty_design_in_a_batch_equals_it_alone(tmp_path):
-    path = duty_file(tmp_path, bearing={"C_N": 60_000.0})
-    alone = json.loads(runner.invoke(app, ["run", str(path), "--format", "json"]).stdout)["summary"]
-    r = runner.invoke(app, ["run", str(path), str(PAPER), "--format", "json"])
-    assert r.exit_code in (0, 1), r.stderr
-    both = json.loads(r.stdout)
-    first = both[0]["summary"] if isinstance(both, list) else both
-    for k in ("duty_bearing_L10_h", "duty_efficiency", "duty_loss_mean_W", "duty_bearing_equivalent_load_N"):
-        assert first[k] == alone[k]
-
-
 @pytest.mark.parametrize("mode", ["multiplier", "reducer"])
 def test_contact_level_l10_from_the_detail_table(mode):
     """The contact level (circular-arc paper design): P from the --detail crank table by the trapezoid rule over its
@@ -178,3 +114,40 @@ def test_contact_level_l10_from_the_detail_table(mode):
     assert 0 < s["bearing_equivalent_load_err_N"] < 1e-6 * P
     L10_h = (C / P) ** p * 1e6 / (60.0 * n)
     assert abs(L10_h - s["bearing_L10_h"]) <= s["bearing_L10_h_err"] * (1 + 1e-9)
+
+
+# ---------------------------------------------------------------- the outputs' closed forms
+
+@settings(max_examples=100, deadline=None)
+@given(T=st.floats(1.0, 1e8), u=st.floats(1e-6, 1.0), b=st.floats(0.1, 100.0))
+def test_contact_stress_is_hertzs_line_contact(T, u, b):
+    # Johnson 1985, eq. (4.45): p0 = sqrt(F E*/(pi b R)) with F/R = T_sat u; steel on steel E* = E/(2(1 - nu^2))
+    # (E = 210 GPa, nu = 0.3: 115 384.6 MPa)
+    from gearcalc.pins.outputs import contact_stress
+
+    E_star = 210_000.0 / (2 * (1 - 0.3 ** 2))
+    assert float(contact_stress(T, u, b, E_star)) == pytest.approx(math.sqrt(T * u * E_star / (math.pi * b)), rel=1e-12)
+    assert math.isnan(float(contact_stress(T, u, float("nan"), E_star)))           # no face width, no stress
+
+
+@pytest.mark.parametrize("p", [3.0, 10.0 / 3.0])
+def test_a_constant_bearing_force_is_its_own_equivalent_load(p):
+    # ISO 281: the p-mean of a constant load is that load; |B|/T_sat = 4/mm at T_sat = 2000 N mm: P = 8000 N; with
+    # C = 40 kN at 1500 rpm, L10_h = 10^6/(60 x 1500) x 5^p h; the errors carried to first order: dP = P/p dm/m
+    from gearcalc.pins.outputs import bearing_life
+
+    m = 4.0 ** p
+    P, dP, L, dL = (float(x) for x in bearing_life(m, 1e-6 * m, p, 2000.0, 40_000.0, 1500.0))
+    assert P == pytest.approx(8000.0, rel=1e-14)
+    assert L == pytest.approx(1e6 / (60 * 1500.0) * 5.0 ** p, rel=1e-13)
+    assert dP == pytest.approx(8000.0 / p * 1e-6, rel=1e-12) and dL == pytest.approx(p * L * dP / P, rel=1e-12)
+    assert all(math.isnan(float(x)) for x in bearing_life(m, 0.0, p, 2000.0, float("nan"), 1500.0)[2:])
+
+
+def test_the_discs_share_the_output_torque_and_the_axle_pressure_is_on_the_projected_area():
+    # pins.md §12.7: n_d discs share T_V equally (100 N m over 3 discs: 33 333.3 N mm each, summing to 10^5 N mm);
+    # pins.md §8: p = F/(2 r b), 1900 N on 2 x 0.95 mm x 10 mm = 100 MPa
+    from gearcalc.pins.outputs import axle_pressure, satellite_torque
+
+    assert 3 * satellite_torque(100.0, 3) == pytest.approx(1e5, rel=1e-15)
+    assert axle_pressure(1900.0, 0.95, 10.0) == pytest.approx(100.0, rel=1e-15)
