@@ -50,7 +50,8 @@ class ContactSettings:
     refine_newton_small: float = 1e-12
     """See ``refine_newton_stop``: the ``newton_small`` of the refining solves."""
 
-    # -- one cycle: breakpoints, quadrature, passes from the nodes, backlash (:mod:`gearcalc.pins.contact_cycle`)
+    # -- one cycle: breakpoints (:mod:`gearcalc.pins.contact_roots`), quadrature, backlash
+    # (:mod:`gearcalc.pins.contact_cycle`), passes from the nodes (:mod:`gearcalc.pins.contact_relinearise`)
     smooth_start_curvature_margin: float = 1e-2
     """A refinement step from the smooth side of a scanned penetration's sign change (:func:`_smooth_side_start`) stops
     its bracket when Newton's error after it, C s^2 (C = |f''/2f'|, the larger of the scan cubic's at its root and
