@@ -218,6 +218,7 @@ def test_accuracy_bad_usage(args, needle):
     assert r.code == 2 and needle in r.err
 
 
+@pytest.mark.slow
 def test_accuracy_plot(tmp_path):
     pytest.importorskip("matplotlib")
     out = tmp_path / "acc.png"

@@ -463,3 +463,19 @@ def test_shared_options_are_declared_once():
                 assert params[option].default is declared, (name, option)
         if name in ("pins", "zstk", "rows", "run"):
             assert set(c.COMPUTE) <= set(params), name
+
+
+# ---------------------------------------------------------------- the progress bar
+@pytest.mark.slow  # a terminal and a contact-level sweep: long
+def test_the_progress_bar_says_the_time_left(tmp_path):
+    # on a terminal's stderr a sweep's bar has a "left" column (rich's TimeRemainingColumn: the time once the
+    # rate is known): a pins contact-level sweep of 12 points (its ~41 ms a point estimated)
+    from conftest import CONFIGS
+    from test_terminal import run_tty
+
+    code, out, err = run_tty("sweep", CONFIGS / "pins_paper_circ_u30_rotating.toml", "--vary",
+                             "friction.sliding=0.05:0.061:0.001", "--format", "csv", stdout_tty=False,
+                             stderr_tty=True, env={"GEARCALC_PROGRESS_DELAY": "0"})
+    # exit 1: at f <= 0.061 the bushings cannot roll (f R_b < f_c r + f_k), a failed check since issue 36
+    assert code == 1 and len(out.splitlines()) == 1 + 12 and "12 of 12 points fail rolling" in err
+    assert "computing" in err and "points" in err and "left" in err

@@ -236,6 +236,7 @@ def test_one_exponent_path_is_the_general_path_bit_for_bit():
     assert fast > 1000
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, derandomize=True)
 @given(st.integers(-300, 300), st.lists(st.floats(1.0, 9.999999999999998), min_size=1, max_size=300),
        st.booleans())
@@ -266,6 +267,7 @@ def test_cells_width_holds_every_cell_and_cells_write_in_place(patterns, lead, e
     assert [bytes(r[r != 0]) for r in band] == [repr(v).encode() for v in x.tolist()]
 
 
+@pytest.mark.slow
 @settings(max_examples=300, deadline=None, derandomize=True)
 @given(st.lists(st.integers(0, 2**64 - 1), min_size=1, max_size=50))
 def test_cells_width_from_the_bounds_is_the_same(patterns):

@@ -4,11 +4,13 @@ import csv
 import io
 import json
 import tomllib
+from collections.abc import Sequence
 
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
+import gearcalc
 from conftest import CONFIGS, cli
 from gearcalc import grid as sw
 from gearcalc.calculator import Options
@@ -193,9 +195,11 @@ def _bits(values) -> bytes:
 
 
 AWKWARD_RANGES = [
-    (1.5, 1.5 / (1e6 - 1), 1_000_000), (0.0, 0.1, 200_000), (0.0, 1 / 3, 300_000), (5.0, -0.1, 200_000),
+    pytest.param(1.5, 1.5 / (1e6 - 1), 1_000_000, marks=pytest.mark.slow),  # a million points: long (CI)
+    (0.0, 0.1, 200_000), (0.0, 1 / 3, 300_000), (5.0, -0.1, 200_000),
     (-3.0, 1e-5, 600_001), (1e11, 0.37, 100_000), (9.99999, 1e-7, 200_000), (1e-12, 1e-13, 100_000),
-    (-1.0, 2e-6, 1_000_001), (123456.789, 0.001, 200_000), (2.2, 0.005, 1961), (0.999999999999, 1e-13, 50_000),
+    pytest.param(-1.0, 2e-6, 1_000_001, marks=pytest.mark.slow),
+    (123456.789, 0.001, 200_000), (2.2, 0.005, 1961), (0.999999999999, 1e-13, 50_000),
     (-0.0, -0.1, 10), (0.0, -0.1, 10), (1e15, 1.0, 10_000), (99999999999.5, 0.25, 20_000), (1e300, -1e297, 100),
     (3.0, -1.5 / (2.5e5 - 1), 250_000),
 ]
@@ -211,6 +215,7 @@ def test_range_take_is_bit_identical_to_per_point_values(start, step, count):
     assert _bits(r[-5:]) == _bits([r[k] for k in range(count - 5, count)])
 
 
+@pytest.mark.slow  # 300 random ranges: long; the awkward ranges above stay in the quick loop
 @settings(max_examples=300, deadline=None)
 @given(st.floats(-1e13, 1e13, allow_nan=False), st.floats(1e-10, 1e4) | st.floats(-1e4, -1e-10),
        st.integers(1, 3000), st.integers(0, 10**7))
@@ -251,6 +256,7 @@ def test_grid_column_array_of_a_lazy_range():
             assert arr == listed
 
 
+@pytest.mark.slow
 def test_stream_arrays_same_csv_and_json_as_lists():
     """Chunks with float64 array columns (the CLI's CSV path) write the same bytes as chunks of lists, and the
     public chunks (arrays=False) hold lists only."""
@@ -359,3 +365,147 @@ def test_slots_only_where_workers_are_forked():
         assert slots.store(slot, [b"x" * (slots.size + 1)]) is None  # too large: the caller uses the pipe
         slots.give(slot)
         slots.close()
+
+
+# ---------------------------------------------------------------- the cost of a sweep, estimated before it starts
+BRIDGES = {"kind": "rows", "gear": {"sun_teeth": 18, "module_mm": 5.0, "ratio": 6.0},
+           "rows": {"count": 3, "planets_per_row": 3, "relative_width": 3.0}, "sun": {"torque_Nm": 1e3},
+           "bridges": {}}
+
+
+def test_the_cost_rule_is_one_for_every_kind():
+    # the same budget (600 s) takes a pins contact-level grid of 1e4 points (kinds/pins.py sweep_cost: 0.22 ms a
+    # pin and pass x 62 pins x 3 passes = 41 ms a point: 409 s) and refuses 2e4 (818 s), unless 10 processes
+    # share it
+    from conftest import CONFIGS
+    from gearcalc import grid
+    from gearcalc.calculator import Options
+
+    raw = gearcalc.design.read_toml(CONFIGS / "pins_paper_circ_u30_rotating.toml")
+    axes = {"friction.sliding": grid.Range(0.01, 1e-5, 10_000)}
+    total, seconds = grid.prepare(raw, "x.toml", axes, Options())
+    assert total == 10_000 and grid.cost_problem(axes, total, seconds) is None
+    big = {"friction.sliding": grid.Range(0.01, 1e-6, 20_000)}
+    assert "20000 points" in grid.cost_problem(big, 20_000, seconds)
+    assert grid.cost_problem(big, 20_000, seconds, workers=10) is None  # --jobs 10
+
+
+@pytest.mark.slow
+def test_costly_points_make_small_chunks():
+    # a contact-level point costs ~41 ms (kinds/pins.py sweep_cost): chunks of about a second's work
+    # (grid.FIRST_OUTPUT_SECONDS), so a streamed sweep shows its first rows at once, not after 65 536 points
+    from conftest import CONFIGS
+    from gearcalc import grid
+
+    raw = gearcalc.design.read_toml(CONFIGS / "pins_paper_circ_u30_rotating.toml")
+    seconds = grid.prepare(raw, "x.toml", {"friction.sliding": [0.1]})[1]
+    size = grid.chunk_points(seconds)
+    assert 1 <= size < 64 and size == int(grid.FIRST_OUTPUT_SECONDS / seconds)
+    parts = list(gearcalc.sweep(raw, {"friction.sliding": [0.05 + 0.001 * k for k in range(size + 1)]}))
+    assert [p.n for p in parts] == [size, 1]
+    # cheap vectorised points keep big chunks (rows with bridges, n = 3: 22 us a point, 45 454 points)
+    assert grid.chunk_points(grid.prepare(BRIDGES, "x.toml", {"rows.count": [3]})[1]) > 10_000
+
+
+# ---------------------------------------------------------------- a chunk reads its own points (issue 36 item 8)
+# The work a chunk of a sweep does follows the chunk, not the grid: counted, not timed.
+class CountingAxis(Sequence):
+    """An axis of values that counts the values read (a stand-in for a long lazy axis)."""
+
+    def __init__(self, values):
+        self.values, self.reads = list(values), 0
+
+    def __len__(self):
+        return len(self.values)
+
+    def __getitem__(self, k):
+        out = self.values[k]
+        self.reads += len(out) if isinstance(k, slice) else 1
+        return out
+
+
+def test_grid_iter_of_a_late_chunk_reads_the_chunk_only():
+    """Iterating the last 10 points of a 100 000-point axis reads about 10 values (itertools.product over the
+    axis read all of them, for every chunk: a sweep quadratic in the grid size)."""
+    axis = CountingAxis(range(100_000))
+    g = sw.Grid({"a": [1, 2], "b": axis})
+    part = g[len(g) - 10:]
+    points = list(part)
+    assert points == [{"a": 2, "b": v} for v in range(99_990, 100_000)]
+    assert axis.reads <= 20
+
+
+def test_grid_iter_is_the_product_in_order():
+    """Every slice of a grid iterates as the same slice of the plain product (first axis slowest), over block
+    boundaries too."""
+    import itertools
+
+    axes = {"a": [1, 2, 3], "b": sw.Range(0.5, 0.1, 7), "c": ["x", "y"], "d": sw.Range(1, 2, 5, ints=True)}
+    full = [dict(zip(axes, c)) for c in itertools.product(*axes.values())]
+    g = sw.Grid(axes)
+    for start, stop in ((0, len(full)), (5, 6), (13, 200), (199, 210), (len(full) - 1, len(full))):
+        assert list(g[start:stop]) == full[start:stop]
+    old = sw.ITER_BLOCK
+    try:
+        sw.ITER_BLOCK = 4
+        assert list(g[3:50]) == full[3:50]
+    finally:
+        sw.ITER_BLOCK = old
+    assert list(sw.Grid({})) == [{}]
+
+
+# ---------------------------------------------------------------- a point that is not a valid design (issue 36 item 1)
+def test_invalid_sweep_points_are_rows_and_the_sweep_goes_on():
+    # the example of the issue: R_H = 50 and 55 leave no room for the rollers with R_B = 50 and e = 6
+    r = cli("sweep", CONFIGS / "zstk_merko_example.toml", "--vary", "geometry.outer_raceway_radius_mm=50:70:5",
+            "--format", "csv", "--fields", "sigma_max_MPa,margin_sigma,failed_checks,error")
+    assert r.code == 2, r
+    rows = list(csv.DictReader(io.StringIO(r.out)))
+    assert [x["geometry.outer_raceway_radius_mm"] for x in rows] == ["50", "55", "60", "65", "70"]
+    assert rows[0]["error"].startswith("geometry.inner_raceway_radius_mm = 50: must be < outer_raceway_radius_mm")
+    assert rows[1]["error"].startswith("geometry.eccentricity_mm = 6: must be")
+    assert rows[0]["sigma_max_MPa"] == rows[1]["sigma_max_MPa"] == ""
+    assert all(x["error"] == "" and float(x["sigma_max_MPa"]) > 0 for x in rows[2:])
+    assert "2 of 5 points have no results" in r.err and "at {'geometry.outer_raceway_radius_mm': 50}" in r.err
+    # the API: the same rows, the messages in Columns.errors
+    (part,) = gearcalc.sweep(CONFIGS / "zstk_merko_example.toml",
+                             {"geometry.outer_raceway_radius_mm": [50.0, 55.0, 60.0]})
+    assert [e is None for e in part.data["error"]] == [False, False, True] and len(part.errors) == 2
+    # a key the kind does not have is still refused before the sweep starts
+    r = cli("sweep", CONFIGS / "zstk_merko_example.toml", "--vary", "geometry.outer_radius_mm=50:70:5")
+    assert r.code == 2 and "outer_radius_mm" in r.err and not r.out
+
+
+# ---------------------------------------------------------------- grids that cannot be built (issue 13)
+PINS = CONFIGS / "pins_paper_cyc_u10_rotating.toml"
+
+
+def test_sweep_point_cap_is_refused_without_materialising():
+    # 1e300 points: refused from the arithmetic alone (the grid is never built): the peak memory of both refusals
+    # (measured 2.9 MB, the first call's imports included) stays far below the 808 MB of the 1.01e8 points as floats
+    import tracemalloc
+
+    tracemalloc.start()
+    try:
+        with pytest.raises(sw.SweepError, match="more than the cap"):
+            sw.parse_spec("k", "1:1e300:1")
+        with pytest.raises(sw.SweepError, match="more than"):
+            sw.parse_vary(["a=1:1000:1", "b=1:1000:1", "c=1:101:1"])  # 1.01e8 points > MAX_POINTS = 1e8
+        peak = tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
+    assert peak < 50_000_000, peak
+
+
+@pytest.mark.parametrize("spec,message", [
+    ("1:2:5e-324", "step is too small"),                 # (2-1)/5e-324 = inf: OverflowError before
+    ("1e308:-1e308:-1e300", "overflows"),               # stop - start = -inf: OverflowError before
+    ("1:1.0000000000000002:1e-17", "resolution"),       # 1 + 1e-17 == 1: every point the same number
+    ("1e400:2:1", "finite"),
+])
+def test_vary_specs_whose_arithmetic_overflows_exit_2(spec, message):
+    with pytest.raises(sw.SweepError, match=message):
+        sw.parse_spec("gearing.eccentricity_mm", spec)
+    r = cli("sweep", PINS, "--vary", f"gearing.eccentricity_mm={spec}")
+    assert r.code == 2, r
+    assert "Traceback" not in r.err

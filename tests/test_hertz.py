@@ -114,3 +114,62 @@ def test_vectorised_and_zero_force():
     assert hertz.semi_width(f, 20.0, rho, 115384.6)[0, 0] == 0.0
     # p0 ∝ sqrt(F): exact scaling
     assert p0[1, 2] / p0[0, 2] == pytest.approx(math.sqrt(1e3), rel=1e-13)
+
+
+# ---------------------------------------------------------------- the maximum (Tresca) shear for any Poisson ratio
+# (issue 16 item 3; zstk.md §2) Expected: the issue's values (0.330 p0 at nu = 0.2, 0.368 at 0.15, 0.408 at 0.1,
+# 0.452 at 0.05), the exact depth sqrt((sqrt 5 - 1)/2) of tau_1, and a brute-force maximisation over depth (dense
+# grid, then scipy) of the largest principal-stress difference of Johnson's closed-form stresses along the contact
+# axis (§2.8, eq. 2.25; plane strain sigma_y = nu(sigma_x + sigma_z)), principal stresses sorted by numpy.
+# ----------------------------------------------------------------------------- item 3: Tresca shear
+def axis_stresses(t, nu):
+    """Johnson 1985 eq. 2.25 along the axis (x = 0) of a Hertz line contact, over p0; plane strain."""
+    s = np.sqrt(1.0 + t * t)
+    sx = -((1.0 + 2.0 * t * t) / s - 2.0 * t)
+    sz = -1.0 / s
+    return sx, nu * (sx + sz), sz
+
+
+def brute_tresca(nu):
+    from scipy.optimize import minimize_scalar
+
+    def tau(t):
+        p = np.sort(np.stack(axis_stresses(np.asarray(t, float), nu)), axis=0)
+        return 0.5 * (p[-1] - p[0])
+
+    t = np.linspace(0.0, 3.0, 30001)
+    k = int(np.argmax(tau(t)))
+    r = minimize_scalar(lambda x: -tau(x), bracket=(t[k - 1], t[k], t[k + 1]), tol=1e-12)
+    return -r.fun, r.x
+
+
+@pytest.mark.parametrize("nu, expected", [(0.2, 0.330), (0.15, 0.368), (0.1, 0.408), (0.05, 0.452)])
+def test_tresca_matches_the_issue_values(nu, expected):
+    ratio, depth = hertz.tresca_shear_ratio(nu)
+    assert round(float(ratio), 3) == expected
+    assert depth < hertz.TAU_MAX_DEPTH_RATIO          # shallower than the in-plane maximum
+
+
+@pytest.mark.parametrize("nu", [0.01, 0.05, 0.1, 0.2, 0.24, 0.2422, 0.2423, 0.25, 0.3, 0.35, 0.45, 0.499])
+def test_tresca_against_brute_force_over_depth(nu):
+    ratio, depth = hertz.tresca_shear_ratio(nu)
+    b_ratio, b_depth = brute_tresca(nu)
+    assert float(ratio) == pytest.approx(b_ratio, rel=1e-10)
+    assert float(depth) == pytest.approx(b_depth, rel=1e-5)
+
+
+def test_tresca_constants_are_exact():
+    t = math.sqrt((math.sqrt(5.0) - 1.0) / 2.0)   # tau_1 maximum: t^4 + t^2 = 1 (the issue)
+    assert hertz.TAU_MAX_DEPTH_RATIO == t == pytest.approx(0.786151377757423, abs=1e-15)
+    assert hertz.TAU_MAX_RATIO == pytest.approx(t ** 5, rel=1e-13)
+    from scipy.optimize import brentq, minimize_scalar
+
+    def out_of_plane(nu):  # max over depth of (sigma_y - sigma_z)/2 alone
+        r = minimize_scalar(lambda x: -0.5 * (axis_stresses(x, nu)[1] - axis_stresses(x, nu)[2]), bounds=(0.0, 2.0),
+                            method="bounded", options={"xatol": 1e-12})
+        return -r.fun
+
+    nu_c = brentq(lambda nu: out_of_plane(nu) - t ** 5, 0.2, 0.3, xtol=1e-12)
+    assert hertz.TRESCA_POISSON_CROSSOVER == pytest.approx(nu_c, abs=1e-7)
+    # at and above the crossover the in-plane values, bit for bit (the results of nu = 0.3 designs stay)
+    assert [float(x) for x in hertz.tresca_shear_ratio(0.3)] == [hertz.TAU_MAX_RATIO, hertz.TAU_MAX_DEPTH_RATIO]

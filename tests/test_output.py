@@ -255,7 +255,8 @@ def test_private_dev_full_is_exit_74_with_the_reason(tmp_path):
 
 
 @root_only
-@pytest.mark.parametrize("args", [["run", CONFIGS], ["new", "rows"], ["rows", FIG3]])
+@pytest.mark.parametrize("args", [pytest.param(["run", CONFIGS], marks=pytest.mark.slow),  # every config: long
+                                  ["new", "rows"], ["rows", FIG3]])
 def test_standard_output_on_a_full_device_is_exit_74(tmp_path, args):
     # `gearcalc run configs > /dev/full`, with a private /dev/full (the error may come at the final flush)
     full = tmp_path / "full"

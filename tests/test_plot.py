@@ -35,7 +35,8 @@ def test_plot_folder_missing(tmp_path):
     ("rows", "rows_fig3_n3_nw3_B2.4.toml"),           # row loads along the sun face
     ("zstk", "zstk_merko_example.toml"),              # one position: Fig. 2 (sigma vs roller radius) + the chain
     ("zstk", "zstk_merko_A_envelope.toml"),           # envelope over load directions
-    ("pins", "pins_paper_cyc_u10_rotating.toml"),     # ideal level: F, n_pin, P of one pin (Figs. 8-11), lambda
+    pytest.param("pins", "pins_paper_cyc_u10_rotating.toml",       # ideal level: F, n_pin, P of one pin (Figs.
+                 marks=pytest.mark.slow),                          # 8-11), lambda; long: CI runs it
     ("pins", "pins_paper_formula_cyc_u10.toml"),      # formula level: the per-pin loss bars
 ])
 def test_design_plot(tmp_path, kind, config):
@@ -88,6 +89,7 @@ def test_plot_of_a_mixed_batch_draws_every_kind(tmp_path):
     assert "--plot" not in r.err  # every design drawn: nothing to say
 
 
+@pytest.mark.slow
 def test_designs_a_figure_leaves_out_are_named(tmp_path):
     # a rows figure holds 4 designs (gearcalc/rows/plot.py): the fifth is named on stderr
     files = sorted(CONFIGS.glob("rows_fig3_c1_*.toml")) + sorted(CONFIGS.glob("rows_fig3_c2_*.toml"))[:2]
@@ -154,7 +156,8 @@ TORQUES = [10.0 * k for k in range(1, 41)]  # 40 values: the x axis
     {"gearing.pins": list(range(10, 41)), "load.torque_Nm": TORQUES},     # 31 curves of a number: a colour bar
     {"gearing.pins": list(range(10, 41)), "load.mode": ["multiplier", "reducer"],
      "load.torque_Nm": TORQUES},                                            # a colour and 2 line styles
-    {"name.x": [f"n{i}" for i in range(31)], "load.torque_Nm": TORQUES},   # 31 texts: a legend beside the axes
+    pytest.param({"name.x": [f"n{i}" for i in range(31)], "load.torque_Nm": TORQUES},  # 31 texts: a legend beside
+                 marks=pytest.mark.slow),                                             # the axes; long: CI runs it
 ])
 def test_many_curves_hide_neither_title_nor_axes(axes):
     # before: 31 legend entries over the axes, up through the title
@@ -201,7 +204,7 @@ def pins_force_curve(tmp_path, model: str, mode: str):
     return ax.lines[0].get_xdata(), ideal.summary["psi_star_deg"], 360.0 / res.design["gearing"]["pins"]
 
 
-@pytest.mark.parametrize("mode", ["reducer", "multiplier"])
+@pytest.mark.parametrize("mode", [pytest.param("reducer", marks=pytest.mark.slow), "multiplier"])  # CI: both
 def test_pins_engagement_in_the_same_range_at_both_levels(tmp_path, mode):
     # the contact level reports a pin loaded just before phase 0 (compliance) as a phase just below 360: the
     # reducer's curve (psi* - phase) lay at 180-360 deg at the contact level, at 0-180 at the ideal level
@@ -217,6 +220,7 @@ def test_pins_engagement_in_the_same_range_at_both_levels(tmp_path, mode):
 
 
 # ------------------------------------------------------------------------- accuracy --plot
+@pytest.mark.slow
 def test_accuracy_tick_labels_do_not_overprint():
     # times within one decade (zstk's levels: 25-300 ms on this machine) got minor labels 3x10^1, 4x10^1 ...
     # printed over each other; the rows are made up in the shape of gearcalc.accuracy.summarise's

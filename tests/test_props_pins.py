@@ -195,6 +195,7 @@ def test_torques_and_power_balance(raw):
 
 
 # ------------------------------------------------------------------ 3. scaling laws of the ideal level
+@pytest.mark.slow
 @PROPS
 @given(designs(speed=True), st.floats(1e-3, 1e3), st.floats(1e-2, 1e2), st.floats(0.01, 10.0))
 def test_lambda_independent_of_torque_and_speed_linear_in_friction(raw, kt, kn, kf):
@@ -222,6 +223,7 @@ def test_lambda_independent_of_torque_and_speed_linear_in_friction(raw, kt, kn, 
     assert r["loss_ratio"] == pytest.approx(kf * base["loss_ratio"], rel=1e-12, abs=1e-300)
 
 
+@pytest.mark.slow
 @PROPS
 @given(designs(mode="multiplier"))
 def test_modes_share_lambda_and_zero_friction_is_lossless(raw):
@@ -261,6 +263,7 @@ def test_rotating_pins_beat_fixed_when_mu_rot_below_f(raw):
 
 
 # ------------------------------------------------------------------ 4. the detail tables
+@pytest.mark.slow
 @PROPS
 @given(designs(discs=1, speed=True, mode="multiplier"))
 def test_detail_equilibrium_and_cycle_mean(raw):

@@ -226,6 +226,7 @@ def test_correction_sign_and_roller_growth(raw):
 
 
 # ------------------------------------------------------------------ 3. equilibrium and forces
+@pytest.mark.slow
 @PROPS
 @given(designs(), st.sampled_from(["equilibrium", "fixed-direction"]))
 def test_force_equilibrium_from_the_detail_table(raw, model):
@@ -325,6 +326,7 @@ def test_zero_clearance_load_scaling(raw, k):
     assert b.summary["approach_direction_deg"] == pytest.approx(a.summary["approach_direction_deg"], abs=1e-7)
 
 
+@pytest.mark.slow
 @PROPS
 @given(designs(), st.sampled_from("ABCD"), st.sampled_from([0.0, 180.0]))
 def test_symmetric_configurations(raw, scheme, gamma):

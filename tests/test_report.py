@@ -82,6 +82,7 @@ def test_user_strings_are_escaped(tmp_path):
     assert "<script>" not in html and "&lt;script&gt;alert(1)&lt;/script&gt; &amp; co" in html
 
 
+@pytest.mark.slow
 def test_batch_one_page_and_bad_design_continues(tmp_path):
     bad = tmp_path / "bad.toml"
     bad.write_text('kind = "rows"\n[rows]\ncount = -1\n', encoding="utf-8")
@@ -118,6 +119,7 @@ def png_ink(path) -> float:
 BROWSER = next((shutil.which(b) for b in ("chromium", "chromium-browser", "google-chrome") if shutil.which(b)), None)
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(BROWSER is None, reason="no Chromium on PATH (Debian: apt-get install chromium)")
 @pytest.mark.parametrize("config", ["zstk_merko_example.toml", "pins_paper_cyc_u10_fixed.toml"])
 def test_renders_in_headless_chromium(tmp_path, config):
@@ -135,6 +137,7 @@ def test_renders_in_headless_chromium(tmp_path, config):
     assert "Summary of checks" in dom and "<svg" in dom
 
 
+@pytest.mark.slow
 @pytest.mark.skipif(BROWSER is None, reason="no Chromium on PATH (Debian: apt-get install chromium)")
 def test_pdf_through_chromium(tmp_path):
     out = tmp_path / "calc.pdf"

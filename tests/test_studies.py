@@ -217,6 +217,7 @@ def test_resume_on_scheduler(tmp_path):
     assert out.read_bytes() == ref.read_bytes()
 
 
+@pytest.mark.slow
 def test_parquet_partial_without_footer_starts_over(tmp_path, monkeypatch):
     """A partial Parquet file whose run was killed hard (SIGKILL: no footer) cannot be read: said, started over."""
     ref, out = tmp_path / "ref.parquet", tmp_path / "out.parquet"

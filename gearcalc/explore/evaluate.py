@@ -42,7 +42,8 @@ def explore_chunk(data: tuple, start: int, stop: int):
     if len(cols) == len(parts):
         out = join_parts(parts) if len(parts) > 1 else parts[0]
         if isinstance(out, Columns):
-            out.data["error"] = [None] * out.n
+            if "error" not in out.data:  # the sweep's own column holds the messages of its invalid points
+                out.data["error"] = [None] * out.n
             return out
         rows = out
     else:

@@ -333,22 +333,24 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     from ..pins.contact_level import ContactDesign, contact_level
     from ..pins.margins import margin_columns
 
+    from ..pins.output_contact import contact_output_fields, contact_w
+
     a = _one(design)
-    problem = output_problem(a, "contact") or law_problem(a, "contact")
+    problem = output_problem(a, "contact", _pin_circle(a)) or law_problem(a, "contact")
     if problem:
         raise DesignError(*problem)
     cols, _ = level_columns({n: [x] for n, x in a.items()}, "contact", [design.name], options.tol,
                             design.has("pin_load"), DEFAULT_FRICTION_MODEL)
     summary = {k: v[0] for k, v in cols.items()}
-    summary["output_mechanism"] = "ideal"          # pure torque at the output (pins.md §4.10)
     made = design.take("pins", _satellite_values(a)) if hasattr(design, "take") else None
     g, law, profile, overlap = made if made is not None else _satellite(design, a)
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
     model = friction_model(design)
+    w = contact_w(a, g.ratio)       # the teeth carry the output mechanism's and the drag's torque (pins.md §4.10)
     try:
         cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"], a["bearing_k"]),
-                           {n: a[n] for n in OPERATING}, model, options.tol, profile.play_free, options.detail,
-                           settings=options.settings, torsion=bool(a["torsion"]))
+                           {**{n: a[n] for n in OPERATING}, "torque": w.teeth_torque}, model, options.tol,
+                           profile.play_free, options.detail, settings=options.settings, torsion=bool(a["torsion"]))
     except (pc.NoEquilibrium, pc.Unresolvable) as exc:
         raise R.contact_error(exc, design, g) from None
     warnings.extend(R.mode_warnings(cl.modes, a["mode"]))
@@ -356,6 +358,9 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
         raise R.stiffness_error(design, law, cl.residual, options.tol)
     summary.update(_contact_summary(design, g, law, profile, cl, model))
     R.contact_notes(design, summary, options.tol, warnings, failed, cl, a["mode"] == "multiplier")
+    fields, drag_lock = contact_output_fields(w, summary, cl, a, g.ratio, a["n_d"])
+    summary.update(fields)
+    failed.extend(drag_lock)
     summary.update({k: v[0] for k, v in margin_columns({k: [v] for k, v in summary.items()},
                                                        {n: [x] for n, x in a.items()}).items()})
     failed.extend(R.stress_failure(summary, a["allowable"]))

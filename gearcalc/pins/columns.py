@@ -293,7 +293,7 @@ def _output_errors(v, n: int, pts, errors: list) -> None:
     Rp = np.zeros(n) + np.asarray(pts.Rp, dtype=float)
     for i in range(n):
         if errors[i] is None:
-            a = {name: v[name][i] for name in (*OUTPUT_ARGS, "e", "Rb")}
+            a = {name: v[name][i] for name in (*OUTPUT_ARGS, "e", "Rb", "mode", "shaft", "torque")}
             problem = output_problem(a, "ideal", float(Rp[i]))
             errors[i] = DesignError(*problem) if problem else None
 

@@ -24,15 +24,16 @@ def output_problem(a: dict, level: str, Rp=None):
 
     .. math:: 2 R_w \sin(\pi/n_w) > 2 (r_w + e), \qquad R_w + r_w + e < R_p - R_b - e
 
-    (the holes do not overlap and stay inside the satellite's root circle; the contact level takes neither the
-    mechanism nor a drag.)
+    (the holes do not overlap and stay inside the satellite's root circle; a reducer driven on H needs more
+    torque than the crank's drag.)  The same rules at the ideal and the contact level.
 
     Parameters
     ----------
     a : dict
-        The design's values by argument name (:data:`OUTPUT_ARGS`, ``e`` and ``Rb`` [mm]; None: absent).
+        The design's values by argument name (:data:`OUTPUT_ARGS`, ``e`` and ``Rb`` [mm], ``mode``, ``shaft``,
+        ``torque`` [N·m]; None: absent).
     level : str
-        The level that runs.
+        The level that runs (the rules are the same at "ideal" and "contact").
     Rp : float, optional
         The pin-circle radius R_p, [mm] (None: the fit inside the satellite is not checked).
 
@@ -55,10 +56,9 @@ def output_problem(a: dict, level: str, Rp=None):
     """
     mech = a.get("w_mech") or "ideal"
     drag = a.get("drag") or 0.0
-    if level == "contact" and (mech != "ideal" or drag > 0.0):
-        key = "output.mechanism" if mech != "ideal" else "load.drag_torque_Nm"
-        return key, ("the contact level transmits pure torque at the output and has no drag (pins.md §4.10): use "
-                     "the ideal level (a cycloidal profile without modifications or [contact] law) or leave it out")
+    if drag > 0.0 and a.get("mode") == "reducer" and a.get("shaft") == "H" and (a.get("torque") or 0.0) <= drag:
+        return OUTPUT_ARGS["drag"], (f"= {drag:.6g} N·m: the crank's drag takes all of the reducer's input torque "
+                                     f"load.torque_Nm = {a.get('torque') or 0.0:.6g} N·m (nothing reaches the teeth)")
     if mech == "ideal":
         return None
     for name, what in (("w_holes", "n_w, the number of holes"), ("w_radius", "R_w, the holes' circle radius"),

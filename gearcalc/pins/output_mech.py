@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from .wmech import backdrive_startup_torque, bearing_force_with_w, drag_efficiencies, w_hole_forces
+from .wmech import bearing_force_with_w, series_values, w_hole_forces
 
 __all__ = ["NEW_FIELDS", "BEARING_FIELDS", "w_unit_resultants", "output_fields", "w_bearing_columns"]
 
@@ -219,19 +219,16 @@ def _series(out: dict, v: dict, pts, n: int, has_w, drag) -> dict:
         if key not in q:
             q[key] = w_unit_resultants(*key)
         lam_w[i] = f_w[i] * e[i] * (u[i] + 1.0) * q[key][2]       # |omega_H/omega_V - 1| = u + 1 (fixed pins)
-    hv1, vh1 = hv0 / (1.0 + lam_w), vh0 * (1.0 - lam_w)
+    r = series_values((hv0, vh0), lam_w, drag, T, u, mult, on_V, speed * math.pi / 30.0)
+    hv, vh, locked, T_in, T_out, loss, start, T_V = (r[key] for key in (
+        "eta_HV", "eta_VH", "locked", "torque_in", "torque_out", "loss", "startup", "torque_V"))
+    # lambda_W >= 1 locks the multiplier by the mechanism alone: no shaft torques; the teeth stay at the given
+    # torque (scale 1) and the mechanism's force is undefined, as at the contact level (pins.md §4.10)
+    w_lock = mult & (lam_w >= 1.0)
+    T_in, T_out, loss = (np.where(w_lock, np.nan, x) for x in (T_in, T_out, loss))
     with np.errstate(divide="ignore", invalid="ignore"):
-        T_V = np.where(on_V, T, np.where(mult, (T + drag) * u / vh1, (T - drag) * u * hv1))
-        hv, vh = drag_efficiencies(hv1, vh1, drag, T_V, u)
-        T_H = np.where(mult, T_V * vh1 / u - drag, T_V / (u * hv1) + drag)
-        locked = mult & ~(vh > 0.0)
-        vh = np.where(vh > 0.0, vh, np.nan)
-        T_in, T_out = np.where(mult, T_V, T_H), np.where(mult, T_H, T_V)
-        omega_H = speed * math.pi / 30.0
-        loss = np.where(mult, T_V * omega_H / u - T_H * omega_H, T_H * omega_H - T_V * omega_H / u)
-        T_sat = 1e3 * T_V / n_d * np.where(mult, 1.0 - lam_w, 1.0 + lam_w)      # [N·mm]
-        scale = np.where(T_V_old > 0.0, T_V / T_V_old * np.where(mult, 1.0 - lam_w, 1.0 + lam_w), np.nan)
-        start = np.where(drag > 0.0, backdrive_startup_torque(drag, u, vh1), np.nan)
+        T_sat = np.where(w_lock, np.nan, 1e3 * T_V / n_d * r["sat_factor"])      # [N·mm]
+        scale = np.where(w_lock, 1.0, np.where(T_V_old > 0.0, T_V / T_V_old * r["sat_factor"], np.nan))
     upd = {"efficiency_reducer": hv, "efficiency_multiplier": vh, "efficiency": np.where(mult, vh, hv),
            "torque_in_Nm": T_in, "torque_out_Nm": T_out, "loss_mean_W": loss,
            "self_locking": np.where(locked, 1.0, sl)}
@@ -278,7 +275,8 @@ def w_bearing_columns(columns: dict, arrays: dict, n: int) -> dict:
     r"""The bearing's life columns (:data:`BEARING_FIELDS`) with the mechanism's values where a point has it.
 
     A point with pins_in_holes takes the equivalent load and life of |B + Q x| (:func:`output_fields`), the others
-    keep the teeth's (pins.md §8.2).
+    keep the teeth's (pins.md §8.2), and so does a point whose mechanism's force is undefined (``w_force_max_N``
+    NaN: a multiplier that lambda_W >= 1 locks runs its teeth at the given torque, as the contact level).
 
     .. math:: P = T_{sat}\Big(\frac{1}{N M}\sum_{i,j} \hat B_W(\theta_i, \varphi_j)^p\Big)^{1/p}, \qquad
         L_{10h} = \frac{10^6}{60\,n_H}\Big(\frac{C}{P}\Big)^p
@@ -301,7 +299,7 @@ def w_bearing_columns(columns: dict, arrays: dict, n: int) -> dict:
     Examples
     --------
     >>> cols = {k: [1.0, 2.0] for k in BEARING_FIELDS}
-    >>> arr = {**{k: np.array([5.0, np.nan]) for k in BEARING_FIELDS},
+    >>> arr = {**{k: np.array([5.0, np.nan]) for k in BEARING_FIELDS}, "w_force_max_N": np.array([9.0, np.nan]),
     ...        "output_mechanism": np.array(["pins_in_holes", "ideal"], dtype=object)}
     >>> w_bearing_columns(cols, arr, 2)["bearing_L10_h"]
     [5.0, 2.0]
@@ -316,6 +314,7 @@ def w_bearing_columns(columns: dict, arrays: dict, n: int) -> dict:
     for key in BEARING_FIELDS:
         w = np.broadcast_to(np.asarray(arrays[key], dtype=float), (n,))
         mech = np.broadcast_to(np.asarray(arrays["output_mechanism"], dtype=object), (n,))
-        out[key] = [(None if not math.isfinite(x) else x) if m == "pins_in_holes" else c
-                    for x, m, c in zip(w.tolist(), mech.tolist(), columns[key])]
+        has_q = np.isfinite(np.broadcast_to(np.asarray(arrays.get("w_force_max_N", np.nan), dtype=float), (n,)))
+        out[key] = [(None if not math.isfinite(x) else x) if m == "pins_in_holes" and q else c
+                    for x, m, q, c in zip(w.tolist(), mech.tolist(), has_q.tolist(), columns[key])]
     return {**columns, **out}

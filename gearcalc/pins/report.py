@@ -82,6 +82,8 @@ def cycle_notes(design, s, tol: float, warnings, failed) -> None:
                       "(friction.model = \"consistent\", pins.md §4.9) no positive normal force carries the torque "
                       "at some crank angle (the drive jams); no efficiency. A lower friction.sliding or a larger "
                       "gearing.curtate_ratio (closer to 1) avoids it")
+    elif s["self_locking"] and lam is not None and lam < 1.0:        # the output mechanism or the drag locks it
+        failed.append(output_lock_text(s.get("backdrive_startup_torque_Nm"), s.get("w_loss_ratio") or 0.0))
     elif s["self_locking"]:
         failed.append(f"self-locking in the multiplier mode: the loss ratio {_ratio(lam)} >= 1 (the losses exceed "
                       "the power the V shaft delivers); no efficiency. A lower friction.sliding or a larger "
@@ -609,3 +611,14 @@ def bearing_columns(pts, exponent, rating, speed, n: int) -> dict:
         v = np.broadcast_to(np.asarray(v, dtype=float), (n,))
         out[key] = [x if math.isfinite(x) else None for x in v.tolist()]
     return out
+
+
+def output_lock_text(startup, loss_ratio_w: float) -> str:
+    """The failed check of a multiplier that the output mechanism or the crank's drag locks (pins.md §4.10), at
+    either level: the mechanism's loss ratio >= 1, or a load below the back-driving start-up torque."""
+    if loss_ratio_w >= 1.0:
+        return (f"self-locking in the multiplier mode: the output mechanism's loss ratio {loss_ratio_w:.6g} >= 1 "
+                "(pins.md §4.10); no efficiency. A lower output.friction lowers it")
+    at = "" if startup is None else f" T_V,start = {startup:.6g} N·m"
+    return (f"self-locking in the multiplier mode: the load is below the back-driving start-up torque{at} (the "
+            "crank's drag load.drag_torque_Nm; pins.md §4.10); no efficiency")

@@ -33,7 +33,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["w_hole_forces", "w_sliding_speed", "w_loss_ratio", "w_mode_efficiencies", "bearing_force_with_w",
-           "drag_efficiencies", "backdrive_startup_torque"]
+           "drag_efficiencies", "backdrive_startup_torque", "teeth_torque", "series_values", "w_bearing_peak_mean"]
 
 
 def w_hole_forces(torque, n_holes: int, hole_circle_radius, phase):
@@ -290,3 +290,143 @@ def backdrive_startup_torque(drag_torque, ratio, eta_VH):
     eta = np.asarray(eta_VH, dtype=float)
     safe = np.where(eta > 0.0, eta, 1.0)
     return np.where(eta > 0.0, ratio * np.asarray(drag_torque) / safe, np.inf)
+
+
+def teeth_torque(torque, loss_ratio_w, drag_torque, multiplier, torque_on_V):
+    r"""The torque the teeth carry, on the shaft of the given torque, with the output mechanism and a drag [N·m].
+
+    .. math:: T^{teeth} = T \pm T_d \ (\text{on H: multiplier} +, \text{reducer} -), \qquad
+        T^{teeth} = T\,(1 \mp \bar\lambda_W) \ (\text{on V: multiplier} -, \text{reducer} +)
+
+    (on H the crank's drag is delivered (multiplier) or taken (reducer) by the teeth; on V the satellite gives the
+    mechanism T_sat = T_V (1 -+ lambda_W)/n_d, pins.md §4.10.)  The teeth computed at this torque on the same shaft
+    (the contact level) give the same shaft torques as :func:`series_values` with their efficiencies.
+
+    Parameters
+    ----------
+    torque : float or array_like
+        The given torque T, [N·m].
+    loss_ratio_w : float or array_like
+        Cycle-mean loss ratio of the output mechanism, [-].
+    drag_torque : float or array_like
+        Drag torque T_d at the crank, >= 0, [N·m].
+    multiplier, torque_on_V : bool or array_like of bool
+        The mode and the shaft of the torque.
+
+    Returns
+    -------
+    T_teeth : ndarray
+        [N·m].
+
+    Examples
+    --------
+    >>> [float(teeth_torque(100.0, 0.1, 2.0, m, v)) for m, v in ((True, False), (False, False), (True, True))]
+    [102.0, 98.0, 90.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.10 (derived: the power balance at the crank and the satellite's torque).
+    """
+    T, lw, Td, mult = (np.asarray(x) for x in (torque, loss_ratio_w, drag_torque, multiplier))
+    return np.where(torque_on_V, T * np.where(mult, 1.0 - lw, 1.0 + lw), np.where(mult, T + Td, T - Td))
+
+
+def series_values(teeth_efficiencies, loss_ratio_w, drag_torque, torque, ratio, multiplier, torque_on_V, omega_H):
+    r"""The teeth in series with the output mechanism and a crank drag: efficiencies, torques, loss, start-up.
+
+    Both modes' efficiencies, the shaft torques, the mean loss and the back-driving start-up torque (pins.md §4.10).
+
+    .. math:: \eta^1_{HV} = \frac{\eta_{HV}}{1+\bar\lambda_W}, \quad \eta^1_{VH} = \eta_{VH}(1 - \bar\lambda_W),
+        \quad T_V = \frac{u (T_H + T_d)}{\eta^1_{VH}} \ \text{or} \ u (T_H - T_d)\,\eta^1_{HV} \ \text{(T on H)},
+        \quad \eta^d = \text{drag\_efficiencies}(\eta^1, T_d, T_V), \quad
+        T_{V,start} = \frac{u T_d}{\eta^1_{VH}}, \quad T_{sat} n_d = T_V (1 \mp \bar\lambda_W)
+
+    Parameters
+    ----------
+    teeth_efficiencies : tuple of (float or array_like)
+        The teeth's (eta_HV, eta_VH), [-].
+    loss_ratio_w : float or array_like
+        Cycle-mean loss ratio of the output mechanism (0: the ideal mechanism), [-].
+    drag_torque : float or array_like
+        Drag torque T_d at the crank, >= 0, [N·m].
+    torque : float or array_like
+        The given torque T, [N·m].
+    ratio : float or array_like
+        u = |omega_H/omega_V|, [-].
+    multiplier, torque_on_V : bool or array_like of bool
+        The mode and the shaft of the torque.
+    omega_H : float or array_like
+        Crank speed, [rad/s] (NaN: none).
+
+    Returns
+    -------
+    values : dict of ndarray
+        ``eta_HV``, ``eta_VH`` (NaN where <= 0), ``locked`` (the multiplier requested and eta_VH <= 0),
+        ``torque_in``, ``torque_out``, ``torque_V`` [N·m], ``loss`` (P_in - P_out) [W], ``startup`` (NaN without
+        a drag) [N·m], ``sat_factor`` (1 -+ lambda_W: T_sat n_d = T_V sat_factor) [-].
+
+    Examples
+    --------
+    >>> v = series_values((0.8, 0.75), 0.0, 1.0, 100.0, 10.0, False, True, 1.0)     # reducer, T_V = 100 N·m
+    >>> round(float(v["eta_HV"]), 12), float(v["torque_in"]), round(float(v["loss"]), 9)
+    (0.740740740741, 13.5, 3.5)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.10; Sensinger 2013 (the output mechanism as a factor).
+    """
+    hv0, vh0, lam_w, drag, T, u, mult = (np.asarray(x) for x in (*teeth_efficiencies, loss_ratio_w, drag_torque,
+                                                                  torque, ratio, multiplier))
+    hv1, vh1 = hv0 / (1.0 + lam_w), vh0 * (1.0 - lam_w)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        T_V = np.where(torque_on_V, T, np.where(mult, (T + drag) * u / vh1, (T - drag) * u * hv1))
+        hv, vh = drag_efficiencies(hv1, vh1, drag, T_V, u)
+        T_H = np.where(mult, T_V * vh1 / u - drag, T_V / (u * hv1) + drag)
+        locked = mult & ~(vh > 0.0)
+        vh = np.where(vh > 0.0, vh, np.nan)
+        w_H = np.asarray(omega_H)
+        loss = np.where(mult, T_V * w_H / u - T_H * w_H, T_H * w_H - T_V * w_H / u)
+        start = np.where(drag > 0.0, backdrive_startup_torque(drag, u, vh1), np.nan)
+    return {"eta_HV": hv, "eta_VH": vh, "locked": locked, "torque_in": np.where(mult, T_V, T_H),
+            "torque_out": np.where(mult, T_H, T_V), "torque_V": T_V, "loss": loss, "startup": start,
+            "sat_factor": np.where(mult, 1.0 - lam_w, 1.0 + lam_w)}
+
+
+def w_bearing_peak_mean(bearing_radial, bearing_tangential, w_resultants, weights=None):
+    r"""Peak and mean of the crank-bearing force with the output mechanism, over crank angles and hole phases [N].
+
+    .. math:: \max_{i,m} |B(\theta_i) + Q(\varphi_m)\,x|, \qquad
+        \sum_i w_i\,\frac{1}{M}\sum_m |B(\theta_i) + Q(\varphi_m)\,x|
+
+    (the hole pattern turns against the crank: over the running every tooth phase meets every hole phase,
+    pins.md §4.10.)
+
+    Parameters
+    ----------
+    bearing_radial, bearing_tangential : array_like
+        The teeth's bearing force B(theta_i) along the crank arm (outward) and across it, [N] (n,).
+    w_resultants : array_like
+        Q at M hole phases (:func:`w_hole_forces`), [N] (M,).
+    weights : array_like, optional
+        The cycle mean's weights over theta_i (summing to 1); None: the plain mean (a uniform grid of midpoints).
+
+    Returns
+    -------
+    peak, mean : float
+        [N].
+
+    Examples
+    --------
+    >>> w_bearing_peak_mean([-3.0, 0.0], [4.0, 0.0], [6.0, 3.0])     # |(3, 4)|, |(0, 4)|, 6, 3
+    (6.0, 4.5)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.10.
+    """
+    B = bearing_force_with_w(np.asarray(bearing_radial, dtype=float)[:, None],
+                             np.asarray(bearing_tangential, dtype=float)[:, None],
+                             np.asarray(w_resultants, dtype=float)[None, :])
+    if weights is None:
+        return float(np.nanmax(B)), float(np.nanmean(B))
+    return float(np.nanmax(B)), float(np.dot(np.asarray(weights, dtype=float), B.mean(axis=1)))

@@ -1,13 +1,11 @@
 """sensitivity: the estimators against SALib on the same samples and against the Ishigami function's closed form;
 the command on a rows design whose K does not depend on the torque (rows.md: K is a ratio of loads)."""
-import json
 import math
 
 import numpy as np
 import pytest
-from conftest import CONFIGS, cli
+from conftest import CONFIGS
 
-import gearcalc
 from gearcalc.explore.sensitivity import morris_effects, morris_unit, saltelli_unit, sobol_indices
 
 ROWS = CONFIGS / "rows_fig3_c4_n3_nw3_B2.8.toml"
@@ -77,26 +75,3 @@ def test_morris_trajectories_move_each_key_once_by_delta():
     assert X.min() >= 0 and X.max() <= 1
 
 
-def test_k_does_not_depend_on_the_torque():
-    vary = {"rows.relative_width": (1.6, 3.0), "sun.torque_Nm": (500.0, 2000.0)}
-    r = gearcalc.sensitivity(ROWS, vary, samples=64, fields=["K", "w_mean_N_per_mm"])
-    by = {(i["field"], i["key"]): i for i in r.indices}
-    assert by["K", "sun.torque_Nm"]["ST"] == 0.0 and by["K", "sun.torque_Nm"]["S1"] == 0.0  # exactly: K is unchanged
-    assert r.dominant == {"K": "rows.relative_width", "w_mean_N_per_mm": "sun.torque_Nm"}
-    assert r.evaluations == 64 * (2 + 2)
-    assert len(r.to_dict()["indices"]) == 4
-
-
-def test_command_table_and_json_and_morris():
-    args = ["sensitivity", ROWS, "--vary", "rows.relative_width=1.6:3", "--vary", "rows.count=2:5", "--samples", "32",
-            "--fields", "K"]
-    r = cli(*args, "--format", "json")
-    assert r.code == 0, r.err
-    out = json.loads(r.out)
-    assert out["method"] == "sobol" and set(out["dominant"]) == {"K"} and out["evaluations"] == 32 * 4
-    r = cli(*args, "--method", "morris", "--format", "csv")
-    assert r.code == 0 and r.out.splitlines()[0] == "field,key,mu_star,mu_star_conf,sigma,mu"
-    r = cli(*args, "--method", "morriss")
-    assert r.code == 2 and "did you mean 'morris'" in r.err
-    r = cli(*args[:-1], "Kx")
-    assert r.code == 2 and "did you mean 'K'" in r.err

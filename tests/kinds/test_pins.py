@@ -8,6 +8,7 @@ import math
 import random
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
 import pytest
@@ -15,6 +16,8 @@ import tomli_w
 from typer.testing import CliRunner
 
 from conftest import cli
+from gearcalc import grid as sw
+from gearcalc.calculator import Options
 from gearcalc.cli import app
 from gearcalc.design import read_toml
 
@@ -632,3 +635,36 @@ def test_check_reports_the_compute_time_checks():
         c, r = cli("check", base, *args), cli("pins", base, *args)
         assert c.code == 2 and r.code == 2, (sets, c, r)
         assert key in c.err and key in r.err
+# ---------------------------------------------------------------- sweeps (issue 36 item 8): shared points, cost
+def test_pins_torque_sweep_equals_points_alone():
+    """A pins torque x friction sweep (the consistent model's distinct points shared) gives each point's
+    own compute result."""
+    from gearcalc import api
+
+    src = CONFIGS / "pins_paper_cyc_u10_fixed.toml"
+    parts = list(api.sweep(str(src), {"load.torque_Nm": [10.0, 20.0, 30.0], "friction.sliding": [0.05, 0.1]}))
+    cols = parts[0].data
+    for i in range(6):
+        t, f = cols["load.torque_Nm"][i], cols["friction.sliding"][i]
+        alone = api.compute(str(src), overrides={"load.torque_Nm": t, "friction.sliding": f}).summary
+        for key in ("efficiency", "torque_in_Nm", "pin_force_max_N", "crank_torque_ripple_Nm", "bearing_force_max_N"):
+            assert cols[key][i] == alone[key], key
+
+
+def test_pins_geometry_axis_costs_its_geometries():
+    """An ideal-level grid over a geometry axis costs each distinct geometry as alone (1 ms + 35 us a pin-disc,
+    kinds/pins.py sweep_cost): chunks of about a second's work, a grid of hours refused; a friction axis stays
+    at 25 us a point (it cost 25 us a point whatever the axes: one chunk of 1e4 geometries, 21 s and ~1 GB)."""
+    src = CONFIGS / "pins_paper_cyc_u10_fixed.toml"
+    raw = tomllib.loads(src.read_text())
+    per_geometry = 1e-3 + 35e-6 * 22 * 1                    # the config: 22 pins, one disc
+    geo = {"gearing.eccentricity_mm": sw.Range(3.0, 0.00015, 10_000)}
+    total, seconds = sw.prepare(raw, str(src), geo, Options())
+    assert seconds == 2.5e-5 + per_geometry
+    assert sw.chunk_points(seconds) < 1_000
+    both = {**geo, "friction.sliding": [0.05, 0.1]}          # two points a geometry
+    assert sw.prepare(raw, str(src), both, Options())[1] == 2.5e-5 + per_geometry / 2
+    assert sw.prepare(raw, str(src), {"friction.sliding": sw.Range(0.01, 1e-5, 10_000)}, Options())[1] == 2.5e-5
+    huge = {"gearing.eccentricity_mm": sw.Range(3.0, 1.5e-6, 1_000_000)}
+    assert "more than a sweep may take" in sw.cost_problem(huge, 1_000_000, sw.prepare(raw, str(src), huge,
+                                                                                          Options())[1])

@@ -1,16 +1,27 @@
-"""CLI tests of `gearcalc zstk`: the spec's example, the configs, outputs, exit codes, bad input."""
+"""Tests of the zstk adapter (gearcalc/kinds/zstk.py) through `gearcalc zstk` and the API: the spec's example, the
+configs, outputs, exit codes, bad input, the Tresca shear reported for the design's Poisson ratios, and the sweep
+and batch hooks."""
+import copy
 import csv
+import dataclasses
 import io
 import json
 import math
 import subprocess
 import sys
+import tomllib
 from pathlib import Path
 
+import numpy as np
 import pytest
 from typer.testing import CliRunner
 
+from conftest import cli
+from gearcalc import api, hertz, registry
+from gearcalc import grid as sw
+from gearcalc.calculator import DesignError, Options
 from gearcalc.cli import app
+from gearcalc.design import apply_set, load, validate
 
 ROOT = Path(__file__).resolve().parents[2]
 CONFIGS = ROOT / "configs"
@@ -344,3 +355,400 @@ def test_a_huge_load_direction_is_reduced_exactly(angle, tmp_path):
         return s
 
     assert summary(angle) == summary(math.remainder(angle, 360.0))
+
+
+# ---------------------------------------------------------------- zstk v2 (issue 16) through the adapter
+# Tresca: the brute force over depth of Johnson's axis stresses (tests/test_hertz.py); the worked example's depth
+# 0.786151 b with b = 2 F/(pi l sigma) (Johnson eq. 4.43).
+def compute(**sets):
+    return api.compute(api.load(EXAMPLE, overrides=sets), detail=True)
+
+
+def col(res, key):
+    return np.array([row[key] for row in res.detail["rollers"]], dtype=float)
+
+
+# ----------------------------------------------------------------------------- item 3: Tresca shear
+def axis_stresses(t, nu):
+    """Johnson 1985 eq. 2.25 along the axis (x = 0) of a Hertz line contact, over p0; plane strain."""
+    s = np.sqrt(1.0 + t * t)
+    sx = -((1.0 + 2.0 * t * t) / s - 2.0 * t)
+    sz = -1.0 / s
+    return sx, nu * (sx + sz), sz
+
+
+def brute_tresca(nu):
+    from scipy.optimize import minimize_scalar
+
+    def tau(t):
+        p = np.sort(np.stack(axis_stresses(np.asarray(t, float), nu)), axis=0)
+        return 0.5 * (p[-1] - p[0])
+
+    t = np.linspace(0.0, 3.0, 30001)
+    k = int(np.argmax(tau(t)))
+    r = minimize_scalar(lambda x: -tau(x), bracket=(t[k - 1], t[k], t[k + 1]), tol=1e-12)
+    return -r.fun, r.x
+
+
+def test_product_reports_tresca_for_the_design_nu():
+    # all bodies nu = 0.2: tau = 0.3302 sigma at 0.3217 b (summary at the critical contact, per contact in detail)
+    res = compute(**{"material.roller_poisson": 0.2, "material.ring_poisson": 0.2})
+    s = res.summary
+    ratio, depth = (float(x) for x in brute_tresca(0.2))
+    assert s["tau_max_MPa"] == pytest.approx(ratio * s["sigma_max_MPa"], rel=1e-9)
+    i = s["sigma_max_roller"]
+    assert s["tau_max_depth_mm"] == pytest.approx(depth * col(res, "b_B_mm")[i], rel=1e-5)
+    assert np.allclose(col(res, "tau_max_B_MPa"), ratio * col(res, "sigma_B_MPa"), rtol=1e-9)
+    assert np.allclose(col(res, "tau_depth_H_mm"), depth * col(res, "b_H_mm"), rtol=1e-5)
+    # mixed: the smaller nu of a contact's two bodies governs (the body where the shear is largest)
+    mixed = compute(**{"material.roller_poisson": 0.3, "material.inner_ring_poisson": 0.1})
+    assert np.allclose(col(mixed, "tau_max_B_MPa"), brute_tresca(0.1)[0] * col(mixed, "sigma_B_MPa"), rtol=1e-9)
+    assert np.allclose(col(mixed, "tau_max_H_MPa"), brute_tresca(0.3)[0] * col(mixed, "sigma_H_MPa"), rtol=1e-9)
+
+
+def test_worked_example_tresca_equals_the_in_plane_value():
+    s = compute().summary
+    assert s["tau_max_MPa"] == hertz.TAU_MAX_RATIO * s["sigma_max_MPa"]
+    # depth = 0.786151 b, b = 2 F/(pi l sigma) of the critical contact (Johnson eq. 4.43)
+    res = compute()
+    b = 2 * col(res, "F_B_N")[0] / (math.pi * 20.0 * s["sigma_max_MPa"])
+    assert s["tau_max_depth_mm"] == pytest.approx(0.786151377757423 * b, rel=1e-12)
+
+
+# ----------------------------------------------------------------------------- item 4: separator = false
+def test_separator_false_is_refused():
+    for command in ("zstk", "check"):
+        r = cli(command, EXAMPLE, "--set", "geometry.separator=false", "--set", "geometry.roller_gap_mm=0")
+        assert r.code == 2
+        assert "geometry.separator" in r.err + r.out and "roller-to-roller contact" in r.err + r.out
+    assert compute(**{"geometry.separator": True}).summary == compute().summary
+
+
+def test_cost_guard_refuses_before_starting():
+    r = cli("zstk", EXAMPLE, "--set", "geometry.inner_raceway_radius_mm=97.5", "--set", "geometry.eccentricity_mm=0.5",
+            "--set", "geometry.roller_gap_mm=0.05", "--set", "geometry.rollers=2000", "--set", "geometry.scheme=cycle",
+            "--set", "load.direction_deg=envelope", "--model", "reference")
+    assert r.code == 2 and "over the budget" in r.err and "geometry.rollers" in r.err
+
+
+# ---------------------------------------------------------------- the sweep and batch hooks
+# The stacked (numpy over designs) evaluation equals compute point by point. The expected values are compute's own
+# results, design by design (the independent numbers for the physics are above and in tests/zstk/); here every
+# column of the vectorised sweep and every field of a batch must equal them exactly or to 1e-12 relative (round-off
+# of a differently shaped array expression).
+ZSTK = registry.get("zstk")
+
+
+def same(a, b, path="") -> None:
+    """a == b, floats to 1e-12 relative (1e-300 absolute for values at zero)."""
+    if isinstance(a, float) and isinstance(b, float):
+        assert a == b or abs(a - b) <= 1e-12 * max(abs(a), abs(b)), (path, a, b)
+    elif isinstance(a, dict):
+        assert isinstance(b, dict) and list(a) == list(b), (path, list(a), list(b))
+        for k in a:
+            same(a[k], b[k], f"{path}.{k}")
+    elif isinstance(a, list):
+        assert isinstance(b, list) and len(a) == len(b), (path, a, b)
+        for i, (x, y) in enumerate(zip(a, b)):
+            same(x, y, f"{path}[{i}]")
+    else:
+        assert type(a) is type(b) and a == b, (path, a, b)
+
+
+def raw_example(**sets):
+    raw = tomllib.loads(EXAMPLE.read_text())
+    apply_set(raw, list(sets.items()))
+    return raw
+
+
+def point_by_point(raw, axes, options):
+    """The rows of a grid computed one design at a time (compute, no sweep hook)."""
+    rows = []
+    for p in sw.grid_points(axes):
+        trial = copy.deepcopy(raw)
+        apply_set(trial, list(p.items()))
+        rows.append({**p, **ZSTK.compute(validate(trial, str(EXAMPLE)), options).summary, "error": None})
+    return rows
+
+
+def hooked(raw, axes, options, monkeypatch=None):
+    """The rows of the sweep hook (compute is disabled when monkeypatch is given: no silent fallback)."""
+    if monkeypatch is not None:
+        def no_compute(*a, **k):
+            raise AssertionError("the sweep fell back to point-by-point compute")
+
+        monkeypatch.setattr(registry, "get", lambda kind: dataclasses.replace(ZSTK, compute=no_compute))
+    out = sw.evaluate(raw, str(EXAMPLE), axes, options)
+    return out.rows() if hasattr(out, "rows") else out
+
+
+AXES = [
+    {"load.radial_N": [1e-6, 1.0, 1e4, 3.3e5, 1e9]},
+    {"load.direction_deg": [0.0, 7.5, 30.0, 90.0, 179.0, 180.0, -45.0, 400.0]},
+    {"load.clearance_mm": [-0.01, 0.0, 1e-6, 0.01, 0.05]},
+    {"geometry.eccentricity_mm": [0.0, 1e-12, 0.5, 3.0, 6.0, 12.0, 20.0]},
+    {"geometry.roller_gap_mm": [0.0, 1e-9, 2.0, 6.0, 11.0]},            # N changes with the gap
+    {"geometry.outer_raceway_radius_mm": [90.0, 100.0, 130.0]},
+    {"geometry.inner_raceway_radius_mm": [40.0, 50.0, 60.0]},
+    {"geometry.roller_length_mm": [5.0, 20.0, 80.0]},
+    {"geometry.scheme": ["A", "B", "C", "D", 0.0, 17.0, -123.0]},       # parity: N differs per scheme
+    {"geometry.correct": ["outer", "inner", "gap"]},
+    {"geometry.rollers": ["auto", 5, 7, 8, 12]},   # any N: the base design has a phase angle (below)
+    {"material.roller_E_MPa": [7e4, 2.1e5, 4e5]},
+    {"material.ring_poisson": [0.2, 0.3, 0.45]},
+    {"material.inner_ring_E_MPa": [1e5, 3e5]},
+    {"material.allowable_stress_MPa": [500.0, 2000.0, 4000.0]},
+]
+
+
+@pytest.mark.parametrize("axes", AXES, ids=[next(iter(a)) for a in AXES])
+@pytest.mark.parametrize("model", ["equilibrium", "fixed-direction"])
+def test_sweep_equals_point_by_point(axes, model, monkeypatch):
+    sets = {} if "load.direction_deg" in axes else {"load.direction_deg": 20.0}
+    if "geometry.rollers" in axes:
+        sets["geometry.scheme"] = 10.0
+    raw = raw_example(**sets)
+    opts = Options(tol=1e-6, model=model)
+    want = point_by_point(raw, axes, opts)
+    got = hooked(raw, axes, opts, monkeypatch)
+    same(got, want)
+
+
+def test_sweep_2d_grid_crossing_n(monkeypatch):
+    """A product grid (gap x direction x clearance) in which N changes (auto N falls as the gap grows):
+    the stacks of different N come back in grid order."""
+    raw = raw_example(**{"geometry.scheme": 5.0})  # a phase angle: any N, not only even ones
+    axes = {"geometry.roller_gap_mm": [0.0, 3.0, 6.0, 9.0, 12.0, 16.0], "load.direction_deg": [0.0, 25.0, 180.0],
+            "load.clearance_mm": [0.0, 0.005]}
+    opts = Options(tol=1e-6)
+    want = point_by_point(raw, axes, opts)
+    assert len({r["N"] for r in want}) >= 3  # the grid does cross several N
+    same(hooked(raw, axes, opts, monkeypatch), want)
+
+
+def test_sweep_reference_level(monkeypatch):
+    raw = raw_example()
+    axes = {"geometry.eccentricity_mm": [0.0, 6.0], "geometry.roller_gap_mm": [0.0, 6.0]}
+    opts = Options(tol=1e-6, model="reference")
+    want = point_by_point(raw, axes, opts)
+    assert all(r["stepping_residual_mm"] < 1e-9 for r in want)
+    same(hooked(raw, axes, opts, monkeypatch), want)
+
+
+def test_sweep_with_cycle_or_envelope_falls_back():
+    """"cycle"/"envelope" points run adaptive sweeps of their own: the hook declines (None) and the
+    frame evaluates point by point."""
+    base = load(str(EXAMPLE))
+    for axes in ({"load.direction_deg": [0.0, "envelope"]}, {"geometry.scheme": ["A", "cycle"]}):
+        points = sw.grid_points(axes)
+        assert ZSTK.sweep(base, raw_example(), axes, points, Options()) is None
+    raw = raw_example(**{"geometry.scheme": "cycle"})
+    axes = {"load.radial_N": [1e3, 1e4]}
+    assert ZSTK.sweep(load(str(EXAMPLE), [("geometry.scheme", "cycle")]), raw, axes, sw.grid_points(axes),
+                      Options(model="fixed-direction")) is None
+
+
+def test_impossible_point_errors_like_point_by_point():
+    """Each axis value is valid with the base design, but (R_B = 90, e = 12) is not (e >= R_H - R_B = 10): the
+    hook says so for that point only (InvalidPoints), with the key and constraint the point gives on its own; the
+    frame gives the point a row with that reason and empty results, and computes the others (issue 36 item 1)."""
+    from gearcalc.calculator import InvalidPoints
+
+    raw = raw_example()
+    axes = {"geometry.inner_raceway_radius_mm": [50.0, 90.0], "geometry.eccentricity_mm": [6.0, 12.0]}
+    base = validate(copy.deepcopy(raw), str(EXAMPLE))
+    with pytest.raises(InvalidPoints) as hook_err:
+        ZSTK.sweep(base, raw, axes, sw.grid_points(axes), Options())
+    bad = {"geometry.inner_raceway_radius_mm": 90.0, "geometry.eccentricity_mm": 12.0}
+    k_bad = list(sw.grid_points(axes)).index(bad)
+    messages = hook_err.value.messages
+    assert [m is None for m in messages] == [k != k_bad for k in range(4)]
+    # the same design on its own (gearcalc zstk --set ...) reports the same key and constraint
+    trial = copy.deepcopy(raw)
+    apply_set(trial, list(bad.items()))
+    with pytest.raises(Exception) as alone:
+        validate(trial, str(EXAMPLE))
+    assert messages[k_bad].startswith("geometry.eccentricity_mm = ") and messages[k_bad] in str(alone.value)
+    rows = sw.evaluate(raw, str(EXAMPLE), axes, Options())  # through the frame: a row per point, in grid order
+    rows = rows.rows() if hasattr(rows, "rows") else rows
+    assert rows[k_bad]["error"] == messages[k_bad] and rows[k_bad]["sigma_max_MPa"] is None
+    assert {k: rows[k_bad][k] for k in axes} == bad
+    good = [r for k, r in enumerate(rows) if k != k_bad]
+    for r in good:
+        trial = copy.deepcopy(raw)
+        apply_set(trial, [(k, r[k]) for k in axes])
+        same({k: r[k] for k in r if k not in axes}, {**ZSTK.compute(validate(trial, str(EXAMPLE)), Options()).summary,
+                                                      "error": None})
+
+
+def test_impossible_combination_of_rollers_and_scheme():
+    """An explicit N of the wrong parity for the scheme (A, D even; B, C odd) at two grid points, (8, B) and (7, A):
+    their rows name geometry.rollers; the other two are computed."""
+    raw = raw_example()
+    axes = {"geometry.rollers": [8, 7], "geometry.scheme": ["B", "A"]}
+    rows = sw.evaluate(raw, str(EXAMPLE), axes, Options())
+    rows = rows.rows() if hasattr(rows, "rows") else rows
+    errors = [(r["geometry.rollers"], r["geometry.scheme"], r["error"]) for r in rows if r["error"] is not None]
+    assert [e[:2] for e in errors] == [(8, "B"), (7, "A")] and all(e[2].startswith("geometry.rollers") for e in errors)
+    assert sum(r["sigma_max_MPa"] is not None for r in rows) == 2
+
+
+# ----------------------------------------------------------------------------- batch
+CONFIG_FILES = sorted(CONFIGS.glob("zstk_*.toml"))
+
+
+@pytest.mark.parametrize("model", ["equilibrium", "fixed-direction", "reference"])
+def test_batch_equals_compute_for_every_config(model):
+    designs = [load(str(p)) for p in CONFIG_FILES]
+    opts = Options(tol=1e-6, model=model)
+    if model == "reference":  # the envelope config at the reference level takes ~0.3 s; once is enough
+        designs = [d for d in designs if d["load.direction_deg"] != "envelope"]
+    got = ZSTK.batch(designs, opts)
+    for d, b in zip(designs, got):
+        a = ZSTK.compute(d, opts)
+        same([a.summary, a.detail, a.warnings, a.failed, a.model], [b.summary, b.detail, b.warnings, b.failed, b.model],
+             d.source)
+
+
+VARIANTS = [
+    [("load.direction_deg", 30.0)], [("load.clearance_mm", 0.01), ("load.direction_deg", 33.0)],
+    [("load.clearance_mm", -0.004)], [("geometry.scheme", 17.0)],
+    [("geometry.eccentricity_mm", 0.0), ("geometry.scheme", "B")],
+    [("geometry.roller_gap_mm", 0.0), ("geometry.rollers", 11), ("geometry.scheme", "B")],
+    [("geometry.correct", "gap"), ("geometry.scheme", "D")],
+    [("material.allowable_stress_MPa", 800.0)], [("load.radial_N", 1e9)],   # fails the check; b/rho warning
+    [("geometry.outer_raceway_radius_mm", 100.0), ("geometry.inner_raceway_radius_mm", 97.5),
+     ("geometry.eccentricity_mm", 0.5), ("geometry.roller_gap_mm", 0.05), ("load.direction_deg", 10.0)],  # N > 200
+    [("geometry.scheme", "cycle")], [("load.direction_deg", "envelope"), ("geometry.eccentricity_mm", 2.0)],
+]
+
+
+@pytest.mark.parametrize("model", [pytest.param("equilibrium", marks=pytest.mark.slow), "fixed-direction"])  # CI: both
+def test_batch_of_mixed_designs_equals_compute(model):
+    """Different N, clearance, direction, scheme, material and sweeping designs in one batch, in order."""
+    designs = [load(str(EXAMPLE), v) for v in VARIANTS] * 2
+    opts = Options(tol=1e-6, model=model)
+    got = ZSTK.batch(designs, opts)
+    assert len(got) == len(designs)
+    for d, b in zip(designs, got):
+        a = ZSTK.compute(d, opts)
+        same([a.summary, a.detail, a.warnings, a.failed], [b.summary, b.detail, b.warnings, b.failed])
+    assert any(r.failed for r in got) and len({r.summary["N"] for r in got}) >= 4
+
+
+def test_batch_returns_the_exception_of_an_impossible_design():
+    """A design that escaped validation (here: values changed after it) comes back as compute's DesignError."""
+    good = load(str(EXAMPLE))
+    bad = load(str(EXAMPLE))
+    bad.values["geometry"]["eccentricity_mm"] = 60.0
+    with pytest.raises(DesignError) as alone:
+        ZSTK.compute(bad, Options())
+    got = ZSTK.batch([good, bad, good], Options())
+    assert isinstance(got[1], DesignError) and (got[1].key, got[1].message) == (alone.value.key, alone.value.message)
+    same(got[0].summary, got[2].summary)
+
+
+# ----------------------------------------------------------------------------- CLI
+def test_cli_sweep_example():
+    r = cli("sweep", EXAMPLE, "--vary", "load.direction_deg=0:90:15", "--vary", "geometry.roller_gap_mm=4,6",
+            "--format", "csv")
+    assert r.code == 0, r
+    lines = r.out.strip().splitlines()
+    header = lines[0].split(",")
+    assert header[:2] == ["load.direction_deg", "geometry.roller_gap_mm"] and "sigma_max_MPa" in header
+    assert len(lines) == 1 + 7 * 2
+    # one point against the design on its own (the CSV cell is the repr of the float)
+    one = load(str(EXAMPLE), [("load.direction_deg", 45), ("geometry.roller_gap_mm", 4)])
+    want = ZSTK.compute(one, Options()).summary["sigma_max_MPa"]
+    row = dict(zip(header, lines[1 + 3 * 2].split(",")))
+    assert row["load.direction_deg"] == "45" and row["geometry.roller_gap_mm"] == "4"
+    assert math.isclose(float(row["sigma_max_MPa"]), want, rel_tol=1e-12)
+
+
+def test_cli_sweep_impossible_point_exit_2():
+    r = cli("sweep", EXAMPLE, "--vary", "geometry.inner_raceway_radius_mm=50,90", "--vary",
+            "geometry.eccentricity_mm=6,12")
+    assert r.code == 2, r
+    assert "geometry.eccentricity_mm" in r.err and "must be" in r.err and "'geometry.eccentricity_mm': 12" in r.err
+    assert "Traceback" not in r.err
+
+
+def test_zstk_sweep_checks_the_values_of_its_chunk_only(monkeypatch):
+    """A zstk chunk checks the distinct values of its own points (it checked every value of the axis for every
+    chunk); the columns are those of the whole-axis check."""
+    from gearcalc import design
+    from gearcalc.design import validate
+    from gearcalc.kinds import zstk
+
+    src = CONFIGS / "zstk_merko_example.toml"
+    raw = tomllib.loads(src.read_text())
+    axes = sw.parse_vary(["load.radial_N=1000:50999:1"])
+    base = validate(raw, str(src))
+    calls = []
+    real = design.check_value
+
+    def counting(field, value):
+        calls.append(value)
+        return real(field, value)
+
+    monkeypatch.setattr(design, "check_value", counting)
+    g = sw.Grid(axes)
+    cols = zstk.sweep(base, raw, axes, g[49_990:], Options())
+    assert len(calls) == 10
+    monkeypatch.setattr(design, "check_value", real)
+    alone = zstk.sweep(base, raw, axes, list(g[49_990:]), Options())
+    assert cols == alone
+    floats = sw.parse_vary(["load.radial_N=1000.0:20000.0:0.5"])   # a float axis: its values taken as they are
+    g = sw.Grid(floats)
+    assert zstk.sweep(base, raw, floats, g[100:300], Options()) == zstk.sweep(base, raw, floats, list(g[100:300]),
+                                                                               Options())
+
+
+# ------------------------------------------------------------- guards (issue 13): cost, angles, tiny load, round-off
+def test_zstk_sweep_cost_guard_names_rollers():
+    # R_B = 99.6, e = 0.1, c = 0: N = 1619 rollers; "cycle" + "envelope" took 112 s with the nested sweep, ~3 s
+    # with the joint search (zstk.md §8).  At --model reference its first grid is 3 x 1619 x 65 roller positions
+    # x 256 relative directions = 8.08e7 roller-configurations > SWEEP_WORK_MAX = 6e6 (zstk/schema.py): refused
+    # before it starts; at the default model (1.4e6) check accepts it
+    sets = ["--set", "geometry.inner_raceway_radius_mm=99.6", "--set", "geometry.eccentricity_mm=0.1",
+            "--set", "geometry.roller_gap_mm=0.0", "--set", 'geometry.scheme="cycle"',
+            "--set", 'load.direction_deg="envelope"']
+    r = cli("zstk", EXAMPLE, *sets, "--model", "reference")
+    assert r.code == 2, r
+    assert "geometry.rollers" in r.err and "8.08e+07" in r.err and "envelope" in r.err
+    assert cli("check", EXAMPLE, *sets).code == 0
+
+
+def test_direction_1e17_equals_its_remainder():
+    # 1e17 = 360 k + 280 exactly (10^17 = 0 mod 8 and 10 mod 45, so 280 mod 360), i.e. -80 deg
+    assert 10 ** 17 % 360 == 280
+    opts = Options(tol=1e-6)
+    calc = registry.get("zstk")
+    for clearance in (0.0, 0.01):
+        big = calc.compute(load(str(EXAMPLE), [("load.direction_deg", 1e17), ("load.clearance_mm", clearance)]),
+                           opts)
+        small = calc.compute(load(str(EXAMPLE), [("load.direction_deg", -80.0), ("load.clearance_mm", clearance)]),
+                             opts)
+        for key in ("sigma_max_MPa", "sigma_max_load_direction_deg", "approach_um", "loaded_rollers"):
+            assert big.summary[key] == small.summary[key], key
+
+
+def test_zstk_tiny_load_is_refused():
+    # 5e-324 N returned solver_residual = 1.0 and pass = true; the schema now starts at MIN_FORCE_N = 1 uN,
+    # where the worked example with 0.01 mm clearance balances Q to ~4e-8 (the error estimate includes it)
+    from gearcalc.zstk import schema as kz
+
+    r = cli("zstk", EXAMPLE, "--set", "load.radial_N=5e-324")
+    assert r.code == 2 and "load.radial_N" in r.err
+    s = registry.get("zstk").compute(load(str(EXAMPLE), [("load.radial_N", kz.MIN_FORCE_N),
+                                                      ("load.clearance_mm", 0.01)]), Options(tol=1e-6)).summary
+    assert s["solver_residual"] < 1e-6 and s["sigma_max_MPa"] > 0 and s["sigma_max_err_MPa"] > 0
+
+
+def test_sweep_error_estimates_have_a_round_off_floor():
+    # a cycle/envelope estimate is at least 4 eps |sigma_max| (kinds/zstk.ROUNDOFF_ULPS)
+    import numpy as np
+
+    for sets in ([("geometry.scheme", "cycle")], [("load.direction_deg", "envelope")]):
+        s = registry.get("zstk").compute(load(str(EXAMPLE), sets), Options(tol=1e-3)).summary
+        assert s["sigma_max_err_MPa"] >= 4 * np.finfo(float).eps * s["sigma_max_MPa"]

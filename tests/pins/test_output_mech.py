@@ -203,3 +203,150 @@ def test_a_sweep_equals_each_point_alone():
         for key in ("bearing_equivalent_load_N", "bearing_equivalent_load_err_N", "bearing_L10_h", "bearing_L10_h_err",
                     "bearing_force_max_N"):
             assert r[key] == pytest.approx(alone[key], rel=1e-12), key
+# The contact level with the mechanism and the drag (pins.md §4.10: the same rules as the ideal level's, the teeth
+# solved at the torque they carry).  Hertz contacts on the paper's cycloid (10 mm face width, ASSUMED as in
+# configs/pins_paper_circ_u10_fixed.toml).
+CONTACT = {"law": "hertz", "face_width_mm": 10.0}
+
+
+def _contact(design, detail=False):
+    import gearcalc.api as api
+    return api.compute(design, model="contact", detail=detail)
+
+
+def _hole_resultants(n_w, R_w, T_sat):
+    # pins.md §4.10's closed form: F_j = T max(sin phi_j, 0)/(R_w sum_k max(sin phi_k, 0)^2), Q = sum_j F_j, at the
+    # 64 hole phases (midpoints of one pattern period 2 pi/n_w) the ideal level takes
+    phi0 = (np.arange(64) + 0.5) / 64 * 2 * np.pi / n_w
+    s = np.maximum(np.sin(phi0[:, None] + 2 * np.pi * np.arange(n_w) / n_w), 0.0)
+    F = T_sat * s / (R_w * (s * s).sum(axis=1, keepdims=True))
+    return F.sum(axis=1)
+
+
+def test_contact_level_with_a_frictionless_mechanism_keeps_its_efficiencies_and_raises_the_bearing_force():
+    r0 = _contact(_with(contact=CONTACT), detail=True)
+    r = _contact(_with(contact=CONTACT, output={**W8, "friction": 0.0}), detail=True)
+    s0, s = r0.summary, r.summary
+    for key in ("efficiency", "efficiency_reducer", "efficiency_multiplier", "torque_in_Nm", "torque_out_Nm",
+                "pin_force_max_N", "crank_torque_mean_Nm"):
+        assert s[key] == s0[key], key                        # f_w = 0, no drag: the same teeth, bit for bit
+    # with the mechanism loss_mean_W is P_in - P_out of the shaft torques (the ideal level's rule), without it the
+    # teeth's lambda T_V omega_V: the same to the torque fixed point's convergence (measured 2.7e-10)
+    assert s["loss_mean_W"] == pytest.approx(s0["loss_mean_W"], rel=1e-9)
+    assert s["output_mechanism"] == "pins_in_holes" and s["w_loss_ratio"] == 0.0
+    # brute force over the detail's bearing history (one disc) and the hole phases: max |B + Q x|
+    rows = r.detail["crank"]
+    Bx = np.array([row["bearing_radial_N"] for row in rows])
+    By = np.array([row["bearing_tangential_N"] for row in rows])
+    Q = _hole_resultants(8, 35.0, 1e3 * s["torque_in_Nm"])   # T_sat = T_V/n_d, n_d = 1, lambda_W = 0
+    peak = np.hypot(Bx[:, None] + Q[None, :], By[:, None]).max()
+    assert s["bearing_force_max_N"] == pytest.approx(peak, rel=1e-12)
+    assert s["bearing_force_max_N"] > 1.5 * s0["bearing_force_max_N"]
+    assert s["bearing_force_mean_N"] > 1.5 * s0["bearing_force_mean_N"]
+    assert s0["bearing_force_mean_N"] < s["bearing_force_mean_N"] < s["bearing_force_max_N"]
+    # the resultant's closed-form peak 4 T_sat/(n_w R_w sin(pi/n_w)) (even n_w) against the 64 phases' largest
+    assert s["w_force_max_N"] == pytest.approx(4e3 * s["torque_in_Nm"] / (8 * 35.0 * np.sin(np.pi / 8)), rel=1e-12)
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_contact_level_mechanism_in_series_with_the_teeth(mode):
+    # lambda_W = 4 f_w e |omega_H/omega_V - 1|/(pi R_w), |omega_H/omega_V - 1| = u + 1 = 11 (fixed pins, even n_w);
+    # the teeth carry T_sat = T_V (1 -+ lambda_W) on V: the same contact run without the mechanism at that torque
+    f_w = 0.05
+    lam = 4 * f_w * 3.9 * 11 / (np.pi * 35.0)
+    s = _contact(_with(contact=CONTACT, output={**W8, "friction": f_w},
+                       load={"mode": mode, "torque_shaft": "V", "torque_Nm": 1000.0})).summary
+    assert s["w_loss_ratio"] == pytest.approx(lam, rel=1e-12)
+    lam = s["w_loss_ratio"]
+    sat = 1000.0 * (1 - lam if mode == "multiplier" else 1 + lam)
+    teeth = _contact(_with(contact=CONTACT, load={"mode": mode, "torque_shaft": "V", "torque_Nm": sat})).summary
+    if mode == "multiplier":
+        assert s["efficiency"] == pytest.approx(teeth["efficiency"] * (1 - lam), rel=1e-12)
+    else:
+        assert s["efficiency"] == pytest.approx(teeth["efficiency"] / (1 + lam), rel=1e-12)
+    assert s["pin_force_max_N"] == teeth["pin_force_max_N"]      # the teeth's forces at the satellite torque
+    # P_in - P_out = teeth loss + lambda_W |T_V omega_V| (no drag)
+    w_V = 1000.0 * np.pi / 30 / 10.0
+    assert s["loss_mean_W"] == pytest.approx(teeth["loss_mean_W"] + lam * 1000.0 * w_V, rel=1e-9)
+
+
+def test_contact_level_drag_and_start_up_torque():
+    # u T_d/eta_VH (pins.md §4.10, the ideal level's formula) with the contact level's multiplier efficiency of the
+    # same teeth (torque on V: the drag does not change the teeth's load); eta^d_VH = eta_VH - u T_d/T_V
+    u, T_d, T_V = 10.0, 2.0, 50.0
+    base = _with(contact=CONTACT, output={**W8, "friction": 0.05}, load={"torque_shaft": "V", "torque_Nm": T_V})
+    eta = _contact(base).summary["efficiency_multiplier"]
+    s = _contact(_with(contact=CONTACT, output={**W8, "friction": 0.05},
+                       load={"torque_shaft": "V", "torque_Nm": T_V, "drag_torque_Nm": T_d})).summary
+    T0 = u * T_d / eta
+    assert s["backdrive_startup_torque_Nm"] == pytest.approx(T0, rel=1e-12)
+    assert s["efficiency_multiplier"] == pytest.approx(eta - u * T_d / T_V, rel=1e-12)
+    assert s["torque_out_Nm"] == pytest.approx(T_V * eta / u - T_d, rel=1e-12)
+    below = _contact(_with(contact=CONTACT, load={"torque_shaft": "V", "torque_Nm": u * T_d, "drag_torque_Nm": T_d}))
+    # T_V = u T_d < u T_d/eta, the start-up torque (eta < 1)
+    assert below.summary["self_locking"] is True and below.summary["efficiency"] is None
+    assert any("start-up torque" in f for f in below.failed)
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_ideal_and_contact_levels_agree_with_the_mechanism_and_drag(mode):
+    # the stiff limit (pins.md §5.7) on a k = 1 cycloid, as tests/pins/test_contact_level.py's
+    # test_stiff_linear_contact_outputs_approach_the_ideal_level_on_a_k1_cycloid: its measured tolerances (efficiency
+    # and bearing force 1e-5; measured here 2026-12-07 <= 8e-7 and <= 2.7e-6); the mechanism's loss ratio is the
+    # same formula on the same inputs; the crank torque is the gear's, T_H +- T_d (multiplier +, reducer -)
+    import gearcalc.api as api
+    over = {"gearing.satellite_teeth": 21, "gearing.pins": 22, "gearing.eccentricity_mm": 1.95,
+            "friction.sliding": 0.1, "contact.face_width_mm": 10.0, "load.mode": mode, "load.drag_torque_Nm": 0.5,
+            **{"output." + k: v for k, v in {**W8, "friction": 0.05}.items()}}
+    path = str(__import__("pathlib").Path(__file__).parents[2] / "configs" / "pins_paper_cyc_u10_fixed.toml")
+    ideal = api.compute(path, model="ideal", overrides=over).summary
+    cont = api.compute(path, model="contact", overrides={**over, "contact.law": "linear",
+                                                         "contact.stiffness_N_per_mm": 1e9}).summary
+    assert cont["w_loss_ratio"] == ideal["w_loss_ratio"]
+    for key, rel in (("efficiency_reducer", 1e-5), ("efficiency_multiplier", 1e-5), ("torque_in_Nm", 1e-5),
+                     ("torque_out_Nm", 1e-5), ("bearing_force_max_N", 1e-5), ("bearing_force_mean_N", 1e-5),
+                     ("w_force_max_N", 1e-5), ("backdrive_startup_torque_Nm", 1e-5)):
+        assert cont[key] == pytest.approx(ideal[key], rel=rel), key
+    assert cont["crank_torque_mean_Nm"] == pytest.approx(100.0 + (0.5 if mode == "multiplier" else -0.5), rel=1e-10)
+
+
+@pytest.mark.parametrize("mode", ["multiplier", "reducer"])
+def test_contact_level_bearing_life_holds_the_mechanisms_resultant(mode):
+    """pins.md §8.2 with §4.10 at the contact level: P = (mean over the crank angles and hole phases of
+    |B + Q x|^p)^(1/p), recomputed from the contact detail's bearing history (trapezoid over its rows, a repeated
+    angle a jump) and the closed-form hole forces; L10_h = 1e6/(60 n) (C/P)^p (ISO 281)."""
+    C, p = 100_000.0, 10.0 / 3.0
+    d = _with(contact=CONTACT, output={**W8, "friction": 0.0}, bearing={"C_N": C}, load={"mode": mode})
+    r, r0 = _contact(d, detail=True), _contact({k: v for k, v in d.items() if k != "output"})
+    s = r.summary
+    rows = r.detail["crank"]
+    th = np.radians([row["theta_deg"] for row in rows])
+    Br = np.array([row["bearing_radial_N"] for row in rows])
+    Bt = np.array([row["bearing_tangential_N"] for row in rows])
+    T_sat = 1e3 * (s["torque_in_Nm"] if mode == "multiplier" else s["torque_out_Nm"])     # T_V, one disc, f_w = 0
+    Q = _hole_resultants(8, 35.0, T_sat)
+    f = np.hypot(Br[:, None] + Q[None, :], Bt[:, None]) ** p
+    P = float(np.mean(np.sum(0.5 * (f[1:] + f[:-1]) * np.diff(th)[:, None], axis=0) / (th[-1] - th[0]))) ** (1 / p)
+    assert s["bearing_equivalent_load_N"] == pytest.approx(P, rel=max(1e-6, 3 * s["bearing_equivalent_load_err_N"] / P))
+    assert s["bearing_equivalent_load_N"] > 1.5 * r0.summary["bearing_equivalent_load_N"]     # the rise, ~1.6x
+    n = d["load"]["crank_speed_rpm"]
+    assert s["bearing_L10_h"] == pytest.approx(1e6 / (60 * n) * (C / s["bearing_equivalent_load_N"]) ** p, rel=1e-12)
+
+
+def test_a_multiplier_the_mechanism_locks_has_no_shaft_torques_at_either_level():
+    """lambda_W >= 1 (f_w = 0.9 here: lambda_W = 4 f_w e (u + 1)/(pi R_w) = 1.40) locks the multiplier by the
+    mechanism alone (pins.md §4.10): no efficiency, no shaft torques, no mechanism force, the teeth at the given
+    torque (the pin forces of the design without the mechanism, bit for bit), and the failed check names the
+    mechanism's loss ratio, at the ideal and the contact level alike (before: negative torques at the ideal level)."""
+    d = _with(output={**W8, "friction": 0.9})
+    lam = 4 * 0.9 * 3.9 * 11 / (np.pi * 35.0)
+    for model, extra in (("ideal", {}), ("contact", {"contact": CONTACT})):
+        import gearcalc.api as api
+        r = api.compute({**d, **extra}, model=model)
+        r0 = api.compute({**_with(), **extra}, model=model)
+        s = r.summary
+        assert s["w_loss_ratio"] == pytest.approx(lam, rel=1e-12) and s["self_locking"] is True
+        assert s["efficiency"] is None and s["torque_in_Nm"] is None and s["torque_out_Nm"] is None
+        assert s["w_force_max_N"] is None and s["loss_mean_W"] is None
+        assert s["pin_force_max_N"] == r0.summary["pin_force_max_N"], model
+        assert any("output mechanism's loss ratio" in f for f in r.failed), (model, r.failed)

@@ -129,3 +129,37 @@ def test_resultant_range_closed_form_for_even_hole_counts(n_w):
     _, Q = w.w_hole_forces(1.0, n_w, 1.0, phase)
     assert Q.min() == pytest.approx(4 / (n_w * np.tan(np.pi / n_w)), rel=1e-9)
     assert Q.max() == pytest.approx(4 / (n_w * np.sin(np.pi / n_w)), rel=1e-9)
+
+
+@pytest.mark.parametrize("mult,on_V", [(True, False), (False, False), (True, True), (False, True)])
+def test_teeth_torque_gives_the_series_shaft_torques(mult, on_V):
+    # teeth of constant efficiencies run at teeth_torque on the same shaft: their torque on V (u T_H/eta_VH or
+    # u T_H eta_HV on H) is T_V (1 -+ lambda_W) of series_values, the satellite's torque (pins.md §4.10)
+    hv, vh, lam, T_d, T, u = 0.8, 0.75, 0.05, 2.0, 100.0, 10.0
+    Tt = float(w.teeth_torque(T, lam, T_d, mult, on_V))
+    teeth_V = Tt if on_V else (u * Tt / vh if mult else u * Tt * hv)
+    r = w.series_values((hv, vh), lam, T_d, T, u, mult, on_V, 1.0)
+    assert teeth_V == pytest.approx(float(r["torque_V"] * r["sat_factor"]), rel=1e-14)
+
+
+def test_series_values_power_balance_and_start_up():
+    # P_in - P_out = teeth loss + lambda_W T_V omega_V + T_d omega_H, worked by hand for the multiplier on V
+    hv, vh, lam, T_d, T_V, u, wH = 0.8, 0.75, 0.05, 2.0, 100.0, 10.0, 3.0
+    r = w.series_values((hv, vh), lam, T_d, T_V, u, True, True, wH)
+    teeth = (1 - vh) * T_V * (1 - lam) * wH / u
+    assert float(r["loss"]) == pytest.approx(teeth + lam * T_V * wH / u + T_d * wH, rel=1e-13)
+    assert float(r["startup"]) == pytest.approx(u * T_d / (vh * (1 - lam)), rel=1e-14)
+    low = w.series_values((hv, vh), lam, T_d, 0.5 * float(r["startup"]), u, True, True, wH)
+    assert bool(low["locked"]) and np.isnan(low["eta_VH"])
+
+
+def test_bearing_peak_and_mean_over_angles_and_phases():
+    # brute force: every (theta_i, phi_m) pair; the mean with the angles' weights and the phases equally weighted
+    rng = np.random.default_rng(7)
+    Bx, By, Q = rng.normal(size=9), rng.normal(size=9), rng.uniform(0, 2, size=5)
+    wts = rng.uniform(size=9)
+    wts /= wts.sum()
+    pairs = [[np.hypot(Bx[i] + q, By[i]) for q in Q] for i in range(9)]
+    peak, mean = w.w_bearing_peak_mean(Bx, By, Q, wts)
+    assert peak == max(map(max, pairs))
+    assert mean == pytest.approx(sum(wts[i] * sum(pairs[i]) / 5 for i in range(9)), rel=1e-14)

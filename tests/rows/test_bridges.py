@@ -1,10 +1,12 @@
 """Tests of gearcalc.rows.bridges: the carrier verification and the feasible-width search (rows.md §5.5).
 Bridge sizing against the paper's table (rows.md §5.6) and the sized carrier's balance."""
+import itertools
 import math
 
 import numpy as np
 import pytest
 
+import gearcalc
 from gearcalc import rows as R
 from gearcalc.rows import bridges as Br
 from gearcalc.rows import sharing as S
@@ -128,3 +130,61 @@ def test_active_set_unloads_rows_with_overcompensating_carrier():
     assert ok and unloaded, u
     assert np.all(u >= 0) and u.sum() == pytest.approx(n, rel=1e-12)
     assert all(u[j - 1] == 0 for j in unloaded)
+
+
+# ---------------------------------------------------------------- the batch sizing; where every bridge fits
+def test_size_bridges_batch_equals_size_bridges_per_design():
+    # the scalar function is the batch of one: a batch of many designs gives each design's widths and flags
+    B = np.linspace(0.3, 6.0, 25)
+    for n, ratio, first in itertools.product((2, 3, 4), (2.5, 4.0, 10.0), (None, 2.0)):
+        f = R.face_geometry(18, 5.0, n, np.radians(20.0), relative_width=B)
+        batch = R.size_bridges_batch(n, 3, f.sun_diameter, 5.0, f.rim_width, f.cheek, np.radians(20.0), ratio,
+                                     0.5 * f.rim_width, 0.5 * f.rim_width, 2e5, 0.3, R.polar_moment(77.5), first)
+        for k, b in enumerate(B.tolist()):
+            g = R.face_geometry(18, 5.0, n, np.radians(20.0), relative_width=b)
+            one = R.size_bridges(n, 3, g.sun_diameter, 5.0, g.rim_width, g.cheek, np.radians(20.0), ratio,
+                                 0.5 * g.rim_width, 0.5 * g.rim_width, 2e5, 0.3, R.polar_moment(77.5), first)
+            assert [R.FLAGS[c] for c in batch["flags"][k]] == one["flags"]
+            for key in ("H", "H_rel", "D", "stiffness"):
+                assert np.array_equal(batch[key][k], one[key]), key
+
+
+def _feasible(path, **sets):
+    d = gearcalc.design.read_toml(path)
+    for key, value in sets.items():
+        table, _, name = key.partition("__")
+        d[table][name] = value
+    return gearcalc.compute(d).summary["bridges_feasible"]
+
+
+def test_the_bridge_hint_gives_the_window_and_its_bounds_are_where_the_flag_flips():
+    # the paper's capped cell (rows.md §5.6): only 2.67 <= B <= 2.97 fits (issue 34); the hint says both bounds,
+    # rounded inward to 3 decimals, and the design computed alone flips bridges_feasible between them and 0.001
+    # outside them (an independent evaluation: the check itself at those widths)
+    from conftest import CONFIGS, cli
+
+    paper = CONFIGS.parent / "paper" / "rows_bridges_n3_B3_i4.toml"
+    for sets in ([], ["--set", "rows.relative_width=2.4"]):  # above and below the window
+        r = cli("rows", paper, *sets, "--format", "csv")
+        assert r.code == 1 and "every bridge fits for rows.relative_width from 2.666 to 2.973 (rows.count = 3)" \
+            in r.err, r.err
+    for B, fits in ((2.665, False), (2.666, True), (2.8, True), (2.973, True), (2.974, False)):
+        assert _feasible(paper, rows__relative_width=B) is fits, B
+    r = cli("rows", paper, "--set", "rows.count=4", "--format", "csv")
+    assert r.code == 1 and "from 4.000 to 4.035 (rows.count = 4)" in r.err
+    for B, fits in ((3.999, False), (4.0, True), (4.035, True), (4.036, False)):
+        assert _feasible(paper, rows__count=4, rows__relative_width=B) is fits, B
+    # five rows: no width fits (B/30 to 30 B tried); four rows do
+    r = cli("rows", paper, "--set", "rows.count=5", "--format", "csv")
+    assert "no rows.relative_width makes every bridge fit with rows.count = 5" in r.err
+    assert "rows.count = 4 does, for rows.relative_width from 4.000 to 4.035" in r.err
+
+
+def test_feasible_widths_bisects_each_edge_to_1e_9():
+    # each bound fits, and a width 1e-8 (relative) beyond it does not: the bisection's 1e-9 (bridges.py)
+    Ip = R.polar_moment(77.5)
+    args = (3, 18, 5.0, np.radians(20.0), 4.0, 2e5, 0.3, Ip)
+    (lo, hi), = R.feasible_widths(3.0, 3, *args)
+    assert R.bridges_fit(lo, 3, *args) and R.bridges_fit(hi, 3, *args)
+    assert not R.bridges_fit(lo * (1 - 1e-8), 3, *args) and not R.bridges_fit(hi * (1 + 1e-8), 3, *args)
+    assert R.feasible_widths(3.0, 5, *args) == [] and R.feasible_rows(3.0, 5, *args)[0] == 4

@@ -412,3 +412,20 @@ def test_soft_sun_exact_level_finite(n, kappa, bbar):
     u, peak = R.exact_shares(kappa, bbar, n)
     assert np.all(np.isfinite(u)) and np.isfinite(peak) and np.all(u >= 0)
     assert u.sum() == pytest.approx(n, rel=1e-12)
+
+
+# ---------------------------------------------------------------- the batch active set equals the scalar one
+def test_active_set_batch_equals_the_scalar_active_set():
+    # compliant carriers that over-compensate (negative loads, rows dropped and re-activated), in one batch
+    rng = np.random.default_rng(7)
+    n, P = 5, 40
+    kappa = rng.uniform(0.05, 3.0, P)
+    Y = rng.uniform(-2.0, 2.0, (P, n, n))
+    u, unloaded, converged = R.stepwise_active_set_batch(kappa, np.full(P, 0.25), n, Y)
+    dropped = 0
+    for k in range(P):
+        u1, off, ok, _ = R.stepwise_active_set(float(kappa[k]), 0.25, n, carrier=Y[k])
+        assert ok == converged[k] and off == (np.flatnonzero(unloaded[k]) + 1).tolist()
+        assert np.array_equal(u[k], u1)  # the same solves of the same sizes: bit for bit
+        dropped += bool(off)
+    assert dropped > 0 and not converged.all()

@@ -8,6 +8,8 @@ import numpy as np
 import pytest
 
 from gearcalc import zstk as z
+from conftest import CONFIGS
+from gearcalc import api
 
 CHAIN = z.close_chains(np.array([100.0]), 50.0, 6.0, 6.0, np.array([8]))
 STEEL = z.Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
@@ -63,3 +65,50 @@ def test_safety_factor():
     # §10: [sigma_H] / sigma_max, the worked example against the 4000 MPa default
     assert z.safety_factor(748.935693220922, 4000.0) == pytest.approx(5.340912492496302, rel=1e-15)
     assert np.isnan(z.safety_factor(0.0, 4000.0))
+
+
+# ---------------------------------------------------------------- separator forces, loaded rollers (issue 16)
+# Expected: the law of cosines for the roller's force balance (F_B n_B - F_H n_H has magnitude F_B sin beta); the
+# exact zero of a concentric chain; the round-off floor 1e-12 sigma of a closed form (zstk.md §5.5).
+EXAMPLE = CONFIGS / "zstk_merko_example.toml"
+
+
+Q = 1e4
+
+
+def compute(**sets):
+    return api.compute(api.load(EXAMPLE, overrides=sets), detail=True)
+
+
+def col(res, key):
+    return np.array([row[key] for row in res.detail["rollers"]], dtype=float)
+
+
+# ----------------------------------------------------------------------------- item 2: separator forces
+@pytest.mark.parametrize("sets", [{}, {"load.direction_deg": 35.0, "load.clearance_mm": 0.01},
+                                  {"load.direction_deg": "envelope"}])
+def test_separator_force_balances_each_roller(sets):
+    res = compute(**sets)
+    fb, fh, fs = col(res, "F_B_N"), col(res, "F_H_N"), col(res, "F_S_N")
+    beta = np.radians(col(res, "beta_deg"))
+    # law of cosines: |F_B n_B - F_H n_H| with the angle beta between the normals is the separator's force
+    assert np.allclose(fs, np.sqrt(np.maximum(fb ** 2 + fh ** 2 - 2 * fb * fh * np.cos(beta), 0.0)), rtol=1e-6,
+                       atol=1e-9 * fb.max())
+    assert np.all(fs >= 0) and res.summary["separator_force_max_N"] == fs.max() > 0
+
+
+def test_separator_force_is_zero_without_eccentricity():
+    s = compute(**{"geometry.eccentricity_mm": 0.0}).summary
+    assert s["separator_force_max_N"] == 0.0
+
+
+# ----------------------------------------------------------------------------- item 6: small ones
+def test_round_off_rollers_are_not_counted_as_loaded():
+    # e = 0, N = 8, load through a roller: the rollers at +-90 degrees carry ~1e-18 Q of round-off, not load
+    ch = z.close_chains(np.array([100.0]), 60.0, 0.0, 0.0, np.array([8]), "gap")
+    th = z.roller_angles(np.zeros(1), 8, ch.limiting_ratio)
+    st = z.evaluate(ch, STEEL, th, np.zeros(1), Q, 0.0, symmetric=np.array([True]))
+    assert np.count_nonzero(st.force_inner > 0) > 3        # the round-off is there
+    s = z.summarise(st, np.array([Q]), np.zeros(1), np.array([True]))
+    assert s.loaded[0] == 3                                 # 0 and +-45 degrees
+    assert s.sigma_err[0] == 1e-12 * s.sigma_max[0]         # the round-off floor of a closed form
