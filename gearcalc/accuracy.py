@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import statistics
 import time
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from decimal import Decimal, localcontext
 from fractions import Fraction
 from pathlib import Path
@@ -182,8 +182,8 @@ def _zstk_estimate(s: dict, level: str) -> float:
     return (s.get("sigma_max_err_MPa") or 0.0) + ZSTK_ROUNDING * abs(s["sigma_max_MPa"])
 
 
-def _rerun(design, level: str, tol: float) -> dict:
-    return registry.get(design.kind).compute(design, Options(tol=tol, model=level)).summary
+def _rerun(design, level: str, tol: float, settings=None) -> dict:
+    return registry.get(design.kind).compute(design, Options(tol=tol, model=level, settings=settings)).summary
 
 
 def _zstk_high(design, s: dict, level: str, tol: float) -> tuple[float, float]:
@@ -215,14 +215,10 @@ def _pins_high(design, s: dict, level: str, tol: float) -> tuple[float, float] |
     if level == "formula":
         return None  # a closed form of the given peak values: nothing to refine
     if level == "contact":
-        from .pins import contact_level
+        from .pins.contact_settings import DEFAULT_SETTINGS
 
-        own = contact_level.contact_rule
-        contact_level.contact_rule = lambda tol, settings=None: HIGH_RULE_CONTACT  # a rule no tol of the report uses
-        try:
-            hs = _rerun(design, level, HIGH_TOL_CONTACT_CHECK)
-        finally:
-            contact_level.contact_rule = own
+        # a rule no tol of the report uses, passed explicitly (ContactSettings.rule)
+        hs = _rerun(design, level, HIGH_TOL_CONTACT_CHECK, replace(DEFAULT_SETTINGS, rule=HIGH_RULE_CONTACT))
     else:
         hs = _rerun(design, level, HIGH_TOL)
     return hs["efficiency"], _pins_estimate(hs, level)

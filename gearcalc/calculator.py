@@ -145,6 +145,9 @@ class Options:
     tol: float = 1e-6
     model: str | None = None
     detail: bool = False
+    settings: Any = None
+    """A kind's numerical settings, passed explicitly (pins: the contact level's
+    :class:`~gearcalc.pins.contact_settings.ContactSettings`); None: the shipped ones."""
 
 
 @dataclass

@@ -104,10 +104,13 @@ def test_pins_contact_high_resolution_run_is_independent(monkeypatch):
 
     seen = []
     real = A._rerun
+    own = contact_level.contact_rule
 
-    def spy(design, level, tol):
-        seen.append((level, tol, contact_level.contact_rule(tol)))
-        return real(design, level, tol)
+    def spy(design, level, tol, settings=None):
+        # the rule reaches the contact level as an explicit setting (ContactSettings.rule), no module is patched
+        assert contact_level.contact_rule is own
+        seen.append((level, tol, contact_level.contact_rule(tol, settings)))
+        return real(design, level, tol, settings)
 
     monkeypatch.setattr(A, "_rerun", spy)
     A._CACHE.clear()
@@ -117,7 +120,7 @@ def test_pins_contact_high_resolution_run_is_independent(monkeypatch):
     assert high == [(A.HIGH_TOL_CONTACT_CHECK, A.HIGH_RULE_CONTACT)]
     assert A.HIGH_TOL_CONTACT_CHECK <= 1e-9 / 100
     assert A.HIGH_RULE_CONTACT not in {contact_level.contact_rule(t) for t in A.TOLS}
-    assert contact_level.contact_rule(1e-9) == "gk7"          # the patch is undone
+    assert contact_level.contact_rule(1e-9) == "gk7"          # the level's own rule is untouched
     assert r["value_high"] != r["value"] or r["error"] == 0.0  # a real comparison (equal only by chance)
     A._CACHE.clear()
 

@@ -406,10 +406,9 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     model = friction_model(design)
     w = contact_w(a, g.ratio)       # the teeth carry the output mechanism's and the drag's torque (pins.md §4.10)
     try:
-        cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"]),
+        cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"], a["bearing_k"]),
                            {**{n: a[n] for n in OPERATING}, "torque": w.teeth_torque}, model, options.tol,
-                           profile.play_free, options.detail, torsion=bool(a["torsion"]),
-                           bearing_stiffness=a["bearing_k"])
+                           profile.play_free, options.detail, settings=options.settings, torsion=bool(a["torsion"]))
     except pc.NoEquilibrium as exc:
         raise R.no_equilibrium_error(exc, a["z1"], a["profile"], a["tooth_circle_radius"],
                                      a["equidistant_mod"]) from None

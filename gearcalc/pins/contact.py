@@ -61,15 +61,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..quadrature import richardson_mean
-from .contact_cycle import (BreakpointRoots, ContactCycle, CycleGrid, CyclePeaks, nested_trapezoid_weights,
-                            piece_places, backlash, contact_losses, cycle_breakpoints, cycle_peaks, deflection_sized,
-                            engagement_metrics, free_play, gk_interpolated, mean_loss_ratio, piece_guess, piece_keys,
-                            pin_travel, relinearised_cycle)
+from .contact_cycle import (ContactCycle, CycleGrid, CyclePeaks, backlash, contact_losses, cycle_peaks,
+                            deflection_sized, engagement_metrics, free_play, mean_loss_ratio, pin_travel)
+from .contact_interp import gk_interpolated, piece_guess, piece_keys
 from .contact_law import HERTZ_EXPONENT, PALMGREN_COEFFICIENT, ContactLaw, contact_law, palmgren_line_constant
 from .contact_model import EPS, ContactModel, Jam, NoEquilibrium, Solution
 from .contact_profiles import (PROFILE_RULES, CircularProfile, Contacts, CycloidProfile, InadmissibleProfile, Pose,
                                circular_profile, cycloid_profile, full_tooth, tooth_centre_distance,
                                zero_backlash_tooth_circle)
+from .contact_relinearise import nested_trapezoid_weights, piece_places, relinearised_cycle
+from .contact_roots import BreakpointRoots, cycle_breakpoints
 from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .cycle import disc_offsets, disc_sum_range, sum_over_discs
 from .friction import PinFriction, peak_coefficient
@@ -841,19 +842,12 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
     theta, tau = sol.theta, sol.tau
     ct, pick = model.kept_contacts(sol)
     Bx, By = model.bearing_force(sol, traction, ct, pick)
-    F = pick(sol.force)
     ang = (g.z2 / g.z1) * theta - tau
     ca, sa = np.cos(ang), np.sin(ang)
     B_r, B_t = Bx * ca + By * sa, -Bx * sa + By * ca
-    T_H = model.sigma * g.e * B_t / 1e3                 # N·mm -> N·m, one disc
-    if n_discs > 1:   # the ripple from both one-sided limits at every disc's jump (pins.md §12.7)
-        lo, hi = disc_sum_range(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
-        T_H = sum_over_discs(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
-    else:
-        lo, hi = float(T_H.min()), float(T_H.max())
+    T_H, lo, hi = _crank_torque(model, theta, B_t, n_discs)
     B = np.hypot(B_r, B_t)
     span = theta[-1] - theta[0]
-
     w = None if pieces is None or span <= 0.0 else richardson_weights(theta, np.asarray(pieces, dtype=float))
 
     def mean(v):
@@ -863,12 +857,7 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
             return float((w * v).sum() / span)
         return float((0.5 * (v[1:] + v[:-1]) * np.diff(theta)).sum() / span)
 
-    loaded = F > 0.0
-    crest = np.zeros(F.shape, dtype=bool) if ct.branch is None else (ct.branch >= 0) & loaded
-    flank = loaded & ~crest
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ratio = F / effective_radius(g.R_b, pick(sol.delta), ct.wx * ct.ny - ct.wy * ct.nx)
-    stress = float(np.max(ratio[flank])) if np.any(flank) else math.nan
+    stress, crest = _flank_stress(g, sol, ct, pick)
     w_mean = w_trap = None
     if span > 0.0:                  # the means' weights, for the bearing's p-mean (pins.md §8.2)
         h = np.diff(theta) / span
@@ -877,7 +866,33 @@ def crank_bearing(model: "ContactModel", sol: Solution, traction, n_discs: int, 
         w_trap[1:] += 0.5 * h
         w_mean = w_trap if w is None else w / span
     return CrankBearing(T_H, B_r, B_t, B, np.degrees(np.arctan2(B_t, B_r)), mean(T_H), hi - lo,
-                        float(B.max()), mean(B), stress, bool(np.any(crest)), w_mean, w_trap)
+                        float(B.max()), mean(B), stress, crest, w_mean, w_trap)
+
+
+def _crank_torque(model: "ContactModel", theta, B_t, n_discs: int):
+    """(T_H [N·m] per crank angle, its least and largest value): sigma e B_t, summed over the discs.
+
+    With n_d > 1 discs the range comes from both one-sided limits at every disc's jump (pins.md §12.7).
+    """
+    g = model.g
+    T_H = model.sigma * g.e * B_t / 1e3                 # N·mm -> N·m, one disc
+    if n_discs > 1:   # the ripple from both one-sided limits at every disc's jump (pins.md §12.7)
+        lo, hi = disc_sum_range(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
+        T_H = sum_over_discs(theta / g.period, T_H, disc_offsets(n_discs, g.z2), 1.0)
+    else:
+        lo, hi = float(T_H.min()), float(T_H.max())
+    return T_H, lo, hi
+
+
+def _flank_stress(g, sol: Solution, ct, pick):
+    """(the largest F/R_eff of a loaded flank contact (NaN: none), whether a loaded contact is on a crest corner)."""
+    F = pick(sol.force)
+    loaded = F > 0.0
+    crest = np.zeros(F.shape, dtype=bool) if ct.branch is None else (ct.branch >= 0) & loaded
+    flank = loaded & ~crest
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio = F / effective_radius(g.R_b, pick(sol.delta), ct.wx * ct.ny - ct.wy * ct.nx)
+    return (float(np.max(ratio[flank])) if np.any(flank) else math.nan), bool(np.any(crest))
 
 
 @dataclass

@@ -28,14 +28,15 @@ from .geometry import Cycloid
 from .operating import ARRAY_OPS
 from .profiles import ProfileParams, make_profile
 
-__all__ = ["gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel", "ContactDesign",
-           "contact_level"]
+__all__ = ["contact_rule", "gear", "satellite_profile", "contact_friction", "backlash_deg", "ContactLevel",
+           "ContactDesign", "contact_level"]
 
 
 def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
     r"""The cycle mean's quadrature rule at the contact level for a tolerance (pins.md §6).
 
-    The composite trapezoid per smooth piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the
+    ``settings.rule`` where given (an explicit rule whatever the tolerance); else the composite trapezoid per smooth
+    piece at tol >= 3e-7 (``settings.gk_below``; the default 1e-6 included), the
     Gauss-Kronrod pair ``"gk7"`` (3-point Gauss, 7-point Kronrod, with the piece ends solved and each piece's
     interpolated states on the final grid, :func:`~gearcalc.pins.contact.gk_interpolated`) below.  Measured
     2026-11-27 on the eight paper designs, CPU time of both modes: at 1e-6 the trapezoid takes 0.55-1.0x gk7's time
@@ -51,7 +52,7 @@ def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
     tol : float
         Relative accuracy target, [-].
     settings : ContactSettings, optional
-        The contact level's settings (``gk_below``).
+        The contact level's settings (``rule``, ``gk_below``; None: :data:`DEFAULT_SETTINGS`).
 
     Returns
     -------
@@ -60,15 +61,18 @@ def contact_rule(tol: float, settings: ContactSettings | None = None) -> str:
 
     Examples
     --------
-    >>> contact_rule(1e-6), contact_rule(1e-9)
-    ('trapezoid', 'gk7')
+    >>> contact_rule(1e-6), contact_rule(1e-9), contact_rule(1e-6, ContactSettings(rule="gk15"))
+    ('trapezoid', 'gk7', 'gk15')
 
     References
     ----------
     .. [1] A. S. Kronrod, Nodes and Weights of Quadrature Formulas, Consultants Bureau, New York, 1965;
        docs/spec/pins.md §6.
     """
-    return "gk7" if tol < (DEFAULT_SETTINGS if settings is None else settings).gk_below else "trapezoid"
+    s = DEFAULT_SETTINGS if settings is None else settings
+    if s.rule is not None:
+        return s.rule
+    return "gk7" if tol < s.gk_below else "trapezoid"
 
 
 def gear(z1: int, z2: int, e: float, Rp, K1, Rb: float):
@@ -277,7 +281,8 @@ class ContactDesign:
     """One design at the contact level (the parameter object of :func:`contact_level`).
 
     The gear ``g``, its ``profile`` (:func:`satellite_profile`), contact ``law``, ``n_discs`` discs, ``rotating``
-    pins on axles of radius ``axle_radius`` [mm] (None: fixed pins).
+    pins on axles of radius ``axle_radius`` [mm] (None: fixed pins); ``bearing_stiffness`` k_b, the radial stiffness
+    of one disc's crank bearing [N/µm], in series in the torsion outputs (None: rigid).
     """
 
     g: Cycloid
@@ -286,45 +291,39 @@ class ContactDesign:
     n_discs: int
     rotating: bool
     axle_radius: float | None
+    bearing_stiffness: float | None = None
 
 
 def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: float, play_free: bool,
-                  detail: bool = False, settings: ContactSettings | None = None, torsion: bool = False,
-                  bearing_stiffness: float | None = None) -> ContactLevel:
+                  detail: bool = False, settings: ContactSettings | None = None, torsion: bool = False) -> ContactLevel:
     r"""The compliant contact level (pins.md §5) of one design at one operating point.
 
-    The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the
-    cycle mean of the loss ratio uses the shared quadrature with contact entry/exit and spin reversals as
-    breakpoints.  With the torque given on H the torque on V is iterated to the fixed point
-    T_V = u T_H/eta (multiplier) or eta u T_H (reducer) (pins.md §7).  The friction model "consistent"
-    (pins.md §4.9, §5.5) puts the friction forces into the moment balance and solves each mode with its own
-    forces (a mode that jams self-locks), unless there is no friction at all; "first-order" solves the
-    requested mode with frictionless forces and takes both efficiencies from its loss ratio (§4.7).
+    The satellite rotation is solved at every crank angle (:func:`~gearcalc.pins.contact.solve_modes`); the cycle
+    mean of the loss ratio uses the shared quadrature with contact entry/exit and spin reversals as breakpoints.
+    With the torque given on H the torque on V is iterated to the fixed point T_V = u T_H/eta (multiplier) or
+    eta u T_H (reducer) (pins.md §7).  The friction model "consistent" (pins.md §4.9, §5.5) puts the friction forces
+    into the moment balance and solves each mode with its own forces (a mode that jams self-locks), unless there is
+    no friction at all; "first-order" solves the requested mode with frictionless forces (§4.7).
 
     .. math:: \eta_{HV} = \frac{1}{1 + \bar\lambda}, \qquad \eta_{VH} = 1 - \bar\lambda
 
     Parameters
     ----------
     design : ContactDesign
-        The gear, satellite profile, contact law, discs and pins (rotating, on axles of radius r [mm]).
+        The gear, satellite profile, contact law, discs, pins (rotating, on axles of radius r [mm]), crank bearing.
     point : dict
         The operating point (:data:`gearcalc.pins.columns.OPERATING`): sliding f, rolling f_k [mm], axle f_c,
         mode ("multiplier" or "reducer"), shaft ("H" or "V") of torque T [N·m], speed n_H [rpm] (None: none).
-    friction_model : str
-        "consistent" or "first-order".
-    tol : float
-        Relative accuracy target.
-    play_free : bool
-        The profile has no play by construction (:func:`backlash_deg`).
-    detail : bool
-        Build the detail tables (pins.md §8).
+    friction_model, tol : str, float
+        "consistent" or "first-order"; the relative accuracy target.
+    play_free, detail : bool
+        The profile has no play by construction (:func:`backlash_deg`); build the detail tables (pins.md §8).
     settings : ContactSettings or None
-        The numerical settings (:mod:`gearcalc.pins.contact_settings`; None: the defaults).
+        The numerical settings, the cycle mean's rule among them (:func:`contact_rule`; None: the defaults).
     torsion : bool
         Also the torsional stiffness, lost motion, hysteresis and transmission error with the crank held
-        (:func:`~gearcalc.pins.stiffness.torsion_outputs`; pins.md §5.8), T_r the torque on V (u T on H).
-    bearing_stiffness : float or None
-        k_b, radial stiffness of one disc's crank bearing [N/µm], in series in the torsion outputs (None: rigid).
+        (:func:`~gearcalc.pins.stiffness.torsion_outputs`; pins.md §5.8), T_r the torque on V (u T on H), the crank
+        bearing's stiffness ``design.bearing_stiffness`` in series.
 
     Examples
     --------
@@ -342,6 +341,7 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     Returns
     -------
     ContactLevel
+        The modes, their efficiencies and the requested mode's outputs.
 
     Raises
     ------
@@ -349,9 +349,8 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
 
     References
     ----------
-    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V» (Power losses in
-       pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
-       docs/spec/pins.md §4.7, §4.9, §5, §7, §10.
+    .. [1] A. P. Prudnikov, «Потери мощности в контакте цевок и зубьев планетарной передачи типа K-H-V», Машиностроение
+       (seed file 000_fe288dec6e7c72f0.txt); docs/spec/pins.md §4.7, §4.9, §5, §7, §10.
     """
     g, n_discs = design.g, design.n_discs
     mu_a, rolls_a, rolling_ok = contact_friction(design.rotating, g.R_b, design.axle_radius, point["sliding"],
@@ -364,29 +363,47 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     residual, excess = pc.equilibrium_residual(modes.runs.values(), tol)
     if not excess <= 1.0:
         return ContactLevel(modes, residual, False, consistent, rolling_ok)
-    tc = modes.requested
     et_m, et_r, locked = pc.mode_efficiencies(modes, consistent, np.array([torque], dtype=float), g.ratio,
                                               np.array([multiplier]), np.array([on_V]))
+    outs = _requested_outputs(design, point, modes, consistent, (mu, f, rolls), play_free, detail)
+    fr = PinFriction(mu, f, rolls) if consistent else None
+    tor = _torsion(design, fr, settings, torque if on_V else torque * g.ratio, outs[2]) if torsion else None
+    return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, *outs, tor)
+
+
+def _torsion(design: ContactDesign, friction, settings, torque_V: float, play: float) -> tuple:
+    """(summary, tables) of the torsion outputs with the crank held (:func:`contact_level`, pins.md §5.8).
+
+    :func:`~gearcalc.pins.stiffness.torsion_outputs` of a reducer at unit torque with the friction forces of
+    ``friction`` in the balance (None: none) at ``torque_V`` [N·m] on V, the crank bearing's stiffness in series.
+    """
+    from .stiffness import torsion_outputs
+
+    held = pc.ContactModel(design.g, design.profile, design.law, 1.0, pc.REDUCER, friction, settings)
+    k_b = design.bearing_stiffness
+    return torsion_outputs(held, torque_V, design.n_discs, play, bearing_stiffness=None if k_b is None else 1e3 * k_b)
+
+
+def _requested_outputs(design: ContactDesign, point: dict, modes, consistent: bool, friction: tuple, play_free: bool,
+                       detail: bool) -> tuple:
+    """(peaks, metrics, backlash, operating, detail, crank) of the requested mode's cycle (:func:`contact_level`).
+
+    The crank torque, bearing force and contact stress come from the requested mode's own forces (friction in the
+    balance unless first-order or jammed: then the friction-free forces, and no crank-torque history, pins.md §8).
+    ``friction``: (mu_eff, f, rolls).
+    """
+    g, n_discs, (mu, f, rolls) = design.g, design.n_discs, friction
+    multiplier = point["mode"] == "multiplier"
+    tc = modes.requested
     w_H = units.rpm_to_rad_s(point["speed"]) if point["speed"] is not None else None
     cyc = tc.cycle
     pk = pc.cycle_peaks(cyc, g, n_discs, rolls)
     metrics = pc.engagement_metrics(cyc.sol, cyc.spin if rolls else np.zeros(cyc.sol.force.shape[1:]))
     play = backlash_deg(tc.model, play_free)
     ov = pc.operating_values(pk, g, tc.loss_ratio, tc.torque_V, w_H, mu, f, rolls) if w_H is not None else None
-    # the crank torque, bearing force and contact stress from the requested mode's own forces (friction in the
-    # balance unless first-order or jammed: then the friction-free forces, and no crank-torque history, pins.md §8)
     own = consistent and multiplier not in modes.jams
     # the friction forces each state was solved with (at a piece end they can differ from its own sliding's)
     crank = pc.crank_bearing(tc.model, cyc.sol, cyc.sol.traction if own else None, n_discs,
                              None if cyc.nodes is None else cyc.nodes[1])
     tables = contact_detail(g, cyc.sol, cyc, tc.torque_V, w_H, n_discs, crank, own) if detail else None
-    tor = None
-    if torsion:
-        from .stiffness import torsion_outputs
-
-        held = pc.ContactModel(g, design.profile, design.law, 1.0, pc.REDUCER,
-                               PinFriction(mu, f, rolls) if consistent else None, settings)
-        tor = torsion_outputs(held, torque if on_V else torque * g.ratio, n_discs, play,
-                              bearing_stiffness=None if bearing_stiffness is None else 1e3 * bearing_stiffness)
-    return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, pk, metrics, play, ov,
-                        tables, crank, tor)
+    return pk, metrics, play, ov, tables, crank

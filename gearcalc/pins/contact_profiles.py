@@ -73,18 +73,7 @@ def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64, with_slope: bool = 
     pitch = 2.0 * math.pi / g.z1
     beta = chi + np.linspace(-2.0 * pitch, 2.0 * pitch, 4 * n_scan + 1)
     tx, ty = R_t * math.cos(chi), R_t * math.sin(chi)
-    best = np.full(R_t.shape, np.inf)
-    best_b = np.zeros(R_t.shape, dtype=np.int64)
-    best_i = np.zeros(R_t.shape, dtype=np.int64)
-    for b in range(g.k):  # a handful of families; vectorised over beta and R_t
-        cx, cy = pin_centre_curve(beta, b, g)
-        d2 = (cx[None, :] - tx[:, None]) ** 2 + (cy[None, :] - ty[:, None]) ** 2
-        i = np.argmin(d2, axis=1)
-        v = d2[np.arange(R_t.size), i]
-        better = v < best
-        best = np.where(better, v, best)
-        best_b = np.where(better, b, best_b)
-        best_i = np.where(better, i, best_i)
+    best, best_b, best_i = _nearest_sample(beta, tx, ty, g)
     lo = beta[np.maximum(best_i - 1, 0)]
     hi = beta[np.minimum(best_i + 1, beta.size - 1)]
 
@@ -116,6 +105,26 @@ def tooth_centre_distance(R_t, g: Cycloid, n_scan: int = 64, with_slope: bool = 
     if with_slope:
         return D.reshape(shape), (-(rx * math.cos(chi) + ry * math.sin(chi)) / D).reshape(shape)
     return D.reshape(shape)
+
+
+def _nearest_sample(beta, tx, ty, g: Cycloid):
+    """(squared distance, family, sample) of the nearest sample of the pin-centre curves to each tooth centre.
+
+    Over the families b and the samples ``beta``, from the tooth centres (tx, ty) (:func:`tooth_centre_distance`).
+    """
+    best = np.full(tx.shape, np.inf)
+    best_b = np.zeros(tx.shape, dtype=np.int64)
+    best_i = np.zeros(tx.shape, dtype=np.int64)
+    for b in range(g.k):  # a handful of families; vectorised over beta and R_t
+        cx, cy = pin_centre_curve(beta, b, g)
+        d2 = (cx[None, :] - tx[:, None]) ** 2 + (cy[None, :] - ty[:, None]) ** 2
+        i = np.argmin(d2, axis=1)
+        v = d2[np.arange(tx.size), i]
+        better = v < best
+        best = np.where(better, v, best)
+        best_b = np.where(better, b, best_b)
+        best_i = np.where(better, i, best_i)
+    return best, best_b, best_i
 
 
 def _distance_grid(g: Cycloid, step: float):

@@ -50,7 +50,8 @@ class ContactSettings:
     refine_newton_small: float = 1e-12
     """See ``refine_newton_stop``: the ``newton_small`` of the refining solves."""
 
-    # -- one cycle: breakpoints, quadrature, passes from the nodes, backlash (:mod:`gearcalc.pins.contact_cycle`)
+    # -- one cycle: breakpoints (:mod:`gearcalc.pins.contact_roots`), quadrature, backlash
+    # (:mod:`gearcalc.pins.contact_cycle`), passes from the nodes (:mod:`gearcalc.pins.contact_relinearise`)
     smooth_start_curvature_margin: float = 1e-2
     """A refinement step from the smooth side of a scanned penetration's sign change (:func:`_smooth_side_start`) stops
     its bracket when Newton's error after it, C s^2 (C = |f''/2f'|, the larger of the scan cubic's at its root and
@@ -69,8 +70,9 @@ class ContactSettings:
     error then ~1e-15 T_p, :func:`_refine_sign_changes`; pins.md §6)."""
     hold_floor: float = 1e-3
     """A full scan's cycle holds when no node contradicts its piece by more than hold_floor of the component's largest
-    |value| (:func:`_pieces_hold`): the dither of a sliding speed about 0 where the friction forces flip stays below
-    3e-4 on the band designs; the contradictions of the random sample's failing designs were 3.7e-3 to 0.3."""
+    |value| (:func:`~gearcalc.pins.contact_roots.pieces_hold`): the dither of a sliding speed about 0 where the
+    friction forces flip stays below 3e-4 on the band designs; the contradictions of the random sample's failing
+    designs were 3.7e-3 to 0.3."""
     scan_max: int = 4096
     """The densest scan of a cycle's sign changes (:func:`mean_loss_ratio`): 256 intervals, then 4x denser while the
     quadrature's nodes contradict their pieces, up to this many; then the cycle is reported as not held."""
@@ -135,6 +137,10 @@ class ContactSettings:
     gk_below: float = 3e-7
     """Below this --tol the contact level's cycle mean uses the Gauss-Kronrod pair ``"gk7"``, above it the composite
     trapezoid (:func:`contact_rule`)."""
+    rule: str | None = None
+    """The cycle mean's quadrature rule whatever the --tol (``"trapezoid"``, ``"gk7"``, ``"gk15"``,
+    :func:`contact_rule`); None: by ``gk_below``.  ``gearcalc accuracy`` checks the contact level against itself with
+    a rule no tolerance of its report uses (``HIGH_RULE_CONTACT``), passed here instead of patching a module."""
 
 
 DEFAULT_SETTINGS = ContactSettings()

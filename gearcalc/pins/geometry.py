@@ -485,7 +485,20 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
     if rows.size == 0:
         return out
     one = rows.size == 1           # one gear: Python floats (fewer and cheaper array operations)
+    h, offset = _crest_offset_function(g, rows, one)
+    if one:
+        out[rows] = _first_root_of_scan(h, offset, n_scan, n_refine, stages)
+        return out
+    root, found = _first_roots_of_scans(h, offset, rows.size, n_scan, n_refine, stages)
+    out[rows] = np.where(found, root, math.pi)
+    return out
 
+
+def _crest_offset_function(g: Cycloid, rows, one: bool):
+    """(h, pi/z1): h(psi, trig=None) = epsilon(psi) + pi/z1 of the gears ``rows`` (:func:`crest_cutoffs`).
+
+    ``one``: a single gear, its fields as Python floats; else columns (m, 1) against psi (m, n).
+    """
     def col(v):
         v = np.asarray(v)[rows]
         return float(v[0]) if one else v[:, None]
@@ -509,10 +522,15 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
         cy = w * (1.0 - q)                                       # C_y/R_p
         return np.arctan2(cy, cx) - zr * psi + offset
 
-    if one:
-        out[rows] = _first_root_of_scan(h, offset, n_scan, n_refine, stages)
-        return out
-    m = rows.size
+    return h, offset
+
+
+def _first_roots_of_scans(h, offset: float, m: int, n_scan: int, n_refine: int, stages: int):
+    """(psi*, found) of m gears at once: the first sign change of h's scans, then inverse quadratic interpolation.
+
+    The vectorised form of :func:`_first_root_of_scan` (:func:`crest_cutoffs`); found: h has a sign change on
+    (0, pi].
+    """
     r = np.arange(m)
     lo, hi = np.zeros(m), np.full(m, math.pi)
     h_lo, h_hi = (np.zeros((m, 1)) + offset).reshape(m), np.zeros(m)     # h(0) = pi/z1
@@ -543,8 +561,7 @@ def crest_cutoffs(g: Cycloid, n_scan: int = 512, n_refine: int = 128, stages: in
                + x3 * (h_lo * h_hi) / ((h3 - h_lo) * (h3 - h_hi)))
         sec = lo + (hi - lo) * (h_lo / (h_lo - h_hi))
     root = np.where(h_hi == 0.0, hi, np.where((iqi >= lo) & (iqi <= hi), iqi, sec))
-    out[rows] = np.where(found, np.clip(root, lo, hi), math.pi)
-    return out
+    return np.clip(root, lo, hi), found
 
 
 def _half_angle_terms(psi):

@@ -731,17 +731,21 @@ def test_a_tiny_torque_is_an_input_error_never_a_crash():
     assert "internal error" not in r.err, r
 
 
-def test_interior_states_without_a_located_sign_change(monkeypatch):
+def test_interior_states_without_a_located_sign_change():
     # the stretch around every midpoint is then the whole period: the nearest state solved, whatever its place
+    # (real solved states: no patch of the module's helpers)
     from types import SimpleNamespace
 
     import gearcalc.pins.contact_cycle as cc
 
-    seen = SimpleNamespace(theta=np.array([0.1, 0.5, 0.9]))
+    g = pc.Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
+    model = pc.ContactModel(g, pc.CycloidProfile(g, 0.0, 0.0), pc.contact_law("linear", stiffness=1e5), 1e4,
+                            pc.MULTIPLIER)
+    seen = model.state(np.array([0.1, 0.5, 0.9]) * g.period, phases=False)
     found = SimpleNamespace(seen=[seen], roots=np.empty(0))
-    monkeypatch.setattr(cc, "concat_states", lambda parts: parts[0])
-    col, known = cc._interior_states(found, np.array([0.2, 0.8]), 1.0, cc.DEFAULT_SETTINGS.interior_margin)
-    assert col.tolist() == [0, 2] and known is seen
+    col, known = cc._interior_states(found, np.array([0.2, 0.8]) * g.period, g.period,
+                                     cc.DEFAULT_SETTINGS.interior_margin)
+    assert col.tolist() == [0, 2] and np.array_equal(known.theta, seen.theta)
 
 
 # ================================================================== the torque fixed point (pins.md §6(6), §7)

@@ -14,6 +14,8 @@ import pytest
 
 from gearcalc.pins import contact as pc
 from gearcalc.pins import contact_cycle as pcc
+from gearcalc.pins import contact_relinearise as pcl
+from gearcalc.pins import contact_roots as pcr
 from gearcalc.pins import contact_model as pcm
 from gearcalc.pins import contact_states as pcs
 from gearcalc.pins import MULTIPLIER, REDUCER, Cycloid
@@ -38,11 +40,11 @@ def test_moved_roots_are_the_scanned_roots_of_the_new_torque(make):
     tol = 1e-6
     a = make(1.0e6)
     a.set_window()
-    prior = pcc._scan_roots(a, 256, tol, False)
+    prior = pcr._scan_roots(a, 256, tol, False)
     b = make(1.0e6 * (1.0 + 3e-5))              # the next pass: a torque a few 1e-5 away
     b.inherit(a)
-    moved = pcc._incremental_roots(b, prior, 3e-5 * b.g.period, tol, False, 0.125 * b.g.period)
-    full = pcc._scan_roots(b, 256, tol, False)
+    moved = pcr._incremental_roots(b, prior, 3e-5 * b.g.period, tol, False, 0.125 * b.g.period)
+    full = pcr._scan_roots(b, 256, tol, False)
     assert moved is not None and not moved.scanned
     assert moved.roots.size == full.roots.size > 0
     assert np.max(np.abs(moved.roots - full.roots)) <= 4e-12 * b.g.period
@@ -65,11 +67,11 @@ def test_scan_roots_refined_from_the_smooth_side_take_fewer_calls_to_the_same_ro
         calls.append(np.size(theta))
         return state(self, theta, *args, **kwargs)
 
-    def roots(settings=None):
+    def roots(settings=None, smooth=True):
         m = make(1.0e6, friction=friction, settings=settings)
         m.set_window()
         calls.clear()
-        found = pcc._scan_roots(m, pc.DEFAULT_SETTINGS.cycle_coarse_scan, tol, False)
+        found = pcr._scan_roots(m, pc.DEFAULT_SETTINGS.cycle_coarse_scan, tol, False, smooth=smooth)
         return found, len(calls), m.g.period
 
     monkeypatch.setattr(pc.ContactModel, "state", counted)
@@ -77,10 +79,7 @@ def test_scan_roots_refined_from_the_smooth_side_take_fewer_calls_to_the_same_ro
     # the solves and the refinement read these from the model's settings
     ref = roots(dataclasses.replace(pc.DEFAULT_SETTINGS, newton_stop=1e-13, refine_newton_stop=1e-13,
                                     refine_newton_small=1e-15, root_step=1e-15, smooth_start_curvature_margin=1e-8))[0]
-    with monkeypatch.context() as mp:
-        mp.setattr(pcc, "_smooth_side_start", lambda x, v, dv, comp, idx, xtol, Tp, margin:
-                   (np.full(comp.size, np.nan),) * 2)
-        linear, n_linear, _ = roots()
+    linear, n_linear, _ = roots(smooth=False)            # the scan's linear interpolation only
     assert smooth.roots.size == linear.roots.size == ref.roots.size > 0
     assert np.array_equal(smooth.contact, ref.contact) and np.array_equal(linear.contact, ref.contact)
     assert np.max(np.abs(smooth.roots - ref.roots)) <= 1e-11 * Tp
@@ -92,11 +91,11 @@ def test_a_root_that_cannot_be_moved_falls_back_to_the_scan():
     tol = 1e-6
     a = circular_model(1.0e6)
     a.set_window()
-    prior = pcc._scan_roots(a, 256, tol, False)
+    prior = pcr._scan_roots(a, 256, tol, False)
     # one root too many (a contact that the new model does not have): the count does not match
     extra = pc.BreakpointRoots(np.sort(np.append(prior.roots, 0.5 * (prior.roots[0] + prior.roots[1]))),
                                np.append(prior.contact, True))
-    assert pcc._incremental_roots(a, extra, 1e-6 * a.g.period, tol, False, 0.125 * a.g.period) is None
+    assert pcr._incremental_roots(a, extra, 1e-6 * a.g.period, tol, False, 0.125 * a.g.period) is None
 
 
 def test_cycle_from_moved_roots_equals_the_scanned_cycle_within_its_error():
@@ -273,7 +272,7 @@ def test_strided_nodes_keep_both_ends_and_every_stride_th():
     counts = [33, 9, 5, 2]
     ps = np.repeat(np.arange(4), counts)
     xs = np.concatenate([p + np.linspace(0.0, 1.0, c) for p, c in enumerate(counts)])
-    keep, lo, hi, t = pcc._strided(xs, ps, 8)
+    keep, lo, hi, t = pcl._strided(xs, ps, 8)
     kept = [np.flatnonzero(keep[ps == p]) for p in range(4)]
     assert [k.tolist() for k in kept] == [list(range(0, 33, 8)), list(range(0, 9, 2)), list(range(5)), [0, 1]]
     # every node lies between its two kept neighbours of the same piece, at the place t
@@ -281,7 +280,7 @@ def test_strided_nodes_keep_both_ends_and_every_stride_th():
     inner = ~keep
     assert np.allclose(xs[lo] + t * (xs[hi] - xs[lo]), xs) and np.all((t[inner] > 0.0) & (t[inner] < 1.0))
     # exact identity: the trapezoid integrates a linear function exactly, piece by piece
-    w = pcc._trapezoid_weights(xs[keep], ps[keep])
+    w = pcl._trapezoid_weights(xs[keep], ps[keep])
     assert np.isclose(np.dot(w, 3.0 * xs[keep] + 1.0), sum(3.0 * (p + 0.5) + 1.0 for p in range(4)), rtol=1e-14)
 
 
@@ -300,14 +299,14 @@ def test_moved_states_are_exact_for_a_change_linear_in_theta():
     on = sol.cand                                # the candidates change; the other pins keep their fill values
     part.force = part.force + np.where(on[:, kept], change[kept], 0.0)
     part.residual = part.residual + 1.0
-    moved = pcc._moved(sol, part, kept, lo, hi, t)
+    moved = pcl._moved(sol, part, kept, lo, hi, t)
     assert np.allclose(moved.tau, sol.tau + change, rtol=0.0, atol=1e-15)
     both = on & on[:, kept[lo]] & on[:, kept[hi]]    # a candidate at the node and at the kept nodes around it
     assert np.allclose(moved.force[:, both], (sol.force + change)[:, both], rtol=0.0, atol=1e-15 * sol.force.max())
     assert np.array_equal(moved.force[:, ~on], sol.force[:, ~on]) and np.any(both) and not np.all(on)
     assert np.array_equal(np.isinf(moved.delta), np.isinf(sol.delta)) and np.any(np.isinf(sol.delta))
     part.force = part.force - 2.0 * change[kept] - 1e9        # an interpolated fall below 0 is clipped
-    assert np.all(np.delete(pcc._moved(sol, part, kept, lo, hi, t).force, kept, axis=-1) >= 0.0)
+    assert np.all(np.delete(pcl._moved(sol, part, kept, lo, hi, t).force, kept, axis=-1) >= 0.0)
     assert np.array_equal(moved.residual[kept], part.residual)
     assert np.array_equal(np.delete(moved.residual, kept), np.delete(sol.residual, kept))
 
@@ -473,13 +472,13 @@ def test_refinement_cuts_a_jump_into_sections_and_keeps_newton_for_a_root():
 
     jtol = 1e-9
     brackets = ([0.0, 0.0], [1.0, 1.0], [np.sin(-0.3), -2.0], [np.sin(0.7), 1.0])
-    r = pcc._refine_sign_changes(h, brackets, pcc.RootStops(1e-12, jump_xtol=jtol))
+    r = pcr._refine_sign_changes(h, brackets, pcr.RootStops(1e-12, jump_xtol=jtol))
     assert abs(r[0] - 0.3) <= 1e-12 and abs(r[1] - 0.7123456789) <= jtol
     # bisection alone would take log2(1/2e-9) ~ 29 calls for the jump; sections of 8: ~ log8 of it plus a few
     assert len(calls) <= 14
     assert max(calls) <= pc.DEFAULT_SETTINGS.sections     # one bracket cut (sections - 1 points), one point
     n_cut, calls[:] = len(calls), []
-    r2 = pcc._refine_sign_changes(h, brackets, pcc.RootStops(1e-12, jump_xtol=jtol, sections=2))     # bisection
+    r2 = pcr._refine_sign_changes(h, brackets, pcr.RootStops(1e-12, jump_xtol=jtol, sections=2))     # bisection
     assert abs(r2[1] - 0.7123456789) <= jtol and len(calls) >= 2 * n_cut
 
 

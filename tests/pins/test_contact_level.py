@@ -285,3 +285,37 @@ def test_contact_settings_are_one_frozen_documented_object_not_module_constants(
     m = pc.ContactModel(g, pc.CycloidProfile(g), pc.contact_law("linear", stiffness=1e5), 1e4, pc.REDUCER,
                         settings=other)
     assert m.settings is other and pc.ContactModel(g, pc.CycloidProfile(g), m.law, 1e4, pc.REDUCER).settings is s
+
+
+def test_the_contact_modules_are_named_steps_and_no_module_patches_another():
+    # issue 35 (code shape, measured by benchmarks/code_shape.py): every function of the pins contact modules and of
+    # geometry.py at most 80 lines with its docstring, every class at most 400, and no gearcalc module assigns an
+    # attribute of another module (gearcalc accuracy replaced contact_level.contact_rule for its check run; the rule
+    # is now ContactSettings.rule, passed explicitly)
+    import ast
+    from pathlib import Path
+
+    import gearcalc
+
+    root = Path(gearcalc.__file__).parent
+    long = []
+    for path in sorted((root / "pins").glob("contact*.py")) + [root / "pins" / "geometry.py"]:
+        for node in ast.walk(ast.parse(path.read_text())):
+            size = getattr(node, "end_lineno", 0) - getattr(node, "lineno", 0) + 1
+            limit = 80 if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) else \
+                400 if isinstance(node, ast.ClassDef) else None
+            if limit is not None and size > limit:
+                long.append(f"{path.stem}.{node.name} ({size})")
+    assert not long
+    patched = []
+    for path in sorted(root.rglob("*.py")):
+        tree = ast.parse(path.read_text())
+        modules = {a.asname or a.name for n in ast.walk(tree) if isinstance(n, ast.ImportFrom) for a in n.names}
+        for node in ast.walk(tree):
+            targets = node.targets if isinstance(node, ast.Assign) else []
+            for t in targets:
+                for e in (t.elts if isinstance(t, ast.Tuple) else [t]):
+                    if isinstance(e, ast.Attribute) and isinstance(e.value, ast.Name) and e.value.id in modules \
+                            and e.value.id.islower() and e.value.id.startswith(("contact", "pc")):
+                        patched.append(f"{path.relative_to(root)}:{node.lineno}")
+    assert not patched
