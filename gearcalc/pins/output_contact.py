@@ -141,10 +141,8 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
     ----------
     .. [1] docs/spec/pins.md §4.10.
     """
-    import numpy as np
-
     from .report import output_lock_text
-    from .wmech import series_values, w_bearing_peak_mean
+    from .wmech import series_values
 
     out = {"output_mechanism": w.mechanism, "w_loss_ratio": None, "w_force_max_N": None,
            "backdrive_startup_torque_Nm": None}
@@ -168,14 +166,26 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
         out["backdrive_startup_torque_Nm"] = _num(r["startup"])
     if w.unit is not None:
         out["w_loss_ratio"] = w.loss_ratio
-        T_sat = 1e3 * r["torque_V"] * r["sat_factor"] / n_discs             # [N·mm]
-        cb = cl.crank
-        if r["torque_V"] > 0.0 and r["sat_factor"] > 0.0 and cb is not None:     # (lambda_W >= 1 locks: none)
-            out["w_force_max_N"] = w.unit[1] * T_sat
-            out["bearing_force_max_N"], out["bearing_force_mean_N"] = w_bearing_peak_mean(
-                cb.bearing_radial, cb.bearing_tangential, np.asarray(w.unit[3]) * T_sat, cb.mean_weights)
-            out.update(_w_bearing_life(cb, np.asarray(w.unit[3]) * T_sat, a))
+        out.update(_w_bearing(w, cl.crank, r, a, n_discs))
     return out, [output_lock_text(out["backdrive_startup_torque_Nm"], w.loss_ratio)] if drag_locked else []
+
+
+def _w_bearing(w: ContactW, cb, r: dict, a: dict, n_discs: int) -> dict:
+    """The crank bearing with the mechanism's resultant at the satellite torque of the series values ``r``
+    (:func:`contact_output_fields`): the mechanism's peak force, the bearing's peak and mean of |B + Q x| and its
+    life (:func:`_w_bearing_life`); none when lambda_W >= 1 locks the multiplier (pins.md §4.10).
+    """
+    import numpy as np
+
+    from .wmech import w_bearing_peak_mean
+
+    T_sat = 1e3 * r["torque_V"] * r["sat_factor"] / n_discs             # [N·mm]
+    if not (r["torque_V"] > 0.0 and r["sat_factor"] > 0.0 and cb is not None):
+        return {}
+    Q = np.asarray(w.unit[3]) * T_sat
+    peak, mean = w_bearing_peak_mean(cb.bearing_radial, cb.bearing_tangential, Q, cb.mean_weights)
+    return {"w_force_max_N": w.unit[1] * T_sat, "bearing_force_max_N": peak, "bearing_force_mean_N": mean,
+            **_w_bearing_life(cb, Q, a)}
 
 
 def _w_bearing_life(cb, w_resultants, a: dict) -> dict:
