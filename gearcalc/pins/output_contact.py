@@ -171,9 +171,11 @@ def contact_output_fields(w: ContactW, summary: dict, cl, a: dict, ratio: float,
 
 
 def _w_bearing(w: ContactW, cb, r: dict, a: dict, n_discs: int) -> dict:
-    """The crank bearing with the mechanism's resultant at the satellite torque of the series values ``r``
-    (:func:`contact_output_fields`): the mechanism's peak force, the bearing's peak and mean of |B + Q x| and its
-    life (:func:`_w_bearing_life`); none when lambda_W >= 1 locks the multiplier (pins.md §4.10).
+    """The crank bearing with the mechanism's resultant at the series values' satellite torque.
+
+    For :func:`contact_output_fields` (``r``: its series values): the mechanism's peak force, the bearing's peak and
+    mean of |B + Q x| and its life (:func:`_w_bearing_life`); none when lambda_W >= 1 locks the multiplier
+    (pins.md §4.10).
     """
     import numpy as np
 
