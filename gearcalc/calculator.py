@@ -309,13 +309,19 @@ def _below_zero_points(col) -> list:
     if kind == "b":
         return []
     col = col.tolist() if hasattr(col, "tolist") else col  # a numpy column of objects: its values as Python's
-    if set(map(type, col)) <= _NO_MARGIN:  # e.g. a margin not defined at any point (None)
+    types = set(map(type, col))
+    if types <= _NO_MARGIN:  # e.g. a margin not defined at any point (None)
         return []
+    if types <= _NUMBERS:  # as floats: None is NaN and a flag 0 or 1, neither below zero; a sign is kept
+        import numpy as np
+
+        return np.flatnonzero(np.array(col, dtype=np.float64) < 0).tolist()
     return [k for k, v in enumerate(col) if _below_zero(v)]
 
 
 _NO_MARGIN = {type(None), bool, str}
 """The types of values that are never below zero (:func:`_below_zero`)."""
+_NUMBERS = {float, int, bool, type(None)}
 
 
 def _empty_lists(n: int) -> list:

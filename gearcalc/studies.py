@@ -542,9 +542,11 @@ def _from_buffers(kind, values, n: int):
         if scalar is None or dtype.kind not in scalar[2] or np.ndim(values) != 1:
             return None
         return _from_numpy(kind, np.asarray(values, dtype=scalar[1]), None, n)
-    types = set(map(type, values))
-    if types == {_NONE}:
+    if values.count(None) == n:  # (list.count compares identical objects first: no Python call a value)
         return pa.nulls(n, kind)
+    if kind == pa.string() and type(values[0]) is str and values.count(values[0]) == n:
+        return _strings(values, n, False)  # one word
+    types = set(map(type, values))
     if scalar is not None:
         allowed, want, _ = scalar
         if not types <= allowed:
