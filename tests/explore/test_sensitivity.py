@@ -100,3 +100,19 @@ def test_command_table_and_json_and_morris():
     assert r.code == 2 and "did you mean 'morris'" in r.err
     r = cli(*args[:-1], "Kx")
     assert r.code == 2 and "did you mean 'K'" in r.err
+
+
+def test_outputs_that_do_not_vary_are_left_out_and_said_once():
+    """An output constant over the sample (the design's cheek ratio, echoed; the row count, not varied) would
+    report every index 0: it is left out of the indices and the dominant keys, and one stderr line names them."""
+    vary = ["rows.relative_width=1.6:3", "sun.torque_Nm=500:2000"]
+    r = gearcalc.sensitivity(ROWS, vary, samples=8)
+    fields = {i["field"] for i in r.indices}
+    assert "K" in fields and "relative_width" in fields  # varies (an echo of a varied key too)
+    assert not fields & {"cheek_ratio", "rows", "planets_per_row"} and "cheek_ratio" not in r.dominant
+    said = [n for n in r.notes if "do not vary" in n]
+    assert len(said) == 1 and "cheek_ratio" in said[0]
+    args = ["sensitivity", ROWS, "--vary", vary[0], "--vary", vary[1], "--samples", "8"]
+    out = cli(*args, "--format", "csv")
+    assert out.code == 0 and sum("do not vary" in line for line in out.err.splitlines()) == 1
+    assert ",".join(["cheek_ratio", "rows.relative_width"]) not in out.out
