@@ -430,8 +430,10 @@ class ParquetOut:
         """One chunk (:class:`gearcalc.render.Columns`) as one row group (none for a chunk with no rows)."""
         import pyarrow as pa
 
-        if self.writer is None:
-            self._open(pa.schema([(k, _type_of(v)) for k, v in part.data.items()]))
+        if self.writer is None:  # error and failed_checks are words whatever the first chunk holds (None, []):
+            # typed from it, a later chunk's first error or failed check would not fit and stop the sweep
+            words = {"error": pa.string(), "failed_checks": pa.list_(pa.string())}
+            self._open(pa.schema([(k, words.get(k) or _type_of(v)) for k, v in part.data.items()]))
         if not part.n:
             return
         arrays = []
@@ -560,9 +562,17 @@ def _from_buffers(kind, values, n: int):
         return _from_numpy(kind, data, valid, n)
     if kind == pa.string() and types <= {str, _NONE}:
         return _strings(values, n, _NONE in types)
-    if pa.types.is_list(kind) and types == {list} and not any(map(len, values)):  # e.g. failed_checks
-        offsets = _from_numpy(pa.int32(), np.zeros(n + 1, dtype=np.int32), None, n + 1)
-        return pa.ListArray.from_arrays(offsets, pa.nulls(0, kind.value_type), type=kind)
+    if pa.types.is_list(kind) and types == {list}:  # e.g. failed_checks: the values of every list, their offsets
+        import itertools
+
+        offsets = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(np.fromiter(map(len, values), dtype=np.int64, count=n), out=offsets[1:])
+        flat = list(itertools.chain.from_iterable(values)) if offsets[-1] else []
+        inner = _from_buffers(kind.value_type, flat, len(flat)) if flat else pa.nulls(0, kind.value_type)
+        if inner is None or offsets[-1] >= 2 ** 31:
+            return None
+        return pa.ListArray.from_arrays(_from_numpy(pa.int32(), offsets.astype(np.int32), None, n + 1), inner,
+                                        type=kind)
     return None
 
 

@@ -313,3 +313,33 @@ def test_parquet_columns_as_pyarrow_array_makes_them(kind, values):
         except (OverflowError, TypeError):
             return
         assert _array(field, column, len(values)).equals(pa.array(column, type=field.type))
+
+
+def test_parquet_errors_and_failed_checks_are_words_from_the_first_chunk(tmp_path):
+    """A first chunk without an error or a failed check (None, empty lists) typed those columns float64 and
+    list<double>: the first error or failed check of a later chunk stopped the sweep ("changes type").  They are
+    words whatever the first chunk holds (gearcalc/studies.py ``ParquetOut.write``)."""
+    from gearcalc.render import Columns
+    from gearcalc.studies import ParquetOut
+
+    out = tmp_path / "s.parquet"
+
+    class Sink:
+        def __init__(self, fh):
+            self.fh = fh
+
+        def write(self, data):
+            self.fh.write(data)
+
+    with open(out, "wb") as fh:
+        w = ParquetOut(Sink(fh), {"gearcalc.test": "1"})
+        w.write(Columns({"x": [1.0, 2.0], "failed_checks": [[], []], "error": [None, None]}))
+        w.write(Columns({"x": [3.0, None], "failed_checks": [["sigma", "closure"], []],
+                         "error": [None, "at the point: not a valid design"]}))
+        w.close()
+    t = pq.read_table(out)
+    assert t.schema.field("error").type == pa.string()
+    assert t.schema.field("failed_checks").type == pa.list_(pa.string())
+    assert t.column("failed_checks").to_pylist() == [[], [], ["sigma", "closure"], []]
+    assert t.column("error").to_pylist() == [None, None, None, "at the point: not a valid design"]
+    assert t.column("x").to_pylist() == [1.0, 2.0, 3.0, None]
