@@ -67,10 +67,12 @@ def sweep_fields(placement, cap: int) -> tuple[dict, list]:
     return fields, notes
 
 
-def summary_fields(names, model: str, stack, out, sweep: dict) -> dict:
+def summary_fields(names, model: str, stack, out, sweep: dict, arrays: bool = False) -> dict:
     """The summary columns (field -> list over the G designs) of a :class:`gearcalc.zstk.solve.Stack` and its
     :class:`gearcalc.zstk.outputs.Outputs`; ``names`` a list over the designs or one name; ``sweep`` the
-    :func:`sweep_fields` of a sweeping design (empty: None)."""
+    :func:`sweep_fields` of a sweeping design (empty: None).  ``arrays`` (a sweep's columns): a column of
+    float64, integers or flags is a numpy array of its own (the same values: ``.tolist()`` gives the list; the CSV
+    and Parquet writers take it without a Python object a value)."""
     import numpy as np
 
     from .geometry import broadcast
@@ -81,7 +83,8 @@ def summary_fields(names, model: str, stack, out, sweep: dict) -> dict:
     safety = out.safety.tolist()
 
     def col(v):
-        return broadcast(v, (size,)).tolist()
+        v = broadcast(v, (size,))
+        return np.array(v) if arrays and v.dtype in (np.float64, np.int64, np.bool_) else v.tolist()
 
     return {
         "name": names if isinstance(names, list) else [names] * size, "model": [model] * size,
