@@ -315,7 +315,10 @@ def _below_zero_points(col) -> list:
     if types <= _NUMBERS:  # as floats: None is NaN and a flag 0 or 1, neither below zero; a sign is kept
         import numpy as np
 
-        return np.flatnonzero(np.array(col, dtype=np.float64) < 0).tolist()
+        try:
+            return np.flatnonzero(np.array(col, dtype=np.float64) < 0).tolist()
+        except OverflowError:  # an integer past the floats: value by value
+            pass
     return [k for k, v in enumerate(col) if _below_zero(v)]
 
 
