@@ -330,7 +330,7 @@ _NUMBERS = {float, int, bool, type(None)}
 def _empty_lists(n: int) -> list:
     """``n`` empty lists, made with the cyclic garbage collector paused: empty lists hold no cycle, and the
     collections their allocation would start (each traversing every object the process holds) cost a rows sweep
-    to Parquet a fifth of its time."""
+    to Parquet about a tenth of its CPU time (0.3 s for 1e6 points, 2026-12-07)."""
     import gc
 
     if not gc.isenabled():
