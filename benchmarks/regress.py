@@ -3,8 +3,9 @@
 Usage:  python benchmarks/regress.py [--against COMMIT] [--threshold 1.3] [--runs N] [--quick] [--keep]
 
 A few fixed sweeps (rows, one float axis; zstk at a fixed load direction, one float axis; pins at the ideal level
-over a friction axis, over a torque x friction grid, and over a geometry axis) are run end to end, as a user runs
-them (``python -m gearcalc sweep CONFIG --vary ... -o FILE.csv`` in a subprocess), by this working tree (A) and
+over a friction axis, over a torque x friction grid, and over a geometry axis; rows and zstk to Parquet, which
+needs pyarrow) are run end to end, as a user runs them (``python -m gearcalc sweep CONFIG --vary ... -o FILE.csv``
+or ``FILE.parquet``, in a subprocess), by this working tree (A) and
 by a git worktree of ``--against`` (B, made in a temporary folder and removed at the end), in turns: A B A B ...
 Each run's CPU time (user + system of the process and its children, from ``os.wait4``) is taken, and the ratio
 A/B pair by pair: on a shared machine the CPU time is the steadier figure, and pairing keeps the ratio meaningful
@@ -34,9 +35,16 @@ ROOT = Path(__file__).resolve().parent.parent
 BASELINE = "4ab824a370f5"
 """The commit compared against by default (issue 36 item 8: the speed fixes of 2026-12-07)."""
 
-CASES = {  # name: (config, --vary specs (full), --vary specs (quick))
+PARQUET_SINCE = "a7aa946"
+"""A commit with ``-o FILE.parquet`` (before the Parquet speed-ups of 2026-12-07): the Parquet cases' baseline."""
+
+CASES = {  # name: (config, --vary specs (full), --vary specs (quick)[, format: csv when not given])
     "rows": ("rows_fig3_n3_nw3_B2.4.toml", ["rows.relative_width=0.5:3.0:2.5e-06"],
              ["rows.relative_width=0.5:3.0:1.25e-05"]),
+    "rows-parquet": ("rows_fig3_n3_nw3_B2.4.toml", ["rows.relative_width=0.5:3.0:2.5e-06"],
+                     ["rows.relative_width=0.5:3.0:1.25e-05"], "parquet"),  # -o FILE.parquet (pyarrow)
+    "zstk-parquet": ("zstk_merko_example.toml", ["load.radial_N=1000.0:20000.0:0.0475"],
+                     ["load.radial_N=1000.0:20000.0:0.125"], "parquet"),
     "zstk": ("zstk_merko_example.toml", ["load.radial_N=1000.0:20000.0:0.0475"],  # several chunks: a cost
              ["load.radial_N=1000.0:20000.0:0.125"]),                             # growing with the grid shows
     "pins-friction": ("pins_paper_cyc_u10_fixed.toml", ["friction.sliding=0.01:0.3:2.9e-05"],
@@ -48,11 +56,11 @@ CASES = {  # name: (config, --vary specs (full), --vary specs (quick))
 }
 
 
-def run(tree: Path, config: str, vary: list[str], out: Path) -> tuple[float, float, int]:
+def run(tree: Path, config: str, vary: list[str], out: Path, fmt: str = "csv") -> tuple[float, float, int]:
     """(CPU seconds, wall seconds, exit status) of one sweep by the gearcalc of ``tree``."""
     import time
 
-    cmd = [sys.executable, "-m", "gearcalc", "sweep", str(tree / "configs" / config), "--format", "csv", "-o", str(out)]
+    cmd = [sys.executable, "-m", "gearcalc", "sweep", str(tree / "configs" / config), "--format", fmt, "-o", str(out)]
     for v in vary:
         cmd += ["--vary", v]
     env = dict(os.environ, PYTHONPATH=str(tree), OPENBLAS_NUM_THREADS="1")
@@ -61,6 +69,16 @@ def run(tree: Path, config: str, vary: list[str], out: Path) -> tuple[float, flo
     _, status, usage = os.wait4(p.pid, 0)  # this child's usage (its worker processes included)
     wall = time.perf_counter() - t0
     return usage.ru_utime + usage.ru_stime, wall, os.waitstatus_to_exitcode(status)
+
+
+def _points(path: Path, fmt: str) -> int:
+    """The rows of a sweep's output (CSV: its lines less the header; Parquet: the footer's count)."""
+    if fmt == "parquet":
+        import pyarrow.parquet as pq
+
+        return pq.ParquetFile(path).metadata.num_rows
+    with open(path, "rb") as fh:
+        return sum(1 for _ in fh) - 1
 
 
 def git(*args: str) -> str:
@@ -99,20 +117,24 @@ def main() -> int:
         print("case,points,A_cpu_s,B_cpu_s,cpu_ratio_median,A_wall_s,B_wall_s,A_points_per_cpu_s,verdict")
         failed = []
         for name in names:
-            config, full, quick = CASES[name]
+            config, full, quick, *rest = CASES[name]
+            fmt = rest[0] if rest else "csv"
             vary = quick if args.quick else full
             a_cpu, b_cpu, a_wall, b_wall, ratios = [], [], [], [], []
             points = 0
             for _ in range(runs):
-                ca, wa, ra = run(ROOT, config, vary, work / "a.csv")
-                cb, wb, rb = run(base, config, vary, work / "b.csv")
+                ca, wa, ra = run(ROOT, config, vary, work / f"a.{fmt}", fmt)
+                cb, wb, rb = run(base, config, vary, work / f"b.{fmt}", fmt)
+                if rb == 2 and ra == 0 and fmt != "csv":  # a baseline from before that output format
+                    print(f"{name}: skipped, {args.against} has no --format {fmt} (pass --against {PARQUET_SINCE} "
+                          "or later)", file=sys.stderr)
+                    break
                 if ra != 0 or rb != 0:
                     print(f"{name}: exit {ra} (A) / {rb} (B)", file=sys.stderr)
                     failed.append(name)
                     break
                 a_cpu.append(ca), b_cpu.append(cb), a_wall.append(wa), b_wall.append(wb), ratios.append(ca / cb)
-                with open(work / "a.csv", "rb") as fh:
-                    points = sum(1 for _ in fh) - 1
+                points = _points(work / f"a.{fmt}", fmt)
             if not ratios:
                 continue
             r = statistics.median(ratios)

@@ -305,18 +305,60 @@ def _below_zero(v) -> bool:
     return v is not None and not isinstance(v, (bool, str)) and v < 0
 
 
+def _below_zero_points(col) -> list:
+    """The indices of a column's values below zero (:func:`_below_zero` of each): a numpy column of numbers by one
+    comparison (a flag is no margin; NaN is not below zero), another column value by value."""
+    kind = getattr(getattr(col, "dtype", None), "kind", None)
+    if kind in ("f", "i", "u"):
+        import numpy as np
+
+        return np.flatnonzero(col < 0).tolist()
+    if kind == "b":
+        return []
+    col = col.tolist() if hasattr(col, "tolist") else col  # a numpy column of objects: its values as Python's
+    types = set(map(type, col))
+    if types <= _NO_MARGIN:  # e.g. a margin not defined at any point (None)
+        return []
+    if types <= _NUMBERS:  # as floats: None is NaN and a flag 0 or 1, neither below zero; a sign is kept
+        import numpy as np
+
+        try:
+            return np.flatnonzero(np.array(col, dtype=np.float64) < 0).tolist()
+        except OverflowError:  # an integer past the floats: value by value
+            pass
+    return [k for k, v in enumerate(col) if _below_zero(v)]
+
+
+_NO_MARGIN = {type(None), bool, str}
+"""The types of values that are never below zero (:func:`_below_zero`)."""
+_NUMBERS = {float, int, bool, type(None)}
+
+
+def _empty_lists(n: int) -> list:
+    """``n`` empty lists, made with the cyclic garbage collector paused: empty lists hold no cycle, and the
+    collections their allocation would start (each traversing every object the process holds) cost a rows sweep
+    to Parquet about a tenth of its CPU time (0.3 s for 1e6 points, 2026-12-07)."""
+    import gc
+
+    if not gc.isenabled():
+        return [[] for _ in range(n)]
+    gc.disable()
+    try:
+        return [[] for _ in range(n)]
+    finally:
+        gc.enable()
+
+
 def failed_check_column(columns: dict, checks, n: int) -> list:
     """:func:`failed_checks` of every point of column-major summaries (a list of lists of names)."""
-    masks = []
+    out = _empty_lists(n)
     for c in checks:
         col = columns.get(c.field)
         if col is None:
             continue
-        col = col.tolist() if hasattr(col, "tolist") else col
-        masks.append((c.name, [_below_zero(v) for v in col]))
-    if not masks:
-        return [[] for _ in range(n)]
-    return [[name for name, m in masks if m[k]] for k in range(n)]
+        for k in _below_zero_points(col):
+            out[k].append(c.name)
+    return out
 
 
 @dataclass(frozen=True)
@@ -365,8 +407,7 @@ class Calculator:
             col = columns.get(c.field)
             if col is None:
                 continue
-            col = col.tolist() if hasattr(col, "tolist") else col  # a numpy column: its values as Python's
-            count = sum(1 for v in col if _below_zero(v))
+            count = len(_below_zero_points(col))
             if count:
                 out[c.name] = count
         return out

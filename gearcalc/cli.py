@@ -88,7 +88,9 @@ O_VERBOSE = typer.Option(False, "--verbose", "-v",
                          help="Repeat a warning that many designs share once per design (default: once, "
                          "with the count and the first names).")
 O_JOBS = typer.Option(1, "--jobs", "-j", min=1, max=256,
-                      help="Spread a batch or sweep over N processes; the results are identical to --jobs 1.")
+                      help="Spread a batch or sweep over N processes; the results are identical to --jobs 1. "
+                      "It pays only with idle cores: a sweep of cheap points (rows) on a busy machine is faster "
+                      "with 1.")
 O_SCHEDULER = typer.Option(None, "--scheduler", envvar="DASK_SCHEDULER_ADDRESS", metavar="ADDRESS|local[:N]",
                            show_envvar=False,
                            help="Compute on a Dask cluster: its scheduler's ADDRESS (tcp://HOST:8786, or a "

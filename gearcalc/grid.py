@@ -812,7 +812,7 @@ def blank_nonfinite(data, points, base, lead=(), into: list | None = None) -> li
             try:
                 total = sum(col)  # a column of numbers: one sum
             except TypeError:  # words, None, lists: the floats among them
-                total = sum(v for v in col if type(v) is float)
+                total = sum(v for v in col if type(v) is float) if float in set(map(type, col)) else 0.0
             if math.isfinite(total):
                 continue
             m = np.array([type(v) is float and not math.isfinite(v) for v in col])

@@ -360,25 +360,34 @@ def _short(value) -> str:
 
 
 class _FileOf:
-    """A writable file object over an output (:class:`gearcalc.output.Sink`, :class:`Resumable`) for pyarrow."""
+    """A writable file object over an output (:class:`gearcalc.output.Sink`, :class:`Resumable`) for pyarrow.
+    pyarrow writes a row group in pieces of a few kB: they are gathered and written to the output by
+    :meth:`flush` (:class:`ParquetOut` flushes after each row group and at the end)."""
 
     closed = False
 
     def __init__(self, out):
         self.out, self.pos = out, 0
+        self.pending = bytearray()
 
     def write(self, data) -> int:
-        self.out.write(bytes(data))
-        self.pos += len(data)
-        return len(data)
+        size = len(memoryview(data).cast("B"))
+        self.pending += data
+        self.pos += size
+        if len(self.pending) >= 1 << 22:
+            self.flush()
+        return size
 
     def tell(self) -> int:
         return self.pos
 
     def flush(self) -> None:
-        pass
+        if self.pending:
+            data, self.pending = bytes(self.pending), bytearray()
+            self.out.write(data)
 
     def close(self) -> None:
+        self.flush()
         self.closed = True
 
     def writable(self) -> bool:
@@ -406,6 +415,7 @@ class ParquetOut:
             self._open(old.schema_arrow)
             for k in range(groups):
                 self.writer.write_table(old.read_row_group(k))
+                self.file.flush()
                 self.groups += 1
 
     def _open(self, schema) -> None:
@@ -413,14 +423,17 @@ class ParquetOut:
 
         self.schema = schema.with_metadata({**(schema.metadata or {}), **{k.encode(): v.encode()
                                                                           for k, v in self.meta.items()}})
-        self.writer = pq.ParquetWriter(self.file, self.schema, compression="zstd")
+        self.writer = pq.ParquetWriter(self.file, self.schema, compression="zstd",
+                                       use_dictionary=_dictionary_columns(self.schema))
 
     def write(self, part) -> None:
         """One chunk (:class:`gearcalc.render.Columns`) as one row group (none for a chunk with no rows)."""
         import pyarrow as pa
 
-        if self.writer is None:
-            self._open(pa.schema([(k, _type_of(v)) for k, v in part.data.items()]))
+        if self.writer is None:  # error and failed_checks are words whatever the first chunk holds (None, []):
+            # typed from it, a later chunk's first error or failed check would not fit and stop the sweep
+            words = {"error": pa.string(), "failed_checks": pa.list_(pa.string())}
+            self._open(pa.schema([(k, words.get(k) or _type_of(v)) for k, v in part.data.items()]))
         if not part.n:
             return
         arrays = []
@@ -428,12 +441,32 @@ class ParquetOut:
             values = part.data.get(field.name)
             arrays.append(_array(field, values, part.n))
         self.writer.write_table(pa.Table.from_arrays(arrays, schema=self.schema))
+        self.file.flush()  # the row group in the output before the chunk is counted done (--resume)
         self.groups += 1
 
     def close(self) -> None:
         if self.writer is not None:
             self.writer.close()
             self.writer = None
+        self.file.flush()  # the footer
+
+
+def _dictionary_columns(schema) -> list:
+    """The columns written dictionary-encoded: words, integers, flags and lists of words (few distinct values a
+    chunk), not float64 ones (nearly every value distinct in a sweep: the dictionary is built, then given up,
+    for every page; plain floats compress smaller and are written about three times faster).  A list column is
+    named by its leaf (``name.list.element``)."""
+    import pyarrow as pa
+
+    out = []
+    for field in schema:
+        kind = field.type
+        leaf = field.name
+        if pa.types.is_list(kind):
+            kind, leaf = kind.value_type, f"{field.name}.list.element"
+        if not pa.types.is_floating(kind):
+            out.append(leaf)
+    return out
 
 
 def _type_of(values):
@@ -468,21 +501,123 @@ def _scalar_type(value):
 
 
 def _array(field, values, n: int):
+    """One column of a chunk as an Arrow array of the field's type.  The usual columns (a numpy column; a list of
+    numbers, flags or words, None where a point has no value; a list of lists none of which holds anything) are
+    built from their buffers (:func:`_from_numpy`): no Python object a value, and no ``pyarrow.array``, whose first
+    call imports pandas when it is installed (0.3 s); any other column by ``pyarrow.array``."""
     import pyarrow as pa
+
+    from .grid import SweepError
 
     if values is None:
         return pa.nulls(n, field.type)
-    if field.type == pa.string() and not hasattr(values, "dtype"):
-        values = [v if v is None or isinstance(v, str) else json.dumps(v) for v in values]
-    elif hasattr(values, "dtype") and values.dtype.kind == "u":
-        values = values.astype("int64")
     try:
+        made = _from_buffers(field.type, values, n)
+        if made is not None:
+            return made
+        if field.type == pa.string() and not hasattr(values, "dtype"):
+            values = [v if v is None or isinstance(v, str) else json.dumps(v) for v in values]
+        elif hasattr(values, "dtype") and values.dtype.kind == "u":
+            values = values.astype("int64")
         return pa.array(values, type=field.type)
-    except (pa.ArrowInvalid, pa.ArrowTypeError, TypeError, OverflowError):
-        from .grid import SweepError
-
+    except (pa.ArrowInvalid, pa.ArrowTypeError, TypeError, ValueError, OverflowError):
         raise SweepError(f"the output {field.name} changes type within the sweep ({field.type} in the first chunk); "
                          "write CSV or JSON, or split the sweep") from None
+
+
+_NONE = type(None)
+_SCALARS = {"double": ({float, _NONE}, "float64", "f"), "int64": ({int, _NONE}, "int64", "iu"),
+            "bool": ({bool, _NONE}, "bool", "b")}
+"""Arrow type -> (the Python types of a list column that :func:`_from_buffers` converts, the numpy dtype, the
+kinds of a numpy column it takes); other values (an int or a word in a float column, a numpy scalar, a float
+array in an int column) go to ``pyarrow.array``, which converts or refuses them as it did."""
+
+
+def _from_buffers(kind, values, n: int):
+    """The Arrow array of ``values`` built from numpy buffers, or None when they are not of a usual shape."""
+    import numpy as np
+    import pyarrow as pa
+
+    scalar = _SCALARS.get(str(kind))
+    dtype = getattr(values, "dtype", None)
+    if dtype is not None:
+        if scalar is None or dtype.kind not in scalar[2] or np.ndim(values) != 1:
+            return None
+        return _from_numpy(kind, np.asarray(values, dtype=scalar[1]), None, n)
+    if values.count(None) == n:  # (list.count compares identical objects first: no Python call a value)
+        return pa.nulls(n, kind)
+    if kind == pa.string() and type(values[0]) is str and values.count(values[0]) == n:
+        return _strings(values, n, False)  # one word
+    types = set(map(type, values))
+    if scalar is not None:
+        allowed, want, _ = scalar
+        if not types <= allowed:
+            return None
+        if _NONE not in types:
+            return _from_numpy(kind, np.array(values, dtype=want), None, n)
+        held = np.array(values, dtype=object)
+        valid = held != None  # noqa: E711 - element by element
+        data = np.zeros(n, dtype=want)
+        data[valid] = held[valid].astype(want)
+        return _from_numpy(kind, data, valid, n)
+    if kind == pa.string() and types <= {str, _NONE}:
+        return _strings(values, n, _NONE in types)
+    if pa.types.is_list(kind) and types == {list}:  # e.g. failed_checks: the values of every list, their offsets
+        import itertools
+
+        offsets = np.zeros(n + 1, dtype=np.int64)
+        np.cumsum(np.fromiter(map(len, values), dtype=np.int64, count=n), out=offsets[1:])
+        flat = list(itertools.chain.from_iterable(values)) if offsets[-1] else []
+        inner = _from_buffers(kind.value_type, flat, len(flat)) if flat else pa.nulls(0, kind.value_type)
+        if inner is None or offsets[-1] >= 2 ** 31:
+            return None
+        return pa.ListArray.from_arrays(_from_numpy(pa.int32(), offsets.astype(np.int32), None, n + 1), inner,
+                                        type=kind)
+    return None
+
+
+def _from_numpy(kind, data, valid, n: int):
+    """An Arrow array of ``n`` values over a numpy column (float64, int64, int32: its buffer, not copied; bool:
+    its bits packed); ``valid``: None, or where the values are (the others null)."""
+    import numpy as np
+    import pyarrow as pa
+
+    data = np.ascontiguousarray(data)
+    if data.dtype == np.bool_:
+        data = np.packbits(data, bitorder="little")
+    bitmap, nulls = None, 0
+    if valid is not None:
+        nulls = int(n - np.count_nonzero(valid))
+        bitmap = pa.py_buffer(np.packbits(valid, bitorder="little")) if nulls else None
+    return pa.Array.from_buffers(kind, n, [bitmap, pa.py_buffer(data)], null_count=nulls)
+
+
+def _strings(values, n: int, missing: bool):
+    """A string column from a list of words (None: null) by its offsets and UTF-8 bytes."""
+    import numpy as np
+    import pyarrow as pa
+
+    if not missing and n and values.count(values[0]) == n:  # one word (a design's name): its bytes repeated
+        word = values[0].encode()
+        offsets = np.arange(n + 1, dtype=np.int64) * len(word)
+        if offsets[-1] >= 2 ** 31:
+            return None
+        return pa.Array.from_buffers(pa.string(), n, [None, pa.py_buffer(offsets.astype(np.int32)),
+                                                      pa.py_buffer(word * n)])
+    if missing:
+        valid = np.array(values, dtype=object) != None  # noqa: E711 - element by element
+        values = ["" if v is None else v for v in values]
+    encoded = list(map(str.encode, values))
+    offsets = np.zeros(n + 1, dtype=np.int64)
+    np.cumsum(np.fromiter(map(len, encoded), dtype=np.int64, count=n), out=offsets[1:])
+    if offsets[-1] >= 2 ** 31:
+        return None
+    bitmap, nulls = None, 0
+    if missing:
+        nulls = int(n - np.count_nonzero(valid))
+        bitmap = pa.py_buffer(np.packbits(valid, bitorder="little"))
+    return pa.Array.from_buffers(pa.string(), n, [bitmap, pa.py_buffer(offsets.astype(np.int32)),
+                                                  pa.py_buffer(b"".join(encoded))], null_count=nulls)
 
 
 class GridSweep:

@@ -129,3 +129,26 @@ def test_field_constraint_states_the_bounds_and_words():
     assert Field("s", "string", choices=("root", "pitch")).constraint() == '"root" | "pitch"'
     assert Field("v", "numbers", length=2, ge=0.5).constraint() == "an array of 2 numbers >= 0.5"
     assert Field("t", "number", lt=1e7).constraint() == "a number < 1e+07"
+
+
+@pytest.mark.parametrize("column", [
+    [1.0, -2.0, None, True, False, -0.0, float("nan"), -3, NEGATIVE_TIE],
+    [None] * 4, [1.0, -1.0, "words"], [10 ** 400, -(10 ** 400), -1],
+    "numpy float", "numpy int", "numpy flags", "numpy objects",
+])
+def test_failing_points_of_a_column_at_once_are_those_value_by_value(column):
+    """The count and the failed_checks of sweep columns (a numpy comparison, a list of numbers as floats) are
+    those of the rule of one value (calculator._below_zero: a number below zero; None, a flag, a word never)."""
+    import numpy as np
+
+    from gearcalc.calculator import Check, Calculator, _below_zero, failed_check_column
+
+    column = {"numpy float": np.array([1.0, -1.0, np.nan, NEGATIVE_TIE]), "numpy int": np.array([3, -1, 0]),
+              "numpy flags": np.array([True, False]), "numpy objects": np.array([1.0, None, -2.0], dtype=object),
+              }.get(column, column) if isinstance(column, str) else column
+    values = column.tolist() if hasattr(column, "tolist") else column
+    below = [k for k, v in enumerate(values) if _below_zero(v)]
+    calc = Calculator("x", "x", (), None, checks=(Check("a", ""), Check("b", "")))
+    assert calc.failed_points({"margin_a": column}) == ({"a": len(below)} if below else {})
+    got = failed_check_column({"margin_a": column, "margin_b": [-1.0] * len(values)}, calc.checks, len(values))
+    assert got == [(["a"] if k in below else []) + ["b"] for k in range(len(values))]

@@ -249,3 +249,98 @@ def test_resume_refused_before_any_chunk_leaves_nothing(tmp_path):
             "--resume")
     assert r.code == 2, r
     assert list(tmp_path.iterdir()) == []
+
+
+def test_parquet_floats_plain_words_dictionary(tmp_path):
+    """Float columns are written without a dictionary (nearly every value of a sweep is distinct: building one
+    and giving it up cost most of the write), words and counts with one (gearcalc/studies.py
+    ``_dictionary_columns``)."""
+    out = tmp_path / "s.parquet"
+    assert cli("sweep", DESIGN, *SMALL, "-o", out).code == 0
+    group = pq.ParquetFile(out).metadata.row_group(0)
+    encodings = {group.column(k).path_in_schema: group.column(k).encodings for k in range(group.num_columns)}
+    assert not any("DICTIONARY" in e for e in encodings["K"] + encodings["rows.relative_width"])
+    assert any("DICTIONARY" in e for e in encodings["name"])
+    assert any("DICTIONARY" in e for e in encodings["rows.count"])
+
+
+def test_parquet_does_not_import_pandas(tmp_path):
+    """``pyarrow.array`` imports pandas when it is installed (0.3 s a run); the usual columns are built from their
+    numpy buffers instead (gearcalc/studies.py ``_from_buffers``)."""
+    pytest.importorskip("pandas")
+    out = tmp_path / "s.parquet"
+    code = ("import sys; from gearcalc.cli import main\n"
+            "try:\n    main()\nexcept SystemExit as e:\n    assert not e.code, e.code\n"
+            "print('pandas' in sys.modules)")
+    argv = ["sweep", str(DESIGN), *SMALL, "-o", str(out)]
+    p = subprocess.run([sys.executable, "-c", code, *argv], capture_output=True, text=True, timeout=300,
+                       cwd=tmp_path)
+    assert p.returncode == 0, p.stderr
+    assert p.stdout.strip() == "False"
+
+
+@pytest.mark.parametrize("kind, values", [
+    ("double", [1.5, None, -0.0, float("inf")]), ("double", [None, None]), ("double", [1.5, 2]),
+    ("double", [True, 1.0]), ("int64", [3, None, -1]), ("int64", [2 ** 62, 0]), ("bool", [True, None, False]),
+    ("string", ["a", None, "bé", ""]), ("string", ["Fig. 3"] * 5), ("string", ["", ""]),
+    ("string", ["a", 1.5, [1]]), ("list_double", [[], []]), ("list_double", [[1.0], [], None]),
+    ("list_string", [["bore"], []]),
+])
+def test_parquet_columns_as_pyarrow_array_makes_them(kind, values):
+    """Each column built from buffers is the array ``pyarrow.array`` makes of it (a word of another type: its
+    JSON text), and a value the type does not take is refused as before (the type changes within the sweep)."""
+    import numpy as np
+
+    from gearcalc.grid import SweepError
+    from gearcalc.studies import _array
+
+    types = {"double": pa.float64(), "int64": pa.int64(), "bool": pa.bool_(), "string": pa.string(),
+             "list_double": pa.list_(pa.float64()), "list_string": pa.list_(pa.string())}
+    field = pa.field("x", types[kind])
+    try:
+        want = pa.array([json.dumps(v) if kind == "string" and v is not None and not isinstance(v, str) else v
+                         for v in values], type=field.type)
+    except (pa.ArrowInvalid, pa.ArrowTypeError, TypeError):
+        with pytest.raises(SweepError):
+            _array(field, values, len(values))
+        return
+    got = _array(field, values, len(values))
+    got.validate(full=True)
+    assert got.equals(want)
+    if kind in ("double", "int64", "bool") and None not in values:
+        dtype = {"double": float, "int64": np.int64, "bool": bool}[kind]
+        try:
+            column = np.array(values, dtype=dtype)
+        except (OverflowError, TypeError):
+            return
+        assert _array(field, column, len(values)).equals(pa.array(column, type=field.type))
+
+
+def test_parquet_errors_and_failed_checks_are_words_from_the_first_chunk(tmp_path):
+    """A first chunk without an error or a failed check (None, empty lists) typed those columns float64 and
+    list<double>: the first error or failed check of a later chunk stopped the sweep ("changes type").  They are
+    words whatever the first chunk holds (gearcalc/studies.py ``ParquetOut.write``)."""
+    from gearcalc.render import Columns
+    from gearcalc.studies import ParquetOut
+
+    out = tmp_path / "s.parquet"
+
+    class Sink:
+        def __init__(self, fh):
+            self.fh = fh
+
+        def write(self, data):
+            self.fh.write(data)
+
+    with open(out, "wb") as fh:
+        w = ParquetOut(Sink(fh), {"gearcalc.test": "1"})
+        w.write(Columns({"x": [1.0, 2.0], "failed_checks": [[], []], "error": [None, None]}))
+        w.write(Columns({"x": [3.0, None], "failed_checks": [["sigma", "closure"], []],
+                         "error": [None, "at the point: not a valid design"]}))
+        w.close()
+    t = pq.read_table(out)
+    assert t.schema.field("error").type == pa.string()
+    assert t.schema.field("failed_checks").type == pa.list_(pa.string())
+    assert t.column("failed_checks").to_pylist() == [[], [], ["sigma", "closure"], []]
+    assert t.column("error").to_pylist() == [None, None, None, "at the point: not a valid design"]
+    assert t.column("x").to_pylist() == [1.0, 2.0, 3.0, None]

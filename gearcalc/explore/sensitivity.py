@@ -18,7 +18,9 @@ Their confidence intervals: ``z_{0.975}`` times the standard deviation of the es
 is ``(f(x + Δ e_i) - f(x)) / Δ`` (in output units per whole range); ``μ*`` is the mean of their absolute values
 (with a bootstrap 95 % interval), ``σ`` their standard deviation (``ddof = 1``), ``μ`` their mean.
 
-The dominant key of an output is the one of the largest total index (Morris: ``μ*``).  A point that is not a
+The dominant key of an output is the one of the largest total index (Morris: ``μ*``).  An output that does not
+vary over the sample (:func:`_constant`: a key not varied and echoed, a margin defined nowhere) is left out of the
+indices and the dominant keys, and one note names them: every index of it would be 0.  A point that is not a
 valid design, or whose output is empty, drops its row of the scheme (``A``, ``B`` and every ``AB_i`` of it; a
 Morris trajectory) for that output; the count is in the notes.  ``tests/explore/test_sensitivity.py`` checks these
 estimators against SALib on the same samples and against the Ishigami function's closed-form indices.
@@ -214,6 +216,22 @@ def _outputs(cols, keys, fields):
     return out
 
 
+CONSTANT_NAMED = 8
+"""The outputs left out as constant that the note names (the rest are counted)."""
+
+
+def _constant(y) -> bool:
+    """Whether an output does not vary over the sample: its values (those it has) equal to the last bits (their
+    spread at most one rounding of the largest), e.g. a key that is not varied, echoed (``cheek_ratio``), or a
+    margin not defined at any point.  Such an output would have every index 0 (:func:`sobol_indices`)."""
+    import numpy as np
+
+    have = y[np.isfinite(y)]
+    if not have.size:
+        return False  # no value at all: said by the analysis ("fewer than 2 complete rows")
+    return float(np.ptp(have)) <= np.finfo(float).eps * max(1.0, float(np.max(np.abs(have))))
+
+
 def sensitivity_design(raw: dict, source: str, box, options, method: str = "sobol", samples: int | None = None,
                        seed: int = 0, jobs: int = 1, cluster=None, fields=None) -> SensitivityResult:
     """The analysis of :mod:`this module <gearcalc.explore.sensitivity>` (the command's and the API's body)."""
@@ -255,6 +273,13 @@ def sensitivity_design(raw: dict, source: str, box, options, method: str = "sobo
                if f not in [o[0] for o in outputs]]
         if bad:
             raise SensitivityError("; ".join(bad))
+    constant = [name for name, y in outputs if _constant(y)]
+    if constant:
+        shown = ", ".join(constant[:CONSTANT_NAMED]) + (f" and {len(constant) - CONSTANT_NAMED} more"
+                                                        if len(constant) > CONSTANT_NAMED else "")
+        result.notes.append(f"{len(constant)} output{'s' if len(constant) > 1 else ''} that do not vary over the "
+                            f"sample left out (every index would be 0): {shown}")
+        outputs = [(name, y) for name, y in outputs if name not in constant]
     for name, y in outputs:
         if method == "sobol":
             yA, yB, yAB = y[:n], y[n:2 * n], y[2 * n:].reshape(d, n)

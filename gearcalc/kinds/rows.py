@@ -272,7 +272,7 @@ def invalid_points(f, d_i, bore, col, bridges: bool) -> None:
     for bad, key, message in rules:
         for k in np.flatnonzero(bad).tolist():
             why[k] = why[k] or keyed(key, message(k))
-    if any(w is not None for w in why):
+    if why.count(None) != len(why):
         raise InvalidPoints(why)
 
 

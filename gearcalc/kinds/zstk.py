@@ -87,21 +87,35 @@ def _prepare(cols: dict, size: int):
     return solve.prepare(solve.Designs(*(cols[key] for key in DESIGN_KEYS)), size, MAX_ROLLERS, DEFAULT_ALLOWABLE_MPA)
 
 
-def _solve_stack(p, idx, model: str, names, detail: bool):
+def _solve_stack(p, idx, model: str, names, detail: bool, arrays: bool = False):
     """The summary columns (field -> list, in ``idx`` order) of the single-position designs ``idx`` of ``p``
-    and, with ``detail``, per design [warnings, failed, rows]; ``names``: a list indexed like ``p``, or one."""
+    and, with ``detail``, per design [warnings, failed, rows]; ``names``: a list indexed like ``p``, or one.
+    ``arrays`` (a sweep): a column of numbers or flags defined at every design may be a numpy array instead
+    (:func:`gearcalc.zstk.report.summary_fields`)."""
     from ..zstk import solve
 
-    parts = [(sub, _columns([names[i] for i in sub] if isinstance(names, list) else names, model, stack, detail))
+    parts = [(sub, _columns([names[i] for i in sub] if isinstance(names, list) else names, model, stack, detail,
+                            arrays=arrays))
              for sub, stack in solve.solve_stack(p, idx, model == "fixed-direction", model == "reference")]
     if len(parts) == 1:
         return parts[0][1]
     back = solve.stack_order(idx, [sub for sub, _ in parts])
-    cols = {key: solve.gather([out[0][key] for _, out in parts], back) for key in parts[0][1][0]}
+    cols = {key: _gather([out[0][key] for _, out in parts], back) for key in parts[0][1][0]}
     return cols, solve.gather([out[1] for _, out in parts], back) if detail else None
 
 
-def _columns(names, model: str, stack, detail: bool, sweep=None):
+def _gather(parts, back):
+    """:func:`gearcalc.zstk.solve.gather` of a column's parts; numpy parts of one dtype stay an array."""
+    import numpy as np
+
+    from ..zstk import solve
+
+    if all(isinstance(v, np.ndarray) for v in parts) and len({v.dtype for v in parts}) == 1:
+        return np.concatenate(parts)[back]
+    return solve.gather([v.tolist() if isinstance(v, np.ndarray) else v for v in parts], back)
+
+
+def _columns(names, model: str, stack, detail: bool, sweep=None, arrays: bool = False):
     """Summary columns of a solved stack and, with ``detail``, per design [warnings, failed, rows].  ``sweep``
     of a "cycle"/"envelope" design: its :class:`gearcalc.zstk.solve.Sweeping` and the grid's cap."""
     from ..zstk import outputs
@@ -113,7 +127,7 @@ def _columns(names, model: str, stack, detail: bool, sweep=None):
         fields, notes = R.sweep_fields(sw.placement, cap)
         env, capacity, value, err = sw.rows, sw.capacity, sw.value, sw.err
     out = outputs.stack_outputs(stack, fixed, value, err, None if env is None else env[0], capacity)
-    cols = R.summary_fields(names, model, stack, out, fields)
+    cols = R.summary_fields(names, model, stack, out, fields, arrays)
     if not detail:
         return cols, None
     d = outputs.roller_detail(stack.state, stack.mats, stack.clearance, env, B_OVER_RHO_LIMIT)
@@ -223,7 +237,7 @@ def sweep(base, raw, axes, points, options):
         raise InvalidPoints([None if ok else keyed(*_problems(p, k)[0]) for k, ok in enumerate(p.valid.tolist())])
     if np.any(p.cycle | p.envelope):
         return None
-    return _solve_stack(p, np.arange(size), options.model or "equilibrium", base.name, detail=False)[0]
+    return _solve_stack(p, np.arange(size), options.model or "equilibrium", base.name, detail=False, arrays=True)[0]
 
 
 def sweep_cost(base, axes, options) -> float:

@@ -83,6 +83,8 @@ def columns(points: int):
                 return np.array(values)
             if values.dtype.kind == "U" and points and bool((values == values[0]).all()):
                 return [str(values[0])] * points
+        if defined is not None and not np.any(defined):  # defined nowhere (e.g. the rim of a solid sun)
+            return [None] * points
         out = values.tolist()
         for k in [] if defined is None else np.flatnonzero(~defined).tolist():
             out[k] = None

@@ -10,8 +10,9 @@ The seed paper by Merko et al. (seed 003), cited in full in :mod:`gearcalc.zstk`
 from __future__ import annotations
 
 __all__ = ['fractional_roller_number', 'corrected_outer_radius', 'corrected_inner_radius', 'corrected_gap',
-           'roller_number_limit', 'auto_roller_number', 'auto_roller_numbers', 'largest_admissible_n', 'Chain',
-           'close_chains', 'close_chain', 'limiting_point_ratio', 'limiting_ratios', 'chain_phases', 'theta_of_phi',
+           'roller_number_limit', 'auto_roller_number', 'auto_roller_numbers', 'largest_admissible_n',
+           'largest_admissible_ns', 'Chain', 'close_chains', 'close_chain', 'limiting_point_ratio',
+           'limiting_ratios', 'chain_phases', 'theta_of_phi',
            'phi_of_theta', 'roller_angles', 'scheme_phase', 'centres', 'neighbour_gaps', 'step_chain']
 
 import math
@@ -310,6 +311,27 @@ def largest_admissible_n(limit, correct):
     if correct == "gap":
         return math.floor(limit + 1e-9)
     return int(math.ceil(limit - 1e-9) - 1)
+
+
+def largest_admissible_ns(limits, corrects) -> list:
+    """:func:`largest_admissible_n` of G designs at once (arrays (G,) of N_max and of the corrected quantity).
+
+    A list of Python integers (None without a limit), the same as the function of each design.  A limit of 2**52 or
+    more (where a float's ceiling minus one is not exact) goes through the function.
+
+    >>> largest_admissible_ns([31.940856, 9.2, np.inf, 7.0], ["outer", "gap", "outer", "outer"])
+    [31, 9, None, 6]
+    """
+    limits = np.asarray(limits, dtype=np.float64)
+    gap = np.asarray(corrects) == "gap"
+    finite = np.isfinite(limits)
+    exact = finite & (np.abs(limits) < 2.0 ** 52)
+    with np.errstate(invalid="ignore"):
+        n = np.where(gap, np.floor(limits + 1e-9), np.ceil(limits - 1e-9) - 1.0)
+    out = np.where(exact, n, 0.0).astype(np.int64).tolist()
+    for k in np.flatnonzero(~exact).tolist():
+        out[k] = largest_admissible_n(float(limits[k]), "gap" if gap[k] else "outer")
+    return out
 
 
 @dataclass

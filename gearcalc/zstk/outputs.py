@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .capacity import AllowableLoad, allowable_load
-from .chain import largest_admissible_n
+from .chain import largest_admissible_ns
 from .geometry import broadcast, extreme_roller_radii
 from .stress import (Contacts, Summary, critical_shear, roller_approach, roller_contacts, roller_field, safety_factor,
                      separator_forces, summarise, worst_width_ratio)
@@ -98,8 +98,7 @@ def stack_outputs(stack, fixed_direction=False, sweep_value=None, sweep_err=None
     rows = st if inner is None else inner
     separator = separator_forces(roller_field(rows, "force_inner"), roller_field(rows, "beta"))
     r_min, r_max = extreme_roller_radii(chain.outer_radius, chain.inner_radius, chain.eccentricity)
-    admissible = [largest_admissible_n(lim, c) for lim, c in zip(broadcast(chain.n_limit, (size,)).tolist(),
-                                                                 broadcast(chain.correct, (size,)).tolist())]
+    admissible = largest_admissible_ns(broadcast(chain.n_limit, (size,)), broadcast(chain.correct, (size,)))
     m = margins(sm.sigma_max, stack.allowable, chain.n, chain.n_limit, chain.correct, stack.clearance, r_min)
     return Outputs(sm, capacity, tau, depth, separator, m.sigma >= 0.0,
                    safety_factor(sm.sigma_max, stack.allowable), r_min, r_max, admissible, m)

@@ -67,10 +67,12 @@ def sweep_fields(placement, cap: int) -> tuple[dict, list]:
     return fields, notes
 
 
-def summary_fields(names, model: str, stack, out, sweep: dict) -> dict:
+def summary_fields(names, model: str, stack, out, sweep: dict, arrays: bool = False) -> dict:
     """The summary columns (field -> list over the G designs) of a :class:`gearcalc.zstk.solve.Stack` and its
     :class:`gearcalc.zstk.outputs.Outputs`; ``names`` a list over the designs or one name; ``sweep`` the
-    :func:`sweep_fields` of a sweeping design (empty: None)."""
+    :func:`sweep_fields` of a sweeping design (empty: None).  ``arrays`` (a sweep's columns): a column of
+    float64, integers or flags is a numpy array of its own (the same values: ``.tolist()`` gives the list; the CSV
+    and Parquet writers take it without a Python object a value)."""
     import numpy as np
 
     from .geometry import broadcast
@@ -81,7 +83,8 @@ def summary_fields(names, model: str, stack, out, sweep: dict) -> dict:
     safety = out.safety.tolist()
 
     def col(v):
-        return broadcast(v, (size,)).tolist()
+        v = broadcast(v, (size,))
+        return np.array(v) if arrays and v.dtype in (np.float64, np.int64, np.bool_) else v.tolist()
 
     return {
         "name": names if isinstance(names, list) else [names] * size, "model": [model] * size,
@@ -92,7 +95,7 @@ def summary_fields(names, model: str, stack, out, sweep: dict) -> dict:
         "nominal_mm": col(chain.nominal), "correction_mm": col(chain.corrected - chain.nominal),
         "r_min_mm": col(out.r_min), "r_max_mm": col(out.r_max),
         "sigma_max_MPa": col(sm.sigma_max), "sigma_max_err_MPa": col(sm.sigma_err),
-        "sigma_max_contact": [_contact(c) for c in sm.contact.tolist()],
+        "sigma_max_contact": _contacts(sm.contact),
         "sigma_max_roller": col(sm.roller), "sigma_max_angle_deg": col(wrap_deg(sm.theta)),
         "sigma_max_roller_radius_mm": col(sm.radius), "sigma_max_load_direction_deg": col(wrap_deg(stack.gamma)),
         "tau_max_MPa": col(out.shear), "tau_max_depth_mm": col(out.shear_depth),
@@ -128,6 +131,13 @@ def margin_fields(m, col) -> dict:
 
 def _contact(c) -> str:
     return "inner" if c == 0 else "outer"
+
+
+def _contacts(contact) -> list:
+    """:func:`_contact` of each design (an array (G,) of 0 inner, 1 outer): a list of the two words."""
+    import numpy as np
+
+    return np.array(["outer", "inner"], dtype=object)[(np.asarray(contact) == 0).astype(np.intp)].tolist()
 
 
 def detail_rows(detail, separator) -> list[dict]:

@@ -4,8 +4,9 @@ import math
 
 import numpy as np
 import pytest
-from conftest import CONFIGS
+from conftest import CONFIGS, cli
 
+import gearcalc
 from gearcalc.explore.sensitivity import morris_effects, morris_unit, saltelli_unit, sobol_indices
 
 ROWS = CONFIGS / "rows_fig3_c4_n3_nw3_B2.8.toml"
@@ -75,3 +76,17 @@ def test_morris_trajectories_move_each_key_once_by_delta():
     assert X.min() >= 0 and X.max() <= 1
 
 
+def test_outputs_that_do_not_vary_are_left_out_and_said_once():
+    """An output constant over the sample (the design's cheek ratio, echoed; the row count, not varied) would
+    report every index 0: it is left out of the indices and the dominant keys, and one stderr line names them."""
+    vary = ["rows.relative_width=1.6:3", "sun.torque_Nm=500:2000"]
+    r = gearcalc.sensitivity(ROWS, vary, samples=8)
+    fields = {i["field"] for i in r.indices}
+    assert "K" in fields and "relative_width" in fields  # varies (an echo of a varied key too)
+    assert not fields & {"cheek_ratio", "rows", "planets_per_row"} and "cheek_ratio" not in r.dominant
+    said = [n for n in r.notes if "do not vary" in n]
+    assert len(said) == 1 and "cheek_ratio" in said[0]
+    args = ["sensitivity", ROWS, "--vary", vary[0], "--vary", vary[1], "--samples", "8"]
+    out = cli(*args, "--format", "csv")
+    assert out.code == 0 and sum("do not vary" in line for line in out.err.splitlines()) == 1
+    assert ",".join(["cheek_ratio", "rows.relative_width"]) not in out.out

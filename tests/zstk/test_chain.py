@@ -436,3 +436,17 @@ def test_remainder_360_is_exact_for_every_float():
     xs += [180.0 + 360.0 * k for k in range(-40, 40)] + [1.7976931348623157e308, -1.7976931348623157e308, 5e-324]
     got = remainder_360(np.array(xs)).tolist()
     assert got == [math.remainder(x, 360.0) for x in xs]
+
+
+@settings(max_examples=200, deadline=None)
+@given(st.lists(st.tuples(st.one_of(st.floats(allow_nan=False), st.sampled_from([0.0, 1e-9, 5.0 - 1e-9, 5.0 + 1e-10,
+                                                                             2.0 ** 52, -2.0 ** 53, math.inf])),
+                          st.sampled_from(["outer", "inner", "gap"])), max_size=12))
+def test_largest_admissible_ns_is_the_function_of_each_design(pairs):
+    """The vectorised N_admissible_max of a stack (zstk.md §3.3) equals the scalar rule point by point: the same
+    Python integers (None without a limit), also at the 1e-9 edges and past 2**52 (where floats lose the -1)."""
+    limits = np.array([p[0] for p in pairs], dtype=float)
+    corrects = np.array([p[1] for p in pairs], dtype=object)
+    got = z.largest_admissible_ns(limits, corrects)
+    want = [z.largest_admissible_n(lim, c) for lim, c in pairs]
+    assert got == want and [type(v) for v in got] == [type(v) for v in want]
