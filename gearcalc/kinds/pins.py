@@ -392,6 +392,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     from ..pins.margins import margin_columns
 
     from ..pins.output_contact import contact_output_fields, contact_w
+    from ..pins.speed_friction import _law_of
 
     a = _one(design)
     problem = output_problem(a, "contact", _pin_circle(a)) or law_problem(a, "contact")
@@ -405,9 +406,10 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
     model = friction_model(design)
     w = contact_w(a, g.ratio)       # the teeth carry the output mechanism's and the drag's torque (pins.md §4.10)
+    point = {**{n: a[n] for n in OPERATING}, "torque": w.teeth_torque, "law": _law_of(a)}    # a speed law: §4.10
     try:
         cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"], a["bearing_k"]),
-                           {**{n: a[n] for n in OPERATING}, "torque": w.teeth_torque}, model, options.tol,
+                           point, model, options.tol,
                            profile.play_free, options.detail, settings=options.settings, torsion=bool(a["torsion"]))
     except pc.NoEquilibrium as exc:
         raise R.no_equilibrium_error(exc, a["z1"], a["profile"], a["tooth_circle_radius"],

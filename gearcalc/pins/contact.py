@@ -397,7 +397,7 @@ class _TorquePasses:
     def coarse(self, model, sol):
         """lambda_bar from the window scan's uniform crank angles (no breakpoints): a coarse value."""
         g, fr = self.case.g, self.case.friction
-        loss = contact_losses(sol, g.R_b, fr.mu_eff, fr.sliding, fr.rolls)[0]
+        loss = contact_losses(sol, g.R_b, fr.mu_eff, fr.sliding, fr.rolls, fr.law)[0]
         return float(np.mean(loss.sum(axis=(0, 1)))) / (model.torque_sat * g.k / g.z1)
 
     def make(self, T_V):

@@ -36,7 +36,7 @@ __all__ = ["contact_losses", "ContactCycle", "CycleGrid", "mean_loss_ratio", "en
 
 # ============================================================ losses (pins.md §5.6)
 
-def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool):
+def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: float, rolls: bool, law=None):
     r"""Per-contact loss per unit crank speed and the pin spin (pins.md §5.6, §4.6).
 
     The rolling-pin rule of :meth:`gearcalc.pins.friction.PinFriction.losses`.
@@ -60,6 +60,9 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
         Sliding friction f, [-].
     rolls : bool
         The pins roll.
+    law : FrictionLaw, optional
+        The sliding contacts' law at speeds per rad/s of crank speed (:class:`~gearcalc.pins.friction.AtCrankSpeed`;
+        None: Coulomb with f).
 
     Returns
     -------
@@ -82,7 +85,7 @@ def contact_losses(sol: Solution, R_b: float, mu_eff: float, sliding_friction: f
     ----------
     .. [1] docs/spec/pins.md §4.6, §5.6.
     """
-    return PinFriction(mu_eff, sliding_friction, rolls).losses(sol.force, sol.v_t, R_b)
+    return PinFriction(mu_eff, sliding_friction, rolls, law).losses(sol.force, sol.v_t, R_b)
 
 
 # ============================================================ the cycle (pins.md §5.6, §6)
@@ -99,7 +102,7 @@ class ContactCycle:
     interpolated states of :func:`gk_interpolated`);
     breakpoints : the located breakpoints in theta [rad]; roots : the located sign changes
     (:class:`BreakpointRoots`), which a later pass of the same design starts from;
-    friction : (R_b, mu_eff, f, rolls, scale) of :func:`contact_losses` and the loss ratio's scale;
+    friction : (R_b, mu_eff, f, rolls, scale, law) of :func:`contact_losses` and the loss ratio's scale;
     held : every node lies on its piece's side of every sign change (:func:`pieces_hold`); False: not even on the
     densest scan (``settings.scan_max`` intervals; not scanned denser where the satellite turns beyond a deflection,
     :func:`deflection_sized`), and the loss ratio is not known to its error (pins.md §6);
@@ -125,8 +128,8 @@ class ContactCycle:
 
     @functools.cached_property
     def _losses(self):
-        R_b, mu_eff, f, rolls, scale = self.friction
-        loss, spin, slide = contact_losses(self.sol, R_b, mu_eff, f, rolls)
+        R_b, mu_eff, f, rolls, scale, *law = self.friction
+        loss, spin, slide = contact_losses(self.sol, R_b, mu_eff, f, rolls, *law)
         return loss, spin, slide, loss.sum(axis=(0, 1)) / scale
 
     loss = property(lambda self: self._losses[0])
@@ -243,7 +246,7 @@ class _NodeLog:
         self.cache.append(s)
         self.mids.append(np.asarray(mid, dtype=float))
         self.sets.append((active, branch, traction))
-        loss, _, _ = contact_losses(s, g.R_b, fr.mu_eff, fr.sliding, fr.rolls)
+        loss, _, _ = contact_losses(s, g.R_b, fr.mu_eff, fr.sliding, fr.rolls, fr.law)
         return loss.sum(axis=(0, 1)) / self.scale / g.period
 
     def piece_ends(self):
@@ -364,7 +367,7 @@ def mean_loss_ratio(model: ContactModel, friction, tol: float = 1e-6, grid: Cycl
     # the states' equilibria are met to 1/100 of the tolerance (:func:`equilibrium_residual`): no error below that
     err = max(float(q.err[0]), model.settings.inner_share * tol * abs(float(q.value[0])))
     return ContactCycle(float(q.value[0]), err, q.converged, solved.theta.size, q, sol, edges, found,
-                        (g.R_b, friction.mu_eff, friction.sliding, friction.rolls, log.scale),
+                        (g.R_b, friction.mu_eff, friction.sliding, friction.rolls, log.scale, friction.law),
                         log.record(rows) if dense is None else None, held)
 
 

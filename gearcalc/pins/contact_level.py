@@ -23,7 +23,7 @@ from . import contact as pc
 from .checks import pin_circle_curtate
 from .contact_settings import DEFAULT_SETTINGS, ContactSettings
 from .detail import contact_detail
-from .friction import PinFriction, friction_regime
+from .friction import AtCrankSpeed, PinFriction, friction_regime
 from .geometry import Cycloid
 from .operating import ARRAY_OPS
 from .profiles import ProfileParams, make_profile
@@ -356,19 +356,33 @@ def contact_level(design: ContactDesign, point: dict, friction_model: str, tol: 
     mu_a, rolls_a, rolling_ok = contact_friction(design.rotating, g.R_b, design.axle_radius, point["sliding"],
                                                  point["rolling"], point["axle"])
     mu, rolls, f = float(mu_a[0]), bool(rolls_a[0]), float(point["sliding"])
-    consistent = friction_model == "consistent" and not (mu == 0.0 and f == 0.0)
+    law = _speed_law(point)
+    consistent = friction_model == "consistent" and not (mu == 0.0 and f == 0.0 and law is None)
     torque, multiplier, on_V = point["torque"], point["mode"] == "multiplier", point["shaft"] == "V"
-    case = pc.ContactCase(g, design.profile, design.law, n_discs, PinFriction(mu, f, rolls), torque, on_V)
+    case = pc.ContactCase(g, design.profile, design.law, n_discs, PinFriction(mu, f, rolls, law), torque, on_V)
     modes = pc.solve_modes(case, multiplier, consistent, tol=tol, rule=contact_rule(tol, settings), settings=settings)
     residual, excess = pc.equilibrium_residual(modes.runs.values(), tol)
     if not excess <= 1.0:
         return ContactLevel(modes, residual, False, consistent, rolling_ok)
     et_m, et_r, locked = pc.mode_efficiencies(modes, consistent, np.array([torque], dtype=float), g.ratio,
                                               np.array([multiplier]), np.array([on_V]))
-    outs = _requested_outputs(design, point, modes, consistent, (mu, f, rolls), play_free, detail)
-    fr = PinFriction(mu, f, rolls) if consistent else None
+    outs = _requested_outputs(design, point, modes, consistent, (mu, f, rolls, law), play_free, detail)
+    # the twist with the crank held is quasi-static: a speed law's coefficient at zero speed (pins.md §4.10, §5.8)
+    fr = (PinFriction(mu, f, rolls) if law is None else PinFriction(mu, float(law.coefficient(0.0)), rolls)) \
+        if consistent else None
     tor = _torsion(design, fr, settings, torque if on_V else torque * g.ratio, outs[2]) if torsion else None
     return ContactLevel(modes, residual, True, consistent, rolling_ok, et_m, et_r, locked, *outs, tor)
+
+
+def _speed_law(point: dict):
+    """The sliding contacts' speed-dependent law of an operating point, at the contact level's speeds.
+
+    ``point["law"]`` (m/s) read at the crank speed ``point["speed"]`` [rpm] (pins.md §4.10, §5.6); None: Coulomb.
+    """
+    law = point.get("law")
+    if law is None or law.constant:
+        return None
+    return AtCrankSpeed(law, units.rpm_to_rad_s(point["speed"]))
 
 
 def _torsion(design: ContactDesign, friction, settings, torque_V: float, play: float) -> tuple:
@@ -390,9 +404,9 @@ def _requested_outputs(design: ContactDesign, point: dict, modes, consistent: bo
 
     The crank torque, bearing force and contact stress come from the requested mode's own forces (friction in the
     balance unless first-order or jammed: then the friction-free forces, and no crank-torque history, pins.md §8).
-    ``friction``: (mu_eff, f, rolls).
+    ``friction``: (mu_eff, f, rolls, law).
     """
-    g, n_discs, (mu, f, rolls) = design.g, design.n_discs, friction
+    g, n_discs, (mu, f, rolls, law) = design.g, design.n_discs, friction
     multiplier = point["mode"] == "multiplier"
     tc = modes.requested
     w_H = units.rpm_to_rad_s(point["speed"]) if point["speed"] is not None else None
@@ -400,7 +414,8 @@ def _requested_outputs(design: ContactDesign, point: dict, modes, consistent: bo
     pk = pc.cycle_peaks(cyc, g, n_discs, rolls)
     metrics = pc.engagement_metrics(cyc.sol, cyc.spin if rolls else np.zeros(cyc.sol.force.shape[1:]))
     play = backlash_deg(tc.model, play_free)
-    ov = pc.operating_values(pk, g, tc.loss_ratio, tc.torque_V, w_H, mu, f, rolls) if w_H is not None else None
+    f_peak = f if law is None else float(np.max(law.coefficient(cyc.slide[cyc.sol.force > 0.0]), initial=0.0))
+    ov = pc.operating_values(pk, g, tc.loss_ratio, tc.torque_V, w_H, mu, f_peak, rolls) if w_H is not None else None
     own = consistent and multiplier not in modes.jams
     # the friction forces each state was solved with (at a piece end they can differ from its own sliding's)
     crank = pc.crank_bearing(tc.model, cyc.sol, cyc.sol.traction if own else None, n_discs,

@@ -31,6 +31,10 @@ from .geometry import REDUCER, Cycloid
 
 __all__ = ["NoEquilibrium", "Jam", "Solution", "ContactModel", "EPS"]
 
+COEFFICIENT_STOP = 1e-12
+"""A speed law's coefficients are settled at a state when a pass changes none by more than this share of the largest
+(pins.md §4.10: 1e-6 of the efficiencies' usual tolerance; an equilibrium is met to tol/100)."""
+
 def _doubling_bracket(G, n: int, h0: float, limit: float):
     """Brackets of the roots of a decreasing G(tau) about tau = 0.
 
@@ -312,6 +316,8 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics, WarmStarts):
                 sol = self._warm(pose, tau, fixed, ref)
             if sol is None:
                 sol = self._friction_solve(pose, fixed, tau, ref)
+            if self.friction.varies:
+                sol = self._coefficient_fixed_point(pose, fixed, sol, ref)
         else:
             sol = self._friction_fixed_point(theta, pose, ref, None if scan is None else scan[1], given)
         self._remember(1 if self.friction is not None else 0, sol)
@@ -408,7 +414,7 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics, WarmStarts):
         passes = 8
         for it in range(passes):
             new = self.traction(sol)
-            if traction is not None and np.array_equal(new, traction):
+            if traction is not None and (np.array_equal(new, traction) or self._coefficients_settled(new, traction)):
                 break
             if back is not None and np.array_equal(new, back[0]):
                 # a cycle of two (the directions flip back and forth where no direction is consistent, at a
@@ -418,6 +424,28 @@ class ContactModel(ModelParts, CandidateWindow, ContactKinematics, WarmStarts):
                 sol = self._friction_solve(pose, trac, start.tau, ref)
                 break
             back = None if traction is None else (traction, sol)
+            traction = new
+            sol = self._friction_solve(pose, traction, sol.tau, ref)
+        return sol
+
+    def _coefficients_settled(self, new, old) -> bool:
+        """A speed law's coefficients (same directions) changed by at most COEFFICIENT_STOP of the largest: settled."""
+        if not self.friction.varies or not np.array_equal(np.sign(new), np.sign(old)):
+            return False
+        change = float(np.max(np.abs(new - old), initial=0.0))
+        return change <= COEFFICIENT_STOP * float(np.max(np.abs(new), initial=0.0))
+
+    def _coefficient_fixed_point(self, pose: Pose, fixed, sol: Solution, ref) -> Solution:
+        """A speed law with a piece's directions ``fixed``: its coefficients iterated with the state.
+
+        The coefficients at the state's own sliding speeds and forces, to a fixed point (at most 8 passes; pins.md
+        §4.10, §5.5).
+        """
+        traction = np.broadcast_to(fixed, sol.force.shape) if sol.traction is None else sol.traction
+        for _ in range(8):
+            new = self.friction.along(fixed, sol.force, sol.v_t)
+            if self._coefficients_settled(new, traction):
+                break
             traction = new
             sol = self._friction_solve(pose, traction, sol.tau, ref)
         return sol

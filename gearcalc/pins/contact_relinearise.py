@@ -117,7 +117,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     s2k = None if gp is None else _solve_kept(model, prev, cyc, on_rows[0], gp)
     if s2k is None:
         return None
-    (sets, node_mid, ref_sols, rows, sol1), (R_b, mu_eff, f, rolls, scale1) = on_rows, cyc.friction
+    (sets, node_mid, ref_sols, rows, sol1), (R_b, mu_eff, f, rolls, scale1, *law) = on_rows, cyc.friction
     g, Tp, edges = model.g, model.g.period, cyc.breakpoints
     scale2 = model.torque_sat * g.k / g.z1
     # the change's trapezoid over the solved nodes of each piece, and over every other one of them (its error)
@@ -140,7 +140,7 @@ def relinearised_cycle(model: ContactModel, cyc: ContactCycle, prev: ContactMode
     s2.phase, s2.zeta = (sol1.phase, sol1.zeta) if sol1.phase is not None else model.phases(s2.theta, s2.rows)
     model.roots = cyc.roots
     return ContactCycle(float(lam2), E_q + E_s, cyc.converged, cyc.n_crank, cyc.quad, s2, edges, cyc.roots,
-                        (R_b, mu_eff, f, rolls, scale2), (sets, node_mid, ref_sols, rows))
+                        (R_b, mu_eff, f, rolls, scale2, *law), (sets, node_mid, ref_sols, rows))
 
 
 def _over_rows(model: ContactModel, cyc: ContactCycle):
@@ -214,7 +214,7 @@ def _solve_kept(model: ContactModel, prev: ContactModel, cyc: ContactCycle, sets
     sides.  None where a node has no equilibrium with its sets or a non-finite force, speed or loss.
     """
     x, kept, sol1 = gp.x, gp.kept, gp.sol1
-    R_b, mu_eff, f, rolls, _ = cyc.friction
+    R_b, mu_eff, f, rolls, _, *law = cyc.friction
     with np.errstate(divide="ignore", invalid="ignore"):
         step = (model.M_req - prev.M_req) / sol1.g_tau[kept]
         guess = np.where((sol1.g_tau[kept] < 0.0) & np.isfinite(step), sol1.tau[kept] + step, np.nan)
@@ -229,8 +229,8 @@ def _solve_kept(model: ContactModel, prev: ContactModel, cyc: ContactCycle, sets
                               guess=guess, reuse=reuse)
         except NoEquilibrium:
             return None
-        gp.L1 = contact_losses(sol1, R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
-        gp.L2 = contact_losses(s2k, R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
+        gp.L1 = contact_losses(sol1, R_b, mu_eff, f, rolls, *law)[0].sum(axis=(0, 1))
+        gp.L2 = contact_losses(s2k, R_b, mu_eff, f, rolls, *law)[0].sum(axis=(0, 1))
     if not (np.isfinite(gp.L2).all() and np.isfinite(s2k.force).all() and np.isfinite(s2k.v_t).all()):
         return None
     return s2k
@@ -279,7 +279,7 @@ def _strips(model: ContactModel, cyc: ContactCycle, gp: _PassGrid, lam2: float, 
     of it the bound (the module's documentation).  None where a term or the value is not finite.
     """
     r, Tp, xs, l1 = cyc.roots.roots, model.g.period, gp.xs, gp.L1[gp.order]
-    R_b, mu_eff, f, rolls, _ = cyc.friction
+    R_b, mu_eff, f, rolls, _, *law = cyc.friction
     if not r.size:
         return 0.0, 0.0, lam2
     moves = _breakpoint_moves(model, r, gp, rolls)
@@ -304,7 +304,7 @@ def _strips(model: ContactModel, cyc: ContactCycle, gp: _PassGrid, lam2: float, 
             both = np.concatenate((a_end, b_end))          # piece ends: solved nodes, their losses in L2
             place = np.cumsum(gp.keep) - 1
             l2 = gp.L2[place[both]] if gp.keep[both].all() else \
-                contact_losses(take_states(gp.s2, ends), R_b, mu_eff, f, rolls)[0].sum(axis=(0, 1))
+                contact_losses(take_states(gp.s2, ends), R_b, mu_eff, f, rolls, *law)[0].sum(axis=(0, 1))
             e_r = np.where(left == 1.0, l2[:m] - l2[m:], l2[m:] - l2[:m])     # touching minus the other
             grown = np.where(grows, e_r * d / (1.0 + p_exp), 0.0)
             strip = np.where(grows, (model.settings.relinearise_margin ** (1.0 + p_exp) - 1.0) * np.abs(grown), strip)

@@ -32,7 +32,8 @@ from typing import NamedTuple, Protocol, runtime_checkable
 
 import numpy as np
 
-__all__ = ["FrictionLaw", "Coulomb", "TableLaw", "StribeckLaw", "FRICTION_LAWS", "register_friction_law",
+__all__ = ["FrictionLaw", "Coulomb", "TableLaw", "StribeckLaw", "AtCrankSpeed", "FRICTION_LAWS",
+           "register_friction_law",
            "friction_law", "rolling_condition",
            "rotating_loss_coefficient", "friction_regime", "peak_coefficient", "contact_loss_power", "PinFriction"]
 
@@ -143,6 +144,29 @@ class StribeckLaw(NamedTuple):
         """The coefficient mu [-] at the sliding speeds [m/s]."""
         v = np.abs(np.asarray(speed, dtype=float))
         return self.mu_c + (self.mu_s - self.mu_c) * np.exp(-(v / self.v_s) ** self.delta) + self.k_v * v
+
+
+class AtCrankSpeed(NamedTuple):
+    """A law in m/s read by the contact level, whose sliding speeds are per rad/s of crank speed (pins.md §4.10, §5.6).
+
+    coefficient(speed, pressure) = law.coefficient(speed * omega_H / 1000, pressure): speed [mm/s per rad/s],
+    omega_H [rad/s] the crank speed, pressure [N] the normal force (passed on).
+
+    Examples
+    --------
+    >>> law = AtCrankSpeed(TableLaw((0.0, 1.0), (0.12, 0.06)), 100.0)   # 5 mm/s per rad/s at 100 rad/s: 0.5 m/s
+    >>> law.coefficient(np.array([5.0])).tolist(), law.constant
+    ([0.09], False)
+    """
+
+    law: FrictionLaw
+    omega_H: float
+    name: str = "at_crank_speed"
+    constant: bool = False
+
+    def coefficient(self, speed, pressure=None):
+        """The law's coefficient at the speeds [mm/s per rad/s] times omega_H, in m/s."""
+        return self.law.coefficient(np.asarray(speed, dtype=float) * (self.omega_H * 1e-3), pressure)
 
 
 FRICTION_LAWS = {"coulomb": Coulomb, "table": TableLaw, "stribeck": StribeckLaw}
@@ -436,6 +460,24 @@ class PinFriction(NamedTuple):
         is_lead, rel = self._lead(force, v)
         f = self.sliding if law is None else law.coefficient(np.abs(rel), force)
         return np.where(is_lead, -self.mu_eff * np.sign(v), -f * np.sign(rel))
+
+    @property
+    def varies(self) -> bool:
+        """The sliding coefficient depends on the state (a law that is not constant): iterate it with the state."""
+        return self.law is not None and not self.law.constant
+
+    def along(self, directions, force, v):
+        """:meth:`traction` with the directions of ``directions`` (a piece's, pins.md §5.5).
+
+        The law's coefficients at this state's speeds and forces (c, R, n): -|mu| where ``directions`` < 0, +|mu|
+        where > 0, 0 where 0.
+        """
+        if not self.rolls:
+            mu = np.broadcast_to(self.law.coefficient(np.abs(v), force), np.shape(v))
+        else:
+            is_lead, rel = self._lead(force, v)
+            mu = np.where(is_lead, self.mu_eff, self.law.coefficient(np.abs(rel), force))
+        return np.sign(directions) * mu
 
     def _lead(self, force, v):
         """The rolling pin's lead contact (the larger force) and the speeds relative to it: (is_lead, v - v_lead)."""

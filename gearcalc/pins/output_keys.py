@@ -81,8 +81,8 @@ def law_problem(a: dict, level: str):
 
     .. math:: 0 \le v_1 < v_2 < \dots < v_m, \qquad m \ge 2
 
-    (a table's speeds; the Stribeck law needs mu_s, mu_c and v_s; any law but coulomb needs the ideal level, fixed
-    pins and a crank speed.)
+    (a table's speeds; the Stribeck law needs mu_s, mu_c and v_s; any law but coulomb needs the ideal or the contact
+    level, fixed pins and a crank speed.)
 
     Parameters
     ----------
@@ -109,9 +109,9 @@ def law_problem(a: dict, level: str):
     law = a.get("f_law") or "coulomb"
     if law == "coulomb":
         return None
-    if level != "ideal":
-        return "friction.law", (f'= "{law}": only the ideal level takes a speed-dependent law (pins.md §4.10); the '
-                                f"{level} level uses friction.sliding")
+    if level not in ("ideal", "contact"):
+        return "friction.law", (f'= "{law}": only the ideal and contact levels take a speed-dependent law (pins.md '
+                                f"§4.10); the {level} level uses friction.sliding")
     if a.get("rotating"):
         return "friction.law", f'= "{law}": for fixed pins only (rotating pins roll; pins.md §4.10)'
     if a.get("speed") is None:

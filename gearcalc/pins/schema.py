@@ -99,7 +99,7 @@ TABLES = (
               "charged afterwards (§4.6-4.7, the paper's)", choices=("consistent", "first-order")),
         Field("law", "string", None, "the teeth's sliding law: coulomb (absent: f = friction.sliding) | table "
               "(mu(v) from table_speed_m_s, table_mu) | stribeck (mu_c + (mu_s - mu_c) exp(-(v/v_s)^delta) + k_v v); "
-              "ideal level, fixed pins, needs load.crank_speed_rpm (pins.md §4.10)",
+              "ideal and contact levels, fixed pins, needs load.crank_speed_rpm (pins.md §4.10)",
               choices=("coulomb", "table", "stribeck")),
         Field("table_speed_m_s", "numbers", None, "v_k, sliding speeds of the mu(v) table, increasing", ge=0,
               le=1e4),

@@ -97,3 +97,18 @@ def test_table_and_stribeck_laws():
     assert float(s.coefficient(0.0)) == pytest.approx(0.15, rel=1e-12)              # breakaway
     assert float(s.coefficient(0.1)) == pytest.approx(0.05 + 0.1 * np.exp(-1) + 0.001, rel=1e-12)
     assert float(s.coefficient(10.0)) == pytest.approx(0.05 + 0.1, rel=1e-12)       # full film: mu_c + k_v v
+
+
+def test_a_law_at_the_contact_level_reads_its_speeds_times_the_crank_speed():
+    # pins.md §4.10, §5.6: the contact level's sliding speeds are mm/s per rad/s of crank speed; v [m/s] = v_t omega_H
+    # / 1000: 4 mm/s per rad/s at 100 rad/s is 0.4 m/s, on the table (0, 0.12) - (1, 0.06) 0.12 - 0.4*0.06 = 0.096
+    law = fr.AtCrankSpeed(fr.TableLaw((0.0, 1.0), (0.12, 0.06)), 100.0)
+    assert law.coefficient(np.array([4.0, -4.0, 20.0])).tolist() == pytest.approx([0.096, 0.096, 0.06], rel=1e-15)
+    assert isinstance(law, fr.FrictionLaw) and not law.constant
+    pf = fr.PinFriction(0.1, 0.1, False, law)
+    assert pf.varies and not fr.PinFriction(0.1, 0.1, False).varies
+    F, v = np.array([[[2.0, 1.0, 0.0]]]), np.array([[[4.0, -4.0, 20.0]]])
+    # the friction force against the sliding, -mu(|v|) sign(v), and with a piece's directions: sign(d) mu(|v|)
+    assert pf.traction(F, v).ravel().tolist() == pytest.approx([-0.096, 0.096, -0.06], rel=1e-15)
+    assert pf.along(np.array([[[1.0, 1.0, 0.0]]]), F, v).ravel().tolist() == pytest.approx([0.096, 0.096, 0.0],
+                                                                                            rel=1e-15)

@@ -2,8 +2,9 @@
 (gearcalc.pins.output_keys; pins.md §4.10).
 
 Independent references: the rules of pins.md §4.10 (the hole circle must hold n_w holes of radius r_w + e and fit
-inside R_p - R_b - e; the table law's lists of equal length, increasing speeds; a speed law only on fixed pins and
-at the ideal level; a reducer's input torque above the crank's drag), each refused naming its key.
+inside R_p - R_b - e; the table law's lists of equal length, increasing speeds; a speed law only on fixed pins, at
+the ideal and contact levels, with a crank speed; a reducer's input torque above the crank's drag), each refused
+naming its key.
 """
 import pytest
 
@@ -21,13 +22,11 @@ def test_bad_output_keys_name_the_key(output, key):
         _run(_with(output=output))
 
 
-def test_the_contact_level_refuses_a_speed_dependent_law_but_takes_the_mechanism():
-    # pins.md §4.10: the contact level's laws get sliding speeds per rad/s of crank speed (§5.6), not m/s
-    from gearcalc import InputError
+def test_the_contact_level_takes_a_speed_dependent_law_and_the_mechanism():
+    # pins.md §4.10: the contact level reads the law at its sliding speeds times the crank speed (issue 37 item 4;
+    # it refused the law before); its results: tests/pins/test_contact_level.py
     law = {"law": "table", "table_speed_m_s": [0.0, 1.0], "table_mu": [0.1, 0.1]}
-    with pytest.raises(InputError, match=r"friction\.law.*only the ideal level"):
-        _run(_with(friction=law, contact={"law": "linear", "stiffness_N_per_mm": 1e6}))
-    s = _run(_with(output=W8, contact={"law": "linear", "stiffness_N_per_mm": 1e6}))
+    s = _run(_with(friction=law, output=W8, contact={"law": "linear", "stiffness_N_per_mm": 1e6}))
     assert s["model"] == "contact" and s["output_mechanism"] == "pins_in_holes"
 
 
