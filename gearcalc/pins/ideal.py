@@ -303,12 +303,25 @@ def _node_rows(J, lev, rho, sh2, s, G: GearTable, gi=None, peaks: bool = True, w
     out[g + 2] = -r_p1 * colsum(sg * lev * nx)
     out[g + 3] = colsum(lev * nx)
     out[g + 4] = -colsum(sg * lev2) / r_p1
-    out[g + 6] = lev.argmax(axis=0)
-    lev.max(axis=0, out=out[g + 5])
-    out[g + 8] = la.argmax(axis=0)
-    la.max(axis=0, out=out[g + 7])
+    out[g + 6] = _first_row_of_max(lev, lev.max(axis=0, out=out[g + 5]))
+    out[g + 8] = _first_row_of_max(la, la.max(axis=0, out=out[g + 7]))
     out[g + 9] = (lev / r_eff).max(axis=0)
     return out
+
+
+def _first_row_of_max(a, top):
+    """``a.argmax(axis=0)`` of a 2-D array given its column maxima ``top``: the first row holding each maximum.
+
+    The same indices (NaN columns go to argmax itself), by a pass over the rows: numpy's argmax over the outer
+    axis of a C-ordered array costs about ten times its max.
+    """
+    if a.shape[0] < 2 or np.isnan(top).any():
+        return a.argmax(axis=0)
+    row = np.zeros(a.shape[1], dtype=np.int64)
+    for r in range(a.shape[0] - 1, 0, -1):          # the last write wins: the first row holding the maximum
+        np.copyto(row, r, where=a[r] == top)
+    np.copyto(row, 0, where=a[0] == top)
+    return row
 
 
 def _unit_loss_ratio(G: GearTable, piece_owner, grid_rows: bool = False, peaks: bool = True):
