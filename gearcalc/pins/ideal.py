@@ -21,7 +21,7 @@ from ..quadrature import QuadResult, integrate_pieces
 from .cycle import cycle_breakpoints, disc_offsets, disc_sum_peak, sum_over_discs
 from .geometry import as_arrays, crest_cutoffs, Cycloid, min_curvature_radius, spin_reversal_phases
 
-__all__ = ["CycleIntegral", "mean_loss_ratio", "FINAL_BLOCK_CELLS", "NODE_ROWS", "GRID_ROWS", "FIRST_LEVELS_MAX",
+__all__ = ["CycleIntegral", "mean_loss_ratio", "NODE_ROWS", "GRID_ROWS", "FIRST_LEVELS_MAX",
            "first_levels", "cycle_pieces", "TOO_FEW_TEETH", "UNDERCUT", "TOO_COSTLY", "DISC_SAMPLES_MAX",
            "DISC_WORK_MAX", "IdealCycles", "REFINE_SAMPLES", "admissibility", "ideal_cycles"]
 
@@ -34,7 +34,36 @@ __all__ = ["CycleIntegral", "mean_loss_ratio", "FINAL_BLOCK_CELLS", "NODE_ROWS",
 
 @dataclass
 class GearTable:
-    """Per-gear constants of the cycle integrand, arrays of shape (m,), the gears sorted by z2."""
+    """Per-gear constants of the cycle integrand, arrays of shape (m,), the gears sorted by z2.
+
+    What the node functions (:func:`contacts_geo`, :func:`node_sums`) take per gear; :meth:`take` gives them
+    at the nodes (a scalar when the table has one gear: the same values, fewer gathers).
+
+    Attributes
+    ----------
+    z2 : ndarray of int
+        Pins, [-].
+    K1 : ndarray
+        Curtate ratio e z2/(k R_p), [-].
+    omk : ndarray
+        1 - K1, [-].
+    R_p, R_b : ndarray
+        Pin-circle and pin radius, [mm].
+    r_p1 : ndarray
+        Satellite pitch radius e z1/k, [mm].
+    c : ndarray
+        Loaded contacts reach: pin j is loaded while j < ceil(c - t), [-].
+
+    Examples
+    --------
+    >>> G = GearTable.of(as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)), np.array([2.0285]))
+    >>> int(G.z2[0]), round(float(G.K1[0]), 6), round(float(G.c[0]), 4)      # c = psi* z2/(2 pi)
+    (22, 0.75, 7.1026)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.1-4.2, §6.
+    """
 
     z2: np.ndarray
     K1: np.ndarray
@@ -57,6 +86,7 @@ class GearTable:
 
     @classmethod
     def of(cls, g: Cycloid, psi_star):
+        """The table of gears ``g`` (array fields, shape (m,)) with their loaded-arc ends psi* [rad]."""
         if np.size(g.z2) == 1 and np.ndim(g.z2) == 1:       # one gear: the same values from Python scalars
             z1, z2 = int(g.z1[0]), int(g.z2[0])
             e, R_p, omk, R_b = (float(np.asarray(v, dtype=float)[0]) for v in (g.e, g.R_p, g.one_minus_K1, g.R_b))
@@ -102,33 +132,6 @@ class GearTable:
         return [(slice(lo, hi), int(z[lo])) for lo, hi in zip(edges[:-1], edges[1:]) if hi > lo]
 
 
-FINAL_BLOCK_CELLS = 4_000_000
-"""Nodes x contact rows of the final grid evaluated at once (about 32 MB an array): a batch of gears at a
-tight --tol is evaluated a few gears at a time (cut at gear boundaries, so the numbers do not change)."""
-
-
-def _bounded_blocks(blocks, gi, starts, rows: int):
-    """The (slice, z2) blocks cut into runs of at most FINAL_BLOCK_CELLS cells.
-
-    The (slice, z2) blocks cut at gear boundaries into runs of at most FINAL_BLOCK_CELLS nodes x rows (a gear larger
-    than that alone).  ``starts``: first node of each gear.
-    """
-    limit = max(1, FINAL_BLOCK_CELLS // max(rows, 1))
-    for sl, zz in blocks:
-        lo, hi = sl.start or 0, gi.size if sl.stop is None else sl.stop
-        if hi - lo <= limit:
-            yield sl, zz
-            continue
-        ends = [*starts[np.unique(gi[lo:hi])][1:].tolist(), hi]    # where each gear of the block ends
-        a = prev = lo
-        for end in ends:
-            if end - a > limit and prev > a:
-                yield slice(a, prev), zz
-                a = prev
-            prev = end
-        yield slice(a, hi), zz
-
-
 def colsum(a):
     """Sums over the rows (axis 0) in row order.
 
@@ -136,6 +139,25 @@ def colsum(a):
     on the other columns.  numpy reduces a C-ordered array over its outer axis row by row (sequentially) when there
     are several columns; a single column is a contiguous reduction, which numpy sums pairwise, so that case takes
     the (sequential) cumulative sum.
+
+    Parameters
+    ----------
+    a : ndarray, shape (rows, columns)
+        Values (contacts x nodes), C-ordered.
+
+    Returns
+    -------
+    ndarray, shape (columns,)
+        ((a[0] + a[1]) + a[2]) + ... per column.
+
+    Examples
+    --------
+    >>> colsum(np.array([[1e16, 1.0], [1.0, 2.0], [1.0, 3.0]])).tolist()     # 1e16 + 1 + 1 in order: 1e16
+    [1e+16, 6.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (a batch equals one design at a time, bit for bit).
     """
     return a.sum(axis=0) if a.shape[1] > 1 else np.cumsum(a, axis=0)[-1]
 
@@ -174,10 +196,38 @@ def _contact_rows(x, mid, gi, G: GearTable, z2: int):
 
 
 def contacts_geo(x, mid, gi, G: GearTable, z2: int):
-    """:func:`_contacts` with the squared half-phase sine and s(psi) that the friction-consistent sums need.
+    """The loaded contacts at crank-angle nodes, with sin^2(psi/2) and s(psi) (pins.md §4.1, §6).
 
-    Returns J, lever |l| [mm], rho [mm], sin^2(psi~/2) and s (rows j, nodes); lever and rho by the very
-    operations of :func:`_contacts` (the same numbers, bit for bit).
+    :func:`_contacts` with the squared half-phase sine and s(psi) that the friction-consistent sums need; lever
+    and rho by the very operations of :func:`_contacts` (the same numbers, bit for bit).
+
+    Parameters
+    ----------
+    x, mid : ndarray, shape (n,)
+        Nodes t = theta/T_p and the midpoints of their pieces (loaded: j < ceil(c - mid)), [-].
+    gi : ndarray of int, shape (n,), or None
+        Each node's gear (row of ``G``; None: the table's one gear).
+    G : GearTable
+    z2 : int
+        Pins of the nodes' gears (all the same).
+
+    Returns
+    -------
+    J : ndarray of int, shape (n,)
+        Loaded contacts per node.
+    lev, rho, sh2, s : ndarray, shape (rows, n)
+        Lever |l| (0 on the padding rows), radius of curvature rho, sin^2(psi/2) and s(psi), [mm, mm, -, -].
+
+    Examples
+    --------
+    >>> G = GearTable.of(as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)), np.array([2.0285]))
+    >>> J, lev, rho, sh2, s = contacts_geo(np.array([0.25]), np.array([0.5]), None, G, 22)
+    >>> int(J[0]), lev.shape                         # J = ceil(c - mid) = ceil(7.1026 - 0.5)
+    (7, (7, 1))
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.1, §4.2, §6.
     """
     J, _, _, lev, rho, sh2, s = _contact_rows(x, mid, gi, G, z2)
     return J, lev, rho, sh2, s
@@ -205,6 +255,30 @@ def node_sums(J, lev, rho, sh2, s, G: GearTable, gi):
     largest |l|/R_eff, R_eff = R_b (1 - R_b/rho_c) the reduced radius of pin and tooth (the contact stress;
     rho_c = R_p s^3/D_c of :func:`curvature_radius`, signed: the formula holds on both the convex and the
     concave part of the profile).  Padding rows (lever 0) add nothing.
+
+    Parameters
+    ----------
+    J, lev, rho, sh2, s : ndarray
+        What :func:`contacts_geo` returns at the nodes.
+    G : GearTable
+    gi : ndarray of int, shape (n,), or None
+        Each node's gear (row of ``G``; None: the table's one gear).
+
+    Returns
+    -------
+    ndarray, shape (len(NODE_ROWS), n)
+        The rows :data:`NODE_ROWS` per node [mm^2, mm^2, mm^2, mm, mm, mm, -, mm^2, -, 1/mm].
+
+    Examples
+    --------
+    >>> G = GearTable.of(as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)), np.array([2.0285]))
+    >>> sums = node_sums(*contacts_geo(np.array([0.25]), np.array([0.5]), None, G, 22), G, None)
+    >>> bool(sums[1, 0] > 0.0 and sums[5, 0] ** 2 <= sums[1, 0])     # S = sum l^2 holds the largest l^2
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.9.
     """
     rb = G.take("R_b", gi)
     r_p1 = G.take("r_p1", gi)
@@ -262,15 +336,17 @@ PEAK_ROWS = ("force_row", "loss_row")
 peaks: the contact of each node's largest force and loss (first occurrence), which the peaks' refinement needs."""
 
 
-def _node_rows(J, lev, rho, sh2, s, G: GearTable, gi=None, peaks: bool = True, with_rows: bool = False):
+def _node_rows(contacts: tuple, G: GearTable, gi=None, peaks: bool = True, with_rows: bool = False):
     """The rows of :func:`_grid_rows` and :func:`node_sums` at nodes of gears ``gi``, fused.
 
     The rows of :func:`_grid_rows` and then of :func:`node_sums`, by the very operations of those two (the same
     numbers, bit for bit), with the products and sums they share computed once; ``gi`` the gear of each node
     (None: one gear).  Without ``peaks`` the rows of the friction-free peaks (force, loss, total:
     :data:`GRID_ROWS` 1-3) are NaN (the friction-consistent model has its own peaks, pins.md §4.9); with
-    ``with_rows`` (and ``peaks``) the rows :data:`PEAK_ROWS` follow.
+    ``with_rows`` (and ``peaks``) the rows :data:`PEAK_ROWS` follow.  ``contacts``: (J, lever, rho,
+    sin^2(psi/2), s) of :func:`contacts_geo`.
     """
+    J, lev, rho, sh2, s = contacts
     rb, r_p1 = G.take("R_b", gi), G.take("r_p1", gi)
     n = J.size
     rel = rho - rb
@@ -338,14 +414,12 @@ def _unit_loss_ratio(G: GearTable, piece_owner, grid_rows: bool = False, peaks: 
 
         def f_rows(x, mid, piece):
             if alone:
-                J, lev, rho, sh2, s = contacts_geo(x, mid, None, G, int(G.z2[0]))
-                return _node_rows(J, lev, rho, sh2, s, G, None, peaks)
+                return _node_rows(contacts_geo(x, mid, None, G, int(G.z2[0])), G, None, peaks)
             gi = piece_owner[piece]
             out = np.empty((n_rows, x.size))
             for sl, z2 in G.blocks(gi):
                 g = gi[sl]
-                J, lev, rho, sh2, s = contacts_geo(x[sl], mid[sl], g, G, z2)
-                out[:, sl] = _node_rows(J, lev, rho, sh2, s, G, g, peaks, peaks)
+                out[:, sl] = _node_rows(contacts_geo(x[sl], mid[sl], g, G, z2), G, g, peaks, peaks)
             return out
         return f_rows
 
