@@ -280,7 +280,8 @@ def _gather(cyc: IdealCycles, gear) -> _OnGrid:
     """The final-grid nodes of each point's gear (:func:`_point_nodes`), gathered point by point."""
     P = gear.size
     idx, pt, counts = _point_nodes(cyc, gear)
-    if P == 1 and idx.size == cyc.grid_t.size:           # one point on the whole grid: no gathers
+    if idx.size == cyc.grid_t.size and (P == 1 or np.array_equal(idx, np.arange(idx.size))):
+        # the points take the whole grid in its order (one point, or one point a gear in solve order): no gathers
         sums, w, t, mid = cyc.grid_sums, cyc.grid_weights, cyc.grid_t, cyc.grid_mid
     else:
         sums, w, t, mid = cyc.grid_sums[:, idx], cyc.grid_weights[:, idx], cyc.grid_t[idx], cyc.grid_mid[idx]
