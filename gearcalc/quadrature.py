@@ -730,7 +730,12 @@ def _carried_on_grid(kept, n0, piece_level):
         d = piece_level[pn] - ell                   # levels from the node's grid to the final one
         down = np.maximum(-d, 0)
         use = np.flatnonzero((k & ((1 << down) - 1)) == 0)       # on the final grid
-        out[:, start[pn[use]] + ((k[use] << np.maximum(d[use], 0)) >> down[use])] = rows[:, use]
+        dest = start[pn[use]] + ((k[use] << np.maximum(d[use], 0)) >> down[use])
+        if use.size < 4096:                          # a design alone: one call
+            out[:, dest] = rows[:, use]
+        else:                                        # row by row: contiguous gathers, twice as fast as 2-D ones
+            for r in range(out.shape[0]):
+                out[r][dest] = rows[r].take(use)
         del rows
     return out
 
