@@ -3,7 +3,7 @@
 Usage:  python benchmarks/regress.py [--against COMMIT] [--threshold 1.3] [--runs N] [--quick] [--keep]
 
 A few fixed sweeps (rows, one float axis; zstk at a fixed load direction, one float axis; pins at the ideal level
-over a friction axis, over a torque x friction grid, and over a geometry axis; rows and zstk to Parquet, which
+over a friction axis, over a torque x friction grid, and over geometry axes; rows and zstk to Parquet, which
 needs pyarrow) are run end to end, as a user runs them (``python -m gearcalc sweep CONFIG --vary ... -o FILE.csv``
 or ``FILE.parquet``, in a subprocess), by this working tree (A) and
 by a git worktree of ``--against`` (B, made in a temporary folder and removed at the end), in turns: A B A B ...
@@ -53,6 +53,11 @@ CASES = {  # name: (config, --vary specs (full), --vary specs (quick)[, format: 
                     ["load.torque_Nm=10:20000:10", "friction.sliding=0.05,0.1"]),
     "pins-geometry": ("pins_paper_cyc_u10_fixed.toml", ["gearing.eccentricity_mm=3.0:4.5:0.00075"],
                       ["gearing.eccentricity_mm=3.0:4.5:0.00375"]),
+    # geometries whose final grids mostly miss --tol for the friction-consistent mean (the refinement of many
+    # gears at once), both modes, rotating pins
+    "pins-geometry-refine": ("pins_paper_cyc_u10_rotating.toml",
+                             ["gearing.eccentricity_mm=1.0:2.0:0.0002", "load.mode=multiplier,reducer"],
+                             ["gearing.eccentricity_mm=1.0:2.0:0.001", "load.mode=multiplier,reducer"]),
 }
 
 

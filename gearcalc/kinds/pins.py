@@ -326,7 +326,10 @@ def sweep_cost(base, axes, options) -> float:
     each distinct geometry of the grid's geometry axes as alone (1-2 ms measured); point by point the formula
     level 1 ms, the ideal level 1 ms + 35 us a pin-disc (:data:`IDEAL_WORK_MAX`), the contact level 0.22 ms a pin
     and pass of the torque fixed point (38-40 ms for ``configs/pins_paper_circ_u30_rotating.toml``: 62 pins,
-    3 passes)."""
+    3 passes).  Below the default --tol the ideal level's pin-disc term grows as the crank-angle nodes a gear
+    needs, (1e-6/tol)^(1/2) (trapezoid and Richardson, E ~ h^2; measured 2026-12-07: 320 nodes a gear at 1e-6,
+    9 900 at 1e-9, 8 ms a geometry in a batch), so a chunk stays about a second of work and its memory bounded
+    (1 001 eccentricities at 1e-9 in one chunk took 1.3-2 GB)."""
     try:
         level = select_level(base, options.model)
     except DesignError:
@@ -340,10 +343,11 @@ def sweep_cost(base, axes, options) -> float:
     z2 = max([base["gearing.pins"]] + [v for v in axes.get("gearing.pins", []) if isinstance(v, int)])
     if level == "ideal":
         n_d = max([base["gearing.discs"]] + [v for v in axes.get("gearing.discs", []) if isinstance(v, int)])
+        nodes = max(1.0, math.sqrt(1e-6 / options.tol))       # the nodes a gear needs, relative to --tol 1e-6
         if vectorised:  # each distinct geometry solved once (as alone: 1-2 ms measured), then 25 us a point
             points = math.prod(len(v) for v in axes.values())
-            return 2.5e-5 + (1e-3 + 35e-6 * z2 * n_d) * geometries / max(points, 1)
-        return 1e-3 + 35e-6 * z2 * base["gearing.discs"]
+            return 2.5e-5 + (1e-3 + 35e-6 * z2 * n_d * nodes) * geometries / max(points, 1)
+        return 1e-3 + 35e-6 * z2 * base["gearing.discs"] * nodes
     return 2.2e-4 * z2 * C.contact_passes(base.get(KEYS["shaft"]) == "V")
 
 

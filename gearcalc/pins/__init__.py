@@ -81,7 +81,7 @@ _NAMES = {
                   "shaft_torques", "EfficiencyTorques", "efficiency_torques", "ScaledCycle", "scale_unit_cycle"),
     "cycle": ("cycle_breakpoints", "CycleState", "cycle_state", "cycle_loss_ratio", "state_loss_ratio", "CycleDetail",
               "cycle_detail", "disc_offsets", "sum_over_discs", "disc_sum_range", "disc_sum_peak"),
-    "ideal": ("CycleIntegral", "mean_loss_ratio", "FINAL_BLOCK_CELLS", "NODE_ROWS", "GRID_ROWS", "FIRST_LEVELS_MAX",
+    "ideal": ("CycleIntegral", "mean_loss_ratio", "NODE_ROWS", "GRID_ROWS", "FIRST_LEVELS_MAX",
               "first_levels", "cycle_pieces", "TOO_FEW_TEETH", "UNDERCUT", "TOO_COSTLY", "DISC_SAMPLES_MAX",
               "DISC_WORK_MAX", "IdealCycles", "REFINE_SAMPLES", "admissibility", "ideal_cycles"),
     "consistent": ("consistent_node_values", "ConsistentCycles", "CONSISTENT_CHUNK_NODES", "REFINE_BLOCK",

@@ -359,8 +359,9 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
         words_equal(op["mode"], "multiplier", one), words_equal(op["shaft"], "V", one), op["torque"], op["speed"],
         np.array([m == "consistent" for m in models]), floats(v["face_width"]), tol=tol,
         xp=SCALAR_OPS if one else ARRAY_OPS,
-        # a consistent design alone needs no friction-free peaks
-        first_order_peaks=not (one and n_d == 1 and models[0] == "consistent" and model_errors[0] is None),
+        # consistent designs of one disc need no friction-free peaks (pins.md §4.9 has its own)
+        first_order_peaks=not (np.all(np.asarray(n_d) == 1)
+                               and all(m == "consistent" and err is None for m, err in zip(models, model_errors))),
         bearing_exponent=bearing_p)
     # admissibility (pins.md §4.2, §12.10) and the warning of §4.5, per point
     errors: list = [None] * n

@@ -21,7 +21,7 @@ from ..quadrature import QuadResult, integrate_pieces
 from .cycle import cycle_breakpoints, disc_offsets, disc_sum_peak, sum_over_discs
 from .geometry import as_arrays, crest_cutoffs, Cycloid, min_curvature_radius, spin_reversal_phases
 
-__all__ = ["CycleIntegral", "mean_loss_ratio", "FINAL_BLOCK_CELLS", "NODE_ROWS", "GRID_ROWS", "FIRST_LEVELS_MAX",
+__all__ = ["CycleIntegral", "mean_loss_ratio", "NODE_ROWS", "GRID_ROWS", "FIRST_LEVELS_MAX",
            "first_levels", "cycle_pieces", "TOO_FEW_TEETH", "UNDERCUT", "TOO_COSTLY", "DISC_SAMPLES_MAX",
            "DISC_WORK_MAX", "IdealCycles", "REFINE_SAMPLES", "admissibility", "ideal_cycles"]
 
@@ -33,8 +33,37 @@ __all__ = ["CycleIntegral", "mean_loss_ratio", "FINAL_BLOCK_CELLS", "NODE_ROWS",
 # not depend on the gears computed with it (a batch equals one design at a time, bit for bit).
 
 @dataclass
-class _GearTable:
-    """Per-gear constants of the cycle integrand, arrays of shape (m,), the gears sorted by z2."""
+class GearTable:
+    """Per-gear constants of the cycle integrand, arrays of shape (m,), the gears sorted by z2.
+
+    What the node functions (:func:`contacts_geo`, :func:`node_sums`) take per gear; :meth:`take` gives them
+    at the nodes (a scalar when the table has one gear: the same values, fewer gathers).
+
+    Attributes
+    ----------
+    z2 : ndarray of int
+        Pins, [-].
+    K1 : ndarray
+        Curtate ratio e z2/(k R_p), [-].
+    omk : ndarray
+        1 - K1, [-].
+    R_p, R_b : ndarray
+        Pin-circle and pin radius, [mm].
+    r_p1 : ndarray
+        Satellite pitch radius e z1/k, [mm].
+    c : ndarray
+        Loaded contacts reach: pin j is loaded while j < ceil(c - t), [-].
+
+    Examples
+    --------
+    >>> G = GearTable.of(as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)), np.array([2.0285]))
+    >>> int(G.z2[0]), round(float(G.K1[0]), 6), round(float(G.c[0]), 4)      # c = psi* z2/(2 pi)
+    (22, 0.75, 7.1026)
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.1-4.2, §6.
+    """
 
     z2: np.ndarray
     K1: np.ndarray
@@ -57,6 +86,7 @@ class _GearTable:
 
     @classmethod
     def of(cls, g: Cycloid, psi_star):
+        """The table of gears ``g`` (array fields, shape (m,)) with their loaded-arc ends psi* [rad]."""
         if np.size(g.z2) == 1 and np.ndim(g.z2) == 1:       # one gear: the same values from Python scalars
             z1, z2 = int(g.z1[0]), int(g.z2[0])
             e, R_p, omk, R_b = (float(np.asarray(v, dtype=float)[0]) for v in (g.e, g.R_p, g.one_minus_K1, g.R_b))
@@ -102,45 +132,37 @@ class _GearTable:
         return [(slice(lo, hi), int(z[lo])) for lo, hi in zip(edges[:-1], edges[1:]) if hi > lo]
 
 
-FINAL_BLOCK_CELLS = 4_000_000
-"""Nodes x contact rows of the final grid evaluated at once (about 32 MB an array): a batch of gears at a
-tight --tol is evaluated a few gears at a time (cut at gear boundaries, so the numbers do not change)."""
-
-
-def _bounded_blocks(blocks, gi, starts, rows: int):
-    """The (slice, z2) blocks cut into runs of at most FINAL_BLOCK_CELLS cells.
-
-    The (slice, z2) blocks cut at gear boundaries into runs of at most FINAL_BLOCK_CELLS nodes x rows (a gear larger
-    than that alone).  ``starts``: first node of each gear.
-    """
-    limit = max(1, FINAL_BLOCK_CELLS // max(rows, 1))
-    for sl, zz in blocks:
-        lo, hi = sl.start or 0, gi.size if sl.stop is None else sl.stop
-        if hi - lo <= limit:
-            yield sl, zz
-            continue
-        ends = [*starts[np.unique(gi[lo:hi])][1:].tolist(), hi]    # where each gear of the block ends
-        a = prev = lo
-        for end in ends:
-            if end - a > limit and prev > a:
-                yield slice(a, prev), zz
-                a = prev
-            prev = end
-        yield slice(a, hi), zz
-
-
-def _colsum(a):
+def colsum(a):
     """Sums over the rows (axis 0) in row order.
 
     Sums over the rows (axis 0) in row order, so that a column's sum does not depend on the padding rows (zeros) or
     on the other columns.  numpy reduces a C-ordered array over its outer axis row by row (sequentially) when there
     are several columns; a single column is a contiguous reduction, which numpy sums pairwise, so that case takes
     the (sequential) cumulative sum.
+
+    Parameters
+    ----------
+    a : ndarray, shape (rows, columns)
+        Values (contacts x nodes), C-ordered.
+
+    Returns
+    -------
+    ndarray, shape (columns,)
+        ((a[0] + a[1]) + a[2]) + ... per column.
+
+    Examples
+    --------
+    >>> colsum(np.array([[1e16, 1.0], [1.0, 2.0], [1.0, 3.0]])).tolist()     # 1e16 + 1 + 1 in order: 1e16
+    [1e+16, 6.0]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §6 (a batch equals one design at a time, bit for bit).
     """
     return a.sum(axis=0) if a.shape[1] > 1 else np.cumsum(a, axis=0)[-1]
 
 
-def _contacts(x, mid, gi, G: _GearTable, z2: int, with_phase: bool = False):
+def _contacts(x, mid, gi, G: GearTable, z2: int, with_phase: bool = False):
     """Loaded contacts at nodes x (pieces with midpoints mid) of gears gi that all have z2 pins.
 
     Arrays of shape (rows j, nodes), j in load-side order; the rows beyond a node's J loaded contacts
@@ -157,7 +179,7 @@ def _contacts(x, mid, gi, G: _GearTable, z2: int, with_phase: bool = False):
     return J, loaded, phase, lev, rho
 
 
-def _contact_rows(x, mid, gi, G: _GearTable, z2: int):
+def _contact_rows(x, mid, gi, G: GearTable, z2: int):
     """The computation of :func:`_contacts`: J, row index j, loaded, lever |l| [mm], rho [mm], sin^2(psi~/2), s."""
     J = np.ceil(G.take("c", gi) - mid).astype(np.int64)
     j, sa, ca = G.rows(z2, int(J.max()))
@@ -173,21 +195,49 @@ def _contact_rows(x, mid, gi, G: _GearTable, z2: int):
     return J, j, loaded, lev, rho, sh2, s
 
 
-def _contacts_geo(x, mid, gi, G: _GearTable, z2: int):
-    """:func:`_contacts` with the squared half-phase sine and s(psi) that the friction-consistent sums need.
+def contacts_geo(x, mid, gi, G: GearTable, z2: int):
+    """The loaded contacts at crank-angle nodes, with sin^2(psi/2) and s(psi) (pins.md §4.1, §6).
 
-    Returns J, lever |l| [mm], rho [mm], sin^2(psi~/2) and s (rows j, nodes); lever and rho by the very
-    operations of :func:`_contacts` (the same numbers, bit for bit).
+    :func:`_contacts` with the squared half-phase sine and s(psi) that the friction-consistent sums need; lever
+    and rho by the very operations of :func:`_contacts` (the same numbers, bit for bit).
+
+    Parameters
+    ----------
+    x, mid : ndarray, shape (n,)
+        Nodes t = theta/T_p and the midpoints of their pieces (loaded: j < ceil(c - mid)), [-].
+    gi : ndarray of int, shape (n,), or None
+        Each node's gear (row of ``G``; None: the table's one gear).
+    G : GearTable
+    z2 : int
+        Pins of the nodes' gears (all the same).
+
+    Returns
+    -------
+    J : ndarray of int, shape (n,)
+        Loaded contacts per node.
+    lev, rho, sh2, s : ndarray, shape (rows, n)
+        Lever |l| (0 on the padding rows), radius of curvature rho, sin^2(psi/2) and s(psi), [mm, mm, -, -].
+
+    Examples
+    --------
+    >>> G = GearTable.of(as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)), np.array([2.0285]))
+    >>> J, lev, rho, sh2, s = contacts_geo(np.array([0.25]), np.array([0.5]), None, G, 22)
+    >>> int(J[0]), lev.shape                         # J = ceil(c - mid) = ceil(7.1026 - 0.5)
+    (7, (7, 1))
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.1, §4.2, §6.
     """
     J, _, _, lev, rho, sh2, s = _contact_rows(x, mid, gi, G, z2)
     return J, lev, rho, sh2, s
 
 
 NODE_ROWS = ("N", "S", "rUx", "Sx", "Uy", "lever_max", "lever_row", "loss_max", "loss_row", "stress_max")
-"""The rows of :func:`_node_sums`: what the friction-consistent model (pins.md §4.9) needs per node."""
+"""The rows of :func:`node_sums`: what the friction-consistent model (pins.md §4.9) needs per node."""
 
 
-def _node_sums(J, lev, rho, sh2, s, G: _GearTable, gi):
+def node_sums(J, lev, rho, sh2, s, G: GearTable, gi):
     r"""Sums over a node's loaded contacts that do not depend on the friction (pins.md §4.9), rows :data:`NODE_ROWS`.
 
     In the crank frame (O1 = (e, 0), P = (r_p2, 0)) contact i has the unit normal
@@ -205,6 +255,30 @@ def _node_sums(J, lev, rho, sh2, s, G: _GearTable, gi):
     largest |l|/R_eff, R_eff = R_b (1 - R_b/rho_c) the reduced radius of pin and tooth (the contact stress;
     rho_c = R_p s^3/D_c of :func:`curvature_radius`, signed: the formula holds on both the convex and the
     concave part of the profile).  Padding rows (lever 0) add nothing.
+
+    Parameters
+    ----------
+    J, lev, rho, sh2, s : ndarray
+        What :func:`contacts_geo` returns at the nodes.
+    G : GearTable
+    gi : ndarray of int, shape (n,), or None
+        Each node's gear (row of ``G``; None: the table's one gear).
+
+    Returns
+    -------
+    ndarray, shape (len(NODE_ROWS), n)
+        The rows :data:`NODE_ROWS` per node [mm^2, mm^2, mm^2, mm, mm, mm, -, mm^2, -, 1/mm].
+
+    Examples
+    --------
+    >>> G = GearTable.of(as_arrays(Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)), np.array([2.0285]))
+    >>> sums = node_sums(*contacts_geo(np.array([0.25]), np.array([0.5]), None, G, 22), G, None)
+    >>> bool(sums[1, 0] > 0.0 and sums[5, 0] ** 2 <= sums[1, 0])     # S = sum l^2 holds the largest l^2
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.9.
     """
     rb = G.take("R_b", gi)
     r_p1 = G.take("r_p1", gi)
@@ -217,11 +291,11 @@ def _node_sums(J, lev, rho, sh2, s, G: _GearTable, gi):
     Dc = 1.0 + K1 * K1 * Ze - K1 * (1.0 + Ze) * (1.0 - u2)
     r_eff = rb * (1.0 - rb * Dc / (G.take("R_p", gi) * (s * s * s)))
     out = np.empty((len(NODE_ROWS), J.size))
-    out[0] = _colsum(lev * np.abs(rel))
-    out[1] = _colsum(lev2)
-    out[2] = -r_p1 * _colsum(sg * lev * nx)
-    out[3] = _colsum(lev * nx)
-    out[4] = -_colsum(sg * lev2) / r_p1
+    out[0] = colsum(lev * np.abs(rel))
+    out[1] = colsum(lev2)
+    out[2] = -r_p1 * colsum(sg * lev * nx)
+    out[3] = colsum(lev * nx)
+    out[4] = -colsum(sg * lev2) / r_p1
     rf = lev.argmax(axis=0)
     cols = np.arange(J.size)
     out[5], out[6] = lev[rf, cols], rf
@@ -244,79 +318,109 @@ def _grid_rows(J, lev, rel):
     contact, the total loss, rho - R_b at the first and the last loaded contact, and J.  The same
     operations as the vectorised code for many gears (:func:`ideal_cycles`).
     """
-    S = _colsum(lev * lev)
+    S = colsum(lev * lev)
     arel = np.abs(rel)
     out = np.empty((len(GRID_ROWS), J.size))
-    out[0] = _colsum(lev * arel) / S
+    out[0] = colsum(lev * arel) / S
     force = lev / S
     loss = force * arel * 1e-3                     # contact_loss_power(force, |rho - R_b|, 1)
     force.max(axis=0, out=out[1])
     loss.max(axis=0, out=out[2])
-    out[3] = _colsum(loss)
+    out[3] = colsum(loss)
     out[4], out[5], out[6] = rel[0], rel[J - 1, np.arange(J.size)], J
     return out
 
 
-def _alone_rows(J, lev, rho, sh2, s, G: _GearTable, peaks: bool = True):
-    """The rows of :func:`_grid_rows` and :func:`_node_sums` of one gear, fused.
+PEAK_ROWS = ("force_row", "loss_row")
+"""Rows a batch's integrand adds after :data:`GRID_ROWS` and :data:`NODE_ROWS` when it computes the friction-free
+peaks: the contact of each node's largest force and loss (first occurrence), which the peaks' refinement needs."""
 
-    The rows of :func:`_grid_rows` and then of :func:`_node_sums` of one gear, by the very operations of those two
-    (the same numbers, bit for bit), with the products and sums they share computed once.
 
-    Without ``peaks`` the rows of the friction-free peaks (force, loss, total: :data:`GRID_ROWS` 1-3) are NaN
-    (the friction-consistent model has its own peaks, pins.md §4.9).
+def _node_rows(contacts: tuple, G: GearTable, gi=None, peaks: bool = True, with_rows: bool = False):
+    """The rows of :func:`_grid_rows` and :func:`node_sums` at nodes of gears ``gi``, fused.
+
+    The rows of :func:`_grid_rows` and then of :func:`node_sums`, by the very operations of those two (the same
+    numbers, bit for bit), with the products and sums they share computed once; ``gi`` the gear of each node
+    (None: one gear).  Without ``peaks`` the rows of the friction-free peaks (force, loss, total:
+    :data:`GRID_ROWS` 1-3) are NaN (the friction-consistent model has its own peaks, pins.md §4.9); with
+    ``with_rows`` (and ``peaks``) the rows :data:`PEAK_ROWS` follow.  ``contacts``: (J, lever, rho,
+    sin^2(psi/2), s) of :func:`contacts_geo`.
     """
-    rb, r_p1 = G.R_b[0], G.r_p1[0]
+    J, lev, rho, sh2, s = contacts
+    rb, r_p1 = G.take("R_b", gi), G.take("r_p1", gi)
     n = J.size
     rel = rho - rb
     arel = np.abs(rel)
     lev2 = lev * lev
     la = lev * arel
-    out = np.empty((len(GRID_ROWS) + len(NODE_ROWS), n))
     g = len(GRID_ROWS)
-    S = out[g + 1] = _colsum(lev2)
-    N = out[g] = _colsum(la)
+    out = np.empty((g + len(NODE_ROWS) + (len(PEAK_ROWS) if with_rows else 0), n))
+    S = out[g + 1] = colsum(lev2)
+    N = out[g] = colsum(la)
     out[0] = N / S
     if peaks:
         force = lev / S
         loss = force * arel * 1e-3                 # contact_loss_power(force, |rho - R_b|, 1)
         force.max(axis=0, out=out[1])
         loss.max(axis=0, out=out[2])
-        out[3] = _colsum(loss)
+        out[3] = colsum(loss)
+        if with_rows:
+            out[-2], out[-1] = force.argmax(axis=0), loss.argmax(axis=0)
     else:
         out[1:4] = np.nan
     cols = np.arange(n)
     out[4], out[5], out[6] = rel[0], rel[J - 1, cols], J
     sg = np.sign(rel)
     u2 = 2.0 * sh2                                  # 2 sin^2(psi/2) = 1 - cos(psi)
-    nx = (G.omk[0] - u2) / s
-    K1, Ze = G.K1[0], G.Ze[0]
+    nx = (G.take("omk", gi) - u2) / s
+    K1, Ze = G.take("K1", gi), G.take("Ze", gi)
     Dc = 1.0 + K1 * K1 * Ze - K1 * (1.0 + Ze) * (1.0 - u2)
-    r_eff = rb * (1.0 - rb * Dc / (G.R_p[0] * (s * s * s)))
-    out[g + 2] = -r_p1 * _colsum(sg * lev * nx)
-    out[g + 3] = _colsum(lev * nx)
-    out[g + 4] = -_colsum(sg * lev2) / r_p1
-    out[g + 6] = lev.argmax(axis=0)
-    lev.max(axis=0, out=out[g + 5])
-    out[g + 8] = la.argmax(axis=0)
-    la.max(axis=0, out=out[g + 7])
+    r_eff = rb * (1.0 - rb * Dc / (G.take("R_p", gi) * (s * s * s)))
+    out[g + 2] = -r_p1 * colsum(sg * lev * nx)
+    out[g + 3] = colsum(lev * nx)
+    out[g + 4] = -colsum(sg * lev2) / r_p1
+    out[g + 6] = _first_row_of_max(lev, lev.max(axis=0, out=out[g + 5]))
+    out[g + 8] = _first_row_of_max(la, la.max(axis=0, out=out[g + 7]))
     out[g + 9] = (lev / r_eff).max(axis=0)
     return out
 
 
-def _unit_loss_ratio(G: _GearTable, piece_owner, grid_rows: bool = False, peaks: bool = True):
+def _first_row_of_max(a, top):
+    """``a.argmax(axis=0)`` of a 2-D array given its column maxima ``top``: the first row holding each maximum.
+
+    The same indices (NaN columns go to argmax itself), by a pass over the rows: numpy's argmax over the outer
+    axis of a C-ordered array costs about ten times its max.
+    """
+    if a.shape[0] < 2 or np.isnan(top).any():
+        return a.argmax(axis=0)
+    row = np.zeros(a.shape[1], dtype=np.int64)
+    for r in range(a.shape[0] - 1, 0, -1):          # the last write wins: the first row holding the maximum
+        np.copyto(row, r, where=a[r] == top)
+    np.copyto(row, 0, where=a[0] == top)
+    return row
+
+
+def _unit_loss_ratio(G: GearTable, piece_owner, grid_rows: bool = False, peaks: bool = True):
     """The integrand lambda(t)/mu_eff of the cycle mean, for :func:`~gearcalc.quadrature.integrate_pieces`.
 
-    With ``grid_rows`` (one gear), the rows of :func:`_grid_rows` and :func:`_node_sums` follow it
-    (:func:`_alone_rows`; without ``peaks`` those of the friction-free peaks are NaN), which the quadrature
-    carries to its final grid (the peaks need them there).
+    With ``grid_rows``, the rows of :func:`_grid_rows` and :func:`node_sums` follow it (:func:`_node_rows`;
+    without ``peaks`` those of the friction-free peaks are NaN; several gears add :data:`PEAK_ROWS` when
+    ``peaks``), which the quadrature carries to its final grid (the peaks and the friction-consistent model
+    need them there, so the final grid is not evaluated again).
     """
     if grid_rows:
-        z2 = int(G.z2[0])
+        alone = G.z2.size == 1 and np.all(piece_owner == 0)   # one gear: no peak rows (its own refinement)
+        n_rows = len(GRID_ROWS) + len(NODE_ROWS) + (len(PEAK_ROWS) if peaks and not alone else 0)
 
         def f_rows(x, mid, piece):
-            J, lev, rho, sh2, s = _contacts_geo(x, mid, None, G, z2)
-            return _alone_rows(J, lev, rho, sh2, s, G, peaks)
+            if alone:
+                return _node_rows(contacts_geo(x, mid, None, G, int(G.z2[0])), G, None, peaks)
+            gi = piece_owner[piece]
+            out = np.empty((n_rows, x.size))
+            for sl, z2 in G.blocks(gi):
+                g = gi[sl]
+                out[:, sl] = _node_rows(contacts_geo(x[sl], mid[sl], g, G, z2), G, g, peaks, peaks)
+            return out
         return f_rows
 
     def f(x, mid, piece):
@@ -325,7 +429,7 @@ def _unit_loss_ratio(G: _GearTable, piece_owner, grid_rows: bool = False, peaks:
         for sl, z2 in G.blocks(gi):
             g = gi[sl]
             _, _, _, lev, rho = _contacts(x[sl], mid[sl], g, G, z2)
-            out[sl] = _colsum(lev * np.abs(rho - G.take("R_b", g))) / _colsum(lev * lev)
+            out[sl] = colsum(lev * np.abs(rho - G.take("R_b", g))) / colsum(lev * lev)
         return out
     return f
 
@@ -536,12 +640,12 @@ class IdealCycles:
     grid_mid: np.ndarray
     grid_gear: np.ndarray
     grid_sums: np.ndarray | None = None
-    """The friction-independent node sums of :func:`_node_sums` on the final grid, rows :data:`NODE_ROWS`."""
+    """The friction-independent node sums of :func:`node_sums` on the final grid, rows :data:`NODE_ROWS`."""
     grid_weights: np.ndarray | None = None
     """Trapezoid weights of the final grid's nodes at its level L and at L-1, L-2 (every 2nd, 4th node),
     shape (3, nodes): a gear's weights of one level sum to 1 (the cycle mean over t = theta/T_p)."""
     table: object = None
-    """The admissible gears' constants (:class:`_GearTable`, in their solve order ``solved``) and their pieces."""
+    """The admissible gears' constants (:class:`GearTable`, in their solve order ``solved``) and their pieces."""
     solved: np.ndarray | None = None
     pieces: tuple | None = None
     n_piece: np.ndarray | None = None
@@ -557,7 +661,7 @@ REFINE_SAMPLES = 32
 """Samples of a peak's bracket (two grid intervals) before its parabolic vertex (:func:`ideal_cycles`)."""
 
 
-def _peak_values(u, mid, gi, row, kind, G: _GearTable):
+def _peak_values(u, mid, gi, row, kind, G: GearTable):
     """A peak candidate's quantity at crank angles u.
 
     kind 0 the force of contact ``row``, 1 its loss, 2 the total loss of the node; with the load-side phase of
@@ -567,12 +671,12 @@ def _peak_values(u, mid, gi, row, kind, G: _GearTable):
     for sl, z2 in G.blocks(gi):
         g = gi[sl]
         _, _, phase, lev, rho = _contacts(u[sl], mid[sl], g, G, z2, with_phase=True)
-        force = lev / _colsum(lev * lev)
+        force = lev / colsum(lev * lev)
         loss = force * np.abs(rho - G.take("R_b", g)) * 1e-3          # contact_loss_power(force, |rho - R_b|, 1)
         col = np.arange(force.shape[1])
         r = row[sl]
         k = kind[sl]
-        val[sl] = np.where(k == 0, force[r, col], np.where(k == 1, loss[r, col], _colsum(loss)))
+        val[sl] = np.where(k == 0, force[r, col], np.where(k == 1, loss[r, col], colsum(loss)))
         ph[sl] = phase[r, col]
     return val, ph
 
@@ -581,7 +685,7 @@ _REFINE_FRACTIONS = np.arange(REFINE_SAMPLES + 1) / REFINE_SAMPLES
 _REFINE_FRACTIONS.setflags(write=False)
 
 
-def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows, refine: bool = True) -> dict:
+def _one_gear_peaks(t, tmid, piece, G: GearTable, rows, refine: bool = True) -> dict:
     """The final-grid extremes and the refined peaks of :func:`ideal_cycles` for one gear with one disc.
 
     ``rows``: the rows of :func:`_grid_rows` after the first (the quadrature carried them) at the final grid
@@ -617,11 +721,11 @@ def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows, refine: bool = True) ->
     x = np.concatenate((u.ravel(), t[nds[:2]]))
     mid = np.concatenate((np.repeat(tmid[nds], n), tmid[nds[:2]]))
     _, _, _, lev, rho = _contacts(x, mid, None, G, z2)
-    F = lev / _colsum(lev * lev)
+    F = lev / colsum(lev * lev)
     P = F * np.abs(rho - G.R_b[0]) * 1e-3
     row_f, row_p = int(np.argmax(F[:, 3 * n])), int(np.argmax(P[:, 3 * n + 1]))
     contact = (row_f, row_p, 0)
-    vals = (F[row_f, :n], P[row_p, n:2 * n], _colsum(P)[2 * n:3 * n])
+    vals = (F[row_f, :n], P[row_p, n:2 * n], colsum(P)[2 * n:3 * n])
     best = [force[nds[0]], loss[nds[1]], tot[nds[2]]]
     at = [t[nd] for nd in nds]                      # crank angle of the best value met so far
     xv, interior = [], False
@@ -643,9 +747,9 @@ def _one_gear_peaks(t, tmid, piece, G: _GearTable, rows, refine: bool = True) ->
     # and already taken: the evaluation would change nothing)
     if interior:
         _, _, _, lev, rho = _contacts(np.array(xv), tmid[nds], None, G, z2)
-        F = lev / _colsum(lev * lev)
+        F = lev / colsum(lev * lev)
         P = F * np.abs(rho - G.R_b[0]) * 1e-3
-        vv = (F[row_f, 0], P[row_p, 1], _colsum(P)[2])
+        vv = (F[row_f, 0], P[row_p, 1], colsum(P)[2])
         for k in range(3):
             if vv[k] > best[k]:
                 best[k], at[k] = vv[k], xv[k]
@@ -778,6 +882,19 @@ def _admissibility(g: Cycloid):
     return status, psi_star, rho_c
 
 
+@dataclass(frozen=True)
+class CycleSettings:
+    """How :func:`ideal_cycles` integrates, and whether the friction-free peaks are wanted.
+
+    tol, n_max, n_start as :func:`~gearcalc.quadrature.integrate_pieces` takes them; ``first_order_peaks``.
+    """
+
+    tol: float = 1e-6
+    n_max: int = 2 ** 20
+    n_start: int = 16
+    first_order_peaks: bool = True
+
+
 def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n_start: int = 16,
                  first_order_peaks: bool = True) -> IdealCycles:
     r"""Solve the ideal level (pins.md §4, §6) of many cycloidal gears at once, in unit scalings.
@@ -785,22 +902,15 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     For every gear: psi* (:func:`crest_cutoffs`), the admissibility checks (pins.md §4.2, §12.10),
     the spin reversal, the cycle mean of the loss ratio at mu = 1 (:func:`cycle_pieces` and the
     piecewise trapezoid of :func:`~gearcalc.quadrature.integrate_pieces`, all gears together), and on
-    the final grid the peaks of the pin force, the pin loss and the total loss.  Each peak starts at
-    its largest grid value; for one disc it is refined inside the two grid intervals around that node
-    (the same piece only: piece ends stay one-sided) by ``REFINE_SAMPLES`` samples and the vertex of
-    the parabola through the best sample and its neighbours, keeping the largest value met (the peak
-    is a maximum of values actually evaluated, never an extrapolation).  With n_d > 1 discs the
-    discs' histories are summed per pin and per crank angle (pins.md §12.7, :func:`disc_sum_peak`).
+    the final grid the peaks of the pin force, the pin loss and the total loss (:func:`_batch_peaks`;
+    for n_d > 1 discs the discs' histories summed per pin and crank angle, pins.md §12.7).
 
-    A gear's numbers do not depend on the gears solved with it: the gears are processed in groups of
-    equal z2 as (contact, node) arrays whose sums over contacts run in contact order (:func:`_colsum`),
-    and the quadrature accumulates per gear (:func:`~gearcalc.quadrature.integrate_pieces`); so a batch
-    gives, bit for bit, what each design gives alone.  One gear with one disc (a design computed alone)
-    takes a shorter path to the same numbers (:func:`_ideal_alone`): the integrand also returns what the peaks
-    and the friction-consistent model need per node (:func:`_alone_rows`), which the quadrature carries to its
-    final grid, so the grid is not evaluated again, and :func:`_one_gear_peaks` refines the peaks with scalar
-    bookkeeping.  The quadrature's first round guesses its levels from tol and z2 (:func:`first_levels`; speed
-    only).
+    A gear's numbers do not depend on the gears solved with it (sums over contacts in contact order,
+    :func:`colsum`; the quadrature accumulates per gear), so a batch gives, bit for bit, what each
+    design gives alone.  The integrand also returns what the peaks and the friction-consistent model
+    need per node (:func:`_node_rows`), which the quadrature carries to its final grid: the grid is not
+    evaluated again.  One gear with one disc (a design computed alone) takes a shorter path to the same
+    numbers (:func:`_ideal_alone`, :func:`_one_gear_peaks`: scalar bookkeeping).
 
     .. math:: \bar\lambda_1 = \frac{1}{T_p} \int_0^{T_p}
         \frac{\sum_{i \in L} |l_i|\,|\rho_i - R_b|}{\sum_{i \in L} l_i^2}\,d\theta \ \ (\mu = 1), \qquad
@@ -812,8 +922,8 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     n_discs : discs per gear, shape (m,) (or a scalar).
     tol : relative accuracy target of the cycle mean.
     n_max : cap on crank-angle intervals per period; n_start : intervals of the first level.
-    first_order_peaks : False: one gear with one disc whose friction-free peaks (force, loss, total and
-        their phases) are not needed (they stay NaN): the friction-consistent model has its own
+    first_order_peaks : False: the friction-free peaks of the one-disc gears (force, loss, total and their
+        phases) are not needed (they stay NaN): the friction-consistent model has its own
         (:func:`consistent_cycles`).
 
     Returns
@@ -836,172 +946,248 @@ def ideal_cycles(g: Cycloid, n_discs, tol: float = 1e-6, n_max: int = 2 ** 20, n
     n_discs = np.zeros(m, dtype=np.int64) + n_discs
     status, psi_star, rho_c = admissibility(g)
     psi_0 = _spin_reversal_one(g) if m == 1 else spin_reversal_phases(g)
+    how = CycleSettings(tol, n_max, n_start, first_order_peaks)
     if m == 1 and status[0] == 0 and n_discs[0] == 1:
-        return _ideal_alone(g, status, psi_star, rho_c, psi_0, tol, n_max, n_start, first_order_peaks)
+        return _ideal_alone(g, status, psi_star, rho_c, psi_0, how)
+    ok = np.flatnonzero(status == 0)
+    if ok.size > 1:                                   # groups of equal z2 (then of similar loaded counts)
+        ok = ok[np.lexsort((psi_star[ok], z2[ok]))]
+    out = _nan_fields(m)
+    if ok.size == 0:
+        empty = np.zeros(0)
+        return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=empty, grid_mid=empty,
+                           grid_gear=np.zeros(0, dtype=np.int64), **out)
+    return _ideal_batch(g, n_discs, ok, (psi_star, psi_0, rho_c, status), out, how)
+
+
+def _nan_fields(m: int) -> dict:
+    """The per-gear fields of :class:`IdealCycles` before the solve: NaN, False and 0."""
     nan = np.full(m, np.nan)
     out = {k: nan.copy() for k in ("loss_ratio", "loss_ratio_err", "force", "force_phase", "loss", "loss_phase",
                                    "total", "rel_min", "rel_max", "rel_abs")}
     out.update(converged=np.zeros(m, dtype=bool), n_crank=np.zeros(m, dtype=np.int64),
                loaded_min=np.zeros(m, dtype=np.int64), loaded_max=np.zeros(m, dtype=np.int64))
-    ok = np.flatnonzero(status == 0)
-    if ok.size > 1:                                   # groups of equal z2 (then of similar loaded counts)
-        ok = ok[np.lexsort((psi_star[ok], z2[ok]))]
-    if ok.size == 0:
-        empty = np.zeros(0)
-        return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=empty, grid_mid=empty,
-                           grid_gear=np.zeros(0, dtype=np.int64), **out)
-    gk = Cycloid(*(np.atleast_1d(v)[ok] for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
-    G = _GearTable.of(gk, psi_star[ok])
-    n_ok = ok.size
+    return out
 
-    # the cycle mean of lambda at mu = 1, all gears together (pins.md §4.6, §6)
+
+def _ideal_batch(g: Cycloid, n_discs, ok, solo: tuple, out: dict, how: CycleSettings) -> IdealCycles:
+    """:func:`ideal_cycles` of the admissible gears ``ok`` (in solve order), all together.
+
+    ``solo``: (psi*, psi_0, min rho_c, status) of every gear; ``out``: the fields to fill.  The quadrature
+    carries the rows of :func:`_node_rows` to the final grid; the gears of several discs whose disc sums would
+    cost too much are refused there (TOO_COSTLY) and dropped from the grid.
+    """
+    psi_star, psi_0, rho_c, status = solo
+    gk = Cycloid(*(np.atleast_1d(v)[ok] for v in (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)))
+    G = GearTable.of(gk, psi_star[ok])
+    n_ok = ok.size
     a, b, owner = cycle_pieces(gk, psi_star[ok], psi_0[ok])
     jmax = int(np.ceil(G.c.max())) + 1
     alone = n_ok == 1 and n_discs[ok[0]] == 1      # one design: the same numbers, fewer array operations
+    peaks = how.first_order_peaks
     # chunks of about 2^14 contacts (at least 1024 nodes): the integrand's (contact, node) arrays then stay
     # in the cache; twice as fast per node as arrays of 2^20 at tol = 1e-9 (speed only: nodes are independent)
-    q = integrate_pieces(_unit_loss_ratio(G, owner, grid_rows=alone, peaks=first_order_peaks), a, b, owner, n_ok,
-                         tol=tol, n_max=n_max,
-                         n_start=n_start, first_levels=first_levels(tol, G.z2[0] if alone else G.z2),
+    q = integrate_pieces(_unit_loss_ratio(G, owner, grid_rows=True, peaks=peaks), a, b, owner, n_ok,
+                         tol=how.tol, n_max=how.n_max, n_start=how.n_start,
+                         first_levels=first_levels(how.tol, G.z2[0] if alone else G.z2),
                          chunk=max(1024, 2 ** 14 // jmax))
     out["loss_ratio"][ok], out["loss_ratio_err"][ok] = q.value, q.err
     out["converged"][ok], out["n_crank"][ok] = q.converged, q.n
-
-    # the final grid: loaded contacts, forces and losses (pins.md §4.4-4.6), per group of equal z2
     t, tmid, piece = q.grid()
     extra = dict(table=G, solved=ok, pieces=(a, b, owner))
+    n_grid = len(GRID_ROWS) - 1
     if alone:                                        # the grid's values came with the quadrature
-        for key, value in _one_gear_peaks(t, tmid, piece, G, q.carried, first_order_peaks).items():
+        for key, value in _one_gear_peaks(t, tmid, piece, G, q.carried, peaks).items():
             out[key][ok[0]] = value
         return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=t, grid_mid=tmid,
                            grid_gear=np.zeros(t.size, dtype=np.int64) + ok[0],
-                           grid_sums=q.carried[len(GRID_ROWS) - 1:], grid_weights=_grid_weights(t, piece, q.n_piece),
-                           n_piece=q.n_piece,
-                           **extra, **out)
-    gi = owner[piece]
-    multi = n_discs[ok] > 1
-    if multi.any():   # disc sums too large for the grid --tol needed: refused before any array is built
-        bound = np.bincount(gi, minlength=n_ok) * (np.ceil(G.c).astype(np.int64) + 1) * n_discs[ok]
-        costly = multi & ((bound > DISC_SAMPLES_MAX) | (bound * n_discs[ok] > DISC_WORK_MAX))
-        if costly.any():
-            status[ok[costly]] = TOO_COSTLY
-            keep = ~costly[gi]
-            t, tmid, piece, gi = t[keep], tmid[keep], piece[keep], gi[keep]
-    gears = np.arange(n_ok)
-    starts = np.searchsorted(gi, gears)                 # first node of each gear
-    sums = np.empty((len(NODE_ROWS), t.size))
+                           grid_sums=q.carried[n_grid:n_grid + len(NODE_ROWS)],
+                           grid_weights=_grid_weights(t, piece, q.n_piece), n_piece=q.n_piece, **extra, **out)
+    rows, gi = q.carried, owner[piece]
+    keep = _disc_budget(gi, G, n_discs[ok], status, ok)
+    if keep is not None:
+        t, tmid, piece, gi, rows = t[keep], tmid[keep], piece[keep], gi[keep], rows[:, keep]
+    grid = _FinalGrid(t, tmid, piece, gi, rows)
+    _grid_extremes(grid, ok, out)
     one = n_discs[ok] == 1
-    picks = np.zeros((3, n_ok), dtype=np.int64), np.zeros((3, n_ok), dtype=np.int64), np.zeros((3, n_ok))
-    grid_phase = np.zeros((3, n_ok))
-    for sl, zz in (_bounded_blocks(G.blocks(gi), gi, starts, jmax) if gi.size else ()):
-        lo = sl.start or 0
-        gb = gi[sl]
-        J, _, loaded, lev, rho, sh2, s_ = _contact_rows(t[sl], tmid[sl], gb, G, zz)    # as _contacts, _contacts_geo
-        sums[:, sl] = _node_sums(J, lev, rho, sh2, s_, G, gb)
-        force = lev / _colsum(lev * lev)
-        rel = rho - G.take("R_b", gb)
-        loss = force * np.abs(rel) * 1e-3              # contact_loss_power(force, |rho - R_b|, 1)
-        tot = _colsum(loss)
-        here = gb[np.flatnonzero(np.diff(gb, prepend=-1))]      # gears of the block (sorted), and their first nodes
-        seg = starts[here] - lo
-        oo = ok[here]
-        cols = np.arange(J.size)
-        # rho grows with the phase on [0, pi] (pins.md §4.2), so along a node's loaded contacts
-        # rho - R_b is least at the first and largest at the last
-        first, final = rel[0], rel[J - 1, cols]
-        out["rel_min"][oo] = np.minimum.reduceat(first, seg)
-        out["rel_max"][oo] = np.maximum.reduceat(final, seg)
-        out["rel_abs"][oo] = np.maximum.reduceat(np.maximum(np.abs(first), np.abs(final)), seg)
-        out["loaded_min"][oo] = np.minimum.reduceat(J, seg)
-        out["loaded_max"][oo] = np.maximum.reduceat(J, seg)
-        where = np.searchsorted(here, gb) if here.size > 1 else None
-        for kind, vals in enumerate((force, loss, None)):
-            if vals is None:
-                node_row, node_val = np.zeros(J.size, dtype=np.int64), tot
-            else:
-                node_row = vals.argmax(axis=0)
-                node_val = vals[node_row, cols]
-            if here.size == 1:                               # grid maximum per gear, first occurrence
-                nd = np.atleast_1d(np.argmax(node_val))
-                best = node_val[nd]
-            else:
-                best = np.maximum.reduceat(node_val, seg)
-                hit = np.flatnonzero(node_val == best[where])
-                nd = hit[np.searchsorted(gb[hit], here)]
-            picks[0][kind, here] = nd + lo
-            picks[1][kind, here] = node_row[nd]
-            picks[2][kind, here] = best
-            grid_phase[kind, here] = 2.0 * math.pi * ((node_row[nd] + t[sl][nd]) / zz)    # as _contacts
-        for i in here[~one[here]]:                       # several discs (pins.md §12.7): one by one
-            n_d = int(n_discs[ok[i]])
-            c0, c1 = starts[i] - lo, (starts[i + 1] if i + 1 < n_ok else t.size) - lo
-            ld = loaded[:, c0:c1]
-            samples = int(np.count_nonzero(ld))
-            if n_d * samples > DISC_SAMPLES_MAX or n_d * n_d * samples > DISC_WORK_MAX:
-                status[ok[i]] = TOO_COSTLY               # refused: the caller names gearing.discs and --tol
-                continue
-            ph = 2.0 * math.pi * ((np.arange(loaded.shape[0])[:, None] + t[sl][c0:c1]) / zz)
-            out["force"][ok[i]], out["force_phase"][ok[i]] = disc_sum_peak(ph[ld], force[:, c0:c1][ld], n_d)
-            out["loss"][ok[i]], out["loss_phase"][ok[i]] = disc_sum_peak(ph[ld], loss[:, c0:c1][ld], n_d)
-            tt = t[lo + c0:lo + c1]
-            out["total"][ok[i]] = float(sum_over_discs(tt, tot[c0:c1], disc_offsets(n_d, zz), 1.0).max())
-
-    # peaks of one-disc gears: refined around the grid maxima (see the docstring)
-    sel = np.flatnonzero(one)
-    if sel.size:
-        K, M = 3 * sel.size, REFINE_SAMPLES
-        gsel = np.repeat(sel, 3)                                   # gear-major: groups stay contiguous
-        kind = np.tile(np.arange(3), sel.size)
-        nd, row = picks[0][kind, gsel], picks[1][kind, gsel]
-        grid_best, grid_ph = picks[2][kind, gsel], grid_phase[kind, gsel]
-        last = t.size - 1
-        same_prev = (nd > 0) & (piece[np.maximum(nd - 1, 0)] == piece[nd])
-        same_next = (nd < last) & (piece[np.minimum(nd + 1, last)] == piece[nd])
-        lo = np.where(same_prev, t[np.maximum(nd - 1, 0)], t[nd])
-        hi = np.where(same_next, t[np.minimum(nd + 1, last)], t[nd])
-        u = lo[:, None] + (hi - lo)[:, None] * (np.arange(M + 1) / M)
-        vals, phs = _peak_values(u.ravel(), np.repeat(tmid[nd], M + 1), np.repeat(gsel, M + 1),
-                                 np.repeat(row, M + 1), np.repeat(kind, M + 1), G)
-        vals, phs = vals.reshape(K, M + 1), phs.reshape(K, M + 1)
-        r = np.arange(K)
-        bi = np.argmax(vals, axis=1)
-        bm = np.minimum(np.maximum(bi, 1), M - 1)
-        f0, fm, fp = vals[r, bm], vals[r, bm - 1], vals[r, bm + 1]
-        den = fp - 2.0 * f0 + fm
-        interior = (bi > 0) & (bi < M) & (den < 0.0)
-        xv = u[r, bm] - 0.5 * (u[r, bm + 1] - u[r, bm]) * (fp - fm) / np.where(interior, den, -1.0)
-        xv = np.where(interior, np.minimum(np.maximum(xv, u[r, bm - 1]), u[r, bm + 1]), u[r, bi])
-        vv, phv = _peak_values(xv, tmid[nd], gsel, row, kind, G)
-        best, best_ph = grid_best, grid_ph
-        better = vals[r, bi] > best
-        best, best_ph = np.where(better, vals[r, bi], best), np.where(better, phs[r, bi], best_ph)
-        better = vv > best
-        best, best_ph = np.where(better, vv, best), np.where(better, phv, best_ph)
-        best, best_ph = best.reshape(-1, 3), best_ph.reshape(-1, 3)
-        okk = ok[sel]
-        out["force"][okk], out["force_phase"][okk] = best[:, 0], best_ph[:, 0]
-        out["loss"][okk], out["loss_phase"][okk] = best[:, 1], best_ph[:, 1]
-        out["total"][okk] = best[:, 2]
-    return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=t, grid_mid=tmid, grid_gear=ok[gi], grid_sums=sums,
-                       grid_weights=_grid_weights(t, piece), **extra, **out)
+    for i in np.flatnonzero(~one):                   # several discs (pins.md §12.7): one by one
+        if status[ok[i]] == 0:
+            _disc_peaks(grid, i, G, int(n_discs[ok[i]]), ok, status, out)
+    if peaks and one.any():
+        _batch_peaks(grid, np.flatnonzero(one), G, ok, out)
+    return IdealCycles(psi_star, psi_0, rho_c, status, grid_t=t, grid_mid=tmid, grid_gear=ok[gi],
+                       grid_sums=rows[n_grid:n_grid + len(NODE_ROWS)], grid_weights=_grid_weights(t, piece),
+                       **extra, **out)
 
 
-def _ideal_alone(g: Cycloid, status, psi_star, rho_c, psi_0, tol: float, n_max: int, n_start: int,
-                 first_order_peaks: bool) -> IdealCycles:
+@dataclass(frozen=True)
+class _FinalGrid:
+    """The final crank-angle grid of a batch, gear by gear.
+
+    Nodes t, their pieces' midpoints, pieces, gears (solve order) and the carried rows of :func:`_node_rows`
+    (the first, lambda, dropped).
+    """
+
+    t: np.ndarray
+    mid: np.ndarray
+    piece: np.ndarray
+    gear: np.ndarray
+    rows: np.ndarray
+
+    def runs(self):
+        """(gears present, the first node of each): the grid's runs of one gear."""
+        first = np.flatnonzero(np.diff(self.gear, prepend=-1))
+        return self.gear[first], first
+
+
+def _disc_budget(gi, G: GearTable, n_d, status, ok):
+    """Refuse (TOO_COSTLY) the gears of several discs whose disc sums the final grid makes too costly.
+
+    Disc sums too large for the grid --tol needed are refused before any array is built (DISC_SAMPLES_MAX,
+    DISC_WORK_MAX).  Returns the mask of the grid nodes to keep, or None (all).
+    """
+    multi = n_d > 1
+    if not multi.any():
+        return None
+    bound = np.bincount(gi, minlength=ok.size) * (np.ceil(G.c).astype(np.int64) + 1) * n_d
+    costly = multi & ((bound > DISC_SAMPLES_MAX) | (bound * n_d > DISC_WORK_MAX))
+    if not costly.any():
+        return None
+    status[ok[costly]] = TOO_COSTLY
+    return ~costly[gi]
+
+
+def _grid_extremes(grid: _FinalGrid, ok, out: dict):
+    """rel_min, rel_max, rel_abs, loaded_min, loaded_max of every gear of the grid, from the carried rows.
+
+    rho grows with the phase on [0, pi] (pins.md §4.2), so along a node's loaded contacts rho - R_b is least at
+    the first and largest at the last.
+    """
+    if not grid.t.size:
+        return
+    here, seg = grid.runs()
+    oo = ok[here]
+    first, final, J = grid.rows[3], grid.rows[4], grid.rows[5].astype(np.int64)
+    out["rel_min"][oo] = np.minimum.reduceat(first, seg)
+    out["rel_max"][oo] = np.maximum.reduceat(final, seg)
+    out["rel_abs"][oo] = np.maximum.reduceat(np.maximum(np.abs(first), np.abs(final)), seg)
+    out["loaded_min"][oo] = np.minimum.reduceat(J, seg)
+    out["loaded_max"][oo] = np.maximum.reduceat(J, seg)
+
+
+def _disc_peaks(grid: _FinalGrid, i: int, G: GearTable, n_d: int, ok, status, out: dict):
+    """The peaks of gear i of several discs: its contacts on its final grid summed over the discs (pins.md §12.7).
+
+    Refused (TOO_COSTLY) when its loaded samples make the sums too costly.
+    """
+    at = np.flatnonzero(grid.gear == i)
+    if not at.size:
+        return
+    zz = int(G.z2[i])
+    t, gb = grid.t[at], grid.gear[at]
+    J, _, loaded, lev, rho, _, _ = _contact_rows(t, grid.mid[at], gb, G, zz)    # as _contacts
+    samples = int(np.count_nonzero(loaded))
+    if n_d * samples > DISC_SAMPLES_MAX or n_d * n_d * samples > DISC_WORK_MAX:
+        status[ok[i]] = TOO_COSTLY                   # refused: the caller names gearing.discs and --tol
+        return
+    force = lev / colsum(lev * lev)
+    loss = force * np.abs(rho - G.take("R_b", gb)) * 1e-3      # contact_loss_power(force, |rho - R_b|, 1)
+    ph = 2.0 * math.pi * ((np.arange(loaded.shape[0])[:, None] + t) / zz)
+    out["force"][ok[i]], out["force_phase"][ok[i]] = disc_sum_peak(ph[loaded], force[loaded], n_d)
+    out["loss"][ok[i]], out["loss_phase"][ok[i]] = disc_sum_peak(ph[loaded], loss[loaded], n_d)
+    out["total"][ok[i]] = float(sum_over_discs(t, colsum(loss), disc_offsets(n_d, zz), 1.0).max())
+
+
+def _grid_picks(grid: _FinalGrid, G: GearTable):
+    """The grid maxima of every gear of the grid, per kind (force, loss, total).
+
+    Returns the gears present and, as arrays (3, gears present): the first node holding the grid maximum, its
+    contact row, the maximum and its load-side phase.
+    """
+    here, seg = grid.runs()
+    g = len(GRID_ROWS) - 1
+    where = np.searchsorted(here, grid.gear) if here.size > 1 else None
+    zero = np.zeros(grid.t.size)
+    picks = np.zeros((3, here.size), dtype=np.int64), np.zeros((3, here.size), dtype=np.int64), \
+        np.zeros((3, here.size)), np.zeros((3, here.size))
+    for kind, (val, row) in enumerate(((0, g + len(NODE_ROWS)), (1, g + len(NODE_ROWS) + 1), (2, None))):
+        node_val = grid.rows[val]
+        node_row = zero if row is None else grid.rows[row]
+        if here.size == 1:                               # grid maximum per gear, first occurrence
+            nd = np.atleast_1d(np.argmax(node_val))
+            best = node_val[nd]
+        else:
+            best = np.maximum.reduceat(node_val, seg)
+            hit = np.flatnonzero(node_val == best[where])
+            nd = hit[np.searchsorted(grid.gear[hit], here)]
+        rr = node_row[nd].astype(np.int64)
+        picks[0][kind], picks[1][kind], picks[2][kind] = nd, rr, best
+        picks[3][kind] = 2.0 * math.pi * ((rr + grid.t[nd]) / G.z2[here])    # as _contacts
+    return here, picks
+
+
+def _batch_peaks(grid: _FinalGrid, sel, G: GearTable, ok, out: dict):
+    """Peaks of the one-disc gears ``sel``: refined around the grid maxima (:func:`ideal_cycles`).
+
+    Each starts at its largest grid value and is refined inside the two grid intervals around that node (the
+    same piece only: piece ends stay one-sided) by ``REFINE_SAMPLES`` samples and the vertex of the parabola
+    through the best sample and its neighbours, keeping the largest value met (a maximum of values actually
+    evaluated, never an extrapolation).
+    """
+    here, picks = _grid_picks(grid, G)
+    sel = sel[np.isin(sel, here)]
+    if not sel.size:
+        return
+    col = np.searchsorted(here, sel)
+    K, M = 3 * sel.size, REFINE_SAMPLES
+    gsel = np.repeat(sel, 3)                                   # gear-major: groups stay contiguous
+    kind = np.tile(np.arange(3), sel.size)
+    cc = np.repeat(col, 3)
+    nd, row, grid_best, grid_ph = (p[kind, cc] for p in picks)
+    t, piece = grid.t, grid.piece
+    last = t.size - 1
+    same_prev = (nd > 0) & (piece[np.maximum(nd - 1, 0)] == piece[nd])
+    same_next = (nd < last) & (piece[np.minimum(nd + 1, last)] == piece[nd])
+    lo = np.where(same_prev, t[np.maximum(nd - 1, 0)], t[nd])
+    hi = np.where(same_next, t[np.minimum(nd + 1, last)], t[nd])
+    u = lo[:, None] + (hi - lo)[:, None] * (np.arange(M + 1) / M)
+    vals, phs = _peak_values(u.ravel(), np.repeat(grid.mid[nd], M + 1), np.repeat(gsel, M + 1),
+                             np.repeat(row, M + 1), np.repeat(kind, M + 1), G)
+    vals, phs = vals.reshape(K, M + 1), phs.reshape(K, M + 1)
+    r = np.arange(K)
+    bi = np.argmax(vals, axis=1)
+    bm = np.minimum(np.maximum(bi, 1), M - 1)
+    f0, fm, fp = vals[r, bm], vals[r, bm - 1], vals[r, bm + 1]
+    den = fp - 2.0 * f0 + fm
+    interior = (bi > 0) & (bi < M) & (den < 0.0)
+    xv = u[r, bm] - 0.5 * (u[r, bm + 1] - u[r, bm]) * (fp - fm) / np.where(interior, den, -1.0)
+    xv = np.where(interior, np.minimum(np.maximum(xv, u[r, bm - 1]), u[r, bm + 1]), u[r, bi])
+    vv, phv = _peak_values(xv, grid.mid[nd], gsel, row, kind, G)
+    better = vals[r, bi] > grid_best
+    best, best_ph = np.where(better, vals[r, bi], grid_best), np.where(better, phs[r, bi], grid_ph)
+    better = vv > best
+    best, best_ph = np.where(better, vv, best).reshape(-1, 3), np.where(better, phv, best_ph).reshape(-1, 3)
+    okk = ok[sel]
+    out["force"][okk], out["force_phase"][okk] = best[:, 0], best_ph[:, 0]
+    out["loss"][okk], out["loss_phase"][okk] = best[:, 1], best_ph[:, 1]
+    out["total"][okk] = best[:, 2]
+
+
+def _ideal_alone(g: Cycloid, status, psi_star, rho_c, psi_0, how: CycleSettings) -> IdealCycles:
     """:func:`ideal_cycles` of one admissible gear with one disc (a design computed alone).
 
     The same steps and numbers as there, without the bookkeeping of many gears (fields of one element).
     """
     fields = (g.z1, g.z2, g.e, g.R_p, g.R_b, g.one_minus_K1)
     gk = g if all(isinstance(v, np.ndarray) and v.ndim == 1 for v in fields) else Cycloid(*map(np.atleast_1d, fields))
-    G = _GearTable.of(gk, psi_star)
+    G = GearTable.of(gk, psi_star)
     a, b, owner = cycle_pieces(gk, psi_star, psi_0)
     jmax = int(np.ceil(G.c.max())) + 1
-    q = integrate_pieces(_unit_loss_ratio(G, owner, grid_rows=True, peaks=first_order_peaks), a, b, owner, 1,
-                         tol=tol, n_max=n_max, n_start=n_start, first_levels=first_levels(tol, int(G.z2[0])),
-                         chunk=max(1024, 2 ** 14 // jmax))
+    q = integrate_pieces(_unit_loss_ratio(G, owner, grid_rows=True, peaks=how.first_order_peaks), a, b, owner, 1,
+                         tol=how.tol, n_max=how.n_max, n_start=how.n_start,
+                         first_levels=first_levels(how.tol, int(G.z2[0])), chunk=max(1024, 2 ** 14 // jmax))
     t, tmid, piece = q.grid()
-    peaks = _one_gear_peaks(t, tmid, piece, G, q.carried, first_order_peaks)
+    peaks = _one_gear_peaks(t, tmid, piece, G, q.carried, how.first_order_peaks)
     nan = math.nan
     f = np.array([[peaks.get(k, nan)] for k in ("force", "force_phase", "loss", "loss_phase", "total", "rel_min",
                                                  "rel_max", "rel_abs")])
@@ -1110,7 +1296,7 @@ def mean_loss_ratio(g: Cycloid, psi_star: float, psi_0: float | None, mu_eff: fl
     ga = as_arrays(g)
     ps = np.array([psi_star], dtype=float)
     a, b, owner = cycle_pieces(ga, ps, np.array([np.nan if psi_0 is None else psi_0]))
-    unit = _unit_loss_ratio(_GearTable.of(ga, ps), owner)
+    unit = _unit_loss_ratio(GearTable.of(ga, ps), owner)
     q = integrate_pieces(lambda x, mid, piece: mu_eff * unit(x, mid, piece), a, b, owner, 1, tol=tol,
                          n_max=n_max, n_start=n_start, n_initial=n_initial, first_levels=first_levels(tol))
     quad = QuadResult(value=q.value, err=q.err, trapezoid=q.trapezoid, n=int(q.n[0]), converged=bool(q.converged[0]),

@@ -109,7 +109,7 @@ def ideal_points(z1, z2, e, Rb, K1, Rp, n_d, rotating, axle_radius, sliding, rol
         Relative accuracy target of the cycle integrals.
     xp : SCALAR_OPS for one point on scalars; default ARRAY_OPS.
     first_order_peaks : bool
-        Whether one point needs the friction-free per-pin peaks (not for one consistent disc).
+        Whether the points need the friction-free per-pin peaks (not when all are consistent with one disc).
 
     Returns
     -------
@@ -148,7 +148,7 @@ def ideal_points(z1, z2, e, Rb, K1, Rp, n_d, rotating, axle_radius, sliding, rol
         gi = gi.reshape(-1)
         g = Cycloid(uniq[:, 0].astype(np.int64), uniq[:, 1].astype(np.int64), uniq[:, 2], uniq[:, 3], uniq[:, 5],
                     uniq[:, 4])
-        cyc = ideal_cycles(g, uniq[:, 6].astype(np.int64), tol=tol)
+        cyc = ideal_cycles(g, uniq[:, 6].astype(np.int64), tol=tol, first_order_peaks=first_order_peaks)
 
     def field(name):
         arr = getattr(cyc, name)

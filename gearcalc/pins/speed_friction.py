@@ -62,11 +62,11 @@ def power_weighted_coefficient(law, g, psi_star: float, omega_V: float, nodes: i
     .. [1] docs/spec/pins.md §4.6 (the loss ratio), §4.10 (the speed-dependent law).
     """
     from .geometry import as_arrays
-    from .ideal import _contacts_geo, _GearTable
+    from .ideal import contacts_geo, GearTable
 
-    G = _GearTable.of(as_arrays(g), np.array([psi_star]))
+    G = GearTable.of(as_arrays(g), np.array([psi_star]))
     t = (np.arange(nodes) + 0.5) / nodes
-    _, lev, rho, _, _ = _contacts_geo(t, t, None, G, int(g.z2))
+    _, lev, rho, _, _ = contacts_geo(t, t, None, G, int(g.z2))
     rel = np.abs(rho - float(g.R_b))
     wgt = lev * rel / (lev * lev).sum(axis=0)
     mu = law.coefficient(abs(omega_V) * rel * 1e-3)

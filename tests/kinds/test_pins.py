@@ -665,6 +665,13 @@ def test_pins_geometry_axis_costs_its_geometries():
     both = {**geo, "friction.sliding": [0.05, 0.1]}          # two points a geometry
     assert sw.prepare(raw, str(src), both, Options())[1] == 2.5e-5 + per_geometry / 2
     assert sw.prepare(raw, str(src), {"friction.sliding": sw.Range(0.01, 1e-5, 10_000)}, Options())[1] == 2.5e-5
+    # below the default --tol a gear needs (1e-6/tol)^(1/2) times the nodes (320 -> 9 900 at 1e-9, measured):
+    # its pin-disc term grows as much, so a chunk stays about a second of work and bounded memory (one chunk of
+    # 1 001 eccentricities at 1e-9 took 1.3-2 GB)
+    tight = sw.prepare(raw, str(src), geo, Options(tol=1e-9))[1]
+    assert tight == 2.5e-5 + 1e-3 + 35e-6 * 22 * 1 * math.sqrt(1e-6 / 1e-9)
+    assert sw.chunk_points(tight) < 50
+    assert sw.prepare(raw, str(src), geo, Options(tol=1e-3))[1] == 2.5e-5 + per_geometry     # never below
     huge = {"gearing.eccentricity_mm": sw.Range(3.0, 1.5e-6, 1_000_000)}
     assert "more than a sweep may take" in sw.cost_problem(huge, 1_000_000, sw.prepare(raw, str(src), huge,
                                                                                           Options())[1])

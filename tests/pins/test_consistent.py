@@ -22,7 +22,9 @@ from typer.testing import CliRunner
 from gearcalc import pins
 from gearcalc.cli import app
 from gearcalc.kinds import pins as kind_pins
+from gearcalc import grid as sw
 from gearcalc.pins import consistent
+from gearcalc.pins import consistent as pc
 
 from conftest import CONFIGS
 
@@ -299,7 +301,7 @@ def test_reducer_torque_on_H_mean_crank_torque_and_stresses(tmp_path):
 
 
 def test_contact_stress_reduced_radius_by_finite_differences():
-    """R_eff = R_b (1 - R_b/rho_c) of :func:`gearcalc.pins.ideal._node_sums` equals the reduced radius of the pin and
+    """R_eff = R_b (1 - R_b/rho_c) of :func:`gearcalc.pins.ideal.node_sums` equals the reduced radius of the pin and
     the tooth profile whose curvature is measured by finite differences of :func:`gearcalc.pins.tooth_profile`."""
     g = pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
     for psi in (0.3, 1.0, 1.9):
@@ -616,3 +618,52 @@ def test_consistent_cycles_evaluates_each_distinct_point_once(monkeypatch):
         for i, m in enumerate(mu):
             j = 0 if m == 0.1 else 1
             assert np.array_equal(got[..., i], getattr(pair, f)[..., j], equal_nan=True), f
+
+
+# ---------------------------------------------------------------- a geometry sweep equals each design alone
+GEOMETRY_CASES = [   # (config, axes): each row must be that design's own compute result, bit for bit
+    ("pins_paper_cyc_u10_fixed.toml", {"gearing.eccentricity_mm": sw.Range(1.0, 0.05, 21)}),
+    ("pins_paper_cyc_u10_fixed.toml", {"gearing.eccentricity_mm": [1.0, 2.5, 3.9],
+                                       "load.mode": ["multiplier", "reducer"], "friction.sliding": [0.1, 0.3]}),
+    ("pins_paper_cyc_u10_fixed.toml", {"gearing.eccentricity_mm": [3.5, 3.9], "load.mode": ["reducer"],
+                                       "friction.sliding": [0.79, 0.7908141]}),     # near the jam limit: capped
+    ("pins_paper_circ_u10_fixed.toml", {"gearing.eccentricity_mm": [3.7, 3.9]}),     # the contact level
+    ("pins_paper_cyc_u10_rotating.toml", {"gearing.eccentricity_mm": sw.Range(1.5, 0.2, 6),
+                                          "gearing.curtate_ratio": [0.5, 0.9]}),
+    ("pins_paper_cyc_u30_fixed.toml", {"gearing.pin_radius_mm": [0.8, 1.2], "load.mode": ["multiplier", "reducer"],
+                                       "gearing.discs": [1, 2]}),
+]
+
+
+def test_pins_geometry_sweep_rows_are_the_designs_alone_bit_for_bit(monkeypatch):
+    """A sweep whose geometry varies (the gears solved together, the friction-consistent refinement of many
+    gears at once) gives every row exactly what ``gearcalc.compute`` gives that design alone: the same sums in
+    the same order, cycloidal and circular-arc teeth, fixed and rotating pins, both modes, one and two discs,
+    refinements that converge and that stop at the cap (CONSISTENT_N_MAX)."""
+    from gearcalc import api
+
+    refined = {"pairs": 0, "capped": 0}
+    real = pc._refine_consistent
+
+    def counting(job):
+        value, err, conv, n_out, jam = real(job)
+        refined["pairs"] += job.gear.size
+        refined["capped"] += int((n_out == pc.CONSISTENT_N_MAX).sum())
+        return value, err, conv, n_out, jam
+
+    monkeypatch.setattr(pc, "_refine_consistent", counting)
+
+    for name, axes in GEOMETRY_CASES:
+        src = str(CONFIGS / name)
+        rows = [r for part in api.sweep(src, axes) for r in part.rows()]
+        points = sw.grid_points(axes)
+        assert len(rows) == len(points)
+        for point, row in zip(points, rows):
+            alone = api.compute(src, overrides=point).summary
+            for key, want in alone.items():
+                if key == "model_time_ms" or key not in row:
+                    continue
+                got = row[key]
+                same = got == want or (isinstance(want, float) and math.isnan(want) and math.isnan(got))
+                assert same, (name, point, key, got, want)
+    assert refined["pairs"] > 20 and refined["capped"] > 0     # the sweeps' refinement (a design alone has its own)
