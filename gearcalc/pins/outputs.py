@@ -487,9 +487,12 @@ def _first(x, kind=float):
 
 def _consistent_output(cyc, gi, consistent, gears: Gears, friction: PinFriction, op: OperatingPoint,
                        load: SatelliteLoad, tol: float):
-    """:func:`consistent_outputs` of one point (n = 1): the same values, with Python scalars in between."""
+    """:func:`consistent_outputs` of one point (n = 1): the same values, with Python scalars in between.
+
+    The point's z1, z2, rotating, r, rolls, T and load are scalars; the other fields may be arrays of one value.
+    """
     g0 = _first(gi, int)
-    good = int(np.asarray(cyc.status)[g0]) == 0
+    good = int(cyc.status[g0]) == 0
     cons = np.asarray(consistent) & good
     if not good:
         return None, cons
@@ -501,11 +504,11 @@ def _consistent_output(cyc, gi, consistent, gears: Gears, friction: PinFriction,
     c = getattr(cc, "scalars", None)
     if c is None:
         c = {f: (getattr(cc, f)[..., 0].tolist()) for f in cc.__dataclass_fields__}
-    g = Gears(_first(gears.z1, int), _first(gears.z2, int), *(_first(x) for x in (gears.e, gears.Rb, gears.K1,
-              gears.Rp)), n_d, _first(gears.rotating, bool), *(_first(x) for x in (gears.r, gears.b, gears.p)))
-    p = consistent_point(c, cons0, g, PinFriction(mu, _first(friction.sliding), _first(friction.rolls, bool)),
-                         OperatingPoint(_first(op.T), _first(op.n_H), mult, _first(op.torque_on_V, bool)),
-                         SatelliteLoad(_first(load.torque_sat), _first(load.omega_V)),
+    g = Gears(int(gears.z1), int(gears.z2), gears.e, gears.Rb, gears.K1, gears.Rp, n_d, bool(gears.rotating),
+              float(gears.r), _first(gears.b))
+    p = consistent_point(c, cons0, g, PinFriction(mu, _first(friction.sliding), bool(friction.rolls)),
+                         OperatingPoint(float(op.T), op.n_H, mult, _first(op.torque_on_V, bool)),
+                         SatelliteLoad(float(load.torque_sat), float(load.omega_V)),
                          float(np.asarray(cyc.rel_abs)[g0]), SCALAR_OPS)
     return ConsistentPoint(**{key: (v.item() if hasattr(v, "item") else v) for key, v in p.__dict__.items()}), cons
 
