@@ -1,7 +1,8 @@
 """KHV pin gearing: one operating point or many, from loss ratios to efficiencies and torques (pins.md §4.5-4.7).
 
-The pin circle, the friction regime, the efficiencies with their error, the shaft torques and the
-scaling of a unit-torque cycle to an operating point, for floats (:data:`SCALAR_OPS`) and arrays over
+The points' inputs as parameter objects (:class:`Gears`, :class:`FrictionCoefficients`, :class:`OperatingPoint`,
+:class:`SatelliteLoad`), the pin circle, the friction regime, the efficiencies with their error, the shaft torques
+and the scaling of a unit-torque cycle to an operating point, for floats (:data:`SCALAR_OPS`) and arrays over
 points (:data:`ARRAY_OPS`) alike, bit for bit.  Units N, mm, N·mm, rad/s; torques in N·m; powers in W.
 
 References
