@@ -396,7 +396,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     from ..pins.margins import margin_columns
 
     from ..pins.output_contact import contact_output_fields, contact_w
-    from ..pins.speed_friction import _law_of
+    from ..pins.speed_friction import sliding_law
 
     a = _one(design)
     problem = output_problem(a, "contact", _pin_circle(a)) or law_problem(a, "contact")
@@ -410,7 +410,7 @@ def _contact(design, options: Options, warnings, failed, detail) -> dict:
     warnings.extend([R.tooth_overlap(profile)] if overlap else [])
     model = friction_model(design)
     w = contact_w(a, g.ratio)       # the teeth carry the output mechanism's and the drag's torque (pins.md §4.10)
-    point = {**{n: a[n] for n in OPERATING}, "torque": w.teeth_torque, "law": _law_of(a)}    # a speed law: §4.10
+    point = {**{n: a[n] for n in OPERATING}, "torque": w.teeth_torque, "law": sliding_law(a)}    # a speed law: §4.10
     try:
         cl = contact_level(ContactDesign(g, profile, law, a["n_d"], a["rotating"], a["r"], a["bearing_k"]),
                            point, model, options.tol,

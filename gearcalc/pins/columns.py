@@ -19,10 +19,11 @@ import numpy as np
 from . import report as R
 from .checks import friction_model
 from .formula import formula_losses
+from .friction import PinFriction
 from .geometry import MULTIPLIER, REDUCER, Cycloid
 from .ideal import DISC_SAMPLES_MAX, DISC_WORK_MAX, TOO_COSTLY
 from .margins import margin_columns
-from .operating import ARRAY_OPS, SCALAR_OPS, floats
+from .operating import ARRAY_OPS, SCALAR_OPS, FrictionCoefficients, Gears, OperatingPoint, SatelliteLoad, floats
 from .output_mech import output_fields, w_bearing_columns
 from .points import ideal_points
 from .schema import SUMMARY_KEYS
@@ -223,28 +224,34 @@ class IdealColumns:
     def detail(self, i: int) -> dict:
         """The detail tables of point ``i`` (pins.md §8), built on demand."""
         from .detail import ideal_detail
+        from .outputs import satellite_torque
 
-        k, cyc = int(self.gi[i]), self.cyc
+        k, cyc, n_d, consistent = int(self.gi[i]), self.cyc, int(self.n_d[i]), self.models[i] == "consistent"
         g = Cycloid(int(self.z1[i]), int(self.z2[i]), float(self.e[i]), float(self.Rp[i]), float(self.Rb[i]),
                     float(self.omk[i]))
         T_sat = float(self.T_sat[i]) if self.columns["pin_force_max_N"][i] is not None else None
         w_V = float(self.w_V[i]) if not math.isnan(self.speed[i]) else None
         sigma = MULTIPLIER if self.mode[i] == "multiplier" else REDUCER
         T_V = self.columns["torque_in_Nm" if sigma == MULTIPLIER else "torque_out_Nm"][i]
-        return ideal_detail(g, float(cyc.psi_star[k]), *cyc.grid(k), float(self.mu[i]), sigma,
-                            self.models[i] == "consistent", T_sat, None if w_V is None else -w_V, bool(self.rolls[i]),
-                            int(self.n_d[i]), T_V)
+        if consistent and T_sat is not None:     # the friction-consistent efficiency's T_V (None: self-locking)
+            T_sat = None if T_V is None else satellite_torque(T_V, n_d)
+        load = SatelliteLoad(T_sat, None if w_V is None else -w_V)
+        friction = PinFriction(float(self.mu[i]), float(self.f[i]), bool(self.rolls[i]))
+        return ideal_detail(g, float(cyc.psi_star[k]), cyc.grid(k), friction, load, n_d, sigma, consistent)
 
 
-def _gear(v, one: bool):
-    """The gear of the points: z1, z2, n_d, e, Rb, K1, Rp, rotating, r (scalars for one point, else arrays)."""
+def _gears(v, one: bool) -> Gears:
+    """The gears of the points (scalars for one point, else arrays), with the face width and the bearing exponent."""
+    absent = [None] * len(v["z1"])            # callers without [bearing] keys (tests, the API's own dicts)
+    p = floats(v.get("bearing_p", absent))
+    p = np.where(np.isnan(p), 10.0 / 3.0, p)     # ISO 281: roller bearings
     if one:
-        z1, z2, n_d = v["z1"][0], v["z2"][0], v["n_d"][0]
-        e, Rb, K1, Rp, r = (float64(v[name][0]) for name in ("e", "Rb", "K1", "Rp", "r"))
-        return z1, z2, n_d, e, Rb, K1, Rp, bool(v["rotating"][0]), r
+        e, Rb, K1, Rp, r, b = (float64(v[name][0]) for name in ("e", "Rb", "K1", "Rp", "r", "face_width"))
+        return Gears(v["z1"][0], v["z2"][0], e, Rb, K1, Rp, v["n_d"][0], bool(v["rotating"][0]), r, b,
+                     float(p.reshape(-1)[0]))
     z1, z2, n_d = (np.array(v[name], dtype=np.int64) for name in ("z1", "z2", "n_d"))
-    e, Rb, K1, Rp = (floats(v[name]) for name in ("e", "Rb", "K1", "Rp"))
-    return z1, z2, n_d, e, Rb, K1, Rp, np.array([bool(x) for x in v["rotating"]]), floats(v["r"])
+    e, Rb, K1, Rp, r, b = (floats(v[name]) for name in ("e", "Rb", "K1", "Rp", "r", "face_width"))
+    return Gears(z1, z2, e, Rb, K1, Rp, n_d, np.array([bool(x) for x in v["rotating"]]), r, b, p)
 
 
 def _law_coefficients(v, n: int, op: dict, one: bool):
@@ -256,7 +263,7 @@ def _law_coefficients(v, n: int, op: dict, one: bool):
     from ..calculator import DesignError
     from .geometry import crest_cutoff
     from .output_keys import LAW_ARGS, law_problem
-    from .speed_friction import _omega_V, _law_of, power_weighted_coefficient
+    from .speed_friction import power_weighted_coefficient, satellite_speed, sliding_law
 
     mu_bar, errs, seen = np.full(n, np.nan), [None] * n, {}
     for i in range(n):
@@ -273,7 +280,8 @@ def _law_coefficients(v, n: int, op: dict, one: bool):
             try:
                 g = Cycloid.from_curtate_ratio(z1, z2, e, K1, Rb) if K1 is not None else \
                     Cycloid.from_pin_circle(z1, z2, e, Rp, Rb)
-                seen[key] = power_weighted_coefficient(_law_of(a), g, crest_cutoff(g), _omega_V(z1, z2, a["speed"]))
+                seen[key] = power_weighted_coefficient(sliding_law(a), g, crest_cutoff(g),
+                                                       satellite_speed(z1, z2, a["speed"]))
             except (ValueError, ArithmeticError):       # an inadmissible gear: said by the level's own checks
                 seen[key] = np.nan
         mu_bar[i] = seen[key]
@@ -344,46 +352,21 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
        docs/spec/pins.md §4, §4.9, §8, §10.
     """
     one = n == 1
-    z1, z2, n_d, e, Rb, K1g, Rpg, rot, r = _gear(v, one)
-    op = operating(v, one)
-    absent = [None] * n                       # callers without [bearing] keys (tests, the API's own dicts)
-    bearing_p = floats(v.get("bearing_p", absent))
-    bearing_p = np.where(np.isnan(bearing_p), 10.0 / 3.0, bearing_p)      # ISO 281: roller bearings
-    if one:
-        bearing_p = float(bearing_p.reshape(-1)[0])
+    gears, op = _gears(v, one), operating(v, one)
     mu_bar, law_errors = None, None
     if any(x not in (None, "coulomb") for x in v.get("f_law", ())):   # a speed-dependent law (pins.md §4.10)
         mu_bar, law_errors = _law_coefficients(v, n, op, one)
-    pts = ideal_points(
-        z1, z2, e, Rb, K1g, Rpg, n_d, rot, r, op["sliding"], op["rolling"], op["axle"],
-        words_equal(op["mode"], "multiplier", one), words_equal(op["shaft"], "V", one), op["torque"], op["speed"],
-        np.array([m == "consistent" for m in models]), floats(v["face_width"]), tol=tol,
-        xp=SCALAR_OPS if one else ARRAY_OPS,
-        # consistent designs of one disc need no friction-free peaks (pins.md §4.9 has its own)
-        first_order_peaks=not (np.all(np.asarray(n_d) == 1)
-                               and all(m == "consistent" and err is None for m, err in zip(models, model_errors))),
-        bearing_exponent=bearing_p)
-    # admissibility (pins.md §4.2, §12.10) and the warning of §4.5, per point
-    errors: list = [None] * n
-    warnings: list[list[str]] = [[] for _ in range(n)]
-    status, psi_0, Rp, omk, cyc, gi = pts.status, pts.psi_0, pts.Rp, pts.omk, pts.cyc, pts.gi
-    at = (lambda arr, i: arr) if one else (lambda arr, i: arr[i])
-    bad = ([0] if status != 0 else []) if one else np.flatnonzero(status != 0)
-    for i in bad:                             # the messages of check() (gearcalc.pins.checks.ideal_admissibility)
-        if at(status, i) == TOO_COSTLY:       # known after the quadrature only: not in check()
-            errors[i] = R.too_costly_error(int(at(n_d, i)), int(at(pts.field("n_crank"), i)), tol,
-                                           DISC_SAMPLES_MAX, DISC_WORK_MAX)
-            continue
-        errors[i] = R.admissibility_error(int(at(status, i)), int(at(z1, i)), int(at(z2, i)),
-                                          float(at(pts.psi_star, i)), float(at(Rb, i)), float(cyc.rho_c_min[gi[i]]),
-                                          float(at(pts.K1, i)))
-    inside = (status == 0) & (Rb >= Rp * omk)
-    for i in ([0] if inside else []) if one else np.flatnonzero(inside):
-        p0 = None if np.isnan(at(psi_0, i)) else float(at(psi_0, i))
-        warnings[i].append(R.pitch_point_inside(at(Rb, i), at(Rp, i) * at(omk, i), p0))
-    errors = [err if err is not None else m_err for err, m_err in zip(errors, model_errors)]
-    if law_errors is not None:
-        errors = [err if err is not None else l_err for err, l_err in zip(errors, law_errors)]
+    # consistent designs of one disc need no friction-free peaks (pins.md §4.9 has its own)
+    alone = bool(np.all(np.asarray(gears.n_d) == 1)
+                 and all(m == "consistent" and err is None for m, err in zip(models, model_errors)))
+    pts = ideal_points(gears, FrictionCoefficients(op["sliding"], op["rolling"], op["axle"]),
+                       OperatingPoint(op["torque"], op["speed"], words_equal(op["mode"], "multiplier", one),
+                                      words_equal(op["shaft"], "V", one)),
+                       np.array([m == "consistent" for m in models]), tol=tol, xp=SCALAR_OPS if one else ARRAY_OPS,
+                       first_order_peaks=not alone)
+    errors, warnings = _admissibility(pts, n, tol)
+    for more in (model_errors, law_errors or [None] * n):
+        errors = [err if err is not None else m_err for err, m_err in zip(errors, more)]
     arrays = _ideal_fields(pts)
     if any(m not in (None, "ideal") for m in v.get("w_mech", ())) or any(d for d in v.get("drag", ())):
         _output_errors(v, n, pts, errors)      # the output mechanism and the crank's drag (pins.md §4.10)
@@ -392,32 +375,65 @@ def ideal_columns(v, n: int, tol: float, models: list, model_errors: list) -> Id
     arrays["sliding_friction_mean"] = mu_col[0] if one else mu_col
     for i in np.flatnonzero(pts.multi_disc):
         warnings[i].append(R.MULTI_DISC_PEAKS)
-    mu, rolls, T_sat, w_V = pts.mu, pts.rolls, pts.sc.torque_sat, pts.sc.omega_V
-    columns = R.ideal_columns(arrays, op["mode"], rot, rolls, models, n)
-    columns.update(w_bearing_columns(_bearing_columns(pts, bearing_p, floats(v.get("bearing_C", absent)),
+    columns = R.ideal_columns(arrays, op["mode"], gears.rotating, pts.rolls, models, n)
+    columns.update(w_bearing_columns(_bearing_columns(pts, gears.p, floats(v.get("bearing_C", [None] * n)),
                                                       op["speed"], n), arrays, n))   # with |B + Q x| (pins.md §8.2)
+    _overflow_errors(columns, arrays, errors, v, n)
+    kept = dict(z1=gears.z1, z2=gears.z2, e=gears.e, Rp=pts.Rp, Rb=gears.Rb, omk=pts.omk, n_d=gears.n_d, mu=pts.mu,
+                f=op["sliding"], rolls=pts.rolls, T_sat=pts.sc.torque_sat, w_V=pts.sc.omega_V, speed=op["speed"],
+                mode=op["mode"])
+    if one:
+        kept = {name: [x] for name, x in kept.items()}
+    return IdealColumns(columns=columns, errors=errors, warnings=warnings, cyc=pts.cyc, gi=pts.gi, models=models,
+                        **kept)
+
+
+def _admissibility(pts, n: int, tol: float) -> tuple[list, list]:
+    """Per point the DesignError of an inadmissible gear (pins.md §4.2, §12.10) and the warning of §4.5.
+
+    The messages of check() (:func:`gearcalc.pins.checks.ideal_admissibility`), and of a gear over the work budget
+    (known after the quadrature only: not in check()); (errors, warnings) over the points.
+    """
+    errors: list = [None] * n
+    warnings: list[list[str]] = [[] for _ in range(n)]
+    status, psi_0, Rp, omk, Rb, cyc, gi = pts.status, pts.psi_0, pts.Rp, pts.omk, pts.Rb, pts.cyc, pts.gi
+    at = (lambda arr, i: arr) if pts.one else (lambda arr, i: arr[i])
+    bad = ([0] if status != 0 else []) if pts.one else np.flatnonzero(status != 0)
+    for i in bad:
+        if at(status, i) == TOO_COSTLY:
+            errors[i] = R.too_costly_error(int(at(pts.n_d, i)), int(at(pts.field("n_crank"), i)), tol,
+                                           DISC_SAMPLES_MAX, DISC_WORK_MAX)
+            continue
+        errors[i] = R.admissibility_error(int(at(status, i)), int(at(pts.z1, i)), int(at(pts.z2, i)),
+                                          float(at(pts.psi_star, i)), float(at(Rb, i)), float(cyc.rho_c_min[gi[i]]),
+                                          float(at(pts.K1, i)))
+    inside = (status == 0) & (Rb >= Rp * omk)
+    for i in ([0] if inside else []) if pts.one else np.flatnonzero(inside):
+        p0 = None if np.isnan(at(psi_0, i)) else float(at(psi_0, i))
+        warnings[i].append(R.pitch_point_inside(at(Rb, i), at(Rp, i) * at(omk, i), p0))
+    return errors, warnings
+
+
+def _overflow_errors(columns: dict, arrays: dict, errors: list, v, n: int) -> None:
+    """The DesignError of a loss ratio that overflowed floating point (K1 ~ 1e-300 and below: refused, not exit 70).
+
+    Put in ``errors`` at the points without an error and without a loss ratio that do not self-lock, or that
+    self-lock with an infinite field: a jammed mode of the friction-consistent model has no loss ratio, but its
+    speeds and losses (they grow as 1/K1) may have overflowed; found only for such points (a pass over the fields).
+    """
     overflow = None
     for i, (lam, locked) in enumerate(zip(columns["loss_ratio"], columns["self_locking"])):
         if errors[i] is not None or lam is not None:
             continue
         if locked and overflow is None:
-            # a jammed mode of the friction-consistent model has no loss ratio, but its speeds and losses (they grow
-            # as 1/K1) may have overflowed floating point: found only for such points (it costs a pass over the fields)
             overflow = np.zeros(n, dtype=bool)
             for a in arrays.values():
                 x = np.asarray(a)
                 if x.dtype.kind == "f" and x.shape in ((), (n,)):
                     overflow |= np.isinf(x)
-        if not locked or overflow[i]:      # K1 ~ 1e-300 and below: refused, not exit 70
+        if not locked or overflow[i]:
             given = v["K1"][i] is not None
             errors[i] = R.loss_ratio_overflow(given, v["K1" if given else "Rp"][i])
-    speed, mode = op["speed"], op["mode"]
-    if one:
-        z1, z2, e, Rp, Rb, omk, n_d, mu, rolls, T_sat, w_V, speed, mode = (
-            [x] for x in (z1, z2, e, Rp, Rb, omk, n_d, mu, rolls, T_sat, w_V, speed, mode))
-    return IdealColumns(columns=columns, errors=errors, warnings=warnings, cyc=cyc, gi=gi, z1=z1, z2=z2, e=e, Rp=Rp,
-                        Rb=Rb, omk=omk, n_d=n_d, mu=mu, rolls=rolls, T_sat=T_sat, w_V=w_V, models=models, speed=speed,
-                        mode=mode)
 
 
 def level_columns(v, level: str, names: list, tol: float, pin_load: bool, default_model: str):

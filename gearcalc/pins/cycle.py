@@ -22,7 +22,7 @@ from .efficiency import contact_loss_power, pin_spin, sliding_speed
 from .geometry import Cycloid, lever_arm, MULTIPLIER, pitch_distance
 
 __all__ = ["cycle_breakpoints", "CycleState", "cycle_state", "cycle_loss_ratio", "state_loss_ratio", "CycleDetail",
-           "cycle_detail", "disc_offsets", "sum_over_discs", "disc_sum_range", "disc_sum_peak"]
+           "cycle_detail", "crank_order", "disc_offsets", "sum_over_discs", "disc_sum_range", "disc_sum_peak"]
 
 
 # Over one period the load-side phases of the pins are psi_j(t) = 2 pi (j + t)/z2, j = 0 .. z2-1,
@@ -262,8 +262,8 @@ class CycleDetail:
     contact_loss: np.ndarray | None
 
 
-def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_sat, omega_V, rolls: bool,
-                 n_discs: int = 1, denominator=None) -> CycleDetail:
+def cycle_detail(g: Cycloid, sigma: int, st: CycleState, friction, load, n_discs: int = 1,
+                 denominator=None) -> CycleDetail:
     r"""Loss ratio, forces, speeds and losses at the nodes of the ideal level's cycle (pins.md §4.4-4.6, §8).
 
     The cycle variable t maps to crank angle theta = T_p t (multiplier; pin i = -j mod z2) or
@@ -281,14 +281,11 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
         +1 reducer, -1 multiplier.
     st : CycleState
         the loaded contacts at the nodes t (:func:`cycle_state`).
-    mu_eff : float
-        [-].
-    torque_sat : float or None
-        T_sat per disc [N·mm] (None: unknown, e.g. self-locking with the torque on H).
-    omega_V : float or None
-        signed satellite speed [rad/s] (None: no crank speed).
-    rolls : bool
-        the pins roll.
+    friction : :class:`~gearcalc.pins.friction.PinFriction`
+        mu_eff [-] and whether the pins roll.
+    load : :class:`~gearcalc.pins.operating.SatelliteLoad`
+        T_sat per disc [N·mm] (None: unknown, e.g. self-locking with the torque on H) and the signed satellite
+        speed omega_V [rad/s] (None: no crank speed).
     n_discs : int
         n_d.
     denominator : ndarray, optional
@@ -301,10 +298,10 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
 
     Examples
     --------
-    >>> from gearcalc.pins import REDUCER
+    >>> from gearcalc.pins import REDUCER, PinFriction, SatelliteLoad
     >>> g = Cycloid.from_curtate_ratio(21, 22, 3.9, 0.75, 1.95)
     >>> st = cycle_state(np.array([0.0, 0.5, 1.0]), np.array([0.5, 0.5, 0.5]), g, np.pi)
-    >>> d = cycle_detail(g, REDUCER, st, 0.1, 1000.0, -1.0, False)
+    >>> d = cycle_detail(g, REDUCER, st, PinFriction(0.1, 0.1, False), SatelliteLoad(1000.0, -1.0))
     >>> d.theta.tolist() == sorted(d.theta.tolist()), bool(np.all(d.force >= 0)), d.loaded.tolist()  # k = 1: half
     (True, True, [11, 11, 11])
 
@@ -312,7 +309,7 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
     ----------
     .. [1] Prudnikov (seed 000), cited in full in :mod:`gearcalc.pins`; pins.md §4.4-4.6, §8.
     """
-    t = st.t
+    t, mu_eff, torque_sat, omega_V = st.t, friction.mu_eff, load.torque_sat, load.omega_V
     Tp_deg = 360.0 / g.z2
     if denominator is not None:     # friction-consistent forces (pins.md §4.9)
         st = CycleState(st.t, st.phase, st.loaded, st.lever, st.rho, np.asarray(denominator, dtype=float))
@@ -321,15 +318,15 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
         theta, pin_shift, pin_sign = t * Tp_deg, 0, -1
     else:                        # theta = T_p (1 - t), pin i = j + 1 mod z2
         theta, pin_shift, pin_sign = (1.0 - t) * Tp_deg, 1, 1
-    order = _crank_order(theta, sigma)
+    order = crank_order(theta, sigma)
     have_P = torque_sat is not None and omega_V is not None
     loaded = st.loaded[:, order]
     jj, nn = np.nonzero(loaded.T)[1], order[np.nonzero(loaded.T)[0]]      # row-major by node, then pin
     F = torque_sat * st.lever[jj, nn] / st.S[nn] if torque_sat is not None else None
     v = sliding_speed(st.rho[jj, nn], g.R_b, omega_V) if omega_V is not None else None
     if omega_V is not None:
-        spin = units.rad_s_to_rpm(pin_spin(st.rho[jj, nn], g.R_b, omega_V)) if rolls else np.zeros(jj.size)
-        slide = np.zeros(jj.size) if rolls else v / units.MM_PER_M
+        spin = units.rad_s_to_rpm(pin_spin(st.rho[jj, nn], g.R_b, omega_V)) if friction.rolls else np.zeros(jj.size)
+        slide = np.zeros(jj.size) if friction.rolls else v / units.MM_PER_M
     else:
         spin = slide = None
     return CycleDetail(
@@ -340,11 +337,38 @@ def cycle_detail(g: Cycloid, sigma: int, st: CycleState, mu_eff: float, torque_s
         contact_loss=contact_loss_power(F, v, mu_eff) if have_P else None)
 
 
-def _crank_order(theta, sigma: int):
-    """The nodes in crank-angle order.
+def crank_order(theta, sigma: int):
+    r"""The nodes of a cycle grid in crank-angle order (pins.md §8: the detail tables' rows).
 
     A repeated angle (a jump) keeps its one-sided limits in crank-angle order: the reducer's theta = T_p (1 - t)
     runs against t, so its ties go in reverse node order (the left limit in t is the right limit in theta).
+
+    .. math:: \theta_{o_0} \le \theta_{o_1} \le \dots, \qquad \theta = T_p\,t \ \text{(multiplier)}, \quad
+        \theta = T_p\,(1 - t) \ \text{(reducer)}
+
+    Parameters
+    ----------
+    theta : ndarray
+        The nodes' crank angles, in the order of t [deg or rad].
+    sigma : int
+        +1 reducer, -1 multiplier.
+
+    Returns
+    -------
+    order : ndarray of int
+        The node indices, crank angle ascending (a stable sort; the reducer's ties reversed).
+
+    Examples
+    --------
+    >>> from gearcalc.pins import REDUCER
+    >>> crank_order(np.array([2.0, 1.0, 1.0, 0.0]), REDUCER).tolist()     # t ascending: the jump's limits swap
+    [3, 2, 1, 0]
+    >>> crank_order(np.array([0.0, 1.0, 1.0, 2.0]), MULTIPLIER).tolist()
+    [0, 1, 2, 3]
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.8 (the mirror relation of the modes), §8 (the detail tables).
     """
     if sigma == MULTIPLIER:
         return np.argsort(theta, kind="stable")

@@ -130,7 +130,7 @@ def rows(columns: dict) -> list[dict]:
     return [dict(zip(keys, vals)) for vals in zip(*cols.values())]
 
 
-def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist=None, consistent=False):
+def detail_tables(g, sigma, st, friction, load, n_d: int = 1, hist=None, consistent=False):
     r"""Rows of the final grid (pins.md §8, :func:`~gearcalc.pins.cycle.cycle_detail`).
 
     ``crank`` (one per crank angle: the loss ratio and loss of all discs, the loaded pins of the first, the crank
@@ -150,17 +150,11 @@ def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist
     sigma : int
         +1 reducer, -1 multiplier.
     st : CycleState
-        The loaded contacts at the nodes (:func:`~gearcalc.pins.cycle.cycle_state`).
-    t : ndarray
-        Nodes t = theta/T_p, [-].
-    mu : float
-        Effective friction coefficient, [-].
-    T_sat : float or None
-        Torque on one disc, [N·mm].
-    omega_V : float or None
-        Output speed, [rad/s].
-    rolls : bool
-        The pins roll.
+        The loaded contacts at the nodes t = theta/T_p (:func:`~gearcalc.pins.cycle.cycle_state`).
+    friction : PinFriction
+        mu_eff [-] and whether the pins roll.
+    load : SatelliteLoad
+        T_sat, the torque on one disc [N·mm], and omega_V, the output speed [rad/s] (each None: not known).
     n_d : int, optional
         Discs, [-].
     hist : dict, optional
@@ -175,11 +169,12 @@ def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist
 
     Examples
     --------
+    >>> from gearcalc.pins import PinFriction, SatelliteLoad
     >>> from gearcalc.pins.cycle import cycle_state
     >>> from gearcalc.pins.geometry import Cycloid, crest_cutoff
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
-    >>> t = np.array([0.0, 0.5])
-    >>> d = detail_tables(g, -1, cycle_state(t, np.array([0.5, 0.5]), g, crest_cutoff(g)), t, 0.1, 1e4, None, False)
+    >>> st = cycle_state(np.array([0.0, 0.5]), np.array([0.5, 0.5]), g, crest_cutoff(g))
+    >>> d = detail_tables(g, -1, st, PinFriction(0.1, 0.1, False), SatelliteLoad(1e4, None))
     >>> round(d["crank"][0]["loss_ratio"], 6), d["crank"][0]["loaded_pins"]
     (0.132085, 7)
 
@@ -189,13 +184,12 @@ def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist
        pins and teeth contact area of KHV-type planetary gearing), Машиностроение (seed file 000_fe288dec6e7c72f0.txt);
        docs/spec/pins.md §4.4, §4.6, §8.
     """
-    d = cycle_detail(g, sigma, st, mu, T_sat, omega_V, rolls, n_d,
-                          denominator=hist["D"] if consistent else None)
+    d = cycle_detail(g, sigma, st, friction, load, n_d, denominator=hist["D"] if consistent else None)
     cols = {"theta_deg": d.theta, "TE_arcsec": np.zeros(d.theta.size), "loss_ratio": d.loss_ratio,
             "loss_W": d.loss, "loaded_pins": d.loaded}
     if hist is not None:
-        have = T_sat is not None
-        cd = crank_detail(hist, t, sigma, g.z2, T_sat, n_d) if have else None
+        have = load.torque_sat is not None
+        cd = crank_detail(hist, st.t, sigma, g.z2, load.torque_sat, n_d) if have else None
         cols.update({
             "crank_torque_Nm": cd.crank_torque if have and consistent else None,
             "bearing_force_N": cd.bearing_force if have else None,
@@ -209,15 +203,12 @@ def detail_tables(g, sigma, st, t, mu, T_sat, omega_V, rolls, n_d: int = 1, hist
     return {"crank": crank, "contacts": contacts}
 
 
-def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, omega_V, rolls, n_discs,
-                 torque_V=None):
-    r"""The ideal level's detail tables of one gear (pins.md §8) on its final grid ``t`` (piece midpoints ``t_mid``).
+def ideal_detail(g, psi_star, grid, friction, load, n_discs, sigma, consistent):
+    r"""The ideal level's detail tables of one gear (pins.md §8) on its final grid.
 
-    :func:`detail_tables` with the crank history of :func:`~gearcalc.pins.consistent.crank_history`.
-
-    With ``consistent`` the forces are the friction-consistent ones, and the satellite torque follows from
-    ``torque_V`` [N·m], the torque on V of the friction-consistent efficiency (pins.md §4.9; None: self-locking);
-    else ``torque_sat`` [N·mm] (None without a torque).  omega_V [rad/s] or None (no crank speed).
+    :func:`detail_tables` with the crank history of :func:`~gearcalc.pins.consistent.crank_history`.  With
+    ``consistent`` the forces are the friction-consistent ones, and ``load``'s T_sat is the friction-consistent
+    efficiency's (pins.md §4.9; :func:`~gearcalc.pins.outputs.satellite_torque` of its T_V, None when self-locking).
 
     .. math:: F_i = \frac{T_{sat}\,|l_i|}{D}, \qquad B = -\sum_i F_i\,(n_i + q_i\,z \times n_i)
 
@@ -227,24 +218,20 @@ def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, o
         The gear.
     psi_star : float
         End of the loaded arc, [rad].
-    t, t_mid : ndarray
-        The final grid's nodes t = theta/T_p and their pieces' midpoints, [-].
-    mu_eff : float
-        Effective friction coefficient, [-].
+    grid : tuple of ndarray
+        (t, t_mid): the final grid's nodes t = theta/T_p and their pieces' midpoints, [-]
+        (:meth:`~gearcalc.pins.ideal.IdealCycles.grid`).
+    friction : PinFriction
+        mu_eff [-] and whether the pins roll.
+    load : SatelliteLoad
+        T_sat, the torque on one disc [N·mm] (None without a torque), and omega_V, the output speed [rad/s] (None:
+        no crank speed).
+    n_discs : int
+        Discs, [-].
     sigma : int
         +1 reducer, -1 multiplier.
     consistent : bool
         The friction-consistent forces.
-    torque_sat : float or None
-        Torque on one disc, [N·mm].
-    omega_V : float or None
-        Output speed, [rad/s].
-    rolls : bool
-        The pins roll.
-    n_discs : int
-        Discs, [-].
-    torque_V : float, optional
-        Torque on V, [N·m].
 
     Returns
     -------
@@ -255,10 +242,11 @@ def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, o
     --------
     Friction-free forces: the bearing's tangential force is T_H/e = T_sat k/(z1 e) = 1e4 x 2/(20 x 3.9) N:
 
+    >>> from gearcalc.pins import PinFriction, SatelliteLoad
     >>> from gearcalc.pins.geometry import Cycloid, crest_cutoff
     >>> g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)
-    >>> d = ideal_detail(g, crest_cutoff(g), np.array([0.0, 0.5]), np.array([0.5, 0.5]), 0.1, -1, False, 1e4, None,
-    ...                  False, 1, None)
+    >>> d = ideal_detail(g, crest_cutoff(g), (np.array([0.0, 0.5]), np.array([0.5, 0.5])),
+    ...                  PinFriction(0.1, 0.1, False), SatelliteLoad(1e4, None), 1, -1, False)
     >>> round(d["crank"][0]["bearing_tangential_N"], 6), d["crank"][0]["loaded_pins"]
     (-256.410256, 7)
 
@@ -268,10 +256,8 @@ def ideal_detail(g, psi_star, t, t_mid, mu_eff, sigma, consistent, torque_sat, o
     """
     from .consistent import crank_history
     from .cycle import cycle_state
-    from .outputs import satellite_torque
 
+    t, t_mid = grid
     st = cycle_state(t, t_mid, g, psi_star)
-    hist = crank_history(g, psi_star, t, t_mid, mu_eff, sigma, consistent)
-    if consistent and torque_sat is not None:
-        torque_sat = None if torque_V is None else satellite_torque(torque_V, n_discs)
-    return detail_tables(g, sigma, st, t, mu_eff, torque_sat, omega_V, rolls, n_discs, hist, consistent)
+    hist = crank_history(g, psi_star, t, t_mid, friction.mu_eff, sigma, consistent)
+    return detail_tables(g, sigma, st, friction, load, n_discs, hist, consistent)

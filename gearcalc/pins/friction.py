@@ -429,9 +429,10 @@ def contact_loss_power(force, speed, mu_eff):
 # ============================================================ the rule at the contact level (pins.md §5.5, §5.6)
 
 class PinFriction(NamedTuple):
-    """The friction of one operating point at the contact level (pins.md §5.5, §5.6).
+    """The friction of one operating point at the contact level (pins.md §5.5, §5.6), or of many at the ideal level.
 
-    (mu_eff, f, rolls), as the tuple it replaces (it unpacks the same).
+    (mu_eff, f, rolls), as the tuple it replaces (it unpacks the same); at the ideal level (:func:`friction_regime`,
+    :func:`gearcalc.pins.points.ideal_points`) the fields may be arrays over the operating points.
 
     mu_eff : mu_rot where the pins roll, else f [-]; sliding : f [-]; rolls : the pins roll;
     law : the sliding contacts' :class:`FrictionLaw` (None: Coulomb with f, the coefficient of fixed pins mu_eff).

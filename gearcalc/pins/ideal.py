@@ -133,7 +133,9 @@ class GearTable:
 
 
 def colsum(a):
-    """Sums over the rows (axis 0) in row order.
+    r"""Sums over the rows (axis 0) in row order.
+
+    .. math:: S_j = (\cdots((a_{0j} + a_{1j}) + a_{2j}) + \cdots) + a_{n-1,j}
 
     Sums over the rows (axis 0) in row order, so that a column's sum does not depend on the padding rows (zeros) or
     on the other columns.  numpy reduces a C-ordered array over its outer axis row by row (sequentially) when there
@@ -196,7 +198,9 @@ def _contact_rows(x, mid, gi, G: GearTable, z2: int):
 
 
 def contacts_geo(x, mid, gi, G: GearTable, z2: int):
-    """The loaded contacts at crank-angle nodes, with sin^2(psi/2) and s(psi) (pins.md §4.1, §6).
+    r"""The loaded contacts at crank-angle nodes, with sin^2(psi/2) and s(psi) (pins.md §4.1, §6).
+
+    .. math:: J = \lceil c - t_{mid} \rceil, \qquad \sin^2\frac{\psi_j}{2}, \qquad s(\psi_j)\ (j < J)
 
     :func:`_contacts` with the squared half-phase sine and s(psi) that the friction-consistent sums need; lever
     and rho by the very operations of :func:`_contacts` (the same numbers, bit for bit).

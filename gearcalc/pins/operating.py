@@ -1,7 +1,8 @@
 """KHV pin gearing: one operating point or many, from loss ratios to efficiencies and torques (pins.md §4.5-4.7).
 
-The pin circle, the friction regime, the efficiencies with their error, the shaft torques and the
-scaling of a unit-torque cycle to an operating point, for floats (:data:`SCALAR_OPS`) and arrays over
+The points' inputs as parameter objects (:class:`Gears`, :class:`FrictionCoefficients`, :class:`OperatingPoint`,
+:class:`SatelliteLoad`), the pin circle, the friction regime, the efficiencies with their error, the shaft torques
+and the scaling of a unit-torque cycle to an operating point, for floats (:data:`SCALAR_OPS`) and arrays over
 points (:data:`ARRAY_OPS`) alike, bit for bit.  Units N, mm, N·mm, rad/s; torques in N·m; powers in W.
 
 References
@@ -17,10 +18,11 @@ import numpy as np
 
 from .. import units
 from .efficiency import efficiency_multiplier, efficiency_reducer
-from .friction import friction_regime, peak_coefficient
+from .friction import PinFriction, friction_regime, peak_coefficient
 
-__all__ = ["floats", "SCALAR_OPS", "ARRAY_OPS", "pin_circle", "friction_regime", "efficiency_reducer_err",
-           "shaft_torques", "EfficiencyTorques", "efficiency_torques", "ScaledCycle", "scale_unit_cycle"]
+__all__ = ["floats", "SCALAR_OPS", "ARRAY_OPS", "Gears", "FrictionCoefficients", "OperatingPoint", "SatelliteLoad",
+           "pin_circle", "friction_regime", "efficiency_reducer_err", "shaft_torques", "EfficiencyTorques",
+           "efficiency_torques", "ScaledCycle", "scale_unit_cycle"]
 
 
 def floats(vals):
@@ -106,6 +108,83 @@ SCALAR_OPS = _ScalarOps()
 """``xp`` for one operating point of scalars."""
 ARRAY_OPS = _ArrayOps()
 """``xp`` for arrays over operating points (numpy)."""
+
+
+# The inputs of the ideal level's points (pins.md §2, §7), each field a scalar of one point or an array over the
+# points (:func:`gearcalc.pins.points.ideal_points`); the friction regime of a point (mu_eff, f, rolls) is a
+# :class:`~gearcalc.pins.friction.PinFriction` (:func:`friction_regime`).
+
+@dataclass(frozen=True)
+class Gears:
+    """The gears of operating points (pins.md §2, §7): scalars of one point, or arrays over the points.
+
+    z1, z2 : satellite teeth, pins [-] (k = z2 - z1, :attr:`k`); e : eccentricity [mm]; Rb : pin (bushing) outer
+    radius R_b [mm]; K1 : curtate ratio [-] and Rp : pin-centre circle radius R_p [mm], the one not given NaN
+    (:func:`pin_circle`); n_d : discs [-]; rotating : the pins carry bushings on axles; r : axle radius [mm] (NaN:
+    none); b : face width [mm] (NaN: not given); p : the crank bearing's life exponent [-] (ISO 281, pins.md §8.2).
+
+    Examples
+    --------
+    >>> Gears(20, 22, 3.9, 1.95, 0.75, math.nan).k
+    2
+    """
+
+    z1: object
+    z2: object
+    e: object
+    Rb: object
+    K1: object
+    Rp: object
+    n_d: object = 1
+    rotating: object = False
+    r: object = math.nan
+    b: object = math.nan
+    p: object = 10.0 / 3.0
+
+    @property
+    def k(self):
+        """The tooth difference k = z2 - z1 [-]."""
+        return self.z2 - self.z1
+
+
+@dataclass(frozen=True)
+class FrictionCoefficients:
+    """The friction coefficients of operating points (pins.md §2, §7 ``[friction]``): scalars or arrays.
+
+    f : pin-tooth sliding friction [-]; f_k : rolling-friction coefficient [mm]; f_c : bushing-axle sliding friction
+    [-] (f_k and f_c NaN: not given, fixed pins).
+    """
+
+    f: object
+    f_k: object
+    f_c: object
+
+
+@dataclass(frozen=True)
+class OperatingPoint:
+    """The load and speed of operating points (pins.md §2, §7 ``[load]``): scalars of one point, or arrays.
+
+    T : the torque given [N·m], on the satellite shaft V where ``torque_on_V``, else on the crank H; n_H : crank
+    speed [rpm] (NaN: not given); multiplier : the mode (V drives H), else reducer; torque_on_V : the shaft of T.
+    """
+
+    T: object
+    n_H: object
+    multiplier: object
+    torque_on_V: object
+
+
+@dataclass(frozen=True)
+class SatelliteLoad:
+    """The torque and speed of one satellite disc (pins.md §2, §4.4-4.5): scalars of one point, or arrays.
+
+    torque_sat : T_sat = T_V/n_d, the torque on one disc [N·mm] (None in the detail tables: not known);
+    omega_V : the satellite's speed [rad/s] (NaN or None: no crank speed; |omega_V| in the summary's scaling,
+    signed in the detail tables).
+    """
+
+    torque_sat: object
+    omega_V: object
 
 
 def pin_circle(z1, z2, eccentricity, pin_circle_radius, curtate_ratio, xp=ARRAY_OPS):
@@ -341,8 +420,8 @@ class ScaledCycle:
     sliding_speed_max: object
 
 
-def scale_unit_cycle(unit, loss_ratio_mean, mu_eff, rolls, sliding_friction, torque_V, n_discs, crank_speed_rpm,
-                     z1, k, pin_radius, xp=ARRAY_OPS) -> ScaledCycle:
+def scale_unit_cycle(unit, loss_ratio_mean, friction: PinFriction, torque_V, crank_speed_rpm, gears: Gears,
+                     xp=ARRAY_OPS) -> ScaledCycle:
     r"""Scale the ideal level's unit cycle (unit torque, speed and friction) to operating points (pins.md §4.4-4.8).
 
     The rigid solution does not depend on the torque, the speed or the friction coefficient (pins.md
@@ -361,18 +440,14 @@ def scale_unit_cycle(unit, loss_ratio_mean, mu_eff, rolls, sliding_friction, tor
         rel_abs, psi_0, psi_star [rad], force_phase, loss_phase [rad]).
     loss_ratio_mean : float or array_like
         lambda_bar = mu_eff x the unit loss ratio [-].
-    mu_eff : float or array_like
-        [-]; rolls : bool or array_like, the pins roll; sliding_friction : f [-].
+    friction : :class:`~gearcalc.pins.friction.PinFriction`
+        mu_eff [-], f [-] and whether the pins roll (:func:`friction_regime`), per point.
     torque_V : float or array_like
         T_V [N·m] (:func:`efficiency_torques`).
-    n_discs : int or array_like
-        n_d.
     crank_speed_rpm : float or array_like
         n_H [rpm] (NaN: not given; the losses and speeds are then NaN).
-    z1, k : int or array_like
-        teeth of the satellite, tooth difference.
-    pin_radius : float or array_like
-        R_b [mm].
+    gears : Gears
+        the points' gears: z1, z2 (k = z2 - z1), n_d and R_b [mm] are used.
     xp : :data:`ARRAY_OPS` or :data:`SCALAR_OPS`
 
     Returns
@@ -384,7 +459,8 @@ def scale_unit_cycle(unit, loss_ratio_mean, mu_eff, rolls, sliding_friction, tor
     >>> from types import SimpleNamespace
     >>> u = SimpleNamespace(force=0.01, total=0.02, loss=0.005, rel_min=-1.0, rel_max=2.0, rel_abs=2.0,
     ...                     psi_0=np.nan, psi_star=3.0, force_phase=1.0, loss_phase=1.5)
-    >>> sc = scale_unit_cycle(u, 0.05, 0.1, False, 0.1, 100.0, 1, 1000.0, 20, 1, 2.0, SCALAR_OPS)
+    >>> sc = scale_unit_cycle(u, 0.05, PinFriction(0.1, 0.1, False), 100.0, 1000.0, Gears(20, 21, 1.0, 2.0, 0.5,
+    ...                       math.nan), SCALAR_OPS)
     >>> sc.force_max, sc.spin_abs_max
     (1000.0, 0.0)
 
@@ -392,16 +468,17 @@ def scale_unit_cycle(unit, loss_ratio_mean, mu_eff, rolls, sliding_friction, tor
     ----------
     .. [1] Prudnikov (seed 000), cited in full in :mod:`gearcalc.pins`; pins.md §4.4-4.8.
     """
-    T_sat = units.nm_to_nmm(torque_V) / n_discs                            # N·mm per disc
-    w_V = units.rpm_to_rad_s(crank_speed_rpm) * k / z1                      # |omega_V| [rad/s]
+    mu_eff, rolls = friction.mu_eff, friction.rolls
+    T_sat = units.nm_to_nmm(torque_V) / gears.n_d                          # N·mm per disc
+    w_V = units.rpm_to_rad_s(crank_speed_rpm) * gears.k / gears.z1          # |omega_V| [rad/s]
     F_max = T_sat * unit.force                                              # N
-    spin_rpm = units.rad_s_to_rpm(w_V) / pin_radius                         # rpm per mm of rho - R_b
+    spin_rpm = units.rad_s_to_rpm(w_V) / gears.Rb                           # rpm per mm of rho - R_b
     v_max = w_V * unit.rel_abs                                              # mm/s
     zero = 0.0 * w_V
     P = mu_eff * T_sat * w_V
     return ScaledCycle(
         torque_sat=T_sat, omega_V=w_V, loss_mean=loss_ratio_mean * torque_V * w_V, loss_peak=P * unit.total,
-        loss_max=P * unit.loss, loss_bound=peak_coefficient(mu_eff, rolls, sliding_friction, xp) * F_max * v_max * 1e-3,
+        loss_max=P * unit.loss, loss_bound=peak_coefficient(mu_eff, rolls, friction.sliding, xp) * F_max * v_max * 1e-3,
         force_max=F_max, force_phase=xp.where(xp.isnan(F_max), xp.nan, xp.degrees(unit.force_phase)),
         loss_phase=xp.where(xp.isnan(P), xp.nan, xp.degrees(unit.loss_phase)),
         spin_abs_max=xp.where(rolls, spin_rpm * xp.maximum(xp.abs(unit.rel_min), xp.abs(unit.rel_max)), zero),

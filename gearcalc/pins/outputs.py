@@ -23,11 +23,12 @@ import numpy as np
 
 from .. import hertz, units
 from .consistent import consistent_cycles
-from .cycle import _crank_order, disc_offsets, sum_over_discs
+from .cycle import crank_order, disc_offsets, sum_over_discs
 from .efficiency import efficiency_multiplier, efficiency_reducer
-from .friction import peak_coefficient
+from .friction import PinFriction, peak_coefficient
 from .geometry import MULTIPLIER, REDUCER
-from .operating import ARRAY_OPS, SCALAR_OPS, efficiency_reducer_err, shaft_torques
+from .operating import ARRAY_OPS, SCALAR_OPS, Gears, OperatingPoint, SatelliteLoad, efficiency_reducer_err
+from .operating import shaft_torques
 
 __all__ = ["STEEL_E_MPA", "STEEL_NU", "STEEL_E_STAR_MPA", "ConsistentEfficiencies", "consistent_efficiencies",
            "satellite_torque", "crank_torque", "contact_stress", "axle_pressure", "pin_loss_bound", "ConsistentPoint",
@@ -310,17 +311,12 @@ class ConsistentPoint:
     bearing_pmean_err: object = None
 
 
-def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V, axle_radius, rotating,
-                     rolls, z1, k, n_discs, face_width, sliding_friction, rel_abs, torque, torque_on_V,
-                     xp=ARRAY_OPS) -> ConsistentPoint:
-    r"""Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points.
+def consistent_point(c, consistent, gears: Gears, friction: PinFriction, op: OperatingPoint, load: SatelliteLoad,
+                     rel_abs, xp=ARRAY_OPS) -> ConsistentPoint:
+    r"""Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points (pins.md §4.9).
 
-    Efficiencies, torques, losses, peaks and the outputs of pins.md §8 of operating points, from their
-    friction-consistent unit cycles (pins.md §4.9).
-
-    Consistent points (``consistent``) take everything from the friction-consistent model; first-order points
-    get the outputs of §8 (bearing force, contact stress, axle pressure) from their friction-free forces at
-    their own (first-order) T_sat.
+    Consistent points take everything from their friction-consistent unit cycles; first-order points get the outputs
+    of §8 (bearing force, contact stress, axle pressure) from their friction-free forces at their own T_sat.
 
     .. math::
 
@@ -331,34 +327,17 @@ def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, 
     Parameters
     ----------
     c : mapping
-        the :class:`gearcalc.pins.ConsistentCycles` fields at the points (rows 0 reducer, 1 multiplier of
-        loss_ratio, err, jammed, converged, n_crank; the peaks of the point's own mode): arrays, or for one
-        point Python values (``.tolist()``).
+        the :class:`gearcalc.pins.ConsistentCycles` fields at the points (rows 0 reducer, 1 multiplier of loss_ratio,
+        err, jammed, converged, n_crank; the peaks of the own mode): arrays, or one point's values (``.tolist()``).
     consistent : bool or array_like of bool
         the point uses the friction-consistent model (else first-order).
-    multiplier : bool or array_like of bool
-        multiplier mode (V drives H), else reducer.
-    mu_eff : float or array_like
-        [-].
-    torque_sat_first_order : float or array_like
-        T_sat of the first-order efficiency [N·mm] (:func:`gearcalc.pins.scale_unit_cycle`).
-    omega_V : float or array_like
-        |omega_V| [rad/s] (NaN: no crank speed; the powers are then NaN).
-    axle_radius : float or array_like
-        r [mm]; rotating : bool or array_like (rotating pins); rolls : bool or array_like (they roll).
-    z1, k : int or array_like
-        satellite teeth, tooth difference (u = z1/k).
-    n_discs : int or array_like
-        n_d.
-    face_width : float or array_like
-        b [mm] (NaN: not given; the stress and the axle pressure are then NaN).
-    sliding_friction : float or array_like
-        f [-].
+    gears, friction, op : :class:`gearcalc.pins.Gears`, :class:`gearcalc.pins.PinFriction`, :class:`OperatingPoint`
+        z1, z2 (u = z1/k), n_d, rotating, r [mm], b [mm] (NaN: no stress, no axle pressure); mu_eff, f [-], rolls;
+        T [N·m] (on V where ``torque_on_V``, else on H) and the mode.
+    load : :class:`gearcalc.pins.SatelliteLoad`
+        the first-order T_sat [N·mm] (:func:`gearcalc.pins.scale_unit_cycle`), |omega_V| [rad/s] (NaN: no powers).
     rel_abs : float or array_like
         the peak |rho - R_b| over the cycle [mm] (the contact speed per |omega_V|).
-    torque : float or array_like
-        the torque given [N·m], on V when ``torque_on_V`` else on H.
-    torque_on_V : bool or array_like of bool
     xp : :data:`gearcalc.pins.ARRAY_OPS` or :data:`gearcalc.pins.SCALAR_OPS`
 
     Returns
@@ -372,8 +351,9 @@ def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, 
     >>> cyc = pins.ideal_cycles(g, 1)
     >>> cc = pins.consistent_cycles(cyc, np.array([0]), np.array([0.1]), mode=pins.REDUCER)
     >>> c = {f: getattr(cc, f)[..., 0].tolist() for f in cc.__dataclass_fields__}
-    >>> p = consistent_point(c, True, False, 0.1, 1.0, 10.0, 0.95, False, False, 20, 2, 1, 10.0, 0.1, 1.0,
-    ...                      100.0, False, SCALAR_OPS)
+    >>> p = consistent_point(c, True, pins.Gears(20, 22, 3.9, 1.95, 0.75, np.nan, 1, False, 0.95, 10.0),
+    ...                      pins.PinFriction(0.1, 0.1, False), pins.OperatingPoint(100.0, 1000.0, False, False),
+    ...                      pins.SatelliteLoad(1.0, 10.0), 1.0, SCALAR_OPS)
     >>> round(p.crank_torque_mean, 4)          # the cycle mean of the crank torque is the torque on H (1e-8)
     100.0
 
@@ -381,14 +361,12 @@ def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, 
     ----------
     pins.md §4.9, §8; Prudnikov, eq. (7) and Figs 3-7; Blagojević et al. 2011 (model 2).
     """
-    nan = xp.nan
-    e_star = STEEL_E_STAR_MPA
-    lam_R, lam_M = c["loss_ratio"][0], c["loss_ratio"][1]
-    err_R, err_M = c["err"][0], c["err"][1]
+    nan, multiplier, mu_eff, omega_V = xp.nan, op.multiplier, friction.mu_eff, load.omega_V
+    lam_R, lam_M, err_R, err_M = c["loss_ratio"][0], c["loss_ratio"][1], c["err"][0], c["err"][1]
     jam_R, jam_M = c["jammed"][0], c["jammed"][1]
     ce = consistent_efficiencies(lam_R, lam_M, err_R, err_M, jam_R, jam_M, xp)
-    T_V, T_H = shaft_torques(torque, z1 / k, ce.eta_vh, ce.eta_hv, multiplier, torque_on_V, xp)
-    Ts = xp.where(consistent, satellite_torque(T_V, n_discs), torque_sat_first_order)   # first-order: its own
+    T_V, T_H = shaft_torques(op.T, gears.z1 / gears.k, ce.eta_vh, ce.eta_hv, multiplier, op.torque_on_V, xp)
+    Ts = xp.where(consistent, satellite_torque(T_V, gears.n_d), load.torque_sat)   # first-order: its own
     P = mu_eff * Ts * omega_V
     F = Ts * c["force"]
     lam = xp.where(multiplier, lam_M, lam_R)
@@ -405,37 +383,36 @@ def consistent_point(c, consistent, multiplier, mu_eff, torque_sat_first_order, 
         force_max=F, force_phase=xp.degrees(c["force_phase"]),
         loss_max=P * c["loss"], loss_peak=P * c["total"],
         loss_phase=xp.where(xp.isnan(P), nan, xp.degrees(c["loss_phase"])),
-        loss_bound=pin_loss_bound(mu_eff, rolls, sliding_friction, F, omega_V * rel_abs, xp),
+        loss_bound=pin_loss_bound(mu_eff, friction.rolls, friction.sliding, F, omega_V * rel_abs, xp),
         crank_torque_mean=xp.where(consistent, crank_torque(Ts, c["crank_mean"]), nan),
         crank_torque_ripple=xp.where(consistent, crank_torque(Ts, c["crank_max"] - c["crank_min"]), nan),
         bearing_force_max=Ts * c["bearing_max"], bearing_force_mean=Ts * c["bearing_mean"],
-        contact_stress_max=contact_stress(Ts, c["stress"], face_width, e_star),
-        axle_pressure_max=xp.where(rotating, axle_pressure(F, axle_radius, face_width), nan),
-        torque_scale=Ts / torque_sat_first_order, torque_sat=Ts, bearing_pmean=c["bearing_pmean"],
+        contact_stress_max=contact_stress(Ts, c["stress"], gears.b, STEEL_E_STAR_MPA),
+        axle_pressure_max=xp.where(gears.rotating, axle_pressure(F, gears.r, gears.b), nan),
+        torque_scale=Ts / load.torque_sat, torque_sat=Ts, bearing_pmean=c["bearing_pmean"],
         bearing_pmean_err=c["bearing_pmean_err"])
 
 
-def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
-                       axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque,
-                       torque_on_V, tol: float = 1e-6, bearing_exponent=10.0 / 3.0):
+def consistent_outputs(cyc, gi, consistent, gears: Gears, friction: PinFriction, op: OperatingPoint,
+                       load: SatelliteLoad, tol: float = 1e-6):
     """:func:`consistent_point` of n operating points of solved gears (pins.md §4.9, §8), the admissible ones.
 
-    Runs :func:`gearcalc.pins.consistent_cycles` for the points whose gear is admissible (``status`` 0) with
-    their mu_eff (0 for first-order points: friction-free forces) and mode, then :func:`consistent_point`.
+    Runs :func:`gearcalc.pins.consistent_cycles` for the points whose gear is admissible (its ``cyc.status`` 0)
+    with their mu_eff (0 for first-order points: friction-free forces) and mode, then :func:`consistent_point`.
     One point (n = 1: scalars in, Python floats out, :data:`gearcalc.pins.SCALAR_OPS`) runs the same formulas
     as many (arrays over the points, NaN where a gear is inadmissible): the same numbers, bit for bit.
 
     Parameters
     ----------
     cyc : :class:`gearcalc.pins.IdealCycles`
-    gear : ndarray of int, shape (n,)
+    gi : ndarray of int, shape (n,)
         each point's gear in ``cyc``.
-    status : int or ndarray (n,)
-        each point's admissibility status (0: admissible).
-    consistent, multiplier, torque_on_V : ndarray of bool, shape (n,)
-    mu_eff, torque_sat_first_order, omega_V, axle_radius, rotating, rolls, z1, k, n_discs : scalar or (n,)
-    face_width, sliding_friction : ndarray, shape (n,)
-    torque : float or ndarray (n,)
+    consistent : ndarray of bool, shape (n,)
+        the points of the friction-consistent model.
+    gears, friction, op, load : :class:`gearcalc.pins.Gears`, :class:`gearcalc.pins.PinFriction`,
+        :class:`gearcalc.pins.OperatingPoint`, :class:`gearcalc.pins.SatelliteLoad` (the first-order T_sat
+        [N·mm] and |omega_V| [rad/s]): scalars or arrays (n,), as :func:`consistent_point` takes them; the gears'
+        p is the crank bearing's life exponent [-].
     tol : relative accuracy target of the cycle means.
 
     Returns
@@ -451,9 +428,9 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
     >>> from gearcalc import pins
     >>> g = pins.geometry.as_arrays(pins.Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95))
     >>> cyc = pins.ideal_cycles(g, np.array([1]))
-    >>> one = np.array([True])
-    >>> p, cons = consistent_outputs(cyc, np.array([0]), 0, one, ~one, 0.1, 1.0, 10.0, np.nan, False, False,
-    ...                              20, 2, 1, np.array([np.nan]), np.array([0.1]), 100.0, ~one)
+    >>> gears, op = pins.Gears(20, 22, 3.9, 1.95, 0.75, np.nan), pins.OperatingPoint(100.0, np.nan, False, False)
+    >>> p, cons = consistent_outputs(cyc, np.array([0]), np.array([True]), gears, pins.PinFriction(0.1, 0.1, False),
+    ...                              op, pins.SatelliteLoad(1.0, 10.0))
     >>> round(p.efficiency, 5), round(p.crank_torque_mean, 4), p.contact_stress_max
     (0.86061, 100.0, nan)
 
@@ -462,70 +439,77 @@ def consistent_outputs(cyc, gear, status, consistent, multiplier, mu_eff, torque
     pins.md §4.9, §6 (the error estimate), §8.
     """
     n = len(consistent)
-    one = n == 1
-    if one:
-        return _consistent_output(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
-                                  axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque,
-                                  torque_on_V, tol, bearing_exponent)
-    nd_a = np.zeros(n, dtype=np.int64) + np.asarray(n_discs)
-    good = (np.zeros(n, dtype=np.int64) + np.asarray(status)) == 0
+    if n == 1:
+        return _consistent_output(cyc, gi, consistent, gears, friction, op, load, tol)
+    nd_a = np.zeros(n, dtype=np.int64) + np.asarray(gears.n_d)
+    good = np.asarray(cyc.status)[gi] == 0
     cons = np.asarray(consistent) & good
     if not good.any():
         return None, cons
     sel = np.flatnonzero(good)
-    mult = np.asarray(multiplier)[sel]
-    mu_a = np.zeros(n) + np.asarray(mu_eff, dtype=float)
+    mult = np.broadcast_to(np.asarray(op.multiplier), (n,))[sel]
+    mu_a = np.zeros(n) + np.asarray(friction.mu_eff, dtype=float)
     mu_c = np.where(cons[sel], mu_a[sel], 0.0)           # first-order points: friction-free forces
-    cc = consistent_cycles(cyc, gear[sel], mu_c, nd_a[sel], tol, mode=np.where(mult, MULTIPLIER, REDUCER),
-                           bearing_exponent=(np.zeros(n) + bearing_exponent)[sel])
-    b, f_sl = np.asarray(face_width)[sel], np.asarray(sliding_friction)[sel]
-    rel_abs = np.asarray(cyc.rel_abs)[gear[sel]]
-    if one:                                             # Python floats from here on
-        c = {f: (getattr(cc, f)[..., 0].tolist()) for f in cc.__dataclass_fields__}
-        p = consistent_point(c, bool(cons[0]), bool(mult[0]), float(mu_a[0]), float(torque_sat_first_order),
-                             float(omega_V), float(axle_radius), bool(rotating), bool(rolls), int(z1), int(k),
-                             int(nd_a[0]), float(b[0]), float(f_sl[0]), float(rel_abs[0]), float(torque),
-                             bool(np.asarray(torque_on_V)[0]), SCALAR_OPS)
-        return ConsistentPoint(**{key: (v.item() if hasattr(v, "item") else v)
-                                  for key, v in p.__dict__.items()}), cons
+    cc = consistent_cycles(cyc, gi[sel], mu_c, nd_a[sel], tol, mode=np.where(mult, MULTIPLIER, REDUCER),
+                           bearing_exponent=(np.zeros(n) + gears.p)[sel])
     c = {f: getattr(cc, f) for f in cc.__dataclass_fields__}
 
     def at(x, dtype=float):
         return (np.zeros(n, dtype=dtype) + np.asarray(x, dtype=dtype))[sel]
 
-    p = consistent_point(c, cons[sel], mult, mu_a[sel], at(torque_sat_first_order), at(omega_V), at(axle_radius),
-                         at(rotating, bool), at(rolls, bool), at(z1, np.int64), at(k, np.int64), nd_a[sel], b, f_sl,
-                         rel_abs, at(torque), np.asarray(torque_on_V)[sel], ARRAY_OPS)
+    def pick(x):            # the values themselves (at() turns -0.0 into 0.0)
+        return np.broadcast_to(np.asarray(x), (n,))[sel]
+
+    g = Gears(at(gears.z1, np.int64), at(gears.z2, np.int64), at(gears.e), at(gears.Rb), at(gears.K1), at(gears.Rp),
+              nd_a[sel], at(gears.rotating, bool), at(gears.r), pick(gears.b), at(gears.p))
+    pf = PinFriction(mu_a[sel], pick(friction.sliding), at(friction.rolls, bool))
+    p = consistent_point(c, cons[sel], g, pf, OperatingPoint(at(op.T), at(op.n_H), mult, pick(op.torque_on_V)),
+                         SatelliteLoad(at(load.torque_sat), at(load.omega_V)), np.asarray(cyc.rel_abs)[gi[sel]],
+                         ARRAY_OPS)
+    return _spread(p, n, sel), cons
+
+
+def _spread(p: ConsistentPoint, n: int, sel) -> ConsistentPoint:
+    """The fields of the points ``sel`` over all n points: NaN (floats) or 0 elsewhere."""
     full = {}
     for key, v in p.__dict__.items():
         v = np.asarray(v)
         arr = np.full(n, np.nan) if v.dtype.kind == "f" else np.zeros(n, dtype=v.dtype)
         arr[sel] = v
         full[key] = arr
-    return ConsistentPoint(**full), cons
+    return ConsistentPoint(**full)
 
 
-def _consistent_output(cyc, gear, status, consistent, multiplier, mu_eff, torque_sat_first_order, omega_V,
-                       axle_radius, rotating, rolls, z1, k, n_discs, face_width, sliding_friction, torque, torque_on_V,
-                       tol: float, bearing_exponent=10.0 / 3.0):
-    """:func:`consistent_outputs` of one point (n = 1): the same values, with Python scalars in between."""
-    good = int(np.asarray(status).reshape(-1)[0]) == 0
+def _first(x, kind=float):
+    """The first (or only) value of a scalar or an array, as a Python ``kind``."""
+    return kind(np.asarray(x).reshape(-1)[0])
+
+
+def _consistent_output(cyc, gi, consistent, gears: Gears, friction: PinFriction, op: OperatingPoint,
+                       load: SatelliteLoad, tol: float):
+    """:func:`consistent_outputs` of one point (n = 1): the same values, with Python scalars in between.
+
+    The point's z1, z2, rotating, r, rolls, T and load are scalars; the other fields may be arrays of one value.
+    """
+    g0 = _first(gi, int)
+    good = int(cyc.status[g0]) == 0
     cons = np.asarray(consistent) & good
     if not good:
         return None, cons
-    cons0, mult = bool(cons[0]), bool(np.asarray(multiplier).reshape(-1)[0])
-    mu = float(np.asarray(mu_eff, dtype=float).reshape(-1)[0])
-    n_d = int(np.asarray(n_discs).reshape(-1)[0])
-    cc = consistent_cycles(cyc, gear, mu if cons0 else 0.0, n_d, tol, mode=MULTIPLIER if mult else REDUCER,
-                           bearing_exponent=float(np.asarray(bearing_exponent).reshape(-1)[0]))
+    cons0, mult = bool(cons[0]), _first(op.multiplier, bool)
+    mu = float(np.asarray(friction.mu_eff, dtype=float).reshape(-1)[0])
+    n_d = _first(gears.n_d, int)
+    cc = consistent_cycles(cyc, gi, mu if cons0 else 0.0, n_d, tol, mode=MULTIPLIER if mult else REDUCER,
+                           bearing_exponent=_first(gears.p))
     c = getattr(cc, "scalars", None)
     if c is None:
         c = {f: (getattr(cc, f)[..., 0].tolist()) for f in cc.__dataclass_fields__}
-    first = [float(np.asarray(x).reshape(-1)[0]) for x in (face_width, sliding_friction)]
-    p = consistent_point(c, cons0, mult, mu, float(torque_sat_first_order), float(omega_V), float(axle_radius),
-                         bool(rotating), bool(rolls), int(z1), int(k), n_d, *first,
-                         float(np.asarray(cyc.rel_abs)[int(np.asarray(gear).reshape(-1)[0])]), float(torque),
-                         bool(np.asarray(torque_on_V).reshape(-1)[0]), SCALAR_OPS)
+    g = Gears(int(gears.z1), int(gears.z2), gears.e, gears.Rb, gears.K1, gears.Rp, n_d, bool(gears.rotating),
+              float(gears.r), _first(gears.b))
+    p = consistent_point(c, cons0, g, PinFriction(mu, _first(friction.sliding), bool(friction.rolls)),
+                         OperatingPoint(float(op.T), op.n_H, mult, _first(op.torque_on_V, bool)),
+                         SatelliteLoad(float(load.torque_sat), float(load.omega_V)),
+                         float(np.asarray(cyc.rel_abs)[g0]), SCALAR_OPS)
     return ConsistentPoint(**{key: (v.item() if hasattr(v, "item") else v) for key, v in p.__dict__.items()}), cons
 
 
@@ -649,7 +633,7 @@ def crank_detail(history, t, sigma: int, z2: int, torque_sat: float, n_discs: in
     pins.md §4.9 (crank-bearing force, crank torque), §8 (the detail table), §12.7 (several discs).
     """
     theta = t * 360.0 / z2 if sigma == MULTIPLIER else (1.0 - t) * 360.0 / z2
-    order = _crank_order(theta, sigma)                      # as gearcalc.pins.cycle_detail orders the nodes
+    order = crank_order(theta, sigma)                       # as gearcalc.pins.cycle_detail orders the nodes
     T_H = history["crank"] * torque_sat / units.NMM_PER_NM
     if n_discs > 1:
         T_H = sum_over_discs(t, T_H, disc_offsets(n_discs, z2), 1.0)

@@ -19,10 +19,11 @@ from types import SimpleNamespace
 
 import numpy as np
 
+from .friction import PinFriction
 from .geometry import Cycloid
 from .ideal import IdealCycles, ideal_cycles
-from .operating import SCALAR_OPS, EfficiencyTorques, ScaledCycle, efficiency_torques, friction_regime, pin_circle
-from .operating import scale_unit_cycle
+from .operating import SCALAR_OPS, EfficiencyTorques, FrictionCoefficients, Gears, OperatingPoint, SatelliteLoad
+from .operating import ScaledCycle, efficiency_torques, friction_regime, pin_circle, scale_unit_cycle
 from .outputs import ConsistentPoint, consistent_outputs
 
 __all__ = ["IdealPoints", "ideal_points"]
@@ -78,33 +79,23 @@ class IdealPoints:
         return arr.item(0) if self.one else arr[self.gi]
 
 
-def ideal_points(z1, z2, e, Rb, K1, Rp, n_d, rotating, axle_radius, sliding, rolling, axle, multiplier, torque_on_V,
-                 torque, crank_speed, consistent, face_width, tol: float = 1e-6, xp=None,
-                 first_order_peaks: bool = True, bearing_exponent=10.0 / 3.0) -> IdealPoints:
+def ideal_points(gears: Gears, friction: FrictionCoefficients, op: OperatingPoint, consistent, tol: float = 1e-6,
+                 xp=None, first_order_peaks: bool = True) -> IdealPoints:
     r"""The ideal level (pins.md §4) at n operating points: the geometries solved once, the points scaled.
 
     .. math:: \bar\lambda = \mu_{eff}\,\bar\lambda_1, \qquad F \propto T_{sat}, \qquad v \propto \omega_V
 
     Parameters
     ----------
-    z1, z2, n_d : int or array_like of int
-        Teeth, pins, discs.
-    e, Rb, axle_radius : float or array_like
-        Eccentricity, pin radius, axle radius (NaN: none) [mm].
-    K1, Rp : float or array_like
-        The curtate ratio or the pin-circle radius [mm], the other NaN (:func:`~gearcalc.pins.operating.pin_circle`).
-    rotating : bool or array_like of bool
-        Rotating pins (bushings on axles).
-    sliding, rolling, axle : float or array_like
-        f [-], f_k [mm], f_c [-].
-    multiplier, torque_on_V : bool or array_like of bool
-        The mode and the shaft the torque is given on.
-    torque : float or array_like
-        T [N·m]; crank_speed : n_H [rpm] (NaN: none).
+    gears : :class:`~gearcalc.pins.operating.Gears`
+        The points' gears: z1, z2, e [mm], R_b [mm], K1 or R_p [mm] (the other NaN), n_d, rotating, r [mm], b [mm]
+        (NaN: none; for the contact stress and the axle pressure), the crank bearing's exponent p [-].
+    friction : :class:`~gearcalc.pins.operating.FrictionCoefficients`
+        f [-], f_k [mm], f_c [-] per point.
+    op : :class:`~gearcalc.pins.operating.OperatingPoint`
+        T [N·m], n_H [rpm] (NaN: none), the mode and the shaft T is given on, per point.
     consistent : array_like of bool
         Points of the friction-consistent model (pins.md §4.9).
-    face_width : array_like
-        b [mm] (NaN: none), for the contact stress and the axle pressure.
     tol : float
         Relative accuracy target of the cycle integrals.
     xp : SCALAR_OPS for one point on scalars; default ARRAY_OPS.
@@ -122,8 +113,8 @@ def ideal_points(z1, z2, e, Rb, K1, Rp, n_d, rotating, axle_radius, sliding, rol
     0.85 off its Fig. 3a, pins.md §10):
 
     >>> from gearcalc.pins import SCALAR_OPS
-    >>> p = ideal_points(20, 22, 3.9, 1.95, 0.75, float("nan"), 1, False, float("nan"), 0.1, 0.01, 0.1, True,
-    ...                  False, 100.0, 1000.0, np.array([True]), np.array([float("nan")]), xp=SCALAR_OPS)
+    >>> p = ideal_points(Gears(20, 22, 3.9, 1.95, 0.75, float("nan")), FrictionCoefficients(0.1, 0.01, 0.1),
+    ...                  OperatingPoint(100.0, 1000.0, True, False), np.array([True]), xp=SCALAR_OPS)
     >>> round(float(p.et.efficiency), 4), round(float(p.consistent.efficiency), 4)
     (0.858, 0.8736)
 
@@ -135,20 +126,10 @@ def ideal_points(z1, z2, e, Rb, K1, Rp, n_d, rotating, axle_radius, sliding, rol
 
     xp = xp or ARRAY_OPS
     one = xp is SCALAR_OPS
-    k = z2 - z1
-    Rp, omk = pin_circle(z1, z2, e, Rp, K1, xp)     # pins.md §7: R_p or K1; NaN raises no warning
-    K1 = e * z2 / (k * Rp)                          # as Cycloid.K1
-    if one:
-        gi = np.zeros(1, dtype=np.int64)
-        g = Cycloid(np.array([z1]), np.array([z2]), np.array([e]), np.array([Rp]), np.array([Rb]), np.array([omk]))
-        cyc = ideal_cycles(g, np.array([n_d]), tol=tol, first_order_peaks=first_order_peaks)
-    else:
-        key = np.stack([z1, z2, e, Rp, omk, Rb, n_d], axis=1).astype(float)
-        uniq, gi = np.unique(key, axis=0, return_inverse=True)
-        gi = gi.reshape(-1)
-        g = Cycloid(uniq[:, 0].astype(np.int64), uniq[:, 1].astype(np.int64), uniq[:, 2], uniq[:, 3], uniq[:, 5],
-                    uniq[:, 4])
-        cyc = ideal_cycles(g, uniq[:, 6].astype(np.int64), tol=tol, first_order_peaks=first_order_peaks)
+    z1, z2, k = gears.z1, gears.z2, gears.k
+    Rp, omk = pin_circle(z1, z2, gears.e, gears.Rp, gears.K1, xp)     # pins.md §7: R_p or K1; NaN raises no warning
+    K1 = gears.e * z2 / (k * Rp)                                      # as Cycloid.K1
+    cyc, gi = _solve_geometries(gears, Rp, omk, one, tol, first_order_peaks)
 
     def field(name):
         arr = getattr(cyc, name)
@@ -156,17 +137,37 @@ def ideal_points(z1, z2, e, Rb, K1, Rp, n_d, rotating, axle_radius, sliding, rol
 
     status, psi_star, psi_0 = field("status"), field("psi_star"), field("psi_0")
     # operating points: lambda_bar = mu_eff * unit, forces ∝ T_sat, speeds ∝ omega_V (pins.md §4.4-4.7)
-    mu, rolls = friction_regime(rotating, Rb, axle_radius, sliding, rolling, axle, xp)
+    mu, rolls = friction_regime(gears.rotating, gears.Rb, gears.r, friction.f, friction.f_k, friction.f_c, xp)
+    pf = PinFriction(mu, friction.f, rolls)
     lam, E = mu * field("loss_ratio"), mu * field("loss_ratio_err")
-    et = efficiency_torques(lam, E, torque, z1 / k, multiplier, torque_on_V, xp)
-    unit = SimpleNamespace(**{name: field(name) for name in ("force", "total", "loss", "rel_min", "rel_max",
-                                                             "rel_abs", "force_phase", "loss_phase")},
-                           psi_0=psi_0, psi_star=psi_star)
-    sc = scale_unit_cycle(unit, lam, mu, rolls, sliding, et.T_V, n_d, crank_speed, z1, k, Rb, xp)
-    p, cons = consistent_outputs(
-        cyc, gi, status, np.asarray(consistent), np.atleast_1d(np.asarray(multiplier)), mu, sc.torque_sat,
-        sc.omega_V, axle_radius, rotating, rolls, z1, k, n_d, face_width, np.atleast_1d(sliding), torque,
-        np.atleast_1d(np.asarray(torque_on_V)), tol, bearing_exponent)
-    nd_a = np.zeros(np.size(consistent), dtype=np.int64) + np.asarray(n_d)
-    return IdealPoints(cyc, gi, one, z1, z2, e, Rp, Rb, omk, n_d, k, K1, status, psi_star, psi_0, mu, rolls, lam, E,
-                       et, sc, p, cons, cons & (nd_a == 1), cons & (nd_a > 1))
+    et = efficiency_torques(lam, E, op.T, z1 / k, op.multiplier, op.torque_on_V, xp)
+    unit = SimpleNamespace(**{name: field(name) for name in _UNIT_FIELDS}, psi_0=psi_0, psi_star=psi_star)
+    sc = scale_unit_cycle(unit, lam, pf, et.T_V, op.n_H, gears, xp)
+    p, cons = consistent_outputs(cyc, gi, np.asarray(consistent), gears, pf, op,
+                                 SatelliteLoad(sc.torque_sat, sc.omega_V), tol)
+    nd_a = np.zeros(np.size(consistent), dtype=np.int64) + np.asarray(gears.n_d)
+    return IdealPoints(cyc, gi, one, z1, z2, gears.e, Rp, gears.Rb, omk, gears.n_d, k, K1, status, psi_star, psi_0, mu,
+                       rolls, lam, E, et, sc, p, cons, cons & (nd_a == 1), cons & (nd_a > 1))
+
+
+_UNIT_FIELDS = ("force", "total", "loss", "rel_min", "rel_max", "rel_abs", "force_phase", "loss_phase")
+"""The :class:`~gearcalc.pins.ideal.IdealCycles` fields :func:`~gearcalc.pins.operating.scale_unit_cycle` scales."""
+
+
+def _solve_geometries(gears: Gears, Rp, omk, one: bool, tol: float, first_order_peaks: bool):
+    """The distinct geometries of the points solved together (:func:`~gearcalc.pins.ideal.ideal_cycles`).
+
+    Returns the :class:`~gearcalc.pins.ideal.IdealCycles` and each point's geometry in it; one point: its gear alone
+    (``first_order_peaks``: whether it needs the friction-free per-pin peaks).
+    """
+    z1, z2, e, Rb, n_d = gears.z1, gears.z2, gears.e, gears.Rb, gears.n_d
+    if one:
+        gi = np.zeros(1, dtype=np.int64)
+        g = Cycloid(np.array([z1]), np.array([z2]), np.array([e]), np.array([Rp]), np.array([Rb]), np.array([omk]))
+        return ideal_cycles(g, np.array([n_d]), tol=tol, first_order_peaks=first_order_peaks), gi
+    key = np.stack([z1, z2, e, Rp, omk, Rb, n_d], axis=1).astype(float)
+    uniq, gi = np.unique(key, axis=0, return_inverse=True)
+    gi = gi.reshape(-1)
+    g = Cycloid(uniq[:, 0].astype(np.int64), uniq[:, 1].astype(np.int64), uniq[:, 2], uniq[:, 3], uniq[:, 5],
+                uniq[:, 4])
+    return ideal_cycles(g, uniq[:, 6].astype(np.int64), tol=tol, first_order_peaks=first_order_peaks), gi

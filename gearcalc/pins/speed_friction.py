@@ -19,7 +19,7 @@ import numpy as np
 
 from .friction import friction_law
 
-__all__ = ["power_weighted_coefficient", "NODES"]
+__all__ = ["power_weighted_coefficient", "NODES", "sliding_law", "satellite_speed"]
 
 NODES = 2048
 """Crank angles (midpoints) over one tooth period of the power-weighted mean."""
@@ -73,10 +73,35 @@ def power_weighted_coefficient(law, g, psi_star: float, omega_V: float, nodes: i
     return float((mu * wgt).sum() / wgt.sum())
 
 
-def _law_of(a: dict):
-    """The design's :class:`~gearcalc.pins.friction.FrictionLaw` from its values by argument name.
+def sliding_law(a: dict):
+    r"""The design's sliding law (``friction.law``, pins.md §4.10) from its values by argument name.
 
-    (:data:`gearcalc.pins.output_keys.LAW_ARGS`); None for Coulomb's law (friction.sliding).
+    The names are those of :data:`gearcalc.pins.output_keys.LAW_ARGS` (f_law, f_v, f_mu, f_s, f_c, f_vs, f_delta,
+    f_kv); a table's coefficient is interpolated over the speed, Stribeck's curve is (with the defaults delta = 2,
+    k_v = 0)
+
+    .. math:: \mu(v) = \mu_c + (\mu_s - \mu_c)\,e^{-(v/v_s)^\delta} + k_v\,v
+
+    Parameters
+    ----------
+    a : dict
+        The design's law values by argument name (None: not given).
+
+    Returns
+    -------
+    law : FrictionLaw or None
+        The law (:func:`gearcalc.pins.friction.friction_law`); None for Coulomb's law (friction.sliding).
+
+    Examples
+    --------
+    >>> float(sliding_law({"f_law": "table", "f_v": [0.0, 1.0], "f_mu": [0.1, 0.05]}).coefficient(0.5))
+    0.07500000000000001
+    >>> sliding_law({"f_law": None}) is None
+    True
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §4.10 (the speed-dependent law), §7 (friction.law and its keys).
     """
     name = a.get("f_law") or "coulomb"
     if name == "table":
@@ -88,5 +113,30 @@ def _law_of(a: dict):
     return None
 
 
-def _omega_V(z1, z2, speed_rpm):
+def satellite_speed(z1, z2, speed_rpm):
+    r"""The satellite's speed |omega_V| from the crank speed n_H (pins.md §2) [rad/s].
+
+    .. math:: |\omega_V| = \frac{\pi n_H}{30}\,\frac{z_2 - z_1}{z_1}
+
+    Parameters
+    ----------
+    z1, z2 : int
+        Satellite teeth and pins, [-].
+    speed_rpm : float
+        Crank speed n_H, [rpm].
+
+    Returns
+    -------
+    omega_V : float
+        [rad/s].
+
+    Examples
+    --------
+    >>> round(satellite_speed(20, 22, 1000.0), 12)        # 1000 rpm, u = 10
+    10.471975511966
+
+    References
+    ----------
+    .. [1] docs/spec/pins.md §2 (omega_V = -omega_H k/z1), §4.5.
+    """
     return speed_rpm * math.pi / 30.0 * (z2 - z1) / z1

@@ -314,13 +314,34 @@ def largest_admissible_n(limit, correct):
 
 
 def largest_admissible_ns(limits, corrects) -> list:
-    """:func:`largest_admissible_n` of G designs at once (arrays (G,) of N_max and of the corrected quantity).
+    r""":func:`largest_admissible_n` of G designs at once (arrays (G,) of N_max and of the corrected quantity).
+
+    .. math:: N_g = \lceil N_{max,g} - 10^{-9} \rceil - 1 \ \text{("outer", "inner")}, \qquad
+        N_g = \lfloor N_{max,g} + 10^{-9} \rfloor \ \text{("gap")}
 
     A list of Python integers (None without a limit), the same as the function of each design.  A limit of 2**52 or
     more (where a float's ceiling minus one is not exact) goes through the function.
 
+    Parameters
+    ----------
+    limits : array_like, shape (G,)
+        The bounds N_max of :func:`roller_number_limit`, [-] (inf: none).
+    corrects : sequence of {"outer", "inner", "gap"}, length G
+        Each design's corrected quantity.
+
+    Returns
+    -------
+    n : list of (int or None)
+        The largest admissible N of each design, [-], or None without a limit.
+
+    Examples
+    --------
     >>> largest_admissible_ns([31.940856, 9.2, np.inf, 7.0], ["outer", "gap", "outer", "outer"])
     [31, 9, None, 6]
+
+    References
+    ----------
+    .. [1] As :func:`largest_admissible_n` (Merko et al., seed file 003); docs/spec/zstk.md §3.3.
     """
     limits = np.asarray(limits, dtype=np.float64)
     gap = np.asarray(corrects) == "gap"

@@ -417,12 +417,19 @@ def test_consistent_outputs_crank_torque_power_identity_and_scalars_equal_arrays
     n, f, T, n_H = 3, np.array([0.1, 0.05, 0.2]), 100.0, 1000.0
     w_V = n_H * math.pi / 30 * 2 / 20                  # |omega_V| = omega_H k/z1
     mult, onV = np.full(n, multiplier), np.full(n, on_V)
-    args = dict(status=np.zeros(n, dtype=np.int64), consistent=np.ones(n, dtype=bool), multiplier=mult,
-                mu_eff=f, torque_sat_first_order=np.full(n, 1.0), omega_V=np.full(n, w_V),
+    args = dict(consistent=np.ones(n, dtype=bool), mu_eff=f, torque_sat=np.full(n, 1.0), omega_V=np.full(n, w_V),
                 axle_radius=np.full(n, 0.95), rotating=np.ones(n, dtype=bool), rolls=np.zeros(n, dtype=bool),
-                z1=20, k=2, n_discs=1, face_width=np.full(n, 10.0), sliding_friction=f, torque=np.full(n, T),
-                torque_on_V=onV)
-    p, cons = po.consistent_outputs(cyc, np.zeros(n, dtype=np.int64), **args)
+                face_width=np.full(n, 10.0), sliding=f, torque=np.full(n, T), multiplier=mult, torque_on_V=onV)
+
+    def outputs(a, gi):
+        return po.consistent_outputs(
+            cyc, gi, a["consistent"], pins.Gears(20, 22, 3.9, 1.95, 0.75, np.nan, 1, a["rotating"], a["axle_radius"],
+                                                 a["face_width"]),
+            pins.PinFriction(a["mu_eff"], a["sliding"], a["rolls"]),
+            pins.OperatingPoint(a["torque"], np.nan, a["multiplier"], a["torque_on_V"]),
+            pins.SatelliteLoad(a["torque_sat"], a["omega_V"]))
+
+    p, cons = outputs(args, np.zeros(n, dtype=np.int64))
     assert cons.all()
     T_H = np.where(on_V, p.T_H, T)
     assert np.allclose(p.crank_torque_mean, T_H, rtol=1e-7, atol=0)
@@ -435,9 +442,9 @@ def test_consistent_outputs_crank_torque_power_identity_and_scalars_equal_arrays
     assert np.allclose(p.efficiency, P_out / P_in, rtol=1e-12, atol=0)
     for i in range(n):                                  # one point alone: scalars, the same numbers
         one = {key: (v[i:i + 1] if isinstance(v, np.ndarray) else v) for key, v in args.items()}
-        one.update({key: one[key][0] for key in ("mu_eff", "torque_sat_first_order", "omega_V", "axle_radius",
+        one.update({key: one[key][0] for key in ("mu_eff", "torque_sat", "omega_V", "axle_radius",
                                                  "rotating", "rolls", "torque")})
-        q, _ = po.consistent_outputs(cyc, np.zeros(1, dtype=np.int64), **one)
+        q, _ = outputs(one, np.zeros(1, dtype=np.int64))
         for key, v in q.__dict__.items():
             w = getattr(p, key)[i].item()
             assert (v == w) or (v != v and w != w), key

@@ -372,18 +372,18 @@ def _rigid_per_contact(law, rpm: float, nodes: int = 4096):
     loaded contacts, K = <N sum|q_i| / S^2>.
     """
     from gearcalc.pins.geometry import Cycloid, as_arrays, crest_cutoff
-    from gearcalc.pins.ideal import _contacts_geo, _GearTable
-    from gearcalc.pins.speed_friction import _omega_V, power_weighted_coefficient
+    from gearcalc.pins.ideal import GearTable, contacts_geo
+    from gearcalc.pins.speed_friction import power_weighted_coefficient, satellite_speed
 
     g = Cycloid.from_curtate_ratio(20, 22, 3.9, 0.75, 1.95)         # the config's gear
-    G = _GearTable.of(as_arrays(g), np.array([crest_cutoff(g)]))
+    G = GearTable.of(as_arrays(g), np.array([crest_cutoff(g)]))
     t = (np.arange(nodes) + 0.5) / nodes
-    _, lev, rho, sh2, s = _contacts_geo(t, t, None, G, 22)
+    _, lev, rho, sh2, s = contacts_geo(t, t, None, G, 22)
     rel = rho - g.R_b
     a = lev * np.abs(rel)
     q = a + float(G.r_p1[0]) * np.sign(rel) * lev * (float(G.omk[0]) - 2.0 * sh2) / s
     S, N, Q = (lev * lev).sum(axis=0), a.sum(axis=0), q.sum(axis=0)
-    w_V = _omega_V(20, 22, rpm)
+    w_V = satellite_speed(20, 22, rpm)
     mu = law.coefficient(abs(w_V) * np.abs(rel) * 1e-3)
     A, B = (mu * a).sum(axis=0), (mu * q).sum(axis=0)
     mb = power_weighted_coefficient(law, g, crest_cutoff(g), w_V)

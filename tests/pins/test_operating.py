@@ -80,20 +80,27 @@ def test_scale_unit_cycle_scalars_equal_arrays():
                 rel_min=np.array([-1.0, 0.5]), rel_max=np.array([2.0, 3.0]), rel_abs=np.array([2.0, 3.0]),
                 psi_0=np.array([0.5, np.nan]), psi_star=np.array([3.0, 2.0]), force_phase=np.array([1.0, 0.5]),
                 loss_phase=np.array([1.5, 0.7]))
-    args = (np.array([0.05, 0.2]), np.array([0.1, 0.05]), np.array([True, False]), np.array([0.1, 0.1]),
-            np.array([800.0, 90.0]), np.array([1, 2]), np.array([1000.0, 500.0]), np.array([20, 30]),
-            np.array([1, 2]), np.array([2.0, 1.5]))
-    arr = pins.scale_unit_cycle(SimpleNamespace(**vals), *args, ARRAY_OPS)
+    lam, mu, rolls, f = np.array([0.05, 0.2]), np.array([0.1, 0.05]), np.array([True, False]), np.array([0.1, 0.1])
+    T_V, n_d, n_H = np.array([800.0, 90.0]), np.array([1, 2]), np.array([1000.0, 500.0])
+    z1, k, Rb = np.array([20, 30]), np.array([1, 2]), np.array([2.0, 1.5])
+
+    def gears(i=slice(None)):
+        return pins.Gears(z1[i], z1[i] + k[i], 3.0, Rb[i], 0.5, np.nan, n_d[i])
+
+    arr = pins.scale_unit_cycle(SimpleNamespace(**vals), lam, pins.PinFriction(mu, f, rolls), T_V, n_H, gears(),
+                                ARRAY_OPS)
     for i in range(2):
-        u = SimpleNamespace(**{k: v[i] for k, v in vals.items()})
-        one = pins.scale_unit_cycle(u, *(a[i] for a in args), SCALAR_OPS)
+        u = SimpleNamespace(**{key: v[i] for key, v in vals.items()})
+        one = pins.scale_unit_cycle(u, lam[i], pins.PinFriction(mu[i], f[i], rolls[i]), T_V[i], n_H[i], gears(i),
+                                    SCALAR_OPS)
         for name in pins.ScaledCycle.__dataclass_fields__:
             a, b = getattr(arr, name)[i], getattr(one, name)
             assert (a == b) or (math.isnan(a) and math.isnan(b)), name
     assert arr.force_max[0] == units.nm_to_nmm(800.0) * 0.01          # F = T_sat F_unit (pins.md §4.8 id. 8)
     assert arr.spin_reversals.tolist() == [1, 0]                           # psi_0 < psi* on a rolling pin only
     assert arr.sliding_speed_max[0] == 0.0 and arr.spin_abs_max[1] == 0.0   # rolling pins do not slide
-    nan = pins.scale_unit_cycle(SimpleNamespace(**vals), *args[:6], np.array([np.nan, np.nan]), *args[7:])
+    nan = pins.scale_unit_cycle(SimpleNamespace(**vals), lam, pins.PinFriction(mu, f, rolls), T_V,
+                                np.array([np.nan, np.nan]), gears(), ARRAY_OPS)
     assert np.all(np.isnan(nan.loss_mean)) and np.all(np.isnan(nan.loss_phase))   # no crank speed: no losses
 
 

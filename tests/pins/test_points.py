@@ -254,3 +254,35 @@ def test_cli_geometry_sweep_equals_single_runs():
         for k, v in ref.items():
             if k not in ("model_time_ms",) and k in row:
                 assert row[k] == v, (k, row[k], v)
+
+
+def test_the_ideal_level_modules_are_small_steps_with_parameter_objects():
+    # issue 35 (benchmarks/code_shape.py's counts): no function of the ideal level's point modules takes more than 8
+    # parameters (the gears, the friction, the operating point and the satellite's load travel as the parameter
+    # objects of gearcalc.pins.operating) or is over 80 lines with its docstring, and no pins module imports a private
+    # name (_x) of these modules
+    import ast
+    import pathlib
+
+    import gearcalc
+
+    pins = pathlib.Path(gearcalc.__file__).parent / "pins"
+    modules = ("points", "outputs", "operating", "detail", "cycle", "columns", "speed_friction")
+    for module in modules:
+        for node in ast.walk(ast.parse((pins / f"{module}.py").read_text(encoding="utf-8"))):
+            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+                continue
+            a = node.args
+            positional = a.posonlyargs + a.args
+            params = len(positional) + len(a.kwonlyargs) + (a.vararg is not None) + (a.kwarg is not None) - (
+                1 if positional and positional[0].arg in ("self", "cls") else 0)
+            assert params <= 8, (module, node.name, params)
+            assert node.end_lineno - node.lineno + 1 <= 80, (module, node.name)
+    private = []
+    for path in sorted(pins.glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.ImportFrom) and node.level == 1 and node.module in modules \
+                    and node.module != path.stem:
+                private += [f"{path.stem} <- {node.module}.{a.name}" for a in node.names
+                            if a.name.startswith("_") and not a.name.startswith("__")]
+    assert private == []
