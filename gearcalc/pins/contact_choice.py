@@ -15,21 +15,6 @@ from __future__ import annotations
 import numpy as np
 
 
-
-ZERO_SLIP = 1e-9
-"""A slip within ZERO_SLIP of its contact's largest |slip| over the cycle is at its zero (the located root's
-resolution, 1e-12 T_p, times the slip's slope, is far below it): no direction contradicts it."""
-
-
-def _contradicting(sol, friction):
-    """(bad (c, R, n), slip (c, R, n)): loaded contacts whose friction force pushes along their own slip."""
-    slip = friction.slip(sol.force, sol.v_t)
-    loaded = sol.force > 0.0
-    scale = np.max(np.where(loaded, np.abs(slip), 0.0), axis=-1, keepdims=True)
-    bad = loaded & (np.sign(sol.traction) * np.sign(slip) > 0.0) & (np.abs(slip) > ZERO_SLIP * scale)
-    return bad, slip
-
-
 ZERO_SLIP = 1e-9
 """A slip within ZERO_SLIP of its contact's largest |slip| over the cycle is at its zero (the located root's
 resolution, 1e-12 T_p, times the slip's slope, is far below it): no direction contradicts it."""

@@ -19,16 +19,11 @@ from gearcalc import api
 from gearcalc.cli import app
 from gearcalc.pins.duty import DUTY_KEYS, duty_combine
 
-from conftest import CONFIGS
+
+from pins.test_output_mech import RATED
+from pins.test_outputs import PAPER, run_json  # the paper design through the CLI, as JSON
 
 runner = CliRunner()
-PAPER = CONFIGS / "pins_paper_cyc_u10_fixed.toml"
-
-
-def run_json(*args):
-    r = runner.invoke(app, ["run", str(PAPER), "--format", "json", *args])
-    assert r.exit_code in (0, 1), r.stderr
-    return json.loads(r.stdout)
 
 
 DUTY = {"torque_Nm": [100.0, 50.0, 150.0], "crank_speed_rpm": [1000.0, 1500.0, 500.0], "time_share": [0.5, 0.3, 0.2]}
@@ -151,15 +146,8 @@ def test_a_self_locking_row_leaves_the_duty_efficiency_undefined():
 
 
 # ---------------------------------------------------------------- with the W mechanism (§4.10, §8.2)
-PAPER_W = {   # the paper's u = 10 cycloid, fixed pins (configs/pins_paper_cyc_u10_fixed.toml, pins.md §10)
-    "kind": "pins", "name": "paper u10 cycloid",
-    "gearing": {"profile": "cycloidal", "satellite_teeth": 20, "pins": 22, "eccentricity_mm": 3.9,
-                "curtate_ratio": 0.75, "pin_radius_mm": 1.95, "axle_radius_mm": 0.95, "rotating_pins": False},
-    "friction": {"sliding": 0.1, "rolling_mm": 0.01, "axle": 0.1},
-    "load": {"mode": "multiplier", "torque_shaft": "H", "torque_Nm": 100.0, "crank_speed_rpm": 1000.0},
-    "bearing": {"C_N": 100000.0},
-    "output": {"mechanism": "pins_in_holes", "holes": 8, "hole_circle_radius_mm": 35.0, "pin_radius_mm": 6.0},
-}
+PAPER_W = {**RATED, "output": {"mechanism": "pins_in_holes", "holes": 8, "hole_circle_radius_mm": 35.0,
+                                "pin_radius_mm": 6.0}}    # the paper's u = 10 cycloid, C = 100 kN (test_output_mech)
 DUTY_W = {"torque_Nm": [50.0, 100.0, 150.0], "crank_speed_rpm": [2000.0, 1000.0, 500.0], "time_share": [2.0, 1.0, 1.0]}
 
 

@@ -14,24 +14,9 @@ from hypothesis import strategies as st
 
 import gearcalc
 from conftest import CONFIGS
-from gearcalc import registry
 
 
-def negatives(summary, kind):
-    return [c.name for c in registry.get(kind).checks if summary.get(c.field) is not None and summary[c.field] < 0]
-
-
-def agrees_with_flags(kind, s):
-    """The old flags of a pins summary ``s`` against the signs of its margins (tests/test_margins.py: every kind)."""
-    assert kind == "pins"
-    if s["self_locking"] is None:
-        assert s["margin_self_locking"] is None
-    else:
-        assert s["self_locking"] == (s["margin_self_locking"] < 0)
-    assert (s["rolling_ok"] is None) == (s["margin_rolling"] is None)
-    if s["rolling_ok"] is not None:
-        assert s["rolling_ok"] == (s["margin_rolling"] >= 0)
-    assert s["failed_checks"] == negatives(s, kind)
+from test_calculator import agrees_with_flags  # the flags against the margins, every kind
 
 
 def test_pins_margins_value_and_sign_on_a_seeded_random_set():

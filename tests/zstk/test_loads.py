@@ -17,43 +17,11 @@ from hypothesis import strategies as st
 from gearcalc import hertz
 from gearcalc import zstk as z
 
-PAPER = {"outer_radius": 100.0, "inner_radius": 50.0, "eccentricity": 6.0, "gap": 6.0}  # Merko et al. example
-Q = 1e4
-STEEL = z.Materials.from_elastic(20.0, 2.1e5, 0.3, 2.1e5, 0.3, 2.1e5, 0.3)
-
-
-def paper_chain(n=None, correct="outer", **over):
-    g = {**PAPER, **over}
-    n_star = z.fractional_roller_number(g["outer_radius"], g["inner_radius"], g["eccentricity"], g["gap"])
-    n = z.auto_roller_number(float(n_star)) if n is None else n
-    return z.close_chain(g["outer_radius"], g["inner_radius"], g["eccentricity"], g["gap"], n, correct)
-
-
-def state(chain, phase, gamma, load=Q, clearance=0.0, mats=STEEL, **kw):
-    theta = z.roller_angles(phase, chain.n, chain.limiting_ratio)
-    return z.evaluate(chain, mats, theta, gamma, load, clearance, **kw)
-
-
-geometries = st.tuples(st.floats(20.0, 200.0), st.floats(0.1, 0.9), st.floats(0.0, 0.95), st.floats(0.0, 0.9))
-
-
-def make_geometry(t):
-    """(R_H, R_B, e, c) from unit fractions, valid by construction (e < D, e < S/sqrt2, c < 2R_B)."""
-    r_h, fb, fe, fc = t
-    r_b = fb * r_h
-    d = r_h - r_b
-    e = fe * min(d, (r_h + r_b) / math.sqrt(2))
-    c = fc * min(2 * r_b, d)  # c < D keeps N* large enough to be interesting
-    return r_h, r_b, e, c
+# the shared fixtures of the zstk tests (the paper's chain, a state, random geometries): tests/zstk/test_chain.py
+from zstk.test_chain import Q, STEEL, equilibrium_error, geometries, make_geometry, paper_chain, state
 
 
 # ----------------------------------------------------------------------------- §5 loads
-def equilibrium_error(st_, load):
-    nb, f = st_.normal_angle, st_.force_inner
-    g = st_.gamma[..., None]
-    ax = np.sum(f * np.cos(nb - g), axis=-1) - load
-    tr = np.sum(f * np.sin(nb - g), axis=-1)
-    return np.abs(ax) / load, np.abs(tr) / load
 
 
 @settings(max_examples=40, deadline=None)
