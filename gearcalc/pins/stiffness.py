@@ -471,7 +471,7 @@ def _torsion_summary(c: TorsionCurve, te0, te1, rated_torque: float, backlash_de
     """
     i = int(np.argmin(c.stiffness))
     k = float(c.stiffness[i])
-    k_span = np.abs(c.twist[0, -1, i] - c.twist[0, int(np.argmin(np.abs(np.asarray(FRACTIONS) - 0.5))), i])
+    k_span = float(np.abs(c.twist[0, -1, i] - c.twist[0, int(np.argmin(np.abs(np.asarray(FRACTIONS) - 0.5))), i]))
     lm, hy = float(c.lost_motion.max()), float(c.hysteresis.max())
     return {
         "torsional_stiffness_Nm_per_arcmin": k,

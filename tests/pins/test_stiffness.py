@@ -227,3 +227,18 @@ def test_the_pins_figure_draws_the_loop_and_the_te(tmp_path):
     finally:
         gplot._collected = None
     assert not any(a.get_xlabel().startswith("output twist") for a in kept[0].axes)
+
+
+def test_the_torsion_fields_are_plain_python_numbers():
+    """The Python API returns plain floats (interface.md: JSON-ready values), not numpy scalars, for every torsion
+    field (torsional_stiffness_Nm_per_arcmin_err was a numpy float64)."""
+    import tomllib
+
+    import gearcalc
+    from conftest import CONFIGS
+
+    d = tomllib.loads((CONFIGS / "pins_paper_circ_u10_fixed.toml").read_text())
+    d.setdefault("contact", {})["stiffness_curve"] = True
+    s = gearcalc.compute(d).summary
+    numpy_typed = [k for k, v in s.items() if type(v).__module__ == "numpy"]
+    assert "torsional_stiffness_Nm_per_arcmin_err" in s and not numpy_typed, numpy_typed
