@@ -557,10 +557,18 @@ def _from_buffers(kind, values, n: int):
         if scalar is None or dtype.kind not in scalar[2] or np.ndim(values) != 1:
             return None
         return _from_numpy(kind, np.asarray(values, dtype=scalar[1]), None, n)
-    if values.count(None) == n:  # (list.count compares identical objects first: no Python call a value)
+    first = values[0] if n else None
+    same = n and values.count(first) == n  # one value at every point (list.count compares identical objects first)
+    if first is None and (same or values.count(None) == n):
         return pa.nulls(n, kind)
-    if kind == pa.string() and type(values[0]) is str and values.count(values[0]) == n:
-        return _strings(values, n, False)  # one word
+    if kind == pa.string() and type(first) is str and same:
+        return _strings(values, n, False, True)  # one word
+    if pa.types.is_list(kind) and type(first) is list and same:  # one list (e.g. no unloaded row anywhere)
+        inner = _from_buffers(kind.value_type, first * n, len(first) * n) if first else pa.nulls(0, kind.value_type)
+        if inner is None or len(first) * n >= 2 ** 31:
+            return None
+        offsets = np.arange(n + 1, dtype=np.int32) * len(first)
+        return pa.ListArray.from_arrays(_from_numpy(pa.int32(), offsets, None, n + 1), inner, type=kind)
     types = set(map(type, values))
     if scalar is not None:
         allowed, want, _ = scalar
@@ -605,12 +613,15 @@ def _from_numpy(kind, data, valid, n: int):
     return pa.Array.from_buffers(kind, n, [bitmap, pa.py_buffer(data)], null_count=nulls)
 
 
-def _strings(values, n: int, missing: bool):
-    """A string column from a list of words (None: null) by its offsets and UTF-8 bytes."""
+def _strings(values, n: int, missing: bool, same: bool | None = None):
+    """A string column from a list of words (None: null) by its offsets and UTF-8 bytes; ``same``: whether every
+    value is the first (None: not known yet)."""
     import numpy as np
     import pyarrow as pa
 
-    if not missing and n and values.count(values[0]) == n:  # one word (a design's name): its bytes repeated
+    if same is None:
+        same = not missing and n and values.count(values[0]) == n
+    if same:  # one word (a design's name): its bytes repeated
         word = values[0].encode()
         offsets = np.arange(n + 1, dtype=np.int64) * len(word)
         if offsets[-1] >= 2 ** 31:

@@ -302,7 +302,9 @@ def test_parquet_does_not_import_pandas(tmp_path):
     ("double", [True, 1.0]), ("int64", [3, None, -1]), ("int64", [2 ** 62, 0]), ("bool", [True, None, False]),
     ("string", ["a", None, "bé", ""]), ("string", ["Fig. 3"] * 5), ("string", ["", ""]),
     ("string", ["a", 1.5, [1]]), ("list_double", [[], []]), ("list_double", [[1.0], [], None]),
-    ("list_string", [["bore"], []]),
+    ("list_string", [["bore"], []]), ("list_double", [[2.0, 3.0]] * 3), ("list_double", [[]] * 4),
+    ("list_string", [["bore", "rim"]] * 2), ("list_double", [[1], [1.0]]), ("string", [None] * 3 + ["a"]),
+    ("list_double", [["a"]] * 2),
 ])
 def test_parquet_columns_as_pyarrow_array_makes_them(kind, values):
     """Each column built from buffers is the array ``pyarrow.array`` makes of it (a word of another type: its
