@@ -316,6 +316,8 @@ def _below_zero_points(col) -> list:
     if kind == "b":
         return []
     col = col.tolist() if hasattr(col, "tolist") else col  # a numpy column of objects: its values as Python's
+    if col and type(col[0]) in _NO_MARGIN and col.count(col[0]) == len(col):  # (identity first: one pass in C)
+        return []  # one value that is no margin at every point (a margin not defined anywhere: None)
     types = set(map(type, col))
     if types <= _NO_MARGIN:  # e.g. a margin not defined at any point (None)
         return []
