@@ -386,3 +386,16 @@ def test_hold_freed_memory_runs_anywhere():
     from gearcalc.grid import hold_freed_memory
 
     assert hold_freed_memory() is None
+
+
+def test_failed_check_column_shares_one_empty_list():
+    """The points failing no check share one empty list (gearcalc/calculator.py ``failed_check_column``: 65 536
+    new lists a chunk were a tenth of a rows Parquet sweep's CPU); a failing point has its own list, in the
+    checks' order (the expected lists: the margins below zero, by hand)."""
+    from gearcalc.calculator import Check, failed_check_column
+
+    cols = {"margin_a": [0.5, -1.0, -2.0, 1.0], "margin_b": [None, -0.1, 3.0, 0.0]}
+    out = failed_check_column(cols, [Check("a", ""), Check("b", "")], 4)
+    assert out == [[], ["a", "b"], ["a"], []]
+    assert out[0] is out[3]
+    assert out[1] is not out[2]
