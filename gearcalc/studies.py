@@ -383,7 +383,7 @@ class _FileOf:
 
     def flush(self) -> None:
         if self.pending:
-            data, self.pending = bytes(self.pending), bytearray()
+            data, self.pending = self.pending, bytearray()  # written as it is (a memoryview), not copied
             self.out.write(data)
 
     def close(self) -> None:
