@@ -469,7 +469,6 @@ def sweep_cmd(
                     raise Abort(str(exc)) from None
             calc = registry.get(kind) if isinstance(kind, str) and kind in registry.kinds() else None
             bar = Progress(sw.size_of(axes), "points")
-            sw.hold_freed_memory()
             try:
                 with on_cluster(cluster):
                     csv_out = f == "csv" and not plot and calc is not None

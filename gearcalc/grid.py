@@ -680,28 +680,6 @@ CHUNK_POINTS = 65_536
 the widest kind), and a progress bar advances per chunk; costly points make smaller chunks (:func:`chunk_points`)."""
 
 
-def hold_freed_memory() -> None:
-    """Keep the memory a sweep frees for its next chunk (glibc's ``mallopt``; elsewhere nothing).  A chunk's arrays
-    (0.5 MB each) are larger than glibc's dynamic ``mmap`` threshold or freed at the top of the heap: each is then
-    handed back to the system when freed and its pages faulted in and zeroed again by the next chunk (a rows sweep
-    to Parquet: 150 000 page faults for 1e6 points, a fifth of its CPU time).  With the thresholds raised the
-    process keeps them (its peak memory is what a chunk needs, as before).  For the command line's sweeps only:
-    the Python API leaves its caller's allocator alone."""
-    import sys
-
-    if not sys.platform.startswith("linux"):
-        return
-    try:
-        import ctypes
-
-        mallopt = ctypes.CDLL(None).mallopt
-    except (OSError, AttributeError):  # not glibc (musl has no mallopt)
-        return
-    M_TRIM_THRESHOLD, M_MMAP_THRESHOLD = -1, -3
-    mallopt(M_MMAP_THRESHOLD, 32 << 20)  # glibc's largest
-    mallopt(M_TRIM_THRESHOLD, 256 << 20)
-
-
 ERROR_FIELD = "error"
 """The last column of every sweep row: why the point has no results (not a valid design, or a non-finite output;
 its outputs are then empty), None for a computed point (interface.md "Sweeps")."""

@@ -366,28 +366,6 @@ def test_parquet_errors_and_failed_checks_are_words_from_the_first_chunk(tmp_pat
     assert t.column("x").to_pylist() == [1.0, 2.0, 3.0, None]
 
 
-def test_cli_sweep_keeps_freed_memory_api_does_not(tmp_path, monkeypatch):
-    """A command-line sweep raises glibc's trim and mmap thresholds once (gearcalc/grid.py ``hold_freed_memory``:
-    each chunk's arrays were given back to the system and faulted in again, a fifth of a rows Parquet sweep's
-    CPU); the Python API leaves its caller's allocator alone."""
-    import gearcalc
-    from gearcalc import grid
-
-    calls = []
-    monkeypatch.setattr(grid, "hold_freed_memory", lambda: calls.append(1))
-    assert cli("sweep", DESIGN, *SMALL, "-o", tmp_path / "s.parquet").code == 0
-    assert calls == [1]
-    gearcalc.sweep(DESIGN, {"rows.relative_width": [1.0, 2.0]})
-    assert calls == [1]
-
-
-def test_hold_freed_memory_runs_anywhere():
-    """``hold_freed_memory`` is a no-op where there is no glibc ``mallopt`` and never raises."""
-    from gearcalc.grid import hold_freed_memory
-
-    assert hold_freed_memory() is None
-
-
 def test_failed_check_column_shares_one_empty_list():
     """The points failing no check share one empty list (gearcalc/calculator.py ``failed_check_column``: 65 536
     new lists a chunk were a tenth of a rows Parquet sweep's CPU); a failing point has its own list, in the
