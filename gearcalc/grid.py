@@ -784,6 +784,10 @@ def _with_invalid(raw, source, axes, points, options, progress, messages):
     return Columns(data, errors)
 
 
+_NEVER_FLOAT = (type(None), str, list, bool)
+"""Types no float compares equal to, or only finite ones (bool): a list column of one such value holds no NaN."""
+
+
 def blank_nonfinite(data, points, base, lead=(), into: list | None = None) -> list[str]:
     """The points of a sweep's summaries (columns, or rows) with a NaN or infinite output (never printed,
     interface.md "Output"): each such point's outputs made None (an empty CSV cell, a JSON null; ``lead``, the
@@ -809,6 +813,8 @@ def blank_nonfinite(data, points, base, lead=(), into: list | None = None) -> li
                 continue
             m = ~np.isfinite(col)
         elif isinstance(col, list):
+            if col and type(col[0]) in _NEVER_FLOAT and col.count(col[0]) == len(col):
+                continue  # one value (None, a word, a shared list) at every point: no float (count: by identity first)
             try:
                 total = sum(col)  # a column of numbers: one sum
             except TypeError:  # words, None, lists: the floats among them

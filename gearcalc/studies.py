@@ -383,7 +383,7 @@ class _FileOf:
 
     def flush(self) -> None:
         if self.pending:
-            data, self.pending = bytes(self.pending), bytearray()
+            data, self.pending = self.pending, bytearray()  # written as it is (a memoryview), not copied
             self.out.write(data)
 
     def close(self) -> None:
@@ -424,7 +424,8 @@ class ParquetOut:
         self.schema = schema.with_metadata({**(schema.metadata or {}), **{k.encode(): v.encode()
                                                                           for k, v in self.meta.items()}})
         self.writer = pq.ParquetWriter(self.file, self.schema, compression="zstd",
-                                       use_dictionary=_dictionary_columns(self.schema))
+                                       use_dictionary=_dictionary_columns(self.schema),
+                                       use_byte_stream_split=_split_columns(self.schema))
 
     def write(self, part) -> None:
         """One chunk (:class:`gearcalc.render.Columns`) as one row group (none for a chunk with no rows)."""
@@ -456,6 +457,19 @@ def _dictionary_columns(schema) -> list:
     chunk), not float64 ones (nearly every value distinct in a sweep: the dictionary is built, then given up,
     for every page; plain floats compress smaller and are written about three times faster).  A list column is
     named by its leaf (``name.list.element``)."""
+    return [leaf for leaf, floating in _leaves(schema) if not floating]
+
+
+def _split_columns(schema) -> list:
+    """The columns written BYTE_STREAM_SPLIT: the float64 ones (the others are :func:`_dictionary_columns`).  Their
+    values' bytes grouped by position (the sign and exponent bytes of a sweep's smooth values nearly constant)
+    compress to about 60 % with zstd, and the write is about a quarter faster; the values read back are the
+    same (an encoding, not a rounding)."""
+    return [leaf for leaf, floating in _leaves(schema) if floating]
+
+
+def _leaves(schema) -> list:
+    """(the leaf's name, a float?) of every column: a list column named by its leaf (``name.list.element``)."""
     import pyarrow as pa
 
     out = []
@@ -464,8 +478,7 @@ def _dictionary_columns(schema) -> list:
         leaf = field.name
         if pa.types.is_list(kind):
             kind, leaf = kind.value_type, f"{field.name}.list.element"
-        if not pa.types.is_floating(kind):
-            out.append(leaf)
+        out.append((leaf, pa.types.is_floating(kind)))
     return out
 
 
@@ -544,10 +557,18 @@ def _from_buffers(kind, values, n: int):
         if scalar is None or dtype.kind not in scalar[2] or np.ndim(values) != 1:
             return None
         return _from_numpy(kind, np.asarray(values, dtype=scalar[1]), None, n)
-    if values.count(None) == n:  # (list.count compares identical objects first: no Python call a value)
+    first = values[0] if n else None
+    same = n and values.count(first) == n  # one value at every point (list.count compares identical objects first)
+    if first is None and (same or values.count(None) == n):
         return pa.nulls(n, kind)
-    if kind == pa.string() and type(values[0]) is str and values.count(values[0]) == n:
-        return _strings(values, n, False)  # one word
+    if kind == pa.string() and type(first) is str and same:
+        return _strings(values, n, False, True)  # one word
+    if pa.types.is_list(kind) and type(first) is list and same:  # one list (e.g. no unloaded row anywhere)
+        inner = _from_buffers(kind.value_type, first * n, len(first) * n) if first else pa.nulls(0, kind.value_type)
+        if inner is None or len(first) * n >= 2 ** 31:
+            return None
+        offsets = np.arange(n + 1, dtype=np.int32) * len(first)
+        return pa.ListArray.from_arrays(_from_numpy(pa.int32(), offsets, None, n + 1), inner, type=kind)
     types = set(map(type, values))
     if scalar is not None:
         allowed, want, _ = scalar
@@ -592,12 +613,15 @@ def _from_numpy(kind, data, valid, n: int):
     return pa.Array.from_buffers(kind, n, [bitmap, pa.py_buffer(data)], null_count=nulls)
 
 
-def _strings(values, n: int, missing: bool):
-    """A string column from a list of words (None: null) by its offsets and UTF-8 bytes."""
+def _strings(values, n: int, missing: bool, same: bool | None = None):
+    """A string column from a list of words (None: null) by its offsets and UTF-8 bytes; ``same``: whether every
+    value is the first (None: not known yet)."""
     import numpy as np
     import pyarrow as pa
 
-    if not missing and n and values.count(values[0]) == n:  # one word (a design's name): its bytes repeated
+    if same is None:
+        same = not missing and n and values.count(values[0]) == n
+    if same:  # one word (a design's name): its bytes repeated
         word = values[0].encode()
         offsets = np.arange(n + 1, dtype=np.int64) * len(word)
         if offsets[-1] >= 2 ** 31:
