@@ -8,6 +8,7 @@ template (``gearcalc new KIND``), its figures, its sweep plots and its place in 
 """
 from __future__ import annotations
 
+import functools
 import importlib
 import importlib.util
 
@@ -31,9 +32,15 @@ LEVELS = {
 ``--model`` help (which so imports no calculator)."""
 
 
+@functools.cache
+def _present() -> tuple[str, ...]:
+    return tuple(k for k, (module, _) in KINDS.items() if importlib.util.find_spec(module) is not None)
+
+
 def kinds() -> list[str]:
-    """The kinds whose module is present in this installation."""
-    return [k for k, (module, _) in KINDS.items() if importlib.util.find_spec(module) is not None]
+    """The kinds whose module is present in this installation (looked up once a process: an installation does not
+    change while it runs; each design's validation asks)."""
+    return list(_present())
 
 
 def help_of(kind: str) -> str:

@@ -12,6 +12,7 @@ Imports no numpy at module level: the adapter imports this module at start-up (`
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import NamedTuple
 
 from ..calculator import Check
 from .profiles import PROFILES, tooth_too_large
@@ -236,8 +237,7 @@ LAW_NEEDS = {"hertz": "face_width", "palmgren": "face_width", "linear": "stiffne
 for ``gearcalc check``; a test checks its names are those of :data:`gearcalc.pins.contact_law.CONTACT_LAWS`."""
 
 
-@dataclass(frozen=True)
-class GearGiven:
+class GearGiven(NamedTuple):
     """A pin gear's keys as a design gives them, in the physics' names (pins.md §3, §7).
 
     Each field holds one design's value (:func:`design_problems`) or a list of the values of n designs or sweep
@@ -274,8 +274,7 @@ class GearGiven:
     profile: object
 
 
-@dataclass(frozen=True)
-class PinLoadGiven:
+class PinLoadGiven(NamedTuple):
     """The radii of the per-pin load ``[pin_load]`` (pins.md §3), one design's or lists over points (None: absent).
 
     Attributes
@@ -435,7 +434,7 @@ def design_problems(bad: Violations, tables: set, gear: GearGiven, pin_load: Pin
     Examples
     --------
     >>> one = GearGiven(20, 22, 3.9, None, 0.75, 9.0, None, False, "cycloidal")
-    >>> points = GearGiven(*([v] for v in vars(one).values()))
+    >>> points = GearGiven(*([v] for v in one))
     >>> bad = violations(points, [0.1], PinLoadGiven([None], [None]))
     >>> [(s, rule) for s, rule, _ in design_problems(bad, {"gearing", "load"}, one, PinLoadGiven(None, None),
     ...                                               "full", "zero_backlash", False)]
@@ -799,8 +798,7 @@ def points_pass(bad: Violations, formula: bool, has_pin_load: bool, gear: GearGi
     return not (np.any(bad.geometry.any()) or np.any(bad.no_axle))
 
 
-@dataclass(frozen=True)
-class RollingValues:
+class RollingValues(NamedTuple):
     r"""One design's values in the rolling condition of rotating pins, f R_b >= f_c r + f_k (pins.md §4.5).
 
     :func:`gearcalc.pins.friction.rolling_condition` decides it; :meth:`sides` gives its two sides for the message
@@ -839,8 +837,7 @@ class RollingValues:
         return self.sliding * self.pin_radius, self.axle_friction * self.axle_radius + self.rolling
 
 
-@dataclass(frozen=True)
-class SatelliteTurn:
+class SatelliteTurn(NamedTuple):
     """How far the satellite turns under the load in one mode's contact cycle (pins.md §6-7, §8).
 
     Attributes

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -681,8 +682,7 @@ REFINE_CELLS = 2 ** 18
 than that alone): the arrays stay near the cache, and the memory is bounded whatever the gears' grids."""
 
 
-@dataclass(frozen=True)
-class RefineJob:
+class RefineJob(NamedTuple):
     """(friction, mode) pairs of several gears whose cycle mean the final grid does not accept.
 
     What :func:`_refine_consistent` refines:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -117,8 +118,7 @@ class GeometryViolations:
         return self.teeth | self.overflow | self.curtate | self.overlap | self.axle
 
 
-@dataclass(frozen=True)
-class PinMounting:
+class PinMounting(NamedTuple):
     """How the pins are held (pins.md §3, §7): fixed, or rotating bushings on axles of radius r.
 
     Attributes

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 from dataclasses import field as dataclass_field
 
 import numpy as np
@@ -886,8 +887,7 @@ def _admissibility(g: Cycloid):
     return status, psi_star, rho_c
 
 
-@dataclass(frozen=True)
-class CycleSettings:
+class CycleSettings(NamedTuple):
     """How :func:`ideal_cycles` integrates, and whether the friction-free peaks are wanted.
 
     tol, n_max, n_start as :func:`~gearcalc.quadrature.integrate_pieces` takes them; ``first_order_peaks``.

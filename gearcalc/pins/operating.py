@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 
@@ -114,8 +115,7 @@ ARRAY_OPS = _ArrayOps()
 # points (:func:`gearcalc.pins.points.ideal_points`); the friction regime of a point (mu_eff, f, rolls) is a
 # :class:`~gearcalc.pins.friction.PinFriction` (:func:`friction_regime`).
 
-@dataclass(frozen=True)
-class Gears:
+class Gears(NamedTuple):
     """The gears of operating points (pins.md §2, §7): scalars of one point, or arrays over the points.
 
     z1, z2 : satellite teeth, pins [-] (k = z2 - z1, :attr:`k`); e : eccentricity [mm]; Rb : pin (bushing) outer
@@ -147,8 +147,7 @@ class Gears:
         return self.z2 - self.z1
 
 
-@dataclass(frozen=True)
-class FrictionCoefficients:
+class FrictionCoefficients(NamedTuple):
     """The friction coefficients of operating points (pins.md §2, §7 ``[friction]``): scalars or arrays.
 
     f : pin-tooth sliding friction [-]; f_k : rolling-friction coefficient [mm]; f_c : bushing-axle sliding friction
@@ -160,8 +159,7 @@ class FrictionCoefficients:
     f_c: object
 
 
-@dataclass(frozen=True)
-class OperatingPoint:
+class OperatingPoint(NamedTuple):
     """The load and speed of operating points (pins.md §2, §7 ``[load]``): scalars of one point, or arrays.
 
     T : the torque given [N·m], on the satellite shaft V where ``torque_on_V``, else on the crank H; n_H : crank
@@ -174,8 +172,7 @@ class OperatingPoint:
     torque_on_V: object
 
 
-@dataclass(frozen=True)
-class SatelliteLoad:
+class SatelliteLoad(NamedTuple):
     """The torque and speed of one satellite disc (pins.md §2, §4.4-4.5): scalars of one point, or arrays.
 
     torque_sat : T_sat = T_V/n_d, the torque on one disc [N·mm] (None in the detail tables: not known);

@@ -13,13 +13,12 @@ Units N, mm, N·mm, N·m, rpm, W.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from typing import NamedTuple
 
 __all__ = ["ContactW", "contact_w", "contact_output_fields"]
 
 
-@dataclass(frozen=True)
-class ContactW:
+class ContactW(NamedTuple):
     """The output mechanism and the drag of one contact-level design (:func:`contact_w`).
 
     mechanism : "ideal" or "pins_in_holes"; loss_ratio : lambda-bar_W [-] (0: ideal); drag : T_d [N·m];
