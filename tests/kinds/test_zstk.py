@@ -17,6 +17,7 @@ import pytest
 from typer.testing import CliRunner
 
 from conftest import cli
+from test_hertz import brute_tresca  # Johnson's axis stresses maximised by brute force (tests/test_hertz.py)
 from gearcalc import api, hertz, registry
 from gearcalc import grid as sw
 from gearcalc.calculator import DesignError, Options
@@ -369,25 +370,6 @@ def col(res, key):
 
 
 # ----------------------------------------------------------------------------- item 3: Tresca shear
-def axis_stresses(t, nu):
-    """Johnson 1985 eq. 2.25 along the axis (x = 0) of a Hertz line contact, over p0; plane strain."""
-    s = np.sqrt(1.0 + t * t)
-    sx = -((1.0 + 2.0 * t * t) / s - 2.0 * t)
-    sz = -1.0 / s
-    return sx, nu * (sx + sz), sz
-
-
-def brute_tresca(nu):
-    from scipy.optimize import minimize_scalar
-
-    def tau(t):
-        p = np.sort(np.stack(axis_stresses(np.asarray(t, float), nu)), axis=0)
-        return 0.5 * (p[-1] - p[0])
-
-    t = np.linspace(0.0, 3.0, 30001)
-    k = int(np.argmax(tau(t)))
-    r = minimize_scalar(lambda x: -tau(x), bracket=(t[k - 1], t[k], t[k + 1]), tol=1e-12)
-    return -r.fun, r.x
 
 
 def test_product_reports_tresca_for_the_design_nu():
