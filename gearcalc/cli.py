@@ -1195,6 +1195,18 @@ def _write_kind_text(command: str, kind: str, output: Optional[str], force: bool
     return EXIT_OK
 
 
+def _stopped_by(exc: BaseException) -> KeyboardInterrupt | None:
+    """The stop (Ctrl-C or a stop signal) during whose unwinding ``exc`` was raised, else None: the exceptions it
+    was raised while handling (``__context__``), followed to the first KeyboardInterrupt."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return exc
+        seen.add(id(exc))
+        exc = exc.__context__
+    return None
+
+
 def finish(body, debug: bool) -> None:
     """Run a command body; map errors to exit codes; end quietly on a broken pipe."""
     try:
@@ -1214,6 +1226,16 @@ def finish(body, debug: bool) -> None:
         from .design import InputError
         from .output import OutputError, write_error
 
+        stop = _stopped_by(exc)
+        if stop is not None:  # raised while unwinding from a stop signal (a pool or an import cut short): the stop's
+            from .console import interrupted_message, interrupted_status
+
+            if debug:
+                import traceback
+
+                traceback.print_exc()
+            err(interrupted_message(stop))
+            raise typer.Exit(interrupted_status(stop)) from None
         if isinstance(exc, OSError) and write_error(exc):  # e.g. ENOSPC from a print to stdout
             exc = OutputError(exc.filename or "standard output", exc)
         if isinstance(exc, OutputError):  # the environment refused a write: not a bug

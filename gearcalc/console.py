@@ -112,7 +112,42 @@ def _stop(signum, frame):
     if _HELD is not None:
         _HELD.append(signum)
         return
+    if _in_import_machinery(frame) and _defer(signum):
+        return
     raise _interruption(signum)
+
+
+_DEFERRED = None
+"""A stop signal that came inside the import machinery, to be raised a moment later (:func:`_defer`)."""
+
+
+def _in_import_machinery(frame) -> bool:
+    """Whether the signal interrupted importlib's own code (a module lock's callback, the finder), where an
+    exception is printed and dropped ("Exception ignored in ... _get_module_lock") or leaves the import system
+    half-updated: the run then went on to exit 0, or failed later with an internal error (exit 70). A module
+    body's own code is not importlib's: an exception there unwinds the import cleanly."""
+    return frame is not None and frame.f_code.co_filename.startswith("<frozen importlib")
+
+
+def _defer(signum: int) -> bool:
+    """Raise the stop signal ``signum`` 5 ms from now, out of the import machinery (again later if it is still
+    inside): a one-shot SIGALRM timer, which gearcalc uses for nothing else.  False where there is no timer."""
+    import signal
+
+    global _DEFERRED
+    if not hasattr(signal, "setitimer"):
+        return False
+    _DEFERRED = signum
+    signal.signal(signal.SIGALRM, _redeliver)
+    signal.setitimer(signal.ITIMER_REAL, 0.005)
+    return True
+
+
+def _redeliver(_alarm, frame):
+    global _DEFERRED
+    signum, _DEFERRED = _DEFERRED, None
+    if signum is not None:
+        _stop(signum, frame)
 
 
 def _interruption(signum: int) -> KeyboardInterrupt:

@@ -479,3 +479,31 @@ def test_the_progress_bar_says_the_time_left(tmp_path):
     # exit 1: at f <= 0.061 the bushings cannot roll (f R_b < f_c r + f_k), a failed check since issue 36
     assert code == 1 and len(out.splitlines()) == 1 + 12 and "12 of 12 points fail rolling" in err
     assert "computing" in err and "points" in err and "left" in err
+
+
+def test_an_error_raised_while_unwinding_from_a_stop_is_the_stop():
+    """An exception raised while a stop signal unwinds the run (a process pool or an import cut short; CI saw
+    exit 70, "internal error", 1 run in ~40 under load) ends the run as the stop: its one line and exit status."""
+    import signal
+
+    import typer
+
+    from gearcalc import cli as cli_module
+    from gearcalc.console import Interrupted
+
+    def body():
+        try:
+            raise Interrupted(signal.SIGUSR1)
+        except KeyboardInterrupt:
+            raise RuntimeError("cannot schedule new futures after shutdown")  # noqa: B904 - the implicit context
+
+    with pytest.raises(typer.Exit) as ended:
+        cli_module.finish(body, debug=False)
+    assert ended.value.exit_code == 128 + signal.SIGUSR1
+
+    def bug():
+        raise RuntimeError("a bug")
+
+    with pytest.raises(typer.Exit) as ended:
+        cli_module.finish(bug, debug=False)
+    assert ended.value.exit_code == 70

@@ -112,3 +112,27 @@ def test_closed_stderr_keeps_the_exit_status_and_stdout_clean(write):
     assert (p.returncode, p.stdout) == (ref.code, ref.out)
     bad = closed("2>&-", "run", write("kind = 'rows'\n[rows]\ncount = 3\n"))
     assert (bad.returncode, bad.stdout) == (2, "")
+
+
+def test_a_stop_signal_inside_the_import_machinery_is_raised_after_it():
+    """A stop signal whose handler runs inside importlib's own code (seen in CI: "Exception ignored in
+    _get_module_lock.<locals>.cb ... Interrupted", then exit 0, or an internal error) is not raised there: it is
+    raised a moment later, outside, as the same Interrupted."""
+    import signal
+    import time
+
+    from gearcalc import console
+
+    ns: dict = {}
+    exec(compile("import sys\nframe = sys._getframe()", "<frozen importlib._bootstrap>", "exec"), ns)
+    old = signal.getsignal(signal.SIGALRM)
+    try:
+        assert console._stop(signal.SIGUSR1, ns["frame"]) is None       # not raised inside importlib
+        with pytest.raises(console.Interrupted) as raised:
+            time.sleep(2)                                                 # the 5 ms timer raises it here
+        assert raised.value.signum == signal.SIGUSR1
+        with pytest.raises(console.Interrupted):                          # elsewhere: raised at once
+            console._stop(signal.SIGUSR1, sys._getframe())
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, old)
