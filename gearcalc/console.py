@@ -125,8 +125,14 @@ def _in_import_machinery(frame) -> bool:
     """Whether the signal interrupted importlib's own code (a module lock's callback, the finder), where an
     exception is printed and dropped ("Exception ignored in ... _get_module_lock") or leaves the import system
     half-updated: the run then went on to exit 0, or failed later with an internal error (exit 70). A module
-    body's own code is not importlib's: an exception there unwinds the import cleanly."""
-    return frame is not None and frame.f_code.co_filename.startswith("<frozen importlib")
+    body's own code is not importlib's: an exception there unwinds the import cleanly.  The frames are followed
+    outwards to the first module body, so that what importlib calls (a finder on ``sys.meta_path``, a loader) counts
+    as importlib's."""
+    while frame is not None and frame.f_code.co_name != "<module>":
+        if frame.f_code.co_filename.startswith("<frozen importlib"):
+            return True
+        frame = frame.f_back
+    return False
 
 
 def _defer(signum: int) -> bool:

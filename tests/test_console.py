@@ -124,7 +124,8 @@ def test_a_stop_signal_inside_the_import_machinery_is_raised_after_it():
     from gearcalc import console
 
     ns: dict = {}
-    exec(compile("import sys\nframe = sys._getframe()", "<frozen importlib._bootstrap>", "exec"), ns)
+    exec(compile("import sys\ndef cb():\n    return sys._getframe()\nframe = cb()", "<frozen importlib._bootstrap>",
+                 "exec"), ns)                                            # a frame of importlib's own code
     old = signal.getsignal(signal.SIGALRM)
     try:
         assert console._stop(signal.SIGUSR1, ns["frame"]) is None       # not raised inside importlib
